@@ -1,0 +1,105 @@
+// wave — command-line front end of libwave. Exit codes: 0 ok, 2 bad input or usage,
+// 1 runtime failure; errors go to stderr as "error: …".
+#include "commands.h"
+#include "libwave/errors.h"
+#include "libwave/version.h"
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+#include <map>
+
+namespace {
+
+using namespace wave;
+
+void add_reader_options(CLI::App& cmd, cli::SeafloorArgs& a) {
+    static const std::map<std::string, ValueSign> signs{{"elevation", ValueSign::elevation},
+                                                        {"depth", ValueSign::depth}};
+    static const std::map<std::string, NodataPolicy> policies{{"land", NodataPolicy::land},
+                                                              {"error", NodataPolicy::error}};
+    ReadOptions& r = a.read;
+    cmd.add_option("--sign", r.sign, "Sign of the stored values: elevation (positive up) or depth (positive down); default: the format's")
+        ->transform(CLI::CheckedTransformer(signs, CLI::ignore_case));
+    cmd.add_option("--vertical-scale", r.vertical_scale, "metres = value * scale + offset")->capture_default_str();
+    cmd.add_option("--vertical-offset", r.vertical_offset, "added after scaling (m)")->capture_default_str();
+    cmd.add_option("--horizontal-scale", r.horizontal_scale, "multiplies x and y (e.g. 400 for a 1:400 model)")->capture_default_str();
+    cmd.add_option("--nodata", r.nodata_value, "value marking missing nodes (overrides the file's)");
+    cmd.add_option("--nodata-policy", r.nodata_policy, "land: missing nodes become dry land; error: refuse them")
+        ->transform(CLI::CheckedTransformer(policies, CLI::ignore_case));
+    cmd.add_option("--nodata-elevation", r.nodata_elevation, "elevation of filled NODATA nodes (m)")->capture_default_str();
+    cmd.add_option("--swan-grid", [&r](const CLI::results_t& v) {
+        r.swan_nx = std::stoul(v.at(0));
+        r.swan_ny = std::stoul(v.at(1));
+        return true;
+    }, "SWAN .bot: nodes per row and rows, NX,NY")->expected(2)->delimiter(',')->type_name("NX,NY")
+        ->check(CLI::PositiveNumber);
+    cmd.add_option("--swan-spacing", [&r](const CLI::results_t& v) {
+        r.swan_dx = std::stod(v.at(0));
+        r.swan_dy = v.size() > 1 ? std::stod(v.at(1)) : 0.0;
+        return true;
+    }, "SWAN .bot: spacing DX[,DY] (m)")->expected(1, 2)->delimiter(',')->type_name("DX[,DY]")
+        ->check(CLI::PositiveNumber);
+    cmd.add_option("--swan-origin", [&r](const CLI::results_t& v) {
+        r.swan_x0 = std::stod(v.at(0));
+        r.swan_y0 = std::stod(v.at(1));
+        return true;
+    }, "SWAN .bot: position of the first value X0,Y0 (m)")->expected(2)->delimiter(',')->type_name("X0,Y0")
+        ->check(CLI::Number);
+    cmd.add_option("--spacing", r.resample_spacing, "node spacing when a mesh or contour file is gridded (m; 0 = automatic)")
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
+    cmd.add_option("--max-nodes", r.max_nodes, "refuse grids with more nodes than this")->capture_default_str();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"wave — coastal wave tracing and animated water meshes (libwave " +
+                 std::string(wave::version()) + ")"};
+    app.set_version_flag("--version", std::string("wave ") + wave::version());
+    app.require_subcommand(1);
+
+    cli::RunArgs run;
+    auto* run_cmd = app.add_subcommand("run", "Run the main job on the built-in default scene (Gonzato's bay with a swell)");
+    run_cmd->add_option("-o,--out", run.out_dir, "output folder")->capture_default_str();
+    run_cmd->add_flag("--json", run.json, "print the summary as JSON");
+
+    cli::DispersionArgs disp;
+    auto* disp_cmd = app.add_subcommand("dispersion", "Linear wave quantities for a period and a depth");
+    disp_cmd->add_option("-T,--period", disp.period, "wave period (s)")->required()->check(CLI::PositiveNumber);
+    disp_cmd->add_option("-d,--depth", disp.depth, "water depth (m, positive down; <= 0 is dry)")->required()->check(CLI::Number);
+    disp_cmd->add_option("--capillary-length", disp.capillary_length, "capillary length L (m) of Tessendorf eq. 16")
+        ->check(CLI::NonNegativeNumber);
+    disp_cmd->add_option("--deep-height", disp.deep_height, "deep-water wave height H0 (m): also report the shoaled height and breaking")
+        ->check(CLI::NonNegativeNumber);
+    disp_cmd->add_flag("--json", disp.json, "print JSON");
+
+    cli::SeafloorArgs sea;
+    auto* sea_cmd = app.add_subcommand("seafloor", "Seafloor tools");
+    sea_cmd->require_subcommand(1);
+    auto* info_cmd = sea_cmd->add_subcommand("info", "Size, extent, cell size, depth range, land fraction, NODATA count");
+    std::string names;
+    for (const auto& n : procedural_seafloor_names()) names += (names.empty() ? "" : ", ") + n;
+    info_cmd->add_option("source", sea.source, "a grid/mesh/contour file, or a procedural seafloor: " + names)->required();
+    info_cmd->add_flag("--json", sea.json, "print JSON");
+    add_reader_options(*info_cmd, sea);
+
+    try {
+        app.parse(argc, argv);
+        if (*run_cmd) return cli::run_default_job(run);
+        if (*disp_cmd) return cli::run_dispersion(disp);
+        if (*info_cmd) return cli::run_seafloor_info(sea);
+        return 2;
+    } catch (const CLI::Success& e) {  // --help, --help-all, --version
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::cerr << "error: " << e.what() << "\n(run 'wave --help' for usage)\n";
+        return 2;
+    } catch (const wave::InputError& e) {
+        std::cerr << "error: " << e.what() << '\n';
+        return 2;
+    } catch (const std::exception& e) {
+        std::cerr << "error: " << e.what() << '\n';
+        return 1;
+    }
+}

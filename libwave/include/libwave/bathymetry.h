@@ -1,0 +1,249 @@
+// libwave — bathymetry: the seafloor every later stage reads.
+//
+// Conventions (DESIGN.md): SI metres, right-handed, z up. The seafloor is an
+// *elevation* z_b(x, y), negative under water; still water is z = 0; depth
+// h = −z_b; land is h <= 0. Grids are node-registered: node (i, j) sits at
+// (x0 + i·dx, y0 + j·dy), row-major with j = 0 the southernmost row (smallest y).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace wave {
+
+/// A regular elevation grid (plain data).
+struct ElevationGrid {
+    std::size_t nx = 0, ny = 0;  ///< nodes along x and y (>= 2 each when valid)
+    double x0 = 0.0, y0 = 0.0;   ///< position of node (0, 0) (m)
+    double dx = 1.0, dy = 1.0;   ///< node spacing (m, > 0)
+    std::vector<double> z;       ///< elevation (m, z up), size nx·ny, index j·nx + i
+
+    double x_max() const noexcept { return x0 + dx * static_cast<double>(nx - 1); }
+    double y_max() const noexcept { return y0 + dy * static_cast<double>(ny - 1); }
+    double& at(std::size_t i, std::size_t j) { return z[j * nx + i]; }
+    double at(std::size_t i, std::size_t j) const { return z[j * nx + i]; }
+};
+
+/// A triangle mesh of the seafloor (plain arrays), kept when the source was a mesh so
+/// that the isobath stage can slice the original surface rather than its resampling.
+struct SeafloorMesh {
+    std::vector<double> xyz;              ///< vertex positions, 3 per vertex (m, z up)
+    std::vector<std::uint32_t> triangles; ///< 3 vertex indices per triangle
+};
+
+/// Depth-tagged polylines (Ts'o's input; also what the isobath stage produces).
+/// Polyline p has points offsets[p] .. offsets[p+1]−1 of `xy`.
+struct DepthContours {
+    std::vector<double> xy;             ///< 2 per point (m)
+    std::vector<std::size_t> offsets;   ///< size = polylines + 1, offsets[0] = 0
+    std::vector<double> depth;          ///< depth h of each polyline (m, positive down)
+    std::vector<std::uint8_t> closed;   ///< 1 if the polyline is a closed ring
+
+    std::size_t size() const noexcept { return depth.size(); }
+};
+
+/// A seafloor: always an elevation grid (what depth queries read), plus the source
+/// mesh or contours when the input was one, plus a record of where it came from.
+struct Seafloor {
+    ElevationGrid grid;
+    SeafloorMesh mesh;         ///< empty unless read from a mesh file
+    DepthContours contours;    ///< empty unless read from contours / Ts'o generator
+    std::string source;        ///< file path or generator name with parameters
+    std::string frame;         ///< coordinate frame, e.g. "local metres" or the projection used
+    std::size_t nodata_count = 0;  ///< grid nodes that had no data (filled per NodataPolicy)
+};
+
+// ---------------------------------------------------------------------------------
+// Queries: bicubic depth and gradient anywhere (Gonzato §3.3 "cubic interpolation")
+// ---------------------------------------------------------------------------------
+
+/// Depth and its horizontal gradient at a point.
+struct DepthSample {
+    double depth = 0.0;       ///< h (m), positive under water
+    double dh_dx = 0.0;       ///< ∂h/∂x (dimensionless)
+    double dh_dy = 0.0;       ///< ∂h/∂y
+    bool inside = true;       ///< false when (x, y) lies outside the grid (see below)
+};
+
+/// Depth and gradient by Catmull–Rom bicubic convolution (Keys 1981, a = −½): it
+/// passes through the grid values, is C¹, and reproduces planes and quadratics
+/// exactly, so a planar beach has an exact gradient.
+/// Outside the grid the position is clamped to the nearest point of the grid's
+/// rectangle (the border is extended horizontally): depth is that border depth, the
+/// gradient component across the clamped border is 0, and `inside` is false.
+/// Precondition: grid has nx, ny >= 2 (every reader and generator guarantees it).
+DepthSample sample_depth(const ElevationGrid& grid, double x, double y) noexcept;
+
+/// Depth h (m) alone; same rules as sample_depth.
+double depth_at(const ElevationGrid& grid, double x, double y) noexcept;
+
+/// Summary statistics, as `wave seafloor info` prints them.
+struct SeafloorStats {
+    std::size_t nx = 0, ny = 0;
+    double x_min = 0, x_max = 0, y_min = 0, y_max = 0;
+    double dx = 0, dy = 0;
+    double depth_min = 0, depth_max = 0;  ///< h range over the grid nodes (m)
+    double land_fraction = 0;             ///< fraction of nodes with h <= 0
+    std::size_t nodata_count = 0;
+    std::size_t mesh_triangles = 0;
+    std::size_t contour_lines = 0;
+};
+SeafloorStats seafloor_stats(const Seafloor& seafloor);
+
+// ---------------------------------------------------------------------------------
+// Readers
+// ---------------------------------------------------------------------------------
+
+/// Sign convention of the values in a file.
+enum class ValueSign {
+    elevation,  ///< positive up (ESRI grids, ETOPO, most DEMs)
+    depth,      ///< positive down (SWAN .bot, nautical charts)
+};
+
+/// How grid nodes without data (NODATA / dry markers) are filled.
+enum class NodataPolicy {
+    land,   ///< become dry land at `nodata_elevation` (SWAN's −99 means "dry")
+    error,  ///< reading fails with an InputError naming the first such node
+};
+
+/// Options for read_seafloor. Every value has a default that suits the common case.
+struct ReadOptions {
+    /// Sign of the stored values. Empty = the format's convention (elevation for GDAL
+    /// rasters and meshes, depth for SWAN .bot and contour files).
+    std::optional<ValueSign> sign;
+    /// Values are converted as metres = value · vertical_scale + vertical_offset before
+    /// the sign is applied (e.g. 0.01 for centimetres, or 400 for a 1:400 model).
+    double vertical_scale = 1.0;
+    double vertical_offset = 0.0;
+    /// Horizontal scale applied to x and y (e.g. 400 to bring a 1:400 model to full size).
+    double horizontal_scale = 1.0;
+    /// Value that marks a missing node, overriding the file's own (GDAL NODATA).
+    std::optional<double> nodata_value;
+    NodataPolicy nodata_policy = NodataPolicy::land;
+    /// Elevation (m) given to NODATA nodes under NodataPolicy::land.
+    double nodata_elevation = 1.0;
+
+    // SWAN .bot (a bare list of numbers): the grid is not in the file.
+    std::size_t swan_nx = 0, swan_ny = 0;  ///< nodes per row and rows (required for .bot)
+    double swan_dx = 0.0, swan_dy = 0.0;   ///< spacing (m, required; dy = dx if 0)
+    double swan_x0 = 0.0, swan_y0 = 0.0;   ///< position of the first value
+
+    /// Node spacing (m) when a mesh or contour file is resampled to a grid; 0 = chosen
+    /// from the data (mesh: mean vertex spacing; contours: extent / 256).
+    double resample_spacing = 0.0;
+    /// Refuse grids with more nodes than this (guard rail before allocation).
+    std::size_t max_nodes = 100'000'000;
+};
+
+/// Reads a seafloor, choosing the reader by the file's extension:
+///  * `.bot`                     — SWAN bottom file (needs swan_nx/ny/dx)
+///  * `.off .obj .ply .stl`      — triangle mesh (CGAL I/O), kept and resampled to a grid
+///  * `.json`                    — depth-tagged contour polylines (see docs/formats.md)
+///  * anything else              — a raster through GDAL (ESRI ASCII, GeoTIFF, NetCDF, …);
+///    geographic (lon/lat) rasters are reprojected by GDAL to a local azimuthal
+///    equidistant frame centred on the grid (named in Seafloor::frame).
+/// Throws InputError naming the file and what is wrong (missing, truncated, NaN/Inf
+/// value with its row/column, empty, no triangles, non-numeric depth, …).
+Seafloor read_seafloor(const std::string& path, const ReadOptions& options = {});
+
+/// Individual readers (read_seafloor dispatches to these).
+Seafloor read_raster_gdal(const std::string& path, const ReadOptions& options = {});
+Seafloor read_swan_bot(const std::string& path, const ReadOptions& options);
+Seafloor read_mesh_file(const std::string& path, const ReadOptions& options = {});
+Seafloor read_contour_file(const std::string& path, const ReadOptions& options = {});
+
+/// Builds the elevation grid of a contour set: each node lies in the band between its
+/// nearest isobath and the nearest isobath of another depth on the opposite side, and
+/// its depth is linear in the distances to the two (exact for straight parallel
+/// contours); beyond the outermost isobath the depth stays at that isobath's. `spacing` (m) is
+/// the node spacing; the grid covers the contours' bounding box. Throws InputError if
+/// the set is empty.
+ElevationGrid grid_from_contours(const DepthContours& contours, double spacing,
+                                 std::size_t max_nodes = 100'000'000);
+
+// ---------------------------------------------------------------------------------
+// Procedural seafloors (parameters in metres; each returns a validated Seafloor)
+// ---------------------------------------------------------------------------------
+
+/// Planar beach: a straight shoreline; the bottom falls with constant slope offshore
+/// and rises with it on land. The sea lies in the direction `offshore_angle` (rad from
+/// +x; −π/2 = sea to the south, waves travelling +y). Elevation is clamped to
+/// [−max_depth, land_height].
+struct PlanarBeachParams {
+    double size_x = 200.0, size_y = 200.0;  ///< domain [0, size_x] × [0, size_y]
+    double spacing = 1.0;                   ///< node spacing
+    double slope = 0.05;                    ///< tan β
+    double offshore_angle = -1.5707963267948966;
+    double shore_distance = 60.0;  ///< shoreline distance from the domain centre, onshore
+    double max_depth = 10.0;
+    double land_height = 2.0;
+};
+Seafloor make_planar_beach(const PlanarBeachParams& p = {});
+
+/// The bay of Gonzato & Le Saëc's figures 9/12: 100 m × 100 m, open sea along y = 0,
+/// a parabolic bay whose shoreline runs from headlands at y = headland_y (x = 0 and
+/// x = size) to the bay head at y = head_y (x = size/2); depth = slope · (y_shore − y)
+/// capped at max_depth.
+struct GonzatoBayParams {
+    double size = 100.0, spacing = 0.5;
+    double headland_y = 55.0, head_y = 90.0;
+    double slope = 0.1, max_depth = 5.0, land_height = 2.0;
+};
+Seafloor make_gonzato_bay(const GonzatoBayParams& p = {});
+
+/// The island of Gonzato & Le Saëc's figure 9: an elliptic island (semi-axes at the
+/// shoreline) in a 100 m × 100 m sea of depth max_depth; the bottom rises with
+/// `slope` measured along the major axis.
+struct GonzatoIslandParams {
+    double size = 100.0, spacing = 0.5;
+    double center_x = 50.0, center_y = 55.0;
+    double semi_axis_x = 15.0, semi_axis_y = 10.0;
+    double slope = 0.15, max_depth = 6.0, top_height = 3.0;
+};
+Seafloor make_gonzato_island(const GonzatoIslandParams& p = {});
+
+/// Ts'o–Barsky's contour set (figure 5): ten wavy depth contours across a 50 × 50
+/// domain with the caption's depths from top (deep, large y) to bottom. The figure's
+/// exact shapes are not in the text; the lines here are our reconstruction (gentle
+/// sinusoids), only the depths are the paper's. Keeps the contours and grids them.
+struct TsoContoursParams {
+    double size = 50.0, spacing = 0.25;
+    std::vector<double> depths{2.0, 1.25, 0.75, 0.5, 0.3, 0.2, 0.1, -0.1, -0.1, 0.0};
+    double waviness = 2.0;  ///< amplitude of the contour undulation (m)
+};
+Seafloor make_tso_contours(const TsoContoursParams& p = {});
+
+/// Berkhoff, Booy & Radder (1982) elliptic shoal (DESIGN.md validation cases): origin
+/// at the shoal centre, x along the incident waves, wavemaker at x = −10, walls at
+/// y = ±10, domain x ∈ [−10, 12]. Rotated coordinates x' = x cos20° − y sin20°,
+/// y' = x sin20° + y cos20°; h = 0.45 for x' < −5.82, else 0.45 − 0.02 (5.82 + x');
+/// inside (x'/3)² + (y'/4)² <= 1 the shoal −0.3 + 0.5 √(1 − (x'/3.75)² − (y'/5)²) is
+/// subtracted (crest depth ≈ 0.1336 m).
+struct BerkhoffShoalParams {
+    double spacing = 0.05;
+    double x_min = -10.0, x_max = 12.0, y_min = -10.0, y_max = 10.0;
+};
+Seafloor make_berkhoff_shoal(const BerkhoffShoalParams& p = {});
+
+/// Conical island of Briggs et al. (1995), the classic run-up benchmark: a truncated
+/// cone (toe radius 3.6 m, crest radius 1.1 m, height 0.625 m, slope 1:4) in water
+/// 0.32 m deep, centred in a 25 m × 30 m basin.
+struct ConicalIslandParams {
+    double size_x = 25.0, size_y = 30.0, spacing = 0.05;
+    double center_x = 12.5, center_y = 15.0;
+    double toe_radius = 3.6, crest_radius = 1.1, height = 0.625, water_depth = 0.32;
+};
+Seafloor make_conical_island(const ConicalIslandParams& p = {});
+
+/// Names accepted by make_named_seafloor, in a stable order.
+const std::vector<std::string>& procedural_seafloor_names();
+
+/// A procedural seafloor with default parameters, by name (for the CLI and scene
+/// files): "planar-beach", "gonzato-bay", "gonzato-island", "tso-contours",
+/// "berkhoff-shoal", "conical-island". Throws InputError listing the valid names.
+Seafloor make_named_seafloor(const std::string& name);
+
+}  // namespace wave

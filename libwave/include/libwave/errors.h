@@ -1,0 +1,41 @@
+// libwave — the one header of exception types (DESIGN.md, Style 5).
+//
+// Three layers of errors: asserts for internal invariants; these exceptions for bad
+// input at the API boundary (files, scene values, out-of-range parameters); result
+// flags for expected physical outcomes (ray aground, caustic, total reflection).
+// Every message names the file / field / value and says what would be valid.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace wave {
+
+/// Base of every exception libwave throws on purpose.
+class Error : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+/// Bad input: a file that cannot be read or parsed, a value out of range, an
+/// inconsistent option. The CLI maps it to exit code 2.
+class InputError : public Error {
+public:
+    using Error::Error;
+};
+
+/// A guard rail was hit (too many cells, rays, frames); the message names the limit
+/// and the option that raises it. The CLI maps it to exit code 2.
+class LimitError : public InputError {
+public:
+    using InputError::InputError;
+};
+
+/// Something failed that is not the input's fault (I/O error while writing, a
+/// dependency failing). The CLI maps it to exit code 1.
+class RuntimeError : public Error {
+public:
+    using Error::Error;
+};
+
+}  // namespace wave

@@ -1,0 +1,16 @@
+// libwave — crash-safe output files (DESIGN.md conventions).
+#pragma once
+
+#include <string>
+#include <string_view>
+
+namespace wave {
+
+/// Writes `bytes` to `path` through a temporary file in the same folder, flushed and
+/// then renamed over `path`: an interrupted run never leaves a truncated file under
+/// the final name and never replaces a good file with a broken one.
+/// Throws RuntimeError (naming the path and the system's reason) when the folder
+/// does not exist or cannot be written.
+void write_file_atomic(const std::string& path, std::string_view bytes);
+
+}  // namespace wave

@@ -1,0 +1,174 @@
+// Bicubic depth queries, statistics and the shared value conversion of the readers.
+#include "grid_fill.h"
+#include "libwave/errors.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace wave {
+namespace {
+
+// Catmull–Rom weights (Keys 1981, a = −½) for the nodes −1, 0, 1, 2 at t ∈ [0, 1],
+// and their derivatives d/dt.
+struct CubicWeights {
+    double w[4];
+    double dw[4];
+};
+
+CubicWeights catmull_rom(double t) {
+    const double t2 = t * t, t3 = t2 * t;
+    return {{0.5 * (-t3 + 2 * t2 - t), 0.5 * (3 * t3 - 5 * t2 + 2), 0.5 * (-3 * t3 + 4 * t2 + t),
+             0.5 * (t3 - t2)},
+            {0.5 * (-3 * t2 + 4 * t - 1), 0.5 * (9 * t2 - 10 * t), 0.5 * (-9 * t2 + 8 * t + 1),
+             0.5 * (3 * t2 - 2 * t)}};
+}
+
+// Cell index and fraction along one axis, clamping outside positions to the border.
+struct AxisPosition {
+    std::ptrdiff_t cell;  // left node of the cell, in [0, n − 2]
+    double t;             // fraction in [0, 1]
+    bool clamped;
+};
+
+AxisPosition locate(double coord, double origin, double spacing, std::size_t n) {
+    const double u = (coord - origin) / spacing;
+    const double last = static_cast<double>(n - 1);
+    AxisPosition p{0, 0.0, false};
+    double uc = u;
+    if (!(u >= 0.0)) {  // also catches NaN
+        uc = 0.0;
+        p.clamped = true;
+    } else if (u > last) {
+        uc = last;
+        p.clamped = true;
+    }
+    auto cell = static_cast<std::ptrdiff_t>(std::floor(uc));
+    cell = std::min<std::ptrdiff_t>(cell, static_cast<std::ptrdiff_t>(n) - 2);
+    p.cell = cell;
+    p.t = uc - static_cast<double>(cell);
+    return p;
+}
+
+// Node value with linear extrapolation one node beyond the border (ghost nodes), so
+// that planes are reproduced exactly up to the edge.
+double node(const ElevationGrid& g, std::ptrdiff_t i, std::ptrdiff_t j) {
+    const auto nx = static_cast<std::ptrdiff_t>(g.nx), ny = static_cast<std::ptrdiff_t>(g.ny);
+    auto value = [&](std::ptrdiff_t a, std::ptrdiff_t b) {
+        return g.z[static_cast<std::size_t>(b * nx + a)];
+    };
+    auto extrapolate_i = [&](std::ptrdiff_t jj) {
+        if (i < 0) return 2.0 * value(0, jj) - value(1, jj);
+        if (i >= nx) return 2.0 * value(nx - 1, jj) - value(nx - 2, jj);
+        return value(i, jj);
+    };
+    if (j < 0) return 2.0 * extrapolate_i(0) - extrapolate_i(1);
+    if (j >= ny) return 2.0 * extrapolate_i(ny - 1) - extrapolate_i(ny - 2);
+    return extrapolate_i(j);
+}
+
+}  // namespace
+
+DepthSample sample_depth(const ElevationGrid& g, double x, double y) noexcept {
+    const AxisPosition px = locate(x, g.x0, g.dx, g.nx);
+    const AxisPosition py = locate(y, g.y0, g.dy, g.ny);
+    const CubicWeights wx = catmull_rom(px.t), wy = catmull_rom(py.t);
+    double z = 0.0, dz_du = 0.0, dz_dv = 0.0;
+    for (int b = 0; b < 4; ++b) {
+        double row = 0.0, drow = 0.0;
+        for (int a = 0; a < 4; ++a) {
+            const double v = node(g, px.cell - 1 + a, py.cell - 1 + b);
+            row += wx.w[a] * v;
+            drow += wx.dw[a] * v;
+        }
+        z += wy.w[b] * row;
+        dz_du += wy.w[b] * drow;
+        dz_dv += wy.dw[b] * row;
+    }
+    DepthSample s;
+    s.depth = -z;  // depth is minus elevation
+    s.dh_dx = px.clamped ? 0.0 : -dz_du / g.dx;
+    s.dh_dy = py.clamped ? 0.0 : -dz_dv / g.dy;
+    s.inside = !(px.clamped || py.clamped);
+    return s;
+}
+
+double depth_at(const ElevationGrid& grid, double x, double y) noexcept {
+    return sample_depth(grid, x, y).depth;
+}
+
+SeafloorStats seafloor_stats(const Seafloor& s) {
+    const ElevationGrid& g = s.grid;
+    SeafloorStats st;
+    st.nx = g.nx;
+    st.ny = g.ny;
+    st.x_min = g.x0;
+    st.y_min = g.y0;
+    st.x_max = g.x_max();
+    st.y_max = g.y_max();
+    st.dx = g.dx;
+    st.dy = g.dy;
+    st.nodata_count = s.nodata_count;
+    st.mesh_triangles = s.mesh.triangles.size() / 3;
+    st.contour_lines = s.contours.size();
+    if (g.z.empty()) return st;
+    const auto [lo, hi] = std::minmax_element(g.z.begin(), g.z.end());
+    st.depth_min = -*hi;
+    st.depth_max = -*lo;
+    const auto land = std::count_if(g.z.begin(), g.z.end(), [](double z) { return z >= 0.0; });
+    st.land_fraction = static_cast<double>(land) / static_cast<double>(g.z.size());
+    return st;
+}
+
+namespace detail {
+
+std::string format_number(double v) {
+    std::ostringstream s;
+    s.precision(15);
+    s << v;
+    return s.str();
+}
+
+void check_grid_size(const std::string& path, std::size_t nx, std::size_t ny,
+                     const ReadOptions& options) {
+    if (nx < 2 || ny < 2)
+        throw InputError(path + ": the grid is empty or degenerate (" + std::to_string(nx) +
+                         " x " + std::to_string(ny) + " nodes); at least 2 x 2 are needed");
+    if (nx > options.max_nodes / ny)
+        throw LimitError(path + ": the grid has " + std::to_string(nx) + " x " +
+                         std::to_string(ny) + " nodes, more than the limit of " +
+                         std::to_string(options.max_nodes) +
+                         " (ReadOptions::max_nodes, CLI --max-nodes)");
+}
+
+std::size_t convert_to_elevation(std::vector<double>& values, std::optional<double> nodata,
+                                 const std::vector<char>& missing, ValueSign file_sign,
+                                 const ReadOptions& o, const std::string& path,
+                                 const NodeLocator& where, std::size_t nx) {
+    const ValueSign sign = o.sign.value_or(file_sign);
+    const double s = sign == ValueSign::elevation ? 1.0 : -1.0;
+    std::size_t count = 0;
+    for (std::size_t n = 0; n < values.size(); ++n) {
+        const double v = values[n];
+        const bool is_missing = (!missing.empty() && missing[n]) || (nodata && v == *nodata);
+        if (is_missing) {
+            if (o.nodata_policy == NodataPolicy::error)
+                throw InputError(path + ": " + where(n % nx, n / nx) +
+                                 " has no data (NODATA); fill it or read with the 'land' "
+                                 "NODATA policy");
+            values[n] = o.nodata_elevation;
+            ++count;
+            continue;
+        }
+        if (!std::isfinite(v))
+            throw InputError(path + ": " + where(n % nx, n / nx) + " holds " + format_number(v) +
+                             ", not a finite elevation; mark missing values with the "
+                             "file's NODATA value");
+        values[n] = s * (v * o.vertical_scale + o.vertical_offset);
+    }
+    return count;
+}
+
+}  // namespace detail
+}  // namespace wave

@@ -1,0 +1,33 @@
+// Internal to the bathymetry stage: turning raw file values into a validated grid.
+#pragma once
+
+#include "libwave/bathymetry.h"
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace wave::detail {
+
+/// Describes where grid node (i, j) sits in the file, for error messages.
+using NodeLocator = std::function<std::string(std::size_t i, std::size_t j)>;
+
+/// Throws LimitError when nx·ny exceeds options.max_nodes, InputError when the grid
+/// has fewer than 2 nodes along an axis. Call before allocating.
+void check_grid_size(const std::string& path, std::size_t nx, std::size_t ny,
+                     const ReadOptions& options);
+
+/// Converts raw values (grid order, j = 0 south) in place into elevations:
+/// NODATA nodes (== nodata, or flagged in `missing`) are filled per the policy and
+/// counted; NaN/Inf throws InputError naming the file and node; the rest become
+/// sign · (value · scale + offset). Returns the NODATA count.
+std::size_t convert_to_elevation(std::vector<double>& values, std::optional<double> nodata,
+                                 const std::vector<char>& missing, ValueSign file_sign,
+                                 const ReadOptions& options, const std::string& path,
+                                 const NodeLocator& where, std::size_t nx);
+
+/// "1.5" with enough digits to find the value again.
+std::string format_number(double v);
+
+}  // namespace wave::detail

@@ -1,0 +1,269 @@
+// Raster seafloors through GDAL: ESRI ASCII, GeoTIFF, NetCDF and every other raster
+// format GDAL reads. Geographic (lon/lat) rasters are reprojected by GDAL's warper to
+// a local metric frame; no hand-written format code here.
+#include "grid_fill.h"
+#include "libwave/bathymetry.h"
+#include "libwave/errors.h"
+
+#include <cpl_conv.h>
+#include <cpl_error.h>
+#include <cpl_string.h>
+#include <gdal_priv.h>
+#include <gdal_utils.h>
+#include <ogr_spatialref.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <numbers>
+#include <string_view>
+#include <string>
+#include <vector>
+
+namespace wave {
+namespace {
+
+void register_gdal_once() {
+    static std::once_flag once;
+    std::call_once(once, [] { GDALAllRegister(); });
+}
+
+// Silences GDAL's stderr output for the scope; the last message goes into our errors.
+class QuietGdalErrors {
+public:
+    QuietGdalErrors() {
+        CPLPushErrorHandler(CPLQuietErrorHandler);
+        CPLErrorReset();
+    }
+    ~QuietGdalErrors() { CPLPopErrorHandler(); }
+    QuietGdalErrors(const QuietGdalErrors&) = delete;
+    QuietGdalErrors& operator=(const QuietGdalErrors&) = delete;
+    static std::string last() {
+        const char* m = CPLGetLastErrorMsg();
+        return (m && *m) ? std::string(m) : std::string("no further detail from GDAL");
+    }
+};
+
+using DatasetPtr = std::unique_ptr<GDALDataset, void (*)(GDALDataset*)>;
+DatasetPtr adopt(GDALDatasetH h) {
+    return DatasetPtr(GDALDataset::FromHandle(h), [](GDALDataset* d) { GDALClose(d); });
+}
+
+DatasetPtr open_raster(const std::string& name, const std::string& path) {
+    GDALDatasetH h = GDALOpenEx(name.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr,
+                                nullptr, nullptr);
+    if (!h)
+        throw InputError(path + ": GDAL cannot read it as a raster grid (" +
+                         QuietGdalErrors::last() + ")");
+    return adopt(h);
+}
+
+// NetCDF and HDF files hold several variables as subdatasets: take the elevation
+// variable ("z", "elevation", "Band1", "depth") or else the first one.
+DatasetPtr open_first_grid(DatasetPtr ds, const std::string& path) {
+    if (ds->GetRasterCount() > 0) return ds;
+    char** sub = ds->GetMetadata("SUBDATASETS");
+    std::vector<std::string> names;
+    for (int n = 0; sub && sub[n]; ++n) {
+        const std::string entry = sub[n];
+        const auto eq = entry.find('=');
+        if (entry.find("_NAME=") != std::string::npos) names.push_back(entry.substr(eq + 1));
+    }
+    if (names.empty()) throw InputError(path + ": the file holds no raster band");
+    std::string pick = names.front();
+    const auto ends_with = [](const std::string& s, std::string_view tail) {
+        return s.size() > tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+    };
+    for (std::string_view var : {":z", ":elevation", ":Band1", ":depth"}) {
+        const auto hit = std::find_if(names.begin(), names.end(),
+                                      [&](const std::string& n) { return ends_with(n, var); });
+        if (hit != names.end()) {
+            pick = *hit;
+            break;
+        }
+    }
+    return open_raster(pick, path);
+}
+
+// A local azimuthal equidistant frame centred on the raster, and the largest
+// axis-aligned rectangle of it that lies inside the raster's lon/lat box (so that
+// the reprojected grid has no cells outside the data).
+struct LocalFrame {
+    std::string wkt;
+    std::string source_wkt;
+    double x_min, y_min, x_max, y_max, spacing;
+    double lon0, lat0;
+};
+
+LocalFrame local_frame_for(GDALDataset& ds, const OGRSpatialReference& geographic,
+                           const std::string& path) {
+    double gt[6];
+    ds.GetGeoTransform(gt);
+    const double w = ds.GetRasterXSize(), h = ds.GetRasterYSize();
+    const double lon_a = gt[0], lon_b = gt[0] + w * gt[1];
+    const double lat_a = gt[3], lat_b = gt[3] + h * gt[5];
+    LocalFrame f{};
+    f.lon0 = 0.5 * (lon_a + lon_b);
+    f.lat0 = 0.5 * (lat_a + lat_b);
+
+    OGRSpatialReference src(geographic);
+    src.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    OGRSpatialReference dst;
+    dst.CopyGeogCSFrom(&src);
+    dst.SetAE(f.lat0, f.lon0, 0.0, 0.0);
+    dst.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    std::unique_ptr<OGRCoordinateTransformation> ct(OGRCreateCoordinateTransformation(&src, &dst));
+    if (!ct) throw InputError(path + ": cannot build a local metric frame (" + QuietGdalErrors::last() + ")");
+
+    const double west = std::min(lon_a, lon_b), east = std::max(lon_a, lon_b);
+    const double south = std::min(lat_a, lat_b), north = std::max(lat_a, lat_b);
+    constexpr int kSamples = 64;
+    double x_west = -HUGE_VAL, x_east = HUGE_VAL, y_south = -HUGE_VAL, y_north = HUGE_VAL;
+    for (int n = 0; n <= kSamples; ++n) {
+        const double s = static_cast<double>(n) / kSamples;
+        double lx[4] = {west, east, west + s * (east - west), west + s * (east - west)};
+        double ly[4] = {south + s * (north - south), south + s * (north - south), south, north};
+        if (!ct->Transform(4, lx, ly))
+            throw InputError(path + ": GDAL could not project the raster's edges");
+        x_west = std::max(x_west, lx[0]);
+        x_east = std::min(x_east, lx[1]);
+        y_south = std::max(y_south, ly[2]);
+        y_north = std::min(y_north, ly[3]);
+    }
+    f.x_min = x_west;
+    f.x_max = x_east;
+    f.y_min = y_south;
+    f.y_max = y_north;
+    // Keep the finer of the two source spacings, measured at the centre.
+    const double deg = 6371008.8 * std::numbers::pi / 180.0;
+    f.spacing = std::min(std::abs(gt[1]) * deg * std::cos(f.lat0 * std::numbers::pi / 180.0),
+                         std::abs(gt[5]) * deg);
+    char* wkt = nullptr;
+    dst.exportToWkt(&wkt);
+    f.wkt = wkt;
+    CPLFree(wkt);
+    src.exportToWkt(&wkt);
+    f.source_wkt = wkt;
+    CPLFree(wkt);
+    return f;
+}
+
+DatasetPtr reproject_to_local(GDALDataset& ds, const LocalFrame& f, const std::string& path) {
+    const std::string te[4] = {detail::format_number(f.x_min), detail::format_number(f.y_min),
+                               detail::format_number(f.x_max), detail::format_number(f.y_max)};
+    const std::string tr = detail::format_number(f.spacing);
+    CPLStringList args;
+    for (const char* a : {"-of", "MEM", "-r", "cubic", "-ot", "Float64", "-s_srs"}) args.AddString(a);
+    args.AddString(f.source_wkt.c_str());
+    args.AddString("-t_srs");
+    args.AddString(f.wkt.c_str());
+    args.AddString("-te");
+    for (const auto& v : te) args.AddString(v.c_str());
+    args.AddString("-tr");
+    args.AddString(tr.c_str());
+    args.AddString(tr.c_str());
+    GDALWarpAppOptions* opts = GDALWarpAppOptionsNew(args.List(), nullptr);
+    GDALDatasetH src = GDALDataset::ToHandle(&ds);
+    int usage_error = 0;
+    GDALDatasetH out = GDALWarp("", nullptr, 1, &src, opts, &usage_error);
+    GDALWarpAppOptionsFree(opts);
+    if (!out) throw InputError(path + ": GDAL could not reproject the grid (" + QuietGdalErrors::last() + ")");
+    return adopt(out);
+}
+
+// CF / COARDS files (GMT, many NetCDF grids) carry no CRS but say "degrees_east" in
+// the units of their x variable: such grids are lon/lat on WGS84.
+bool says_degrees_east(GDALDataset& ds) {
+    char** md = ds.GetMetadata();
+    for (int n = 0; md && md[n]; ++n) {
+        const std::string entry = md[n];
+        const auto eq = entry.find('=');
+        if (eq == std::string::npos || eq < 6 || entry.compare(eq - 6, 6, "#units") != 0) continue;
+        const std::string value = entry.substr(eq + 1);
+        if (value.rfind("degrees_east", 0) == 0 || value.rfind("degree_east", 0) == 0) return true;
+    }
+    return false;
+}
+
+}  // namespace
+
+Seafloor read_raster_gdal(const std::string& path, const ReadOptions& options) {
+    if (!std::filesystem::exists(path)) throw InputError(path + ": file not found");
+    register_gdal_once();
+    QuietGdalErrors quiet;
+    DatasetPtr ds = open_first_grid(open_raster(path, path), path);
+
+    Seafloor out;
+    out.source = path;
+    out.frame = "local metres (the file's own x/y)";
+    double gt[6] = {0.0, 1.0, 0.0, 0.0, 0.0, -1.0};
+    const bool georeferenced = ds->GetGeoTransform(gt) == CE_None;
+    if (!georeferenced) out.frame = "pixel units as metres (the file has no georeferencing)";
+    if (gt[2] != 0.0 || gt[4] != 0.0)
+        throw InputError(path + ": rotated or sheared rasters are not supported; warp it to a "
+                                "north-up grid first (gdalwarp)");
+
+    const OGRSpatialReference* srs = ds->GetSpatialRef();
+    OGRSpatialReference wgs84;
+    wgs84.SetWellKnownGeogCS("WGS84");
+    const bool cf_degrees = !srs && georeferenced && says_degrees_east(*ds);
+    if ((srs && srs->IsGeographic()) || cf_degrees) {
+        const LocalFrame f = local_frame_for(*ds, cf_degrees ? wgs84 : *srs, path);
+        ds = reproject_to_local(*ds, f, path);
+        ds->GetGeoTransform(gt);
+        out.frame = "azimuthal equidistant about lon " + detail::format_number(f.lon0) +
+                    ", lat " + detail::format_number(f.lat0) +
+                    " (metres; reprojected from geographic lon/lat" +
+                    (cf_degrees ? " (CF units degrees_east, WGS84 assumed)" : "") +
+                    " by GDAL, cubic)";
+    } else if (srs && srs->IsProjected()) {
+        const char* name = srs->GetName();
+        out.frame = std::string("projected CRS '") + (name ? name : "?") + "' (metres)";
+    }
+
+    const std::size_t nx = static_cast<std::size_t>(ds->GetRasterXSize());
+    const std::size_t ny = static_cast<std::size_t>(ds->GetRasterYSize());
+    detail::check_grid_size(path, nx, ny, options);
+
+    GDALRasterBand* band = ds->GetRasterBand(1);
+    std::vector<double> rows(nx * ny);
+    if (band->RasterIO(GF_Read, 0, 0, static_cast<int>(nx), static_cast<int>(ny), rows.data(),
+                       static_cast<int>(nx), static_cast<int>(ny), GDT_Float64, 0, 0) != CE_None)
+        throw InputError(path + ": reading the grid values failed, the file may be truncated (" +
+                         QuietGdalErrors::last() + ")");
+
+    // GDAL rows run north to south when dy < 0: flip to j = 0 south.
+    const bool north_first = gt[5] < 0.0;
+    std::vector<double> values(nx * ny);
+    for (std::size_t r = 0; r < ny; ++r) {
+        const std::size_t j = north_first ? ny - 1 - r : r;
+        std::copy_n(rows.begin() + static_cast<std::ptrdiff_t>(r * nx), nx,
+                    values.begin() + static_cast<std::ptrdiff_t>(j * nx));
+    }
+    std::optional<double> nodata = options.nodata_value;
+    int has_nodata = 0;
+    const double file_nodata = band->GetNoDataValue(&has_nodata);
+    if (!nodata && has_nodata) nodata = file_nodata;
+    const auto where = [&](std::size_t i, std::size_t j) {
+        const std::size_t r = north_first ? ny - 1 - j : j;
+        return "row " + std::to_string(r + 1) + ", column " + std::to_string(i + 1);
+    };
+    out.nodata_count = detail::convert_to_elevation(values, nodata, {}, ValueSign::elevation,
+                                                    options, path, where, nx);
+
+    ElevationGrid& g = out.grid;
+    const double hs = options.horizontal_scale;
+    g.nx = nx;
+    g.ny = ny;
+    g.dx = std::abs(gt[1]) * hs;
+    g.dy = std::abs(gt[5]) * hs;
+    // Node-registered: GDAL's geotransform addresses cell corners, nodes are centres.
+    g.x0 = (gt[0] + 0.5 * gt[1]) * hs;
+    g.y0 = (north_first ? gt[3] + (static_cast<double>(ny) - 0.5) * gt[5] : gt[3] + 0.5 * gt[5]) * hs;
+    g.z = std::move(values);
+    return out;
+}
+
+}  // namespace wave

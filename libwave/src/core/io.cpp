@@ -1,0 +1,59 @@
+// Atomic file output: write to a unique temporary name, fsync, rename.
+#include "libwave/io.h"
+
+#include "libwave/errors.h"
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <string>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace wave {
+
+void write_file_atomic(const std::string& path, std::string_view bytes) {
+    namespace fs = std::filesystem;
+    const fs::path target(path);
+    const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+    // (built piecewise: GCC 12 reports a false -Wrestrict on "." + name + "…")
+    std::string name = ".";
+    name += target.filename().string();
+    name += ".tmp-XXXXXX";
+    std::string tmp = (dir / name).string();
+    const int fd = ::mkstemp(tmp.data());
+    if (fd < 0)
+        throw RuntimeError(path + ": cannot create a file in " + dir.string() + " (" +
+                           std::strerror(errno) + ")");
+    const auto fail = [&](const char* step) {
+        const std::string reason = std::strerror(errno);
+        ::close(fd);
+        ::unlink(tmp.c_str());
+        throw RuntimeError(path + ": " + step + " failed (" + reason + ")");
+    };
+    std::size_t done = 0;
+    while (done < bytes.size()) {
+        const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            fail("writing");
+        }
+        done += static_cast<std::size_t>(n);
+    }
+    if (::fchmod(fd, 0644) != 0) fail("setting permissions");
+    if (::fsync(fd) != 0) fail("flushing to disk");
+    if (::close(fd) != 0) {
+        const std::string reason = std::strerror(errno);
+        ::unlink(tmp.c_str());
+        throw RuntimeError(path + ": closing failed (" + reason + ")");
+    }
+    if (::rename(tmp.c_str(), path.c_str()) != 0) {
+        const std::string reason = std::strerror(errno);
+        ::unlink(tmp.c_str());
+        throw RuntimeError(path + ": renaming the finished file into place failed (" + reason + ")");
+    }
+}
+
+}  // namespace wave

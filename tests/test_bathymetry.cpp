@@ -1,0 +1,318 @@
+// Bathymetry: bicubic queries, procedural seafloors, and every reader on real data
+// and on broken files.
+#include "libwave/bathymetry.h"
+#include "libwave/errors.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+
+#include <unistd.h>
+
+namespace {
+
+using namespace wave;
+namespace fs = std::filesystem;
+
+const std::string kData = LIBWAVE_DATA_DIR;
+
+// A scratch folder per test, removed afterwards.
+class Scratch : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() /
+               ("libwave-test-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
+                "-" + std::to_string(::getpid()));
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+    std::string write(const std::string& name, const std::string& text) {
+        const auto p = (dir_ / name).string();
+        std::ofstream(p) << text;
+        return p;
+    }
+    fs::path dir_;
+};
+
+// Runs f, expects InputError whose message contains every one of `parts`.
+template <class F>
+void expect_input_error(F&& f, std::initializer_list<std::string> parts) {
+    try {
+        f();
+        ADD_FAILURE() << "no InputError thrown";
+    } catch (const InputError& e) {
+        for (const auto& p : parts)
+            EXPECT_NE(std::string(e.what()).find(p), std::string::npos) << "'" << p << "' not in: " << e.what();
+    }
+}
+
+ElevationGrid grid_of(std::size_t nx, std::size_t ny, double dx, auto&& f) {
+    ElevationGrid g;
+    g.nx = nx;
+    g.ny = ny;
+    g.x0 = -3.0;
+    g.y0 = 2.0;
+    g.dx = dx;
+    g.dy = 0.5 * dx;
+    g.z.resize(nx * ny);
+    for (std::size_t j = 0; j < ny; ++j)
+        for (std::size_t i = 0; i < nx; ++i)
+            g.at(i, j) = f(g.x0 + static_cast<double>(i) * g.dx, g.y0 + static_cast<double>(j) * g.dy);
+    return g;
+}
+
+TEST(Bicubic, ReproducesPlanesExactlyUpToTheBorder) {
+    auto plane = [](double x, double y) { return -2.0 + 0.3 * x - 0.15 * y; };
+    const ElevationGrid g = grid_of(9, 7, 1.0, plane);
+    for (double x = g.x0; x <= g.x_max(); x += 0.37)
+        for (double y = g.y0; y <= g.y_max(); y += 0.29) {
+            const DepthSample s = sample_depth(g, x, y);
+            EXPECT_NEAR(s.depth, -plane(x, y), 1e-12);
+            EXPECT_NEAR(s.dh_dx, -0.3, 1e-12);
+            EXPECT_NEAR(s.dh_dy, 0.15, 1e-12);
+            EXPECT_TRUE(s.inside);
+        }
+}
+
+TEST(Bicubic, InterpolatesNodesAndQuadratics) {
+    auto quad = [](double x, double y) { return 0.1 * x * x - 0.2 * x * y + 0.05 * y * y + x; };
+    const ElevationGrid g = grid_of(12, 12, 0.5, quad);
+    for (std::size_t j = 0; j < g.ny; ++j)
+        for (std::size_t i = 0; i < g.nx; ++i)
+            EXPECT_NEAR(depth_at(g, g.x0 + double(i) * g.dx, g.y0 + double(j) * g.dy), -g.at(i, j), 1e-12);
+    // Keys' a = −½ kernel is exact for quadratics away from the border cells.
+    for (double x = g.x0 + 1.0; x < g.x_max() - 1.0; x += 0.13)
+        for (double y = g.y0 + 0.5; y < g.y_max() - 0.5; y += 0.11) {
+            const DepthSample s = sample_depth(g, x, y);
+            EXPECT_NEAR(s.depth, -quad(x, y), 1e-11);
+            EXPECT_NEAR(s.dh_dx, -(0.2 * x - 0.2 * y + 1.0), 1e-10);
+            EXPECT_NEAR(s.dh_dy, -(-0.2 * x + 0.1 * y), 1e-10);
+        }
+}
+
+TEST(Bicubic, OutsideTheGridIsClampedAndFlagged) {
+    auto plane = [](double x, double y) { return 0.3 * x + 0.1 * y; };
+    const ElevationGrid g = grid_of(5, 5, 1.0, plane);
+    const DepthSample s = sample_depth(g, g.x0 - 10.0, g.y0 + 0.5);
+    EXPECT_FALSE(s.inside);
+    EXPECT_NEAR(s.depth, -plane(g.x0, g.y0 + 0.5), 1e-12);
+    EXPECT_EQ(s.dh_dx, 0.0);           // across the clamped border
+    EXPECT_NEAR(s.dh_dy, -0.1, 1e-12); // along it, unchanged
+    EXPECT_FALSE(sample_depth(g, 0.0, 1e9).inside);
+    EXPECT_FALSE(sample_depth(g, NAN, 3.0).inside);
+}
+
+TEST(Procedural, PlanarBeachSlopeAndShoreline) {
+    PlanarBeachParams p;
+    const Seafloor s = make_planar_beach(p);
+    // Sea to the south: the shoreline is y = 100 + 60 = 160.
+    EXPECT_NEAR(depth_at(s.grid, 50.0, 160.0), 0.0, 1e-12);
+    const DepthSample d = sample_depth(s.grid, 80.0, 120.0);
+    EXPECT_NEAR(d.depth, 0.05 * 40.0, 1e-12);
+    EXPECT_NEAR(d.dh_dy, -0.05, 1e-12);
+    EXPECT_NEAR(d.dh_dx, 0.0, 1e-12);
+    EXPECT_THROW(make_planar_beach({.slope = -1.0}), InputError);
+}
+
+TEST(Procedural, BerkhoffShoalCrestAndShelf) {
+    const Seafloor s = make_berkhoff_shoal();
+    EXPECT_NEAR(depth_at(s.grid, 0.0, 0.0), 0.45 - 0.02 * 5.82 - 0.2, 1e-12);  // 0.1336 m
+    EXPECT_NEAR(depth_at(s.grid, -9.0, 0.0), 0.45, 1e-12);
+    // On the 1:50 slope away from the shoal, |∇h| = 0.02 along the rotated x'.
+    const DepthSample d = sample_depth(s.grid, 8.0, -8.0);
+    // h = 0.45 − 0.02 (5.82 + x') so ∇h = −0.02 ∇x' = −0.02 (cos 20°, −sin 20°).
+    EXPECT_NEAR(d.dh_dx, -0.02 * std::cos(20 * std::numbers::pi / 180), 1e-9);
+    EXPECT_NEAR(d.dh_dy, 0.02 * std::sin(20 * std::numbers::pi / 180), 1e-9);
+}
+
+TEST(Procedural, ConicalIslandOfBriggs) {
+    const Seafloor s = make_conical_island();
+    EXPECT_NEAR(depth_at(s.grid, 12.5, 15.0), 0.32 - 0.625, 1e-12);
+    EXPECT_NEAR(depth_at(s.grid, 0.5, 0.5), 0.32, 1e-12);
+    const DepthSample d = sample_depth(s.grid, 12.5 + 2.35, 15.0);  // mid-flank
+    EXPECT_NEAR(d.dh_dx, 0.25, 1e-9);  // 1:4
+}
+
+TEST(Procedural, BayIslandAndTsoContours) {
+    const Seafloor bay = make_gonzato_bay();
+    EXPECT_EQ(bay.grid.nx, 201u);
+    EXPECT_NEAR(bay.grid.x_max(), 100.0, 1e-12);
+    EXPECT_NEAR(depth_at(bay.grid, 50.0, 90.0), 0.0, 1e-12);   // bay head on the shoreline
+    EXPECT_NEAR(depth_at(bay.grid, 0.0, 55.0), 0.0, 1e-12);    // headland
+    EXPECT_NEAR(depth_at(bay.grid, 50.0, 0.0), 5.0, 1e-12);    // open sea, capped
+    const Seafloor island = make_gonzato_island();
+    EXPECT_LT(depth_at(island.grid, 50.0, 55.0), 0.0);
+    EXPECT_NEAR(depth_at(island.grid, 65.0, 55.0), 0.0, 1e-12);  // end of the major axis
+    const Seafloor tso = make_tso_contours();
+    ASSERT_EQ(tso.contours.size(), 10u);
+    EXPECT_EQ(tso.contours.depth.front(), 2.0);
+    // Gridding passes through each contour: the grid depth on a contour point equals its depth
+    // within the grid's interpolation error.
+    const auto& c = tso.contours;
+    for (std::size_t p = 0; p < 7; ++p) {
+        const std::size_t k = (c.offsets[p] + c.offsets[p + 1]) / 2;
+        EXPECT_NEAR(depth_at(tso.grid, c.xy[2 * k], c.xy[2 * k + 1]), c.depth[p], 0.03) << p;
+    }
+    EXPECT_THROW(make_named_seafloor("atlantis"), InputError);
+    for (const auto& n : procedural_seafloor_names()) EXPECT_GE(make_named_seafloor(n).grid.nx, 2u) << n;
+}
+
+// --- GDAL rasters --------------------------------------------------------------
+
+TEST(ReadGdal, OkushiriAsciiGrid) {
+    const Seafloor s = read_seafloor(kData + "/bathymetry/okushiri_monai_lab1to400_1p4cm.asc");
+    EXPECT_EQ(s.grid.nx, 393u);
+    EXPECT_EQ(s.grid.ny, 244u);
+    EXPECT_DOUBLE_EQ(s.grid.dx, 0.014);
+    EXPECT_NEAR(s.grid.x0, 0.007, 1e-12);  // node = cell centre
+    EXPECT_NEAR(s.grid.y0, 0.007, 1e-12);
+    // The file's first value (north-west cell) is −0.13535 m: elevation under water.
+    // (GDAL's AAIGrid driver stores decimal grids as Float32: 1e-7 tolerance.)
+    EXPECT_NEAR(s.grid.at(0, s.grid.ny - 1), -0.13535, 1e-7);
+    const SeafloorStats st = seafloor_stats(s);
+    EXPECT_NEAR(st.depth_max, 0.13535, 1e-6);
+    EXPECT_NEAR(st.depth_min, -0.125, 1e-3);
+    EXPECT_NEAR(st.land_fraction, 0.10, 0.02);  // "about 10 % land"
+    EXPECT_EQ(st.nodata_count, 0u);
+}
+
+TEST(ReadGdal, IcelandNetcdfIsReprojectedToLocalMetres) {
+    const Seafloor s = read_seafloor(kData + "/bathymetry/iceland_etopo2_gmt.nc");
+    EXPECT_NE(s.frame.find("azimuthal equidistant"), std::string::npos) << s.frame;
+    // 2 arc-minutes of longitude at 65° N.
+    EXPECT_NEAR(s.grid.dx, 2.0 / 60.0 * 6371008.8 * std::numbers::pi / 180.0 * std::cos(65.0 * std::numbers::pi / 180.0), 1.0);
+    EXPECT_LT(s.grid.x0, -250e3);  // ≈ ±300 km east–west
+    EXPECT_GT(s.grid.x_max(), 250e3);
+    EXPECT_GT(-depth_at(s.grid, 0.0, 0.0), 200.0);       // 65° N 19° W: Iceland's highlands
+    EXPECT_GT(depth_at(s.grid, 0.0, 210e3), 50.0);        // ~66.9° N: the shelf north of the coast
+}
+
+TEST_F(Scratch, AsciiGridNodataSignScaleAndPolicies) {
+    const std::string asc = write("g.asc",
+        "ncols 3\nnrows 2\nxllcorner 10\nyllcorner 20\ncellsize 2\nNODATA_value -9999\n"
+        "1 2 -9999\n4 5 6\n");
+    ReadOptions o;
+    o.sign = ValueSign::depth;
+    o.vertical_scale = 0.5;
+    const Seafloor s = read_seafloor(asc, o);
+    EXPECT_EQ(s.nodata_count, 1u);
+    EXPECT_DOUBLE_EQ(s.grid.at(0, 0), -2.0);  // south row "4 5 6", depth 4·0.5
+    EXPECT_DOUBLE_EQ(s.grid.at(2, 1), 1.0);   // NODATA -> land at +1 m
+    EXPECT_DOUBLE_EQ(s.grid.x0, 11.0);
+    o.nodata_policy = NodataPolicy::error;
+    expect_input_error([&] { read_seafloor(asc, o); }, {asc, "row 1, column 3", "NODATA"});
+}
+
+TEST_F(Scratch, BrokenRastersGiveClearErrors) {
+    expect_input_error([&] { read_seafloor((dir_ / "nope.asc").string()); }, {"nope.asc", "not found"});
+    const std::string nan = write("nan.asc", "ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1.5 nan\n3 4\n");
+    expect_input_error([&] { read_seafloor(nan); }, {nan, "row 1, column 2", "not a finite"});
+    const std::string trunc = write("t.asc", "ncols 4\nnrows 3\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2 3 4\n5 6\n");
+    expect_input_error([&] { read_seafloor(trunc); }, {trunc});
+    const std::string empty = write("e.asc", "");
+    expect_input_error([&] { read_seafloor(empty); }, {empty, "GDAL cannot read"});
+    const std::string one = write("one.asc", "ncols 1\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize 1\n7\n");
+    expect_input_error([&] { read_seafloor(one); }, {one, "at least 2 x 2"});
+    ReadOptions small;
+    small.max_nodes = 10;
+    expect_input_error([&] { read_seafloor(kData + "/bathymetry/okushiri_monai_lab1to400_1p4cm.asc", small); },
+                       {"393 x 244", "max_nodes"});
+}
+
+// --- SWAN .bot -----------------------------------------------------------------
+
+ReadOptions haringvliet_options() {
+    ReadOptions o;
+    o.swan_nx = 88;
+    o.swan_ny = 117;
+    o.swan_dx = 250.0;
+    o.nodata_value = -99.0;
+    return o;
+}
+
+TEST(ReadSwan, Haringvliet) {
+    const Seafloor s = read_seafloor(kData + "/bathymetry/haringvliet_swan_f31hari_250m.bot", haringvliet_options());
+    EXPECT_EQ(s.grid.nx, 88u);
+    EXPECT_EQ(s.grid.ny, 117u);
+    EXPECT_DOUBLE_EQ(s.grid.dy, 250.0);
+    EXPECT_DOUBLE_EQ(s.grid.at(0, 0), -22.5);  // first value: depth 22.5 m at y = 0
+    EXPECT_DOUBLE_EQ(s.grid.at(1, 0), -22.2);
+    EXPECT_GT(s.nodata_count, 0u);             // −99 marks dry cells
+    const SeafloorStats st = seafloor_stats(s);
+    EXPECT_LE(st.depth_max, 30.0);
+}
+
+TEST_F(Scratch, SwanErrors) {
+    const std::string bot = write("b.bot", "1 2 3\n4 5 x6\n");
+    ReadOptions o;
+    expect_input_error([&] { read_seafloor(bot, o); }, {bot, "--swan-grid"});
+    o.swan_nx = 3;
+    o.swan_ny = 2;
+    o.swan_dx = 10.0;
+    expect_input_error([&] { read_seafloor(bot, o); }, {bot, "line 2", "'x6' is not a number"});
+    const std::string shorter = write("s.bot", "1 2 3\n4 5\n");
+    expect_input_error([&] { read_seafloor(shorter, o); }, {shorter, "truncated", "3 x 2 = 6", "found 5"});
+    const std::string longer = write("l.bot", "1 2 3\n4 5 6 7\n");
+    expect_input_error([&] { read_seafloor(longer, o); }, {longer, "more values"});
+    const std::string inf = write("i.bot", "1 2 3\n4 inf 6\n");
+    expect_input_error([&] { read_seafloor(inf, o); }, {inf, "row 2, value 2", "not a finite"});
+}
+
+// --- meshes --------------------------------------------------------------------
+
+TEST_F(Scratch, MeshIsKeptAndResampled) {
+    // A 10 m × 6 m plane z = −1 − 0.2 x as two triangles (OFF), and the same as OBJ quads.
+    const std::string off = write("plane.off",
+        "OFF\n4 2 0\n0 0 -1\n10 0 -3\n10 6 -3\n0 6 -1\n3 0 1 2\n3 0 2 3\n");
+    ReadOptions o;
+    o.resample_spacing = 0.5;
+    const Seafloor s = read_seafloor(off, o);
+    EXPECT_EQ(s.mesh.triangles.size(), 6u);
+    EXPECT_EQ(s.grid.nx, 21u);
+    EXPECT_EQ(s.grid.ny, 13u);
+    EXPECT_EQ(s.nodata_count, 0u);
+    for (double x = 0.3; x < 9.7; x += 0.9)
+        EXPECT_NEAR(depth_at(s.grid, x, 2.7), 1.0 + 0.2 * x, 1e-12);
+    const std::string obj = write("quad.obj", "v 0 0 -1\nv 10 0 -3\nv 10 6 -3\nv 0 6 -1\nf 1 2 3 4\n");
+    EXPECT_EQ(read_seafloor(obj, o).mesh.triangles.size(), 6u);
+}
+
+TEST_F(Scratch, BrokenMeshes) {
+    const std::string none = write("none.off", "OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n");
+    expect_input_error([&] { read_seafloor(none); }, {none, "no triangles"});
+    const std::string junk = write("junk.ply", "this is not a mesh\n");
+    expect_input_error([&] { read_seafloor(junk); }, {junk, "not a readable"});
+    expect_input_error([&] { read_seafloor((dir_ / "gone.stl").string()); }, {"gone.stl", "not found"});
+}
+
+// --- contour files -------------------------------------------------------------
+
+TEST_F(Scratch, ContoursAreGriddedLinearlyBetweenIsobaths) {
+    const std::string json = write("c.json", R"({"contours": [
+        {"depth": 4.0, "points": [[0, 0], [20, 0]]},
+        {"depth": 1.0, "points": [[0, 10], [20, 10]]},
+        {"depth": 0.0, "points": [[0, 15], [10, 15], [20, 15]]}]})");
+    ReadOptions o;
+    o.resample_spacing = 0.5;
+    const Seafloor s = read_seafloor(json, o);
+    ASSERT_EQ(s.contours.size(), 3u);
+    for (double y = 0.0; y <= 10.0; y += 0.5) EXPECT_NEAR(depth_at(s.grid, 7.0, y), 4.0 - 0.3 * y, 1e-9) << y;
+    for (double y = 10.0; y <= 15.0; y += 0.5) EXPECT_NEAR(depth_at(s.grid, 7.0, y), 1.0 - 0.2 * (y - 10.0), 1e-9) << y;
+}
+
+TEST_F(Scratch, BrokenContourFiles) {
+    const std::string bad_depth = write("d.json", R"({"contours": [
+        {"depth": 1, "points": [[0,0],[1,0]]}, {"depth": "deep", "points": [[0,1],[1,1]]}]})");
+    expect_input_error([&] { read_seafloor(bad_depth); }, {bad_depth, "/contours/1/depth", "expected a number", "\"deep\""});
+    const std::string bad_point = write("p.json", R"({"contours": [{"depth": 1, "points": [[0,0],[1]]}]})");
+    expect_input_error([&] { read_seafloor(bad_point); }, {"/contours/0/points/1"});
+    const std::string empty = write("e.json", R"({"contours": []})");
+    expect_input_error([&] { read_seafloor(empty); }, {empty, "empty"});
+    const std::string broken = write("b.json", R"({"contours": [)");
+    expect_input_error([&] { read_seafloor(broken); }, {broken, "not valid JSON"});
+}
+
+}  // namespace
