@@ -4,12 +4,14 @@
 
 #include "libwave/errors.h"
 #include "libwave/io.h"
+#include "libwave/isobath.h"
 #include "libwave/physics.h"
 #include "libwave/version.h"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
@@ -101,6 +103,29 @@ int run_seafloor_info(const SeafloorArgs& a) {
               << "NODATA nodes  " << st.nodata_count << '\n';
     if (st.mesh_triangles) std::cout << "mesh          " << st.mesh_triangles << " triangles (kept for slicing)\n";
     if (st.contour_lines) std::cout << "contours      " << st.contour_lines << " polylines\n";
+    return 0;
+}
+
+int run_contours(const ContoursArgs& a) {
+    std::string ext = std::filesystem::path(a.output).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (ext != ".json" && ext != ".obj")
+        throw InputError(a.output + ": the output must end in .json (libwave contours) or .obj (polylines)");
+    const Seafloor sea = load_seafloor(a.seafloor);
+    IsobathOptions o;
+    o.levels = a.levels;
+    o.spacing = a.level_spacing;
+    o.include_shoreline = !a.no_shoreline;
+    o.smoothing_samples = a.smooth_samples;
+    o.smoothing_beta1 = a.beta1;
+    o.smoothing_beta2 = a.beta2;
+    const DepthContours c = extract_isobaths(sea, o);
+    write_file_atomic(a.output, ext == ".json" ? contours_to_json(c) : contours_to_obj(c));
+    std::size_t points = c.offsets.empty() ? 0 : c.offsets.back();
+    std::size_t closed = 0;
+    for (auto f : c.closed) closed += f;
+    std::cout << "sliced " << sea.source << " into " << c.size() << " isobaths (" << closed << " closed, "
+              << points << " points); wrote " << a.output << '\n';
     return 0;
 }
 

@@ -5,6 +5,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace wave::cli {
 
@@ -26,6 +27,17 @@ int run_seafloor_info(const SeafloorArgs& a);
 /// Loads a file, or a procedural seafloor when `source` is one of its names and no
 /// such file exists.
 Seafloor load_seafloor(const SeafloorArgs& a);
+
+struct ContoursArgs {
+    SeafloorArgs seafloor;
+    std::vector<double> levels;
+    double level_spacing = 0.0;
+    bool no_shoreline = false;
+    int smooth_samples = 0;
+    double beta1 = 1.0, beta2 = 0.0;
+    std::string output;  ///< .json (our contour format) or .obj (polylines)
+};
+int run_contours(const ContoursArgs& a);
 
 struct RunArgs {
     std::string out_dir = "wave-out/default";

@@ -84,11 +84,27 @@ int main(int argc, char** argv) {
     info_cmd->add_flag("--json", sea.json, "print JSON");
     add_reader_options(*info_cmd, sea);
 
+    cli::ContoursArgs cont;
+    auto* cont_cmd = app.add_subcommand("contours", "Slice a seafloor into depth contours (isobaths) and write them");
+    cont_cmd->add_option("source", cont.seafloor.source, "a grid/mesh/contour file, or a procedural seafloor")->required();
+    auto* levels_opt = cont_cmd->add_option("--levels", cont.levels, "depth levels (m, positive down), e.g. 1,2,5")->delimiter(',');
+    auto* spacing_opt = cont_cmd->add_option("--level-spacing", cont.level_spacing, "a level every S metres of depth")
+        ->check(CLI::PositiveNumber);
+    levels_opt->excludes(spacing_opt);
+    cont_cmd->add_flag("--no-shoreline", cont.no_shoreline, "do not add the shoreline (depth 0)");
+    cont_cmd->add_option("--smooth", cont.smooth_samples, "Beta-spline smoothing: samples per span (0 = off)")
+        ->check(CLI::NonNegativeNumber);
+    cont_cmd->add_option("--beta1", cont.beta1, "Beta-spline bias (> 0)")->capture_default_str();
+    cont_cmd->add_option("--beta2", cont.beta2, "Beta-spline tension (>= 0)")->capture_default_str();
+    cont_cmd->add_option("-o,--output", cont.output, "output file: .json (libwave contours) or .obj (polylines)")->required();
+    add_reader_options(*cont_cmd, cont.seafloor);
+
     try {
         app.parse(argc, argv);
         if (*run_cmd) return cli::run_default_job(run);
         if (*disp_cmd) return cli::run_dispersion(disp);
         if (*info_cmd) return cli::run_seafloor_info(sea);
+        if (*cont_cmd) return cli::run_contours(cont);
         return 2;
     } catch (const CLI::Success& e) {  // --help, --help-all, --version
         return app.exit(e);

@@ -87,6 +87,38 @@ class BadInput(unittest.TestCase):
             self.expect_error(["seafloor", "info", "atlantis"], 2, "atlantis")
 
 
+class Contours(unittest.TestCase):
+    def test_json_round_trip_and_obj(self):
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, "bay.json")
+            r = wave("contours", "gonzato-bay", "--levels", "1,2.5", "-o", out)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            with open(out) as f:
+                doc = json.load(f)
+            self.assertEqual(sorted(c["depth"] for c in doc["contours"]), [0.0, 1.0, 2.5])
+            # The written file is a valid seafloor input again.
+            r = wave("seafloor", "info", out, "--json")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertEqual(json.loads(r.stdout)["contour_lines"], 3)
+            obj = os.path.join(d, "bay.obj")
+            self.assertEqual(wave("contours", "gonzato-bay", "--level-spacing", "1", "-o", obj).returncode, 0)
+            text = open(obj).read()
+            self.assertEqual(text.count("\nl "), 5)
+            self.assertNotIn(" -0\n", text)
+
+    def test_bad_levels_exit_2_without_output(self):
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, "x.json")
+            r = wave("contours", "gonzato-bay", "--levels", "9", "-o", out)
+            self.assertEqual(r.returncode, 2)
+            self.assertIn("level 9", r.stderr)
+            self.assertIn("-2 .. 5", r.stderr)
+            r = wave("contours", "gonzato-bay", "--levels", "1", "-o", os.path.join(d, "x.txt"))
+            self.assertEqual(r.returncode, 2)
+            self.assertIn(".json", r.stderr)
+            self.assertEqual(os.listdir(d), [])
+
+
 class MainJob(unittest.TestCase):
     def test_run_writes_report(self):
         with tempfile.TemporaryDirectory() as d:

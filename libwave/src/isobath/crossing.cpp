@@ -1,0 +1,126 @@
+// Exact ray–isobath intersection: an AABB tree over the contour segments finds the
+// candidates (exact predicates); each candidate is intersected with the ray in the
+// exact-constructions kernel so that vertices, tangencies and collinear overlaps give
+// the true nearest crossing (Ts'o–Barsky §3.2.1: "the nearest intersection").
+#include "libwave/isobath.h"
+
+#include <CGAL/AABB_segment_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include <cmath>
+#include <vector>
+
+namespace wave {
+namespace {
+
+using Fast = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Exact = CGAL::Exact_predicates_exact_constructions_kernel;
+using SegmentIterator = std::vector<Fast::Segment_3>::const_iterator;
+// CGAL 5.5 has no 2D AABB tree: segments live in the z = 0 plane of a 3D tree.
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Fast, CGAL::AABB_segment_primitive<Fast, SegmentIterator>>>;
+
+}  // namespace
+
+struct IsobathIndex::Impl {
+    std::vector<Fast::Segment_3> segments;
+    std::vector<std::size_t> contour_of;  // segment -> polyline
+    std::vector<double> depth;            // per polyline
+    Tree tree;
+};
+
+IsobathIndex::IsobathIndex(const DepthContours& c) : impl_(std::make_unique<Impl>()) {
+    Impl& m = *impl_;
+    m.depth = c.depth;
+    for (std::size_t p = 0; p < c.size(); ++p) {
+        const std::size_t begin = c.offsets[p], end = c.offsets[p + 1];
+        const auto add = [&](std::size_t a, std::size_t b) {
+            const Fast::Point_3 pa(c.xy[2 * a], c.xy[2 * a + 1], 0.0), pb(c.xy[2 * b], c.xy[2 * b + 1], 0.0);
+            if (pa == pb) return;  // zero-length segments cross nothing
+            m.segments.emplace_back(pa, pb);
+            m.contour_of.push_back(p);
+        };
+        for (std::size_t k = begin; k + 1 < end; ++k) add(k, k + 1);
+        if (c.closed[p] && end - begin > 2) add(end - 1, begin);
+    }
+    m.tree.insert(m.segments.cbegin(), m.segments.cend());
+    m.tree.build();
+}
+
+IsobathIndex::~IsobathIndex() = default;
+IsobathIndex::IsobathIndex(IsobathIndex&&) noexcept = default;
+IsobathIndex& IsobathIndex::operator=(IsobathIndex&&) noexcept = default;
+
+std::size_t IsobathIndex::segment_count() const noexcept { return impl_->segments.size(); }
+
+std::optional<IsobathCrossing> IsobathIndex::first_crossing(const CrossingQuery& q) const {
+    const Impl& m = *impl_;
+    if (m.segments.empty()) return std::nullopt;
+    const double len = std::hypot(q.dx, q.dy);
+    if (!(len > 0.0)) return std::nullopt;
+
+    std::vector<Tree::Primitive_id> candidates;
+    const Fast::Point_3 o(q.x, q.y, 0.0);
+    if (std::isfinite(q.max_distance)) {
+        const double s = q.max_distance / len;
+        m.tree.all_intersected_primitives(Fast::Segment_3(o, Fast::Point_3(q.x + s * q.dx, q.y + s * q.dy, 0.0)),
+                                          std::back_inserter(candidates));
+    } else {
+        m.tree.all_intersected_primitives(Fast::Ray_3(o, Fast::Vector_3(q.dx, q.dy, 0.0)),
+                                          std::back_inserter(candidates));
+    }
+
+    // Exact ray parameter t of a point on the ray: (p − o)·d / |d|².
+    const Exact::Point_2 origin(q.x, q.y);
+    const Exact::Vector_2 dir(q.dx, q.dy);
+    const Exact::Ray_2 ray(origin, dir);
+    const auto param = [&](const Exact::Point_2& p) { return ((p - origin) * dir) / dir.squared_length(); };
+
+    std::optional<IsobathCrossing> best;
+    Exact::FT best_t = 0;
+    for (const auto& id : candidates) {
+        const auto seg_index = static_cast<std::size_t>(id - m.segments.cbegin());
+        const std::size_t contour = m.contour_of[seg_index];
+        if (contour == q.skip_contour) continue;
+        const Fast::Segment_3& s3 = *id;
+        const Exact::Point_2 a(s3.source().x(), s3.source().y()), b(s3.target().x(), s3.target().y());
+        const auto hit = CGAL::intersection(ray, Exact::Segment_2(a, b));
+        if (!hit) continue;
+        Exact::Point_2 p;
+        bool collinear = false;
+        if (const auto* pt = boost::get<Exact::Point_2>(&*hit)) {
+            p = *pt;
+        } else if (const auto* overlap = boost::get<Exact::Segment_2>(&*hit)) {
+            // Along the contour: the crossing is where the overlap begins.
+            collinear = true;
+            p = param(overlap->source()) <= param(overlap->target()) ? overlap->source() : overlap->target();
+        } else {
+            continue;
+        }
+        const Exact::FT t = param(p);
+        if (t <= 0) continue;  // the origin itself is not "ahead"
+        if (best && t >= best_t) continue;
+        const double distance = CGAL::to_double(t) * len;
+        if (distance > q.max_distance) continue;
+        IsobathCrossing c;
+        c.x = CGAL::to_double(p.x());
+        c.y = CGAL::to_double(p.y());
+        c.distance = distance;
+        c.contour = contour;
+        c.segment = seg_index;
+        const double tx = s3.target().x() - s3.source().x(), ty = s3.target().y() - s3.source().y();
+        const double tl = std::hypot(tx, ty);
+        c.tangent_x = tx / tl;
+        c.tangent_y = ty / tl;
+        c.depth = m.depth[contour];
+        c.at_vertex = (p == a || p == b);
+        c.collinear = collinear;
+        best = c;
+        best_t = t;
+    }
+    return best;
+}
+
+}  // namespace wave
