@@ -56,7 +56,7 @@ void BM_crossings_tso_scene(benchmark::State& state) {
                 ++crossings;
                 q.x = hit->x;
                 q.y = hit->y;
-                q.skip_contour = hit->contour;
+                q.skip_segment = hit->segment;
             }
         }
     }

@@ -18,8 +18,8 @@ namespace wave {
 
 /// Which depths to contour.
 struct IsobathOptions {
-    /// Explicit depth levels (m, positive down). When empty, levels are generated
-    /// every `spacing` metres from `spacing` up to the deepest point.
+    /// Explicit depth levels (m, positive down). When empty, the levels are the
+    /// positive multiples of `spacing` strictly inside the seafloor's depth range.
     std::vector<double> levels;
     double spacing = 0.0;
     /// Add the shoreline h = 0 as a level (if the seafloor reaches land).
@@ -65,13 +65,16 @@ struct IsobathCrossing {
     bool collinear = false;      ///< the ray runs along the segment (tangency / overlap)
 };
 
-/// A ray query: origin, direction (need not be unit), the longest distance searched,
-/// and one contour to ignore (the one the ray stands on after a crossing).
+/// A ray query: origin, direction (need not be unit), the range of distances searched,
+/// and what to ignore: a whole contour, or the segment the ray stands on after a
+/// crossing (the rounded crossing point may lie a hair off it).
 struct CrossingQuery {
     double x = 0.0, y = 0.0;
     double dx = 1.0, dy = 0.0;
     double max_distance = std::numeric_limits<double>::infinity();
+    double min_distance = 0.0;  ///< crossings at distance <= this are ignored (m)
     std::size_t skip_contour = std::numeric_limits<std::size_t>::max();
+    std::size_t skip_segment = std::numeric_limits<std::size_t>::max();
 };
 
 /// Spatial index (an AABB tree) over all contour segments, built once per scene and
@@ -92,6 +95,10 @@ public:
     std::optional<IsobathCrossing> first_crossing(const CrossingQuery& query) const;
 
     std::size_t segment_count() const noexcept;
+    /// The segments adjacent to `segment` along its polyline (the same segment where
+    /// there is none), for skipping both sides of a vertex crossing.
+    std::size_t previous_segment(std::size_t segment) const noexcept;
+    std::size_t next_segment(std::size_t segment) const noexcept;
 
 private:
     struct Impl;

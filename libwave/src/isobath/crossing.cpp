@@ -55,6 +55,25 @@ IsobathIndex& IsobathIndex::operator=(IsobathIndex&&) noexcept = default;
 
 std::size_t IsobathIndex::segment_count() const noexcept { return impl_->segments.size(); }
 
+std::size_t IsobathIndex::previous_segment(std::size_t s) const noexcept {
+    const Impl& m = *impl_;
+    if (s > 0 && m.contour_of[s - 1] == m.contour_of[s] && m.segments[s - 1].target() == m.segments[s].source()) return s - 1;
+    // A ring's first segment follows its closing segment (the last one of the contour).
+    std::size_t last = s;
+    while (last + 1 < m.segments.size() && m.contour_of[last + 1] == m.contour_of[s]) ++last;
+    if (m.segments[last].target() == m.segments[s].source()) return last;
+    return s;
+}
+
+std::size_t IsobathIndex::next_segment(std::size_t s) const noexcept {
+    const Impl& m = *impl_;
+    if (s + 1 < m.segments.size() && m.contour_of[s + 1] == m.contour_of[s] && m.segments[s + 1].source() == m.segments[s].target()) return s + 1;
+    std::size_t first = s;
+    while (first > 0 && m.contour_of[first - 1] == m.contour_of[s]) --first;
+    if (m.segments[first].source() == m.segments[s].target()) return first;
+    return s;
+}
+
 std::optional<IsobathCrossing> IsobathIndex::first_crossing(const CrossingQuery& q) const {
     const Impl& m = *impl_;
     if (m.segments.empty()) return std::nullopt;
@@ -83,7 +102,7 @@ std::optional<IsobathCrossing> IsobathIndex::first_crossing(const CrossingQuery&
     for (const auto& id : candidates) {
         const auto seg_index = static_cast<std::size_t>(id - m.segments.cbegin());
         const std::size_t contour = m.contour_of[seg_index];
-        if (contour == q.skip_contour) continue;
+        if (contour == q.skip_contour || seg_index == q.skip_segment) continue;
         const Fast::Segment_3& s3 = *id;
         const Exact::Point_2 a(s3.source().x(), s3.source().y()), b(s3.target().x(), s3.target().y());
         const auto hit = CGAL::intersection(ray, Exact::Segment_2(a, b));
@@ -103,7 +122,7 @@ std::optional<IsobathCrossing> IsobathIndex::first_crossing(const CrossingQuery&
         if (t <= 0) continue;  // the origin itself is not "ahead"
         if (best && t >= best_t) continue;
         const double distance = CGAL::to_double(t) * len;
-        if (distance > q.max_distance) continue;
+        if (distance > q.max_distance || distance <= q.min_distance) continue;
         IsobathCrossing c;
         c.x = CGAL::to_double(p.x());
         c.y = CGAL::to_double(p.y());

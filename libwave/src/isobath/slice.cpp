@@ -59,8 +59,11 @@ std::vector<double> chosen_levels(const IsobathOptions& o, double depth_min, dou
     if (levels.empty()) {
         if (!(o.spacing > 0.0) || !std::isfinite(o.spacing))
             throw InputError("isobaths: give depth levels or a level spacing > 0 m");
-        const double top = std::min(depth_max, o.spacing * 1e6);
-        for (double h = o.spacing; h < top; h += o.spacing) levels.push_back(h);
+        // Positive multiples of the spacing strictly inside the depth range.
+        const double first = std::max(1.0, std::floor(depth_min / o.spacing) + 1.0);
+        if ((depth_max - first * o.spacing) / o.spacing > 1e6)
+            throw LimitError("isobaths: a spacing of " + fmt(o.spacing) + " m gives more than a million levels");
+        for (double n = first; n * o.spacing < depth_max; n += 1.0) levels.push_back(n * o.spacing);
     }
     for (double h : levels) {
         if (!std::isfinite(h)) throw InputError("isobaths: level " + fmt(h) + " is not a finite depth");

@@ -1,0 +1,106 @@
+// libwave — trace: wave trains decomposed into rays (wave orthogonals) and traced
+// over the seafloor, refracted by Snell's law at exact isobath crossings
+// (Ts'o & Barsky 1987, §3.1.3, §3.2).
+//
+// Units: SI (m, s, rad). Depth positive down. Directions are unit 2-vectors in the
+// horizontal plane. Amplitudes are half wave heights (m).
+#pragma once
+
+#include "libwave/bathymetry.h"
+#include "libwave/isobath.h"
+#include "libwave/physics.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace wave {
+
+/// A train of regular waves arriving from the open sea.
+struct WaveTrain {
+    double period = 8.0;       ///< T (s), > 0
+    double amplitude = 0.5;    ///< deep-water amplitude A∞ (m), > 0
+    double direction_x = 0.0;  ///< direction of travel (need not be unit; not zero)
+    double direction_y = 1.0;
+};
+
+/// Options of trace_rays, with their defaults.
+struct TraceOptions {
+    /// Distance between neighbouring rays where they enter the domain (m), > 0.
+    double ray_spacing = 1.0;
+    /// Guard rails: more rays than this (over all trains) or more crossings on one ray
+    /// raise LimitError naming the option.
+    std::size_t max_rays = 1'000'000;
+    std::size_t max_crossings = 100'000;
+    /// Breaker index γ: at caustics the amplitude is capped at γ h / 2 (H <= γ h).
+    double breaker_index = kBreakerIndex;
+    /// Le Méhauté's rule of thumb (quoted by Ts'o §3.1.3): refraction alone is doubtful
+    /// where K_r leaves [1/doubt_factor, doubt_factor]; such points are flagged.
+    double doubt_factor = 2.0;
+    DispersionOptions dispersion{};
+};
+
+/// What happened at a ray point.
+enum class RayEvent : std::uint8_t {
+    start,        ///< where the ray enters the domain
+    refracted,    ///< crossed an isobath and turned by Snell's law
+    reflected,    ///< sin r > 1 at an isobath: total reflection (Ts'o's future work)
+    aground,      ///< reached the shoreline (h = 0): the ray ends
+    left_domain,  ///< left the seafloor's rectangle: the ray ends
+};
+const char* to_string(RayEvent e) noexcept;
+
+/// Bit flags on a ray point.
+enum RayPointFlag : std::uint8_t {
+    kAmplitudeCapped = 1,  ///< caustic: rays converged and A was capped at γ h / 2
+    kRefractionDoubtful = 2,  ///< K_r outside [1/doubt_factor, doubt_factor]
+};
+
+/// Traced rays as a structure of arrays. Ray r owns points offsets[r] .. offsets[r+1]−1
+/// in order along the ray. A point's k, celerity, … describe the wave *after* it,
+/// i.e. on the straight leg that starts there (Ts'o recalculates at every crossing).
+struct RaySet {
+    std::vector<std::size_t> offsets{0};  ///< size rays + 1
+    std::vector<std::uint32_t> train;     ///< wave train of each ray
+    std::vector<double> spacing_start;    ///< b0 of each ray (m)
+
+    std::vector<double> x, y;             ///< point (m)
+    std::vector<double> dir_x, dir_y;     ///< unit direction of the leg after the point
+    std::vector<double> arc_length;       ///< distance travelled from the start (m)
+    std::vector<double> phase;            ///< Σ k Δs plus the plane-wave phase at the start (rad)
+    std::vector<double> depth;            ///< depth the leg is computed with (m)
+    std::vector<double> k, omega, celerity, group_velocity;
+    std::vector<double> shoaling;         ///< K_s
+    std::vector<double> refraction;       ///< K_r from the spacing of neighbouring rays
+    std::vector<double> amplitude;        ///< A = A∞ K_s K_r, capped at caustics (m)
+    std::vector<RayEvent> event;
+    std::vector<std::uint8_t> flags;      ///< RayPointFlag bits
+
+    std::size_t ray_count() const noexcept { return offsets.size() - 1; }
+    std::size_t point_count() const noexcept { return x.size(); }
+};
+
+/// Traces every train over the seafloor in Ts'o–Barsky's isobath mode: a ray runs
+/// straight to its next exact isobath crossing (IsobathIndex over `isobaths`), where
+/// Snell's law sin i / C_i = sin r / C_r turns it (i, r from the contour normal); if
+/// sin r > 1 it reflects. Which depth represents a band between two isobaths: the
+/// depth of the isobath the ray crossed last (before the first crossing, the seafloor
+/// depth where the ray entered) — Ts'o's "recalculated as a wave orthogonal is traced
+/// over different contour lines". Rays enter across the up-wave side of the grid's
+/// rectangle, `ray_spacing` apart, with the phase of a plane wave; a ray entering on
+/// land is not traced. Rays end aground at an isobath of depth <= 0 or where they
+/// leave the rectangle.
+/// Amplitude: A = A∞ · K_s · K_r with K_r = sqrt(b0 / b), b the distance to the
+/// neighbouring rays' crossings of the same isobath measured across the ray (energy
+/// flux between rays is conserved; Gonzato eq. 9 is printed inverted).
+/// Throws InputError for an invalid train or option, LimitError at the guard rails.
+RaySet trace_rays(const Seafloor& seafloor, const DepthContours& isobaths,
+                  std::span<const WaveTrain> trains, const TraceOptions& options = {});
+
+/// The rays as CSV with the header
+/// `ray,step,x,y,dir_x,dir_y,depth,k,omega,celerity,group_velocity,amplitude,flag`
+/// (flag = the event name, plus "+capped" / "+doubtful"), full double precision.
+std::string rays_to_csv(const RaySet& rays);
+
+}  // namespace wave

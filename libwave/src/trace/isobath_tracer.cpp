@@ -1,0 +1,283 @@
+// Ts'o–Barsky wave tracing in isobath mode: straight legs between exact isobath
+// crossings, Snell's law at each crossing, amplitude from the spacing of neighbouring
+// rays (Ts'o & Barsky 1987 §3.1.3, §3.2.1–3.2.3).
+#include "libwave/errors.h"
+#include "libwave/trace.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
+namespace wave {
+namespace {
+
+constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
+
+std::string fmt(double v) {
+    std::ostringstream s;
+    s.precision(10);
+    s << v;
+    return s.str();
+}
+
+struct Box {
+    double x0, y0, x1, y1;
+};
+
+// Slab clipping of the line p + t d against the box: the parameter interval inside.
+bool clip(const Box& b, double px, double py, double dx, double dy, double& t0, double& t1) {
+    t0 = -std::numeric_limits<double>::infinity();
+    t1 = std::numeric_limits<double>::infinity();
+    const auto slab = [&](double p, double d, double lo, double hi) {
+        if (d == 0.0) return p >= lo && p <= hi;
+        double a = (lo - p) / d, c = (hi - p) / d;
+        if (a > c) std::swap(a, c);
+        t0 = std::max(t0, a);
+        t1 = std::min(t1, c);
+        return t0 <= t1;
+    };
+    return slab(px, dx, b.x0, b.x1) && slab(py, dy, b.y0, b.y1);
+}
+
+void validate(std::span<const WaveTrain> trains, const TraceOptions& o) {
+    if (trains.empty()) throw InputError("trace: no wave train given");
+    for (std::size_t n = 0; n < trains.size(); ++n) {
+        const WaveTrain& t = trains[n];
+        const std::string at = "trace: wave train " + std::to_string(n) + ": ";
+        if (!(t.period > 0.0) || !std::isfinite(t.period))
+            throw InputError(at + "period must be > 0 s, got " + fmt(t.period));
+        if (!(t.amplitude > 0.0) || !std::isfinite(t.amplitude))
+            throw InputError(at + "amplitude must be > 0 m, got " + fmt(t.amplitude));
+        if (!(std::hypot(t.direction_x, t.direction_y) > 0.0) || !std::isfinite(t.direction_x) || !std::isfinite(t.direction_y))
+            throw InputError(at + "direction must be a non-zero vector, got (" + fmt(t.direction_x) + ", " + fmt(t.direction_y) + ")");
+    }
+    if (!(o.ray_spacing > 0.0) || !std::isfinite(o.ray_spacing))
+        throw InputError("trace: ray_spacing must be > 0 m, got " + fmt(o.ray_spacing));
+    if (!(o.breaker_index > 0.0)) throw InputError("trace: breaker_index must be > 0, got " + fmt(o.breaker_index));
+    if (!(o.doubt_factor >= 1.0)) throw InputError("trace: doubt_factor must be >= 1, got " + fmt(o.doubt_factor));
+}
+
+// Appends points to a RaySet; crossing_contour records, per point, the isobath crossed
+// there (kNone for start / end points) for the amplitude pass.
+struct Writer {
+    RaySet& rays;
+    std::vector<std::size_t>& crossing_contour;
+    void point(double px, double py, double dx, double dy, double s, double phase, const LinearWave& w,
+               RayEvent e, std::size_t contour) {
+        rays.x.push_back(px);
+        rays.y.push_back(py);
+        rays.dir_x.push_back(dx);
+        rays.dir_y.push_back(dy);
+        rays.arc_length.push_back(s);
+        rays.phase.push_back(phase);
+        rays.depth.push_back(w.depth);
+        rays.k.push_back(w.k);
+        rays.omega.push_back(w.omega);
+        rays.celerity.push_back(w.celerity);
+        rays.group_velocity.push_back(w.group_velocity);
+        rays.shoaling.push_back(w.shoaling);
+        rays.event.push_back(e);
+        crossing_contour.push_back(contour);
+    }
+};
+
+// Traces one ray from its entry point; returns false when it enters on land.
+bool trace_one(const IsobathIndex& index, const Box& box, const ElevationGrid& grid,
+               double sx, double sy, double dx, double dy, double omega, double start_phase_origin,
+               const TraceOptions& o, Writer& out) {
+    const double h0 = depth_at(grid, sx, sy);
+    if (!(h0 > 0.0)) return false;
+    LinearWave w = linear_wave(omega, h0, o.dispersion);
+    double px = sx, py = sy, s = 0.0;
+    // Plane-wave phase on entry, so that neighbouring rays start on one wave front.
+    double phase = w.k * ((sx * dx + sy * dy) - start_phase_origin);
+    out.point(px, py, dx, dy, s, phase, w, RayEvent::start, kNone);
+    const double scale = std::max(box.x1 - box.x0, box.y1 - box.y0);
+    std::size_t skip = kNone, skip_prev = kNone, skip_next = kNone;
+    for (std::size_t crossings = 0;; ++crossings) {
+        if (crossings >= o.max_crossings)
+            throw LimitError("trace: a ray crossed isobaths more than " + std::to_string(o.max_crossings) +
+                             " times (TraceOptions::max_crossings; raise it, or coarsen the isobaths)");
+        double t0 = 0.0, t1 = 0.0;
+        clip(box, px, py, dx, dy, t0, t1);
+        const double to_exit = std::max(t1, 0.0);
+        CrossingQuery q;
+        q.x = px;
+        q.y = py;
+        q.dx = dx;
+        q.dy = dy;
+        q.max_distance = to_exit;
+        q.min_distance = 1e-12 * scale;
+        q.skip_segment = skip;
+        std::optional<IsobathCrossing> hit = index.first_crossing(q);
+        // A vertex crossing lies on both neighbouring segments: do not re-cross it.
+        while (hit && (hit->segment == skip_prev || hit->segment == skip_next) && hit->distance <= 1e-9 * scale) {
+            q.min_distance = hit->distance;
+            hit = index.first_crossing(q);
+        }
+        if (!hit) {
+            s += to_exit;
+            phase += w.k * to_exit;
+            out.point(px + dx * to_exit, py + dy * to_exit, dx, dy, s, phase, w, RayEvent::left_domain, kNone);
+            return true;
+        }
+        s += hit->distance;
+        phase += w.k * hit->distance;
+        px = hit->x;
+        py = hit->y;
+        skip = hit->segment;
+        skip_prev = index.previous_segment(hit->segment);
+        skip_next = index.next_segment(hit->segment);
+        if (hit->depth <= 0.0) {
+            out.point(px, py, dx, dy, s, phase, linear_wave(omega, 0.0, o.dispersion), RayEvent::aground, hit->contour);
+            return true;
+        }
+        // Snell at the contour: i and r measured from its normal n (oriented along the ray).
+        double nx = -hit->tangent_y, ny = hit->tangent_x;
+        if (nx * dx + ny * dy < 0.0) nx = -nx, ny = -ny;
+        const double tx = hit->tangent_x, ty = hit->tangent_y;
+        const double sin_i = dx * tx + dy * ty;  // signed component along the contour
+        const LinearWave next = linear_wave(omega, hit->depth, o.dispersion);
+        const double sin_r = sin_i * next.celerity / w.celerity;  // sin i / C_i = sin r / C_r
+        if (std::abs(sin_r) > 1.0) {
+            // Total reflection: mirror across the contour, stay in the same band.
+            const double dn = dx * nx + dy * ny;
+            dx -= 2.0 * dn * nx;
+            dy -= 2.0 * dn * ny;
+            out.point(px, py, dx, dy, s, phase, w, RayEvent::reflected, hit->contour);
+            continue;
+        }
+        const double cos_r = std::sqrt(1.0 - sin_r * sin_r);
+        dx = sin_r * tx + cos_r * nx;
+        dy = sin_r * ty + cos_r * ny;
+        const double len = std::hypot(dx, dy);  // renormalise rounding only
+        dx /= len;
+        dy /= len;
+        w = next;
+        out.point(px, py, dx, dy, s, phase, w, RayEvent::refracted, hit->contour);
+    }
+}
+
+// K_r = sqrt(b0 / b) at each crossing from the neighbouring rays' crossings of the same
+// isobath; amplitude A∞ K_s K_r with the caustic cap. `first`/`last` bound one train.
+void amplitudes(RaySet& r, const std::vector<std::size_t>& contour_at, std::size_t first, std::size_t last,
+                double deep_amplitude, const TraceOptions& o) {
+    const auto spacing_to = [&](std::size_t i, std::size_t ray) -> double {
+        double best = std::numeric_limits<double>::infinity(), across = 0.0;
+        for (std::size_t j = r.offsets[ray]; j < r.offsets[ray + 1]; ++j) {
+            if (contour_at[j] != contour_at[i]) continue;
+            const double ex = r.x[j] - r.x[i], ey = r.y[j] - r.y[i];
+            const double d2 = ex * ex + ey * ey;
+            if (d2 < best) best = d2, across = std::abs(ex * r.dir_y[i] - ey * r.dir_x[i]);
+        }
+        return std::isinf(best) ? -1.0 : across;
+    };
+    for (std::size_t ray = first; ray < last; ++ray) {
+        double kr = 1.0;
+        for (std::size_t i = r.offsets[ray]; i < r.offsets[ray + 1]; ++i) {
+            if (contour_at[i] != kNone) {
+                double sum = 0.0;
+                int n = 0;
+                for (std::size_t nb : {ray - 1, ray + 1}) {
+                    if (ray == first && nb == ray - 1) continue;
+                    if (nb >= last) continue;
+                    const double b = spacing_to(i, nb);
+                    if (b >= 0.0) sum += b, ++n;
+                }
+                if (n > 0) {
+                    const double b = sum / n;
+                    kr = b > 0.0 ? std::sqrt(r.spacing_start[ray] / b) : std::numeric_limits<double>::infinity();
+                }
+            }
+            std::uint8_t flags = 0;
+            if (kr < 1.0 / o.doubt_factor || kr > o.doubt_factor) flags |= kRefractionDoubtful;
+            double a = deep_amplitude * r.shoaling[i] * kr;
+            const double cap = 0.5 * o.breaker_index * std::max(r.depth[i], 0.0);
+            if (a > cap) {
+                // Converging rays (a caustic) would give an unbounded amplitude: the wave
+                // breaks first, so H = 2A is limited to γ h.
+                if (r.event[i] != RayEvent::aground) flags |= kAmplitudeCapped;
+                a = cap;
+            }
+            r.refraction.push_back(std::isfinite(kr) ? kr : std::numeric_limits<double>::max());
+            r.amplitude.push_back(a);
+            r.flags.push_back(flags);
+        }
+    }
+}
+
+}  // namespace
+
+const char* to_string(RayEvent e) noexcept {
+    switch (e) {
+        case RayEvent::start: return "start";
+        case RayEvent::refracted: return "refracted";
+        case RayEvent::reflected: return "reflected";
+        case RayEvent::aground: return "aground";
+        case RayEvent::left_domain: return "left_domain";
+    }
+    return "unknown";
+}
+
+RaySet trace_rays(const Seafloor& seafloor, const DepthContours& isobaths, std::span<const WaveTrain> trains,
+                  const TraceOptions& o) {
+    validate(trains, o);
+    const ElevationGrid& g = seafloor.grid;
+    const Box box{g.x0, g.y0, g.x_max(), g.y_max()};
+    const IsobathIndex index(isobaths);
+    RaySet rays;
+    std::vector<std::size_t> contour_at;
+    Writer out{rays, contour_at};
+
+    for (std::size_t n = 0; n < trains.size(); ++n) {
+        const WaveTrain& t = trains[n];
+        const double len = std::hypot(t.direction_x, t.direction_y);
+        const double dx = t.direction_x / len, dy = t.direction_y / len;
+        const double ex = -dy, ey = dx;  // along the start line
+        // Extent of the domain across and along the direction of travel.
+        double s_min = HUGE_VAL, s_max = -HUGE_VAL, t_min = HUGE_VAL;
+        for (const auto& [cx, cy] : {std::pair{box.x0, box.y0}, {box.x1, box.y0}, {box.x1, box.y1}, {box.x0, box.y1}}) {
+            s_min = std::min(s_min, cx * ex + cy * ey);
+            s_max = std::max(s_max, cx * ex + cy * ey);
+            t_min = std::min(t_min, cx * dx + cy * dy);
+        }
+        const auto count = static_cast<std::size_t>(std::floor((s_max - s_min) / o.ray_spacing));
+        if (rays.ray_count() + count > o.max_rays)
+            throw LimitError("trace: " + std::to_string(rays.ray_count() + count) + " rays exceed the limit of " +
+                             std::to_string(o.max_rays) + " (TraceOptions::max_rays; raise it or widen ray_spacing)");
+        const std::size_t first_ray = rays.ray_count();
+        const double omega = 2.0 * std::numbers::pi / t.period;
+        for (std::size_t i = 0; i < count; ++i) {
+            const double s = s_min + (static_cast<double>(i) + 0.5) * o.ray_spacing;
+            const double lx = s * ex + t_min * dx, ly = s * ey + t_min * dy;  // on the start line
+            double t0 = 0.0, t1 = 0.0;
+            if (!clip(box, lx, ly, dx, dy, t0, t1) || t1 <= t0) continue;
+            if (!trace_one(index, box, g, lx + t0 * dx, ly + t0 * dy, dx, dy, omega, t_min, o, out)) continue;
+            rays.offsets.push_back(rays.point_count());
+            rays.train.push_back(static_cast<std::uint32_t>(n));
+            rays.spacing_start.push_back(o.ray_spacing);
+        }
+        amplitudes(rays, contour_at, first_ray, rays.ray_count(), t.amplitude, o);
+    }
+    return rays;
+}
+
+std::string rays_to_csv(const RaySet& r) {
+    std::ostringstream out;
+    out.precision(17);
+    out << "ray,step,x,y,dir_x,dir_y,depth,k,omega,celerity,group_velocity,amplitude,flag\n";
+    for (std::size_t ray = 0; ray < r.ray_count(); ++ray)
+        for (std::size_t i = r.offsets[ray]; i < r.offsets[ray + 1]; ++i) {
+            out << ray << ',' << i - r.offsets[ray] << ',' << r.x[i] << ',' << r.y[i] << ',' << r.dir_x[i] << ','
+                << r.dir_y[i] << ',' << r.depth[i] << ',' << r.k[i] << ',' << r.omega[i] << ',' << r.celerity[i]
+                << ',' << r.group_velocity[i] << ',' << r.amplitude[i] << ',' << to_string(r.event[i]);
+            if (r.flags[i] & kAmplitudeCapped) out << "+capped";
+            if (r.flags[i] & kRefractionDoubtful) out << "+doubtful";
+            out << '\n';
+        }
+    return out.str();
+}
+
+}  // namespace wave
