@@ -1,5 +1,6 @@
 // Isobaths by slicing the seafloor surface with horizontal planes (CGAL), and
 // Beta-spline smoothing of contour polylines (Ts'o–Barsky §3.2.2).
+#include "libwave/beta_spline.h"
 #include "libwave/errors.h"
 #include "libwave/isobath.h"
 
@@ -122,17 +123,6 @@ DepthContours smooth_isobaths(const DepthContours& c, int samples, double b1, do
     if (samples < 1) throw InputError("isobath smoothing: samples per span must be >= 1, got " + std::to_string(samples));
     if (!(b1 > 0.0) || !(b2 >= 0.0))
         throw InputError("isobath smoothing: need bias beta1 > 0 and tension beta2 >= 0, got " + fmt(b1) + ", " + fmt(b2));
-    // Uniform cubic Beta-spline basis (Barsky & Beatty 1983): b_{-2..1}(u).
-    const double delta = 2 * b1 * b1 * b1 + 4 * b1 * b1 + 4 * b1 + b2 + 2;
-    const auto basis = [&](double u, double w[4]) {
-        const double u2 = u * u, u3 = u2 * u;
-        w[0] = 2 * b1 * b1 * b1 * (1 - u) * (1 - u) * (1 - u) / delta;
-        w[1] = (2 * b1 * b1 * b1 * u * (u2 - 3 * u + 3) + 2 * b1 * b1 * (u3 - 3 * u2 + 2) +
-                2 * b1 * (u3 - 3 * u + 2) + b2 * (2 * u3 - 3 * u2 + 1)) / delta;
-        w[2] = (2 * b1 * b1 * u2 * (-u + 3) + 2 * b1 * u * (-u2 + 3) + b2 * u2 * (-2 * u + 3) +
-                2 * (-u3 + 1)) / delta;
-        w[3] = 2 * u3 / delta;
-    };
     DepthContours out;
     out.offsets.push_back(0);
     for (std::size_t p = 0; p < c.size(); ++p) {
@@ -156,7 +146,7 @@ DepthContours smooth_isobaths(const DepthContours& c, int samples, double b1, do
             const int last = (!closed && s + 1 == spans) ? samples : samples - 1;  // an open end gets its last point
             for (int k = 0; k <= last; ++k) {
                 double w[4];
-                basis(static_cast<double>(k) / samples, w);
+                beta_spline_basis(static_cast<double>(k) / samples, b1, b2, w);
                 double x = 0, y = 0;
                 for (int r = 0; r < 4; ++r) {
                     x += w[r] * v[s + static_cast<std::size_t>(r)][0];

@@ -1,0 +1,90 @@
+// libwave — surface: water surfaces built once per scene and evaluated per frame.
+//
+// Height field (Ts'o & Barsky 1987 §3.2.4, §3.3): the traced wave lists deposit
+// η_i = a_i sin(φ_i − ω_i t) on an m×n grid; the grid values are the control vertices
+// of a uniform bicubic Beta2-spline surface whose tension β2 rises with height.
+//
+// Units: SI. Positions are (x, y, z) with z up, in float, 3 per vertex. Time t in s.
+#pragma once
+
+#include "libwave/bathymetry.h"
+#include "libwave/trace.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace wave {
+
+/// How a ray leg deposits its wave on the grid nodes.
+enum class Footprint {
+    bresenham,  ///< the nodes on the leg's Bresenham line, weight 1 (Ts'o's method)
+    smooth,     ///< nodes within footprint_radius, Gaussian weight (Ts'o §3.2.4 suggests it)
+};
+
+struct HeightFieldOptions {
+    std::size_t nx = 50, ny = 50;  ///< control vertices over the seafloor's rectangle (>= 2)
+    Footprint footprint = Footprint::bresenham;
+    double footprint_radius = 1.5;  ///< smooth footprint: radius in grid cells (σ = radius / 2)
+    int samples_per_span = 8;       ///< spline samples per span and axis (Ts'o: 8)
+    /// Tension β2 = tension_per_metre · η at a control vertex with η > 0, 0 in troughs,
+    /// at most max_tension: sharper crests, smooth troughs (Ts'o §3.3, figure 9).
+    double tension_per_metre = 20.0;
+    double max_tension = 30.0;
+    /// Loop length (s). 0: the least common multiple of the wave periods, which must be
+    /// commensurate (ratios of integers up to 1000). > 0: the angular frequencies are
+    /// quantised to multiples of 2π / repeat_time (Tessendorf eq. 18) so that any set
+    /// of periods repeats exactly after repeat_time.
+    double repeat_time = 0.0;
+    std::size_t max_vertices = 20'000'000;  ///< guard rail on the sampled surface
+};
+
+/// Least common multiple of periods that are rational multiples of each other (each
+/// ratio to the first a fraction p/q with q <= 1000 within 1e-9), or 0 when none exists.
+double loop_period(std::span<const double> periods);
+
+/// Everything about the height-field surface that does not depend on time; built once,
+/// evaluated per frame by evaluate_height_field.
+struct HeightFieldPlan {
+    // control grid
+    std::size_t nx = 0, ny = 0;
+    double x0 = 0, y0 = 0, dx = 1, dy = 1;
+    // wave terms per control vertex: node v has terms term_offsets[v] .. term_offsets[v+1]−1,
+    // η_v(t) = Σ term_amplitude · sin(term_phase − term_omega · t)
+    std::vector<std::size_t> term_offsets;
+    std::vector<double> term_amplitude, term_phase, term_omega;
+    // sampled surface: (samples·(nx−1) + 1) × (samples·(ny−1) + 1) vertices, row-major
+    int samples_per_span = 8;
+    std::size_t vertex_nx = 0, vertex_ny = 0;
+    std::vector<std::uint32_t> triangles;  ///< 3 indices per triangle, counter-clockwise seen from +z
+    double tension_per_metre = 0, max_tension = 0;
+    double loop_period = 0.0;  ///< s: frame(t) == frame(t + loop_period)
+
+    std::size_t control_count() const noexcept { return nx * ny; }
+    std::size_t vertex_count() const noexcept { return vertex_nx * vertex_ny; }
+    std::size_t triangle_count() const noexcept { return triangles.size() / 3; }
+};
+
+/// Deposits the traced rays on the control grid (complex mean per train and node, so
+/// neighbouring orthogonals of one train do not add up; trains superpose) and builds
+/// the sampled topology. Nodes on land (h <= 0) and nodes no ray reached stay at 0.
+/// Throws InputError for bad options (naming the field), LimitError above max_vertices,
+/// and InputError when the periods are incommensurate and repeat_time is 0.
+HeightFieldPlan plan_height_field(const Seafloor& seafloor, const RaySet& rays,
+                                  std::span<const WaveTrain> trains,
+                                  const HeightFieldOptions& options = {});
+
+/// Control-vertex heights η (m) at time t into `heights` (size control_count()).
+void evaluate_control_heights(const HeightFieldPlan& plan, double t, std::span<float> heights);
+
+/// The Beta2-spline surface at time t: control heights into `heights` (scratch, size
+/// control_count()), vertex positions into `positions` (size 3·vertex_count()).
+/// Tension varies continuously over each patch (Barsky's continuously shaped
+/// Beta-splines: corner values blended by the quintic 10u³ − 15u⁴ + 6u⁵). The border
+/// uses linearly extrapolated phantom vertices, so the surface spans the whole grid
+/// and passes through the border control vertices. Allocates nothing.
+void evaluate_height_field(const HeightFieldPlan& plan, double t, std::span<float> heights,
+                           std::span<float> positions);
+
+}  // namespace wave
