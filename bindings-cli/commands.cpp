@@ -5,12 +5,15 @@
 #include "libwave/errors.h"
 #include "libwave/io.h"
 #include "libwave/isobath.h"
+#include "libwave/export.h"
+#include "libwave/scene.h"
 #include "libwave/physics.h"
 #include "libwave/version.h"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -66,16 +69,8 @@ int run_dispersion(const DispersionArgs& a) {
     return 0;
 }
 
-Seafloor load_seafloor(const SeafloorArgs& a) {
-    const auto& names = procedural_seafloor_names();
-    if (!std::filesystem::exists(a.source) &&
-        std::find(names.begin(), names.end(), a.source) != names.end())
-        return make_named_seafloor(a.source);
-    return read_seafloor(a.source, a.read);
-}
-
 int run_seafloor_info(const SeafloorArgs& a) {
-    const Seafloor s = load_seafloor(a);
+    const Seafloor s = load_seafloor(SeafloorSource{a.source, a.read});
     const SeafloorStats st = seafloor_stats(s);
     if (a.json) {
         json j{{"source", s.source},
@@ -111,7 +106,7 @@ int run_contours(const ContoursArgs& a) {
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     if (ext != ".json" && ext != ".obj")
         throw InputError(a.output + ": the output must end in .json (libwave contours) or .obj (polylines)");
-    const Seafloor sea = load_seafloor(a.seafloor);
+    const Seafloor sea = load_seafloor(SeafloorSource{a.seafloor.source, a.seafloor.read});
     IsobathOptions o;
     o.levels = a.levels;
     o.spacing = a.level_spacing;
@@ -129,78 +124,92 @@ int run_contours(const ContoursArgs& a) {
     return 0;
 }
 
-int run_default_job(const RunArgs& a) {
-    // The built-in default scene: Gonzato's bay with a 5 s, 0.6 m swell from the open
-    // sea along y = 0. Until the tracing, surface and export stages land, the job
-    // shoals the swell along every cross-shore line of the bay and finds the surf zone.
-    const double period = 5.0, deep_height = 0.6;
-    const double omega = 2.0 * std::numbers::pi / period;
-    const Seafloor sea = make_gonzato_bay();
-    const ElevationGrid& g = sea.grid;
+int run_trace(const TraceArgs& a) {
+    const Scene scene = read_scene(a.scene);
+    const Seafloor sea = load_seafloor(scene.seafloor);
+    const DepthContours iso = extract_isobaths(sea, scene.isobaths);
+    const RaySet rays = trace_rays(sea, iso, scene.waves, scene_trace_options(scene, sea));
+    write_file_atomic(a.output, rays_to_csv(rays));
+    std::cout << "traced " << rays.ray_count() << " rays (" << rays.point_count() << " points) over "
+              << iso.size() << " isobaths; wrote " << a.output << '\n';
+    return 0;
+}
 
-    json lines = json::array();
-    std::vector<double> depth(g.ny);
-    std::size_t breaking_lines = 0;
-    std::array<std::size_t, 4> type_count{};
-    double break_depth_sum = 0.0, break_height_sum = 0.0;
-    for (std::size_t i = 0; i < g.nx; i += 10) {
-        const double x = g.x0 + static_cast<double>(i) * g.dx;
-        for (std::size_t j = 0; j < g.ny; ++j)
-            depth[j] = depth_at(g, x, g.y0 + static_cast<double>(j) * g.dy);
-        const ShoalingProfile p = shoal_profile(omega, deep_height, depth, g.dy);
-        json line{{"x_m", x}};
-        if (p.break_index >= 0) {
-            ++breaking_lines;
-            ++type_count[static_cast<std::size_t>(p.type)];
-            break_depth_sum += p.break_depth;
-            break_height_sum += p.break_height;
-            line["break_y_m"] = g.y0 + static_cast<double>(p.break_index) * g.dy;
-            line["break_depth_m"] = p.break_depth;
-            line["break_height_m"] = p.break_height;
-            line["iribarren"] = p.iribarren;
-            line["breaker"] = to_string(p.type);
+int run_job(const RunArgs& a) {
+    using Clock = std::chrono::steady_clock;
+    const Scene scene = a.scene.empty() ? default_scene() : read_scene(a.scene);
+    const std::string stem = a.scene.empty() ? "default" : std::filesystem::path(a.scene).stem().string();
+    const std::string out_dir = a.out_dir.empty() ? "wave-out/" + stem : a.out_dir;
+
+    const auto t0 = Clock::now();
+    const ScenePlan plan = plan_scene(scene);
+    const auto t1 = Clock::now();
+
+    // Every frame of one loop, as the exporter will consume them.
+    const HeightFieldPlan& sp = plan.surface;
+    const auto frames = static_cast<std::size_t>(std::llround(sp.loop_period * scene.fps));
+    std::vector<float> heights(sp.control_count()), positions(3 * sp.vertex_count()), first;
+    float z_min = HUGE_VALF, z_max = -HUGE_VALF;
+    for (std::size_t f = 0; f < frames; ++f) {
+        evaluate_height_field(sp, static_cast<double>(f) / scene.fps, heights, positions);
+        for (std::size_t v = 0; v < sp.vertex_count(); ++v) {
+            z_min = std::min(z_min, positions[3 * v + 2]);
+            z_max = std::max(z_max, positions[3 * v + 2]);
         }
-        lines.push_back(line);
+        if (f == 0) first = positions;
     }
-    const SeafloorStats st = seafloor_stats(sea);
-    const LinearWave offshore = linear_wave(omega, depth_at(g, g.x0 + 0.5 * (g.x_max() - g.x0), g.y0));
-    json report{{"libwave", version()},
-                {"scene", "default: Gonzato's bay with a swell"},
-                {"seafloor", {{"source", sea.source}, {"nodes", {st.nx, st.ny}}, {"depth_range_m", {st.depth_min, st.depth_max}}}},
-                {"swell", {{"period_s", period}, {"deep_height_m", deep_height}, {"direction", "+y"}}},
-                {"offshore", {{"depth_m", offshore.depth}, {"wavelength_m", offshore.wavelength},
-                              {"celerity_m_per_s", offshore.celerity}, {"shoaling", offshore.shoaling}}},
-                {"cross_shore_lines", lines},
-                {"stages_done", {"physics", "bathymetry"}},
-                {"stages_pending", {"isobath", "trace", "surface", "motion", "shade", "export"}}};
+    const auto t2 = Clock::now();
 
-    std::filesystem::create_directories(a.out_dir);
-    const std::string path = (std::filesystem::path(a.out_dir) / "surf-zone.json").string();
-    write_file_atomic(path, report.dump(2) + "\n");
+    std::size_t aground = 0, capped = 0, doubtful = 0, reflected = 0, crossings = 0;
+    for (std::size_t r = 0; r < plan.rays.ray_count(); ++r)
+        aground += plan.rays.event[plan.rays.offsets[r + 1] - 1] == RayEvent::aground;
+    for (std::size_t i = 0; i < plan.rays.point_count(); ++i) {
+        capped += (plan.rays.flags[i] & kAmplitudeCapped) != 0;
+        doubtful += (plan.rays.flags[i] & kRefractionDoubtful) != 0;
+        reflected += plan.rays.event[i] == RayEvent::reflected;
+        crossings += plan.rays.event[i] == RayEvent::refracted || plan.rays.event[i] == RayEvent::reflected;
+    }
+    const SeafloorStats st = seafloor_stats(plan.seafloor);
+    json report{{"libwave", version()},
+                {"scene", scene.name},
+                {"seafloor", {{"source", plan.seafloor.source}, {"nodes", {st.nx, st.ny}}, {"depth_range_m", {st.depth_min, st.depth_max}}}},
+                {"isobaths", plan.isobaths.size()},
+                {"rays", {{"count", plan.rays.ray_count()}, {"crossings", crossings}, {"aground", aground},
+                          {"reflections", reflected}, {"amplitude_capped_points", capped}, {"refraction_doubtful_points", doubtful}}},
+                {"surface", {{"control_grid", {sp.nx, sp.ny}}, {"vertices", sp.vertex_count()}, {"triangles", sp.triangle_count()},
+                             {"loop_period_s", sp.loop_period}, {"fps", scene.fps}, {"frames", frames},
+                             {"height_range_m", {z_min, z_max}}}},
+                {"outputs", {"isobaths.json", "rays.csv", "surface-frame-0000.obj", "report.json"}},
+                {"not_yet", "animated glTF export (frames are evaluated, only frame 0 is written, as OBJ)"}};
+
+    std::filesystem::create_directories(out_dir);
+    const auto out = [&](const char* name) { return (std::filesystem::path(out_dir) / name).string(); };
+    write_file_atomic(out("isobaths.json"), contours_to_json(plan.isobaths));
+    write_file_atomic(out("rays.csv"), rays_to_csv(plan.rays));
+    write_file_atomic(out("surface-frame-0000.obj"),
+                      mesh_to_obj(first, sp.triangles, "libwave " + std::string(version()) + ": " + scene.name + ", frame 0, z up"));
+    write_file_atomic(out("report.json"), report.dump(2) + "\n");
 
     if (a.json) {
         std::cout << report.dump(2) << '\n';
         return 0;
     }
+    const auto ms = [](auto d) { return std::chrono::duration<double, std::milli>(d).count(); };
     std::cout << std::setprecision(4)
-              << "scene     default: Gonzato's bay (" << st.nx << " x " << st.ny << " nodes, depth "
-              << st.depth_min << " .. " << st.depth_max << " m)\n"
-              << "swell     T = " << period << " s, H0 = " << deep_height << " m, towards +y; offshore L = "
-              << offshore.wavelength << " m, C = " << offshore.celerity << " m/s\n"
-              << "shoaled   " << lines.size() << " cross-shore lines; " << breaking_lines << " break";
-    if (breaking_lines) {
-        std::cout << " at mean depth " << break_depth_sum / static_cast<double>(breaking_lines) << " m, mean height "
-                  << break_height_sum / static_cast<double>(breaking_lines) << " m (";
-        const char* sep = "";
-        for (std::size_t t = 0; t < type_count.size(); ++t)
-            if (type_count[t]) {
-                std::cout << sep << type_count[t] << " " << to_string(static_cast<BreakerType>(t));
-                sep = ", ";
-            }
-        std::cout << ")";
-    }
-    std::cout << "\nwrote     " << path << '\n'
-              << "pending   isobath, trace, surface, motion, shade, export stages (no animated .glb yet)\n";
+              << "scene      " << scene.name << '\n'
+              << "seafloor   " << plan.seafloor.source << ", " << st.nx << " x " << st.ny << " nodes, depth "
+              << st.depth_min << " .. " << st.depth_max << " m\n"
+              << "isobaths   " << plan.isobaths.size() << " polylines (CGAL slicer)\n"
+              << "rays       " << plan.rays.ray_count() << " traced, " << crossings << " exact crossings, " << aground
+              << " aground, " << reflected << " reflections, " << capped << " points capped at the breaking limit\n"
+              << "surface    " << sp.nx << " x " << sp.ny << " Beta2-spline control grid -> " << sp.vertex_count()
+              << " vertices, " << sp.triangle_count() << " triangles\n"
+              << "animation  " << frames << " frames at " << scene.fps << " fps, loop " << sp.loop_period
+              << " s, heights " << z_min << " .. " << z_max << " m\n"
+              << "time       plan " << ms(t1 - t0) << " ms, frames " << ms(t2 - t1) / static_cast<double>(std::max<std::size_t>(frames, 1))
+              << " ms each\n"
+              << "wrote      " << out_dir << "/{isobaths.json, rays.csv, surface-frame-0000.obj, report.json}\n"
+              << "not yet    animated glTF export: frames are evaluated, only frame 0 is written (OBJ)\n";
     return 0;
 }
 

@@ -24,9 +24,6 @@ struct SeafloorArgs {
     bool json = false;
 };
 int run_seafloor_info(const SeafloorArgs& a);
-/// Loads a file, or a procedural seafloor when `source` is one of its names and no
-/// such file exists.
-Seafloor load_seafloor(const SeafloorArgs& a);
 
 struct ContoursArgs {
     SeafloorArgs seafloor;
@@ -39,10 +36,17 @@ struct ContoursArgs {
 };
 int run_contours(const ContoursArgs& a);
 
+struct TraceArgs {
+    std::string scene;   ///< scene file
+    std::string output;  ///< CSV
+};
+int run_trace(const TraceArgs& a);
+
 struct RunArgs {
-    std::string out_dir = "wave-out/default";
+    std::string scene;   ///< scene file; empty = the built-in default scene
+    std::string out_dir; ///< default: wave-out/<scene file stem or "default">
     bool json = false;
 };
-int run_default_job(const RunArgs& a);
+int run_job(const RunArgs& a);
 
 }  // namespace wave::cli

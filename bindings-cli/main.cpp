@@ -60,9 +60,15 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
 
     cli::RunArgs run;
-    auto* run_cmd = app.add_subcommand("run", "Run the main job on the built-in default scene (Gonzato's bay with a swell)");
-    run_cmd->add_option("-o,--out", run.out_dir, "output folder")->capture_default_str();
-    run_cmd->add_flag("--json", run.json, "print the summary as JSON");
+    auto* run_cmd = app.add_subcommand("run", "Run the main job on a scene file, or on the built-in default scene (Gonzato's bay with a swell)");
+    run_cmd->add_option("scene", run.scene, "scene file (JSON); none = the built-in default scene");
+    run_cmd->add_option("-o,--out", run.out_dir, "output folder (default: wave-out/<scene name>)");
+    run_cmd->add_flag("--json", run.json, "print the report as JSON");
+
+    cli::TraceArgs trace;
+    auto* trace_cmd = app.add_subcommand("trace", "Trace a scene's wave trains and write every ray point as CSV");
+    trace_cmd->add_option("scene", trace.scene, "scene file (JSON)")->required();
+    trace_cmd->add_option("-o,--output", trace.output, "CSV file: ray,step,x,y,dir_x,dir_y,depth,k,omega,celerity,group_velocity,amplitude,flag")->required();
 
     cli::DispersionArgs disp;
     auto* disp_cmd = app.add_subcommand("dispersion", "Linear wave quantities for a period and a depth");
@@ -101,7 +107,8 @@ int main(int argc, char** argv) {
 
     try {
         app.parse(argc, argv);
-        if (*run_cmd) return cli::run_default_job(run);
+        if (*run_cmd) return cli::run_job(run);
+        if (*trace_cmd) return cli::run_trace(trace);
         if (*disp_cmd) return cli::run_dispersion(disp);
         if (*info_cmd) return cli::run_seafloor_info(sea);
         if (*cont_cmd) return cli::run_contours(cont);

@@ -119,20 +119,90 @@ class Contours(unittest.TestCase):
             self.assertEqual(os.listdir(d), [])
 
 
+EXAMPLES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples", "scenes")
+
+
 class MainJob(unittest.TestCase):
-    def test_run_writes_report(self):
+    OUTPUTS = ["isobaths.json", "rays.csv", "report.json", "surface-frame-0000.obj"]
+
+    def test_default_scene(self):
         with tempfile.TemporaryDirectory() as d:
             out = os.path.join(d, "out")
             r = wave("run", "-o", out)
             self.assertEqual(r.returncode, 0, r.stderr)
-            self.assertIn("break", r.stdout)
-            with open(os.path.join(out, "surf-zone.json")) as f:
-                report = json.load(f)
-            lines = report["cross_shore_lines"]
-            self.assertEqual(len(lines), 21)
-            for line in lines:  # every line of the bay reaches the beach and breaks
-                self.assertGreaterEqual(line["break_height_m"], 0.78 * line["break_depth_m"] - 1e-12)
-            self.assertEqual(sorted(os.listdir(out)), ["surf-zone.json"])  # no temporary left
+            self.assertIn("Gonzato's bay", r.stdout)
+            self.assertEqual(sorted(os.listdir(out)), sorted(self.OUTPUTS))  # no temporaries left
+            report = json.load(open(os.path.join(out, "report.json")))
+            self.assertEqual(report["rays"]["count"], 100)  # Gonzato: one ray per metre over 100 m
+            self.assertEqual(report["surface"]["frames"], 120)  # 5 s loop at 24 fps
+            with open(os.path.join(out, "rays.csv")) as f:
+                header = f.readline().strip()
+            self.assertEqual(header, "ray,step,x,y,dir_x,dir_y,depth,k,omega,celerity,group_velocity,amplitude,flag")
+
+    def test_tso_barsky_scene_loops_over_six_seconds(self):
+        with tempfile.TemporaryDirectory() as d:
+            r = wave("run", os.path.join(EXAMPLES, "tso-barsky.json"), "-o", d, "--json")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            report = json.loads(r.stdout)
+            self.assertEqual(report["surface"]["loop_period_s"], 6.0)  # LCM of 6 s and 1 s
+            self.assertEqual(report["surface"]["frames"], 144)
+            self.assertEqual(report["surface"]["control_grid"], [50, 50])
+            self.assertGreater(report["rays"]["crossings"], 500)
+
+    def test_real_bathymetry_end_to_end(self):
+        with tempfile.TemporaryDirectory() as d:
+            r = wave("run", os.path.join(EXAMPLES, "okushiri.json"), "-o", d, "--json")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            report = json.loads(r.stdout)
+            self.assertGreater(report["rays"]["aground"], 100)
+            lo, hi = report["surface"]["height_range_m"]
+            self.assertLess(hi, 0.02)  # 4 mm waves shoal, but stay bounded by breaking
+            self.assertGreater(hi, 0.004)
+
+    def test_outputs_are_deterministic(self):
+        with tempfile.TemporaryDirectory() as d:
+            a, b = os.path.join(d, "a"), os.path.join(d, "b")
+            scene = os.path.join(EXAMPLES, "planar-beach.json")
+            self.assertEqual(wave("run", scene, "-o", a).returncode, 0)
+            self.assertEqual(wave("run", scene, "-o", b).returncode, 0)
+            for name in self.OUTPUTS:
+                self.assertEqual(open(os.path.join(a, name), "rb").read(), open(os.path.join(b, name), "rb").read(), name)
+
+    def test_trace_writes_csv(self):
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, "rays.csv")
+            r = wave("trace", os.path.join(EXAMPLES, "planar-beach.json"), "-o", out)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            rows = open(out).read().splitlines()
+            self.assertTrue(rows[1].startswith("0,0,"))
+            self.assertTrue(any(row.endswith(",aground") for row in rows))
+
+    def test_bad_scenes_exit_2_without_output(self):
+        with tempfile.TemporaryDirectory() as d:
+            bad = os.path.join(d, "bad.json")
+            out = os.path.join(d, "out")
+            cases = [
+                ('{"waves": [{"period": -6}]}', "/waves/0/period"),
+                ('{"waves": [{"period": 6, "direction": [0, 0]}]}', "/waves/0/direction"),
+                ('{"waves": [{"period": 6}], "surface": {"footprint": "blob"}}', "bresenham, smooth"),
+                ('{"waves": [{"period": 6}], "seafloor": {"source": "nowhere.asc"}}', "/seafloor/source"),
+                ('{"waves": [{"period": 6}], "trace": {"rays": 3}}', "/trace/rays"),
+                ('{"waves": [{"period": 6}], "isobaths": {"levels": [99]}}', "level 99"),
+                ('{"waves": []}', "/waves"),
+                ('{"waves": [{"period": 6}], "trace": {"ray_spacing": 0.0001, "max_rays": 10}}', "max_rays"),
+                ('{"waves": [{"period": 6}', "not valid JSON"),
+            ]
+            for text, part in cases:
+                with open(bad, "w") as f:
+                    f.write(text)
+                r = wave("run", bad, "-o", out)
+                self.assertEqual(r.returncode, 2, f"{text}: {r.stderr}")
+                self.assertTrue(r.stderr.startswith("error: "))
+                self.assertIn(part, r.stderr, text)
+                self.assertFalse(os.path.exists(out), text)
+            r = wave("run", os.path.join(d, "missing.json"))
+            self.assertEqual(r.returncode, 2)
+            self.assertIn("not found", r.stderr)
 
     def test_unwritable_output_is_a_runtime_failure_without_partial_files(self):
         with tempfile.TemporaryDirectory() as d:
@@ -143,14 +213,6 @@ class MainJob(unittest.TestCase):
             self.assertEqual(r.returncode, 1, r.stderr)
             self.assertTrue(r.stderr.startswith("error: "))
             self.assertEqual(os.listdir(d), ["file"])
-
-    def test_existing_output_is_replaced_atomically(self):
-        with tempfile.TemporaryDirectory() as d:
-            self.assertEqual(wave("run", "-o", d).returncode, 0)
-            first = open(os.path.join(d, "surf-zone.json")).read()
-            self.assertEqual(wave("run", "-o", d).returncode, 0)
-            self.assertEqual(open(os.path.join(d, "surf-zone.json")).read(), first)  # deterministic
-            self.assertEqual(os.listdir(d), ["surf-zone.json"])
 
 
 if __name__ == "__main__":

@@ -56,27 +56,30 @@ struct BeachScene {
 
 TEST(HeightField, DepositsMatchTheRaysAtNormalIncidence) {
     const BeachScene s;
-    HeightFieldOptions o;
-    o.nx = 31;
-    o.ny = 51;  // 2 m cells, 4 orthogonals per cell
-    const HeightFieldPlan plan = plan_height_field(s.beach, s.rays, s.trains, o);
-    EXPECT_DOUBLE_EQ(plan.loop_period, 6.0);
-    // Every ray is identical at normal incidence: a node's term is the ray's wave there.
-    const std::size_t r0 = 0;
-    for (std::size_t j = 2; j < plan.ny; j += 5) {
-        const std::size_t v = j * plan.nx + 15;
-        const double y = plan.y0 + static_cast<double>(j) * plan.dy;
-        if (depth_at(s.beach.grid, 30.0, y) <= 0.0) {
-            EXPECT_EQ(plan.term_offsets[v + 1], plan.term_offsets[v]) << "land node has no wave";
-            continue;
+    for (Footprint footprint : {Footprint::bresenham, Footprint::smooth}) {
+        HeightFieldOptions o;
+        o.nx = 31;
+        o.ny = 51;  // 2 m cells, 4 orthogonals per cell
+        o.footprint = footprint;
+        const HeightFieldPlan plan = plan_height_field(s.beach, s.rays, s.trains, o);
+        EXPECT_DOUBLE_EQ(plan.loop_period, 6.0);
+        // Every ray is identical at normal incidence: a node's term is the ray's wave there.
+        const std::size_t r0 = 0;
+        for (std::size_t j = 2; j < plan.ny; j += 5) {
+            const std::size_t v = j * plan.nx + 15;
+            const double y = plan.y0 + static_cast<double>(j) * plan.dy;
+            if (depth_at(s.beach.grid, 30.0, y) <= 0.0) {
+                EXPECT_EQ(plan.term_offsets[v + 1], plan.term_offsets[v]) << "land node has no wave";
+                continue;
+            }
+            ASSERT_EQ(plan.term_offsets[v + 1] - plan.term_offsets[v], 1u) << j;
+            std::size_t p = s.rays.offsets[r0];
+            while (p + 1 < s.rays.offsets[r0 + 1] && s.rays.y[p + 1] <= y) ++p;  // the leg holding y
+            const double phase = s.rays.phase[p] + s.rays.k[p] * (y - s.rays.y[p]);
+            const std::size_t k = plan.term_offsets[v];
+            EXPECT_NEAR(plan.term_amplitude[k], s.rays.amplitude[p], 1e-12);
+            EXPECT_NEAR(std::remainder(plan.term_phase[k] - phase, 2 * std::numbers::pi), 0.0, 1e-9);
         }
-        ASSERT_EQ(plan.term_offsets[v + 1] - plan.term_offsets[v], 1u) << j;
-        std::size_t p = s.rays.offsets[r0];
-        while (p + 1 < s.rays.offsets[r0 + 1] && s.rays.y[p + 1] <= y) ++p;  // the leg holding y
-        const double phase = s.rays.phase[p] + s.rays.k[p] * (y - s.rays.y[p]);
-        const std::size_t k = plan.term_offsets[v];
-        EXPECT_NEAR(plan.term_amplitude[k], s.rays.amplitude[p], 1e-12);
-        EXPECT_NEAR(std::remainder(plan.term_phase[k] - phase, 2 * std::numbers::pi), 0.0, 1e-9);
     }
 }
 
@@ -168,6 +171,7 @@ TEST(HeightField, SmoothFootprintCoversTheGapsBetweenRays) {
     HeightFieldOptions o;
     o.nx = 31;
     o.ny = 51;
+    o.footprint = Footprint::bresenham;
     const HeightFieldPlan thin = plan_height_field(s.beach, sparse, s.trains, o);
     o.footprint = Footprint::smooth;
     o.footprint_radius = 2.0;

@@ -25,7 +25,7 @@ enum class Footprint {
 
 struct HeightFieldOptions {
     std::size_t nx = 50, ny = 50;  ///< control vertices over the seafloor's rectangle (>= 2)
-    Footprint footprint = Footprint::bresenham;
+    Footprint footprint = Footprint::smooth;
     double footprint_radius = 1.5;  ///< smooth footprint: radius in grid cells (σ = radius / 2)
     int samples_per_span = 8;       ///< spline samples per span and axis (Ts'o: 8)
     /// Tension β2 = tension_per_metre · η at a control vertex with η > 0, 0 in troughs,

@@ -53,7 +53,7 @@ const char* to_string(RayEvent e) noexcept;
 
 /// Bit flags on a ray point.
 enum RayPointFlag : std::uint8_t {
-    kAmplitudeCapped = 1,  ///< caustic: rays converged and A was capped at γ h / 2
+    kAmplitudeCapped = 1,  ///< A∞ K_s K_r exceeded γ h / 2 (breaking, or a caustic where rays converge): capped
     kRefractionDoubtful = 2,  ///< K_r outside [1/doubt_factor, doubt_factor]
 };
 

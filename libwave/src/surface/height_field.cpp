@@ -170,8 +170,12 @@ HeightFieldPlan plan_height_field(const Seafloor& seafloor, const RaySet& rays, 
                 for (std::ptrdiff_t j = lo_j; j <= hi_j; ++j)
                     for (std::ptrdiff_t i = lo_i; i <= hi_i; ++i) {
                         if (!inside(i, j)) continue;
+                        // Only nodes abreast of this leg (projection in [0, L)): each node
+                        // takes the wave from exactly one leg of a ray, never a phase
+                        // clamped at a leg's end.
                         const double ex = node_x(i) - ax, ey = node_y(j) - ay;
-                        const double s = std::clamp(ex * ux + ey * uy, 0.0, length);
+                        const double s = ex * ux + ey * uy;
+                        if (s < 0.0 || s >= length) continue;
                         const double d2 = (ex - s * ux) * (ex - s * ux) + (ey - s * uy) * (ey - s * uy);
                         if (d2 <= radius * radius) deposit(i, j, std::exp(-0.5 * d2 / (sigma * sigma)));
                     }

@@ -1,0 +1,69 @@
+// libwave — scene: a JSON job description, validated, and the wiring of the stages.
+//
+// Every value has a default (docs/scene.md), so a scene can be tiny. Errors name the
+// file and the JSON pointer of the bad value and say what would be valid.
+#pragma once
+
+#include "libwave/bathymetry.h"
+#include "libwave/isobath.h"
+#include "libwave/surface.h"
+#include "libwave/trace.h"
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace wave {
+
+/// Where the seafloor comes from: a procedural name (procedural_seafloor_names()) or a
+/// file (relative paths are resolved against the scene file's folder), read with
+/// `read`.
+struct SeafloorSource {
+    std::string source = "gonzato-bay";
+    ReadOptions read{};
+};
+
+/// Loads a procedural seafloor when `source` names one and no file of that name exists,
+/// otherwise reads the file.
+Seafloor load_seafloor(const SeafloorSource& source);
+
+struct Scene {
+    std::string name = "default";
+    SeafloorSource seafloor{};
+    IsobathOptions isobaths{.levels = {}, .spacing = 0.25};
+    std::vector<WaveTrain> waves{};
+    TraceOptions trace{};
+    /// Ts'o's sampling rule: this many orthogonals per surface grid line (overrides
+    /// trace.ray_spacing when > 0: spacing = min(cell dx, dy) / n).
+    double orthogonals_per_grid_line = 0.0;
+    HeightFieldOptions surface{};
+    double fps = 24.0;  ///< frames per second of the animation (> 0)
+};
+
+/// The built-in default scene: Gonzato's bay with a 5 s swell (what `wave run` does
+/// with no argument).
+Scene default_scene();
+
+/// Parses a scene from JSON text. `origin` names the file in messages; `base_dir` is
+/// where relative seafloor paths are resolved. Unknown keys are errors (typos).
+Scene parse_scene(std::string_view json_text, const std::string& origin, const std::string& base_dir);
+
+/// Reads and parses a scene file.
+Scene read_scene(const std::string& path);
+
+/// The scene's trace options with Ts'o's rule applied: when orthogonals_per_grid_line
+/// > 0, ray_spacing = min(surface cell dx, dy) / orthogonals_per_grid_line.
+TraceOptions scene_trace_options(const Scene& scene, const Seafloor& seafloor);
+
+/// The per-scene (static) products of the pipeline, computed once.
+struct ScenePlan {
+    Seafloor seafloor;
+    DepthContours isobaths;
+    RaySet rays;
+    HeightFieldPlan surface;
+};
+
+/// Runs every static stage of a scene: seafloor → isobaths → trace → surface plan.
+ScenePlan plan_scene(const Scene& scene);
+
+}  // namespace wave

@@ -1,0 +1,285 @@
+// Scene files: JSON → validated Scene, with JSON-pointer error messages; and the
+// wiring of the static stages.
+#include "libwave/scene.h"
+
+#include "libwave/errors.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace wave {
+namespace {
+
+using nlohmann::json;
+
+// A JSON value with its pointer, for reading with validation.
+class Node {
+public:
+    Node(const json& v, std::string pointer, const std::string& origin) : v_(v), ptr_(std::move(pointer)), origin_(origin) {}
+
+    [[noreturn]] void fail(const std::string& what) const {
+        throw InputError(origin_ + ": " + (ptr_.empty() ? "/" : ptr_) + ": " + what);
+    }
+    const std::string& pointer() const { return ptr_; }
+    const json& value() const { return v_; }
+
+    void require_object(std::initializer_list<const char*> allowed) const {
+        if (!v_.is_object()) fail("expected an object, got " + v_.dump());
+        const std::set<std::string> ok(allowed.begin(), allowed.end());
+        for (const auto& [key, _] : v_.items())
+            if (!ok.count(key)) {
+                std::string list;
+                for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+                Node(v_[key], ptr_ + "/" + key, origin_).fail("unknown key; valid keys here: " + list);
+            }
+    }
+    bool has(const char* key) const { return v_.contains(key); }
+    Node operator[](const char* key) const { return {v_.at(key), ptr_ + "/" + key, origin_}; }
+    Node operator[](std::size_t i) const { return {v_.at(i), ptr_ + "/" + std::to_string(i), origin_}; }
+    std::size_t size() const { return v_.size(); }
+
+    double number(const char* unit) const {
+        if (!v_.is_number()) fail(std::string("expected a number (") + unit + "), got " + v_.dump());
+        const double d = v_.get<double>();
+        if (!std::isfinite(d)) fail("expected a finite number");
+        return d;
+    }
+    double positive(const char* unit) const {
+        const double d = number(unit);
+        if (!(d > 0.0)) fail(std::string("expected a number > 0 (") + unit + "), got " + v_.dump());
+        return d;
+    }
+    double non_negative(const char* unit) const {
+        const double d = number(unit);
+        if (d < 0.0) fail(std::string("expected a number >= 0 (") + unit + "), got " + v_.dump());
+        return d;
+    }
+    std::size_t count(std::size_t min) const {
+        if (!v_.is_number_integer() || v_.get<long long>() < static_cast<long long>(min))
+            fail("expected a whole number >= " + std::to_string(min) + ", got " + v_.dump());
+        return v_.get<std::size_t>();
+    }
+    bool boolean() const {
+        if (!v_.is_boolean()) fail("expected true or false, got " + v_.dump());
+        return v_.get<bool>();
+    }
+    std::string string() const {
+        if (!v_.is_string()) fail("expected a string, got " + v_.dump());
+        return v_.get<std::string>();
+    }
+    template <class T>
+    T choice(const std::map<std::string, T>& options) const {
+        const std::string s = string();
+        const auto it = options.find(s);
+        if (it == options.end()) {
+            std::string list;
+            for (const auto& [k, _] : options) list += (list.empty() ? "" : ", ") + k;
+            fail("expected one of " + list + ", got \"" + s + "\"");
+        }
+        return it->second;
+    }
+    std::vector<double> numbers(std::size_t exact, const char* unit) const {
+        if (!v_.is_array() || (exact && v_.size() != exact))
+            fail(exact ? "expected an array of " + std::to_string(exact) + " numbers" : std::string("expected an array of numbers"));
+        std::vector<double> out;
+        for (std::size_t i = 0; i < v_.size(); ++i) out.push_back((*this)[i].number(unit));
+        return out;
+    }
+
+private:
+    const json& v_;
+    std::string ptr_;
+    const std::string& origin_;
+};
+
+void read_seafloor_spec(const Node& n, SeafloorSource& s, const std::string& base_dir) {
+    n.require_object({"source", "sign", "vertical_scale", "vertical_offset", "horizontal_scale", "nodata",
+                      "nodata_policy", "nodata_elevation", "swan_grid", "swan_spacing", "swan_origin", "spacing",
+                      "max_nodes"});
+    if (n.has("source")) {
+        s.source = n["source"].string();
+        const auto& names = procedural_seafloor_names();
+        const bool procedural = std::find(names.begin(), names.end(), s.source) != names.end();
+        const std::filesystem::path p(s.source);
+        if (!procedural && p.is_relative()) s.source = (std::filesystem::path(base_dir) / p).string();
+        if (!procedural && !std::filesystem::exists(s.source))
+            n["source"].fail("no such file '" + s.source + "' and not a procedural seafloor");
+    }
+    ReadOptions& r = s.read;
+    if (n.has("sign")) r.sign = n["sign"].choice<ValueSign>({{"elevation", ValueSign::elevation}, {"depth", ValueSign::depth}});
+    if (n.has("vertical_scale")) r.vertical_scale = n["vertical_scale"].number("scale");
+    if (n.has("vertical_offset")) r.vertical_offset = n["vertical_offset"].number("m");
+    if (n.has("horizontal_scale")) r.horizontal_scale = n["horizontal_scale"].positive("scale");
+    if (n.has("nodata")) r.nodata_value = n["nodata"].number("value");
+    if (n.has("nodata_policy"))
+        r.nodata_policy = n["nodata_policy"].choice<NodataPolicy>({{"land", NodataPolicy::land}, {"error", NodataPolicy::error}});
+    if (n.has("nodata_elevation")) r.nodata_elevation = n["nodata_elevation"].number("m");
+    if (n.has("swan_grid")) {
+        const Node g = n["swan_grid"];
+        if (!g.value().is_array() || g.size() != 2) g.fail("expected [nx, ny]");
+        r.swan_nx = g[std::size_t{0}].count(2);
+        r.swan_ny = g[1].count(2);
+    }
+    if (n.has("swan_spacing")) {
+        const auto d = n["swan_spacing"].numbers(0, "m");
+        if (d.empty() || d.size() > 2 || !(d[0] > 0.0)) n["swan_spacing"].fail("expected [dx] or [dx, dy] with dx > 0 m");
+        r.swan_dx = d[0];
+        r.swan_dy = d.size() > 1 ? d[1] : 0.0;
+    }
+    if (n.has("swan_origin")) {
+        const auto d = n["swan_origin"].numbers(2, "m");
+        r.swan_x0 = d[0];
+        r.swan_y0 = d[1];
+    }
+    if (n.has("spacing")) r.resample_spacing = n["spacing"].non_negative("m");
+    if (n.has("max_nodes")) r.max_nodes = n["max_nodes"].count(4);
+}
+
+void read_isobaths(const Node& n, IsobathOptions& o) {
+    n.require_object({"levels", "spacing", "shoreline", "smoothing"});
+    if (n.has("levels")) {
+        o.levels = n["levels"].numbers(0, "m");
+        if (o.levels.empty()) n["levels"].fail("expected at least one depth level");
+    }
+    if (n.has("spacing")) o.spacing = n["spacing"].positive("m");
+    if (n.has("levels") && n.has("spacing")) n.fail("give either levels or spacing, not both");
+    if (n.has("shoreline")) o.include_shoreline = n["shoreline"].boolean();
+    if (n.has("smoothing")) {
+        const Node s = n["smoothing"];
+        s.require_object({"samples", "beta1", "beta2"});
+        if (s.has("samples")) o.smoothing_samples = static_cast<int>(s["samples"].count(0));
+        if (s.has("beta1")) o.smoothing_beta1 = s["beta1"].positive("bias");
+        if (s.has("beta2")) o.smoothing_beta2 = s["beta2"].non_negative("tension");
+    }
+}
+
+WaveTrain read_wave(const Node& n) {
+    n.require_object({"period", "amplitude", "direction"});
+    WaveTrain w;
+    if (n.has("period")) w.period = n["period"].positive("s");
+    if (n.has("amplitude")) w.amplitude = n["amplitude"].positive("m");
+    if (n.has("direction")) {
+        const auto d = n["direction"].numbers(2, "direction");
+        if (d[0] == 0.0 && d[1] == 0.0) n["direction"].fail("expected a non-zero direction [x, y]");
+        w.direction_x = d[0];
+        w.direction_y = d[1];
+    }
+    return w;
+}
+
+void read_trace(const Node& n, Scene& s) {
+    n.require_object({"ray_spacing", "orthogonals_per_grid_line", "max_rays", "max_crossings", "breaker_index"});
+    if (n.has("ray_spacing")) s.trace.ray_spacing = n["ray_spacing"].positive("m");
+    if (n.has("orthogonals_per_grid_line")) s.orthogonals_per_grid_line = n["orthogonals_per_grid_line"].positive("rays per grid line");
+    if (n.has("ray_spacing") && n.has("orthogonals_per_grid_line")) n.fail("give either ray_spacing or orthogonals_per_grid_line, not both");
+    if (n.has("max_rays")) s.trace.max_rays = n["max_rays"].count(1);
+    if (n.has("max_crossings")) s.trace.max_crossings = n["max_crossings"].count(1);
+    if (n.has("breaker_index")) s.trace.breaker_index = n["breaker_index"].positive("H/h");
+}
+
+void read_surface(const Node& n, HeightFieldOptions& o) {
+    n.require_object({"grid", "samples_per_span", "footprint", "footprint_radius", "tension_per_metre", "max_tension",
+                      "repeat_time", "max_vertices"});
+    if (n.has("grid")) {
+        const Node g = n["grid"];
+        if (!g.value().is_array() || g.size() != 2) g.fail("expected [m, n] control vertices");
+        o.nx = g[std::size_t{0}].count(2);
+        o.ny = g[1].count(2);
+    }
+    if (n.has("samples_per_span")) o.samples_per_span = static_cast<int>(n["samples_per_span"].count(1));
+    if (n.has("footprint"))
+        o.footprint = n["footprint"].choice<Footprint>({{"bresenham", Footprint::bresenham}, {"smooth", Footprint::smooth}});
+    if (n.has("footprint_radius")) o.footprint_radius = n["footprint_radius"].positive("grid cells");
+    if (n.has("tension_per_metre")) o.tension_per_metre = n["tension_per_metre"].non_negative("1/m");
+    if (n.has("max_tension")) o.max_tension = n["max_tension"].non_negative("tension");
+    if (n.has("repeat_time")) o.repeat_time = n["repeat_time"].non_negative("s");
+    if (n.has("max_vertices")) o.max_vertices = n["max_vertices"].count(4);
+}
+
+}  // namespace
+
+Seafloor load_seafloor(const SeafloorSource& s) {
+    const auto& names = procedural_seafloor_names();
+    if (!std::filesystem::exists(s.source) && std::find(names.begin(), names.end(), s.source) != names.end())
+        return make_named_seafloor(s.source);
+    return read_seafloor(s.source, s.read);
+}
+
+Scene default_scene() {
+    Scene s;
+    s.name = "default: Gonzato's bay with a swell";
+    s.seafloor.source = "gonzato-bay";
+    s.waves = {{.period = 5.0, .amplitude = 0.3, .direction_x = 0.0, .direction_y = 1.0}};
+    s.trace.ray_spacing = 1.0;  // Gonzato: one ray per metre
+    s.surface.nx = s.surface.ny = 101;
+    s.surface.samples_per_span = 2;
+    return s;
+}
+
+Scene parse_scene(std::string_view text, const std::string& origin, const std::string& base_dir) {
+    json doc;
+    try {
+        doc = json::parse(text);
+    } catch (const json::parse_error& e) {
+        throw InputError(origin + ": not valid JSON (byte " + std::to_string(e.byte) + "): " + e.what());
+    }
+    const Node root(doc, "", origin);
+    root.require_object({"name", "seafloor", "isobaths", "waves", "trace", "surface", "animation"});
+    Scene s;
+    if (root.has("name")) s.name = root["name"].string();
+    if (root.has("seafloor")) read_seafloor_spec(root["seafloor"], s.seafloor, base_dir);
+    if (root.has("isobaths")) {
+        s.isobaths.spacing = 0.0;
+        read_isobaths(root["isobaths"], s.isobaths);
+        if (s.isobaths.levels.empty() && s.isobaths.spacing == 0.0) root["isobaths"].fail("give levels or a spacing");
+    }
+    if (!root.has("waves")) root.fail("missing \"waves\": at least one wave train {period, amplitude, direction}");
+    const Node waves = root["waves"];
+    if (!waves.value().is_array() || waves.size() == 0) waves.fail("expected a non-empty array of wave trains");
+    for (std::size_t i = 0; i < waves.size(); ++i) s.waves.push_back(read_wave(waves[i]));
+    if (root.has("trace")) read_trace(root["trace"], s);
+    if (root.has("surface")) read_surface(root["surface"], s.surface);
+    if (root.has("animation")) {
+        const Node a = root["animation"];
+        a.require_object({"fps"});
+        if (a.has("fps")) s.fps = a["fps"].positive("frames per second");
+    }
+    return s;
+}
+
+Scene read_scene(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path + (std::filesystem::exists(path) ? ": cannot open the file" : ": file not found"));
+    std::ostringstream text;
+    text << in.rdbuf();
+    return parse_scene(text.str(), path, std::filesystem::path(path).parent_path().string());
+}
+
+TraceOptions scene_trace_options(const Scene& scene, const Seafloor& seafloor) {
+    TraceOptions trace = scene.trace;
+    if (scene.orthogonals_per_grid_line > 0.0 && scene.surface.nx >= 2 && scene.surface.ny >= 2) {
+        const ElevationGrid& g = seafloor.grid;
+        const double cell = std::min((g.x_max() - g.x0) / static_cast<double>(scene.surface.nx - 1),
+                                     (g.y_max() - g.y0) / static_cast<double>(scene.surface.ny - 1));
+        trace.ray_spacing = cell / scene.orthogonals_per_grid_line;  // Ts'o §3.2.3
+    }
+    return trace;
+}
+
+ScenePlan plan_scene(const Scene& scene) {
+    ScenePlan p;
+    p.seafloor = load_seafloor(scene.seafloor);
+    p.isobaths = extract_isobaths(p.seafloor, scene.isobaths);
+    p.rays = trace_rays(p.seafloor, p.isobaths, scene.waves, scene_trace_options(scene, p.seafloor));
+    p.surface = plan_height_field(p.seafloor, p.rays, scene.waves, scene.surface);
+    return p;
+}
+
+}  // namespace wave
