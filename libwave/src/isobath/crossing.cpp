@@ -22,6 +22,25 @@ using SegmentIterator = std::vector<Fast::Segment_3>::const_iterator;
 // CGAL 5.5 has no 2D AABB tree: segments live in the z = 0 plane of a 3D tree.
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Fast, CGAL::AABB_segment_primitive<Fast, SegmentIterator>>>;
 
+// Collects the primitives of every tree leaf whose box the query meets. The tree's own
+// primitive test would intersect a Ray_3 with a Segment_3 in the same plane z = 0 —
+// a degenerate configuration on which the filtered kernel always falls back to exact
+// arithmetic; the 2D tests below are cheap and exact instead.
+template <class Query>
+struct BoxHits {
+    std::vector<std::size_t>& out;
+    SegmentIterator first;
+    bool go_further() const { return true; }
+    template <class Primitive>
+    void intersection(const Query&, const Primitive& p) {
+        out.push_back(static_cast<std::size_t>(p.id() - first));
+    }
+    template <class Node>
+    bool do_intersect(const Query& q, const Node& node) const {
+        return CGAL::do_intersect(q, node.bbox());
+    }
+};
+
 }  // namespace
 
 struct IsobathIndex::Impl {
@@ -80,17 +99,20 @@ std::optional<IsobathCrossing> IsobathIndex::first_crossing(const CrossingQuery&
     const double len = std::hypot(q.dx, q.dy);
     if (!(len > 0.0)) return std::nullopt;
 
-    std::vector<Tree::Primitive_id> candidates;
+    std::vector<std::size_t> candidates;
     const Fast::Point_3 o(q.x, q.y, 0.0);
     if (std::isfinite(q.max_distance)) {
         const double s = q.max_distance / len;
-        m.tree.all_intersected_primitives(Fast::Segment_3(o, Fast::Point_3(q.x + s * q.dx, q.y + s * q.dy, 0.0)),
-                                          std::back_inserter(candidates));
+        const Fast::Segment_3 query(o, Fast::Point_3(q.x + s * q.dx, q.y + s * q.dy, 0.0));
+        BoxHits<Fast::Segment_3> hits{candidates, m.segments.cbegin()};
+        m.tree.traversal(query, hits);
     } else {
-        m.tree.all_intersected_primitives(Fast::Ray_3(o, Fast::Vector_3(q.dx, q.dy, 0.0)),
-                                          std::back_inserter(candidates));
+        const Fast::Ray_3 query(o, Fast::Vector_3(q.dx, q.dy, 0.0));
+        BoxHits<Fast::Ray_3> hits{candidates, m.segments.cbegin()};
+        m.tree.traversal(query, hits);
     }
 
+    const Fast::Ray_2 ray2(Fast::Point_2(q.x, q.y), Fast::Vector_2(q.dx, q.dy));
     // Exact ray parameter t of a point on the ray: (p − o)·d / |d|².
     const Exact::Point_2 origin(q.x, q.y);
     const Exact::Vector_2 dir(q.dx, q.dy);
@@ -99,11 +121,14 @@ std::optional<IsobathCrossing> IsobathIndex::first_crossing(const CrossingQuery&
 
     std::optional<IsobathCrossing> best;
     Exact::FT best_t = 0;
-    for (const auto& id : candidates) {
-        const auto seg_index = static_cast<std::size_t>(id - m.segments.cbegin());
+    for (const std::size_t seg_index : candidates) {
         const std::size_t contour = m.contour_of[seg_index];
         if (contour == q.skip_contour || seg_index == q.skip_segment) continue;
-        const Fast::Segment_3& s3 = *id;
+        const Fast::Segment_3& s3 = m.segments[seg_index];
+        // Exact predicate first (filtered, cheap): most candidates are only box hits.
+        const Fast::Segment_2 seg2(Fast::Point_2(s3.source().x(), s3.source().y()),
+                                   Fast::Point_2(s3.target().x(), s3.target().y()));
+        if (!CGAL::do_intersect(ray2, seg2)) continue;
         const Exact::Point_2 a(s3.source().x(), s3.source().y()), b(s3.target().x(), s3.target().y());
         const auto hit = CGAL::intersection(ray, Exact::Segment_2(a, b));
         if (!hit) continue;

@@ -14,6 +14,8 @@ namespace wave {
 namespace {
 
 constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
+// First search reach of a crossing query, as a fraction of the domain size.
+constexpr double kFirstReach = 1.0 / 64.0;
 
 std::string fmt(double v) {
     std::ostringstream s;
@@ -108,14 +110,20 @@ bool trace_one(const IsobathIndex& index, const Box& box, const ElevationGrid& g
         q.y = py;
         q.dx = dx;
         q.dy = dy;
-        q.max_distance = to_exit;
         q.min_distance = 1e-12 * scale;
         q.skip_segment = skip;
-        std::optional<IsobathCrossing> hit = index.first_crossing(q);
-        // A vertex crossing lies on both neighbouring segments: do not re-cross it.
-        while (hit && (hit->segment == skip_prev || hit->segment == skip_next) && hit->distance <= 1e-9 * scale) {
-            q.min_distance = hit->distance;
+        // Search a short reach first and widen it: the next isobath is usually near,
+        // and a query to the far side of the domain visits every tree box on the way.
+        std::optional<IsobathCrossing> hit;
+        for (double reach = kFirstReach * scale;; reach *= 4.0) {
+            q.max_distance = std::min(reach, to_exit);
             hit = index.first_crossing(q);
+            // A vertex crossing lies on both neighbouring segments: do not re-cross it.
+            while (hit && (hit->segment == skip_prev || hit->segment == skip_next) && hit->distance <= 1e-9 * scale) {
+                q.min_distance = hit->distance;
+                hit = index.first_crossing(q);
+            }
+            if (hit || q.max_distance >= to_exit) break;
         }
         if (!hit) {
             s += to_exit;

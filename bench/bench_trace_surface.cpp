@@ -1,0 +1,53 @@
+// Tracing and per-frame surface benchmarks at the size of Ts'o & Barsky's scene.
+#include "libwave/scene.h"
+
+#include <benchmark/benchmark.h>
+
+#include <vector>
+
+namespace {
+
+wave::Scene tso_scene(double ray_spacing) {
+    wave::Scene s;
+    s.seafloor.source = "tso-contours";
+    s.isobaths.levels = {0.1, 0.2, 0.3, 0.5, 0.75, 1.25};
+    s.waves = {{.period = 6.0, .amplitude = 0.2, .direction_x = 0.5, .direction_y = -0.7},
+               {.period = 1.0, .amplitude = 0.1, .direction_x = -0.5, .direction_y = -0.7}};
+    s.trace.ray_spacing = ray_spacing;
+    s.surface.nx = s.surface.ny = 50;
+    s.surface.samples_per_span = 8;
+    return s;
+}
+
+// Ts'o traced 400 orthogonals (two trains) in 16 CPU minutes on a VAX-11/750.
+void BM_trace_tso(benchmark::State& state) {
+    const wave::Scene scene = tso_scene(50.0 * 1.2207 * 2 / static_cast<double>(state.range(0)));
+    const wave::Seafloor sea = wave::load_seafloor(scene.seafloor);
+    const wave::DepthContours iso = wave::extract_isobaths(sea, scene.isobaths);
+    std::size_t rays = 0, crossings = 0;
+    for (auto _ : state) {
+        const wave::RaySet r = wave::trace_rays(sea, iso, scene.waves, scene.trace);
+        rays += r.ray_count();
+        for (auto e : r.event) crossings += e == wave::RayEvent::refracted || e == wave::RayEvent::reflected;
+    }
+    state.counters["rays"] = benchmark::Counter(static_cast<double>(rays), benchmark::Counter::kAvgIterations);
+    state.counters["crossings"] = benchmark::Counter(static_cast<double>(crossings), benchmark::Counter::kAvgIterations);
+    state.counters["crossings_per_s"] = benchmark::Counter(static_cast<double>(crossings), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_trace_tso)->Arg(400)->Arg(40000)->Unit(benchmark::kMillisecond);
+
+// One frame of the 50 × 50 Beta2-spline surface at 8 samples per span (154 449 vertices).
+void BM_height_field_frame(benchmark::State& state) {
+    const wave::ScenePlan plan = wave::plan_scene(tso_scene(0.5));
+    std::vector<float> h(plan.surface.control_count()), p(3 * plan.surface.vertex_count());
+    double t = 0.0;
+    for (auto _ : state) {
+        wave::evaluate_height_field(plan.surface, t, h, p);
+        t += 1.0 / 24.0;
+        benchmark::DoNotOptimize(p.data());
+    }
+    state.counters["vertices_per_s"] = benchmark::Counter(static_cast<double>(plan.surface.vertex_count()), benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_height_field_frame)->Unit(benchmark::kMillisecond);
+
+}  // namespace
