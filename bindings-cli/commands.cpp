@@ -179,6 +179,7 @@ int run_job(const RunArgs& a) {
                 {"surface", {{"control_grid", {sp.nx, sp.ny}}, {"vertices", sp.vertex_count()}, {"triangles", sp.triangle_count()},
                              {"loop_period_s", sp.loop_period}, {"fps", scene.fps}, {"frames", frames},
                              {"height_range_m", {z_min, z_max}}}},
+                {"warnings", plan.warnings},
                 {"outputs", {"isobaths.json", "rays.csv", "surface-frame-0000.obj", "report.json"}},
                 {"not_yet", "animated glTF export (frames are evaluated, only frame 0 is written, as OBJ)"}};
 
@@ -210,6 +211,7 @@ int run_job(const RunArgs& a) {
               << " ms each\n"
               << "wrote      " << out_dir << "/{isobaths.json, rays.csv, surface-frame-0000.obj, report.json}\n"
               << "not yet    animated glTF export: frames are evaluated, only frame 0 is written (OBJ)\n";
+    for (const std::string& w : plan.warnings) std::cout << "warning    " << w << '\n';
     return 0;
 }
 

@@ -148,6 +148,9 @@ class MainJob(unittest.TestCase):
             self.assertEqual(report["surface"]["frames"], 144)
             self.assertEqual(report["surface"]["control_grid"], [50, 50])
             self.assertGreater(report["rays"]["crossings"], 500)
+            # Ts'o's 1 s train (L = 1.56 m) on 1 m cells aliases: said, not hidden.
+            self.assertEqual(len(report["warnings"]), 1)
+            self.assertIn("T = 1 s", report["warnings"][0])
 
     def test_real_bathymetry_end_to_end(self):
         with tempfile.TemporaryDirectory() as d:

@@ -61,9 +61,14 @@ struct ScenePlan {
     DepthContours isobaths;
     RaySet rays;
     HeightFieldPlan surface;
+    /// Doubts about the result that are not errors, e.g. a train whose wavelength the
+    /// surface grid cannot resolve (aliasing).
+    std::vector<std::string> warnings;
 };
 
 /// Runs every static stage of a scene: seafloor → isobaths → trace → surface plan.
+/// Throws InputError when the Bresenham footprint is asked for with fewer than one
+/// orthogonal per grid line (Ts'o's minimum: the grid would have holes).
 ScenePlan plan_scene(const Scene& scene);
 
 }  // namespace wave

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <numbers>
 #include <set>
 #include <sstream>
 
@@ -18,6 +19,13 @@ namespace wave {
 namespace {
 
 using nlohmann::json;
+
+std::string fmt(double v) {
+    std::ostringstream s;
+    s.precision(6);
+    s << v;
+    return s.str();
+}
 
 // A JSON value with its pointer, for reading with validation.
 class Node {
@@ -276,8 +284,27 @@ TraceOptions scene_trace_options(const Scene& scene, const Seafloor& seafloor) {
 ScenePlan plan_scene(const Scene& scene) {
     ScenePlan p;
     p.seafloor = load_seafloor(scene.seafloor);
+    const TraceOptions trace = scene_trace_options(scene, p.seafloor);
+    const ElevationGrid& g = p.seafloor.grid;
+    if (scene.surface.nx >= 2 && scene.surface.ny >= 2) {
+        const double cell = std::min((g.x_max() - g.x0) / static_cast<double>(scene.surface.nx - 1),
+                                     (g.y_max() - g.y0) / static_cast<double>(scene.surface.ny - 1));
+        if (scene.surface.footprint == Footprint::bresenham && trace.ray_spacing > cell)
+            throw InputError("scene: the Bresenham footprint needs at least one orthogonal per grid line (Ts'o): "
+                             "ray spacing " + fmt(trace.ray_spacing) + " m exceeds the grid cell " +
+                             fmt(cell) + " m; lower /trace/ray_spacing, raise "
+                             "/trace/orthogonals_per_grid_line, or use the smooth footprint");
+        for (std::size_t n = 0; n < scene.waves.size(); ++n) {
+            const double shortest = linear_wave(2.0 * std::numbers::pi / scene.waves[n].period,
+                                                std::max(0.05, seafloor_stats(p.seafloor).depth_max)).wavelength;
+            if (2.0 * cell > shortest)
+                p.warnings.push_back("wave train " + std::to_string(n) + " (T = " + fmt(scene.waves[n].period) +
+                                     " s, L <= " + fmt(shortest) + " m) is shorter than two surface cells (" +
+                                     fmt(cell) + " m): it aliases on this grid");
+        }
+    }
     p.isobaths = extract_isobaths(p.seafloor, scene.isobaths);
-    p.rays = trace_rays(p.seafloor, p.isobaths, scene.waves, scene_trace_options(scene, p.seafloor));
+    p.rays = trace_rays(p.seafloor, p.isobaths, scene.waves, trace);
     p.surface = plan_height_field(p.seafloor, p.rays, scene.waves, scene.surface);
     return p;
 }

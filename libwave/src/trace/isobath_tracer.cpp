@@ -232,6 +232,8 @@ const char* to_string(RayEvent e) noexcept {
 RaySet trace_rays(const Seafloor& seafloor, const DepthContours& isobaths, std::span<const WaveTrain> trains,
                   const TraceOptions& o) {
     validate(trains, o);
+    if (isobaths.size() == 0)
+        throw InputError("trace: the isobath set is empty; give depth levels inside the seafloor's depth range");
     const ElevationGrid& g = seafloor.grid;
     const Box box{g.x0, g.y0, g.x_max(), g.y_max()};
     const IsobathIndex index(isobaths);
