@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <sstream>
 
 namespace wave {
 namespace {
@@ -122,13 +121,6 @@ SeafloorStats seafloor_stats(const Seafloor& s) {
 }
 
 namespace detail {
-
-std::string format_number(double v) {
-    std::ostringstream s;
-    s.precision(15);
-    s << v;
-    return s.str();
-}
 
 void check_grid_size(const std::string& path, std::size_t nx, std::size_t ny,
                      const ReadOptions& options) {

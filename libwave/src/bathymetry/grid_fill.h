@@ -1,6 +1,7 @@
 // Internal to the bathymetry stage: turning raw file values into a validated grid.
 #pragma once
 
+#include "core/format.h"
 #include "libwave/bathymetry.h"
 
 #include <functional>
@@ -26,8 +27,5 @@ std::size_t convert_to_elevation(std::vector<double>& values, std::optional<doub
                                  const std::vector<char>& missing, ValueSign file_sign,
                                  const ReadOptions& options, const std::string& path,
                                  const NodeLocator& where, std::size_t nx);
-
-/// "1.5" with enough digits to find the value again.
-std::string format_number(double v);
 
 }  // namespace wave::detail

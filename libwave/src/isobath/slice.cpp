@@ -1,6 +1,7 @@
 // Isobaths by slicing the seafloor surface with horizontal planes (CGAL), and
 // Beta-spline smoothing of contour polylines (Ts'o–Barsky §3.2.2).
 #include "libwave/beta_spline.h"
+#include "core/format.h"
 #include "libwave/errors.h"
 #include "libwave/isobath.h"
 
@@ -19,12 +20,7 @@ using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = Kernel::Point_3;
 using Mesh = CGAL::Surface_mesh<Point>;
 
-std::string fmt(double v) {
-    std::ostringstream s;
-    s.precision(10);
-    s << v;
-    return s.str();
-}
+std::string fmt(double v) { return detail::format_number(v); }
 
 // The source mesh when there is one (slicing the original, not its resampling),
 // otherwise the grid with two triangles per cell.

@@ -1,11 +1,11 @@
 // Linear dispersion, group velocity, shoaling and refraction coefficients.
 #include "libwave/physics.h"
 
+#include "core/format.h"
 #include "libwave/errors.h"
 
 #include <cmath>
 #include <numbers>
-#include <sstream>
 
 namespace wave {
 namespace {
@@ -29,12 +29,7 @@ Residual dispersion_residual(double k, double omega, double h, double L) {
             kGravity * ((1.0 + 3.0 * kl2) * t + k * (1.0 + kl2) * h * c * c)};
 }
 
-std::string describe(double v) {
-    std::ostringstream s;
-    s.precision(17);
-    s << v;
-    return s.str();
-}
+std::string describe(double v) { return detail::format_number(v); }
 
 }  // namespace
 

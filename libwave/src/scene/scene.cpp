@@ -2,6 +2,7 @@
 // wiring of the static stages.
 #include "libwave/scene.h"
 
+#include "core/format.h"
 #include "libwave/errors.h"
 
 #include <nlohmann/json.hpp>
@@ -20,12 +21,7 @@ namespace {
 
 using nlohmann::json;
 
-std::string fmt(double v) {
-    std::ostringstream s;
-    s.precision(6);
-    s << v;
-    return s.str();
-}
+std::string fmt(double v) { return detail::format_number(v); }
 
 // A JSON value with its pointer, for reading with validation.
 class Node {

@@ -1,6 +1,7 @@
 // Ts'o–Barsky height field: wave lists deposited on a grid (§3.2.4), superposed, and
 // a Beta2-spline surface whose tension rises with height (§3.3).
 #include "libwave/beta_spline.h"
+#include "core/format.h"
 #include "libwave/errors.h"
 #include "libwave/surface.h"
 
@@ -15,12 +16,7 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-std::string fmt(double v) {
-    std::ostringstream s;
-    s.precision(10);
-    s << v;
-    return s.str();
-}
+std::string fmt(double v) { return detail::format_number(v); }
 
 void validate(const HeightFieldOptions& o) {
     if (o.nx < 2 || o.ny < 2)

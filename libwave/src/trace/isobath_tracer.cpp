@@ -1,6 +1,7 @@
 // Ts'o–Barsky wave tracing in isobath mode: straight legs between exact isobath
 // crossings, Snell's law at each crossing, amplitude from the spacing of neighbouring
 // rays (Ts'o & Barsky 1987 §3.1.3, §3.2.1–3.2.3).
+#include "core/format.h"
 #include "libwave/errors.h"
 #include "libwave/trace.h"
 
@@ -17,12 +18,7 @@ constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
 // First search reach of a crossing query, as a fraction of the domain size.
 constexpr double kFirstReach = 1.0 / 64.0;
 
-std::string fmt(double v) {
-    std::ostringstream s;
-    s.precision(10);
-    s << v;
-    return s.str();
-}
+std::string fmt(double v) { return detail::format_number(v); }
 
 struct Box {
     double x0, y0, x1, y1;
