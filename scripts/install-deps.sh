@@ -13,6 +13,7 @@ packages=(
   libgdal-dev gdal-bin
   libgtest-dev libgmock-dev libbenchmark-dev
   pybind11-dev python3-pybind11 python3
+  nodejs
 )
 
 missing=()
@@ -22,13 +23,22 @@ for p in "${packages[@]}"; do
   fi
 done
 
-if ((${#missing[@]} == 0)); then
-  exit 0
-fi
-
-echo "install-deps: installing ${missing[*]}" >&2
 sudo_cmd=()
 if [[ $(id -u) -ne 0 ]]; then sudo_cmd=(sudo); fi
 export DEBIAN_FRONTEND=noninteractive
-"${sudo_cmd[@]}" apt-get update -qq
-"${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+updated=0
+apt_install() {
+  echo "install-deps: installing $*" >&2
+  if ((updated == 0)); then "${sudo_cmd[@]}" apt-get update -qq; updated=1; fi
+  "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "$@" >/dev/null
+}
+if ((${#missing[@]} > 0)); then apt_install "${missing[@]}"; fi
+# Debian's nodejs ships npm separately (NodeSource's includes it).
+if ! command -v npm >/dev/null 2>&1; then apt_install npm; fi
+
+# The Khronos glTF validator (npm), pinned by package-lock.json, for the tests.
+validator_dir="$(cd "$(dirname "$0")" && pwd)/gltf-validator"
+if [[ ! -f "$validator_dir/node_modules/gltf-validator/package.json" ]]; then
+  echo "install-deps: installing the Khronos glTF validator (npm ci)" >&2
+  (cd "$validator_dir" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
+fi

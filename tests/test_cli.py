@@ -3,6 +3,7 @@
 1 runtime failure), `error: …` on stderr naming the file/value, and no partial output."""
 import json
 import os
+import struct
 import subprocess
 import sys
 import tempfile
@@ -10,6 +11,37 @@ import unittest
 
 WAVE = os.environ["WAVE_EXE"]
 DATA = os.environ["LIBWAVE_DATA_DIR"]
+VALIDATOR = os.environ["GLTF_VALIDATOR"]  # scripts/gltf-validator/validate.mjs (Khronos, npm)
+
+
+def validate_gltf(test, path):
+    """Every file we export passes the Khronos glTF validator with no errors."""
+    r = subprocess.run(["node", VALIDATOR, path], capture_output=True, text=True, timeout=600)
+    test.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+    report = json.loads(r.stdout.splitlines()[-1])
+    test.assertEqual(report["numErrors"], 0, report)
+    return report
+
+
+def read_glb(path):
+    """(json, binary chunk) of a .glb, read by hand: independent of the writer."""
+    data = open(path, "rb").read()
+    magic, version, length = struct.unpack_from("<4sII", data, 0)
+    assert magic == b"glTF" and version == 2 and length == len(data)
+    json_len, json_type = struct.unpack_from("<I4s", data, 12)
+    assert json_type == b"JSON"
+    doc = json.loads(data[20:20 + json_len])
+    bin_len, bin_type = struct.unpack_from("<I4s", data, 20 + json_len)
+    assert bin_type == b"BIN\0"
+    return doc, data[28 + json_len:28 + json_len + bin_len]
+
+
+def floats(doc, binary, accessor):
+    a = doc["accessors"][accessor]
+    view = doc["bufferViews"][a["bufferView"]]
+    width = {"SCALAR": 1, "VEC2": 2, "VEC3": 3}[a["type"]]
+    start = view.get("byteOffset", 0) + a.get("byteOffset", 0)
+    return struct.unpack_from("<%df" % (a["count"] * width), binary, start)
 
 
 def wave(*args, cwd=None):
@@ -123,7 +155,7 @@ EXAMPLES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examp
 
 
 class MainJob(unittest.TestCase):
-    OUTPUTS = ["isobaths.json", "rays.csv", "report.json", "surface-frame-0000.obj"]
+    OUTPUTS = ["animation.glb", "isobaths.json", "rays.csv", "report.json", "surface-frame-0000.obj"]
 
     def test_default_scene(self):
         with tempfile.TemporaryDirectory() as d:
@@ -138,12 +170,41 @@ class MainJob(unittest.TestCase):
             with open(os.path.join(out, "rays.csv")) as f:
                 header = f.readline().strip()
             self.assertEqual(header, "ray,step,x,y,dir_x,dir_y,depth,k,omega,celerity,group_velocity,amplitude,flag")
+            self.check_animation(out, report)
+
+    def check_animation(self, out, report):
+        glb = os.path.join(out, "animation.glb")
+        validate_gltf(self, glb)
+        doc, binary = read_glb(glb)
+        frames, fps = report["surface"]["frames"], report["surface"]["fps"]
+        prim = doc["meshes"][0]["primitives"][0]
+        self.assertEqual(len(prim["targets"]), frames)  # one morph target per frame
+        self.assertEqual(doc["meshes"][0]["extras"]["targetNames"][1], "frame_0001")
+        self.assertEqual(doc["accessors"][prim["attributes"]["POSITION"]]["count"], report["surface"]["vertices"])
+        sampler = doc["animations"][0]["samplers"][0]
+        self.assertEqual(sampler["interpolation"], "STEP")
+        self.assertEqual(doc["animations"][0]["channels"][0]["target"]["path"], "weights")
+        times = floats(doc, binary, sampler["input"])
+        weights = floats(doc, binary, sampler["output"])
+        for k, t in enumerate(times):
+            self.assertLessEqual(t, k / fps)  # largest float32 <= k / fps
+            self.assertEqual(weights[k * frames:(k + 1) * frames].count(1.0), 1)
+            self.assertEqual(weights[k * frames + k], 1.0)
+        # The base mesh is frame 0: the OBJ frame (z up) mapped to glTF's y up.
+        base = floats(doc, binary, prim["attributes"]["POSITION"])
+        obj = [tuple(map(float, line.split()[1:])) for line in open(os.path.join(out, "surface-frame-0000.obj"))
+               if line.startswith("v ")]
+        f32 = lambda value: struct.unpack("<f", struct.pack("<f", value))[0]  # OBJ holds the shortest float text
+        for v in range(0, len(obj), max(1, len(obj) // 50)):
+            x, y, z = obj[v]
+            self.assertEqual(base[3 * v:3 * v + 3], (f32(x), f32(z), f32(-y)))
 
     def test_tso_barsky_scene_loops_over_six_seconds(self):
         with tempfile.TemporaryDirectory() as d:
             r = wave("run", os.path.join(EXAMPLES, "tso-barsky.json"), "-o", d, "--json")
             self.assertEqual(r.returncode, 0, r.stderr)
             report = json.loads(r.stdout)
+            self.check_animation(d, report)
             self.assertEqual(report["surface"]["loop_period_s"], 6.0)  # LCM of 6 s and 1 s
             self.assertEqual(report["surface"]["frames"], 144)
             self.assertEqual(report["surface"]["control_grid"], [50, 50])
@@ -157,6 +218,7 @@ class MainJob(unittest.TestCase):
             r = wave("run", os.path.join(EXAMPLES, "okushiri.json"), "-o", d, "--json")
             self.assertEqual(r.returncode, 0, r.stderr)
             report = json.loads(r.stdout)
+            self.check_animation(d, report)
             self.assertGreater(report["rays"]["aground"], 100)
             lo, hi = report["surface"]["height_range_m"]
             self.assertLess(hi, 0.02)  # 4 mm waves shoal, but stay bounded by breaking

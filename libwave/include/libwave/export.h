@@ -1,10 +1,12 @@
 // libwave — export: meshes and animations to files for DCC tools.
 //
-// Today: Wavefront OBJ of one frame (positions z up, as everywhere in libwave; OBJ has
-// no axis convention, Blender's importer asks). The animated glTF / Draco exporter of
-// DESIGN.md is not written yet.
+// glTF 2.0 binary (.glb) with the animation as one morph target per frame and a STEP
+// `weights` channel (DESIGN.md, "Export conventions"; Blender turns it into shape
+// keys, three.js plays it); Wavefront OBJ of one frame. libwave is z up; glTF is y up:
+// the glTF writer maps (x, y, z) → (x, z, −y), nothing else converts.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -17,5 +19,29 @@ namespace wave {
 /// Precondition: every index < positions.size() / 3.
 std::string mesh_to_obj(std::span<const float> positions, std::span<const std::uint32_t> triangles,
                         std::string_view comment);
+
+/// Frames of one mesh with fixed topology (views of caller-owned arrays, z up).
+struct MorphAnimationView {
+    std::span<const std::uint32_t> triangles;  ///< 3 indices per triangle, counter-clockwise
+    std::size_t vertex_count = 0;
+    std::size_t frame_count = 0;
+    std::span<const float> positions;  ///< frame_count · vertex_count · 3
+    std::span<const float> normals;    ///< same layout, unit length
+    std::span<const float> texcoords;  ///< vertex_count · 2 (TEXCOORD_0)
+    double fps = 24.0;
+    std::string name = "water";
+};
+
+/// The largest float32 <= k / fps: nearest rounding lands some keys just after frame k
+/// and Blender then shows the previous frame there (DESIGN.md).
+float key_time(std::size_t k, double fps) noexcept;
+
+/// A .glb holding the animation: the mesh with frame 0 as its base (POSITION, NORMAL,
+/// TEXCOORD_0, uint32 indices), one morph target per frame (POSITION and NORMAL
+/// differences from frame 0, named in mesh.extras.targetNames), and an animation whose
+/// `weights` channel is one-hot per frame with STEP interpolation at key_time(k, fps).
+/// Throws InputError for inconsistent sizes, an index out of range, or a NaN/Inf value
+/// (naming the frame and vertex).
+std::string gltf_morph_glb(const MorphAnimationView& animation);
 
 }  // namespace wave

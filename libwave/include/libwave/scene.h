@@ -5,6 +5,7 @@
 #pragma once
 
 #include "libwave/bathymetry.h"
+#include "libwave/export.h"
 #include "libwave/isobath.h"
 #include "libwave/surface.h"
 #include "libwave/trace.h"
@@ -70,5 +71,23 @@ struct ScenePlan {
 /// Throws InputError when the Bresenham footprint is asked for with fewer than one
 /// orthogonal per grid line (Ts'o's minimum: the grid would have holes).
 ScenePlan plan_scene(const Scene& scene);
+
+/// Every frame of one animation loop of a planned scene, ready for an exporter.
+struct SceneAnimation {
+    std::size_t vertex_count = 0, frame_count = 0;
+    std::vector<float> positions;  ///< frame_count · vertex_count · 3, z up
+    std::vector<float> normals;    ///< same layout, unit (area-weighted, Jeschke §5)
+    std::vector<float> texcoords;  ///< vertex_count · 2: rest position scaled to the domain
+    float z_min = 0, z_max = 0;    ///< height range over all frames (m)
+    double fps = 24.0;
+    std::span<const std::uint32_t> triangles;  ///< the plan's index list
+
+    MorphAnimationView view() const;
+};
+
+/// Evaluates every frame of one loop (round(loop_period · fps) frames, t = k / fps).
+/// Throws LimitError when the frames would exceed `max_bytes` as float arrays, naming
+/// the scene values that lower it.
+SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double max_bytes = 2e9);
 
 }  // namespace wave

@@ -4,6 +4,7 @@
 
 #include "core/format.h"
 #include "libwave/errors.h"
+#include "libwave/shade.h"
 
 #include <nlohmann/json.hpp>
 
@@ -11,6 +12,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <set>
@@ -222,7 +224,7 @@ Scene default_scene() {
     s.seafloor.source = "gonzato-bay";
     s.waves = {{.period = 5.0, .amplitude = 0.3, .direction_x = 0.0, .direction_y = 1.0}};
     s.trace.ray_spacing = 1.0;  // Gonzato: one ray per metre
-    s.surface.nx = s.surface.ny = 101;
+    s.surface.nx = s.surface.ny = 51;
     s.surface.samples_per_span = 2;
     return s;
 }
@@ -303,6 +305,55 @@ ScenePlan plan_scene(const Scene& scene) {
     p.rays = trace_rays(p.seafloor, p.isobaths, scene.waves, trace);
     p.surface = plan_height_field(p.seafloor, p.rays, scene.waves, scene.surface);
     return p;
+}
+
+MorphAnimationView SceneAnimation::view() const {
+    MorphAnimationView v;
+    v.triangles = triangles;
+    v.vertex_count = vertex_count;
+    v.frame_count = frame_count;
+    v.positions = positions;
+    v.normals = normals;
+    v.texcoords = texcoords;
+    v.fps = fps;
+    return v;
+}
+
+SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double max_bytes) {
+    const HeightFieldPlan& sp = plan.surface;
+    SceneAnimation a;
+    a.fps = scene.fps;
+    a.vertex_count = sp.vertex_count();
+    a.frame_count = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(sp.loop_period * scene.fps)));
+    a.triangles = sp.triangles;
+    const std::size_t n = a.vertex_count;
+    if (static_cast<double>(a.frame_count) * static_cast<double>(n) * 24.0 > max_bytes)
+        throw LimitError("scene: the animation would hold " + std::to_string(a.frame_count) + " frames of " +
+                         std::to_string(n) + " vertices (over " + fmt(max_bytes / 1e9) +
+                         " GB of positions and normals); lower /surface/samples_per_span, /surface/grid or /animation/fps");
+    a.positions.resize(3 * n * a.frame_count);
+    a.normals.resize(3 * n * a.frame_count);
+    std::vector<float> heights(sp.control_count());
+    a.z_min = std::numeric_limits<float>::infinity();
+    a.z_max = -std::numeric_limits<float>::infinity();
+    for (std::size_t f = 0; f < a.frame_count; ++f) {
+        const std::span<float> p(&a.positions[3 * n * f], 3 * n), nr(&a.normals[3 * n * f], 3 * n);
+        evaluate_height_field(sp, static_cast<double>(f) / scene.fps, heights, p);
+        vertex_normals(p, sp.triangles, nr);
+        for (std::size_t v = 0; v < n; ++v) {
+            a.z_min = std::min(a.z_min, p[3 * v + 2]);
+            a.z_max = std::max(a.z_max, p[3 * v + 2]);
+        }
+    }
+    // TEXCOORD_0: u along +x, v down the domain (glTF's image origin is top-left).
+    a.texcoords.resize(2 * n);
+    for (std::size_t row = 0; row < sp.vertex_ny; ++row)
+        for (std::size_t col = 0; col < sp.vertex_nx; ++col) {
+            const std::size_t v = row * sp.vertex_nx + col;
+            a.texcoords[2 * v] = static_cast<float>(static_cast<double>(col) / static_cast<double>(sp.vertex_nx - 1));
+            a.texcoords[2 * v + 1] = static_cast<float>(1.0 - static_cast<double>(row) / static_cast<double>(sp.vertex_ny - 1));
+        }
+    return a;
 }
 
 }  // namespace wave
