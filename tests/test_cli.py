@@ -151,7 +151,7 @@ class Contours(unittest.TestCase):
             self.assertEqual(os.listdir(d), [])
 
 
-EXAMPLES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples", "scenes")
+EXAMPLES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples")
 
 
 class MainJob(unittest.TestCase):

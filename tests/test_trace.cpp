@@ -1,6 +1,7 @@
 // Ts'o–Barsky tracing: Snell's law at every exact crossing, amplitude against
 // A∞ K_s K_r on a planar beach, total reflection, vertex and along-contour rays.
 #include "libwave/errors.h"
+#include "libwave/scene.h"
 #include "libwave/trace.h"
 
 #include <gtest/gtest.h>
@@ -13,19 +14,18 @@ namespace {
 using namespace wave;
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-DepthContours beach_isobaths(const Seafloor& beach) {
-    IsobathOptions o;
-    o.spacing = 0.5;
-    return extract_isobaths(beach, o);
-}
-
 TEST(Trace, PlanarBeachSnellAtEveryCrossingAndAmplitude) {
-    const Seafloor beach = make_planar_beach();  // straight contours along x, sea to −y
-    const DepthContours iso = beach_isobaths(beach);
-    const WaveTrain train{.period = 8.0, .amplitude = 0.4, .direction_x = std::sin(30 * kDeg), .direction_y = std::cos(30 * kDeg)};
-    TraceOptions opt;
-    opt.ray_spacing = 2.0;
-    const RaySet rays = trace_rays(beach, iso, std::span(&train, 1), opt);
+    // The shipped example: a planar beach (straight contours along x, sea to −y) and a
+    // T = 8 s, A∞ = 0.4 m swell at 30° to the shore normal, rays 2 m apart.
+    const Scene scene = read_scene(std::string(LIBWAVE_EXAMPLES_DIR) + "/planar-beach.json");
+    const Seafloor beach = load_seafloor(scene.seafloor);
+    const DepthContours iso = extract_isobaths(beach, scene.isobaths);
+    ASSERT_EQ(scene.waves.size(), 1u);
+    const WaveTrain& train = scene.waves[0];
+    ASSERT_EQ(train.period, 8.0);
+    ASSERT_EQ(train.amplitude, 0.4);
+    ASSERT_NEAR(std::atan2(train.direction_x, train.direction_y), 30 * kDeg, 1e-12);
+    const RaySet rays = trace_rays(beach, iso, std::span(&train, 1), scene.trace);
     ASSERT_GT(rays.ray_count(), 50u);
     std::size_t checked = 0, aground = 0;
     for (std::size_t r = 0; r < rays.ray_count(); ++r) {
