@@ -1,0 +1,15 @@
+# Runs `wave run` on the default scene, then imports its animation.glb into Blender.
+file(REMOVE_RECURSE ${OUT})
+execute_process(COMMAND ${WAVE} run -o ${OUT} --json RESULT_VARIABLE rc OUTPUT_VARIABLE report ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "wave run failed: ${err}")
+endif()
+string(JSON frames GET "${report}" surface frames)
+string(JSON vertices GET "${report}" surface vertices)
+string(JSON fps GET "${report}" surface fps)
+execute_process(COMMAND ${BLENDER} -b --factory-startup --python ${SCRIPT} -- ${OUT}/animation.glb ${fps} ${frames} ${vertices}
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+message(STATUS "${out}")
+if(NOT rc EQUAL 0 OR NOT out MATCHES "BLENDER-IMPORT ok")
+  message(FATAL_ERROR "Blender import failed (${rc}):\n${out}\n${err}")
+endif()

@@ -1,0 +1,38 @@
+# Imports a libwave animation.glb into Blender (run as: blender -b --factory-startup
+# --python tests/blender_import.py -- FILE FPS FRAMES VERTICES) and checks that the
+# morph targets arrive as shape keys driven so that frame k shows exactly frame_k.
+import sys
+
+import bpy
+import numpy
+
+numpy.bool = bool  # Debian 12's Blender 3.4 importer uses numpy.bool, removed in numpy 1.24
+
+path, fps, frames, vertices = sys.argv[sys.argv.index("--") + 1:][:4]
+fps, frames, vertices = float(fps), int(frames), int(vertices)
+bpy.ops.wm.read_factory_settings(use_empty=True)
+scene = bpy.context.scene
+# Set before importing: the importer converts seconds with the scene's fps.
+scene.render.fps = round(fps)
+scene.render.fps_base = round(fps) / fps
+bpy.ops.import_scene.gltf(filepath=path)
+meshes = [o for o in scene.objects if o.type == "MESH"]
+errors = []
+if len(meshes) != 1:
+    errors.append(f"expected one mesh object, got {len(meshes)}")
+else:
+    obj = meshes[0]
+    keys = obj.data.shape_keys.key_blocks if obj.data.shape_keys else []
+    if len(obj.data.vertices) != vertices:
+        errors.append(f"{len(obj.data.vertices)} vertices, expected {vertices}")
+    if len(keys) != frames + 1:
+        errors.append(f"{len(keys)} shape keys, expected {frames} + basis")
+    for f in range(frames):
+        scene.frame_set(f)
+        on = [k.name for k in keys[1:] if k.value > 0.5]
+        if on != ["frame_%04d" % f]:
+            errors.append(f"frame {f} shows {on}")
+for e in errors:
+    print("BLENDER-IMPORT-ERROR", e)
+print("BLENDER-IMPORT", "ok" if not errors else "failed")
+sys.exit(1 if errors else 0)
