@@ -199,12 +199,17 @@ class MainJob(unittest.TestCase):
             x, y, z = obj[v]
             self.assertEqual(base[3 * v:3 * v + 3], (f32(x), f32(z), f32(-y)))
 
+    def run_example(self, name, out):
+        """Runs an example scene into `out`, checks its animation, returns the report."""
+        r = wave("run", os.path.join(EXAMPLES, name), "-o", out, "--json")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        report = json.loads(r.stdout)
+        self.check_animation(out, report)
+        return report
+
     def test_tso_barsky_scene_loops_over_six_seconds(self):
         with tempfile.TemporaryDirectory() as d:
-            r = wave("run", os.path.join(EXAMPLES, "tso-barsky.json"), "-o", d, "--json")
-            self.assertEqual(r.returncode, 0, r.stderr)
-            report = json.loads(r.stdout)
-            self.check_animation(d, report)
+            report = self.run_example("tso-barsky.json", d)
             self.assertEqual(report["surface"]["loop_period_s"], 6.0)  # LCM of 6 s and 1 s
             self.assertEqual(report["surface"]["frames"], 144)
             self.assertEqual(report["surface"]["control_grid"], [50, 50])
@@ -215,10 +220,7 @@ class MainJob(unittest.TestCase):
 
     def test_real_bathymetry_end_to_end(self):
         with tempfile.TemporaryDirectory() as d:
-            r = wave("run", os.path.join(EXAMPLES, "okushiri.json"), "-o", d, "--json")
-            self.assertEqual(r.returncode, 0, r.stderr)
-            report = json.loads(r.stdout)
-            self.check_animation(d, report)
+            report = self.run_example("okushiri.json", d)
             self.assertGreater(report["rays"]["aground"], 100)
             lo, hi = report["surface"]["height_range_m"]
             self.assertLess(hi, 0.02)  # 4 mm waves shoal, but stay bounded by breaking
