@@ -98,6 +98,64 @@ struct RaySet {
 RaySet trace_rays(const Seafloor& seafloor, const DepthContours& isobaths,
                   std::span<const WaveTrain> trains, const TraceOptions& options = {});
 
+// ---------------------------------------------------------------------------------
+// Gonzato & Le Saëc's adaptive wave fronts (§3.3), gradient refraction mode
+// ---------------------------------------------------------------------------------
+
+/// Gonzato's ray flags.
+enum class RayFlag : std::uint8_t {
+    alive,    ///< propagating
+    flat,     ///< amplitude below FrontOptions::flat_amplitude: no new rays between two flat ones
+    aground,  ///< touched the shore (h <= 0) and now follows it
+    dead,     ///< left the domain, or aground between two aground rays: removed
+};
+const char* to_string(RayFlag f) noexcept;
+
+struct FrontOptions {
+    double ray_spacing = 1.0;     ///< initial distance between rays (m); Gonzato's bay: 1
+    double step = 0.4;            ///< step length along every ray per front (m); bay: 0.4
+    double split_distance = 1.2;  ///< insert a ray where neighbours are farther apart (m); bay: 1.2
+    double flat_amplitude = 0.005;  ///< FLAT below this amplitude (m)
+    std::size_t max_rays = 200'000;   ///< guard rail on live + inserted rays
+    std::size_t max_steps = 100'000;  ///< guard rail on fronts
+    double breaker_index = kBreakerIndex;  ///< amplitude cap γ h / 2
+    DispersionOptions dispersion{};
+};
+
+/// Fronts as rows: front f holds the live rays after f steps, in order along the
+/// front, at points front_offsets[f] .. front_offsets[f+1]−1 (structure of arrays).
+struct FrontSet {
+    std::vector<std::size_t> front_offsets{0};
+    std::vector<std::uint32_t> ray;  ///< stable ray id (initial rays 0…n−1, inserted rays after)
+    std::vector<double> x, y, dir_x, dir_y;
+    std::vector<double> phase;       ///< plane-wave start phase + Σ k Δs (rad)
+    std::vector<double> k, depth, slope;  ///< slope = |∇h| (bottom slope)
+    std::vector<double> amplitude;   ///< A∞ K_s K_r, K_r from the spacing of the neighbours
+    std::vector<RayFlag> flag;
+    double omega = 0.0;
+    std::size_t initial_rays = 0, inserted_rays = 0, rays_aground = 0;
+    std::size_t rays_trapped = 0;    ///< removed after turning a full circle (orbiting an island's shelf)
+    std::size_t facets = 0;          ///< triangles of Gonzato's tessellation (fig. 11): 2 per cell, 3 where a ray was inserted
+
+    std::size_t front_count() const noexcept { return front_offsets.size() - 1; }
+};
+
+/// Gonzato's adaptive tracing of one train (§3.3) in gradient mode: every ray advances
+/// `step` per front; at each step the local contour direction comes from the bicubic
+/// depth gradient and Snell's law sin i / C(h) = sin r / C(h') turns the ray between
+/// the depth here and one step ahead (total reflection if sin r > 1). Rays touching
+/// land become AGROUND and follow the shoreline; a ray between two AGROUND rays, or
+/// leaving the domain, is DEAD and removed; where neighbours are farther apart than
+/// split_distance (and not both FLAT) a ray is inserted, interpolated from them.
+/// A ray that has turned through a full circle (refraction can trap rays in orbit
+/// round an island) is removed and counted in rays_trapped; neighbours that have
+/// crossed (a caustic) get no ray inserted between them.
+/// Amplitude A = A∞ K_s √(b0 / b): b the local spacing to the neighbours, b0 the
+/// deep-water width of the same ray tube (halved at each insertion), so energy flux is
+/// conserved (Gonzato eq. 9 printed inverted). Tracing stops when no ray is ALIVE or
+/// FLAT. Throws InputError for bad options, LimitError at the guard rails.
+FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& train, const FrontOptions& options = {});
+
 /// The rays as CSV with the header
 /// `ray,step,x,y,dir_x,dir_y,depth,k,omega,celerity,group_velocity,amplitude,flag`
 /// (flag = the event name, plus "+capped" / "+doubtful"), full double precision.

@@ -4,6 +4,7 @@
 #include "core/format.h"
 #include "libwave/errors.h"
 #include "libwave/trace.h"
+#include "start_line.h"
 
 #include <algorithm>
 #include <cmath>
@@ -20,24 +21,8 @@ constexpr double kFirstReach = 1.0 / 64.0;
 
 std::string fmt(double v) { return detail::format_number(v); }
 
-struct Box {
-    double x0, y0, x1, y1;
-};
-
-// Slab clipping of the line p + t d against the box: the parameter interval inside.
-bool clip(const Box& b, double px, double py, double dx, double dy, double& t0, double& t1) {
-    t0 = -std::numeric_limits<double>::infinity();
-    t1 = std::numeric_limits<double>::infinity();
-    const auto slab = [&](double p, double d, double lo, double hi) {
-        if (d == 0.0) return p >= lo && p <= hi;
-        double a = (lo - p) / d, c = (hi - p) / d;
-        if (a > c) std::swap(a, c);
-        t0 = std::max(t0, a);
-        t1 = std::min(t1, c);
-        return t0 <= t1;
-    };
-    return slab(px, dx, b.x0, b.x1) && slab(py, dy, b.y0, b.y1);
-}
+using detail::Box;
+using detail::clip;
 
 void validate(std::span<const WaveTrain> trains, const TraceOptions& o) {
     if (trains.empty()) throw InputError("trace: no wave train given");
@@ -231,7 +216,7 @@ RaySet trace_rays(const Seafloor& seafloor, const DepthContours& isobaths, std::
     if (isobaths.size() == 0)
         throw InputError("trace: the isobath set is empty; give depth levels inside the seafloor's depth range");
     const ElevationGrid& g = seafloor.grid;
-    const Box box{g.x0, g.y0, g.x_max(), g.y_max()};
+    const Box box = detail::domain_box(g);
     const IsobathIndex index(isobaths);
     RaySet rays;
     std::vector<std::size_t> contour_at;
@@ -241,26 +226,16 @@ RaySet trace_rays(const Seafloor& seafloor, const DepthContours& isobaths, std::
         const WaveTrain& t = trains[n];
         const double len = std::hypot(t.direction_x, t.direction_y);
         const double dx = t.direction_x / len, dy = t.direction_y / len;
-        const double ex = -dy, ey = dx;  // along the start line
-        // Extent of the domain across and along the direction of travel.
-        double s_min = HUGE_VAL, s_max = -HUGE_VAL, t_min = HUGE_VAL;
-        for (const auto& [cx, cy] : {std::pair{box.x0, box.y0}, {box.x1, box.y0}, {box.x1, box.y1}, {box.x0, box.y1}}) {
-            s_min = std::min(s_min, cx * ex + cy * ey);
-            s_max = std::max(s_max, cx * ex + cy * ey);
-            t_min = std::min(t_min, cx * dx + cy * dy);
-        }
-        const auto count = static_cast<std::size_t>(std::floor((s_max - s_min) / o.ray_spacing));
-        if (rays.ray_count() + count > o.max_rays)
-            throw LimitError("trace: " + std::to_string(rays.ray_count() + count) + " rays exceed the limit of " +
+        double phase_origin = 0.0;
+        const std::vector<detail::EntryPoint> entries =
+            detail::entry_points(box, dx, dy, o.ray_spacing, o.max_rays - rays.ray_count(), phase_origin);
+        if (rays.ray_count() + entries.size() > o.max_rays)
+            throw LimitError("trace: " + std::to_string(rays.ray_count() + entries.size()) + " rays exceed the limit of " +
                              std::to_string(o.max_rays) + " (TraceOptions::max_rays; raise it or widen ray_spacing)");
         const std::size_t first_ray = rays.ray_count();
         const double omega = 2.0 * std::numbers::pi / t.period;
-        for (std::size_t i = 0; i < count; ++i) {
-            const double s = s_min + (static_cast<double>(i) + 0.5) * o.ray_spacing;
-            const double lx = s * ex + t_min * dx, ly = s * ey + t_min * dy;  // on the start line
-            double t0 = 0.0, t1 = 0.0;
-            if (!clip(box, lx, ly, dx, dy, t0, t1) || t1 <= t0) continue;
-            if (!trace_one(index, box, g, lx + t0 * dx, ly + t0 * dy, dx, dy, omega, t_min, o, out)) continue;
+        for (const detail::EntryPoint& e : entries) {
+            if (!trace_one(index, box, g, e.x, e.y, dx, dy, omega, phase_origin, o, out)) continue;
             rays.offsets.push_back(rays.point_count());
             rays.train.push_back(static_cast<std::uint32_t>(n));
             rays.spacing_start.push_back(o.ray_spacing);

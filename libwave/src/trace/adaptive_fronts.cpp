@@ -1,0 +1,270 @@
+// Gonzato & Le Saëc's dynamic wave tracing (§3.3): fronts of rays advanced step by
+// step, refracted by the local depth gradient, flagged ALIVE / FLAT / AGROUND / DEAD,
+// with rays inserted where neighbours diverge.
+#include "core/format.h"
+#include "libwave/errors.h"
+#include "libwave/trace.h"
+#include "start_line.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace wave {
+namespace {
+
+struct Ray {
+    std::uint32_t id;
+    double x, y, dx, dy, phase;
+    RayFlag flag;
+    double turn = 0.0;  // total signed turning (rad): a full orbit means a trapped ray
+};
+
+void validate(const WaveTrain& t, const FrontOptions& o) {
+    const auto positive = [](double v, const char* name, const char* unit) {
+        if (!(v > 0.0) || !std::isfinite(v))
+            throw InputError(std::string("fronts: ") + name + " must be > 0 " + unit + ", got " + detail::format_number(v));
+    };
+    positive(t.period, "period", "s");
+    positive(t.amplitude, "amplitude", "m");
+    if (!(std::hypot(t.direction_x, t.direction_y) > 0.0))
+        throw InputError("fronts: direction must be a non-zero vector");
+    positive(o.ray_spacing, "ray_spacing", "m");
+    positive(o.step, "step", "m");
+    positive(o.split_distance, "split_distance", "m");
+    if (!(o.flat_amplitude >= 0.0)) throw InputError("fronts: flat_amplitude must be >= 0 m");
+    positive(o.breaker_index, "breaker_index", "");
+}
+
+bool inside(const detail::Box& b, double x, double y) { return x >= b.x0 && x <= b.x1 && y >= b.y0 && y <= b.y1; }
+
+// One refraction step of an ALIVE or FLAT ray (gradient mode): the contour normal is
+// the depth gradient; Snell's law between the depth here and one step ahead keeps
+// the component along the contour over C constant (Gonzato eq. 8).
+void advance(Ray& r, const ElevationGrid& g, double omega, const FrontOptions& o) {
+    const DepthSample here = sample_depth(g, r.x, r.y);
+    const double ahead = depth_at(g, r.x + o.step * r.dx, r.y + o.step * r.dy);
+    const double slope = std::hypot(here.dh_dx, here.dh_dy);
+    const LinearWave w1 = linear_wave(omega, here.depth, o.dispersion);
+    if (slope > 1e-12 && here.depth > 0.0 && ahead > 0.0) {
+        const double nx = here.dh_dx / slope, ny = here.dh_dy / slope;  // towards deeper water
+        const double tx = -ny, ty = nx;
+        double a = r.dx * nx + r.dy * ny, b = r.dx * tx + r.dy * ty;
+        const double b2 = b * linear_wave(omega, ahead, o.dispersion).celerity / w1.celerity;
+        if (std::abs(b2) > 1.0) {
+            a = -a;  // total reflection at the depth change
+        } else {
+            a = std::copysign(std::sqrt(1.0 - b2 * b2), a);
+            b = b2;
+        }
+        const double len = std::hypot(a, b);
+        const double ndx = (a * nx + b * tx) / len, ndy = (a * ny + b * ty) / len;
+        r.turn += std::atan2(r.dx * ndy - r.dy * ndx, r.dx * ndx + r.dy * ndy);
+        r.dx = ndx;
+        r.dy = ndy;
+    }
+    r.x += o.step * r.dx;
+    r.y += o.step * r.dy;
+    // Σ k Δs by the trapezoid rule between the two ends of the step.
+    const double k2 = linear_wave(omega, depth_at(g, r.x, r.y), o.dispersion).k;
+    r.phase += 0.5 * (w1.k + k2) * o.step;
+}
+
+// An AGROUND ray follows the shoreline: one step along the contour through it, in the
+// sense closest to its travel, then one Newton step back onto h = 0.
+void follow_shore(Ray& r, const ElevationGrid& g, const FrontOptions& o) {
+    DepthSample s = sample_depth(g, r.x, r.y);
+    double slope = std::hypot(s.dh_dx, s.dh_dy);
+    if (!(slope > 1e-12)) return;
+    double tx = -s.dh_dy / slope, ty = s.dh_dx / slope;
+    if (tx * r.dx + ty * r.dy < 0.0) tx = -tx, ty = -ty;
+    r.dx = tx;
+    r.dy = ty;
+    r.x += o.step * tx;
+    r.y += o.step * ty;
+    s = sample_depth(g, r.x, r.y);
+    slope = std::hypot(s.dh_dx, s.dh_dy);
+    if (slope > 1e-12) {
+        r.x -= s.depth * s.dh_dx / (slope * slope);
+        r.y -= s.depth * s.dh_dy / (slope * slope);
+    }
+}
+
+}  // namespace
+
+const char* to_string(RayFlag f) noexcept {
+    switch (f) {
+        case RayFlag::alive: return "alive";
+        case RayFlag::flat: return "flat";
+        case RayFlag::aground: return "aground";
+        case RayFlag::dead: return "dead";
+    }
+    return "unknown";
+}
+
+FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontOptions& o) {
+    validate(t, o);
+    const ElevationGrid& g = seafloor.grid;
+    const detail::Box box = detail::domain_box(g);
+    const double len = std::hypot(t.direction_x, t.direction_y);
+    const double dx = t.direction_x / len, dy = t.direction_y / len;
+    const double omega = 2.0 * std::numbers::pi / t.period;
+    double phase_origin = 0.0;
+    const auto entries = detail::entry_points(box, dx, dy, o.ray_spacing, o.max_rays, phase_origin);
+
+    FrontSet out;
+    out.omega = omega;
+    std::vector<Ray> front;
+    std::vector<double> gap_b0;  // deep-water width of the tube between ray i and i+1
+    double last_s = 0.0;
+    for (const auto& e : entries) {
+        const double h = depth_at(g, e.x, e.y);
+        if (!(h > 0.0)) continue;  // entering on land
+        if (!front.empty()) gap_b0.push_back(e.s - last_s);
+        last_s = e.s;
+        const double k = linear_wave(omega, h, o.dispersion).k;
+        front.push_back({static_cast<std::uint32_t>(front.size()), e.x, e.y, dx, dy,
+                         k * ((e.x * dx + e.y * dy) - phase_origin), RayFlag::alive});
+    }
+    out.initial_rays = front.size();
+    // Rays start ordered along e = (−dy, dx), so (next − ray) × direction starts at
+    // e × d = −1: neighbours keep that sign until they cross.
+    constexpr double side = -1.0;
+    std::uint32_t next_id = static_cast<std::uint32_t>(front.size());
+    std::vector<std::uint32_t> previous_ids;
+
+    // Records the front: amplitudes from the neighbours' spacing, flags, facets.
+    const auto record = [&]() {
+        const std::size_t n = front.size();
+        for (std::size_t i = 0; i < n; ++i) {
+            Ray& r = front[i];
+            const DepthSample s = sample_depth(g, r.x, r.y);
+            double b = 0.0, b0 = 0.0;
+            int sides = 0;
+            // Spacing across the ray (the width of the ray tube), not along the front:
+            // entry points on a domain edge are farther apart than the tube is wide.
+            const auto across = [&](const Ray& q) { return std::abs((q.x - r.x) * r.dy - (q.y - r.y) * r.dx); };
+            if (i > 0) b += across(front[i - 1]), b0 += gap_b0[i - 1], ++sides;
+            if (i + 1 < n) b += across(front[i + 1]), b0 += gap_b0[i], ++sides;
+            const double kr = (sides > 0 && b > 0.0) ? std::sqrt(b0 / b) : 1.0;
+            const LinearWave w = linear_wave(omega, s.depth, o.dispersion);
+            double a = r.flag == RayFlag::aground ? 0.0 : t.amplitude * w.shoaling * kr;
+            a = std::min(a, 0.5 * o.breaker_index * std::max(s.depth, 0.0));  // breaking / caustic cap
+            if (r.flag == RayFlag::alive || r.flag == RayFlag::flat)
+                r.flag = a < o.flat_amplitude ? RayFlag::flat : RayFlag::alive;
+            out.ray.push_back(r.id);
+            out.x.push_back(r.x);
+            out.y.push_back(r.y);
+            out.dir_x.push_back(r.dx);
+            out.dir_y.push_back(r.dy);
+            out.phase.push_back(r.phase);
+            out.k.push_back(w.k);
+            out.depth.push_back(s.depth);
+            out.slope.push_back(std::hypot(s.dh_dx, s.dh_dy));
+            out.amplitude.push_back(a);
+            out.flag.push_back(r.flag);
+        }
+        out.front_offsets.push_back(out.ray.size());
+        // Facets between the previous front and this one (Gonzato fig. 11): 2 per cell,
+        // 3 where a ray was inserted or removed inside the cell.
+        if (!previous_ids.empty()) {
+            std::vector<std::uint32_t> ids;
+            for (const Ray& r : front) ids.push_back(r.id);
+            for (std::size_t i = 0; i + 1 < ids.size(); ++i) {
+                const auto pa = std::find(previous_ids.begin(), previous_ids.end(), ids[i]);
+                const auto pb = std::find(previous_ids.begin(), previous_ids.end(), ids[i + 1]);
+                if (pa != previous_ids.end() && pb != previous_ids.end()) out.facets += 2 + static_cast<std::size_t>(pb - pa - 1);
+                else if (pb == previous_ids.end()) out.facets += 1;  // new ray on the right
+                else out.facets += 2;                               // new ray on the left
+            }
+        }
+        previous_ids.clear();
+        for (const Ray& r : front) previous_ids.push_back(r.id);
+    };
+
+    record();
+    for (std::size_t step = 0;; ++step) {
+        const bool moving = std::any_of(front.begin(), front.end(),
+                                        [](const Ray& r) { return r.flag == RayFlag::alive || r.flag == RayFlag::flat; });
+        if (!moving) break;
+        if (step >= o.max_steps)
+            throw LimitError("fronts: more than " + std::to_string(o.max_steps) +
+                             " steps (FrontOptions::max_steps; raise it or lengthen the step)");
+        for (Ray& r : front) {
+            if (r.flag == RayFlag::aground) {
+                follow_shore(r, g, o);
+            } else {
+                advance(r, g, omega, o);
+                if (inside(box, r.x, r.y) && depth_at(g, r.x, r.y) <= 0.0) {
+                    r.flag = RayFlag::aground;
+                    ++out.rays_aground;
+                }
+                // Refraction can trap rays on closed orbits (round an island's shelf):
+                // a ray that has turned a full circle is not part of an advancing front.
+                if (std::abs(r.turn) > 2.0 * std::numbers::pi) {
+                    r.flag = RayFlag::dead;
+                    ++out.rays_trapped;
+                }
+            }
+            if (!inside(box, r.x, r.y)) r.flag = RayFlag::dead;
+        }
+        for (std::size_t i = 1; i + 1 < front.size(); ++i)  // aground between two aground rays
+            if (front[i].flag == RayFlag::aground && front[i - 1].flag == RayFlag::aground &&
+                front[i + 1].flag == RayFlag::aground)
+                front[i].flag = RayFlag::dead;
+        // Remove the dead; their tubes join a neighbour's.
+        std::vector<Ray> kept;
+        std::vector<double> kept_gaps;
+        double carry = 0.0;
+        for (std::size_t i = 0; i < front.size(); ++i) {
+            if (front[i].flag == RayFlag::dead) {
+                if (i < gap_b0.size()) carry += gap_b0[i];
+                continue;
+            }
+            if (!kept.empty()) kept_gaps.push_back(carry);
+            carry = i < gap_b0.size() ? gap_b0[i] : 0.0;
+            kept.push_back(front[i]);
+        }
+        front.swap(kept);
+        gap_b0.swap(kept_gaps);
+        // Over-sampling: a new ray midway between neighbours that drifted apart.
+        std::vector<Ray> grown;
+        std::vector<double> grown_gaps;
+        for (std::size_t i = 0; i < front.size(); ++i) {
+            grown.push_back(front[i]);
+            if (i + 1 == front.size()) break;
+            const Ray& a = front[i];
+            const Ray& b = front[i + 1];
+            const bool both_flat = a.flag == RayFlag::flat && b.flag == RayFlag::flat;
+            const bool both_aground = a.flag == RayFlag::aground && b.flag == RayFlag::aground;
+            // Neighbours whose order across the front has flipped have crossed (a caustic,
+            // kept as it is): the gap between them is not a diverging tube to fill. Nor
+            // is a gap between rays heading apart by more than a right angle.
+            const bool crossed = side * ((b.x - a.x) * a.dy - (b.y - a.y) * a.dx) <= 0.0 ||
+                                 a.dx * b.dx + a.dy * b.dy <= 0.0;
+            if (!both_flat && !both_aground && !crossed && std::hypot(b.x - a.x, b.y - a.y) > o.split_distance) {
+                if (out.initial_rays + out.inserted_rays >= o.max_rays)
+                    throw LimitError("fronts: more than " + std::to_string(o.max_rays) +
+                                     " rays (FrontOptions::max_rays; raise it or raise split_distance)");
+                Ray m{next_id++, 0.5 * (a.x + b.x), 0.5 * (a.y + b.y), a.dx + b.dx, a.dy + b.dy,
+                      0.5 * (a.phase + b.phase), RayFlag::alive, 0.5 * (a.turn + b.turn)};
+                const double l = std::hypot(m.dx, m.dy);
+                m.dx = l > 0.0 ? m.dx / l : a.dx;
+                m.dy = l > 0.0 ? m.dy / l : a.dy;
+                if (depth_at(g, m.x, m.y) <= 0.0) m.flag = RayFlag::aground;
+                grown_gaps.push_back(0.5 * gap_b0[i]);
+                grown_gaps.push_back(0.5 * gap_b0[i]);
+                grown.push_back(m);
+                ++out.inserted_rays;
+            } else {
+                grown_gaps.push_back(gap_b0[i]);
+            }
+        }
+        front.swap(grown);
+        gap_b0.swap(grown_gaps);
+        record();
+    }
+    return out;
+}
+
+}  // namespace wave

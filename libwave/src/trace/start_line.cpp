@@ -1,0 +1,54 @@
+#include "start_line.h"
+
+#include "core/format.h"
+#include "libwave/errors.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <utility>
+
+namespace wave::detail {
+
+bool clip(const Box& b, double px, double py, double dx, double dy, double& t0, double& t1) {
+    t0 = -std::numeric_limits<double>::infinity();
+    t1 = std::numeric_limits<double>::infinity();
+    const auto slab = [&](double p, double d, double lo, double hi) {
+        if (d == 0.0) return p >= lo && p <= hi;
+        double a = (lo - p) / d, c = (hi - p) / d;
+        if (a > c) std::swap(a, c);
+        t0 = std::max(t0, a);
+        t1 = std::min(t1, c);
+        return t0 <= t1;
+    };
+    return slab(px, dx, b.x0, b.x1) && slab(py, dy, b.y0, b.y1);
+}
+
+std::vector<EntryPoint> entry_points(const Box& box, double dx, double dy, double spacing, std::size_t max_rays,
+                                     double& phase_origin) {
+    const double ex = -dy, ey = dx;  // along the start line
+    double s_min = HUGE_VAL, s_max = -HUGE_VAL, t_min = HUGE_VAL;
+    for (const auto& [cx, cy] : {std::pair{box.x0, box.y0}, {box.x1, box.y0}, {box.x1, box.y1}, {box.x0, box.y1}}) {
+        s_min = std::min(s_min, cx * ex + cy * ey);
+        s_max = std::max(s_max, cx * ex + cy * ey);
+        t_min = std::min(t_min, cx * dx + cy * dy);
+    }
+    phase_origin = t_min;
+    std::vector<EntryPoint> out;
+    const double n = std::floor((s_max - s_min) / spacing);
+    if (n > static_cast<double>(max_rays))
+        throw LimitError("trace: " + format_number(n) + " rays would enter, more than the limit of " +
+                         std::to_string(max_rays) + " (max_rays; raise it or widen ray_spacing)");
+    const auto count = static_cast<std::size_t>(n);
+    for (std::size_t i = 0; i < count; ++i) {
+        const double s = s_min + (static_cast<double>(i) + 0.5) * spacing;
+        const double lx = s * ex + t_min * dx, ly = s * ey + t_min * dy;
+        double t0 = 0.0, t1 = 0.0;
+        if (!clip(box, lx, ly, dx, dy, t0, t1) || t1 <= t0) continue;
+        out.push_back({lx + t0 * dx, ly + t0 * dy, s});
+    }
+    return out;
+}
+
+}  // namespace wave::detail
