@@ -4,7 +4,7 @@
 #include "core/format.h"
 #include "libwave/errors.h"
 #include "libwave/trace.h"
-#include "start_line.h"
+#include "common.h"
 
 #include <algorithm>
 #include <cmath>
@@ -25,10 +25,7 @@ void validate(const WaveTrain& t, const FrontOptions& o) {
         if (!(v > 0.0) || !std::isfinite(v))
             throw InputError(std::string("fronts: ") + name + " must be > 0 " + unit + ", got " + detail::format_number(v));
     };
-    positive(t.period, "period", "s");
-    positive(t.amplitude, "amplitude", "m");
-    if (!(std::hypot(t.direction_x, t.direction_y) > 0.0))
-        throw InputError("fronts: direction must be a non-zero vector");
+    detail::validate_wave_train(t, "fronts: ");
     positive(o.ray_spacing, "ray_spacing", "m");
     positive(o.step, "step", "m");
     positive(o.split_distance, "split_distance", "m");

@@ -4,7 +4,7 @@
 #include "core/format.h"
 #include "libwave/errors.h"
 #include "libwave/trace.h"
-#include "start_line.h"
+#include "common.h"
 
 #include <algorithm>
 #include <cmath>
@@ -26,16 +26,8 @@ using detail::clip;
 
 void validate(std::span<const WaveTrain> trains, const TraceOptions& o) {
     if (trains.empty()) throw InputError("trace: no wave train given");
-    for (std::size_t n = 0; n < trains.size(); ++n) {
-        const WaveTrain& t = trains[n];
-        const std::string at = "trace: wave train " + std::to_string(n) + ": ";
-        if (!(t.period > 0.0) || !std::isfinite(t.period))
-            throw InputError(at + "period must be > 0 s, got " + fmt(t.period));
-        if (!(t.amplitude > 0.0) || !std::isfinite(t.amplitude))
-            throw InputError(at + "amplitude must be > 0 m, got " + fmt(t.amplitude));
-        if (!(std::hypot(t.direction_x, t.direction_y) > 0.0) || !std::isfinite(t.direction_x) || !std::isfinite(t.direction_y))
-            throw InputError(at + "direction must be a non-zero vector, got (" + fmt(t.direction_x) + ", " + fmt(t.direction_y) + ")");
-    }
+    for (std::size_t n = 0; n < trains.size(); ++n)
+        detail::validate_wave_train(trains[n], "trace: wave train " + std::to_string(n) + ": ");
     if (!(o.ray_spacing > 0.0) || !std::isfinite(o.ray_spacing))
         throw InputError("trace: ray_spacing must be > 0 m, got " + fmt(o.ray_spacing));
     if (!(o.breaker_index > 0.0)) throw InputError("trace: breaker_index must be > 0, got " + fmt(o.breaker_index));

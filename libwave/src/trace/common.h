@@ -1,11 +1,19 @@
-// Internal to the trace stage: where rays enter the domain.
+// Internal to the trace stage, shared by both tracers: input checks and where rays
+// enter the domain.
 #pragma once
 
 #include "libwave/bathymetry.h"
+#include "libwave/trace.h"
+
+#include <string>
 
 #include <vector>
 
 namespace wave::detail {
+
+/// Throws InputError, message starting with `where`, unless the train has a finite
+/// period > 0 s, amplitude > 0 m and a finite non-zero direction.
+void validate_wave_train(const WaveTrain& train, const std::string& where);
 
 struct Box {
     double x0, y0, x1, y1;

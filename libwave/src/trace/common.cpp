@@ -1,4 +1,4 @@
-#include "start_line.h"
+#include "common.h"
 
 #include "core/format.h"
 #include "libwave/errors.h"
@@ -10,6 +10,16 @@
 #include <utility>
 
 namespace wave::detail {
+
+void validate_wave_train(const WaveTrain& t, const std::string& where) {
+    if (!(t.period > 0.0) || !std::isfinite(t.period))
+        throw InputError(where + "period must be > 0 s, got " + format_number(t.period));
+    if (!(t.amplitude > 0.0) || !std::isfinite(t.amplitude))
+        throw InputError(where + "amplitude must be > 0 m, got " + format_number(t.amplitude));
+    if (!(std::hypot(t.direction_x, t.direction_y) > 0.0) || !std::isfinite(t.direction_x) || !std::isfinite(t.direction_y))
+        throw InputError(where + "direction must be a non-zero vector, got (" + format_number(t.direction_x) + ", " +
+                         format_number(t.direction_y) + ")");
+}
 
 bool clip(const Box& b, double px, double py, double dx, double dy, double& t0, double& t1) {
     t0 = -std::numeric_limits<double>::infinity();
