@@ -59,8 +59,6 @@ TEST(Fronts, GonzatoBayScene) {
     // shape (the figure's bathymetry is not given), so only the order of magnitude.
     EXPECT_GT(f.inserted_rays, 50u);
     EXPECT_LT(f.inserted_rays, 400u);
-    EXPECT_GT(f.facets, 20'000u);
-    EXPECT_LT(f.facets, 80'000u);
     EXPECT_GT(f.rays_aground, 50u);
     for (std::size_t i = 0; i < f.x.size(); ++i) {
         ASSERT_TRUE(std::isfinite(f.x[i]) && std::isfinite(f.y[i]) && std::isfinite(f.amplitude[i]));

@@ -4,6 +4,10 @@
 // η_i = a_i sin(φ_i − ω_i t) on an m×n grid; the grid values are the control vertices
 // of a uniform bicubic Beta2-spline surface whose tension β2 rises with height.
 //
+// Ray strips (Gonzato & Le Saëc §3.3, fig. 11): triangles between consecutive fronts
+// of neighbouring rays, built in an OpenMesh TriMesh with per-vertex properties and
+// handed to the per-frame evaluators as flat arrays.
+//
 // Units: SI. Positions are (x, y, z) with z up, in float, 3 per vertex. Time t in s.
 #pragma once
 
@@ -12,7 +16,9 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace wave {
@@ -86,5 +92,46 @@ void evaluate_control_heights(const HeightFieldPlan& plan, double t, std::span<f
 /// and passes through the border control vertices. Allocates nothing.
 void evaluate_height_field(const HeightFieldPlan& plan, double t, std::span<float> heights,
                            std::span<float> positions);
+
+// ---------------------------------------------------------------------------------
+// Gonzato's ray strips
+// ---------------------------------------------------------------------------------
+
+namespace detail {
+struct RayStripTriMesh;  // the OpenMesh TriMesh (surface/ray_strips.cpp)
+}
+
+/// The ray-strip surface of one traced train: one vertex per ray per front at its rest
+/// position (z = 0), with the ray's state there, and triangles between consecutive
+/// fronts. Flat arrays extracted once from the OpenMesh TriMesh it was built in.
+struct RayStrips {
+    std::vector<std::uint32_t> ray, step;   ///< ray id and front number of each vertex
+    std::vector<double> x, y;               ///< rest position (m)
+    std::vector<double> dir_x, dir_y;       ///< unit ray direction: the profile's horizontal axis
+    std::vector<double> phase;              ///< Σ k Δs (rad) along the ray
+    std::vector<double> k, amplitude, depth, slope, rise;  ///< as in FrontSet
+    std::vector<RayFlag> flag;
+    std::vector<std::uint32_t> triangles;   ///< 3 per triangle, counter-clockwise seen from above
+    double omega = 0.0;                     ///< ω of the train (rad/s)
+    std::size_t degenerate_skipped = 0;     ///< zero-area cells left out (rays meeting on the shore)
+    std::shared_ptr<const detail::RayStripTriMesh> mesh;  ///< the TriMesh (for PLY output)
+
+    std::size_t vertex_count() const noexcept { return x.size(); }
+    std::size_t triangle_count() const noexcept { return triangles.size() / 3; }
+};
+
+/// Tessellates the fronts (Gonzato fig. 11): between two consecutive fronts, rays
+/// present in both are joined, and the stretch between two such rays is zipped by the
+/// shorter diagonal, which gives 2 triangles per cell, 3 where a ray was inserted or
+/// removed inside it. Crossing rays (caustics) keep their triangles (folded, not cut).
+/// Cells of zero area (AGROUND rays meeting on the shore) are left out and counted.
+/// Throws RuntimeError if OpenMesh rejects a face (non-manifold topology — a bug).
+RayStrips build_ray_strips(const FrontSet& fronts);
+
+/// Binary little-endian PLY of the strips at rest, written by OpenMesh with the
+/// per-vertex properties as PLY vertex properties: ray, step (int); phase, k, omega,
+/// amplitude, depth, slope, rise, dir_x, dir_y (double); flag (uchar: 0 alive, 1 flat,
+/// 2 aground). Atomic write; throws RuntimeError if the file cannot be written.
+void write_ray_strips_ply(const RayStrips& strips, const std::string& path);
 
 }  // namespace wave

@@ -130,12 +130,12 @@ struct FrontSet {
     std::vector<double> x, y, dir_x, dir_y;
     std::vector<double> phase;       ///< plane-wave start phase + Σ k Δs (rad)
     std::vector<double> k, depth, slope;  ///< slope = |∇h| (bottom slope)
+    std::vector<double> rise;        ///< −∇h · direction: tan β of the bottom rising along the ray (< 0 where it deepens)
     std::vector<double> amplitude;   ///< A∞ K_s K_r, K_r from the spacing of the neighbours
     std::vector<RayFlag> flag;
     double omega = 0.0;
     std::size_t initial_rays = 0, inserted_rays = 0, rays_aground = 0;
     std::size_t rays_trapped = 0;    ///< removed after turning a full circle (orbiting an island's shelf)
-    std::size_t facets = 0;          ///< triangles of Gonzato's tessellation (fig. 11): 2 per cell, 3 where a ray was inserted
 
     std::size_t front_count() const noexcept { return front_offsets.size() - 1; }
 };

@@ -128,9 +128,8 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
     // e × d = −1: neighbours keep that sign until they cross.
     constexpr double side = -1.0;
     std::uint32_t next_id = static_cast<std::uint32_t>(front.size());
-    std::vector<std::uint32_t> previous_ids;
 
-    // Records the front: amplitudes from the neighbours' spacing, flags, facets.
+    // Records the front: amplitudes from the neighbours' spacing, flags.
     const auto record = [&]() {
         const std::size_t n = front.size();
         for (std::size_t i = 0; i < n; ++i) {
@@ -158,25 +157,11 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
             out.k.push_back(w.k);
             out.depth.push_back(s.depth);
             out.slope.push_back(std::hypot(s.dh_dx, s.dh_dy));
+            out.rise.push_back(-(s.dh_dx * r.dx + s.dh_dy * r.dy));
             out.amplitude.push_back(a);
             out.flag.push_back(r.flag);
         }
         out.front_offsets.push_back(out.ray.size());
-        // Facets between the previous front and this one (Gonzato fig. 11): 2 per cell,
-        // 3 where a ray was inserted or removed inside the cell.
-        if (!previous_ids.empty()) {
-            std::vector<std::uint32_t> ids;
-            for (const Ray& r : front) ids.push_back(r.id);
-            for (std::size_t i = 0; i + 1 < ids.size(); ++i) {
-                const auto pa = std::find(previous_ids.begin(), previous_ids.end(), ids[i]);
-                const auto pb = std::find(previous_ids.begin(), previous_ids.end(), ids[i + 1]);
-                if (pa != previous_ids.end() && pb != previous_ids.end()) out.facets += 2 + static_cast<std::size_t>(pb - pa - 1);
-                else if (pb == previous_ids.end()) out.facets += 1;  // new ray on the right
-                else out.facets += 2;                               // new ray on the left
-            }
-        }
-        previous_ids.clear();
-        for (const Ray& r : front) previous_ids.push_back(r.id);
     };
 
     record();

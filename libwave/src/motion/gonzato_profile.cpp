@@ -1,0 +1,117 @@
+// Gonzato & Le Saëc's wave profile (§2.3–2.5, eq. 7) with the misprints of DESIGN.md
+// corrected: τ'_β = √(1 − τ_β²), and Orientation / Displacement as piecewise-linear
+// functions of the phase over the descending front, the trough and the ascending back.
+#include "libwave/motion.h"
+
+#include "libwave/errors.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace wave {
+namespace {
+
+constexpr double pi = std::numbers::pi;
+
+}  // namespace
+
+ProfileShape gonzato_shape(double R, double k, double h, double rise, const GonzatoProfileOptions& o) {
+    ProfileShape s;
+    if (!(h > 0.0) || !(R > 0.0) || !(k > 0.0)) return s;  // dry or still: the point stays put
+    // §2.4: a bottom that deepens along the ray would break the wave backwards.
+    s.bottom_angle = std::atan(std::max(rise, 0.0));
+    s.tilt_sin = std::sin(s.bottom_angle) * std::exp(-o.k0 * h);  // τ_β
+    s.tilt_cos = std::sqrt(1.0 - s.tilt_sin * s.tilt_sin);         // τ'_β (printed √(1 − τ_β))
+    const double sx = 1.0 / -std::expm1(-o.kx * h);                // S_x: 1 in deep water, → ∞ at the shore
+    const double sz = sx * -std::expm1(-o.kz * h);                 // S_z: → K_z / K_x at the shore
+    s.major = R * sx;
+    s.minor = R * sz;
+    // §2.3: the major axis stays in Gerstner's disc (no loops; waves reach the beach);
+    // the minor axis R S_z < R S_x is left as it is.
+    if (o.limit_to_disc) s.major = std::min(s.major, 1.0 / k);
+    s.minor = std::min(s.minor, s.major);
+    // Eq. 5, with the sign that makes eq. 7 lowest there: dz/dφ = a τ cos φ + b τ' sin φ = 0.
+    s.trough_phase = -std::atan2(s.major * s.tilt_sin, s.minor * s.tilt_cos);
+    const double height = 2.0 * R;  // the paper's A = 2R
+    s.stretch = o.stretch_max * height * std::exp(-o.stretch_depth_factor * h);
+    s.displacement = height * std::exp(-o.displacement_depth_factor * h);
+    return s;
+}
+
+ProfileOffset gonzato_offset(const ProfileShape& s, double phi) noexcept {
+    // u = φ − Φ_min in [−π, π): the trough at 0, the crest at ±π.
+    double u = std::fmod(phi - s.trough_phase + pi, 2.0 * pi);
+    if (u < 0.0) u += 2.0 * pi;
+    u -= pi;
+    phi = s.trough_phase + u;
+    const double sin_phi = std::sin(phi), cos_phi = std::cos(phi);
+    // Fournier–Reeves tilted ellipse.
+    double forward = s.major * s.tilt_cos * sin_phi + s.minor * s.tilt_sin * cos_phi;
+    double up = -s.minor * s.tilt_cos * cos_phi + s.major * s.tilt_sin * sin_phi;
+    // Stretch (eq. 6): (St_max / π²)(φ − Φ_min)², along the major axis.
+    const double stretch = s.stretch * (u / pi) * (u / pi);
+    forward += stretch * s.tilt_cos;
+    up += stretch * s.tilt_sin;
+    // Orientation and Displacement: from the crest (−π/4, A) down the front face to
+    // (β, 0) at Φ_min − π/3; (β, 0) over the trough; back up the short rear face from
+    // Φ_min + 7π/8 to the crest.
+    if (s.displacement > 0.0) {
+        constexpr double front_end = -pi / 3.0, back_start = 7.0 * pi / 8.0;
+        double w = 0.0;  // share of the displacement, 1 at the crest
+        if (u < front_end) w = (front_end - u) / (front_end + pi);
+        else if (u >= back_start) w = (u - back_start) / (pi - back_start);
+        if (w > 0.0) {
+            const double orientation = s.bottom_angle + (-pi / 4.0 - s.bottom_angle) * w;
+            forward += w * s.displacement * std::cos(orientation);
+            up += w * s.displacement * std::sin(orientation);
+        }
+    }
+    return {forward, up};
+}
+
+GonzatoMotionPlan plan_gonzato_motion(const RayStrips& strips, const GonzatoProfileOptions& o) {
+    const auto check = [](double v, const char* name) {
+        if (!(v >= 0.0) || !std::isfinite(v))
+            throw InputError(std::string("gonzato profile: ") + name + " must be a finite number >= 0");
+    };
+    check(o.k0, "k0");
+    check(o.kx, "kx");
+    check(o.kz, "kz");
+    check(o.stretch_max, "stretch_max");
+    check(o.stretch_depth_factor, "stretch_depth_factor");
+    check(o.displacement_depth_factor, "displacement_depth_factor");
+    if (!(o.kx > 0.0) || !(o.kz > 0.0)) throw InputError("gonzato profile: kx and kz must be > 0 (1/m)");
+    GonzatoMotionPlan p;
+    const std::size_t n = strips.vertex_count();
+    p.omega = strips.omega;
+    p.x = strips.x;
+    p.y = strips.y;
+    p.dir_x = strips.dir_x;
+    p.dir_y = strips.dir_y;
+    p.phase = strips.phase;
+    p.shape.resize(n);
+    for (std::size_t v = 0; v < n; ++v)
+        p.shape[v] = gonzato_shape(strips.amplitude[v], strips.k[v], strips.depth[v], strips.rise[v], o);
+    return p;
+}
+
+void evaluate_gonzato_motion(const GonzatoMotionPlan& p, double t, std::span<float> positions) {
+    const std::size_t n = p.vertex_count();
+    if (positions.size() != 3 * n)
+        throw InputError("gonzato motion: positions hold " + std::to_string(positions.size()) + " floats, expected " +
+                         std::to_string(3 * n));
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t v = r.begin(); v != r.end(); ++v) {
+            const ProfileOffset d = gonzato_offset(p.shape[v], p.phase[v] - p.omega * t);  // Φ = −ωt + Σ k Δs
+            positions[3 * v] = static_cast<float>(p.x[v] + d.forward * p.dir_x[v]);
+            positions[3 * v + 1] = static_cast<float>(p.y[v] + d.forward * p.dir_y[v]);
+            positions[3 * v + 2] = static_cast<float>(d.up);
+        }
+    });
+}
+
+}  // namespace wave

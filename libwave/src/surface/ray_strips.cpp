@@ -1,0 +1,193 @@
+// Gonzato's ray-strip surface (§3.3, fig. 11): the fronts of the adaptive tracer
+// tessellated into an OpenMesh TriMesh with per-vertex properties, then flattened
+// into arrays for the per-frame evaluators.
+#include "libwave/errors.h"
+#include "libwave/io.h"
+#include "libwave/surface.h"
+
+// MeshIO before the mesh headers (BUILD-NOTES).
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+
+#include <cmath>
+#include <sstream>
+
+namespace wave {
+namespace detail {
+
+// Rest positions in double: float would make thin cells near the shore collinear and
+// lose the phase's precision over a long ray.
+struct StripTraits : OpenMesh::DefaultTraits {
+    using Point = OpenMesh::Vec3d;
+};
+
+struct RayStripTriMesh {
+    OpenMesh::TriMesh_ArrayKernelT<StripTraits> mesh;
+    // Names are the PLY property names; the properties are persistent so that the
+    // PLY writer emits them (Options::Custom).
+    OpenMesh::VPropHandleT<int> ray, step;
+    OpenMesh::VPropHandleT<double> phase, k, omega, amplitude, depth, slope, rise, dir_x, dir_y;
+    OpenMesh::VPropHandleT<unsigned char> flag;
+
+    RayStripTriMesh() {
+        const auto add = [&](auto& handle, const char* name) {
+            mesh.add_property(handle, name);
+            mesh.property(handle).set_persistent(true);
+        };
+        add(ray, "ray");
+        add(step, "step");
+        add(phase, "phase");
+        add(k, "k");
+        add(omega, "omega");
+        add(amplitude, "amplitude");
+        add(depth, "depth");
+        add(slope, "slope");
+        add(rise, "rise");
+        add(dir_x, "dir_x");
+        add(dir_y, "dir_y");
+        add(flag, "flag");
+    }
+};
+
+}  // namespace detail
+
+namespace {
+
+double squared_distance(const FrontSet& f, std::size_t a, std::size_t b) {
+    const double dx = f.x[a] - f.x[b], dy = f.y[a] - f.y[b];
+    return dx * dx + dy * dy;
+}
+
+// Twice the signed area of triangle (a, b, c) at rest.
+double doubled_area(const FrontSet& f, std::size_t a, std::size_t b, std::size_t c) {
+    return (f.x[b] - f.x[a]) * (f.y[c] - f.y[a]) - (f.y[b] - f.y[a]) * (f.x[c] - f.x[a]);
+}
+
+}  // namespace
+
+RayStrips build_ray_strips(const FrontSet& f) {
+    auto tri = std::make_shared<detail::RayStripTriMesh>();
+    auto& m = tri->mesh;
+    const std::size_t n = f.x.size();
+    m.reserve(n, 3 * n, 2 * n);
+    std::vector<OpenMesh::VertexHandle> vh(n);
+    std::vector<std::uint32_t> step_of(n);
+    for (std::size_t fr = 0; fr < f.front_count(); ++fr)
+        for (std::size_t i = f.front_offsets[fr]; i < f.front_offsets[fr + 1]; ++i) step_of[i] = static_cast<std::uint32_t>(fr);
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto v = m.add_vertex({f.x[i], f.y[i], 0.0});
+        vh[i] = v;
+        m.property(tri->ray, v) = static_cast<int>(f.ray[i]);
+        m.property(tri->step, v) = static_cast<int>(step_of[i]);
+        m.property(tri->phase, v) = f.phase[i];
+        m.property(tri->k, v) = f.k[i];
+        m.property(tri->omega, v) = f.omega;
+        m.property(tri->amplitude, v) = f.amplitude[i];
+        m.property(tri->depth, v) = f.depth[i];
+        m.property(tri->slope, v) = f.slope[i];
+        m.property(tri->rise, v) = f.rise[i];
+        m.property(tri->dir_x, v) = f.dir_x[i];
+        m.property(tri->dir_y, v) = f.dir_y[i];
+        m.property(tri->flag, v) = static_cast<unsigned char>(f.flag[i]);
+    }
+
+    RayStrips out;
+    const auto add_face = [&](std::size_t a, std::size_t b, std::size_t c) {
+        // Zero area at rest: rays that met (on the shore) — no surface there.
+        const double area2 = doubled_area(f, a, b, c);
+        const double scale = squared_distance(f, a, b) + squared_distance(f, b, c) + squared_distance(f, c, a);
+        if (!(std::abs(area2) > 1e-9 * scale)) {
+            ++out.degenerate_skipped;
+            return;
+        }
+        if (!m.add_face(vh[a], vh[b], vh[c]).is_valid())
+            throw RuntimeError("ray strips: OpenMesh rejected a face between fronts " + std::to_string(step_of[a]) +
+                               " and " + std::to_string(step_of[c]) + " (non-manifold strip; please report)");
+    };
+
+    // Rays are ordered along e = (−d_y, d_x), left of the travel direction d, so for a
+    // cell P_j P_j+1 (previous front) C_i C_i+1 (this front) the counter-clockwise
+    // triangles are (P_j, C_i, P_j+1) and (P_j, C_i, C_i+1).
+    std::uint32_t max_id = 0;
+    for (const std::uint32_t id : f.ray) max_id = std::max(max_id, id);
+    std::vector<std::int64_t> index_in_previous(std::size_t{max_id} + 1, -1);
+    // Zips P[p0..p1] with C[c0..c1] by the shorter diagonal.
+    const auto zip = [&](std::size_t p, std::size_t p1, std::size_t c, std::size_t c1) {
+        while (p < p1 || c < c1) {
+            const bool advance_previous =
+                c == c1 || (p < p1 && squared_distance(f, p + 1, c) <= squared_distance(f, p, c + 1));
+            if (advance_previous) {
+                add_face(p, c, p + 1);
+                ++p;
+            } else {
+                add_face(p, c, c + 1);
+                ++c;
+            }
+        }
+    };
+    for (std::size_t fr = 1; fr < f.front_count(); ++fr) {
+        const std::size_t p_begin = f.front_offsets[fr - 1], p_end = f.front_offsets[fr];
+        const std::size_t c_begin = f.front_offsets[fr], c_end = f.front_offsets[fr + 1];
+        if (p_begin == p_end || c_begin == c_end) continue;
+        for (std::size_t i = p_begin; i < p_end; ++i) index_in_previous[f.ray[i]] = static_cast<std::int64_t>(i);
+        // Rays present in both fronts anchor the zipper (ray order is kept along a front).
+        std::size_t p = p_begin, c = c_begin;
+        for (std::size_t i = c_begin; i < c_end; ++i) {
+            const std::int64_t j = index_in_previous[f.ray[i]];
+            if (j < 0) continue;
+            zip(p, static_cast<std::size_t>(j), c, i);
+            p = static_cast<std::size_t>(j);
+            c = i;
+        }
+        zip(p, p_end - 1, c, c_end - 1);
+        for (std::size_t i = p_begin; i < p_end; ++i) index_in_previous[f.ray[i]] = -1;
+    }
+
+    // The flat arrays the evaluators read, extracted once from the TriMesh.
+    out.omega = f.omega;
+    const auto take = [&](auto& dst, const auto& handle) {
+        dst.resize(m.n_vertices());
+        for (const auto v : m.vertices()) dst[static_cast<std::size_t>(v.idx())] = m.property(handle, v);
+    };
+    std::vector<int> ray, step;
+    std::vector<unsigned char> flag;
+    take(ray, tri->ray);
+    take(step, tri->step);
+    take(flag, tri->flag);
+    out.ray.assign(ray.begin(), ray.end());
+    out.step.assign(step.begin(), step.end());
+    out.flag.resize(flag.size());
+    for (std::size_t i = 0; i < flag.size(); ++i) out.flag[i] = static_cast<RayFlag>(flag[i]);
+    take(out.phase, tri->phase);
+    take(out.k, tri->k);
+    take(out.amplitude, tri->amplitude);
+    take(out.depth, tri->depth);
+    take(out.slope, tri->slope);
+    take(out.rise, tri->rise);
+    take(out.dir_x, tri->dir_x);
+    take(out.dir_y, tri->dir_y);
+    out.x.resize(m.n_vertices());
+    out.y.resize(m.n_vertices());
+    for (const auto v : m.vertices()) {
+        const auto& pt = m.point(v);
+        out.x[static_cast<std::size_t>(v.idx())] = pt[0];
+        out.y[static_cast<std::size_t>(v.idx())] = pt[1];
+    }
+    out.triangles.reserve(3 * m.n_faces());
+    for (const auto fh : m.faces())
+        for (const auto v : fh.vertices()) out.triangles.push_back(static_cast<std::uint32_t>(v.idx()));
+    out.mesh = std::move(tri);
+    return out;
+}
+
+void write_ray_strips_ply(const RayStrips& strips, const std::string& path) {
+    if (!strips.mesh) throw InputError("ray strips: no mesh to write (build the strips with build_ray_strips)");
+    std::ostringstream bytes(std::ios::binary);
+    const OpenMesh::IO::Options options = OpenMesh::IO::Options::Binary | OpenMesh::IO::Options::LSB |
+                                          OpenMesh::IO::Options::Custom;
+    if (!OpenMesh::IO::write_mesh(strips.mesh->mesh, bytes, ".ply", options))
+        throw RuntimeError(path + ": OpenMesh could not encode the ray strips as PLY");
+    write_file_atomic(path, bytes.view());
+}
+
+}  // namespace wave

@@ -1,0 +1,146 @@
+// Gonzato's profile (eq. 7): Gerstner in deep water, the trough where eq. 5 puts it,
+// the disc limit, continuity round the orbit, negative slopes, and plunging lips on
+// the bay's ray strips.
+#include "libwave/errors.h"
+#include "libwave/motion.h"
+#include "libwave/shade.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+namespace {
+
+using namespace wave;
+constexpr double pi = std::numbers::pi;
+
+TEST(GonzatoProfile, DeepWaterIsGerstnersTrochoid) {
+    // h = 400 m: S_x = S_z = 1 to 1e-15, no tilt, stretch and displacement e^{−160}.
+    const double R = 0.5, k = 0.1;
+    const ProfileShape s = gonzato_shape(R, k, 400.0, 0.05, GonzatoProfileOptions{});
+    for (double phi = -3.0; phi <= 3.0; phi += 0.25) {
+        const ProfileOffset d = gonzato_offset(s, phi);
+        // Eq. 1 with Kx0 − ωt = φ − π: x − x0 = R sin φ, z = −R cos φ.
+        EXPECT_NEAR(d.forward, R * std::sin(phi), 1e-12) << phi;
+        EXPECT_NEAR(d.up, -R * std::cos(phi), 1e-12) << phi;
+    }
+}
+
+TEST(GonzatoProfile, TroughPhaseIsTheLowestPointOfTheTiltedEllipse) {
+    GonzatoProfileOptions o;
+    o.stretch_max = 0.0;  // the ellipse alone
+    o.displacement_depth_factor = 50.0;
+    const ProfileShape s = gonzato_shape(0.3, 0.5, 2.0, 0.2, o);
+    ASSERT_GT(s.tilt_sin, 0.0);
+    EXPECT_NEAR(s.tilt_sin, std::sin(std::atan(0.2)) * std::exp(-0.2), 1e-15);
+    EXPECT_NEAR(s.tilt_cos * s.tilt_cos + s.tilt_sin * s.tilt_sin, 1.0, 1e-15);  // τ' = √(1 − τ²), the misprint fixed
+    const double z_min = gonzato_offset(s, s.trough_phase).up;
+    for (double phi = -pi; phi < pi; phi += 0.01) EXPECT_GE(gonzato_offset(s, phi).up, z_min - 1e-12) << phi;
+    EXPECT_LT(s.trough_phase, 0.0);  // the tilted major axis lifts the front: the trough moves back
+}
+
+TEST(GonzatoProfile, MajorAxisLimitedToTheDisc) {
+    // h = 0.5 m: S_x ≈ 18.7, so R S_x would leave the disc of radius 1/k.
+    const double R = 0.19, k = 1.2;
+    GonzatoProfileOptions o;
+    const ProfileShape limited = gonzato_shape(R, k, 0.5, 0.05, o);
+    EXPECT_DOUBLE_EQ(limited.major, 1.0 / k);
+    o.limit_to_disc = false;
+    const ProfileShape free = gonzato_shape(R, k, 0.5, 0.05, o);
+    EXPECT_NEAR(free.major, R / (1.0 - std::exp(-0.055)), 1e-12);
+    EXPECT_NEAR(free.minor, free.major * (1.0 - std::exp(-0.045)), 1e-12);
+}
+
+TEST(GonzatoProfile, ContinuousRoundTheOrbitAndPeriodic) {
+    const ProfileShape s = gonzato_shape(0.4, 0.6, 1.2, 0.08, GonzatoProfileOptions{});
+    ASSERT_GT(s.displacement, 0.0);
+    ASSERT_GT(s.stretch, 0.0);
+    // Piecewise-linear Orientation/Displacement and the parabolic stretch meet at
+    // Φ_min ± π, −π/3, 7π/8: no jump larger than the sampling step allows.
+    double max_jump = 0.0;
+    ProfileOffset prev = gonzato_offset(s, s.trough_phase - pi);
+    for (int i = 1; i <= 20000; ++i) {
+        const ProfileOffset d = gonzato_offset(s, s.trough_phase - pi + 2.0 * pi * i / 20000.0);
+        max_jump = std::max(max_jump, std::hypot(d.forward - prev.forward, d.up - prev.up));
+        prev = d;
+    }
+    EXPECT_LT(max_jump, 2e-3);
+    const ProfileOffset a = gonzato_offset(s, 0.7), b = gonzato_offset(s, 0.7 + 6.0 * pi);
+    EXPECT_NEAR(a.forward, b.forward, 1e-12);
+    EXPECT_NEAR(a.up, b.up, 1e-12);
+}
+
+TEST(GonzatoProfile, NegativeSlopeIsClampedAndDryPointsStayPut) {
+    const ProfileShape down = gonzato_shape(0.3, 0.5, 2.0, -0.3, GonzatoProfileOptions{});
+    EXPECT_EQ(down.tilt_sin, 0.0);  // §2.4: no backward tilt
+    EXPECT_EQ(down.bottom_angle, 0.0);
+    const ProfileShape dry = gonzato_shape(0.3, 0.5, 0.0, 0.1, GonzatoProfileOptions{});
+    const ProfileOffset d = gonzato_offset(dry, 1.0);
+    EXPECT_EQ(d.forward, 0.0);
+    EXPECT_EQ(d.up, 0.0);
+}
+
+TEST(GonzatoProfile, CrestPlungesForwardNearTheShore) {
+    // Near breaking (h = 1 m, H = 0.7 m): the crest is pushed ahead of its own base,
+    // so the section x(φ) is not monotone — an overhang.
+    const ProfileShape s = gonzato_shape(0.35, 0.42, 1.0, 0.1, GonzatoProfileOptions{});
+    bool overhang = false;
+    const double k = 0.42;
+    double previous_x = -1e9;
+    for (int i = 0; i <= 4000; ++i) {
+        const double x0 = -pi / k + 2.0 * pi / k * i / 4000.0;
+        const double x = x0 + gonzato_offset(s, k * x0 + s.trough_phase).forward;
+        if (x < previous_x) overhang = true;
+        previous_x = x;
+    }
+    EXPECT_TRUE(overhang);
+    // Offshore (h = 15 m) the same wave has no overhang.
+    const ProfileShape deep = gonzato_shape(0.35, 0.17, 15.0, 0.1, GonzatoProfileOptions{});
+    previous_x = -1e9;
+    for (int i = 0; i <= 4000; ++i) {
+        const double x0 = -pi / 0.17 + 2.0 * pi / 0.17 * i / 4000.0;
+        const double x = x0 + gonzato_offset(deep, 0.17 * x0 + deep.trough_phase).forward;
+        EXPECT_GT(x, previous_x) << i;
+        previous_x = x;
+    }
+}
+
+TEST(GonzatoMotion, BayStripsHaveDownwardFacingLipsAtSomeFrame) {
+    const FrontSet f = trace_fronts(make_gonzato_bay(), WaveTrain{.period = 5.0, .amplitude = 0.3, .direction_x = 0.0, .direction_y = 1.0});
+    const RayStrips strips = build_ray_strips(f);
+    const GonzatoMotionPlan plan = plan_gonzato_motion(strips);
+    std::vector<float> p(3 * plan.vertex_count()), n(p.size());
+    std::size_t downward = 0, downward_offshore = 0;
+    for (int frame = 0; frame < 10; ++frame) {
+        evaluate_gonzato_motion(plan, 0.5 * frame, p);
+        for (float v : p) ASSERT_TRUE(std::isfinite(v));
+        for (std::size_t t = 0; t < strips.triangle_count(); ++t) {
+            const std::uint32_t a = strips.triangles[3 * t], b = strips.triangles[3 * t + 1], c = strips.triangles[3 * t + 2];
+            const double ux = p[3 * b] - p[3 * a], uy = p[3 * b + 1] - p[3 * a + 1];
+            const double vx = p[3 * c] - p[3 * a], vy = p[3 * c + 1] - p[3 * a + 1];
+            if (ux * vy - uy * vx < 0.0) {  // the triangle's normal points down: under a lip
+                ++downward;
+                if (strips.depth[a] > 4.0) ++downward_offshore;
+            }
+        }
+    }
+    EXPECT_GT(downward, 100u);
+    EXPECT_EQ(downward_offshore, 0u);  // far from breaking: no overhang
+    EXPECT_THROW(evaluate_gonzato_motion(plan, 0.0, std::span<float>(p.data(), 3)), InputError);
+}
+
+TEST(GonzatoMotion, ThreadCountDoesNotChangeTheFrame) {
+    // Every vertex is evaluated alone: the parallel loop gives the serial bytes.
+    const RayStrips strips = build_ray_strips(trace_fronts(make_gonzato_bay(), WaveTrain{.period = 5.0, .amplitude = 0.3}));
+    const GonzatoMotionPlan plan = plan_gonzato_motion(strips);
+    std::vector<float> p(3 * plan.vertex_count());
+    evaluate_gonzato_motion(plan, 1.3, p);
+    for (std::size_t v = 0; v < plan.vertex_count(); v += 101) {
+        const ProfileOffset d = gonzato_offset(plan.shape[v], plan.phase[v] - plan.omega * 1.3);
+        EXPECT_EQ(p[3 * v], static_cast<float>(plan.x[v] + d.forward * plan.dir_x[v]));
+        EXPECT_EQ(p[3 * v + 2], static_cast<float>(d.up));
+    }
+}
+
+}  // namespace
