@@ -11,6 +11,7 @@
 #include "libwave/version.h"
 
 #include <nlohmann/json.hpp>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <chrono>
@@ -20,6 +21,7 @@
 #include <iomanip>
 #include <iostream>
 #include <numbers>
+#include <optional>
 
 namespace wave::cli {
 
@@ -124,87 +126,145 @@ int run_contours(const ContoursArgs& a) {
     return 0;
 }
 
+namespace {
+
+// What the tracing stage produced, for reports.
+json trace_summary(const Scene& scene, const ScenePlan& plan) {
+    if (scene.surface_kind == SurfaceKind::ray_strips) {
+        const FrontSet& f = plan.fronts;
+        return {{"mode", "gonzato-fronts (gradient refraction)"},
+                {"initial_rays", f.initial_rays},
+                {"inserted_rays", f.inserted_rays},
+                {"rays_aground", f.rays_aground},
+                {"rays_trapped", f.rays_trapped},
+                {"steps", f.front_count() - 1},
+                {"points", f.x.size()},
+                {"vertices", plan.strips.vertex_count()},
+                {"triangles", plan.strips.triangle_count()},
+                {"degenerate_cells_skipped", plan.strips.degenerate_skipped}};
+    }
+    const RaySet& r = plan.rays;
+    std::size_t aground = 0, capped = 0, doubtful = 0, reflected = 0, crossings = 0;
+    for (std::size_t i = 0; i < r.ray_count(); ++i) aground += r.event[r.offsets[i + 1] - 1] == RayEvent::aground;
+    for (std::size_t i = 0; i < r.point_count(); ++i) {
+        capped += (r.flags[i] & kAmplitudeCapped) != 0;
+        doubtful += (r.flags[i] & kRefractionDoubtful) != 0;
+        reflected += r.event[i] == RayEvent::reflected;
+        crossings += r.event[i] == RayEvent::refracted || r.event[i] == RayEvent::reflected;
+    }
+    return {{"mode", "tso-barsky (exact isobath crossings)"}, {"rays", r.ray_count()}, {"crossings", crossings},
+            {"rays_aground", aground}, {"reflections", reflected}, {"amplitude_capped_points", capped},
+            {"refraction_doubtful_points", doubtful}};
+}
+
+}  // namespace
+
 int run_trace(const TraceArgs& a) {
+    if (a.output.empty() && a.mesh_out.empty() && !a.json)
+        throw InputError("trace: nothing to do; give -o CSV, --mesh-out PLY and/or --json");
     const Scene scene = read_scene(a.scene);
-    const Seafloor sea = load_seafloor(scene.seafloor);
-    const DepthContours iso = extract_isobaths(sea, scene.isobaths);
-    const RaySet rays = trace_rays(sea, iso, scene.waves, scene_trace_options(scene, sea));
-    write_file_atomic(a.output, rays_to_csv(rays));
-    std::cout << "traced " << rays.ray_count() << " rays (" << rays.point_count() << " points) over "
-              << iso.size() << " isobaths; wrote " << a.output << '\n';
+    const bool strips = scene.surface_kind == SurfaceKind::ray_strips;
+    if (!a.mesh_out.empty() && !strips)
+        throw InputError(a.scene + ": --mesh-out needs the ray-strips surface (this scene's /surface/kind is height-field)");
+    const ScenePlan plan = plan_scene(scene);
+    if (!a.output.empty()) write_file_atomic(a.output, strips ? fronts_to_csv(plan.fronts) : rays_to_csv(plan.rays));
+    if (!a.mesh_out.empty()) write_ray_strips_ply(plan.strips, a.mesh_out);
+    const json summary = trace_summary(scene, plan);
+    if (a.json) {
+        std::cout << summary.dump(2) << '\n';
+        return 0;
+    }
+    if (strips)
+        std::cout << "traced " << plan.fronts.initial_rays << " rays (+" << plan.fronts.inserted_rays << " inserted, "
+                  << plan.fronts.rays_aground << " aground) over " << plan.fronts.front_count() - 1 << " steps -> "
+                  << plan.strips.vertex_count() << " vertices, " << plan.strips.triangle_count() << " triangles\n";
+    else
+        std::cout << "traced " << plan.rays.ray_count() << " rays (" << plan.rays.point_count() << " points) over "
+                  << plan.isobaths.size() << " isobaths\n";
+    if (!a.output.empty()) std::cout << "wrote " << a.output << '\n';
+    if (!a.mesh_out.empty()) std::cout << "wrote " << a.mesh_out << '\n';
     return 0;
 }
 
 int run_job(const RunArgs& a) {
     using Clock = std::chrono::steady_clock;
+    // Limits libwave's parallel loops (TBB) for this run; each vertex is computed alone,
+    // so the files do not depend on the count.
+    std::optional<tbb::global_control> threads;
+    if (a.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(a.threads));
     const Scene scene = a.scene.empty() ? default_scene() : read_scene(a.scene);
     const std::string stem = a.scene.empty() ? "default" : std::filesystem::path(a.scene).stem().string();
     const std::string out_dir = a.out_dir.empty() ? "wave-out/" + stem : a.out_dir;
+    const bool strips = scene.surface_kind == SurfaceKind::ray_strips;
 
     const auto t0 = Clock::now();
     const ScenePlan plan = plan_scene(scene);
     const auto t1 = Clock::now();
 
-    const HeightFieldPlan& sp = plan.surface;
     const SceneAnimation anim = animate_scene(scene, plan);
     const std::size_t frames = anim.frame_count;
-    const std::string glb = gltf_morph_glb(anim.view());
-    const std::span<const float> first(anim.positions.data(), 3 * sp.vertex_count());
-    const float z_min = anim.z_min, z_max = anim.z_max;
     const auto t2 = Clock::now();
+    const std::string glb = gltf_morph_glb(anim.view());
+    const auto t3 = Clock::now();
+    const std::span<const float> first(anim.positions.data(), 3 * anim.vertex_count);
 
-    std::size_t aground = 0, capped = 0, doubtful = 0, reflected = 0, crossings = 0;
-    for (std::size_t r = 0; r < plan.rays.ray_count(); ++r)
-        aground += plan.rays.event[plan.rays.offsets[r + 1] - 1] == RayEvent::aground;
-    for (std::size_t i = 0; i < plan.rays.point_count(); ++i) {
-        capped += (plan.rays.flags[i] & kAmplitudeCapped) != 0;
-        doubtful += (plan.rays.flags[i] & kRefractionDoubtful) != 0;
-        reflected += plan.rays.event[i] == RayEvent::reflected;
-        crossings += plan.rays.event[i] == RayEvent::refracted || plan.rays.event[i] == RayEvent::reflected;
-    }
+    const auto ms = [](auto d) { return std::chrono::duration<double, std::milli>(d).count(); };
     const SeafloorStats st = seafloor_stats(plan.seafloor);
+    const char* trace_file = strips ? "strips.ply" : "rays.csv";
+    json surface{{"kind", strips ? "ray-strips" : "height-field"},
+                 {"vertices", anim.vertex_count},
+                 {"triangles", anim.triangles.size() / 3},
+                 {"loop_period_s", plan.loop_period},
+                 {"fps", scene.fps},
+                 {"frames", frames},
+                 {"height_range_m", {anim.z_min, anim.z_max}}};
+    if (!strips) surface["control_grid"] = {plan.surface.nx, plan.surface.ny};
     json report{{"libwave", version()},
                 {"scene", scene.name},
                 {"seafloor", {{"source", plan.seafloor.source}, {"nodes", {st.nx, st.ny}}, {"depth_range_m", {st.depth_min, st.depth_max}}}},
                 {"isobaths", plan.isobaths.size()},
-                {"rays", {{"count", plan.rays.ray_count()}, {"crossings", crossings}, {"aground", aground},
-                          {"reflections", reflected}, {"amplitude_capped_points", capped}, {"refraction_doubtful_points", doubtful}}},
-                {"surface", {{"control_grid", {sp.nx, sp.ny}}, {"vertices", sp.vertex_count()}, {"triangles", sp.triangle_count()},
-                             {"loop_period_s", sp.loop_period}, {"fps", scene.fps}, {"frames", frames},
-                             {"height_range_m", {z_min, z_max}}}},
+                {"trace", trace_summary(scene, plan)},
+                {"surface", surface},
                 {"warnings", plan.warnings},
-                {"outputs", {"animation.glb", "isobaths.json", "rays.csv", "surface-frame-0000.obj", "report.json"}}};
+                {"outputs", {"animation.glb", "isobaths.json", trace_file, "surface-frame-0000.obj", "report.json"}}};
 
     std::filesystem::create_directories(out_dir);
     const auto out = [&](const char* name) { return (std::filesystem::path(out_dir) / name).string(); };
     write_file_atomic(out("animation.glb"), glb);
     write_file_atomic(out("isobaths.json"), contours_to_json(plan.isobaths));
-    write_file_atomic(out("rays.csv"), rays_to_csv(plan.rays));
+    if (strips) write_ray_strips_ply(plan.strips, out(trace_file));
+    else write_file_atomic(out(trace_file), rays_to_csv(plan.rays));
     write_file_atomic(out("surface-frame-0000.obj"),
-                      mesh_to_obj(first, sp.triangles, "libwave " + std::string(version()) + ": " + scene.name + ", frame 0, z up"));
+                      mesh_to_obj(first, anim.triangles, "libwave " + std::string(version()) + ": " + scene.name + ", frame 0, z up"));
     write_file_atomic(out("report.json"), report.dump(2) + "\n");
 
     if (a.json) {
+        // Timings only on stdout: report.json is byte-identical from run to run.
+        report["timings_ms"] = {{"plan", ms(t1 - t0)}, {"frames", ms(t2 - t1)}, {"export", ms(t3 - t2)}};
         std::cout << report.dump(2) << '\n';
         return 0;
     }
-    const auto ms = [](auto d) { return std::chrono::duration<double, std::milli>(d).count(); };
     std::cout << std::setprecision(4)
               << "scene      " << scene.name << '\n'
               << "seafloor   " << plan.seafloor.source << ", " << st.nx << " x " << st.ny << " nodes, depth "
               << st.depth_min << " .. " << st.depth_max << " m\n"
-              << "isobaths   " << plan.isobaths.size() << " polylines (CGAL slicer)\n"
-              << "rays       " << plan.rays.ray_count() << " traced, " << crossings << " exact crossings, " << aground
-              << " aground, " << reflected << " reflections, " << capped << " points capped at the breaking limit\n"
-              << "surface    " << sp.nx << " x " << sp.ny << " Beta2-spline control grid -> " << sp.vertex_count()
-              << " vertices, " << sp.triangle_count() << " triangles\n"
-              << "animation  " << frames << " frames at " << scene.fps << " fps, loop " << sp.loop_period
-              << " s, heights " << z_min << " .. " << z_max << " m\n"
+              << "isobaths   " << plan.isobaths.size() << " polylines (CGAL slicer)\n";
+    if (strips)
+        std::cout << "fronts     " << plan.fronts.initial_rays << " rays + " << plan.fronts.inserted_rays << " inserted, "
+                  << plan.fronts.front_count() - 1 << " steps, " << plan.fronts.rays_aground << " aground (Gonzato)\n"
+                  << "surface    ray strips: " << anim.vertex_count << " vertices, " << anim.triangles.size() / 3
+                  << " triangles; Gonzato's plunging profile\n";
+    else
+        std::cout << "rays       " << plan.rays.ray_count() << " traced (Ts'o-Barsky, exact isobath crossings)\n"
+                  << "surface    " << plan.surface.nx << " x " << plan.surface.ny << " Beta2-spline control grid -> "
+                  << anim.vertex_count << " vertices, " << anim.triangles.size() / 3 << " triangles\n";
+    std::cout << "animation  " << frames << " frames at " << scene.fps << " fps, loop " << plan.loop_period
+              << " s, heights " << anim.z_min << " .. " << anim.z_max << " m\n"
               << "time       plan " << ms(t1 - t0) << " ms, frames " << ms(t2 - t1) / static_cast<double>(std::max<std::size_t>(frames, 1))
-              << " ms each\n"
+              << " ms each, export " << ms(t3 - t2) << " ms\n"
               << "wrote      " << out_dir << "/animation.glb (" << frames << " morph targets, STEP weights; "
               << static_cast<double>(glb.size()) / 1e6 << " MB; set the scene fps to " << scene.fps << " before importing)\n"
-              << "           " << out_dir << "/{isobaths.json, rays.csv, surface-frame-0000.obj, report.json}\n";
+              << "           " << out_dir << "/{isobaths.json, " << trace_file << ", surface-frame-0000.obj, report.json}\n";
     for (const std::string& w : plan.warnings) std::cout << "warning    " << w << '\n';
     return 0;
 }

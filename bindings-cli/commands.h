@@ -37,14 +37,17 @@ struct ContoursArgs {
 int run_contours(const ContoursArgs& a);
 
 struct TraceArgs {
-    std::string scene;   ///< scene file
-    std::string output;  ///< CSV
+    std::string scene;     ///< scene file
+    std::string output;    ///< CSV of the rays (height field) or fronts (ray strips); optional
+    std::string mesh_out;  ///< PLY of the ray strips with per-vertex properties; optional
+    bool json = false;     ///< print a JSON summary
 };
 int run_trace(const TraceArgs& a);
 
 struct RunArgs {
     std::string scene;   ///< scene file; empty = the built-in default scene
     std::string out_dir; ///< default: wave-out/<scene file stem or "default">
+    int threads = 0;     ///< worker threads (0 = all cores); outputs do not depend on it
     bool json = false;
 };
 int run_job(const RunArgs& a);

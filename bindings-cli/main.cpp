@@ -64,11 +64,15 @@ int main(int argc, char** argv) {
     run_cmd->add_option("scene", run.scene, "scene file (JSON); none = the built-in default scene");
     run_cmd->add_option("-o,--out", run.out_dir, "output folder (default: wave-out/<scene name>)");
     run_cmd->add_flag("--json", run.json, "print the report as JSON");
+    run_cmd->add_option("--threads", run.threads, "worker threads (default: all cores); the outputs are the same for any count")
+        ->check(CLI::PositiveNumber);
 
     cli::TraceArgs trace;
-    auto* trace_cmd = app.add_subcommand("trace", "Trace a scene's wave trains and write every ray point as CSV");
+    auto* trace_cmd = app.add_subcommand("trace", "Trace a scene's wave trains: rays or fronts as CSV, ray strips as PLY, a summary");
     trace_cmd->add_option("scene", trace.scene, "scene file (JSON)")->required();
-    trace_cmd->add_option("-o,--output", trace.output, "CSV file: ray,step,x,y,dir_x,dir_y,depth,k,omega,celerity,group_velocity,amplitude,flag")->required();
+    trace_cmd->add_option("-o,--output", trace.output, "CSV of the traced points: fronts (ray strips) or Ts'o rays (height field)");
+    trace_cmd->add_option("--mesh-out", trace.mesh_out, "PLY of the ray strips with per-vertex properties (ray, step, phase, k, amplitude, ...)");
+    trace_cmd->add_flag("--json", trace.json, "print a JSON summary (initial_rays, inserted_rays, rays_aground, steps, vertices, triangles)");
 
     cli::DispersionArgs disp;
     auto* disp_cmd = app.add_subcommand("dispersion", "Linear wave quantities for a period and a depth");

@@ -3,6 +3,7 @@
 1 runtime failure), `error: …` on stderr naming the file/value, and no partial output."""
 import json
 import os
+import pathlib
 import struct
 import subprocess
 import sys
@@ -154,8 +155,31 @@ class Contours(unittest.TestCase):
 EXAMPLES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples")
 
 
+def read_ply_header(path):
+    """(format, vertex count, face count, vertex property names) of a PLY file."""
+    with open(path, "rb") as f:
+        lines = []
+        while True:
+            line = f.readline().decode("ascii").strip()
+            lines.append(line)
+            if line == "end_header" or not line:
+                break
+    assert lines[0] == "ply", lines[:2]
+    fmt = lines[1].split()[1]
+    counts, props, element = {}, [], None
+    for line in lines:
+        words = line.split()
+        if words[:1] == ["element"]:
+            element = words[1]
+            counts[element] = int(words[2])
+        elif words[:1] == ["property"] and element == "vertex":
+            props.append(words[-1])
+    return fmt, counts.get("vertex"), counts.get("face"), props
+
+
 class MainJob(unittest.TestCase):
     OUTPUTS = ["animation.glb", "isobaths.json", "rays.csv", "report.json", "surface-frame-0000.obj"]
+    STRIP_OUTPUTS = ["animation.glb", "isobaths.json", "strips.ply", "report.json", "surface-frame-0000.obj"]
 
     def test_default_scene(self):
         with tempfile.TemporaryDirectory() as d:
@@ -163,13 +187,17 @@ class MainJob(unittest.TestCase):
             r = wave("run", "-o", out)
             self.assertEqual(r.returncode, 0, r.stderr)
             self.assertIn("Gonzato's bay", r.stdout)
-            self.assertEqual(sorted(os.listdir(out)), sorted(self.OUTPUTS))  # no temporaries left
+            self.assertEqual(sorted(os.listdir(out)), sorted(self.STRIP_OUTPUTS))  # no temporaries left
             report = json.load(open(os.path.join(out, "report.json")))
-            self.assertEqual(report["rays"]["count"], 100)  # Gonzato: one ray per metre over 100 m
+            self.assertEqual(report["surface"]["kind"], "ray-strips")
+            self.assertEqual(report["trace"]["initial_rays"], 100)  # Gonzato: one ray per metre over 100 m
+            self.assertGreater(report["trace"]["inserted_rays"], 50)
             self.assertEqual(report["surface"]["frames"], 120)  # 5 s loop at 24 fps
-            with open(os.path.join(out, "rays.csv")) as f:
-                header = f.readline().strip()
-            self.assertEqual(header, "ray,step,x,y,dir_x,dir_y,depth,k,omega,celerity,group_velocity,amplitude,flag")
+            fmt, vertices, faces, props = read_ply_header(os.path.join(out, "strips.ply"))
+            self.assertEqual(fmt, "binary_little_endian")
+            self.assertEqual((vertices, faces), (report["surface"]["vertices"], report["surface"]["triangles"]))
+            for name in ["ray", "step", "phase", "k", "omega", "amplitude", "depth", "slope", "rise", "flag"]:
+                self.assertIn(name, props)
             self.check_animation(out, report)
 
     def check_animation(self, out, report):
@@ -213,7 +241,7 @@ class MainJob(unittest.TestCase):
             self.assertEqual(report["surface"]["loop_period_s"], 6.0)  # LCM of 6 s and 1 s
             self.assertEqual(report["surface"]["frames"], 144)
             self.assertEqual(report["surface"]["control_grid"], [50, 50])
-            self.assertGreater(report["rays"]["crossings"], 500)
+            self.assertGreater(report["trace"]["crossings"], 500)
             # Ts'o's 1 s train (L = 1.56 m) on 1 m cells aliases: said, not hidden.
             self.assertEqual(len(report["warnings"]), 1)
             self.assertIn("T = 1 s", report["warnings"][0])
@@ -221,7 +249,7 @@ class MainJob(unittest.TestCase):
     def test_real_bathymetry_end_to_end(self):
         with tempfile.TemporaryDirectory() as d:
             report = self.run_example("okushiri.json", d)
-            self.assertGreater(report["rays"]["aground"], 100)
+            self.assertGreater(report["trace"]["rays_aground"], 100)
             lo, hi = report["surface"]["height_range_m"]
             self.assertLess(hi, 0.02)  # 4 mm waves shoal, but stay bounded by breaking
             self.assertGreater(hi, 0.004)
@@ -234,6 +262,47 @@ class MainJob(unittest.TestCase):
             self.assertEqual(wave("run", scene, "-o", b).returncode, 0)
             for name in self.OUTPUTS:
                 self.assertEqual(open(os.path.join(a, name), "rb").read(), open(os.path.join(b, name), "rb").read(), name)
+
+    def test_ray_strips_are_identical_with_one_and_two_threads(self):
+        with tempfile.TemporaryDirectory() as d:
+            a, b = os.path.join(d, "a"), os.path.join(d, "b")
+            self.assertEqual(wave("run", "--threads", "1", "-o", a).returncode, 0)
+            self.assertEqual(wave("run", "--threads", "2", "-o", b).returncode, 0)
+            for name in ["animation.glb", "strips.ply", "surface-frame-0000.obj"]:
+                self.assertEqual(open(os.path.join(a, name), "rb").read(), open(os.path.join(b, name), "rb").read(), name)
+            self.assertEqual(wave("run", "--threads", "0").returncode, 2)
+
+    def test_gonzato_examples(self):
+        with tempfile.TemporaryDirectory() as d:
+            bay = self.run_example("gonzato-bay.json", os.path.join(d, "bay"))
+            self.assertEqual(bay["trace"]["initial_rays"], 100)
+            # The paper: 209 new rays, 39 097 facets for its bay (its exact shape is not given).
+            self.assertGreater(bay["trace"]["triangles"], 20000)
+            self.assertLess(bay["trace"]["triangles"], 80000)
+            lo, hi = bay["surface"]["height_range_m"]
+            self.assertLess(hi, 0.78 * 5.0)
+            island = self.run_example("gonzato-island.json", os.path.join(d, "island"))
+            self.assertGreater(island["trace"]["rays_aground"], 0)
+
+    def test_trace_summary_and_strip_mesh(self):
+        with tempfile.TemporaryDirectory() as d:
+            ply, csv = os.path.join(d, "strips.ply"), os.path.join(d, "fronts.csv")
+            r = wave("trace", os.path.join(EXAMPLES, "gonzato-bay.json"), "--mesh-out", ply, "-o", csv, "--json")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            summary = json.loads(r.stdout)
+            for key in ["initial_rays", "inserted_rays", "rays_aground", "steps", "vertices", "triangles"]:
+                self.assertIn(key, summary)
+            _, vertices, faces, _ = read_ply_header(ply)
+            self.assertEqual((vertices, faces), (summary["vertices"], summary["triangles"]))
+            rows = pathlib.Path(csv).read_text().splitlines()
+            self.assertEqual(rows[0], "front,ray,x,y,dir_x,dir_y,phase,k,depth,slope,rise,amplitude,flag")
+            self.assertEqual(len(rows) - 1, summary["points"])
+            # --mesh-out on a height-field scene, or nothing asked: exit 2, nothing written.
+            r = wave("trace", os.path.join(EXAMPLES, "planar-beach.json"), "--mesh-out", os.path.join(d, "x.ply"))
+            self.assertEqual(r.returncode, 2)
+            self.assertIn("ray-strips", r.stderr)
+            self.assertEqual(wave("trace", os.path.join(EXAMPLES, "planar-beach.json")).returncode, 2)
+            self.assertEqual(sorted(os.listdir(d)), ["fronts.csv", "strips.ply"])
 
     def test_trace_writes_csv(self):
         with tempfile.TemporaryDirectory() as d:
@@ -251,7 +320,13 @@ class MainJob(unittest.TestCase):
             cases = [
                 ('{"waves": [{"period": -6}]}', "/waves/0/period"),
                 ('{"waves": [{"period": 6, "direction": [0, 0]}]}', "/waves/0/direction"),
-                ('{"waves": [{"period": 6}], "surface": {"footprint": "blob"}}', "bresenham, smooth"),
+                ('{"waves": [{"period": 6}], "surface": {"kind": "height-field", "footprint": "blob"}}', "bresenham, smooth"),
+                ('{"waves": [{"period": 6}], "surface": {"grid": [5, 5]}}', "/surface/grid"),
+                ('{"waves": [{"period": 6}, {"period": 7}]}', "/waves"),
+                ('{"waves": [{"period": 6}], "surface": {"kind": "height-field"}, "fronts": {}}', "/fronts"),
+                ('{"waves": [{"period": 6}], "fronts": {"step": -1}}', "/fronts/step"),
+                ('{"waves": [{"period": 6}], "motion": {"profile": "gerstner"}}', "/motion/profile"),
+                ('{"waves": [{"period": 6}], "motion": {"stretch_max": -1}}', "/motion/stretch_max"),
                 ('{"waves": [{"period": 6}], "seafloor": {"source": "nowhere.asc"}}', "/seafloor/source"),
                 ('{"waves": [{"period": 6}], "trace": {"rays": 3}}', "/trace/rays"),
                 ('{"waves": [{"period": 6}], "isobaths": {"levels": [99]}}', "level 99"),

@@ -7,6 +7,7 @@
 #include "libwave/bathymetry.h"
 #include "libwave/export.h"
 #include "libwave/isobath.h"
+#include "libwave/motion.h"
 #include "libwave/surface.h"
 #include "libwave/trace.h"
 
@@ -28,8 +29,15 @@ struct SeafloorSource {
 /// otherwise reads the file.
 Seafloor load_seafloor(const SeafloorSource& source);
 
+/// Which water surface a scene builds.
+enum class SurfaceKind {
+    ray_strips,    ///< Gonzato: adaptive fronts → ray strips, animated by the plunging profile (one train)
+    height_field,  ///< Ts'o: rays at exact isobath crossings → Beta2-spline height field (any trains)
+};
+
 struct Scene {
     std::string name = "default";
+    SurfaceKind surface_kind = SurfaceKind::ray_strips;
     SeafloorSource seafloor{};
     IsobathOptions isobaths{.levels = {}, .spacing = 0.25};
     std::vector<WaveTrain> waves{};
@@ -38,11 +46,14 @@ struct Scene {
     /// trace.ray_spacing when > 0: spacing = min(cell dx, dy) / n).
     double orthogonals_per_grid_line = 0.0;
     HeightFieldOptions surface{};
+    /// Adaptive fronts (ray strips); ray_spacing and breaker_index come from `trace`.
+    FrontOptions fronts{};
+    GonzatoProfileOptions profile{};
     double fps = 24.0;  ///< frames per second of the animation (> 0)
 };
 
-/// The built-in default scene: Gonzato's bay with a 5 s swell (what `wave run` does
-/// with no argument).
+/// The built-in default scene: Gonzato's bay with a 5 s swell, ray strips animated by
+/// the plunging profile (what `wave run` does with no argument).
 Scene default_scene();
 
 /// Parses a scene from JSON text. `origin` names the file in messages; `base_dir` is
@@ -56,20 +67,27 @@ Scene read_scene(const std::string& path);
 /// > 0, ray_spacing = min(surface cell dx, dy) / orthogonals_per_grid_line.
 TraceOptions scene_trace_options(const Scene& scene, const Seafloor& seafloor);
 
-/// The per-scene (static) products of the pipeline, computed once.
+/// The per-scene (static) products of the pipeline, computed once. Only the members
+/// of the scene's surface kind are filled.
 struct ScenePlan {
     Seafloor seafloor;
     DepthContours isobaths;
-    RaySet rays;
-    HeightFieldPlan surface;
+    RaySet rays;              ///< height field: Ts'o's rays
+    HeightFieldPlan surface;  ///< height field
+    FrontSet fronts;          ///< ray strips: Gonzato's fronts
+    RayStrips strips;         ///< ray strips: the tessellated surface
+    GonzatoMotionPlan motion; ///< ray strips: the profile's per-vertex shapes
+    double loop_period = 0.0; ///< the animation repeats after this (s)
     /// Doubts about the result that are not errors, e.g. a train whose wavelength the
     /// surface grid cannot resolve (aliasing).
     std::vector<std::string> warnings;
 };
 
-/// Runs every static stage of a scene: seafloor → isobaths → trace → surface plan.
+/// Runs every static stage of a scene: seafloor → isobaths → trace → surface plan
+/// (height field), or seafloor → isobaths → fronts → ray strips → profile plan.
 /// Throws InputError when the Bresenham footprint is asked for with fewer than one
-/// orthogonal per grid line (Ts'o's minimum: the grid would have holes).
+/// orthogonal per grid line (Ts'o's minimum: the grid would have holes), or when ray
+/// strips are asked for with other than one wave train.
 ScenePlan plan_scene(const Scene& scene);
 
 /// Every frame of one animation loop of a planned scene, ready for an exporter.
@@ -80,12 +98,13 @@ struct SceneAnimation {
     std::vector<float> texcoords;  ///< vertex_count · 2: rest position scaled to the domain
     float z_min = 0, z_max = 0;    ///< height range over all frames (m)
     double fps = 24.0;
-    std::span<const std::uint32_t> triangles;  ///< the plan's index list
+    std::span<const std::uint32_t> triangles;  ///< the plan's index list (strips or height field)
 
     MorphAnimationView view() const;
 };
 
-/// Evaluates every frame of one loop (round(loop_period · fps) frames, t = k / fps).
+/// Evaluates every frame of one loop (round(loop_period · fps) frames, t = k / fps):
+/// the height field, or Gonzato's profile on the ray strips.
 /// Throws LimitError when the frames would exceed `max_bytes` as float arrays, naming
 /// the scene values that lower it.
 SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double max_bytes = 2e9);

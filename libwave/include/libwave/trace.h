@@ -156,6 +156,10 @@ struct FrontSet {
 /// FLAT. Throws InputError for bad options, LimitError at the guard rails.
 FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& train, const FrontOptions& options = {});
 
+/// The fronts as CSV, one row per ray per front, with the header
+/// `front,ray,x,y,dir_x,dir_y,phase,k,depth,slope,rise,amplitude,flag`, full double precision.
+std::string fronts_to_csv(const FrontSet& fronts);
+
 /// The rays as CSV with the header
 /// `ray,step,x,y,dir_x,dir_y,depth,k,omega,celerity,group_velocity,amplitude,flag`
 /// (flag = the event name, plus "+capped" / "+doubtful"), full double precision.

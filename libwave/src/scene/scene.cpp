@@ -190,9 +190,16 @@ void read_trace(const Node& n, Scene& s) {
     if (n.has("breaker_index")) s.trace.breaker_index = n["breaker_index"].positive("H/h");
 }
 
-void read_surface(const Node& n, HeightFieldOptions& o) {
-    n.require_object({"grid", "samples_per_span", "footprint", "footprint_radius", "tension_per_metre", "max_tension",
-                      "repeat_time", "max_vertices"});
+void read_surface(const Node& n, Scene& s) {
+    n.require_object({"kind", "grid", "samples_per_span", "footprint", "footprint_radius", "tension_per_metre",
+                      "max_tension", "repeat_time", "max_vertices"});
+    if (n.has("kind"))
+        s.surface_kind = n["kind"].choice<SurfaceKind>({{"ray-strips", SurfaceKind::ray_strips},
+                                                        {"height-field", SurfaceKind::height_field}});
+    if (s.surface_kind == SurfaceKind::ray_strips)
+        for (const auto& [key, _] : n.value().items())
+            if (key != "kind") n[key.c_str()].fail("a height-field option; this scene's surface kind is \"ray-strips\"");
+    HeightFieldOptions& o = s.surface;
     if (n.has("grid")) {
         const Node g = n["grid"];
         if (!g.value().is_array() || g.size() != 2) g.fail("expected [m, n] control vertices");
@@ -209,6 +216,28 @@ void read_surface(const Node& n, HeightFieldOptions& o) {
     if (n.has("max_vertices")) o.max_vertices = n["max_vertices"].count(4);
 }
 
+void read_fronts(const Node& n, FrontOptions& o) {
+    n.require_object({"step", "split_distance", "flat_amplitude", "max_steps"});
+    if (n.has("step")) o.step = n["step"].positive("m");
+    if (n.has("split_distance")) o.split_distance = n["split_distance"].positive("m");
+    if (n.has("flat_amplitude")) o.flat_amplitude = n["flat_amplitude"].non_negative("m");
+    if (n.has("max_steps")) o.max_steps = n["max_steps"].count(1);
+}
+
+void read_profile(const Node& n, GonzatoProfileOptions& o) {
+    n.require_object({"profile", "stretch_max", "stretch_depth_factor", "displacement_depth_factor", "limit_to_disc",
+                      "k0", "kx", "kz"});
+    if (n.has("profile")) n["profile"].choice<int>({{"gonzato", 0}});
+    if (n.has("stretch_max")) o.stretch_max = n["stretch_max"].non_negative("wave heights");
+    if (n.has("stretch_depth_factor")) o.stretch_depth_factor = n["stretch_depth_factor"].non_negative("1/m");
+    if (n.has("displacement_depth_factor"))
+        o.displacement_depth_factor = n["displacement_depth_factor"].non_negative("1/m");
+    if (n.has("limit_to_disc")) o.limit_to_disc = n["limit_to_disc"].boolean();
+    if (n.has("k0")) o.k0 = n["k0"].non_negative("1/m");
+    if (n.has("kx")) o.kx = n["kx"].positive("1/m");
+    if (n.has("kz")) o.kz = n["kz"].positive("1/m");
+}
+
 }  // namespace
 
 Seafloor load_seafloor(const SeafloorSource& s) {
@@ -221,11 +250,12 @@ Seafloor load_seafloor(const SeafloorSource& s) {
 Scene default_scene() {
     Scene s;
     s.name = "default: Gonzato's bay with a swell";
+    s.surface_kind = SurfaceKind::ray_strips;
     s.seafloor.source = "gonzato-bay";
     s.waves = {{.period = 5.0, .amplitude = 0.3, .direction_x = 0.0, .direction_y = 1.0}};
-    s.trace.ray_spacing = 1.0;  // Gonzato: one ray per metre
-    s.surface.nx = s.surface.ny = 51;
-    s.surface.samples_per_span = 2;
+    s.trace.ray_spacing = 1.0;  // Gonzato: one ray per metre, step 0.4 m, split at 1.2 m
+    s.fronts.step = 0.4;
+    s.fronts.split_distance = 1.2;
     return s;
 }
 
@@ -237,7 +267,7 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
         throw InputError(origin + ": not valid JSON (byte " + std::to_string(e.byte) + "): " + e.what());
     }
     const Node root(doc, "", origin);
-    root.require_object({"name", "seafloor", "isobaths", "waves", "trace", "surface", "animation"});
+    root.require_object({"name", "seafloor", "isobaths", "waves", "trace", "surface", "fronts", "motion", "animation"});
     Scene s;
     if (root.has("name")) s.name = root["name"].string();
     if (root.has("seafloor")) read_seafloor_spec(root["seafloor"], s.seafloor, base_dir);
@@ -251,7 +281,19 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     if (!waves.value().is_array() || waves.size() == 0) waves.fail("expected a non-empty array of wave trains");
     for (std::size_t i = 0; i < waves.size(); ++i) s.waves.push_back(read_wave(waves[i]));
     if (root.has("trace")) read_trace(root["trace"], s);
-    if (root.has("surface")) read_surface(root["surface"], s.surface);
+    if (root.has("surface")) read_surface(root["surface"], s);
+    if (s.surface_kind == SurfaceKind::ray_strips) {
+        if (s.waves.size() != 1)
+            waves.fail("the ray-strips surface traces one wave train, got " + std::to_string(s.waves.size()) +
+                       " (use \"surface\": {\"kind\": \"height-field\"} to superpose trains)");
+        if (root.has("trace") && root["trace"].has("orthogonals_per_grid_line"))
+            root["trace"]["orthogonals_per_grid_line"].fail("only for the height-field surface");
+    } else {
+        if (root.has("fronts")) root["fronts"].fail("only for the ray-strips surface");
+        if (root.has("motion")) root["motion"].fail("only for the ray-strips surface (the height field moves as Ts'o's sinusoids)");
+    }
+    if (root.has("fronts")) read_fronts(root["fronts"], s.fronts);
+    if (root.has("motion")) read_profile(root["motion"], s.profile);
     if (root.has("animation")) {
         const Node a = root["animation"];
         a.require_object({"fps"});
@@ -282,6 +324,20 @@ TraceOptions scene_trace_options(const Scene& scene, const Seafloor& seafloor) {
 ScenePlan plan_scene(const Scene& scene) {
     ScenePlan p;
     p.seafloor = load_seafloor(scene.seafloor);
+    if (scene.surface_kind == SurfaceKind::ray_strips) {
+        if (scene.waves.size() != 1)
+            throw InputError("scene: the ray-strips surface traces one wave train, got " + std::to_string(scene.waves.size()));
+        FrontOptions fronts = scene.fronts;
+        fronts.ray_spacing = scene.trace.ray_spacing;
+        fronts.breaker_index = scene.trace.breaker_index;
+        fronts.max_rays = scene.trace.max_rays;
+        p.isobaths = extract_isobaths(p.seafloor, scene.isobaths);
+        p.fronts = trace_fronts(p.seafloor, scene.waves[0], fronts);
+        p.strips = build_ray_strips(p.fronts);
+        p.motion = plan_gonzato_motion(p.strips, scene.profile);
+        p.loop_period = scene.waves[0].period;
+        return p;
+    }
     const TraceOptions trace = scene_trace_options(scene, p.seafloor);
     const ElevationGrid& g = p.seafloor.grid;
     if (scene.surface.nx >= 2 && scene.surface.ny >= 2) {
@@ -304,6 +360,7 @@ ScenePlan plan_scene(const Scene& scene) {
     p.isobaths = extract_isobaths(p.seafloor, scene.isobaths);
     p.rays = trace_rays(p.seafloor, p.isobaths, scene.waves, trace);
     p.surface = plan_height_field(p.seafloor, p.rays, scene.waves, scene.surface);
+    p.loop_period = p.surface.loop_period;
     return p;
 }
 
@@ -320,39 +377,53 @@ MorphAnimationView SceneAnimation::view() const {
 }
 
 SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double max_bytes) {
+    const bool strips = scene.surface_kind == SurfaceKind::ray_strips;
     const HeightFieldPlan& sp = plan.surface;
     SceneAnimation a;
     a.fps = scene.fps;
-    a.vertex_count = sp.vertex_count();
-    a.frame_count = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(sp.loop_period * scene.fps)));
-    a.triangles = sp.triangles;
+    a.vertex_count = strips ? plan.motion.vertex_count() : sp.vertex_count();
+    a.frame_count = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(plan.loop_period * scene.fps)));
+    a.triangles = strips ? std::span<const std::uint32_t>(plan.strips.triangles) : std::span<const std::uint32_t>(sp.triangles);
     const std::size_t n = a.vertex_count;
     if (static_cast<double>(a.frame_count) * static_cast<double>(n) * 24.0 > max_bytes)
         throw LimitError("scene: the animation would hold " + std::to_string(a.frame_count) + " frames of " +
-                         std::to_string(n) + " vertices (over " + fmt(max_bytes / 1e9) +
-                         " GB of positions and normals); lower /surface/samples_per_span, /surface/grid or /animation/fps");
+                         std::to_string(n) + " vertices (over " + fmt(max_bytes / 1e9) + " GB of positions and normals); " +
+                         (strips ? "raise /trace/ray_spacing or /fronts/step, or lower /animation/fps"
+                                 : "lower /surface/samples_per_span, /surface/grid or /animation/fps"));
     a.positions.resize(3 * n * a.frame_count);
     a.normals.resize(3 * n * a.frame_count);
-    std::vector<float> heights(sp.control_count());
+    std::vector<float> heights(strips ? 0 : sp.control_count());
     a.z_min = std::numeric_limits<float>::infinity();
     a.z_max = -std::numeric_limits<float>::infinity();
     for (std::size_t f = 0; f < a.frame_count; ++f) {
         const std::span<float> p(&a.positions[3 * n * f], 3 * n), nr(&a.normals[3 * n * f], 3 * n);
-        evaluate_height_field(sp, static_cast<double>(f) / scene.fps, heights, p);
-        vertex_normals(p, sp.triangles, nr);
+        const double t = static_cast<double>(f) / scene.fps;
+        if (strips) evaluate_gonzato_motion(plan.motion, t, p);
+        else evaluate_height_field(sp, t, heights, p);
+        vertex_normals(p, a.triangles, nr);
         for (std::size_t v = 0; v < n; ++v) {
             a.z_min = std::min(a.z_min, p[3 * v + 2]);
             a.z_max = std::max(a.z_max, p[3 * v + 2]);
         }
     }
-    // TEXCOORD_0: u along +x, v down the domain (glTF's image origin is top-left).
+    // TEXCOORD_0: the rest position over the seafloor's rectangle, u along +x, v down
+    // (glTF's image origin is top-left).
     a.texcoords.resize(2 * n);
-    for (std::size_t row = 0; row < sp.vertex_ny; ++row)
-        for (std::size_t col = 0; col < sp.vertex_nx; ++col) {
-            const std::size_t v = row * sp.vertex_nx + col;
-            a.texcoords[2 * v] = static_cast<float>(static_cast<double>(col) / static_cast<double>(sp.vertex_nx - 1));
-            a.texcoords[2 * v + 1] = static_cast<float>(1.0 - static_cast<double>(row) / static_cast<double>(sp.vertex_ny - 1));
+    const ElevationGrid& g = plan.seafloor.grid;
+    const double w = g.x_max() - g.x0, h = g.y_max() - g.y0;
+    for (std::size_t v = 0; v < n; ++v) {
+        double x = 0.0, y = 0.0;
+        if (strips) {
+            x = plan.motion.x[v];
+            y = plan.motion.y[v];
+        } else {
+            const std::size_t row = v / sp.vertex_nx, col = v % sp.vertex_nx;
+            x = g.x0 + w * static_cast<double>(col) / static_cast<double>(sp.vertex_nx - 1);
+            y = g.y0 + h * static_cast<double>(row) / static_cast<double>(sp.vertex_ny - 1);
         }
+        a.texcoords[2 * v] = static_cast<float>((x - g.x0) / w);
+        a.texcoords[2 * v + 1] = static_cast<float>(1.0 - (y - g.y0) / h);
+    }
     return a;
 }
 

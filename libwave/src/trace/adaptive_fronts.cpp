@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <sstream>
 
 namespace wave {
 namespace {
@@ -247,6 +248,18 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
         record();
     }
     return out;
+}
+
+std::string fronts_to_csv(const FrontSet& f) {
+    std::ostringstream out;
+    out.precision(17);
+    out << "front,ray,x,y,dir_x,dir_y,phase,k,depth,slope,rise,amplitude,flag\n";
+    for (std::size_t fr = 0; fr < f.front_count(); ++fr)
+        for (std::size_t i = f.front_offsets[fr]; i < f.front_offsets[fr + 1]; ++i)
+            out << fr << ',' << f.ray[i] << ',' << f.x[i] << ',' << f.y[i] << ',' << f.dir_x[i] << ',' << f.dir_y[i]
+                << ',' << f.phase[i] << ',' << f.k[i] << ',' << f.depth[i] << ',' << f.slope[i] << ',' << f.rise[i]
+                << ',' << f.amplitude[i] << ',' << to_string(f.flag[i]) << '\n';
+    return out.str();
 }
 
 }  // namespace wave
