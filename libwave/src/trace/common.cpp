@@ -61,4 +61,54 @@ std::vector<EntryPoint> entry_points(const Box& box, double dx, double dy, doubl
     return out;
 }
 
+std::optional<IsobathCrossing> next_crossing(const IsobathIndex& index, double px, double py, double dx, double dy,
+                                             double max_distance, double scale, const CrossingSkip& skip) {
+    constexpr double first_reach = 1.0 / 64.0;  // of the domain size
+    CrossingQuery q;
+    q.x = px;
+    q.y = py;
+    q.dx = dx;
+    q.dy = dy;
+    q.min_distance = 1e-12 * scale;
+    q.skip_segment = skip.segment;
+    std::optional<IsobathCrossing> hit;
+    for (double reach = first_reach * scale;; reach *= 4.0) {
+        q.max_distance = std::min(reach, max_distance);
+        hit = index.first_crossing(q);
+        // A vertex crossing lies on both neighbouring segments: do not re-cross it.
+        while (hit && (hit->segment == skip.previous || hit->segment == skip.next) && hit->distance <= 1e-9 * scale) {
+            q.min_distance = hit->distance;
+            hit = index.first_crossing(q);
+        }
+        if (hit || q.max_distance >= max_distance) return hit;
+    }
+}
+
+CrossingSkip skip_after(const IsobathIndex& index, const IsobathCrossing& hit) {
+    return {hit.segment, index.previous_segment(hit.segment), index.next_segment(hit.segment)};
+}
+
+bool refract_at_contour(const IsobathCrossing& hit, double celerity_before, double celerity_after, double& dx,
+                        double& dy) {
+    double nx = -hit.tangent_y, ny = hit.tangent_x;
+    if (nx * dx + ny * dy < 0.0) nx = -nx, ny = -ny;
+    const double tx = hit.tangent_x, ty = hit.tangent_y;
+    const double sin_i = dx * tx + dy * ty;  // signed component along the contour
+    const double sin_r = sin_i * celerity_after / celerity_before;
+    if (std::abs(sin_r) > 1.0) {
+        // Total reflection: mirror across the contour.
+        const double dn = dx * nx + dy * ny;
+        dx -= 2.0 * dn * nx;
+        dy -= 2.0 * dn * ny;
+        return false;
+    }
+    const double cos_r = std::sqrt(1.0 - sin_r * sin_r);
+    dx = sin_r * tx + cos_r * nx;
+    dy = sin_r * ty + cos_r * ny;
+    const double len = std::hypot(dx, dy);  // renormalise rounding only
+    dx /= len;
+    dy /= len;
+    return true;
+}
+
 }  // namespace wave::detail

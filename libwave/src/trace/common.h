@@ -3,10 +3,12 @@
 #pragma once
 
 #include "libwave/bathymetry.h"
+#include "libwave/isobath.h"
 #include "libwave/trace.h"
 
+#include <limits>
+#include <optional>
 #include <string>
-
 #include <vector>
 
 namespace wave::detail {
@@ -34,5 +36,28 @@ struct EntryPoint {
 /// Throws LimitError (before allocating) when more than max_rays would enter.
 std::vector<EntryPoint> entry_points(const Box& box, double dx, double dy, double spacing, std::size_t max_rays,
                                      double& phase_origin);
+
+/// The isobath segments a ray standing on its last crossing must not cross again: the
+/// crossed segment, and its neighbours when the crossing was at a shared vertex.
+struct CrossingSkip {
+    static constexpr std::size_t none = std::numeric_limits<std::size_t>::max();
+    std::size_t segment = none, previous = none, next = none;
+};
+
+/// The nearest isobath crossing ahead of (px, py) along the unit (dx, dy) within
+/// `max_distance`, not re-crossing `skip`. `scale` is the domain size (tolerances).
+/// Searches a short reach first and widens it: the next isobath is usually near, and a
+/// query to the far side of the domain visits every tree box on the way.
+std::optional<IsobathCrossing> next_crossing(const IsobathIndex& index, double px, double py, double dx, double dy,
+                                             double max_distance, double scale, const CrossingSkip& skip);
+
+/// What a ray standing on `hit` skips next.
+CrossingSkip skip_after(const IsobathIndex& index, const IsobathCrossing& hit);
+
+/// Snell's law at a crossed contour, sin i / C_before = sin r / C_after, with i and r
+/// measured from the contour normal oriented along the ray; turns (dx, dy). Returns
+/// false, having mirrored (dx, dy) across the contour, when sin r > 1 (total reflection).
+bool refract_at_contour(const IsobathCrossing& hit, double celerity_before, double celerity_after, double& dx,
+                        double& dy);
 
 }  // namespace wave::detail

@@ -16,8 +16,6 @@ namespace wave {
 namespace {
 
 constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
-// First search reach of a crossing query, as a fraction of the domain size.
-constexpr double kFirstReach = 1.0 / 64.0;
 
 std::string fmt(double v) { return detail::format_number(v); }
 
@@ -70,7 +68,7 @@ bool trace_one(const IsobathIndex& index, const Box& box, const ElevationGrid& g
     double phase = w.k * ((sx * dx + sy * dy) - start_phase_origin);
     out.point(px, py, dx, dy, s, phase, w, RayEvent::start, kNone);
     const double scale = std::max(box.x1 - box.x0, box.y1 - box.y0);
-    std::size_t skip = kNone, skip_prev = kNone, skip_next = kNone;
+    detail::CrossingSkip skip;
     for (std::size_t crossings = 0;; ++crossings) {
         if (crossings >= o.max_crossings)
             throw LimitError("trace: a ray crossed isobaths more than " + std::to_string(o.max_crossings) +
@@ -78,26 +76,7 @@ bool trace_one(const IsobathIndex& index, const Box& box, const ElevationGrid& g
         double t0 = 0.0, t1 = 0.0;
         clip(box, px, py, dx, dy, t0, t1);
         const double to_exit = std::max(t1, 0.0);
-        CrossingQuery q;
-        q.x = px;
-        q.y = py;
-        q.dx = dx;
-        q.dy = dy;
-        q.min_distance = 1e-12 * scale;
-        q.skip_segment = skip;
-        // Search a short reach first and widen it: the next isobath is usually near,
-        // and a query to the far side of the domain visits every tree box on the way.
-        std::optional<IsobathCrossing> hit;
-        for (double reach = kFirstReach * scale;; reach *= 4.0) {
-            q.max_distance = std::min(reach, to_exit);
-            hit = index.first_crossing(q);
-            // A vertex crossing lies on both neighbouring segments: do not re-cross it.
-            while (hit && (hit->segment == skip_prev || hit->segment == skip_next) && hit->distance <= 1e-9 * scale) {
-                q.min_distance = hit->distance;
-                hit = index.first_crossing(q);
-            }
-            if (hit || q.max_distance >= to_exit) break;
-        }
+        const std::optional<IsobathCrossing> hit = detail::next_crossing(index, px, py, dx, dy, to_exit, scale, skip);
         if (!hit) {
             s += to_exit;
             phase += w.k * to_exit;
@@ -108,34 +87,16 @@ bool trace_one(const IsobathIndex& index, const Box& box, const ElevationGrid& g
         phase += w.k * hit->distance;
         px = hit->x;
         py = hit->y;
-        skip = hit->segment;
-        skip_prev = index.previous_segment(hit->segment);
-        skip_next = index.next_segment(hit->segment);
+        skip = detail::skip_after(index, *hit);
         if (hit->depth <= 0.0) {
             out.point(px, py, dx, dy, s, phase, linear_wave(omega, 0.0, o.dispersion), RayEvent::aground, hit->contour);
             return true;
         }
-        // Snell at the contour: i and r measured from its normal n (oriented along the ray).
-        double nx = -hit->tangent_y, ny = hit->tangent_x;
-        if (nx * dx + ny * dy < 0.0) nx = -nx, ny = -ny;
-        const double tx = hit->tangent_x, ty = hit->tangent_y;
-        const double sin_i = dx * tx + dy * ty;  // signed component along the contour
         const LinearWave next = linear_wave(omega, hit->depth, o.dispersion);
-        const double sin_r = sin_i * next.celerity / w.celerity;  // sin i / C_i = sin r / C_r
-        if (std::abs(sin_r) > 1.0) {
-            // Total reflection: mirror across the contour, stay in the same band.
-            const double dn = dx * nx + dy * ny;
-            dx -= 2.0 * dn * nx;
-            dy -= 2.0 * dn * ny;
-            out.point(px, py, dx, dy, s, phase, w, RayEvent::reflected, hit->contour);
+        if (!detail::refract_at_contour(*hit, w.celerity, next.celerity, dx, dy)) {
+            out.point(px, py, dx, dy, s, phase, w, RayEvent::reflected, hit->contour);  // stays in the same band
             continue;
         }
-        const double cos_r = std::sqrt(1.0 - sin_r * sin_r);
-        dx = sin_r * tx + cos_r * nx;
-        dy = sin_r * ty + cos_r * ny;
-        const double len = std::hypot(dx, dy);  // renormalise rounding only
-        dx /= len;
-        dy /= len;
         w = next;
         out.point(px, py, dx, dy, s, phase, w, RayEvent::refracted, hit->contour);
     }
