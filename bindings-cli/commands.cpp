@@ -132,7 +132,8 @@ namespace {
 json trace_summary(const Scene& scene, const ScenePlan& plan) {
     if (scene.surface_kind == SurfaceKind::ray_strips) {
         const FrontSet& f = plan.fronts;
-        return {{"mode", "gonzato-fronts (gradient refraction)"},
+        return {{"mode", scene.fronts.refraction == FrontRefraction::gradient ? "gonzato-fronts (gradient refraction)"
+                                                                             : "gonzato-fronts (exact isobath crossings)"},
                 {"initial_rays", f.initial_rays},
                 {"inserted_rays", f.inserted_rays},
                 {"rays_aground", f.rays_aground},

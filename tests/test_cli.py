@@ -297,6 +297,18 @@ class MainJob(unittest.TestCase):
             rows = pathlib.Path(csv).read_text().splitlines()
             self.assertEqual(rows[0], "front,ray,x,y,dir_x,dir_y,phase,k,depth,slope,rise,amplitude,flag")
             self.assertEqual(len(rows) - 1, summary["points"])
+            # The same fronts refracted at exact isobath crossings.
+            scene = os.path.join(d, "iso.json")
+            with open(scene, "w") as f:
+                json.dump({"waves": [{"period": 5, "amplitude": 0.3}], "isobaths": {"spacing": 0.25},
+                           "fronts": {"refraction": "isobath"}}, f)
+            r = wave("trace", scene, "--json")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            iso = json.loads(r.stdout)
+            self.assertIn("isobath", iso["mode"])
+            self.assertEqual(iso["initial_rays"], 100)
+            self.assertLess(abs(iso["triangles"] - summary["triangles"]), 0.1 * summary["triangles"])
+            os.remove(scene)
             # --mesh-out on a height-field scene, or nothing asked: exit 2, nothing written.
             r = wave("trace", os.path.join(EXAMPLES, "planar-beach.json"), "--mesh-out", os.path.join(d, "x.ply"))
             self.assertEqual(r.returncode, 2)

@@ -1,6 +1,7 @@
 // Gonzato's adaptive fronts in gradient mode: convergence to Snell's law and to
 // A∞ K_s K_r on a planar beach as the step shrinks; the bay and island scenes.
 #include "libwave/errors.h"
+#include "libwave/isobath.h"
 #include "libwave/trace.h"
 
 #include <gtest/gtest.h>
@@ -17,7 +18,7 @@ struct Errors {
 
 // Largest relative errors, over alive points of rays that entered across the deep
 // edge, of the Snell invariant sin θ / C and of the amplitude A∞ K_s √(cos θ0 / cos θ).
-Errors planar_beach_errors(double step) {
+Errors planar_beach_errors(double step, double isobath_spacing = 0.0) {
     const Seafloor beach = make_planar_beach();  // sea to −y, 8 m at y = 0
     const double c30 = std::sqrt(3.0) / 2.0;
     const WaveTrain t{.period = 8.0, .amplitude = 0.4, .direction_x = 0.5, .direction_y = c30};
@@ -25,14 +26,28 @@ Errors planar_beach_errors(double step) {
     o.ray_spacing = 2.0;
     o.step = step;
     o.split_distance = 1e9;  // no insertion: straight contours keep the tubes regular
-    const FrontSet f = trace_fronts(beach, t, o);
+    DepthContours isobaths;
+    if (isobath_spacing > 0.0) {
+        o.refraction = FrontRefraction::isobath;
+        isobaths = extract_isobaths(beach, IsobathOptions{.levels = {}, .spacing = isobath_spacing});
+    }
+    const FrontSet f = trace_fronts(beach, t, o, &isobaths);
     const double invariant0 = 0.5 / linear_wave(f.omega, 8.0).celerity;
     Errors e;
     for (std::size_t i = 0; i < f.x.size(); ++i) {
         if (f.flag[i] != RayFlag::alive || f.depth[i] < 0.5 || f.x[i] < 60.0 || f.x[i] > 190.0) continue;
-        const LinearWave w = linear_wave(f.omega, f.depth[i]);
+        // Gradient mode refracts continuously: compare with C at the point. Isobath
+        // mode keeps a band's direction between isobaths: compare with C of the band,
+        // the isobath crossed last — the next level at or below the point (shoreward).
+        double h = f.depth[i];
+        if (isobath_spacing > 0.0) {
+            const double level = std::ceil(h / isobath_spacing - 1e-9) * isobath_spacing;
+            if (std::abs(level - h) < 1e-6) continue;  // on an isobath: either band
+            h = std::min(level, 8.0);
+        }
+        const LinearWave w = linear_wave(f.omega, h);
         e.snell = std::max(e.snell, std::abs(f.dir_x[i] / w.celerity / invariant0 - 1.0));
-        const double expected = 0.4 * w.shoaling * std::sqrt(c30 / f.dir_y[i]);
+        const double expected = 0.4 * linear_wave(f.omega, f.depth[i]).shoaling * std::sqrt(c30 / f.dir_y[i]);
         if (expected < 0.5 * kBreakerIndex * f.depth[i])
             e.amplitude = std::max(e.amplitude, std::abs(f.amplitude[i] / expected - 1.0));
     }
@@ -47,6 +62,23 @@ TEST(Fronts, GradientModeConvergesToSnellAndShoalingOnAPlanarBeach) {
     EXPECT_LT(fine.snell, 1e-3);
     EXPECT_NEAR(fine.amplitude / mid.amplitude, 0.5, 0.05);
     EXPECT_LT(fine.amplitude, 5e-3);
+}
+
+TEST(Fronts, IsobathModeIsExactSnellPerBandWhateverTheStep) {
+    // Exact crossings (Ts'o–Barsky): in every band the direction satisfies Snell's law
+    // with the band's celerity to rounding, for any step length.
+    for (const double step : {0.8, 0.4}) {
+        const Errors e = planar_beach_errors(step, 0.25);
+        EXPECT_LT(e.snell, 1e-9) << step;
+        // Amplitude from the spacing of rays refracted band by band: within 2 %.
+        EXPECT_LT(e.amplitude, 2e-2) << step;
+    }
+}
+
+TEST(Fronts, IsobathModeNeedsIsobaths) {
+    FrontOptions o;
+    o.refraction = FrontRefraction::isobath;
+    EXPECT_THROW(trace_fronts(make_planar_beach(), WaveTrain{}, o), InputError);
 }
 
 TEST(Fronts, GonzatoBayScene) {

@@ -111,7 +111,14 @@ enum class RayFlag : std::uint8_t {
 };
 const char* to_string(RayFlag f) noexcept;
 
+/// How the adaptive fronts refract.
+enum class FrontRefraction {
+    gradient,  ///< Gonzato: the contour direction from the bicubic depth gradient, Snell per step
+    isobath,   ///< Ts'o–Barsky: exact crossings of the isobaths inside each step, Snell at each
+};
+
 struct FrontOptions {
+    FrontRefraction refraction = FrontRefraction::gradient;
     double ray_spacing = 1.0;     ///< initial distance between rays (m); Gonzato's bay: 1
     double step = 0.4;            ///< step length along every ray per front (m); bay: 0.4
     double split_distance = 1.2;  ///< insert a ray where neighbours are farther apart (m); bay: 1.2
@@ -140,10 +147,13 @@ struct FrontSet {
     std::size_t front_count() const noexcept { return front_offsets.size() - 1; }
 };
 
-/// Gonzato's adaptive tracing of one train (§3.3) in gradient mode: every ray advances
-/// `step` per front; at each step the local contour direction comes from the bicubic
+/// Gonzato's adaptive tracing of one train (§3.3): every ray advances `step` per front.
+/// Gradient mode: at each step the local contour direction comes from the bicubic
 /// depth gradient and Snell's law sin i / C(h) = sin r / C(h') turns the ray between
-/// the depth here and one step ahead (total reflection if sin r > 1). Rays touching
+/// the depth here and one step ahead (total reflection if sin r > 1). Isobath mode:
+/// the step is cut at every exact crossing of `isobaths` (CGAL, as trace_rays), where
+/// Snell's law turns the ray between the band's depth and the crossed isobath's, and
+/// the phase is Σ k(band) Δs; rays crossing the shoreline isobath go AGROUND. Rays touching
 /// land become AGROUND and follow the shoreline; a ray between two AGROUND rays, or
 /// leaving the domain, is DEAD and removed; where neighbours are farther apart than
 /// split_distance (and not both FLAT) a ray is inserted, interpolated from them.
@@ -153,8 +163,10 @@ struct FrontSet {
 /// Amplitude A = A∞ K_s √(b0 / b): b the local spacing to the neighbours, b0 the
 /// deep-water width of the same ray tube (halved at each insertion), so energy flux is
 /// conserved (Gonzato eq. 9 printed inverted). Tracing stops when no ray is ALIVE or
-/// FLAT. Throws InputError for bad options, LimitError at the guard rails.
-FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& train, const FrontOptions& options = {});
+/// FLAT. Throws InputError for bad options (or isobath mode without isobaths),
+/// LimitError at the guard rails.
+FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& train, const FrontOptions& options = {},
+                      const DepthContours* isobaths = nullptr);
 
 /// The fronts as CSV, one row per ray per front, with the header
 /// `front,ray,x,y,dir_x,dir_y,phase,k,depth,slope,rise,amplitude,flag`, full double precision.

@@ -217,7 +217,10 @@ void read_surface(const Node& n, Scene& s) {
 }
 
 void read_fronts(const Node& n, FrontOptions& o) {
-    n.require_object({"step", "split_distance", "flat_amplitude", "max_steps"});
+    n.require_object({"refraction", "step", "split_distance", "flat_amplitude", "max_steps"});
+    if (n.has("refraction"))
+        o.refraction = n["refraction"].choice<FrontRefraction>({{"gradient", FrontRefraction::gradient},
+                                                                {"isobath", FrontRefraction::isobath}});
     if (n.has("step")) o.step = n["step"].positive("m");
     if (n.has("split_distance")) o.split_distance = n["split_distance"].positive("m");
     if (n.has("flat_amplitude")) o.flat_amplitude = n["flat_amplitude"].non_negative("m");
@@ -332,7 +335,7 @@ ScenePlan plan_scene(const Scene& scene) {
         fronts.breaker_index = scene.trace.breaker_index;
         fronts.max_rays = scene.trace.max_rays;
         p.isobaths = extract_isobaths(p.seafloor, scene.isobaths);
-        p.fronts = trace_fronts(p.seafloor, scene.waves[0], fronts);
+        p.fronts = trace_fronts(p.seafloor, scene.waves[0], fronts, &p.isobaths);
         p.strips = build_ray_strips(p.fronts);
         p.motion = plan_gonzato_motion(p.strips, scene.profile);
         p.loop_period = scene.waves[0].period;

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <sstream>
 
 namespace wave {
@@ -19,6 +20,17 @@ struct Ray {
     double x, y, dx, dy, phase;
     RayFlag flag;
     double turn = 0.0;  // total signed turning (rad): a full orbit means a trapped ray
+    // Isobath mode: the depth that represents the band the ray is in (Ts'o: the
+    // isobath crossed last), the segments it stands on, and whether it crossed the shore.
+    double band = 0.0;
+    detail::CrossingSkip skip{};
+    bool ashore = false;
+};
+
+// Isobath mode's per-scene state.
+struct IsobathMode {
+    const IsobathIndex* index = nullptr;
+    double scale = 0.0;  // domain size, for the crossing search's tolerances
 };
 
 void validate(const WaveTrain& t, const FrontOptions& o) {
@@ -68,6 +80,40 @@ void advance(Ray& r, const ElevationGrid& g, double omega, const FrontOptions& o
     r.phase += 0.5 * (w1.k + k2) * o.step;
 }
 
+// One step of an ALIVE or FLAT ray in isobath mode: straight to each exact isobath
+// crossing inside the step, Snell's law there (Ts'o–Barsky §3.2.2), on to the end of
+// the step; stops on the shoreline.
+void advance_isobath(Ray& r, const IsobathMode& m, double omega, const FrontOptions& o) {
+    double left = o.step;
+    LinearWave w = linear_wave(omega, r.band, o.dispersion);
+    for (int crossings = 0; left > 0.0; ++crossings) {
+        if (crossings > 10'000)
+            throw LimitError("fronts: a ray crossed more than 10000 isobaths in one step (shorten FrontOptions::step "
+                             "or coarsen the isobaths)");
+        const auto hit = detail::next_crossing(*m.index, r.x, r.y, r.dx, r.dy, left, m.scale, r.skip);
+        const double run = hit ? hit->distance : left;
+        r.x += run * r.dx;
+        r.y += run * r.dy;
+        r.phase += w.k * run;
+        left -= run;
+        if (!hit) break;
+        r.x = hit->x;
+        r.y = hit->y;
+        r.skip = detail::skip_after(*m.index, *hit);
+        if (hit->depth <= 0.0) {
+            r.ashore = true;
+            return;
+        }
+        const LinearWave next = linear_wave(omega, hit->depth, o.dispersion);
+        const double ox = r.dx, oy = r.dy;
+        if (detail::refract_at_contour(*hit, w.celerity, next.celerity, r.dx, r.dy)) {
+            w = next;
+            r.band = hit->depth;
+        }
+        r.turn += std::atan2(ox * r.dy - oy * r.dx, ox * r.dx + oy * r.dy);
+    }
+}
+
 // An AGROUND ray follows the shoreline: one step along the contour through it, in the
 // sense closest to its travel, then one Newton step back onto h = 0.
 void follow_shore(Ray& r, const ElevationGrid& g, const FrontOptions& o) {
@@ -100,10 +146,21 @@ const char* to_string(RayFlag f) noexcept {
     return "unknown";
 }
 
-FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontOptions& o) {
+FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontOptions& o,
+                      const DepthContours* isobaths) {
     validate(t, o);
+    const bool isobath_mode = o.refraction == FrontRefraction::isobath;
+    if (isobath_mode && (isobaths == nullptr || isobaths->size() == 0))
+        throw InputError("fronts: isobath refraction needs isobaths (extract_isobaths), got none");
+    std::optional<IsobathIndex> index;
+    IsobathMode mode;
+    if (isobath_mode) {
+        index.emplace(*isobaths);
+        mode.index = &*index;
+    }
     const ElevationGrid& g = seafloor.grid;
     const detail::Box box = detail::domain_box(g);
+    mode.scale = std::max(box.x1 - box.x0, box.y1 - box.y0);
     const double len = std::hypot(t.direction_x, t.direction_y);
     const double dx = t.direction_x / len, dy = t.direction_y / len;
     const double omega = 2.0 * std::numbers::pi / t.period;
@@ -121,8 +178,10 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
         if (!front.empty()) gap_b0.push_back(e.s - last_s);
         last_s = e.s;
         const double k = linear_wave(omega, h, o.dispersion).k;
-        front.push_back({static_cast<std::uint32_t>(front.size()), e.x, e.y, dx, dy,
-                         k * ((e.x * dx + e.y * dy) - phase_origin), RayFlag::alive});
+        Ray r{static_cast<std::uint32_t>(front.size()), e.x, e.y, dx, dy, k * ((e.x * dx + e.y * dy) - phase_origin),
+              RayFlag::alive};
+        r.band = h;
+        front.push_back(r);
     }
     out.initial_rays = front.size();
     // Rays start ordered along e = (−dy, dx), so (next − ray) × direction starts at
@@ -177,8 +236,9 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
             if (r.flag == RayFlag::aground) {
                 follow_shore(r, g, o);
             } else {
-                advance(r, g, omega, o);
-                if (inside(box, r.x, r.y) && depth_at(g, r.x, r.y) <= 0.0) {
+                if (isobath_mode) advance_isobath(r, mode, omega, o);
+                else advance(r, g, omega, o);
+                if (inside(box, r.x, r.y) && (r.ashore || depth_at(g, r.x, r.y) <= 0.0)) {
                     r.flag = RayFlag::aground;
                     ++out.rays_aground;
                 }
@@ -231,6 +291,7 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
                                      " rays (FrontOptions::max_rays; raise it or raise split_distance)");
                 Ray m{next_id++, 0.5 * (a.x + b.x), 0.5 * (a.y + b.y), a.dx + b.dx, a.dy + b.dy,
                       0.5 * (a.phase + b.phase), RayFlag::alive, 0.5 * (a.turn + b.turn)};
+                m.band = a.band;  // isobath mode: the new ray starts in its neighbour's band
                 const double l = std::hypot(m.dx, m.dy);
                 m.dx = l > 0.0 ? m.dx / l : a.dx;
                 m.dy = l > 0.0 ? m.dy / l : a.dy;
