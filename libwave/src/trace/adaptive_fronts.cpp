@@ -25,6 +25,7 @@ struct Ray {
     double band = 0.0;
     detail::CrossingSkip skip{};
     bool ashore = false;
+    DepthSample here{};  // the seafloor at (x, y), kept from the end of the last step
 };
 
 // Isobath mode's per-scene state.
@@ -51,16 +52,16 @@ bool inside(const detail::Box& b, double x, double y) { return x >= b.x0 && x <=
 // One refraction step of an ALIVE or FLAT ray (gradient mode): the contour normal is
 // the depth gradient; Snell's law between the depth here and one step ahead keeps
 // the component along the contour over C constant (Gonzato eq. 8).
-void advance(Ray& r, const ElevationGrid& g, double omega, const FrontOptions& o) {
-    const DepthSample here = sample_depth(g, r.x, r.y);
+void advance(Ray& r, const ElevationGrid& g, const detail::WaveTable& waves, const FrontOptions& o) {
+    const DepthSample& here = r.here;
     const double ahead = depth_at(g, r.x + o.step * r.dx, r.y + o.step * r.dy);
     const double slope = std::hypot(here.dh_dx, here.dh_dy);
-    const LinearWave w1 = linear_wave(omega, here.depth, o.dispersion);
+    const detail::WaveTable::Entry w1 = waves.at(here.depth);
     if (slope > 1e-12 && here.depth > 0.0 && ahead > 0.0) {
         const double nx = here.dh_dx / slope, ny = here.dh_dy / slope;  // towards deeper water
         const double tx = -ny, ty = nx;
         double a = r.dx * nx + r.dy * ny, b = r.dx * tx + r.dy * ty;
-        const double b2 = b * linear_wave(omega, ahead, o.dispersion).celerity / w1.celerity;
+        const double b2 = b * waves.at(ahead).celerity / w1.celerity;
         if (std::abs(b2) > 1.0) {
             a = -a;  // total reflection at the depth change
         } else {
@@ -75,17 +76,18 @@ void advance(Ray& r, const ElevationGrid& g, double omega, const FrontOptions& o
     }
     r.x += o.step * r.dx;
     r.y += o.step * r.dy;
+    r.here = sample_depth(g, r.x, r.y);
     // Σ k Δs by the trapezoid rule between the two ends of the step.
-    const double k2 = linear_wave(omega, depth_at(g, r.x, r.y), o.dispersion).k;
-    r.phase += 0.5 * (w1.k + k2) * o.step;
+    r.phase += 0.5 * (w1.k + waves.at(r.here.depth).k) * o.step;
 }
 
 // One step of an ALIVE or FLAT ray in isobath mode: straight to each exact isobath
 // crossing inside the step, Snell's law there (Ts'o–Barsky §3.2.2), on to the end of
 // the step; stops on the shoreline.
-void advance_isobath(Ray& r, const IsobathMode& m, double omega, const FrontOptions& o) {
+void advance_isobath(Ray& r, const IsobathMode& m, const ElevationGrid& g, const detail::WaveTable& waves,
+                     const FrontOptions& o) {
     double left = o.step;
-    LinearWave w = linear_wave(omega, r.band, o.dispersion);
+    detail::WaveTable::Entry w = waves.at(r.band);
     for (int crossings = 0; left > 0.0; ++crossings) {
         if (crossings > 10'000)
             throw LimitError("fronts: a ray crossed more than 10000 isobaths in one step (shorten FrontOptions::step "
@@ -102,9 +104,9 @@ void advance_isobath(Ray& r, const IsobathMode& m, double omega, const FrontOpti
         r.skip = detail::skip_after(*m.index, *hit);
         if (hit->depth <= 0.0) {
             r.ashore = true;
-            return;
+            break;
         }
-        const LinearWave next = linear_wave(omega, hit->depth, o.dispersion);
+        const detail::WaveTable::Entry next = waves.at(hit->depth);
         const double ox = r.dx, oy = r.dy;
         if (detail::refract_at_contour(*hit, w.celerity, next.celerity, r.dx, r.dy)) {
             w = next;
@@ -112,6 +114,7 @@ void advance_isobath(Ray& r, const IsobathMode& m, double omega, const FrontOpti
         }
         r.turn += std::atan2(ox * r.dy - oy * r.dx, ox * r.dx + oy * r.dy);
     }
+    r.here = sample_depth(g, r.x, r.y);
 }
 
 // An AGROUND ray follows the shoreline: one step along the contour through it, in the
@@ -132,6 +135,7 @@ void follow_shore(Ray& r, const ElevationGrid& g, const FrontOptions& o) {
         r.x -= s.depth * s.dh_dx / (slope * slope);
         r.y -= s.depth * s.dh_dy / (slope * slope);
     }
+    r.here = sample_depth(g, r.x, r.y);
 }
 
 }  // namespace
@@ -164,6 +168,8 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
     const double len = std::hypot(t.direction_x, t.direction_y);
     const double dx = t.direction_x / len, dy = t.direction_y / len;
     const double omega = 2.0 * std::numbers::pi / t.period;
+    // Depths beyond the table (bicubic overshoot) fall back to the exact solver.
+    const detail::WaveTable waves(omega, 1.05 * seafloor_stats(seafloor).depth_max, o.dispersion);
     double phase_origin = 0.0;
     const auto entries = detail::entry_points(box, dx, dy, o.ray_spacing, o.max_rays, phase_origin);
 
@@ -181,6 +187,7 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
         Ray r{static_cast<std::uint32_t>(front.size()), e.x, e.y, dx, dy, k * ((e.x * dx + e.y * dy) - phase_origin),
               RayFlag::alive};
         r.band = h;
+        r.here = sample_depth(g, e.x, e.y);
         front.push_back(r);
     }
     out.initial_rays = front.size();
@@ -194,7 +201,7 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
         const std::size_t n = front.size();
         for (std::size_t i = 0; i < n; ++i) {
             Ray& r = front[i];
-            const DepthSample s = sample_depth(g, r.x, r.y);
+            const DepthSample& s = r.here;
             double b = 0.0, b0 = 0.0;
             int sides = 0;
             // Spacing across the ray (the width of the ray tube), not along the front:
@@ -203,7 +210,7 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
             if (i > 0) b += across(front[i - 1]), b0 += gap_b0[i - 1], ++sides;
             if (i + 1 < n) b += across(front[i + 1]), b0 += gap_b0[i], ++sides;
             const double kr = (sides > 0 && b > 0.0) ? std::sqrt(b0 / b) : 1.0;
-            const LinearWave w = linear_wave(omega, s.depth, o.dispersion);
+            const detail::WaveTable::Entry w = waves.at(s.depth);
             double a = r.flag == RayFlag::aground ? 0.0 : t.amplitude * w.shoaling * kr;
             a = std::min(a, 0.5 * o.breaker_index * std::max(s.depth, 0.0));  // breaking / caustic cap
             if (r.flag == RayFlag::alive || r.flag == RayFlag::flat)
@@ -236,9 +243,9 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
             if (r.flag == RayFlag::aground) {
                 follow_shore(r, g, o);
             } else {
-                if (isobath_mode) advance_isobath(r, mode, omega, o);
-                else advance(r, g, omega, o);
-                if (inside(box, r.x, r.y) && (r.ashore || depth_at(g, r.x, r.y) <= 0.0)) {
+                if (isobath_mode) advance_isobath(r, mode, g, waves, o);
+                else advance(r, g, waves, o);
+                if (inside(box, r.x, r.y) && (r.ashore || r.here.depth <= 0.0)) {
                     r.flag = RayFlag::aground;
                     ++out.rays_aground;
                 }
@@ -292,10 +299,11 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
                 Ray m{next_id++, 0.5 * (a.x + b.x), 0.5 * (a.y + b.y), a.dx + b.dx, a.dy + b.dy,
                       0.5 * (a.phase + b.phase), RayFlag::alive, 0.5 * (a.turn + b.turn)};
                 m.band = a.band;  // isobath mode: the new ray starts in its neighbour's band
+                m.here = sample_depth(g, m.x, m.y);
                 const double l = std::hypot(m.dx, m.dy);
                 m.dx = l > 0.0 ? m.dx / l : a.dx;
                 m.dy = l > 0.0 ? m.dy / l : a.dy;
-                if (depth_at(g, m.x, m.y) <= 0.0) m.flag = RayFlag::aground;
+                if (m.here.depth <= 0.0) m.flag = RayFlag::aground;
                 grown_gaps.push_back(0.5 * gap_b0[i]);
                 grown_gaps.push_back(0.5 * gap_b0[i]);
                 grown.push_back(m);

@@ -111,4 +111,36 @@ bool refract_at_contour(const IsobathCrossing& hit, double celerity_before, doub
     return true;
 }
 
+WaveTable::WaveTable(double omega, double max_depth, const DispersionOptions& options, std::size_t nodes)
+    : omega_(omega), options_(options) {
+    if (options.capillary_length > 0.0 || !(max_depth > 0.0) || nodes < 2) return;  // exact solver only
+    s_max_ = std::sqrt(max_depth);
+    ds_ = s_max_ / static_cast<double>(nodes - 1);
+    k_root_h_.resize(nodes);
+    shoaling_quarter_h_.resize(nodes);
+    for (std::size_t i = 1; i < nodes; ++i) {
+        const double s = ds_ * static_cast<double>(i), h = s * s;
+        const LinearWave w = linear_wave(omega, h, options);
+        k_root_h_[i] = w.k * s;
+        shoaling_quarter_h_[i] = w.shoaling * std::sqrt(s);
+    }
+}
+
+WaveTable::Entry WaveTable::exact(double depth) const {
+    const LinearWave w = linear_wave(omega_, depth, options_);
+    return {w.k, w.celerity, w.shoaling};
+}
+
+WaveTable::Entry WaveTable::at(double depth) const {
+    if (!(depth > 0.0)) return {};
+    const double s = std::sqrt(depth);
+    if (k_root_h_.empty() || s < ds_ || s >= s_max_) return exact(depth);
+    const double u = s / ds_;
+    const std::size_t i = static_cast<std::size_t>(u);
+    const double f = u - static_cast<double>(i);
+    const double k = ((1.0 - f) * k_root_h_[i] + f * k_root_h_[i + 1]) / s;
+    const double ks = ((1.0 - f) * shoaling_quarter_h_[i] + f * shoaling_quarter_h_[i + 1]) / std::sqrt(s);
+    return {k, omega_ / k, ks};
+}
+
 }  // namespace wave::detail
