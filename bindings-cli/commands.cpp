@@ -138,6 +138,7 @@ json trace_summary(const Scene& scene, const ScenePlan& plan) {
                 {"inserted_rays", f.inserted_rays},
                 {"rays_aground", f.rays_aground},
                 {"rays_trapped", f.rays_trapped},
+                {"caustic_points", f.caustic_points},
                 {"steps", f.front_count() - 1},
                 {"points", f.x.size()},
                 {"vertices", plan.strips.vertex_count()},

@@ -196,7 +196,7 @@ class MainJob(unittest.TestCase):
             fmt, vertices, faces, props = read_ply_header(os.path.join(out, "strips.ply"))
             self.assertEqual(fmt, "binary_little_endian")
             self.assertEqual((vertices, faces), (report["surface"]["vertices"], report["surface"]["triangles"]))
-            for name in ["ray", "step", "phase", "k", "omega", "amplitude", "depth", "slope", "rise", "flag"]:
+            for name in ["ray", "step", "phase", "k", "omega", "amplitude", "depth", "slope", "rise", "flag", "caustic"]:
                 self.assertIn(name, props)
             self.check_animation(out, report)
 

@@ -131,6 +131,28 @@ TEST(Fronts, IslandOrbitsAreCutAndTracingEnds) {
     EXPECT_GT(f.front_count(), 100u);
 }
 
+TEST(Fronts, CausticsBehindTheBerkhoffShoalAreKeptFlaggedAndCapped) {
+    // The elliptic shoal focuses rays behind it (Berkhoff's lens): rays cross, the
+    // points are flagged, and the amplitude stays under the breaking limit there.
+    const Seafloor shoal = make_named_seafloor("berkhoff-shoal");
+    FrontOptions o;
+    o.ray_spacing = 0.1;
+    o.step = 0.05;
+    o.split_distance = 0.2;
+    const FrontSet f = trace_fronts(shoal, WaveTrain{.period = 1.0, .amplitude = 0.0232, .direction_x = 0.0, .direction_y = 1.0}, o);
+    EXPECT_GT(f.caustic_points, 0u);
+    std::size_t flagged = 0;
+    for (std::size_t i = 0; i < f.x.size(); ++i) {
+        flagged += f.caustic[i];
+        ASSERT_TRUE(std::isfinite(f.amplitude[i]));
+        EXPECT_LE(2.0 * f.amplitude[i], kBreakerIndex * std::max(f.depth[i], 0.0) + 1e-12);
+    }
+    EXPECT_EQ(flagged, f.caustic_points);
+    // Straight parallel contours focus nothing.
+    const FrontSet beach = trace_fronts(make_planar_beach(), WaveTrain{.period = 8.0, .amplitude = 0.4}, FrontOptions{.ray_spacing = 2.0, .step = 0.8});
+    EXPECT_EQ(beach.caustic_points, 0u);
+}
+
 TEST(Fronts, BadOptions) {
     const Seafloor bay = make_gonzato_bay();
     const WaveTrain t{};

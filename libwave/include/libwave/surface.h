@@ -111,6 +111,7 @@ struct RayStrips {
     std::vector<double> phase;              ///< Σ k Δs (rad) along the ray
     std::vector<double> k, amplitude, depth, slope, rise;  ///< as in FrontSet
     std::vector<RayFlag> flag;
+    std::vector<std::uint8_t> caustic;      ///< 1 where rays crossed (FrontSet::caustic)
     std::vector<std::uint32_t> triangles;   ///< 3 per triangle, counter-clockwise seen from above
     double omega = 0.0;                     ///< ω of the train (rad/s)
     std::size_t degenerate_skipped = 0;     ///< zero-area cells left out (rays meeting on the shore)
@@ -131,7 +132,8 @@ RayStrips build_ray_strips(const FrontSet& fronts);
 /// Binary little-endian PLY of the strips at rest, written by OpenMesh with the
 /// per-vertex properties as PLY vertex properties: ray, step (int); phase, k, omega,
 /// amplitude, depth, slope, rise, dir_x, dir_y (double); flag (uchar: 0 alive, 1 flat,
-/// 2 aground). Atomic write; throws RuntimeError if the file cannot be written.
+/// 2 aground), caustic (uchar). Atomic write; throws RuntimeError if the file cannot
+/// be written.
 void write_ray_strips_ply(const RayStrips& strips, const std::string& path);
 
 }  // namespace wave

@@ -140,7 +140,9 @@ struct FrontSet {
     std::vector<double> rise;        ///< −∇h · direction: tan β of the bottom rising along the ray (< 0 where it deepens)
     std::vector<double> amplitude;   ///< A∞ K_s K_r, K_r from the spacing of the neighbours
     std::vector<RayFlag> flag;
+    std::vector<std::uint8_t> caustic;  ///< 1 where the ray has crossed a neighbour (order flipped): kept, amplitude capped
     double omega = 0.0;
+    std::size_t caustic_points = 0;
     std::size_t initial_rays = 0, inserted_rays = 0, rays_aground = 0;
     std::size_t rays_trapped = 0;    ///< removed after turning a full circle (orbiting an island's shelf)
 

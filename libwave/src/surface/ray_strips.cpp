@@ -27,7 +27,7 @@ struct RayStripTriMesh {
     // PLY writer emits them (Options::Custom).
     OpenMesh::VPropHandleT<int> ray, step;
     OpenMesh::VPropHandleT<double> phase, k, omega, amplitude, depth, slope, rise, dir_x, dir_y;
-    OpenMesh::VPropHandleT<unsigned char> flag;
+    OpenMesh::VPropHandleT<unsigned char> flag, caustic;
 
     RayStripTriMesh() {
         const auto add = [&](auto& handle, const char* name) {
@@ -46,6 +46,7 @@ struct RayStripTriMesh {
         add(dir_x, "dir_x");
         add(dir_y, "dir_y");
         add(flag, "flag");
+        add(caustic, "caustic");
     }
 };
 
@@ -89,6 +90,7 @@ RayStrips build_ray_strips(const FrontSet& f) {
         m.property(tri->dir_x, v) = f.dir_x[i];
         m.property(tri->dir_y, v) = f.dir_y[i];
         m.property(tri->flag, v) = static_cast<unsigned char>(f.flag[i]);
+        m.property(tri->caustic, v) = f.caustic[i];
     }
 
     RayStrips out;
@@ -154,6 +156,7 @@ RayStrips build_ray_strips(const FrontSet& f) {
     take(ray, tri->ray);
     take(step, tri->step);
     take(flag, tri->flag);
+    take(out.caustic, tri->caustic);
     out.ray.assign(ray.begin(), ray.end());
     out.step.assign(step.begin(), step.end());
     out.flag.resize(flag.size());

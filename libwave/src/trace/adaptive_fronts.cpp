@@ -227,6 +227,14 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
             out.rise.push_back(-(s.dh_dx * r.dx + s.dh_dy * r.dy));
             out.amplitude.push_back(a);
             out.flag.push_back(r.flag);
+            // A caustic: this ray and a neighbour have swapped sides (rays crossed).
+            const auto flipped = [&](const Ray& p, const Ray& q) {
+                return side * ((q.x - p.x) * p.dy - (q.y - p.y) * p.dx) <= 0.0;
+            };
+            const bool caustic = r.flag != RayFlag::aground &&
+                                 ((i > 0 && flipped(front[i - 1], r)) || (i + 1 < n && flipped(r, front[i + 1])));
+            out.caustic.push_back(caustic ? 1 : 0);
+            out.caustic_points += caustic;
         }
         out.front_offsets.push_back(out.ray.size());
     };
