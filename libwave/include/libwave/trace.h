@@ -123,6 +123,10 @@ struct FrontOptions {
     double step = 0.4;            ///< step length along every ray per front (m); bay: 0.4
     double split_distance = 1.2;  ///< insert a ray where neighbours are farther apart (m); bay: 1.2
     double flat_amplitude = 0.005;  ///< FLAT below this amplitude (m)
+    /// A ray that has turned through more than this (rad) is removed as trapped:
+    /// refraction round an island's shelf sends rays into closed orbits (2π: a full
+    /// circle; π: once it heads back out to sea).
+    double max_turn = 2.0 * 3.141592653589793;
     std::size_t max_rays = 200'000;   ///< guard rail on live + inserted rays
     std::size_t max_steps = 100'000;  ///< guard rail on fronts
     double breaker_index = kBreakerIndex;  ///< amplitude cap γ h / 2
@@ -159,8 +163,8 @@ struct FrontSet {
 /// land become AGROUND and follow the shoreline; a ray between two AGROUND rays, or
 /// leaving the domain, is DEAD and removed; where neighbours are farther apart than
 /// split_distance (and not both FLAT) a ray is inserted, interpolated from them.
-/// A ray that has turned through a full circle (refraction can trap rays in orbit
-/// round an island) is removed and counted in rays_trapped; neighbours that have
+/// A ray that has turned through more than max_turn (refraction can trap rays in
+/// orbit round an island) is removed and counted in rays_trapped; neighbours that have
 /// crossed (a caustic) get no ray inserted between them.
 /// Amplitude A = A∞ K_s √(b0 / b): b the local spacing to the neighbours, b0 the
 /// deep-water width of the same ray tube (halved at each insertion), so energy flux is

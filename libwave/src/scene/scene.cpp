@@ -217,7 +217,8 @@ void read_surface(const Node& n, Scene& s) {
 }
 
 void read_fronts(const Node& n, FrontOptions& o) {
-    n.require_object({"refraction", "step", "split_distance", "flat_amplitude", "max_steps"});
+    n.require_object({"refraction", "step", "split_distance", "flat_amplitude", "max_turn_degrees", "max_steps"});
+    if (n.has("max_turn_degrees")) o.max_turn = n["max_turn_degrees"].positive("degrees") * std::numbers::pi / 180.0;
     if (n.has("refraction"))
         o.refraction = n["refraction"].choice<FrontRefraction>({{"gradient", FrontRefraction::gradient},
                                                                 {"isobath", FrontRefraction::isobath}});

@@ -45,6 +45,7 @@ void validate(const WaveTrain& t, const FrontOptions& o) {
     positive(o.split_distance, "split_distance", "m");
     if (!(o.flat_amplitude >= 0.0)) throw InputError("fronts: flat_amplitude must be >= 0 m");
     positive(o.breaker_index, "breaker_index", "");
+    positive(o.max_turn, "max_turn", "rad");
 }
 
 bool inside(const detail::Box& b, double x, double y) { return x >= b.x0 && x <= b.x1 && y >= b.y0 && y <= b.y1; }
@@ -259,7 +260,7 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
                 }
                 // Refraction can trap rays on closed orbits (round an island's shelf):
                 // a ray that has turned a full circle is not part of an advancing front.
-                if (std::abs(r.turn) > 2.0 * std::numbers::pi) {
+                if (std::abs(r.turn) > o.max_turn) {
                     r.flag = RayFlag::dead;
                     ++out.rays_trapped;
                 }
