@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <cstring>
 #include <limits>
 #include <vector>
@@ -36,7 +37,14 @@ struct Quad {  // two triangles, 3 frames rising by 0.1 m
         for (int f = 1; f < 3; ++f) std::copy_n(nrm.begin(), 12, nrm.begin() + 12 * f);
     }
     MorphAnimationView view() const {
-        return {.triangles = tri, .vertex_count = 4, .frame_count = 3, .positions = pos, .normals = nrm, .texcoords = uv};
+        MorphAnimationView v;
+        v.triangles = tri;
+        v.vertex_count = 4;
+        v.frame_count = 3;
+        v.positions = pos;
+        v.normals = nrm;
+        v.texcoords = uv;
+        return v;
     }
 };
 
@@ -66,6 +74,112 @@ TEST(GltfMorph, WritesAGlbAndRefusesBadInput) {
     MorphAnimationView short_view = q.view();
     short_view.frame_count = 4;
     EXPECT_THROW(gltf_morph_glb(short_view), InputError);
+}
+
+// The JSON chunk of a .glb (the writer's layout: header, JSON, BIN).
+std::string glb_json(const std::string& glb) {
+    std::uint32_t json_length = 0;
+    std::memcpy(&json_length, glb.data() + 12, 4);
+    return glb.substr(20, json_length);
+}
+
+TEST(GltfMorph, ShadingScalarsInBothLayoutsAndTheirChecks) {
+    Quad q;
+    std::vector<float> r(12), t(12), foam(12, 0.0f), rgb(36, 0.5f);
+    for (std::size_t i = 0; i < 12; ++i) r[i] = 0.02f * static_cast<float>(i), t[i] = 1.0f - r[i];
+    foam[5] = 1.0f;  // frame 1, vertex 1
+    MorphAnimationView v = q.view();
+    v.reflect = r;
+    v.refract = t;
+    v.foam = foam;
+    v.colors = rgb;
+    const std::string custom = glb_json(gltf_morph_glb(v));
+    for (const char* name : {"\"_REFLECT\"", "\"_REFRACT\"", "\"_FOAM\"", "\"COLOR_0\""})
+        EXPECT_NE(custom.find(name), std::string::npos) << name;
+    EXPECT_EQ(custom.find("TEXCOORD_1"), std::string::npos);
+    v.layout = ScalarLayout::blender34;
+    const std::string compat = glb_json(gltf_morph_glb(v));
+    EXPECT_NE(compat.find("TEXCOORD_1"), std::string::npos);
+    EXPECT_NE(compat.find("TEXCOORD_2"), std::string::npos);
+    EXPECT_EQ(compat.find("_FOAM"), std::string::npos);
+    // Partial or mis-sized shading, and NaN scalars, are refused.
+    MorphAnimationView partial = q.view();
+    partial.reflect = r;
+    EXPECT_THROW(gltf_morph_glb(partial), InputError);
+    v.foam = std::span<const float>(foam).subspan(0, 8);
+    EXPECT_THROW(gltf_morph_glb(v), InputError);
+    foam[3] = std::numeric_limits<float>::quiet_NaN();
+    v.foam = foam;
+    EXPECT_THROW(gltf_morph_glb(v), InputError);
+}
+
+TEST(Fresnel, WeightsMatchTheFormulasAndSumToOne) {
+    // One horizontal vertex, camera straight above, at 60° and grazing.
+    const std::vector<float> p{0, 0, 0}, n{0, 0, 1};
+    std::vector<float> r(1), t(1);
+    FresnelOptions o;
+    o.camera = {0.0, 0.0, 10.0};
+    fresnel_weights(p, n, o, r, t);
+    const double normal = std::pow((kWaterRefractiveIndex - 1.0) / (kWaterRefractiveIndex + 1.0), 2);
+    EXPECT_NEAR(r[0], normal, 1e-7);  // 0.0204 for n = 1.333
+    EXPECT_FLOAT_EQ(r[0] + t[0], 1.0f);
+    o.camera = {10.0 * std::sin(1.0471975511965976), 0.0, 10.0 * std::cos(1.0471975511965976)};
+    fresnel_weights(p, n, o, r, t);
+    EXPECT_NEAR(r[0], fresnel_reflectivity(0.5), 1e-7);
+    o.model = FresnelModel::tso;
+    fresnel_weights(p, n, o, r, t);
+    EXPECT_NEAR(r[0], fresnel_reflectivity_tso(1.0471975511965976), 1e-6);
+    // Seen from under a lip (normal facing away): the other side's angle, same weights.
+    const std::vector<float> down{0, 0, -1};
+    std::vector<float> r2(1), t2(1);
+    fresnel_weights(p, down, o, r2, t2);
+    EXPECT_FLOAT_EQ(r2[0], r[0]);
+    std::vector<float> wrong(2);
+    EXPECT_THROW(fresnel_weights(p, n, o, wrong, t), InputError);
+}
+
+TEST(Foam, ReleasedAtTheCrestOfBreakingWavesAndFading) {
+    // Three vertices on a 1 m deep flat: breaking (H = γh), at 95 % of it, and calm.
+    RayStrips s;
+    s.x = {0, 1, 2};
+    s.y = {0, 0, 0};
+    s.dir_x = {1, 1, 1};
+    s.dir_y = {0, 0, 0};
+    s.phase = {0, 0, 0};
+    s.k = {0.4, 0.4, 0.4};
+    s.depth = {1, 1, 1};
+    s.rise = {0, 0, 0};
+    s.amplitude = {0.5 * kBreakerIndex, 0.95 * 0.5 * kBreakerIndex, 0.1};
+    s.omega = 2.0 * std::numbers::pi / 5.0;
+    const GonzatoMotionPlan m = plan_gonzato_motion(s);
+    const double crest = -(m.shape[0].trough_phase + std::numbers::pi) / s.omega;  // Φ(t) = Φ_min + π
+    std::vector<float> foam(3);
+    FoamOptions o;
+    breaking_foam(s, m, crest, o, foam);
+    EXPECT_NEAR(foam[0], 1.0, 1e-6);
+    EXPECT_NEAR(foam[1], 0.5, 1e-6);  // half-way up the onset ramp (0.9 … 1)
+    EXPECT_EQ(foam[2], 0.0f);
+    breaking_foam(s, m, crest + 1.0, o, foam);
+    EXPECT_NEAR(foam[0], std::exp(-1.0 / o.fade_time), 1e-6);
+    // Periodic: one period later it is the same.
+    std::vector<float> later(3);
+    breaking_foam(s, m, crest + 1.0 + 5.0, o, later);
+    EXPECT_NEAR(later[0], foam[0], 1e-6);
+    o.fade_time = 0.0;
+    EXPECT_THROW(breaking_foam(s, m, 0.0, o, foam), InputError);
+}
+
+TEST(WaterColour, TsoMixOfReflectedAndRefractedWithFoam) {
+    const std::vector<float> r{1.0f, 0.0f, 0.0f, 0.5f}, depth{0, 0, 100, 0}, foam{0, 0, 0, 1};
+    std::vector<float> rgb(12);
+    const WaterColours c;
+    water_colour(r, depth, foam, c, rgb);
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_FLOAT_EQ(rgb[static_cast<std::size_t>(i)], c.reflected[static_cast<std::size_t>(i)]);
+        EXPECT_FLOAT_EQ(rgb[3 + static_cast<std::size_t>(i)], c.shallow[static_cast<std::size_t>(i)]);
+        EXPECT_NEAR(rgb[6 + static_cast<std::size_t>(i)], c.deep[static_cast<std::size_t>(i)], 1e-6);
+        EXPECT_FLOAT_EQ(rgb[9 + static_cast<std::size_t>(i)], 1.0f);  // full foam is white
+    }
 }
 
 TEST(Normals, PlanesGiveTheirAnalyticNormal) {

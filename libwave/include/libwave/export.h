@@ -20,6 +20,12 @@ namespace wave {
 std::string mesh_to_obj(std::span<const float> positions, std::span<const std::uint32_t> triangles,
                         std::string_view comment);
 
+/// Where the per-vertex shading scalars go (DESIGN.md, "Export conventions").
+enum class ScalarLayout {
+    custom,     ///< FLOAT attributes `_REFLECT`, `_REFRACT`, `_FOAM` (glTF's custom-attribute rule; Blender >= 3.5, three.js `_foam`)
+    blender34,  ///< TEXCOORD_1 = (R, T), TEXCOORD_2 = (foam, 0): Blender 3.4 keeps UV maps (it stores 1 − v)
+};
+
 /// Frames of one mesh with fixed topology (views of caller-owned arrays, z up).
 struct MorphAnimationView {
     std::span<const std::uint32_t> triangles;  ///< 3 indices per triangle, counter-clockwise
@@ -28,6 +34,10 @@ struct MorphAnimationView {
     std::span<const float> positions;  ///< frame_count · vertex_count · 3
     std::span<const float> normals;    ///< same layout, unit length
     std::span<const float> texcoords;  ///< vertex_count · 2 (TEXCOORD_0)
+    /// Optional shading per frame (frame_count · vertex_count each; empty = not written):
+    /// Fresnel reflect and refract weights and foam, and a baked COLOR_0 (3 per vertex).
+    std::span<const float> reflect, refract, foam, colors;
+    ScalarLayout layout = ScalarLayout::custom;
     double fps = 24.0;
     std::string name = "water";
 };
@@ -37,9 +47,11 @@ struct MorphAnimationView {
 float key_time(std::size_t k, double fps) noexcept;
 
 /// A .glb holding the animation: the mesh with frame 0 as its base (POSITION, NORMAL,
-/// TEXCOORD_0, uint32 indices), one morph target per frame (POSITION and NORMAL
-/// differences from frame 0, named in mesh.extras.targetNames), and an animation whose
-/// `weights` channel is one-hot per frame with STEP interpolation at key_time(k, fps).
+/// TEXCOORD_0, the shading attributes when given, uint32 indices), one morph target
+/// per frame (the differences from frame 0 of every animated attribute, named in
+/// mesh.extras.targetNames), and an animation whose `weights` channel is one-hot per
+/// frame with STEP interpolation at key_time(k, fps). With weights one-hot, frame k
+/// shows base + target k = exactly frame k, for the scalars as for positions.
 /// Throws InputError for inconsistent sizes, an index out of range, or a NaN/Inf value
 /// (naming the frame and vertex).
 std::string gltf_morph_glb(const MorphAnimationView& animation);

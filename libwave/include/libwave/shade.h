@@ -1,9 +1,20 @@
-// libwave — shade: per-vertex quantities computed per frame for renderers.
+// libwave — shade: per-vertex quantities computed per frame for renderers, written
+// into caller-owned arrays (no allocation per frame).
 //
-// Today: vertex normals by accumulating area-weighted face normals (Jeschke et al.
-// 2003, §5). Fresnel weights and foam are not written yet.
+// * Normals by accumulating area-weighted face normals (Jeschke et al. 2003, §5).
+// * Fresnel weights for a camera: reflect R and refract T = 1 − R (Ts'o & Barsky
+//   §4.2.2–4.2.3, Tessendorf §4), exact or Ts'o's parabola.
+// * Foam from depth-limited breaking of the traced waves (H >= γh), released at each
+//   crest passage and fading after it.
+// * Optional baked colour R · reflected + T · refracted (Ts'o eq. 4.1), the refracted
+//   colour darkening with depth (Ts'o's future work, §5).
 #pragma once
 
+#include "libwave/motion.h"
+#include "libwave/physics.h"
+#include "libwave/surface.h"
+
+#include <array>
 #include <cstdint>
 #include <span>
 
@@ -16,5 +27,54 @@ namespace wave {
 /// vertex, same size as `positions`); allocates nothing.
 void vertex_normals(std::span<const float> positions, std::span<const std::uint32_t> triangles,
                     std::span<float> normals) noexcept;
+
+enum class FresnelModel {
+    exact,  ///< unpolarised Fresnel from cosines (Tessendorf eq. 44)
+    tso,    ///< Ts'o–Barsky's parabola in the incidence angle (§4.2.3), air → water only
+};
+
+/// Where the viewer is (m, z up) and how reflectivity is computed.
+struct FresnelOptions {
+    std::array<double, 3> camera{50.0, -60.0, 40.0};
+    FresnelModel model = FresnelModel::exact;
+    double water_index = kWaterRefractiveIndex;  ///< n of water (air is 1)
+};
+
+/// Reflect and refract weights per vertex: the incidence angle is between the unit
+/// normal and the direction to the camera. A vertex whose normal faces away from the
+/// camera (the underside of a plunging lip) is seen from the other side: |cos i| is
+/// used, so R and T stay in [0, 1] and R + T = 1. Sizes: one float per vertex
+/// (positions and normals 3 per vertex). Allocates nothing; throws InputError on
+/// mismatched sizes.
+void fresnel_weights(std::span<const float> positions, std::span<const float> normals, const FresnelOptions& options,
+                     std::span<float> reflect, std::span<float> refract);
+
+/// Depth-limited breaking foam (DESIGN.md shade (c)).
+struct FoamOptions {
+    double breaker_index = kBreakerIndex;  ///< γ
+    /// Foam starts where H reaches this share of γh (the tracer caps H at γh), full at γh.
+    double onset = 0.9;
+    double fade_time = 1.5;  ///< s: foam released as a crest passes decays as e^{−Δt / fade_time}
+};
+
+/// Foam in [0, 1] per vertex of Gonzato's ray strips at time t: a vertex whose wave
+/// height H = 2A is at the breaking limit γh gets foam each time a crest passes it
+/// (phase Φ_min + π of its profile), fading with the time since; sub-breaking
+/// vertices get none, and the ramp from `onset`·γh to γh avoids a hard edge.
+/// Allocates nothing; throws InputError on mismatched sizes or bad options.
+void breaking_foam(const RayStrips& strips, const GonzatoMotionPlan& motion, double t, const FoamOptions& options,
+                   std::span<float> foam);
+
+/// Ts'o eq. 4.1 baked into linear RGB: colour = R · reflected + T · refracted, the
+/// refracted colour fading towards `deep` as the depth grows (e^{−depth/attenuation}),
+/// and foam mixed in as white. Depth per vertex in m (>= 0). Writes 3 floats per vertex.
+struct WaterColours {
+    std::array<float, 3> reflected{0.55f, 0.70f, 0.85f};  ///< sky
+    std::array<float, 3> shallow{0.10f, 0.55f, 0.50f};    ///< refracted colour over a shallow bottom
+    std::array<float, 3> deep{0.01f, 0.08f, 0.15f};       ///< refracted colour in deep water
+    double attenuation = 3.0;                             ///< m
+};
+void water_colour(std::span<const float> reflect, std::span<const float> depth, std::span<const float> foam,
+                  const WaterColours& colours, std::span<float> rgb);
 
 }  // namespace wave

@@ -17,6 +17,7 @@
 #include <limits>
 #include <map>
 #include <sstream>
+#include <tuple>
 
 namespace wave {
 namespace {
@@ -79,6 +80,18 @@ void check(const MorphAnimationView& a) {
     if (a.positions.size() != f * n * 3 || a.normals.size() != f * n * 3 || a.texcoords.size() != n * 2)
         throw InputError("glTF export: array sizes do not match " + std::to_string(f) + " frames of " +
                          std::to_string(n) + " vertices");
+    for (const auto& [channel, name, width] : {std::tuple{a.reflect, "reflect", 1}, std::tuple{a.refract, "refract", 1},
+                                               std::tuple{a.foam, "foam", 1}, std::tuple{a.colors, "colors", 3}}) {
+        if (!channel.empty() && channel.size() != f * n * static_cast<std::size_t>(width))
+            throw InputError(std::string("glTF export: ") + name + " holds " + std::to_string(channel.size()) +
+                             " floats, expected " + std::to_string(f * n * static_cast<std::size_t>(width)));
+        for (std::size_t i = 0; i < channel.size(); ++i)
+            if (!std::isfinite(channel[i]))
+                throw InputError(std::string("glTF export: ") + name + " of frame " + std::to_string(i / (n * static_cast<std::size_t>(width))) +
+                                 " is NaN or infinite; refusing to write it");
+    }
+    if ((a.reflect.empty() || a.refract.empty() || a.foam.empty()) && !(a.reflect.empty() && a.refract.empty() && a.foam.empty()))
+        throw InputError("glTF export: give reflect, refract and foam together (or none)");
     if (a.triangles.empty() || a.triangles.size() % 3) throw InputError("glTF export: the index list is not whole triangles");
     for (std::uint32_t v : a.triangles)
         if (v >= n) throw InputError("glTF export: triangle index " + std::to_string(v) + " >= vertex count " + std::to_string(n));
@@ -124,6 +137,42 @@ std::string gltf_morph_glb(const MorphAnimationView& a) {
         b.accessor(b.view(a.texcoords.data(), a.texcoords.size_bytes(), TINYGLTF_TARGET_ARRAY_BUFFER),
                    TINYGLTF_COMPONENT_TYPE_FLOAT, n, TINYGLTF_TYPE_VEC2);
 
+    // The shading scalars of frame f as (attribute name, accessor type, floats): either
+    // three FLOAT `_` attributes or the Blender 3.4 pair of UV maps.
+    const bool shaded = !a.reflect.empty();
+    const auto shading = [&](std::size_t f) {
+        std::vector<std::tuple<std::string, int, std::vector<float>>> out;
+        if (!a.colors.empty())
+            out.emplace_back("COLOR_0", TINYGLTF_TYPE_VEC3,
+                             std::vector<float>(a.colors.begin() + static_cast<std::ptrdiff_t>(3 * f * n),
+                                                a.colors.begin() + static_cast<std::ptrdiff_t>(3 * (f + 1) * n)));
+        if (!shaded) return out;
+        const auto frame = [&](std::span<const float> c) {
+            return std::vector<float>(c.begin() + static_cast<std::ptrdiff_t>(f * n), c.begin() + static_cast<std::ptrdiff_t>((f + 1) * n));
+        };
+        if (a.layout == ScalarLayout::custom) {
+            out.emplace_back("_REFLECT", TINYGLTF_TYPE_SCALAR, frame(a.reflect));
+            out.emplace_back("_REFRACT", TINYGLTF_TYPE_SCALAR, frame(a.refract));
+            out.emplace_back("_FOAM", TINYGLTF_TYPE_SCALAR, frame(a.foam));
+        } else {
+            std::vector<float> uv1(2 * n), uv2(2 * n, 0.0f);
+            for (std::size_t v = 0; v < n; ++v) {
+                uv1[2 * v] = a.reflect[f * n + v];
+                uv1[2 * v + 1] = a.refract[f * n + v];
+                uv2[2 * v] = a.foam[f * n + v];
+            }
+            out.emplace_back("TEXCOORD_1", TINYGLTF_TYPE_VEC2, std::move(uv1));
+            out.emplace_back("TEXCOORD_2", TINYGLTF_TYPE_VEC2, std::move(uv2));
+        }
+        return out;
+    };
+    const auto add_floats = [&](const std::vector<float>& values, int type, std::size_t count) {
+        return b.accessor(b.view(values.data(), values.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER),
+                          TINYGLTF_COMPONENT_TYPE_FLOAT, count, type);
+    };
+    const auto base_shading = shading(0);
+    for (const auto& [name, type, values] : base_shading) prim.attributes[name] = add_floats(values, type, n);
+
     tinygltf::Mesh mesh;
     mesh.name = a.name;
     std::vector<tinygltf::Value> names;
@@ -141,6 +190,13 @@ std::string gltf_morph_glb(const MorphAnimationView& a) {
         std::map<std::string, int> target;
         target["POSITION"] = b.vec3(scratch_p, TINYGLTF_TARGET_ARRAY_BUFFER, true);
         target["NORMAL"] = b.vec3(scratch_n, TINYGLTF_TARGET_ARRAY_BUFFER, false);
+        auto frame_shading = shading(f);
+        for (std::size_t i = 0; i < frame_shading.size(); ++i) {
+            auto& [name, type, values] = frame_shading[i];
+            const auto& base = std::get<2>(base_shading[i]);
+            for (std::size_t j = 0; j < values.size(); ++j) values[j] -= base[j];
+            target[name] = add_floats(values, type, n);
+        }
         prim.targets.push_back(std::move(target));
         mesh.weights.push_back(f == 0 ? 1.0 : 0.0);
         char name[32];

@@ -1,0 +1,90 @@
+// Fresnel weights per vertex (Ts'o & Barsky §4.2; Tessendorf §4), foam from
+// depth-limited breaking, and Ts'o's baked colour (eq. 4.1).
+#include "libwave/errors.h"
+#include "libwave/shade.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+namespace wave {
+namespace {
+
+void require_size(std::size_t got, std::size_t want, const char* what) {
+    if (got != want)
+        throw InputError(std::string("shade: ") + what + " holds " + std::to_string(got) + " floats, expected " +
+                         std::to_string(want));
+}
+
+}  // namespace
+
+void fresnel_weights(std::span<const float> p, std::span<const float> n, const FresnelOptions& o,
+                     std::span<float> reflect, std::span<float> refract) {
+    const std::size_t count = p.size() / 3;
+    require_size(p.size(), 3 * count, "positions");
+    require_size(n.size(), 3 * count, "normals");
+    require_size(reflect.size(), count, "reflect");
+    require_size(refract.size(), count, "refract");
+    if (!(o.water_index >= 1.0)) throw InputError("shade: water_index must be >= 1");
+    for (std::size_t v = 0; v < count; ++v) {
+        const double ex = o.camera[0] - p[3 * v], ey = o.camera[1] - p[3 * v + 1], ez = o.camera[2] - p[3 * v + 2];
+        const double len = std::sqrt(ex * ex + ey * ey + ez * ez);
+        double cos_i = len > 0.0 ? (ex * n[3 * v] + ey * n[3 * v + 1] + ez * n[3 * v + 2]) / len : 1.0;
+        cos_i = std::min(std::abs(cos_i), 1.0);  // the underside of a lip is seen from its other side
+        const double r = o.model == FresnelModel::exact ? fresnel_reflectivity(cos_i, 1.0, o.water_index)
+                                                        : fresnel_reflectivity_tso(std::acos(cos_i));
+        reflect[v] = static_cast<float>(r);
+        refract[v] = static_cast<float>(1.0 - r);
+    }
+}
+
+void breaking_foam(const RayStrips& s, const GonzatoMotionPlan& m, double t, const FoamOptions& o,
+                   std::span<float> foam) {
+    const std::size_t count = s.vertex_count();
+    require_size(m.vertex_count(), count, "motion plan vertices");
+    require_size(foam.size(), count, "foam");
+    if (!(o.breaker_index > 0.0) || !(o.fade_time > 0.0) || !(o.onset > 0.0 && o.onset < 1.0))
+        throw InputError("shade: foam needs breaker_index > 0, fade_time > 0 s and 0 < onset < 1");
+    const double two_pi = 2.0 * std::numbers::pi;
+    for (std::size_t v = 0; v < count; ++v) {
+        const double h = s.depth[v];
+        if (!(h > 0.0) || !(s.amplitude[v] > 0.0)) {
+            foam[v] = 0.0f;
+            continue;
+        }
+        // How close the wave is to breaking: H / (γ h), 1 once the tracer capped it.
+        const double ratio = 2.0 * s.amplitude[v] / (o.breaker_index * h);
+        const double weight = std::clamp((ratio - o.onset) / (1.0 - o.onset), 0.0, 1.0);
+        if (weight == 0.0) {
+            foam[v] = 0.0f;
+            continue;
+        }
+        // Φ = −ωt + Σ k Δs falls with time; the crest (Φ_min + π) passed Δt ago with
+        // ω Δt = (Φ_crest − Φ) mod 2π.
+        const double phi = m.phase[v] - m.omega * t;
+        double since = std::fmod(m.shape[v].trough_phase + std::numbers::pi - phi, two_pi);
+        if (since < 0.0) since += two_pi;
+        foam[v] = static_cast<float>(weight * std::exp(-since / m.omega / o.fade_time));
+    }
+}
+
+void water_colour(std::span<const float> reflect, std::span<const float> depth, std::span<const float> foam,
+                  const WaterColours& c, std::span<float> rgb) {
+    const std::size_t count = reflect.size();
+    require_size(depth.size(), count, "depth");
+    require_size(foam.size(), count, "foam");
+    require_size(rgb.size(), 3 * count, "rgb");
+    if (!(c.attenuation > 0.0)) throw InputError("shade: colour attenuation must be > 0 m");
+    for (std::size_t v = 0; v < count; ++v) {
+        const double fade = std::exp(-std::max(double{depth[v]}, 0.0) / c.attenuation);  // Ts'o §5: deeper is darker
+        const double r = reflect[v], f = std::clamp(double{foam[v]}, 0.0, 1.0);
+        for (int i = 0; i < 3; ++i) {
+            const double refracted = c.deep[i] + (c.shallow[i] - c.deep[i]) * fade;
+            const double water = r * c.reflected[i] + (1.0 - r) * refracted;  // Ts'o eq. 4.1
+            rgb[3 * v + i] = static_cast<float>(water + (1.0 - water) * f);
+        }
+    }
+}
+
+}  // namespace wave
