@@ -8,9 +8,12 @@
 #include "libwave/export.h"
 #include "libwave/isobath.h"
 #include "libwave/motion.h"
+#include "libwave/shade.h"
 #include "libwave/surface.h"
 #include "libwave/trace.h"
 
+#include <array>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -49,6 +52,15 @@ struct Scene {
     /// Adaptive fronts (ray strips); ray_spacing and breaker_index come from `trace`.
     FrontOptions fronts{};
     GonzatoProfileOptions profile{};
+    /// Camera for the Fresnel weights (m, z up); empty = above the domain's up-wave
+    /// side, looking across it (scene_camera).
+    std::optional<std::array<double, 3>> camera;
+    FresnelModel fresnel = FresnelModel::exact;
+    FoamOptions foam{};
+    /// Which shading attributes the export carries: none, the Blender 3.4 UV-map layout
+    /// (default: every glTF client reads UV maps), or the named `_` attributes.
+    enum class Attributes { none, uv_maps, named } attributes = Attributes::uv_maps;
+    bool color = false;  ///< bake COLOR_0 (Ts'o eq. 4.1)
     double fps = 24.0;  ///< frames per second of the animation (> 0)
 };
 
@@ -62,6 +74,10 @@ Scene parse_scene(std::string_view json_text, const std::string& origin, const s
 
 /// Reads and parses a scene file.
 Scene read_scene(const std::string& path);
+
+/// The camera of a scene: its own, or by default 60 % of the domain's length before
+/// its up-wave edge (against the first train's direction), at 40 % of that length up.
+std::array<double, 3> scene_camera(const Scene& scene, const Seafloor& seafloor);
 
 /// The scene's trace options with Ts'o's rule applied: when orthogonals_per_grid_line
 /// > 0, ray_spacing = min(surface cell dx, dy) / orthogonals_per_grid_line.
@@ -96,6 +112,11 @@ struct SceneAnimation {
     std::vector<float> positions;  ///< frame_count · vertex_count · 3, z up
     std::vector<float> normals;    ///< same layout, unit (area-weighted, Jeschke §5)
     std::vector<float> texcoords;  ///< vertex_count · 2: rest position scaled to the domain
+    /// Shading per frame (frame_count · vertex_count each; empty when the scene's
+    /// attributes are none): Fresnel weights, foam (ray strips only: the height field
+    /// has no per-vertex breaking yet, so 0), and COLOR_0 (3 per vertex) when asked.
+    std::vector<float> reflect, refract, foam, colors;
+    ScalarLayout layout = ScalarLayout::blender34;
     float z_min = 0, z_max = 0;    ///< height range over all frames (m)
     double fps = 24.0;
     std::span<const std::uint32_t> triangles;  ///< the plan's index list (strips or height field)

@@ -271,7 +271,8 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
         throw InputError(origin + ": not valid JSON (byte " + std::to_string(e.byte) + "): " + e.what());
     }
     const Node root(doc, "", origin);
-    root.require_object({"name", "seafloor", "isobaths", "waves", "trace", "surface", "fronts", "motion", "animation"});
+    root.require_object({"name", "seafloor", "isobaths", "waves", "trace", "surface", "fronts", "motion", "camera",
+                         "shade", "outputs", "animation"});
     Scene s;
     if (root.has("name")) s.name = root["name"].string();
     if (root.has("seafloor")) read_seafloor_spec(root["seafloor"], s.seafloor, base_dir);
@@ -298,6 +299,34 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     }
     if (root.has("fronts")) read_fronts(root["fronts"], s.fronts);
     if (root.has("motion")) read_profile(root["motion"], s.profile);
+    if (root.has("camera")) {
+        const Node c = root["camera"];
+        c.require_object({"position"});
+        if (c.has("position")) {
+            const auto p = c["position"].numbers(3, "m");
+            s.camera = std::array<double, 3>{p[0], p[1], p[2]};
+        }
+    }
+    if (root.has("shade")) {
+        const Node sh = root["shade"];
+        sh.require_object({"fresnel", "foam_fade_time", "foam_onset"});
+        if (sh.has("fresnel")) s.fresnel = sh["fresnel"].choice<FresnelModel>({{"exact", FresnelModel::exact}, {"tso", FresnelModel::tso}});
+        if (sh.has("foam_fade_time")) s.foam.fade_time = sh["foam_fade_time"].positive("s");
+        if (sh.has("foam_onset")) {
+            s.foam.onset = sh["foam_onset"].positive("share of the breaking height");
+            if (s.foam.onset >= 1.0) sh["foam_onset"].fail("expected a number in (0, 1), got " + sh["foam_onset"].value().dump());
+        }
+    }
+    if (root.has("outputs")) {
+        const Node o = root["outputs"];
+        o.require_object({"attributes", "color"});
+        if (o.has("attributes"))
+            s.attributes = o["attributes"].choice<Scene::Attributes>(
+                {{"none", Scene::Attributes::none}, {"uv-maps", Scene::Attributes::uv_maps}, {"named", Scene::Attributes::named}});
+        if (o.has("color")) s.color = o["color"].boolean();
+        if (s.color && s.attributes == Scene::Attributes::none) o["color"].fail("a baked colour needs the shading: set attributes to uv-maps or named");
+    }
+    s.foam.breaker_index = s.trace.breaker_index;
     if (root.has("animation")) {
         const Node a = root["animation"];
         a.require_object({"fps"});
@@ -314,6 +343,28 @@ Scene read_scene(const std::string& path) {
     return parse_scene(text.str(), path, std::filesystem::path(path).parent_path().string());
 }
 
+std::array<double, 3> scene_camera(const Scene& scene, const Seafloor& seafloor) {
+    const ElevationGrid& g = seafloor.grid;
+    if (scene.camera) {
+        const auto& c = *scene.camera;
+        if (c[0] >= g.x0 && c[0] <= g.x_max() && c[1] >= g.y0 && c[1] <= g.y_max() &&
+            c[2] <= -depth_at(g, c[0], c[1]))
+            throw InputError("scene: /camera/position [" + fmt(c[0]) + ", " + fmt(c[1]) + ", " + fmt(c[2]) +
+                             "] is inside the seafloor (its elevation there is " + fmt(-depth_at(g, c[0], c[1])) + " m)");
+        return c;
+    }
+    const double w = g.x_max() - g.x0, h = g.y_max() - g.y0, size = std::max(w, h);
+    double dx = 0.0, dy = 1.0;
+    if (!scene.waves.empty()) {
+        const double len = std::hypot(scene.waves[0].direction_x, scene.waves[0].direction_y);
+        dx = scene.waves[0].direction_x / len;
+        dy = scene.waves[0].direction_y / len;
+    }
+    // From the open sea towards the shore, as a viewer on a boat would see the waves arrive.
+    const double cx = g.x0 + 0.5 * w, cy = g.y0 + 0.5 * h;
+    return {cx - dx * 1.1 * size, cy - dy * 1.1 * size, 0.4 * size};
+}
+
 TraceOptions scene_trace_options(const Scene& scene, const Seafloor& seafloor) {
     TraceOptions trace = scene.trace;
     if (scene.orthogonals_per_grid_line > 0.0 && scene.surface.nx >= 2 && scene.surface.ny >= 2) {
@@ -328,6 +379,7 @@ TraceOptions scene_trace_options(const Scene& scene, const Seafloor& seafloor) {
 ScenePlan plan_scene(const Scene& scene) {
     ScenePlan p;
     p.seafloor = load_seafloor(scene.seafloor);
+    scene_camera(scene, p.seafloor);  // a camera inside the seafloor is an input error, found before the work
     if (scene.surface_kind == SurfaceKind::ray_strips) {
         if (scene.waves.size() != 1)
             throw InputError("scene: the ray-strips surface traces one wave train, got " + std::to_string(scene.waves.size()));
@@ -376,6 +428,11 @@ MorphAnimationView SceneAnimation::view() const {
     v.positions = positions;
     v.normals = normals;
     v.texcoords = texcoords;
+    v.reflect = reflect;
+    v.refract = refract;
+    v.foam = foam;
+    v.colors = colors;
+    v.layout = layout;
     v.fps = fps;
     return v;
 }
@@ -389,13 +446,26 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
     a.frame_count = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(plan.loop_period * scene.fps)));
     a.triangles = strips ? std::span<const std::uint32_t>(plan.strips.triangles) : std::span<const std::uint32_t>(sp.triangles);
     const std::size_t n = a.vertex_count;
-    if (static_cast<double>(a.frame_count) * static_cast<double>(n) * 24.0 > max_bytes)
+    const bool shaded = scene.attributes != Scene::Attributes::none;
+    const double bytes_per_vertex = 24.0 + (shaded ? 12.0 : 0.0) + (scene.color ? 12.0 : 0.0);
+    if (static_cast<double>(a.frame_count) * static_cast<double>(n) * bytes_per_vertex > max_bytes)
         throw LimitError("scene: the animation would hold " + std::to_string(a.frame_count) + " frames of " +
-                         std::to_string(n) + " vertices (over " + fmt(max_bytes / 1e9) + " GB of positions and normals); " +
+                         std::to_string(n) + " vertices (over " + fmt(max_bytes / 1e9) + " GB of per-frame arrays); " +
                          (strips ? "raise /trace/ray_spacing or /fronts/step, or lower /animation/fps"
                                  : "lower /surface/samples_per_span, /surface/grid or /animation/fps"));
     a.positions.resize(3 * n * a.frame_count);
     a.normals.resize(3 * n * a.frame_count);
+    a.layout = scene.attributes == Scene::Attributes::named ? ScalarLayout::custom : ScalarLayout::blender34;
+    FresnelOptions fresnel;
+    fresnel.camera = scene_camera(scene, plan.seafloor);
+    fresnel.model = scene.fresnel;
+    std::vector<float> depth;  // rest depth per vertex, for the colour
+    if (shaded) {
+        a.reflect.resize(n * a.frame_count);
+        a.refract.resize(n * a.frame_count);
+        a.foam.assign(n * a.frame_count, 0.0f);
+    }
+    if (scene.color) a.colors.resize(3 * n * a.frame_count);
     std::vector<float> heights(strips ? 0 : sp.control_count());
     a.z_min = std::numeric_limits<float>::infinity();
     a.z_max = -std::numeric_limits<float>::infinity();
@@ -408,6 +478,18 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
         for (std::size_t v = 0; v < n; ++v) {
             a.z_min = std::min(a.z_min, p[3 * v + 2]);
             a.z_max = std::max(a.z_max, p[3 * v + 2]);
+        }
+        if (!shaded) continue;
+        const std::span<float> r(&a.reflect[n * f], n), tr(&a.refract[n * f], n), foam(&a.foam[n * f], n);
+        fresnel_weights(p, nr, fresnel, r, tr);
+        if (strips) breaking_foam(plan.strips, plan.motion, t, scene.foam, foam);
+        if (scene.color) {
+            if (depth.empty()) {
+                depth.resize(n);
+                for (std::size_t v = 0; v < n; ++v)
+                    depth[v] = static_cast<float>(std::max(0.0, depth_at(plan.seafloor.grid, p[3 * v], p[3 * v + 1])));
+            }
+            water_colour(r, depth, foam, WaterColours{}, std::span<float>(&a.colors[3 * n * f], 3 * n));
         }
     }
     // TEXCOORD_0: the rest position over the seafloor's rectangle, u along +x, v down
