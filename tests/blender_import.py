@@ -32,6 +32,19 @@ else:
         on = [k.name for k in keys[1:] if k.value > 0.5]
         if on != ["frame_%04d" % f]:
             errors.append(f"frame {f} shows {on}")
+    # The compatibility layout: TEXCOORD_1 = (R, T), TEXCOORD_2 = (foam, 0) arrive as
+    # UV maps (Blender stores 1 - v); R + T = 1 at every loop corner of frame 0.
+    uvs = obj.data.uv_layers
+    if len(uvs) != 3:
+        errors.append(f"{len(uvs)} UV maps, expected 3 (TEXCOORD_0, and R/T and foam in TEXCOORD_1/2)")
+    else:
+        rt = uvs[1].data
+        worst = max(abs(rt[i].uv[0] + (1.0 - rt[i].uv[1]) - 1.0) for i in range(0, len(rt), 97))
+        if worst > 1e-5:
+            errors.append(f"R + T differs from 1 by {worst} in the second UV map")
+        foam = [uvs[2].data[i].uv[0] for i in range(len(uvs[2].data))]
+        if not (min(foam) >= 0.0 and max(foam) <= 1.0):
+            errors.append(f"foam outside [0, 1]: {min(foam)} .. {max(foam)}")
 for e in errors:
     print("BLENDER-IMPORT-ERROR", e)
 print("BLENDER-IMPORT", "ok" if not errors else "failed")

@@ -199,6 +199,44 @@ class MainJob(unittest.TestCase):
             for name in ["ray", "step", "phase", "k", "omega", "amplitude", "depth", "slope", "rise", "flag", "caustic"]:
                 self.assertIn(name, props)
             self.check_animation(out, report)
+            # Shading in the default (UV-map) layout, morphed per frame like positions.
+            doc, binary = read_glb(os.path.join(out, "animation.glb"))
+            prim = doc["meshes"][0]["primitives"][0]
+            self.assertIn("TEXCOORD_1", prim["attributes"])
+            self.assertIn("TEXCOORD_2", prim["attributes"])
+            self.assertIn("TEXCOORD_1", prim["targets"][5])
+            rt = floats(doc, binary, prim["attributes"]["TEXCOORD_1"])
+            self.assertLess(max(abs(rt[i] + rt[i + 1] - 1.0) for i in range(0, len(rt), 2)), 1e-6)  # R + T = 1
+            # Foam appears somewhere in the loop (waves break in the bay) and stays in [0, 1].
+            foam_max = 0.0
+            base = floats(doc, binary, prim["attributes"]["TEXCOORD_2"])[0::2]
+            for target in prim["targets"][::10]:
+                delta = floats(doc, binary, target["TEXCOORD_2"])[0::2]
+                frame = [b + d for b, d in zip(base, delta)]
+                self.assertGreaterEqual(min(frame), -1e-6)
+                self.assertLessEqual(max(frame), 1.0 + 1e-6)
+                foam_max = max(foam_max, max(frame))
+            self.assertGreater(foam_max, 0.5)
+
+    def test_named_attributes_and_colour(self):
+        with tempfile.TemporaryDirectory() as d:
+            scene, out = os.path.join(d, "s.json"), os.path.join(d, "out")
+            with open(scene, "w") as f:
+                json.dump({"waves": [{"period": 5, "amplitude": 0.3}], "trace": {"ray_spacing": 2},
+                           "fronts": {"step": 0.8, "split_distance": 2.4},
+                           "outputs": {"attributes": "named", "color": True},
+                           "shade": {"fresnel": "tso"}, "camera": {"position": [50, -20, 30]}}, f)
+            r = wave("run", scene, "-o", out, "--json")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            glb = os.path.join(out, "animation.glb")
+            validate_gltf(self, glb)
+            doc, binary = read_glb(glb)
+            attrs = doc["meshes"][0]["primitives"][0]["attributes"]
+            for name in ["_REFLECT", "_REFRACT", "_FOAM", "COLOR_0"]:
+                self.assertIn(name, attrs)
+            self.assertNotIn("TEXCOORD_1", attrs)
+            reflect = floats(doc, binary, attrs["_REFLECT"])
+            self.assertGreaterEqual(min(reflect), 0.02 - 1e-6)  # Ts'o's parabola never goes below 0.02
 
     def check_animation(self, out, report):
         glb = os.path.join(out, "animation.glb")
@@ -344,6 +382,12 @@ class MainJob(unittest.TestCase):
                 ('{"waves": [{"period": 6}], "fronts": {"step": -1}}', "/fronts/step"),
                 ('{"waves": [{"period": 6}], "motion": {"profile": "gerstner"}}', "/motion/profile"),
                 ('{"waves": [{"period": 6}], "motion": {"stretch_max": -1}}', "/motion/stretch_max"),
+                ('{"waves": [{"period": 6}], "camera": {"position": [50, 99, 0.5]}}', "/camera/position"),
+                ('{"waves": [{"period": 6}], "camera": {"position": [1, 2]}}', "/camera/position"),
+                ('{"waves": [{"period": 6}], "animation": {"fps": -24}}', "/animation/fps"),
+                ('{"waves": [{"period": 6}], "outputs": {"attributes": "all"}}', "uv-maps"),
+                ('{"waves": [{"period": 6}], "outputs": {"colour": true}}', "/outputs/colour"),
+                ('{"waves": [{"period": 6}], "shade": {"foam_onset": 1.5}}', "/shade/foam_onset"),
                 ('{"waves": [{"period": 6}], "seafloor": {"source": "nowhere.asc"}}', "/seafloor/source"),
                 ('{"waves": [{"period": 6}], "trace": {"rays": 3}}', "/trace/rays"),
                 ('{"waves": [{"period": 6}], "isobaths": {"levels": [99]}}', "level 99"),
