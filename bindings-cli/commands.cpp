@@ -11,6 +11,7 @@
 #include "libwave/version.h"
 
 #include <nlohmann/json.hpp>
+#include <unistd.h>
 #include <tbb/global_control.h>
 
 #include <algorithm>
@@ -18,6 +19,8 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <map>
 #include <iomanip>
 #include <iostream>
 #include <numbers>
@@ -188,13 +191,66 @@ int run_trace(const TraceArgs& a) {
     return 0;
 }
 
+namespace {
+
+// "A:B" → [A, B); empty → everything.
+FrameRange parse_frames(const std::string& text) {
+    if (text.empty()) return {};
+    const auto colon = text.find(':');
+    const auto whole = [&](const std::string& part) -> std::size_t {
+        if (part.empty() || part.find_first_not_of("0123456789") != std::string::npos)
+            throw InputError("--frames: expected A:B with whole numbers A < B, got \"" + text + "\"");
+        return std::stoull(part);
+    };
+    if (colon == std::string::npos) throw InputError("--frames: expected A:B, got \"" + text + "\"");
+    FrameRange r{whole(text.substr(0, colon)), whole(text.substr(colon + 1))};
+    if (r.first >= r.end) throw InputError("--frames: the range " + text + " is empty (A must be < B)");
+    return r;
+}
+
+// The frame index of the `files` form, merged with an index a previous slice of the
+// same animation left in the folder.
+json merged_index(const std::string& path, const Scene& scene, const SceneAnimation& anim, double loop_period) {
+    json index{{"scene", scene.name}, {"fps", scene.fps}, {"loop_period_s", loop_period},
+               {"loop_frames", anim.loop_frames}, {"frames", json::array()}};
+    std::map<std::size_t, json> frames;
+    if (std::filesystem::exists(path)) {
+        std::ifstream in(path);
+        json old;
+        try {
+            old = json::parse(in);
+        } catch (const json::exception&) {
+            throw InputError(path + ": not a frame index (invalid JSON); use another output folder");
+        }
+        if (old.value("scene", "") != scene.name || old.value("fps", 0.0) != scene.fps ||
+            old.value("loop_frames", std::size_t{0}) != anim.loop_frames)
+            throw InputError(path + ": the index there belongs to another animation (scene, fps or loop differ); "
+                             "use another output folder");
+        for (const json& f : old.at("frames")) frames[f.at("frame").get<std::size_t>()] = f;
+    }
+    for (std::size_t k = 0; k < anim.frame_count; ++k) {
+        const std::size_t frame = anim.first_frame + k;
+        char name[48];
+        std::snprintf(name, sizeof name, "frames/frame-%04zu.glb", frame);
+        frames[frame] = {{"frame", frame}, {"time", key_time(frame, scene.fps)}, {"file", name}};
+    }
+    for (auto& [_, f] : frames) index["frames"].push_back(f);
+    return index;
+}
+
+}  // namespace
+
 int run_job(const RunArgs& a) {
     using Clock = std::chrono::steady_clock;
     // Limits libwave's parallel loops (TBB) for this run; each vertex is computed alone,
     // so the files do not depend on the count.
     std::optional<tbb::global_control> threads;
     if (a.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(a.threads));
-    const Scene scene = a.scene.empty() ? default_scene() : read_scene(a.scene);
+    Scene scene = a.scene.empty() ? default_scene() : read_scene(a.scene);
+    if (a.fps > 0.0) scene.fps = a.fps;
+    if (!a.form.empty())
+        scene.form = a.form == "nodes" ? Scene::Form::nodes : a.form == "files" ? Scene::Form::files : Scene::Form::morph;
+    const FrameRange range = parse_frames(a.frames);
     const std::string stem = a.scene.empty() ? "default" : std::filesystem::path(a.scene).stem().string();
     const std::string out_dir = a.out_dir.empty() ? "wave-out/" + stem : a.out_dir;
     const bool strips = scene.surface_kind == SurfaceKind::ray_strips;
@@ -203,10 +259,34 @@ int run_job(const RunArgs& a) {
     const ScenePlan plan = plan_scene(scene);
     const auto t1 = Clock::now();
 
-    const SceneAnimation anim = animate_scene(scene, plan);
+    // A progress bar on stderr when it is a terminal.
+    const bool bar = !a.quiet && !a.json && isatty(STDERR_FILENO);
+    const auto progress = [&](std::size_t done, std::size_t total) {
+        if (!bar) return;
+        const int width = 40, filled = static_cast<int>(width * done / total);
+        std::cerr << "\rframes [" << std::string(static_cast<std::size_t>(filled), '#')
+                  << std::string(static_cast<std::size_t>(width - filled), ' ') << "] " << done << "/" << total
+                  << (done == total ? "\n" : "") << std::flush;
+    };
+    const SceneAnimation anim = animate_scene(scene, plan, 2e9, range, progress);
     const std::size_t frames = anim.frame_count;
+    const bool whole = anim.first_frame == 0 && frames == anim.loop_frames;
     const auto t2 = Clock::now();
-    const std::string glb = gltf_morph_glb(anim.view());
+    // The animation in the scene's form: (file name, bytes) pairs.
+    std::vector<std::pair<std::string, std::string>> files;
+    char slice_name[64];
+    std::snprintf(slice_name, sizeof slice_name, "animation-frames-%zu-%zu.glb", anim.first_frame, anim.first_frame + frames);
+    const std::string animation_name = whole ? "animation.glb" : slice_name;
+    if (scene.form == Scene::Form::morph) files.emplace_back(animation_name, gltf_morph_glb(anim.view()));
+    if (scene.form == Scene::Form::nodes) files.emplace_back(animation_name, gltf_nodes_glb(anim.view()));
+    if (scene.form == Scene::Form::files)
+        for (std::size_t k = 0; k < frames; ++k) {
+            char name[48];
+            std::snprintf(name, sizeof name, "frames/frame-%04zu.glb", anim.first_frame + k);
+            files.emplace_back(name, gltf_frame_glb(anim.view(), k));
+        }
+    std::size_t animation_bytes = 0;
+    for (const auto& f : files) animation_bytes += f.second.size();
     const auto t3 = Clock::now();
     const std::span<const float> first(anim.positions.data(), 3 * anim.vertex_count);
 
@@ -219,6 +299,11 @@ int run_job(const RunArgs& a) {
                  {"loop_period_s", plan.loop_period},
                  {"fps", scene.fps},
                  {"frames", frames},
+                 {"first_frame", anim.first_frame},
+                 {"loop_frames", anim.loop_frames},
+                 {"form", scene.form == Scene::Form::morph ? "morph" : scene.form == Scene::Form::nodes ? "nodes" : "files"},
+                 {"shading", scene.attributes == Scene::Attributes::none ? "none"
+                             : scene.attributes == Scene::Attributes::named ? "named" : "uv-maps"},
                  {"height_range_m", {anim.z_min, anim.z_max}}};
     if (!strips) surface["control_grid"] = {plan.surface.nx, plan.surface.ny};
     json report{{"libwave", version()},
@@ -228,11 +313,20 @@ int run_job(const RunArgs& a) {
                 {"trace", trace_summary(scene, plan)},
                 {"surface", surface},
                 {"warnings", plan.warnings},
-                {"outputs", {"animation.glb", "isobaths.json", trace_file, "surface-frame-0000.obj", "report.json"}}};
+                {"outputs", json::array()}};
+    for (const auto& f : files) report["outputs"].push_back(f.first);
+    if (scene.form == Scene::Form::files) report["outputs"].push_back("index.json");
+    for (const char* f : {"isobaths.json", trace_file, "surface-frame-0000.obj", "report.json"}) report["outputs"].push_back(f);
 
     std::filesystem::create_directories(out_dir);
-    const auto out = [&](const char* name) { return (std::filesystem::path(out_dir) / name).string(); };
-    write_file_atomic(out("animation.glb"), glb);
+    const auto out = [&](const std::string& name) { return (std::filesystem::path(out_dir) / name).string(); };
+    json index;
+    if (scene.form == Scene::Form::files) {
+        index = merged_index(out("index.json"), scene, anim, plan.loop_period);  // refuses a foreign index first
+        std::filesystem::create_directories(out("frames"));
+    }
+    for (const auto& [name, bytes] : files) write_file_atomic(out(name), bytes);
+    if (scene.form == Scene::Form::files) write_file_atomic(out("index.json"), index.dump(2) + "\n");
     write_file_atomic(out("isobaths.json"), contours_to_json(plan.isobaths));
     if (strips) write_ray_strips_ply(plan.strips, out(trace_file));
     else write_file_atomic(out(trace_file), rays_to_csv(plan.rays));
@@ -240,6 +334,7 @@ int run_job(const RunArgs& a) {
                       mesh_to_obj(first, anim.triangles, "libwave " + std::string(version()) + ": " + scene.name + ", frame 0, z up"));
     write_file_atomic(out("report.json"), report.dump(2) + "\n");
 
+    if (a.quiet) return 0;
     if (a.json) {
         // Timings only on stdout: report.json is byte-identical from run to run.
         report["timings_ms"] = {{"plan", ms(t1 - t0)}, {"frames", ms(t2 - t1)}, {"export", ms(t3 - t2)}};
@@ -264,8 +359,12 @@ int run_job(const RunArgs& a) {
               << " s, heights " << anim.z_min << " .. " << anim.z_max << " m\n"
               << "time       plan " << ms(t1 - t0) << " ms, frames " << ms(t2 - t1) / static_cast<double>(std::max<std::size_t>(frames, 1))
               << " ms each, export " << ms(t3 - t2) << " ms\n"
-              << "wrote      " << out_dir << "/animation.glb (" << frames << " morph targets, STEP weights; "
-              << static_cast<double>(glb.size()) / 1e6 << " MB; set the scene fps to " << scene.fps << " before importing)\n"
+              << "wrote      " << out_dir << "/"
+              << (scene.form == Scene::Form::files ? "frames/*.glb + index.json (" + std::to_string(frames) + " files"
+                  : scene.form == Scene::Form::nodes ? animation_name + " (" + std::to_string(frames) + " scale-switched nodes"
+                                                     : animation_name + " (" + std::to_string(frames) + " morph targets, STEP weights")
+              << "; " << static_cast<double>(animation_bytes) / 1e6 << " MB; set the scene fps to " << scene.fps
+              << " before importing)\n"
               << "           " << out_dir << "/{isobaths.json, " << trace_file << ", surface-frame-0000.obj, report.json}\n";
     for (const std::string& w : plan.warnings) std::cout << "warning    " << w << '\n';
     return 0;

@@ -48,6 +48,10 @@ struct RunArgs {
     std::string scene;   ///< scene file; empty = the built-in default scene
     std::string out_dir; ///< default: wave-out/<scene file stem or "default">
     int threads = 0;     ///< worker threads (0 = all cores); outputs do not depend on it
+    std::string form;    ///< morph | nodes | files; empty = the scene's
+    std::string frames;  ///< "A:B" slice of the loop's frames; empty = all
+    double fps = 0.0;    ///< > 0 overrides the scene's fps
+    bool quiet = false;  ///< no progress bar and no text report
     bool json = false;
 };
 int run_job(const RunArgs& a);

@@ -13,3 +13,17 @@ message(STATUS "${out}")
 if(NOT rc EQUAL 0 OR NOT out MATCHES "BLENDER-IMPORT ok")
   message(FATAL_ERROR "Blender import failed (${rc}):\n${out}\n${err}")
 endif()
+
+# The nodes form (one object per frame), at 6 fps to keep the import short.
+execute_process(COMMAND ${WAVE} run -o ${OUT}/nodes --form nodes --fps 6 --json RESULT_VARIABLE rc OUTPUT_VARIABLE report ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "wave run --form nodes failed: ${err}")
+endif()
+string(JSON frames GET "${report}" surface frames)
+string(JSON vertices GET "${report}" surface vertices)
+execute_process(COMMAND ${BLENDER} -b --factory-startup --python ${SCRIPT} -- ${OUT}/nodes/animation.glb 6 ${frames} ${vertices} nodes
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+message(STATUS "${out}")
+if(NOT rc EQUAL 0 OR NOT out MATCHES "BLENDER-IMPORT ok")
+  message(FATAL_ERROR "Blender import of the nodes form failed (${rc}):\n${out}\n${err}")
+endif()

@@ -9,6 +9,7 @@ import numpy
 numpy.bool = bool  # Debian 12's Blender 3.4 importer uses numpy.bool, removed in numpy 1.24
 
 path, fps, frames, vertices = sys.argv[sys.argv.index("--") + 1:][:4]
+form = (sys.argv[sys.argv.index("--") + 1:] + ["morph"])[4]
 fps, frames, vertices = float(fps), int(frames), int(vertices)
 bpy.ops.wm.read_factory_settings(use_empty=True)
 scene = bpy.context.scene
@@ -18,7 +19,17 @@ scene.render.fps_base = round(fps) / fps
 bpy.ops.import_scene.gltf(filepath=path)
 meshes = [o for o in scene.objects if o.type == "MESH"]
 errors = []
-if len(meshes) != 1:
+if form == "nodes":
+    # One object per frame, each shown (scale 1) only on its own frame.
+    if len(meshes) != frames:
+        errors.append(f"expected {frames} mesh objects (one per frame), got {len(meshes)}")
+    by_name = {o.name: o for o in meshes}
+    for f in range(0, frames, max(1, frames // 7)):
+        scene.frame_set(f)
+        shown = sorted(o.name for o in meshes if o.matrix_world.to_scale()[0] > 0.5)
+        if shown != ["frame_%04d" % f]:
+            errors.append(f"frame {f} shows {shown}")
+elif len(meshes) != 1:
     errors.append(f"expected one mesh object, got {len(meshes)}")
 else:
     obj = meshes[0]

@@ -327,6 +327,75 @@ class MainJob(unittest.TestCase):
         self.assertGreater(island["rays_trapped"], 0)  # orbits round the shelf, cut at 180 degrees
         self.assertGreater(island["caustic_points"], 0)  # rays wrapping round meet behind the island
 
+    SMALL = {"waves": [{"period": 5, "amplitude": 0.3}], "trace": {"ray_spacing": 2},
+             "fronts": {"step": 0.8, "split_distance": 2.4}}
+
+    def test_files_form_slices_merge_in_the_index(self):
+        with tempfile.TemporaryDirectory() as d:
+            scene, out = os.path.join(d, "s.json"), os.path.join(d, "out")
+            with open(scene, "w") as f:
+                json.dump(self.SMALL, f)
+            for frames in ["0:5", "5:12"]:  # two machines' slices into one folder
+                r = wave("run", scene, "-o", out, "--form", "files", "--frames", frames, "--fps", "12", "-q")
+                self.assertEqual(r.returncode, 0, r.stderr)
+                self.assertEqual(r.stdout, "")  # --quiet
+            index = json.load(open(os.path.join(out, "index.json")))
+            self.assertEqual(index["loop_frames"], 60)  # 5 s at 12 fps
+            self.assertEqual([f["frame"] for f in index["frames"]], list(range(12)))
+            for f in index["frames"]:
+                self.assertLessEqual(f["time"], f["frame"] / 12)
+                self.assertTrue(os.path.exists(os.path.join(out, f["file"])))
+            validate_gltf(self, os.path.join(out, index["frames"][7]["file"]))
+            self.assertEqual(len(os.listdir(os.path.join(out, "frames"))), 12)
+            # A slice's frames are the whole run's frames, byte for byte.
+            whole = os.path.join(d, "whole")
+            self.assertEqual(wave("run", scene, "-o", whole, "--form", "files", "--fps", "12", "-q").returncode, 0)
+            for name in ["frame-0003.glb", "frame-0007.glb"]:
+                self.assertEqual(pathlib.Path(out, "frames", name).read_bytes(), pathlib.Path(whole, "frames", name).read_bytes())
+            # A slice of another animation (other fps) into the same folder: refused, nothing written.
+            before = sorted(os.listdir(os.path.join(out, "frames")))
+            r = wave("run", scene, "-o", out, "--form", "files", "--frames", "0:3", "--fps", "24")
+            self.assertEqual(r.returncode, 2)
+            self.assertIn("index.json", r.stderr)
+            self.assertEqual(sorted(os.listdir(os.path.join(out, "frames"))), before)
+
+    def test_nodes_form_and_frame_slices(self):
+        with tempfile.TemporaryDirectory() as d:
+            scene, out = os.path.join(d, "s.json"), os.path.join(d, "out")
+            with open(scene, "w") as f:
+                json.dump(self.SMALL, f)
+            r = wave("run", scene, "-o", out, "--form", "nodes", "--fps", "6", "--json")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            report = json.loads(r.stdout)
+            glb = os.path.join(out, "animation.glb")
+            validate_gltf(self, glb)
+            doc, binary = read_glb(glb)
+            frames = report["surface"]["frames"]
+            self.assertEqual(frames, 30)
+            self.assertEqual(len(doc["meshes"]), frames)
+            channels = doc["animations"][0]["channels"]
+            self.assertEqual(len(channels), frames)
+            self.assertTrue(all(c["target"]["path"] == "scale" for c in channels))
+            # Channel k's scale is 1 exactly at key k.
+            sampler = doc["animations"][0]["samplers"][channels[3]["sampler"]]
+            scales = floats(doc, binary, sampler["output"])
+            self.assertEqual([scales[3 * k] for k in range(frames)], [1.0 if k == 3 else 0.0 for k in range(frames)])
+            self.assertEqual(sampler["interpolation"], "STEP")
+            # A morph slice: its own file, keys at the slice's absolute times.
+            r = wave("run", scene, "-o", out, "--frames", "10:20", "--json")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            doc, binary = read_glb(os.path.join(out, "animation-frames-10-20.glb"))
+            times = floats(doc, binary, doc["animations"][0]["samplers"][0]["input"])
+            self.assertEqual(len(times), 10)
+            self.assertLessEqual(times[0], 10 / 24)
+            self.assertGreater(times[0], 10 / 24 - 1e-6)
+            self.assertEqual(doc["meshes"][0]["extras"]["targetNames"][0], "frame_0010")
+            for bad in ["5:3", "abc", "200:300"]:
+                r = wave("run", scene, "-o", os.path.join(d, "bad"), "--frames", bad)
+                self.assertEqual(r.returncode, 2, bad)
+                self.assertIn("frame", r.stderr)
+                self.assertFalse(os.path.exists(os.path.join(d, "bad")))
+
     def test_trace_summary_and_strip_mesh(self):
         with tempfile.TemporaryDirectory() as d:
             ply, csv = os.path.join(d, "strips.ply"), os.path.join(d, "fronts.csv")

@@ -39,6 +39,9 @@ struct MorphAnimationView {
     std::span<const float> reflect, refract, foam, colors;
     ScalarLayout layout = ScalarLayout::custom;
     double fps = 24.0;
+    /// Number of the first frame in the whole loop (a slice starts later): key times
+    /// and frame names count from it.
+    std::size_t first_frame = 0;
     std::string name = "water";
 };
 
@@ -55,5 +58,15 @@ float key_time(std::size_t k, double fps) noexcept;
 /// Throws InputError for inconsistent sizes, an index out of range, or a NaN/Inf value
 /// (naming the frame and vertex).
 std::string gltf_morph_glb(const MorphAnimationView& animation);
+
+/// The `nodes` form: a parent node with one child node and mesh per frame (its own
+/// POSITION, NORMAL and shading; indices and TEXCOORD_0 shared), each child's `scale`
+/// switched between 0 and 1 by STEP keys at key_time(k, fps) so that one frame shows at
+/// a time. Blender imports one object per frame; use it when topology changes or a
+/// tool does not play morph targets. Same checks as gltf_morph_glb.
+std::string gltf_nodes_glb(const MorphAnimationView& animation);
+
+/// The `files` form: frame `frame` (0-based within the view) as a static .glb.
+std::string gltf_frame_glb(const MorphAnimationView& animation, std::size_t frame);
 
 }  // namespace wave

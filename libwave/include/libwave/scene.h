@@ -13,6 +13,7 @@
 #include "libwave/trace.h"
 
 #include <array>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -61,6 +62,9 @@ struct Scene {
     /// (default: every glTF client reads UV maps), or the named `_` attributes.
     enum class Attributes { none, uv_maps, named } attributes = Attributes::uv_maps;
     bool color = false;  ///< bake COLOR_0 (Ts'o eq. 4.1)
+    /// How the animation is written: one .glb of morph targets, one .glb of
+    /// scale-switched nodes, or one .glb per frame plus index.json.
+    enum class Form { morph, nodes, files } form = Form::morph;
     double fps = 24.0;  ///< frames per second of the animation (> 0)
 };
 
@@ -109,6 +113,8 @@ ScenePlan plan_scene(const Scene& scene);
 /// Every frame of one animation loop of a planned scene, ready for an exporter.
 struct SceneAnimation {
     std::size_t vertex_count = 0, frame_count = 0;
+    std::size_t first_frame = 0;  ///< of the loop: these are frames first_frame … first_frame + frame_count − 1
+    std::size_t loop_frames = 0;  ///< frames in the whole loop
     std::vector<float> positions;  ///< frame_count · vertex_count · 3, z up
     std::vector<float> normals;    ///< same layout, unit (area-weighted, Jeschke §5)
     std::vector<float> texcoords;  ///< vertex_count · 2: rest position scaled to the domain
@@ -124,10 +130,20 @@ struct SceneAnimation {
     MorphAnimationView view() const;
 };
 
-/// Evaluates every frame of one loop (round(loop_period · fps) frames, t = k / fps):
-/// the height field, or Gonzato's profile on the ray strips.
-/// Throws LimitError when the frames would exceed `max_bytes` as float arrays, naming
-/// the scene values that lower it.
-SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double max_bytes = 2e9);
+/// Which frames of the loop to evaluate: [first, end) clipped to the loop; the default
+/// is all of them. Slices let several machines share one animation (`files` form).
+struct FrameRange {
+    std::size_t first = 0;
+    std::size_t end = static_cast<std::size_t>(-1);
+};
+
+/// Evaluates frames of one loop (round(loop_period · fps) frames, t = k / fps): the
+/// height field, or Gonzato's profile on the ray strips, then normals and shading.
+/// `progress(done, total)` is called after each frame when given.
+/// Throws InputError for an empty frame range, LimitError when the frames would exceed
+/// `max_bytes` as float arrays (naming the scene values that lower it).
+SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double max_bytes = 2e9,
+                             FrameRange range = {},
+                             const std::function<void(std::size_t, std::size_t)>& progress = {});
 
 }  // namespace wave

@@ -111,141 +111,220 @@ float key_time(std::size_t k, double fps) noexcept {
     return t;
 }
 
+namespace {
+
+// Everything one frame contributes to a primitive, in glTF axes: (attribute, accessor
+// type, floats) for POSITION, NORMAL and the shading.
+struct FrameArrays {
+    std::vector<std::tuple<std::string, int, std::vector<float>>> attributes;
+};
+
+FrameArrays frame_arrays(const MorphAnimationView& a, std::size_t f) {
+    const std::size_t n = a.vertex_count;
+    FrameArrays out;
+    std::vector<float> p(3 * n), q(3 * n);
+    for (std::size_t v = 0; v < n; ++v) {
+        to_y_up(&a.positions[3 * (f * n + v)], &p[3 * v]);
+        to_y_up(&a.normals[3 * (f * n + v)], &q[3 * v]);
+    }
+    out.attributes.emplace_back("POSITION", TINYGLTF_TYPE_VEC3, std::move(p));
+    out.attributes.emplace_back("NORMAL", TINYGLTF_TYPE_VEC3, std::move(q));
+    const auto slice = [&](std::span<const float> c, std::size_t width) {
+        return std::vector<float>(c.begin() + static_cast<std::ptrdiff_t>(width * f * n),
+                                  c.begin() + static_cast<std::ptrdiff_t>(width * (f + 1) * n));
+    };
+    if (!a.colors.empty()) out.attributes.emplace_back("COLOR_0", TINYGLTF_TYPE_VEC3, slice(a.colors, 3));
+    if (a.reflect.empty()) return out;
+    if (a.layout == ScalarLayout::custom) {
+        out.attributes.emplace_back("_REFLECT", TINYGLTF_TYPE_SCALAR, slice(a.reflect, 1));
+        out.attributes.emplace_back("_REFRACT", TINYGLTF_TYPE_SCALAR, slice(a.refract, 1));
+        out.attributes.emplace_back("_FOAM", TINYGLTF_TYPE_SCALAR, slice(a.foam, 1));
+    } else {
+        std::vector<float> uv1(2 * n), uv2(2 * n, 0.0f);
+        for (std::size_t v = 0; v < n; ++v) {
+            uv1[2 * v] = a.reflect[f * n + v];
+            uv1[2 * v + 1] = a.refract[f * n + v];
+            uv2[2 * v] = a.foam[f * n + v];
+        }
+        out.attributes.emplace_back("TEXCOORD_1", TINYGLTF_TYPE_VEC2, std::move(uv1));
+        out.attributes.emplace_back("TEXCOORD_2", TINYGLTF_TYPE_VEC2, std::move(uv2));
+    }
+    return out;
+}
+
+// A model with one buffer, the shared index and TEXCOORD_0 accessors, and helpers.
+struct ModelWriter {
+    tinygltf::Model model;
+    GlbBuilder b{model, model.buffers.emplace_back().data};
+    int indices = -1, texcoord0 = -1;
+
+    explicit ModelWriter(const MorphAnimationView& a) {
+        model.asset.version = "2.0";
+        model.asset.generator = "libwave";
+        indices = b.accessor(b.view(a.triangles.data(), a.triangles.size_bytes(), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
+                             TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, a.triangles.size(), TINYGLTF_TYPE_SCALAR);
+        texcoord0 = b.accessor(b.view(a.texcoords.data(), a.texcoords.size_bytes(), TINYGLTF_TARGET_ARRAY_BUFFER),
+                               TINYGLTF_COMPONENT_TYPE_FLOAT, a.vertex_count, TINYGLTF_TYPE_VEC2);
+    }
+    // POSITION carries the min/max glTF requires.
+    int floats(const std::string& name, int type, const std::vector<float>& values) {
+        if (name == "POSITION") return b.vec3(values, TINYGLTF_TARGET_ARRAY_BUFFER, true);
+        const std::size_t width = type == TINYGLTF_TYPE_VEC3 ? 3 : type == TINYGLTF_TYPE_VEC2 ? 2 : 1;
+        return b.accessor(b.view(values.data(), values.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER),
+                          TINYGLTF_COMPONENT_TYPE_FLOAT, values.size() / width, type);
+    }
+    // A primitive of one frame (its own accessors; indices and TEXCOORD_0 shared).
+    tinygltf::Primitive primitive(const FrameArrays& frame) {
+        tinygltf::Primitive prim;
+        prim.mode = TINYGLTF_MODE_TRIANGLES;
+        prim.indices = indices;
+        prim.attributes["TEXCOORD_0"] = texcoord0;
+        for (const auto& [name, type, values] : frame.attributes) prim.attributes[name] = floats(name, type, values);
+        return prim;
+    }
+    int node(const std::string& name, int mesh) {
+        tinygltf::Node n;
+        n.name = name;
+        n.mesh = mesh;
+        model.nodes.push_back(n);
+        return static_cast<int>(model.nodes.size() - 1);
+    }
+    std::string finish(const std::vector<int>& roots) {
+        tinygltf::Scene scene;
+        scene.nodes = roots;
+        model.scenes.push_back(scene);
+        model.defaultScene = 0;
+        std::ostringstream out;
+        tinygltf::TinyGLTF writer;
+        if (!writer.WriteGltfSceneToStream(&model, out, false, true))
+            throw RuntimeError("glTF export: tinygltf could not serialise the model");
+        return out.str();
+    }
+};
+
+std::string frame_name(std::size_t f) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%04zu", f);
+    return name;
+}
+
+// The STEP key times of every frame, as an accessor.
+int key_times(ModelWriter& w, const MorphAnimationView& a, std::vector<float>& times) {
+    times.resize(a.frame_count);
+    for (std::size_t f = 0; f < a.frame_count; ++f) times[f] = key_time(a.first_frame + f, a.fps);
+    return w.b.accessor(w.b.view(times.data(), times.size() * sizeof(float), 0), TINYGLTF_COMPONENT_TYPE_FLOAT,
+                        times.size(), TINYGLTF_TYPE_SCALAR, {double{times.front()}}, {double{times.back()}});
+}
+
+}  // namespace
+
 std::string gltf_morph_glb(const MorphAnimationView& a) {
     check(a);
-    const std::size_t n = a.vertex_count, frames = a.frame_count;
-    tinygltf::Model model;
-    model.asset.version = "2.0";
-    model.asset.generator = "libwave";
-    model.buffers.resize(1);
-    std::vector<unsigned char>& bytes = model.buffers[0].data;
-    GlbBuilder b{model, bytes};
-
-    tinygltf::Primitive prim;
-    prim.mode = TINYGLTF_MODE_TRIANGLES;
-    prim.indices = b.accessor(b.view(a.triangles.data(), a.triangles.size_bytes(), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
-                              TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, a.triangles.size(), TINYGLTF_TYPE_SCALAR);
-
-    std::vector<float> base_p(3 * n), base_n(3 * n), scratch_p(3 * n), scratch_n(3 * n);
-    for (std::size_t v = 0; v < n; ++v) {
-        to_y_up(&a.positions[3 * v], &base_p[3 * v]);
-        to_y_up(&a.normals[3 * v], &base_n[3 * v]);
-    }
-    prim.attributes["POSITION"] = b.vec3(base_p, TINYGLTF_TARGET_ARRAY_BUFFER, true);
-    prim.attributes["NORMAL"] = b.vec3(base_n, TINYGLTF_TARGET_ARRAY_BUFFER, false);
-    prim.attributes["TEXCOORD_0"] =
-        b.accessor(b.view(a.texcoords.data(), a.texcoords.size_bytes(), TINYGLTF_TARGET_ARRAY_BUFFER),
-                   TINYGLTF_COMPONENT_TYPE_FLOAT, n, TINYGLTF_TYPE_VEC2);
-
-    // The shading scalars of frame f as (attribute name, accessor type, floats): either
-    // three FLOAT `_` attributes or the Blender 3.4 pair of UV maps.
-    const bool shaded = !a.reflect.empty();
-    const auto shading = [&](std::size_t f) {
-        std::vector<std::tuple<std::string, int, std::vector<float>>> out;
-        if (!a.colors.empty())
-            out.emplace_back("COLOR_0", TINYGLTF_TYPE_VEC3,
-                             std::vector<float>(a.colors.begin() + static_cast<std::ptrdiff_t>(3 * f * n),
-                                                a.colors.begin() + static_cast<std::ptrdiff_t>(3 * (f + 1) * n)));
-        if (!shaded) return out;
-        const auto frame = [&](std::span<const float> c) {
-            return std::vector<float>(c.begin() + static_cast<std::ptrdiff_t>(f * n), c.begin() + static_cast<std::ptrdiff_t>((f + 1) * n));
-        };
-        if (a.layout == ScalarLayout::custom) {
-            out.emplace_back("_REFLECT", TINYGLTF_TYPE_SCALAR, frame(a.reflect));
-            out.emplace_back("_REFRACT", TINYGLTF_TYPE_SCALAR, frame(a.refract));
-            out.emplace_back("_FOAM", TINYGLTF_TYPE_SCALAR, frame(a.foam));
-        } else {
-            std::vector<float> uv1(2 * n), uv2(2 * n, 0.0f);
-            for (std::size_t v = 0; v < n; ++v) {
-                uv1[2 * v] = a.reflect[f * n + v];
-                uv1[2 * v + 1] = a.refract[f * n + v];
-                uv2[2 * v] = a.foam[f * n + v];
-            }
-            out.emplace_back("TEXCOORD_1", TINYGLTF_TYPE_VEC2, std::move(uv1));
-            out.emplace_back("TEXCOORD_2", TINYGLTF_TYPE_VEC2, std::move(uv2));
-        }
-        return out;
-    };
-    const auto add_floats = [&](const std::vector<float>& values, int type, std::size_t count) {
-        return b.accessor(b.view(values.data(), values.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER),
-                          TINYGLTF_COMPONENT_TYPE_FLOAT, count, type);
-    };
-    const auto base_shading = shading(0);
-    for (const auto& [name, type, values] : base_shading) prim.attributes[name] = add_floats(values, type, n);
-
+    const std::size_t frames = a.frame_count;
+    ModelWriter w(a);
+    const FrameArrays base = frame_arrays(a, 0);
+    tinygltf::Primitive prim = w.primitive(base);
     tinygltf::Mesh mesh;
     mesh.name = a.name;
     std::vector<tinygltf::Value> names;
     for (std::size_t f = 0; f < frames; ++f) {
-        // A target holds the difference from the base (frame 0), in glTF axes.
-        for (std::size_t v = 0; v < n; ++v) {
-            float p[3], q[3];
-            to_y_up(&a.positions[3 * (f * n + v)], p);
-            to_y_up(&a.normals[3 * (f * n + v)], q);
-            for (int c = 0; c < 3; ++c) {
-                scratch_p[3 * v + static_cast<std::size_t>(c)] = p[c] - base_p[3 * v + static_cast<std::size_t>(c)];
-                scratch_n[3 * v + static_cast<std::size_t>(c)] = q[c] - base_n[3 * v + static_cast<std::size_t>(c)];
-            }
-        }
+        // A target holds the differences from the base (frame 0), in glTF axes.
+        FrameArrays frame = frame_arrays(a, f);
         std::map<std::string, int> target;
-        target["POSITION"] = b.vec3(scratch_p, TINYGLTF_TARGET_ARRAY_BUFFER, true);
-        target["NORMAL"] = b.vec3(scratch_n, TINYGLTF_TARGET_ARRAY_BUFFER, false);
-        auto frame_shading = shading(f);
-        for (std::size_t i = 0; i < frame_shading.size(); ++i) {
-            auto& [name, type, values] = frame_shading[i];
-            const auto& base = std::get<2>(base_shading[i]);
-            for (std::size_t j = 0; j < values.size(); ++j) values[j] -= base[j];
-            target[name] = add_floats(values, type, n);
+        for (std::size_t i = 0; i < frame.attributes.size(); ++i) {
+            auto& [name, type, values] = frame.attributes[i];
+            const auto& b = std::get<2>(base.attributes[i]);
+            for (std::size_t j = 0; j < values.size(); ++j) values[j] -= b[j];
+            target[name] = w.floats(name, type, values);
         }
         prim.targets.push_back(std::move(target));
         mesh.weights.push_back(f == 0 ? 1.0 : 0.0);
-        char name[32];
-        std::snprintf(name, sizeof name, "frame_%04zu", f);
-        names.emplace_back(std::string(name));
+        names.emplace_back(frame_name(a.first_frame + f));
     }
     mesh.primitives.push_back(std::move(prim));
     tinygltf::Value::Object extras;
     extras["targetNames"] = tinygltf::Value(names);
     mesh.extras = tinygltf::Value(extras);
-    model.meshes.push_back(std::move(mesh));
-
-    tinygltf::Node node;
-    node.mesh = 0;
-    node.name = a.name;
-    model.nodes.push_back(node);
-    tinygltf::Scene scene;
-    scene.nodes.push_back(0);
-    model.scenes.push_back(scene);
-    model.defaultScene = 0;
+    w.model.meshes.push_back(std::move(mesh));
+    const int node = w.node(a.name, 0);
 
     // One key per frame; weights one-hot (values stay in 0…1, as Blender clamps them).
-    std::vector<float> times(frames), weights(frames * frames, 0.0f);
-    for (std::size_t f = 0; f < frames; ++f) {
-        times[f] = key_time(f, a.fps);
-        weights[f * frames + f] = 1.0f;
-    }
-    const int input = b.accessor(b.view(times.data(), times.size() * sizeof(float), 0), TINYGLTF_COMPONENT_TYPE_FLOAT,
-                                 frames, TINYGLTF_TYPE_SCALAR, {double{times.front()}}, {double{times.back()}});
-    const int output = b.accessor(b.view(weights.data(), weights.size() * sizeof(float), 0),
+    std::vector<float> times, weights(frames * frames, 0.0f);
+    for (std::size_t f = 0; f < frames; ++f) weights[f * frames + f] = 1.0f;
+    tinygltf::AnimationSampler sampler;
+    sampler.input = key_times(w, a, times);
+    sampler.output = w.b.accessor(w.b.view(weights.data(), weights.size() * sizeof(float), 0),
                                   TINYGLTF_COMPONENT_TYPE_FLOAT, weights.size(), TINYGLTF_TYPE_SCALAR);
+    sampler.interpolation = "STEP";
     tinygltf::Animation anim;
     anim.name = a.name + "_frames";
-    tinygltf::AnimationSampler sampler;
-    sampler.input = input;
-    sampler.output = output;
-    sampler.interpolation = "STEP";
     anim.samplers.push_back(sampler);
     tinygltf::AnimationChannel channel;
     channel.sampler = 0;
-    channel.target_node = 0;
+    channel.target_node = node;
     channel.target_path = "weights";
     anim.channels.push_back(channel);
-    model.animations.push_back(anim);
-    std::ostringstream out;
-    tinygltf::TinyGLTF writer;
-    if (!writer.WriteGltfSceneToStream(&model, out, false, true))
-        throw RuntimeError("glTF export: tinygltf could not serialise the model");
-    return out.str();
+    w.model.animations.push_back(anim);
+    return w.finish({node});
+}
+
+std::string gltf_nodes_glb(const MorphAnimationView& a) {
+    check(a);
+    const std::size_t frames = a.frame_count;
+    ModelWriter w(a);
+    // A parent node holds one child per frame; each child's scale is switched between
+    // 0 and 1 by STEP keys so that exactly one frame shows at a time.
+    std::vector<int> children;
+    for (std::size_t f = 0; f < frames; ++f) {
+        tinygltf::Mesh mesh;
+        mesh.name = frame_name(a.first_frame + f);
+        mesh.primitives.push_back(w.primitive(frame_arrays(a, f)));
+        w.model.meshes.push_back(std::move(mesh));
+        children.push_back(w.node(frame_name(a.first_frame + f), static_cast<int>(w.model.meshes.size() - 1)));
+        if (f != 0) w.model.nodes.back().scale = {0.0, 0.0, 0.0};
+    }
+    tinygltf::Node parent;
+    parent.name = a.name;
+    parent.children = children;
+    w.model.nodes.push_back(parent);
+    const int root = static_cast<int>(w.model.nodes.size() - 1);
+
+    std::vector<float> times;
+    const int input = key_times(w, a, times);
+    tinygltf::Animation anim;
+    anim.name = a.name + "_frames";
+    std::vector<float> scales(3 * frames);
+    for (std::size_t f = 0; f < frames; ++f) {
+        for (std::size_t k = 0; k < frames; ++k) {
+            const float on = k == f ? 1.0f : 0.0f;
+            scales[3 * k] = scales[3 * k + 1] = scales[3 * k + 2] = on;
+        }
+        tinygltf::AnimationSampler sampler;
+        sampler.input = input;
+        sampler.output = w.b.accessor(w.b.view(scales.data(), scales.size() * sizeof(float), 0),
+                                      TINYGLTF_COMPONENT_TYPE_FLOAT, frames, TINYGLTF_TYPE_VEC3);
+        sampler.interpolation = "STEP";
+        anim.samplers.push_back(sampler);
+        tinygltf::AnimationChannel channel;
+        channel.sampler = static_cast<int>(anim.samplers.size() - 1);
+        channel.target_node = children[f];
+        channel.target_path = "scale";
+        anim.channels.push_back(channel);
+    }
+    w.model.animations.push_back(anim);
+    return w.finish({root});
+}
+
+std::string gltf_frame_glb(const MorphAnimationView& a, std::size_t f) {
+    check(a);
+    if (f >= a.frame_count)
+        throw InputError("glTF export: frame " + std::to_string(f) + " of " + std::to_string(a.frame_count));
+    ModelWriter w(a);
+    tinygltf::Mesh mesh;
+    mesh.name = a.name;
+    mesh.primitives.push_back(w.primitive(frame_arrays(a, f)));
+    w.model.meshes.push_back(std::move(mesh));
+    return w.finish({w.node(a.name, 0)});
 }
 
 }  // namespace wave

@@ -319,7 +319,9 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     }
     if (root.has("outputs")) {
         const Node o = root["outputs"];
-        o.require_object({"attributes", "color"});
+        o.require_object({"attributes", "color", "form"});
+        if (o.has("form"))
+            s.form = o["form"].choice<Scene::Form>({{"morph", Scene::Form::morph}, {"nodes", Scene::Form::nodes}, {"files", Scene::Form::files}});
         if (o.has("attributes"))
             s.attributes = o["attributes"].choice<Scene::Attributes>(
                 {{"none", Scene::Attributes::none}, {"uv-maps", Scene::Attributes::uv_maps}, {"named", Scene::Attributes::named}});
@@ -434,16 +436,25 @@ MorphAnimationView SceneAnimation::view() const {
     v.colors = colors;
     v.layout = layout;
     v.fps = fps;
+    v.first_frame = first_frame;
     return v;
 }
 
-SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double max_bytes) {
+SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double max_bytes, FrameRange range,
+                             const std::function<void(std::size_t, std::size_t)>& progress) {
     const bool strips = scene.surface_kind == SurfaceKind::ray_strips;
     const HeightFieldPlan& sp = plan.surface;
     SceneAnimation a;
     a.fps = scene.fps;
     a.vertex_count = strips ? plan.motion.vertex_count() : sp.vertex_count();
-    a.frame_count = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(plan.loop_period * scene.fps)));
+    a.loop_frames = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(plan.loop_period * scene.fps)));
+    const std::size_t end = std::min(range.end, a.loop_frames);
+    if (range.first >= end)
+        throw InputError("scene: the frame range " + std::to_string(range.first) + ":" +
+                         (range.end == static_cast<std::size_t>(-1) ? std::string() : std::to_string(range.end)) +
+                         " holds no frame of the loop's 0:" + std::to_string(a.loop_frames));
+    a.first_frame = range.first;
+    a.frame_count = end - range.first;
     a.triangles = strips ? std::span<const std::uint32_t>(plan.strips.triangles) : std::span<const std::uint32_t>(sp.triangles);
     const std::size_t n = a.vertex_count;
     const bool shaded = scene.attributes != Scene::Attributes::none;
@@ -459,7 +470,22 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
     FresnelOptions fresnel;
     fresnel.camera = scene_camera(scene, plan.seafloor);
     fresnel.model = scene.fresnel;
-    std::vector<float> depth;  // rest depth per vertex, for the colour
+    const ElevationGrid& g = plan.seafloor.grid;
+    const double width = g.x_max() - g.x0, height = g.y_max() - g.y0;
+    const auto rest = [&](std::size_t v) -> std::array<double, 2> {
+        if (strips) return {plan.motion.x[v], plan.motion.y[v]};
+        const std::size_t row = v / sp.vertex_nx, col = v % sp.vertex_nx;
+        return {g.x0 + width * static_cast<double>(col) / static_cast<double>(sp.vertex_nx - 1),
+                g.y0 + height * static_cast<double>(row) / static_cast<double>(sp.vertex_ny - 1)};
+    };
+    std::vector<float> depth;  // at the rest position, for the colour
+    if (scene.color) {
+        depth.resize(n);
+        for (std::size_t v = 0; v < n; ++v) {
+            const auto [x, y] = rest(v);
+            depth[v] = static_cast<float>(std::max(0.0, depth_at(g, x, y)));
+        }
+    }
     if (shaded) {
         a.reflect.resize(n * a.frame_count);
         a.refract.resize(n * a.frame_count);
@@ -471,7 +497,7 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
     a.z_max = -std::numeric_limits<float>::infinity();
     for (std::size_t f = 0; f < a.frame_count; ++f) {
         const std::span<float> p(&a.positions[3 * n * f], 3 * n), nr(&a.normals[3 * n * f], 3 * n);
-        const double t = static_cast<double>(f) / scene.fps;
+        const double t = static_cast<double>(a.first_frame + f) / scene.fps;
         if (strips) evaluate_gonzato_motion(plan.motion, t, p);
         else evaluate_height_field(sp, t, heights, p);
         vertex_normals(p, a.triangles, nr);
@@ -479,36 +505,21 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
             a.z_min = std::min(a.z_min, p[3 * v + 2]);
             a.z_max = std::max(a.z_max, p[3 * v + 2]);
         }
-        if (!shaded) continue;
-        const std::span<float> r(&a.reflect[n * f], n), tr(&a.refract[n * f], n), foam(&a.foam[n * f], n);
-        fresnel_weights(p, nr, fresnel, r, tr);
-        if (strips) breaking_foam(plan.strips, plan.motion, t, scene.foam, foam);
-        if (scene.color) {
-            if (depth.empty()) {
-                depth.resize(n);
-                for (std::size_t v = 0; v < n; ++v)
-                    depth[v] = static_cast<float>(std::max(0.0, depth_at(plan.seafloor.grid, p[3 * v], p[3 * v + 1])));
-            }
-            water_colour(r, depth, foam, WaterColours{}, std::span<float>(&a.colors[3 * n * f], 3 * n));
+        if (shaded) {
+            const std::span<float> r(&a.reflect[n * f], n), tr(&a.refract[n * f], n), foam(&a.foam[n * f], n);
+            fresnel_weights(p, nr, fresnel, r, tr);
+            if (strips) breaking_foam(plan.strips, plan.motion, t, scene.foam, foam);
+            if (scene.color) water_colour(r, depth, foam, WaterColours{}, std::span<float>(&a.colors[3 * n * f], 3 * n));
         }
+        if (progress) progress(f + 1, a.frame_count);
     }
     // TEXCOORD_0: the rest position over the seafloor's rectangle, u along +x, v down
     // (glTF's image origin is top-left).
     a.texcoords.resize(2 * n);
-    const ElevationGrid& g = plan.seafloor.grid;
-    const double w = g.x_max() - g.x0, h = g.y_max() - g.y0;
     for (std::size_t v = 0; v < n; ++v) {
-        double x = 0.0, y = 0.0;
-        if (strips) {
-            x = plan.motion.x[v];
-            y = plan.motion.y[v];
-        } else {
-            const std::size_t row = v / sp.vertex_nx, col = v % sp.vertex_nx;
-            x = g.x0 + w * static_cast<double>(col) / static_cast<double>(sp.vertex_nx - 1);
-            y = g.y0 + h * static_cast<double>(row) / static_cast<double>(sp.vertex_ny - 1);
-        }
-        a.texcoords[2 * v] = static_cast<float>((x - g.x0) / w);
-        a.texcoords[2 * v + 1] = static_cast<float>(1.0 - (y - g.y0) / h);
+        const auto [x, y] = rest(v);
+        a.texcoords[2 * v] = static_cast<float>((x - g.x0) / width);
+        a.texcoords[2 * v + 1] = static_cast<float>(1.0 - (y - g.y0) / height);
     }
     return a;
 }
