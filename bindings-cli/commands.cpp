@@ -1,6 +1,7 @@
 // The `wave` subcommands: parse nothing, compute nothing themselves — they call
 // libwave and print what it returns.
 #include "commands.h"
+#include "scene_schema.h"
 
 #include "libwave/errors.h"
 #include "libwave/io.h"
@@ -367,6 +368,30 @@ int run_job(const RunArgs& a) {
               << " before importing)\n"
               << "           " << out_dir << "/{isobaths.json, " << trace_file << ", surface-frame-0000.obj, report.json}\n";
     for (const std::string& w : plan.warnings) std::cout << "warning    " << w << '\n';
+    return 0;
+}
+
+int run_validate(const std::string& path, bool as_json) {
+    const Scene scene = read_scene(path);
+    const Seafloor sea = load_seafloor(scene.seafloor);
+    const auto camera = scene_camera(scene, sea);
+    const SeafloorStats st = seafloor_stats(sea);
+    const char* kind = scene.surface_kind == SurfaceKind::ray_strips ? "ray-strips" : "height-field";
+    if (as_json) {
+        std::cout << json{{"scene", scene.name}, {"valid", true}, {"surface", kind}, {"waves", scene.waves.size()},
+                          {"seafloor", sea.source}, {"camera", camera}, {"fps", scene.fps}}
+                         .dump(2)
+                  << '\n';
+        return 0;
+    }
+    std::cout << path << ": valid — " << scene.name << "; " << kind << " surface, " << scene.waves.size()
+              << " wave train(s) over " << sea.source << " (" << st.nx << " x " << st.ny << " nodes), camera at ["
+              << camera[0] << ", " << camera[1] << ", " << camera[2] << "], " << scene.fps << " fps\n";
+    return 0;
+}
+
+int run_schema() {
+    std::cout << kSceneSchema;
     return 0;
 }
 

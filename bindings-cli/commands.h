@@ -56,4 +56,11 @@ struct RunArgs {
 };
 int run_job(const RunArgs& a);
 
+/// Checks a scene file (JSON, keys, values, the seafloor source, the camera) without
+/// running it; prints what it would do.
+int run_validate(const std::string& scene, bool json);
+
+/// Prints the scene JSON Schema (docs/scene.schema.json).
+int run_schema();
+
 }  // namespace wave::cli

@@ -72,6 +72,13 @@ int main(int argc, char** argv) {
     run_cmd->add_option("--threads", run.threads, "worker threads (default: all cores); the outputs are the same for any count")
         ->check(CLI::PositiveNumber);
 
+    std::string validate_scene;
+    bool validate_json = false;
+    auto* validate_cmd = app.add_subcommand("validate", "Check a scene file (keys, values, seafloor, camera) without running it");
+    validate_cmd->add_option("scene", validate_scene, "scene file (JSON)")->required();
+    validate_cmd->add_flag("--json", validate_json, "print the result as JSON");
+    auto* schema_cmd = app.add_subcommand("schema", "Print the scene file's JSON Schema");
+
     cli::TraceArgs trace;
     auto* trace_cmd = app.add_subcommand("trace", "Trace a scene's wave trains: rays or fronts as CSV, ray strips as PLY, a summary");
     trace_cmd->add_option("scene", trace.scene, "scene file (JSON)")->required();
@@ -117,6 +124,8 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
         if (*run_cmd) return cli::run_job(run);
+        if (*validate_cmd) return cli::run_validate(validate_scene, validate_json);
+        if (*schema_cmd) return cli::run_schema();
         if (*trace_cmd) return cli::run_trace(trace);
         if (*disp_cmd) return cli::run_dispersion(disp);
         if (*info_cmd) return cli::run_seafloor_info(sea);

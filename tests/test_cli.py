@@ -396,6 +396,31 @@ class MainJob(unittest.TestCase):
                 self.assertIn("frame", r.stderr)
                 self.assertFalse(os.path.exists(os.path.join(d, "bad")))
 
+    def test_schema_describes_every_example_and_validate_checks_without_running(self):
+        import jsonschema  # Debian: python3-jsonschema (scripts/install-deps.sh)
+        r = wave("schema")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        schema = json.loads(r.stdout)
+        jsonschema.Draft202012Validator.check_schema(schema)
+        for name in sorted(os.listdir(EXAMPLES)):
+            if name.endswith(".json"):
+                jsonschema.validate(json.load(open(os.path.join(EXAMPLES, name))), schema)
+                r = wave("validate", os.path.join(EXAMPLES, name), "--json")
+                self.assertEqual(r.returncode, 0, f"{name}: {r.stderr}")
+                self.assertTrue(json.loads(r.stdout)["valid"])
+        # A typo is an error for both the schema and the parser.
+        with tempfile.TemporaryDirectory() as d:
+            bad = os.path.join(d, "bad.json")
+            doc = {"waves": [{"period": 5}], "fronts": {"stpe": 0.4}}
+            with open(bad, "w") as f:
+                json.dump(doc, f)
+            with self.assertRaises(jsonschema.ValidationError):
+                jsonschema.validate(doc, schema)
+            r = wave("validate", bad)
+            self.assertEqual(r.returncode, 2)
+            self.assertIn("/fronts/stpe", r.stderr)
+            self.assertEqual(os.listdir(d), ["bad.json"])
+
     def test_trace_summary_and_strip_mesh(self):
         with tempfile.TemporaryDirectory() as d:
             ply, csv = os.path.join(d, "strips.ply"), os.path.join(d, "fronts.csv")
