@@ -251,6 +251,9 @@ int run_job(const RunArgs& a) {
     if (a.fps > 0.0) scene.fps = a.fps;
     if (!a.form.empty())
         scene.form = a.form == "nodes" ? Scene::Form::nodes : a.form == "files" ? Scene::Form::files : Scene::Form::morph;
+    if (a.draco && !scene.draco) scene.draco = DracoOptions{};
+    if (scene.draco && scene.form == Scene::Form::morph)
+        throw InputError("--draco compresses the nodes and files forms (--form nodes|files); morph targets cannot be compressed");
     const FrameRange range = parse_frames(a.frames);
     const std::string stem = a.scene.empty() ? "default" : std::filesystem::path(a.scene).stem().string();
     const std::string out_dir = a.out_dir.empty() ? "wave-out/" + stem : a.out_dir;
@@ -303,6 +306,7 @@ int run_job(const RunArgs& a) {
                  {"first_frame", anim.first_frame},
                  {"loop_frames", anim.loop_frames},
                  {"form", scene.form == Scene::Form::morph ? "morph" : scene.form == Scene::Form::nodes ? "nodes" : "files"},
+                 {"draco", scene.draco.has_value()},
                  {"shading", scene.attributes == Scene::Attributes::none ? "none"
                              : scene.attributes == Scene::Attributes::named ? "named" : "uv-maps"},
                  {"height_range_m", {anim.z_min, anim.z_max}}};

@@ -359,6 +359,30 @@ class MainJob(unittest.TestCase):
             self.assertIn("index.json", r.stderr)
             self.assertEqual(sorted(os.listdir(os.path.join(out, "frames"))), before)
 
+    def test_draco_nodes_and_files_validate_and_shrink(self):
+        with tempfile.TemporaryDirectory() as d:
+            scene = os.path.join(d, "s.json")
+            with open(scene, "w") as f:
+                json.dump(self.SMALL, f)
+            sizes = {}
+            for draco in [False, True]:
+                out = os.path.join(d, "draco" if draco else "plain")
+                args = ["run", scene, "-o", out, "--form", "nodes", "--fps", "6", "-q"] + (["--draco"] if draco else [])
+                self.assertEqual(wave(*args).returncode, 0)
+                glb = os.path.join(out, "animation.glb")
+                validate_gltf(self, glb)
+                sizes[draco] = os.path.getsize(glb)
+                doc, _ = read_glb(glb)
+                self.assertEqual("KHR_draco_mesh_compression" in doc.get("extensionsRequired", []), draco)
+            self.assertLess(sizes[True], sizes[False] / 3)
+            out = os.path.join(d, "files")
+            self.assertEqual(wave("run", scene, "-o", out, "--form", "files", "--frames", "0:2", "--draco", "-q").returncode, 0)
+            validate_gltf(self, os.path.join(out, "frames", "frame-0001.glb"))
+            r = wave("run", scene, "-o", os.path.join(d, "morph"), "--draco")
+            self.assertEqual(r.returncode, 2)
+            self.assertIn("morph", r.stderr)
+            self.assertFalse(os.path.exists(os.path.join(d, "morph")))
+
     def test_nodes_form_and_frame_slices(self):
         with tempfile.TemporaryDirectory() as d:
             scene, out = os.path.join(d, "s.json"), os.path.join(d, "out")
@@ -482,6 +506,8 @@ class MainJob(unittest.TestCase):
                 ('{"waves": [{"period": 6}], "outputs": {"attributes": "all"}}', "uv-maps"),
                 ('{"waves": [{"period": 6}], "outputs": {"colour": true}}', "/outputs/colour"),
                 ('{"waves": [{"period": 6}], "shade": {"foam_onset": 1.5}}', "/shade/foam_onset"),
+                ('{"waves": [{"period": 6}], "outputs": {"draco": true}}', "/outputs/draco"),
+                ('{"waves": [{"period": 6}], "outputs": {"form": "files", "draco": {"position_bits": 40}}}', "/outputs/draco/position_bits"),
                 ('{"waves": [{"period": 6}], "seafloor": {"source": "nowhere.asc"}}', "/seafloor/source"),
                 ('{"waves": [{"period": 6}], "trace": {"rays": 3}}', "/trace/rays"),
                 ('{"waves": [{"period": 6}], "isobaths": {"levels": [99]}}', "level 99"),

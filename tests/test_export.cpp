@@ -1,12 +1,18 @@
 // Export and shade kernels: key times, input checks, and vertex normals.
 #include "libwave/errors.h"
 #include "libwave/export.h"
+#include "libwave/scene.h"
 #include "libwave/shade.h"
+
+#include <draco/compression/decode.h>
+#include <nlohmann/json.hpp>
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
+#include <algorithm>
+#include <array>
 #include <cstring>
 #include <limits>
 #include <vector>
@@ -111,6 +117,73 @@ TEST(GltfMorph, ShadingScalarsInBothLayoutsAndTheirChecks) {
     foam[3] = std::numeric_limits<float>::quiet_NaN();
     v.foam = foam;
     EXPECT_THROW(gltf_morph_glb(v), InputError);
+}
+
+TEST(Draco, FramesDecodeToTheSameVerticesWithinTheQuantisation) {
+    // A coarse bay (about 1 500 vertices), two frames, Draco on the files form.
+    Scene scene = default_scene();
+    scene.trace.ray_spacing = 4.0;
+    scene.fronts.step = 1.6;
+    scene.fronts.split_distance = 4.8;
+    scene.attributes = Scene::Attributes::named;
+    const ScenePlan plan = plan_scene(scene);
+    const SceneAnimation anim = animate_scene(scene, plan, 2e9, FrameRange{0, 2});
+    MorphAnimationView view = anim.view();
+    view.draco = DracoOptions{};
+    const std::string glb = gltf_frame_glb(view, 1);
+    const auto doc = nlohmann::json::parse(glb_json(glb));
+    ASSERT_EQ(doc["extensionsRequired"][0], "KHR_draco_mesh_compression");
+    const auto& prim = doc["meshes"][0]["primitives"][0];
+    const auto& ext = prim["extensions"]["KHR_draco_mesh_compression"];
+    for (const char* name : {"POSITION", "NORMAL", "TEXCOORD_0", "_REFLECT", "_REFRACT", "_FOAM"})
+        EXPECT_TRUE(ext["attributes"].contains(name)) << name;
+    // The bitstream: the bufferView inside the BIN chunk (after the JSON chunk).
+    std::uint32_t json_length = 0;
+    std::memcpy(&json_length, glb.data() + 12, 4);
+    const auto& bv = doc["bufferViews"][ext["bufferView"].get<int>()];
+    const std::size_t bin = 20 + json_length + 8;
+    draco::DecoderBuffer buffer;
+    buffer.Init(glb.data() + bin + bv.value("byteOffset", 0), bv["byteLength"].get<std::size_t>());
+    draco::Decoder decoder;
+    auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
+    ASSERT_TRUE(decoded.ok()) << decoded.status().error_msg();
+    const std::unique_ptr<draco::Mesh> mesh = std::move(decoded).value();
+    const std::size_t n = anim.vertex_count;
+    ASSERT_EQ(mesh->num_points(), n);
+    ASSERT_EQ(mesh->num_faces(), anim.triangles.size() / 3);
+    const draco::PointAttribute* pos = mesh->GetAttributeByUniqueId(ext["attributes"]["POSITION"].get<std::uint32_t>());
+    ASSERT_NE(pos, nullptr);
+    // The original frame 1 in glTF axes (x, z, −y), and its extent for the error bound.
+    std::vector<std::array<float, 3>> original(n);
+    float extent = 0.0f;
+    std::array<float, 3> lo{1e30f, 1e30f, 1e30f}, hi{-1e30f, -1e30f, -1e30f};
+    for (std::size_t v = 0; v < n; ++v) {
+        const float* p = &anim.positions[3 * (n + v)];
+        original[v] = {p[0], p[2], -p[1]};
+        for (int i = 0; i < 3; ++i) lo[i] = std::min(lo[i], original[v][i]), hi[i] = std::max(hi[i], original[v][i]);
+    }
+    for (int i = 0; i < 3; ++i) extent = std::max(extent, hi[i] - lo[i]);
+    const double tolerance = extent / double(1 << 14);  // 14 position bits
+    // The decoder reorders points: every decoded point must have an original within
+    // the quantisation error, and every original must be matched once.
+    std::vector<int> matched(n, 0);
+    double worst = 0.0;
+    for (draco::PointIndex i(0); i < mesh->num_points(); ++i) {
+        std::array<float, 3> q{};
+        pos->GetMappedValue(i, q.data());
+        double best = 1e30;
+        std::size_t arg = 0;
+        for (std::size_t v = 0; v < n; ++v) {
+            const double d = std::hypot(q[0] - original[v][0], q[1] - original[v][1], q[2] - original[v][2]);
+            if (d < best) best = d, arg = v;
+        }
+        worst = std::max(worst, best);
+        ++matched[arg];
+    }
+    EXPECT_LE(worst, tolerance);
+    EXPECT_EQ(std::count(matched.begin(), matched.end(), 1), static_cast<long>(n));
+    // Morph targets cannot be compressed.
+    EXPECT_THROW(gltf_morph_glb(view), InputError);
 }
 
 TEST(Fresnel, WeightsMatchTheFormulasAndSumToOne) {

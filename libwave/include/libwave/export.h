@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -24,6 +25,17 @@ std::string mesh_to_obj(std::span<const float> positions, std::span<const std::u
 enum class ScalarLayout {
     custom,     ///< FLOAT attributes `_REFLECT`, `_REFRACT`, `_FOAM` (glTF's custom-attribute rule; Blender >= 3.5, three.js `_foam`)
     blender34,  ///< TEXCOORD_1 = (R, T), TEXCOORD_2 = (foam, 0): Blender 3.4 keeps UV maps (it stores 1 − v)
+};
+
+/// Draco compression (KHR_draco_mesh_compression) of the `nodes` and `files` forms:
+/// quantisation bits per kind of attribute (more bits, smaller error, bigger files).
+struct DracoOptions {
+    int position_bits = 14;  ///< error <= extent / 2^15 per axis
+    int normal_bits = 10;
+    int texcoord_bits = 12;  ///< also the UV-map shading layout
+    int color_bits = 8;
+    int generic_bits = 12;   ///< the named `_` scalars
+    int encode_speed = 5;    ///< Draco's 0 (smallest) … 10 (fastest)
 };
 
 /// Frames of one mesh with fixed topology (views of caller-owned arrays, z up).
@@ -43,6 +55,8 @@ struct MorphAnimationView {
     /// and frame names count from it.
     std::size_t first_frame = 0;
     std::string name = "water";
+    /// Compress with Draco (nodes and files forms only: morph targets cannot be).
+    std::optional<DracoOptions> draco;
 };
 
 /// The largest float32 <= k / fps: nearest rounding lands some keys just after frame k

@@ -65,6 +65,8 @@ struct Scene {
     /// How the animation is written: one .glb of morph targets, one .glb of
     /// scale-switched nodes, or one .glb per frame plus index.json.
     enum class Form { morph, nodes, files } form = Form::morph;
+    /// Draco compression of the nodes and files forms (empty = none).
+    std::optional<DracoOptions> draco;
     double fps = 24.0;  ///< frames per second of the animation (> 0)
 };
 
@@ -123,6 +125,7 @@ struct SceneAnimation {
     /// has no per-vertex breaking yet, so 0), and COLOR_0 (3 per vertex) when asked.
     std::vector<float> reflect, refract, foam, colors;
     ScalarLayout layout = ScalarLayout::blender34;
+    std::optional<DracoOptions> draco;
     float z_min = 0, z_max = 0;    ///< height range over all frames (m)
     double fps = 24.0;
     std::span<const std::uint32_t> triangles;  ///< the plan's index list (strips or height field)

@@ -11,6 +11,7 @@
 #include "core/format.h"
 #include "libwave/errors.h"
 #include "libwave/export.h"
+#include "draco_encode.h"
 
 #include <cmath>
 #include <cstring>
@@ -161,6 +162,7 @@ struct ModelWriter {
     explicit ModelWriter(const MorphAnimationView& a) {
         model.asset.version = "2.0";
         model.asset.generator = "libwave";
+        if (a.draco) return;  // every primitive carries its own compressed indices and UVs
         indices = b.accessor(b.view(a.triangles.data(), a.triangles.size_bytes(), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
                              TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, a.triangles.size(), TINYGLTF_TYPE_SCALAR);
         texcoord0 = b.accessor(b.view(a.texcoords.data(), a.texcoords.size_bytes(), TINYGLTF_TARGET_ARRAY_BUFFER),
@@ -181,6 +183,46 @@ struct ModelWriter {
         prim.attributes["TEXCOORD_0"] = texcoord0;
         for (const auto& [name, type, values] : frame.attributes) prim.attributes[name] = floats(name, type, values);
         return prim;
+    }
+    // The same primitive compressed by Draco: the accessors keep count, type and
+    // bounds but no bufferView; the extension points at the Draco bitstream. Every
+    // attribute is compressed, TEXCOORD_0 too (the decoder reorders points).
+    tinygltf::Primitive draco_primitive(const MorphAnimationView& a, const FrameArrays& frame) {
+        std::vector<detail::DracoInput> inputs{{"TEXCOORD_0", 2, a.texcoords}};
+        for (const auto& [name, type, values] : frame.attributes)
+            inputs.push_back({name, type == TINYGLTF_TYPE_VEC3 ? 3 : type == TINYGLTF_TYPE_VEC2 ? 2 : 1, values});
+        const detail::DracoOutput encoded = detail::draco_encode(a.triangles, a.vertex_count, inputs, *a.draco);
+        tinygltf::Primitive prim;
+        prim.mode = TINYGLTF_MODE_TRIANGLES;
+        prim.indices = b.accessor(-1, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, a.triangles.size(), TINYGLTF_TYPE_SCALAR);
+        tinygltf::Value::Object ids;
+        for (const detail::DracoInput& in : inputs) {
+            std::vector<double> lo, hi;
+            if (in.name == "POSITION") {
+                lo.assign(3, std::numeric_limits<double>::infinity());
+                hi.assign(3, -std::numeric_limits<double>::infinity());
+                for (std::size_t i = 0; i < in.values.size(); ++i) {
+                    lo[i % 3] = std::min(lo[i % 3], double{in.values[i]});
+                    hi[i % 3] = std::max(hi[i % 3], double{in.values[i]});
+                }
+            }
+            const int type = in.components == 3 ? TINYGLTF_TYPE_VEC3 : in.components == 2 ? TINYGLTF_TYPE_VEC2 : TINYGLTF_TYPE_SCALAR;
+            prim.attributes[in.name] = b.accessor(-1, TINYGLTF_COMPONENT_TYPE_FLOAT, a.vertex_count, type, lo, hi);
+            ids[in.name] = tinygltf::Value(encoded.ids.at(in.name));
+        }
+        tinygltf::Value::Object ext;
+        ext["bufferView"] = tinygltf::Value(b.view(encoded.bytes.data(), encoded.bytes.size(), 0));
+        ext["attributes"] = tinygltf::Value(ids);
+        prim.extensions["KHR_draco_mesh_compression"] = tinygltf::Value(ext);
+        if (model.extensionsUsed.empty()) {
+            model.extensionsUsed.push_back("KHR_draco_mesh_compression");
+            model.extensionsRequired.push_back("KHR_draco_mesh_compression");
+        }
+        return prim;
+    }
+    tinygltf::Primitive frame_primitive(const MorphAnimationView& a, std::size_t f) {
+        const FrameArrays frame = frame_arrays(a, f);
+        return a.draco ? draco_primitive(a, frame) : primitive(frame);
     }
     int node(const std::string& name, int mesh) {
         tinygltf::Node n;
@@ -220,6 +262,9 @@ int key_times(ModelWriter& w, const MorphAnimationView& a, std::vector<float>& t
 
 std::string gltf_morph_glb(const MorphAnimationView& a) {
     check(a);
+    if (a.draco)
+        throw InputError("glTF export: Draco compresses the nodes and files forms; morph targets cannot be compressed "
+                         "(KHR_draco_mesh_compression covers a primitive's attributes only)");
     const std::size_t frames = a.frame_count;
     ModelWriter w(a);
     const FrameArrays base = frame_arrays(a, 0);
@@ -278,7 +323,7 @@ std::string gltf_nodes_glb(const MorphAnimationView& a) {
     for (std::size_t f = 0; f < frames; ++f) {
         tinygltf::Mesh mesh;
         mesh.name = frame_name(a.first_frame + f);
-        mesh.primitives.push_back(w.primitive(frame_arrays(a, f)));
+        mesh.primitives.push_back(w.frame_primitive(a, f));
         w.model.meshes.push_back(std::move(mesh));
         children.push_back(w.node(frame_name(a.first_frame + f), static_cast<int>(w.model.meshes.size() - 1)));
         if (f != 0) w.model.nodes.back().scale = {0.0, 0.0, 0.0};
@@ -322,7 +367,7 @@ std::string gltf_frame_glb(const MorphAnimationView& a, std::size_t f) {
     ModelWriter w(a);
     tinygltf::Mesh mesh;
     mesh.name = a.name;
-    mesh.primitives.push_back(w.primitive(frame_arrays(a, f)));
+    mesh.primitives.push_back(w.frame_primitive(a, f));
     w.model.meshes.push_back(std::move(mesh));
     return w.finish({w.node(a.name, 0)});
 }

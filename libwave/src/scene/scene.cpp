@@ -319,13 +319,42 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     }
     if (root.has("outputs")) {
         const Node o = root["outputs"];
-        o.require_object({"attributes", "color", "form"});
+        o.require_object({"attributes", "color", "form", "draco"});
         if (o.has("form"))
             s.form = o["form"].choice<Scene::Form>({{"morph", Scene::Form::morph}, {"nodes", Scene::Form::nodes}, {"files", Scene::Form::files}});
         if (o.has("attributes"))
             s.attributes = o["attributes"].choice<Scene::Attributes>(
                 {{"none", Scene::Attributes::none}, {"uv-maps", Scene::Attributes::uv_maps}, {"named", Scene::Attributes::named}});
         if (o.has("color")) s.color = o["color"].boolean();
+        if (o.has("draco")) {
+            const Node d = o["draco"];
+            if (d.value().is_boolean()) {
+                if (d.boolean()) s.draco = DracoOptions{};
+            } else {
+                d.require_object({"position_bits", "normal_bits", "texcoord_bits", "color_bits", "generic_bits", "encode_speed"});
+                DracoOptions dr;
+                const auto bits = [&](const char* key, int& field) {
+                    if (!d.has(key)) return;
+                    const std::size_t b = d[key].count(1);
+                    if (b > 30) d[key].fail("expected 1 … 30 bits, got " + std::to_string(b));
+                    field = static_cast<int>(b);
+                };
+                bits("position_bits", dr.position_bits);
+                bits("normal_bits", dr.normal_bits);
+                bits("texcoord_bits", dr.texcoord_bits);
+                bits("color_bits", dr.color_bits);
+                bits("generic_bits", dr.generic_bits);
+                if (d.has("encode_speed")) {
+                    const std::size_t sp = d["encode_speed"].count(0);
+                    if (sp > 10) d["encode_speed"].fail("expected 0 … 10, got " + std::to_string(sp));
+                    dr.encode_speed = static_cast<int>(sp);
+                }
+                s.draco = dr;
+            }
+            if (s.draco && s.form == Scene::Form::morph)
+                d.fail("Draco compresses the nodes and files forms; set /outputs/form to \"nodes\" or \"files\" "
+                       "(morph targets cannot be compressed)");
+        }
         if (s.color && s.attributes == Scene::Attributes::none) o["color"].fail("a baked colour needs the shading: set attributes to uv-maps or named");
     }
     s.foam.breaker_index = s.trace.breaker_index;
@@ -437,6 +466,7 @@ MorphAnimationView SceneAnimation::view() const {
     v.layout = layout;
     v.fps = fps;
     v.first_frame = first_frame;
+    v.draco = draco;
     return v;
 }
 
@@ -467,6 +497,7 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
     a.positions.resize(3 * n * a.frame_count);
     a.normals.resize(3 * n * a.frame_count);
     a.layout = scene.attributes == Scene::Attributes::named ? ScalarLayout::custom : ScalarLayout::blender34;
+    a.draco = scene.draco;
     FresnelOptions fresnel;
     fresnel.camera = scene_camera(scene, plan.seafloor);
     fresnel.model = scene.fresnel;

@@ -1,0 +1,32 @@
+// Internal to the export stage: one mesh primitive through Draco's encoder
+// (KHR_draco_mesh_compression). Draco's types stay in draco_encode.cpp.
+#pragma once
+
+#include "libwave/export.h"
+
+#include <cstdint>
+#include <map>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace wave::detail {
+
+/// One vertex attribute to compress: `components` floats per vertex.
+struct DracoInput {
+    std::string name;  ///< glTF attribute name (POSITION, NORMAL, TEXCOORD_n, COLOR_0, _FOAM, …)
+    int components = 3;
+    std::span<const float> values;
+};
+
+struct DracoOutput {
+    std::string bytes;                ///< the Draco bitstream (one bufferView)
+    std::map<std::string, int> ids;   ///< glTF attribute name → Draco attribute unique id
+};
+
+/// Encodes the triangles and attributes (edgebreaker, the chosen quantisation bits per
+/// kind of attribute). Throws RuntimeError if Draco refuses.
+DracoOutput draco_encode(std::span<const std::uint32_t> triangles, std::size_t vertex_count,
+                         const std::vector<DracoInput>& attributes, const DracoOptions& options);
+
+}  // namespace wave::detail
