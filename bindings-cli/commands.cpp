@@ -323,21 +323,39 @@ int run_job(const RunArgs& a) {
     if (scene.form == Scene::Form::files) report["outputs"].push_back("index.json");
     for (const char* f : {"isobaths.json", trace_file, "surface-frame-0000.obj", "report.json"}) report["outputs"].push_back(f);
 
-    std::filesystem::create_directories(out_dir);
-    const auto out = [&](const std::string& name) { return (std::filesystem::path(out_dir) / name).string(); };
-    json index;
-    if (scene.form == Scene::Form::files) {
-        index = merged_index(out("index.json"), scene, anim, plan.loop_period);  // refuses a foreign index first
-        std::filesystem::create_directories(out("frames"));
+    // Every file is first written into a staging folder inside the output folder and
+    // only then renamed into place: a run that fails while writing (disk full, a
+    // permission) leaves neither partial files nor a half-replaced set of outputs.
+    namespace fs = std::filesystem;
+    const bool created = !fs::exists(out_dir);
+    fs::create_directories(out_dir);
+    const fs::path staging = fs::path(out_dir) / (".wave-staging-" + std::to_string(getpid()));
+    const auto out = [&](const std::string& name) { return (fs::path(out_dir) / name).string(); };
+    try {
+        json index;
+        if (scene.form == Scene::Form::files)
+            index = merged_index(out("index.json"), scene, anim, plan.loop_period);  // refuses a foreign index first
+        fs::create_directories(staging / "frames");
+        const auto staged = [&](const std::string& name) { return (staging / name).string(); };
+        std::vector<std::string> names;
+        for (const auto& [name, bytes] : files) write_file_atomic(staged(name), bytes), names.push_back(name);
+        if (scene.form == Scene::Form::files) write_file_atomic(staged("index.json"), index.dump(2) + "\n"), names.push_back("index.json");
+        write_file_atomic(staged("isobaths.json"), contours_to_json(plan.isobaths));
+        if (strips) write_ray_strips_ply(plan.strips, staged(trace_file));
+        else write_file_atomic(staged(trace_file), rays_to_csv(plan.rays));
+        write_file_atomic(staged("surface-frame-0000.obj"),
+                          mesh_to_obj(first, anim.triangles, "libwave " + std::string(version()) + ": " + scene.name + ", frame 0, z up"));
+        write_file_atomic(staged("report.json"), report.dump(2) + "\n");
+        for (const char* name : {"isobaths.json", trace_file, "surface-frame-0000.obj", "report.json"}) names.push_back(name);
+        if (scene.form == Scene::Form::files) fs::create_directories(out("frames"));
+        for (const std::string& name : names) fs::rename(staged(name), out(name));
+        fs::remove_all(staging);
+    } catch (...) {
+        std::error_code ignored;
+        fs::remove_all(staging, ignored);
+        if (created) fs::remove_all(out_dir, ignored);  // it was ours and holds nothing finished
+        throw;
     }
-    for (const auto& [name, bytes] : files) write_file_atomic(out(name), bytes);
-    if (scene.form == Scene::Form::files) write_file_atomic(out("index.json"), index.dump(2) + "\n");
-    write_file_atomic(out("isobaths.json"), contours_to_json(plan.isobaths));
-    if (strips) write_ray_strips_ply(plan.strips, out(trace_file));
-    else write_file_atomic(out(trace_file), rays_to_csv(plan.rays));
-    write_file_atomic(out("surface-frame-0000.obj"),
-                      mesh_to_obj(first, anim.triangles, "libwave " + std::string(version()) + ": " + scene.name + ", frame 0, z up"));
-    write_file_atomic(out("report.json"), report.dump(2) + "\n");
 
     if (a.quiet) return 0;
     if (a.json) {

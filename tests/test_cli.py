@@ -383,6 +383,20 @@ class MainJob(unittest.TestCase):
             self.assertIn("morph", r.stderr)
             self.assertFalse(os.path.exists(os.path.join(d, "morph")))
 
+    def test_a_failing_write_leaves_the_previous_outputs_intact(self):
+        with tempfile.TemporaryDirectory() as d:
+            scene, out = os.path.join(d, "s.json"), os.path.join(d, "out")
+            with open(scene, "w") as f:
+                json.dump(self.SMALL, f)
+            self.assertEqual(wave("run", scene, "-o", out, "-q").returncode, 0)
+            before = {n: pathlib.Path(out, n).read_bytes() for n in os.listdir(out)}
+            pathlib.Path(out, "frames").write_text("a file where the frames folder would go")
+            r = wave("run", scene, "-o", out, "--form", "files", "--fps", "6")
+            self.assertEqual(r.returncode, 1, r.stderr)
+            self.assertTrue(r.stderr.startswith("error: "))
+            after = {n: pathlib.Path(out, n).read_bytes() for n in os.listdir(out) if n != "frames"}
+            self.assertEqual(after, before)  # nothing replaced, no staging folder left
+
     def test_nodes_form_and_frame_slices(self):
         with tempfile.TemporaryDirectory() as d:
             scene, out = os.path.join(d, "s.json"), os.path.join(d, "out")
