@@ -232,7 +232,8 @@ json merged_index(const std::string& path, const Scene& scene, const SceneAnimat
     for (std::size_t k = 0; k < anim.frame_count; ++k) {
         const std::size_t frame = anim.first_frame + k;
         char name[48];
-        std::snprintf(name, sizeof name, "frames/frame-%04zu.glb", frame);
+        std::snprintf(name, sizeof name, "frames/frame-%04zu.%s", frame,
+                      scene.container == Scene::Container::gltf ? "gltf" : "glb");
         frames[frame] = {{"frame", frame}, {"time", key_time(frame, scene.fps)}, {"file", name}};
     }
     for (auto& [_, f] : frames) index["frames"].push_back(f);
@@ -252,6 +253,7 @@ int run_job(const RunArgs& a) {
     if (!a.form.empty())
         scene.form = a.form == "nodes" ? Scene::Form::nodes : a.form == "files" ? Scene::Form::files : Scene::Form::morph;
     if (a.draco && !scene.draco) scene.draco = DracoOptions{};
+    if (!a.container.empty()) scene.container = a.container == "gltf" ? Scene::Container::gltf : Scene::Container::glb;
     if (scene.draco && scene.form == Scene::Form::morph)
         throw InputError("--draco compresses the nodes and files forms (--form nodes|files); morph targets cannot be compressed");
     const FrameRange range = parse_frames(a.frames);
@@ -289,8 +291,21 @@ int run_job(const RunArgs& a) {
             std::snprintf(name, sizeof name, "frames/frame-%04zu.glb", anim.first_frame + k);
             files.emplace_back(name, gltf_frame_glb(anim.view(), k));
         }
+    if (scene.container == Scene::Container::gltf) {
+        // Each .glb becomes name.gltf + name.bin (the .bin named relative to the .gltf).
+        std::vector<std::pair<std::string, std::string>> split;
+        for (auto& [name, bytes] : files) {
+            const std::string base = name.substr(0, name.size() - 4);  // without ".glb"
+            const std::string bin = base + ".bin";
+            GltfFiles g = glb_to_gltf(bytes, std::filesystem::path(bin).filename().string());
+            split.emplace_back(base + ".gltf", std::move(g.json));
+            split.emplace_back(bin, std::move(g.bin));
+        }
+        files.swap(split);
+    }
     std::size_t animation_bytes = 0;
     for (const auto& f : files) animation_bytes += f.second.size();
+    const std::string shown_name = files.empty() ? animation_name : files.front().first;
     const auto t3 = Clock::now();
     const std::span<const float> first(anim.positions.data(), 3 * anim.vertex_count);
 
@@ -383,9 +398,9 @@ int run_job(const RunArgs& a) {
               << "time       plan " << ms(t1 - t0) << " ms, frames " << ms(t2 - t1) / static_cast<double>(std::max<std::size_t>(frames, 1))
               << " ms each, export " << ms(t3 - t2) << " ms\n"
               << "wrote      " << out_dir << "/"
-              << (scene.form == Scene::Form::files ? "frames/*.glb + index.json (" + std::to_string(frames) + " files"
-                  : scene.form == Scene::Form::nodes ? animation_name + " (" + std::to_string(frames) + " scale-switched nodes"
-                                                     : animation_name + " (" + std::to_string(frames) + " morph targets, STEP weights")
+              << (scene.form == Scene::Form::files ? "frames/ + index.json (" + std::to_string(files.size()) + " files"
+                  : scene.form == Scene::Form::nodes ? shown_name + " (" + std::to_string(frames) + " scale-switched nodes"
+                                                     : shown_name + " (" + std::to_string(frames) + " morph targets, STEP weights")
               << "; " << static_cast<double>(animation_bytes) / 1e6 << " MB; set the scene fps to " << scene.fps
               << " before importing)\n"
               << "           " << out_dir << "/{isobaths.json, " << trace_file << ", surface-frame-0000.obj, report.json}\n";

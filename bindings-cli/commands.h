@@ -52,6 +52,7 @@ struct RunArgs {
     std::string frames;  ///< "A:B" slice of the loop's frames; empty = all
     double fps = 0.0;    ///< > 0 overrides the scene's fps
     bool draco = false;  ///< Draco-compress (nodes and files forms)
+    std::string container;  ///< glb | gltf; empty = the scene's
     bool quiet = false;  ///< no progress bar and no text report
     bool json = false;
 };

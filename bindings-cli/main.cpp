@@ -67,6 +67,8 @@ int main(int argc, char** argv) {
     run_cmd->add_option("--form", run.form, "animation form: morph (one .glb of shape keys), nodes (one object per frame), files (one .glb per frame + index.json)")
         ->check(CLI::IsMember({"morph", "nodes", "files"}));
     run_cmd->add_option("--frames", run.frames, "A:B: only frames A … B-1 of the loop (slices of one animation can run on different machines; the files form merges them in index.json)");
+    run_cmd->add_option("--container", run.container, "glb (binary, default) or gltf (JSON + external .bin)")
+        ->check(CLI::IsMember({"glb", "gltf"}));
     run_cmd->add_flag("--draco", run.draco, "Draco-compress the meshes (nodes and files forms; default quantisation: positions 14 bits)");
     run_cmd->add_option("--fps", run.fps, "frames per second (overrides the scene's)")->check(CLI::PositiveNumber);
     run_cmd->add_flag("-q,--quiet", run.quiet, "no progress bar and no report on stdout");

@@ -397,6 +397,27 @@ class MainJob(unittest.TestCase):
             after = {n: pathlib.Path(out, n).read_bytes() for n in os.listdir(out) if n != "frames"}
             self.assertEqual(after, before)  # nothing replaced, no staging folder left
 
+    def test_gltf_container_with_external_bin(self):
+        with tempfile.TemporaryDirectory() as d:
+            scene = os.path.join(d, "s.json")
+            with open(scene, "w") as f:
+                json.dump(self.SMALL, f)
+            out = os.path.join(d, "morph")
+            r = wave("run", scene, "-o", out, "--container", "gltf", "--fps", "6", "--json")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertIn("animation.gltf", json.loads(r.stdout)["outputs"])
+            gltf = json.load(open(os.path.join(out, "animation.gltf")))
+            self.assertEqual(gltf["buffers"][0]["uri"], "animation.bin")
+            self.assertEqual(gltf["buffers"][0]["byteLength"], os.path.getsize(os.path.join(out, "animation.bin")))
+            validate_gltf(self, os.path.join(out, "animation.gltf"))
+            out = os.path.join(d, "files")
+            r = wave("run", scene, "-o", out, "--container", "gltf", "--form", "files", "--frames", "0:2", "-q")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            index = json.load(open(os.path.join(out, "index.json")))
+            self.assertEqual(index["frames"][1]["file"], "frames/frame-0001.gltf")
+            validate_gltf(self, os.path.join(out, "frames", "frame-0001.gltf"))
+            self.assertTrue(os.path.exists(os.path.join(out, "frames", "frame-0001.bin")))
+
     def test_nodes_form_and_frame_slices(self):
         with tempfile.TemporaryDirectory() as d:
             scene, out = os.path.join(d, "s.json"), os.path.join(d, "out")

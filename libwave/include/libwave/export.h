@@ -80,6 +80,16 @@ std::string gltf_morph_glb(const MorphAnimationView& animation);
 /// tool does not play morph targets. Same checks as gltf_morph_glb.
 std::string gltf_nodes_glb(const MorphAnimationView& animation);
 
+/// The same model as a text .gltf whose buffer 0 is the external file `bin_uri` (a
+/// relative URI, written by the caller next to the .gltf).
+struct GltfFiles {
+    std::string json;  ///< the .gltf
+    std::string bin;   ///< the .bin
+};
+/// Splits a .glb (from the functions above) into a .gltf and its .bin. Throws
+/// InputError for a malformed GLB.
+GltfFiles glb_to_gltf(std::string_view glb, const std::string& bin_uri);
+
 /// The `files` form: frame `frame` (0-based within the view) as a static .glb.
 std::string gltf_frame_glb(const MorphAnimationView& animation, std::size_t frame);
 

@@ -65,6 +65,8 @@ struct Scene {
     /// How the animation is written: one .glb of morph targets, one .glb of
     /// scale-switched nodes, or one .glb per frame plus index.json.
     enum class Form { morph, nodes, files } form = Form::morph;
+    /// Binary .glb, or text .gltf with an external .bin.
+    enum class Container { glb, gltf } container = Container::glb;
     /// Draco compression of the nodes and files forms (empty = none).
     std::optional<DracoOptions> draco;
     double fps = 24.0;  ///< frames per second of the animation (> 0)

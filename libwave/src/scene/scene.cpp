@@ -319,7 +319,9 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     }
     if (root.has("outputs")) {
         const Node o = root["outputs"];
-        o.require_object({"attributes", "color", "form", "draco"});
+        o.require_object({"attributes", "color", "form", "draco", "container"});
+        if (o.has("container"))
+            s.container = o["container"].choice<Scene::Container>({{"glb", Scene::Container::glb}, {"gltf", Scene::Container::gltf}});
         if (o.has("form"))
             s.form = o["form"].choice<Scene::Form>({{"morph", Scene::Form::morph}, {"nodes", Scene::Form::nodes}, {"files", Scene::Form::files}});
         if (o.has("attributes"))
