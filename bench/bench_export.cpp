@@ -62,13 +62,16 @@ std::size_t side_for(std::int64_t vertices) { return static_cast<std::size_t>(st
 // Morph form: one file of 10 frames; time and bytes per frame.
 void BM_export_morph(benchmark::State& state) {
     const Grid g(side_for(state.range(0)), 10);
+    wave::MorphAnimationView v = g.view();
+    v.quantize = state.range(1) != 0;
     std::size_t bytes = 0;
-    for (auto _ : state) bytes = wave::gltf_morph_glb(g.view()).size();
+    for (auto _ : state) bytes = wave::gltf_morph_glb(v).size();
+    state.SetLabel(v.quantize ? "quantized" : "float");
     state.counters["frames_per_s"] = benchmark::Counter(10.0, benchmark::Counter::kIsIterationInvariantRate);
     state.counters["bytes_per_vertex_frame"] = static_cast<double>(bytes) / static_cast<double>(g.n * 10);
     state.counters["vertices"] = static_cast<double>(g.n);
 }
-BENCHMARK(BM_export_morph)->Arg(66'049)->Arg(1'000'000)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_export_morph)->Args({66'049, 0})->Args({66'049, 1})->Args({1'000'000, 0})->Args({1'000'000, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // Files form: one static frame, plain or Draco (default bits).
 void BM_export_frame_file(benchmark::State& state) {

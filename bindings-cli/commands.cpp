@@ -253,6 +253,8 @@ int run_job(const RunArgs& a) {
     if (!a.form.empty())
         scene.form = a.form == "nodes" ? Scene::Form::nodes : a.form == "files" ? Scene::Form::files : Scene::Form::morph;
     if (a.draco && !scene.draco) scene.draco = DracoOptions{};
+    if (a.quantize) scene.quantize = true;
+    if (scene.draco && scene.quantize) throw InputError("choose --draco or --quantize, not both (Draco quantises itself)");
     if (!a.container.empty()) scene.container = a.container == "gltf" ? Scene::Container::gltf : Scene::Container::glb;
     if (scene.draco && scene.form == Scene::Form::morph)
         throw InputError("--draco compresses the nodes and files forms (--form nodes|files); morph targets cannot be compressed");
@@ -322,6 +324,7 @@ int run_job(const RunArgs& a) {
                  {"loop_frames", anim.loop_frames},
                  {"form", scene.form == Scene::Form::morph ? "morph" : scene.form == Scene::Form::nodes ? "nodes" : "files"},
                  {"draco", scene.draco.has_value()},
+                 {"quantized", scene.quantize},
                  {"shading", scene.attributes == Scene::Attributes::none ? "none"
                              : scene.attributes == Scene::Attributes::named ? "named" : "uv-maps"},
                  {"height_range_m", {anim.z_min, anim.z_max}}};

@@ -53,6 +53,7 @@ struct RunArgs {
     double fps = 0.0;    ///< > 0 overrides the scene's fps
     bool draco = false;  ///< Draco-compress (nodes and files forms)
     std::string container;  ///< glb | gltf; empty = the scene's
+    bool quantize = false;  ///< KHR_mesh_quantization
     bool quiet = false;  ///< no progress bar and no text report
     bool json = false;
 };

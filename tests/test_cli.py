@@ -397,6 +397,27 @@ class MainJob(unittest.TestCase):
             after = {n: pathlib.Path(out, n).read_bytes() for n in os.listdir(out) if n != "frames"}
             self.assertEqual(after, before)  # nothing replaced, no staging folder left
 
+    def test_quantized_forms_validate_and_shrink(self):
+        with tempfile.TemporaryDirectory() as d:
+            scene = os.path.join(d, "s.json")
+            with open(scene, "w") as f:
+                json.dump(self.SMALL, f)
+            sizes = {}
+            for form in ["morph", "nodes", "files"]:
+                for quantize in [False, True]:
+                    out = os.path.join(d, f"{form}-{quantize}")
+                    args = ["run", scene, "-o", out, "--form", form, "--fps", "6", "-q"] + (["--quantize"] if quantize else [])
+                    self.assertEqual(wave(*args).returncode, 0)
+                    path = os.path.join(out, "frames", "frame-0003.glb") if form == "files" else os.path.join(out, "animation.glb")
+                    validate_gltf(self, path)
+                    sizes[form, quantize] = os.path.getsize(path)
+                    doc, _ = read_glb(path)
+                    self.assertEqual("KHR_mesh_quantization" in doc.get("extensionsRequired", []), quantize)
+                self.assertLess(sizes[form, True], 0.8 * sizes[form, False], form)
+            r = wave("run", scene, "-o", os.path.join(d, "both"), "--form", "files", "--draco", "--quantize")
+            self.assertEqual(r.returncode, 2)
+            self.assertFalse(os.path.exists(os.path.join(d, "both")))
+
     def test_gltf_container_with_external_bin(self):
         with tempfile.TemporaryDirectory() as d:
             scene = os.path.join(d, "s.json")

@@ -186,6 +186,61 @@ TEST(Draco, FramesDecodeToTheSameVerticesWithinTheQuantisation) {
     EXPECT_THROW(gltf_morph_glb(view), InputError);
 }
 
+TEST(Quantization, MorphFramesDecodeWithinTheInt16Step) {
+    // KHR_mesh_quantization: frame k = node transform (base + target k), each stored as
+    // normalised int16 — within one quantisation step of the float frame per target.
+    Scene scene = default_scene();
+    scene.trace.ray_spacing = 4.0;
+    scene.fronts.step = 1.6;
+    scene.fronts.split_distance = 4.8;
+    const ScenePlan plan = plan_scene(scene);
+    const SceneAnimation anim = animate_scene(scene, plan, 2e9, FrameRange{0, 4});
+    MorphAnimationView view = anim.view();
+    view.quantize = true;
+    const std::string glb = gltf_morph_glb(view);
+    const auto doc = nlohmann::json::parse(glb_json(glb));
+    ASSERT_EQ(doc["extensionsRequired"][0], "KHR_mesh_quantization");
+    std::uint32_t json_length = 0;
+    std::memcpy(&json_length, glb.data() + 12, 4);
+    const char* bin = glb.data() + 20 + json_length + 8;
+    // Reads a normalised int16 VEC3 accessor (stride 8) as doubles in [−1, 1].
+    const auto read = [&](int accessor) {
+        const auto& acc = doc["accessors"][accessor];
+        EXPECT_EQ(acc["componentType"], 5122);  // SHORT
+        EXPECT_TRUE(acc["normalized"].get<bool>());
+        const auto& bv = doc["bufferViews"][acc["bufferView"].get<int>()];
+        EXPECT_EQ(bv["byteStride"], 8);
+        std::vector<double> out(3 * acc["count"].get<std::size_t>());
+        for (std::size_t v = 0; v < out.size() / 3; ++v)
+            for (std::size_t c = 0; c < 3; ++c) {
+                std::int16_t q = 0;
+                std::memcpy(&q, bin + bv.value("byteOffset", 0) + 8 * v + 2 * c, 2);
+                out[3 * v + c] = std::max(q / 32767.0, -1.0);
+            }
+        return out;
+    };
+    const auto& prim = doc["meshes"][0]["primitives"][0];
+    const auto& node = doc["nodes"][0];
+    const double scale = node["scale"][0].get<double>();
+    const std::vector<double> base = read(prim["attributes"]["POSITION"].get<int>());
+    const std::size_t n = anim.vertex_count;
+    for (std::size_t f = 0; f < 4; ++f) {
+        const std::vector<double> delta = read(prim["targets"][f]["POSITION"].get<int>());
+        double worst = 0.0;
+        for (std::size_t v = 0; v < n; ++v) {
+            const float* p = &anim.positions[3 * (f * n + v)];
+            const double expected[3] = {p[0], p[2], -p[1]};  // glTF axes
+            for (std::size_t c = 0; c < 3; ++c) {
+                const double got = node["translation"][c].get<double>() + scale * (base[3 * v + c] + delta[3 * v + c]);
+                worst = std::max(worst, std::abs(got - expected[c]));
+            }
+        }
+        EXPECT_LE(worst, scale / 32767.0 + 1e-6) << "frame " << f;  // two roundings of half a step each
+    }
+    view.draco = DracoOptions{};
+    EXPECT_THROW(gltf_frame_glb(view, 0), InputError);  // Draco or quantisation, not both
+}
+
 TEST(Fresnel, WeightsMatchTheFormulasAndSumToOne) {
     // One horizontal vertex, camera straight above, at 60° and grazing.
     const std::vector<float> p{0, 0, 0}, n{0, 0, 1};

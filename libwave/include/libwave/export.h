@@ -57,6 +57,10 @@ struct MorphAnimationView {
     std::string name = "water";
     /// Compress with Draco (nodes and files forms only: morph targets cannot be).
     std::optional<DracoOptions> draco;
+    /// KHR_mesh_quantization (not with Draco): positions as normalised int16 with the
+    /// node transform undoing it (error <= extent / 65534), normals int8, UV maps
+    /// uint16 (morph deltas int16; normal deltas stay float).
+    bool quantize = false;
 };
 
 /// The largest float32 <= k / fps: nearest rounding lands some keys just after frame k

@@ -65,6 +65,7 @@ struct Scene {
     /// How the animation is written: one .glb of morph targets, one .glb of
     /// scale-switched nodes, or one .glb per frame plus index.json.
     enum class Form { morph, nodes, files } form = Form::morph;
+    bool quantize = false;  ///< KHR_mesh_quantization (not with Draco)
     /// Binary .glb, or text .gltf with an external .bin.
     enum class Container { glb, gltf } container = Container::glb;
     /// Draco compression of the nodes and files forms (empty = none).
@@ -128,6 +129,7 @@ struct SceneAnimation {
     std::vector<float> reflect, refract, foam, colors;
     ScalarLayout layout = ScalarLayout::blender34;
     std::optional<DracoOptions> draco;
+    bool quantize = false;
     float z_min = 0, z_max = 0;    ///< height range over all frames (m)
     double fps = 24.0;
     std::span<const std::uint32_t> triangles;  ///< the plan's index list (strips or height field)

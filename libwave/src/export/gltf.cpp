@@ -14,7 +14,11 @@
 #include "draco_encode.h"
 
 #include <cmath>
+#include <algorithm>
+#include <array>
 #include <cstring>
+#include <functional>
+#include <optional>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -29,10 +33,11 @@ struct GlbBuilder {
     tinygltf::Model& model;
     std::vector<unsigned char>& bytes;
 
-    int view(const void* data, std::size_t size, int target) {
+    int view(const void* data, std::size_t size, int target, std::size_t stride = 0) {
         while (bytes.size() % 4) bytes.push_back(0);
         tinygltf::BufferView v;
         v.buffer = 0;
+        v.byteStride = stride;
         v.byteOffset = bytes.size();
         v.byteLength = size;
         v.target = target;
@@ -93,6 +98,8 @@ void check(const MorphAnimationView& a) {
     }
     if ((a.reflect.empty() || a.refract.empty() || a.foam.empty()) && !(a.reflect.empty() && a.refract.empty() && a.foam.empty()))
         throw InputError("glTF export: give reflect, refract and foam together (or none)");
+    if (a.quantize && a.draco)
+        throw InputError("glTF export: choose Draco or KHR_mesh_quantization, not both (Draco quantises itself)");
     if (a.triangles.empty() || a.triangles.size() % 3) throw InputError("glTF export: the index list is not whole triangles");
     for (std::uint32_t v : a.triangles)
         if (v >= n) throw InputError("glTF export: triangle index " + std::to_string(v) + " >= vertex count " + std::to_string(n));
@@ -153,11 +160,41 @@ FrameArrays frame_arrays(const MorphAnimationView& a, std::size_t f) {
     return out;
 }
 
+// KHR_mesh_quantization: positions as normalised int16 around `origin` (glTF axes)
+// with half-range `scale`, undone by the mesh node's transform; normals as normalised
+// int8 (morph deltas of normals stay float: they can exceed 1); UV maps as normalised
+// uint16, their morph deltas as normalised int16.
+struct Quantization {
+    std::array<double, 3> origin{};
+    double scale = 1.0;
+};
+
+Quantization quantization_for(const MorphAnimationView& a) {
+    std::array<double, 3> lo{}, hi{};
+    lo.fill(std::numeric_limits<double>::infinity());
+    hi.fill(-std::numeric_limits<double>::infinity());
+    float p[3];
+    for (std::size_t i = 0; i < a.positions.size() / 3; ++i) {
+        to_y_up(&a.positions[3 * i], p);
+        for (std::size_t c = 0; c < 3; ++c) lo[c] = std::min(lo[c], double{p[c]}), hi[c] = std::max(hi[c], double{p[c]});
+    }
+    Quantization q;
+    double half = 0.0;
+    for (std::size_t c = 0; c < 3; ++c) {
+        q.origin[c] = 0.5 * (lo[c] + hi[c]);
+        half = std::max(half, 0.5 * (hi[c] - lo[c]));
+    }
+    // Morph deltas span up to the whole extent: the range must hold them too.
+    q.scale = std::max(half * (a.frame_count > 1 ? 2.0 : 1.0), 1e-6);
+    return q;
+}
+
 // A model with one buffer, the shared index and TEXCOORD_0 accessors, and helpers.
 struct ModelWriter {
     tinygltf::Model model;
     GlbBuilder b{model, model.buffers.emplace_back().data};
     int indices = -1, texcoord0 = -1;
+    std::optional<Quantization> quant;
 
     // `frames`: how many frames' attributes the buffer will hold (reserved up front:
     // growing a buffer of hundreds of MB by doubling was a third of the export time).
@@ -168,13 +205,56 @@ struct ModelWriter {
         model.asset.version = "2.0";
         model.asset.generator = "libwave";
         if (a.draco) return;  // every primitive carries its own compressed indices and UVs
+        if (a.quantize) {
+            quant = quantization_for(a);
+            model.extensionsUsed.push_back("KHR_mesh_quantization");
+            model.extensionsRequired.push_back("KHR_mesh_quantization");
+        }
         indices = b.accessor(b.view(a.triangles.data(), a.triangles.size_bytes(), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
                              TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, a.triangles.size(), TINYGLTF_TYPE_SCALAR);
-        texcoord0 = b.accessor(b.view(a.texcoords.data(), a.texcoords.size_bytes(), TINYGLTF_TARGET_ARRAY_BUFFER),
-                               TINYGLTF_COMPONENT_TYPE_FLOAT, a.vertex_count, TINYGLTF_TYPE_VEC2);
+        texcoord0 = floats("TEXCOORD_0", TINYGLTF_TYPE_VEC2, std::vector<float>(a.texcoords.begin(), a.texcoords.end()));
     }
-    // POSITION carries the min/max glTF requires.
-    int floats(const std::string& name, int type, const std::vector<float>& values) {
+    // Normalised integers of `width` components padded to `stride` components (vertex
+    // elements must start on 4-byte boundaries).
+    template <class Int>
+    int normalised(const std::vector<float>& values, std::size_t width, std::size_t stride, int component, int type,
+                   const std::function<double(std::size_t, std::size_t)>& encode, bool bounds) {
+        const std::size_t count = values.size() / width;
+        std::vector<Int> q(count * stride, 0);
+        std::vector<double> lo(width, std::numeric_limits<double>::infinity()), hi(width, -std::numeric_limits<double>::infinity());
+        for (std::size_t v = 0; v < count; ++v)
+            for (std::size_t c = 0; c < width; ++c) {
+                const double x = std::clamp(std::round(encode(v, c)), double{std::numeric_limits<Int>::min()},
+                                            double{std::numeric_limits<Int>::max()});
+                q[v * stride + c] = static_cast<Int>(x);
+                lo[c] = std::min(lo[c], x), hi[c] = std::max(hi[c], x);
+            }
+        const int view_index = b.view(q.data(), q.size() * sizeof(Int), TINYGLTF_TARGET_ARRAY_BUFFER,
+                                      stride == width ? 0 : stride * sizeof(Int));
+        const int index = b.accessor(view_index, component, count, type, bounds ? lo : std::vector<double>{},
+                                     bounds ? hi : std::vector<double>{});
+        model.accessors[static_cast<std::size_t>(index)].normalized = true;
+        return index;
+    }
+    // An attribute's accessor; `target` = a morph delta.
+    int floats(const std::string& name, int type, const std::vector<float>& values, bool target = false) {
+        if (quant && name == "POSITION") {
+            const Quantization& qz = *quant;
+            return normalised<std::int16_t>(values, 3, 4, TINYGLTF_COMPONENT_TYPE_SHORT, TINYGLTF_TYPE_VEC3,
+                                            [&](std::size_t v, std::size_t c) {
+                                                return (values[3 * v + c] - (target ? 0.0 : qz.origin[c])) / qz.scale * 32767.0;
+                                            }, true);
+        }
+        if (quant && name == "NORMAL" && !target)
+            return normalised<std::int8_t>(values, 3, 4, TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_TYPE_VEC3,
+                                           [&](std::size_t v, std::size_t c) { return values[3 * v + c] * 127.0; }, false);
+        if (quant && name.rfind("TEXCOORD_", 0) == 0) {
+            if (target)
+                return normalised<std::int16_t>(values, 2, 2, TINYGLTF_COMPONENT_TYPE_SHORT, TINYGLTF_TYPE_VEC2,
+                                                [&](std::size_t v, std::size_t c) { return values[2 * v + c] * 32767.0; }, false);
+            return normalised<std::uint16_t>(values, 2, 2, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_VEC2,
+                                             [&](std::size_t v, std::size_t c) { return values[2 * v + c] * 65535.0; }, false);
+        }
         if (name == "POSITION") return b.vec3(values, TINYGLTF_TARGET_ARRAY_BUFFER, true);
         const std::size_t width = type == TINYGLTF_TYPE_VEC3 ? 3 : type == TINYGLTF_TYPE_VEC2 ? 2 : 1;
         return b.accessor(b.view(values.data(), values.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER),
@@ -233,6 +313,10 @@ struct ModelWriter {
         tinygltf::Node n;
         n.name = name;
         n.mesh = mesh;
+        if (quant) {  // undoes the position quantisation
+            n.translation = {quant->origin[0], quant->origin[1], quant->origin[2]};
+            n.scale = {quant->scale, quant->scale, quant->scale};
+        }
         model.nodes.push_back(n);
         return static_cast<int>(model.nodes.size() - 1);
     }
@@ -285,7 +369,7 @@ std::string gltf_morph_glb(const MorphAnimationView& a) {
             auto& [name, type, values] = frame.attributes[i];
             const auto& b = std::get<2>(base.attributes[i]);
             for (std::size_t j = 0; j < values.size(); ++j) values[j] -= b[j];
-            target[name] = w.floats(name, type, values);
+            target[name] = w.floats(name, type, values, true);
         }
         prim.targets.push_back(std::move(target));
         mesh.weights.push_back(f == 0 ? 1.0 : 0.0);
@@ -330,7 +414,18 @@ std::string gltf_nodes_glb(const MorphAnimationView& a) {
         mesh.name = frame_name(a.first_frame + f);
         mesh.primitives.push_back(w.frame_primitive(a, f));
         w.model.meshes.push_back(std::move(mesh));
-        children.push_back(w.node(frame_name(a.first_frame + f), static_cast<int>(w.model.meshes.size() - 1)));
+        const int mesh_index = static_cast<int>(w.model.meshes.size() - 1);
+        if (w.quant) {
+            // The switched node holds the mesh node, whose transform undoes the quantisation.
+            const int inner = w.node(frame_name(a.first_frame + f) + "_mesh", mesh_index);
+            tinygltf::Node outer;
+            outer.name = frame_name(a.first_frame + f);
+            outer.children = {inner};
+            w.model.nodes.push_back(outer);
+            children.push_back(static_cast<int>(w.model.nodes.size() - 1));
+        } else {
+            children.push_back(w.node(frame_name(a.first_frame + f), mesh_index));
+        }
         if (f != 0) w.model.nodes.back().scale = {0.0, 0.0, 0.0};
     }
     tinygltf::Node parent;

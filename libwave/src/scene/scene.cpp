@@ -319,7 +319,8 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     }
     if (root.has("outputs")) {
         const Node o = root["outputs"];
-        o.require_object({"attributes", "color", "form", "draco", "container"});
+        o.require_object({"attributes", "color", "form", "draco", "container", "quantize"});
+        if (o.has("quantize")) s.quantize = o["quantize"].boolean();
         if (o.has("container"))
             s.container = o["container"].choice<Scene::Container>({{"glb", Scene::Container::glb}, {"gltf", Scene::Container::gltf}});
         if (o.has("form"))
@@ -353,6 +354,7 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
                 }
                 s.draco = dr;
             }
+            if (s.draco && s.quantize) d.fail("choose Draco or /outputs/quantize, not both (Draco quantises itself)");
             if (s.draco && s.form == Scene::Form::morph)
                 d.fail("Draco compresses the nodes and files forms; set /outputs/form to \"nodes\" or \"files\" "
                        "(morph targets cannot be compressed)");
@@ -469,6 +471,7 @@ MorphAnimationView SceneAnimation::view() const {
     v.fps = fps;
     v.first_frame = first_frame;
     v.draco = draco;
+    v.quantize = quantize;
     return v;
 }
 
@@ -500,6 +503,7 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
     a.normals.resize(3 * n * a.frame_count);
     a.layout = scene.attributes == Scene::Attributes::named ? ScalarLayout::custom : ScalarLayout::blender34;
     a.draco = scene.draco;
+    a.quantize = scene.quantize;
     FresnelOptions fresnel;
     fresnel.camera = scene_camera(scene, plan.seafloor);
     fresnel.model = scene.fresnel;
