@@ -256,8 +256,6 @@ int run_job(const RunArgs& a) {
     if (a.quantize) scene.quantize = true;
     if (scene.draco && scene.quantize) throw InputError("choose --draco or --quantize, not both (Draco quantises itself)");
     if (!a.container.empty()) scene.container = a.container == "gltf" ? Scene::Container::gltf : Scene::Container::glb;
-    if (scene.draco && scene.form == Scene::Form::morph)
-        throw InputError("--draco compresses the nodes and files forms (--form nodes|files); morph targets cannot be compressed");
     const FrameRange range = parse_frames(a.frames);
     const std::string stem = a.scene.empty() ? "default" : std::filesystem::path(a.scene).stem().string();
     const std::string out_dir = a.out_dir.empty() ? "wave-out/" + stem : a.out_dir;

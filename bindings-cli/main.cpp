@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
     run_cmd->add_option("--container", run.container, "glb (binary, default) or gltf (JSON + external .bin)")
         ->check(CLI::IsMember({"glb", "gltf"}));
     run_cmd->add_flag("--quantize", run.quantize, "KHR_mesh_quantization: int16 positions, int8 normals, uint16 UV maps (~30 % smaller morph files)");
-    run_cmd->add_flag("--draco", run.draco, "Draco-compress the meshes (nodes and files forms; default quantisation: positions 14 bits)");
+    run_cmd->add_flag("--draco", run.draco, "Draco-compress the meshes (morph: the base mesh only; default quantisation: positions 14 bits)");
     run_cmd->add_option("--fps", run.fps, "frames per second (overrides the scene's)")->check(CLI::PositiveNumber);
     run_cmd->add_flag("-q,--quiet", run.quiet, "no progress bar and no report on stdout");
     run_cmd->add_option("--threads", run.threads, "worker threads (default: all cores); the outputs are the same for any count")

@@ -55,7 +55,8 @@ struct MorphAnimationView {
     /// and frame names count from it.
     std::size_t first_frame = 0;
     std::string name = "water";
-    /// Compress with Draco (nodes and files forms only: morph targets cannot be).
+    /// Compress with Draco. In the morph form only the base mesh is compressed (with
+    /// Draco's order-keeping sequential method); the targets stay float.
     std::optional<DracoOptions> draco;
     /// KHR_mesh_quantization (not with Draco): positions as normalised int16 with the
     /// node transform undoing it (error <= extent / 65534), normals int8, UV maps

@@ -68,7 +68,7 @@ struct Scene {
     bool quantize = false;  ///< KHR_mesh_quantization (not with Draco)
     /// Binary .glb, or text .gltf with an external .bin.
     enum class Container { glb, gltf } container = Container::glb;
-    /// Draco compression of the nodes and files forms (empty = none).
+    /// Draco compression (empty = none); in the morph form, of the base mesh.
     std::optional<DracoOptions> draco;
     double fps = 24.0;  ///< frames per second of the animation (> 0)
 };

@@ -4,6 +4,7 @@
 
 #include "libwave/errors.h"
 
+#include <draco/compression/config/compression_shared.h>
 #include <draco/compression/encode.h>
 #include <draco/mesh/mesh.h>
 #include <draco/metadata/geometry_metadata.h>
@@ -11,7 +12,7 @@
 namespace wave::detail {
 
 DracoOutput draco_encode(std::span<const std::uint32_t> triangles, std::size_t n,
-                         const std::vector<DracoInput>& attributes, const DracoOptions& o) {
+                         const std::vector<DracoInput>& attributes, const DracoOptions& o, bool keep_order) {
     draco::Mesh mesh;
     mesh.set_num_points(static_cast<draco::PointIndex::ValueType>(n));
     mesh.SetNumFaces(triangles.size() / 3);
@@ -51,6 +52,7 @@ DracoOutput draco_encode(std::span<const std::uint32_t> triangles, std::size_t n
     encoder.SetAttributeQuantization(draco::GeometryAttribute::COLOR, o.color_bits);
     encoder.SetAttributeQuantization(draco::GeometryAttribute::GENERIC, o.generic_bits);
     encoder.SetSpeedOptions(o.encode_speed, o.encode_speed);
+    if (keep_order) encoder.SetEncodingMethod(draco::MESH_SEQUENTIAL_ENCODING);
     draco::EncoderBuffer buffer;
     const draco::Status status = encoder.EncodeMeshToBuffer(mesh, &buffer);
     if (!status.ok()) throw RuntimeError(std::string("Draco encoder: ") + status.error_msg());

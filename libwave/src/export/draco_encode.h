@@ -24,9 +24,13 @@ struct DracoOutput {
     std::map<std::string, int> ids;   ///< glTF attribute name → Draco attribute unique id
 };
 
-/// Encodes the triangles and attributes (edgebreaker, the chosen quantisation bits per
-/// kind of attribute). Throws RuntimeError if Draco refuses.
+/// Encodes the triangles and attributes with the chosen quantisation bits per kind of
+/// attribute: edgebreaker (smallest; the decoder reorders points), or with
+/// `keep_order` Draco's sequential method, whose decoded points keep the input order
+/// (what uncompressed morph targets beside a compressed base need).
+/// Throws RuntimeError if Draco refuses.
 DracoOutput draco_encode(std::span<const std::uint32_t> triangles, std::size_t vertex_count,
-                         const std::vector<DracoInput>& attributes, const DracoOptions& options);
+                         const std::vector<DracoInput>& attributes, const DracoOptions& options,
+                         bool keep_order = false);
 
 }  // namespace wave::detail

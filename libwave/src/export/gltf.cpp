@@ -272,11 +272,11 @@ struct ModelWriter {
     // The same primitive compressed by Draco: the accessors keep count, type and
     // bounds but no bufferView; the extension points at the Draco bitstream. Every
     // attribute is compressed, TEXCOORD_0 too (the decoder reorders points).
-    tinygltf::Primitive draco_primitive(const MorphAnimationView& a, const FrameArrays& frame) {
+    tinygltf::Primitive draco_primitive(const MorphAnimationView& a, const FrameArrays& frame, bool keep_order = false) {
         std::vector<detail::DracoInput> inputs{{"TEXCOORD_0", 2, a.texcoords}};
         for (const auto& [name, type, values] : frame.attributes)
             inputs.push_back({name, type == TINYGLTF_TYPE_VEC3 ? 3 : type == TINYGLTF_TYPE_VEC2 ? 2 : 1, values});
-        const detail::DracoOutput encoded = detail::draco_encode(a.triangles, a.vertex_count, inputs, *a.draco);
+        const detail::DracoOutput encoded = detail::draco_encode(a.triangles, a.vertex_count, inputs, *a.draco, keep_order);
         tinygltf::Primitive prim;
         prim.mode = TINYGLTF_MODE_TRIANGLES;
         prim.indices = b.accessor(-1, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, a.triangles.size(), TINYGLTF_TYPE_SCALAR);
@@ -351,13 +351,13 @@ int key_times(ModelWriter& w, const MorphAnimationView& a, std::vector<float>& t
 
 std::string gltf_morph_glb(const MorphAnimationView& a) {
     check(a);
-    if (a.draco)
-        throw InputError("glTF export: Draco compresses the nodes and files forms; morph targets cannot be compressed "
-                         "(KHR_draco_mesh_compression covers a primitive's attributes only)");
     const std::size_t frames = a.frame_count;
     ModelWriter w(a, frames + 1);
     const FrameArrays base = frame_arrays(a, 0);
-    tinygltf::Primitive prim = w.primitive(base);
+    // With Draco only the base is compressed (KHR_draco_mesh_compression covers a
+    // primitive's attributes); the targets stay float, in the decoded point order,
+    // which Draco's sequential method keeps equal to ours.
+    tinygltf::Primitive prim = a.draco ? w.draco_primitive(a, base, true) : w.primitive(base);
     tinygltf::Mesh mesh;
     mesh.name = a.name;
     std::vector<tinygltf::Value> names;

@@ -355,9 +355,6 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
                 s.draco = dr;
             }
             if (s.draco && s.quantize) d.fail("choose Draco or /outputs/quantize, not both (Draco quantises itself)");
-            if (s.draco && s.form == Scene::Form::morph)
-                d.fail("Draco compresses the nodes and files forms; set /outputs/form to \"nodes\" or \"files\" "
-                       "(morph targets cannot be compressed)");
         }
         if (s.color && s.attributes == Scene::Attributes::none) o["color"].fail("a baked colour needs the shading: set attributes to uv-maps or named");
     }
