@@ -552,6 +552,8 @@ class MainJob(unittest.TestCase):
             out = os.path.join(d, "out")
             cases = [
                 ('{"waves": [{"period": -6}]}', "/waves/0/period"),
+                ('{"waves": [{"period": "six"}]}', "expected a number"),
+                ('{"waves": [{"period": 6}], "outputs": {"color": "yes"}}', "expected true or false"),
                 ('{"waves": [{"period": 6, "direction": [0, 0]}]}', "/waves/0/direction"),
                 ('{"waves": [{"period": 6}], "surface": {"kind": "height-field", "footprint": "blob"}}', "bresenham, smooth"),
                 ('{"waves": [{"period": 6}], "surface": {"grid": [5, 5]}}', "/surface/grid"),
