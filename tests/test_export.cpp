@@ -119,15 +119,32 @@ TEST(GltfMorph, ShadingScalarsInBothLayoutsAndTheirChecks) {
     EXPECT_THROW(gltf_morph_glb(v), InputError);
 }
 
-TEST(Draco, FramesDecodeToTheSameVerticesWithinTheQuantisation) {
-    // A coarse bay (about 1 500 vertices), two frames, Draco on the files form.
+// A coarse bay (rays 4 m apart, about 1 500 vertices): the first `frames` frames.
+SceneAnimation coarse_bay(std::size_t frames, Scene::Attributes attributes = Scene::Attributes::uv_maps) {
     Scene scene = default_scene();
     scene.trace.ray_spacing = 4.0;
     scene.fronts.step = 1.6;
     scene.fronts.split_distance = 4.8;
-    scene.attributes = Scene::Attributes::named;
-    const ScenePlan plan = plan_scene(scene);
-    const SceneAnimation anim = animate_scene(scene, plan, 2e9, FrameRange{0, 2});
+    scene.attributes = attributes;
+    return animate_scene(scene, plan_scene(scene), 2e9, FrameRange{0, frames});
+}
+
+// The Draco bitstream a primitive's extension points at (a bufferView of the BIN
+// chunk), decoded by Draco's decoder; null if it does not decode.
+std::unique_ptr<draco::Mesh> decode_draco(const std::string& glb, const nlohmann::json& doc, const nlohmann::json& ext) {
+    std::uint32_t json_length = 0;
+    std::memcpy(&json_length, glb.data() + 12, 4);
+    const auto& bv = doc["bufferViews"][ext["bufferView"].get<int>()];
+    draco::DecoderBuffer buffer;
+    buffer.Init(glb.data() + 20 + json_length + 8 + bv.value("byteOffset", 0), bv["byteLength"].get<std::size_t>());
+    draco::Decoder decoder;
+    auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
+    return decoded.ok() ? std::move(decoded).value() : nullptr;
+}
+
+TEST(Draco, FramesDecodeToTheSameVerticesWithinTheQuantisation) {
+    // Two frames of the coarse bay, Draco on the files form.
+    const SceneAnimation anim = coarse_bay(2, Scene::Attributes::named);
     MorphAnimationView view = anim.view();
     view.draco = DracoOptions{};
     const std::string glb = gltf_frame_glb(view, 1);
@@ -137,17 +154,8 @@ TEST(Draco, FramesDecodeToTheSameVerticesWithinTheQuantisation) {
     const auto& ext = prim["extensions"]["KHR_draco_mesh_compression"];
     for (const char* name : {"POSITION", "NORMAL", "TEXCOORD_0", "_REFLECT", "_REFRACT", "_FOAM"})
         EXPECT_TRUE(ext["attributes"].contains(name)) << name;
-    // The bitstream: the bufferView inside the BIN chunk (after the JSON chunk).
-    std::uint32_t json_length = 0;
-    std::memcpy(&json_length, glb.data() + 12, 4);
-    const auto& bv = doc["bufferViews"][ext["bufferView"].get<int>()];
-    const std::size_t bin = 20 + json_length + 8;
-    draco::DecoderBuffer buffer;
-    buffer.Init(glb.data() + bin + bv.value("byteOffset", 0), bv["byteLength"].get<std::size_t>());
-    draco::Decoder decoder;
-    auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
-    ASSERT_TRUE(decoded.ok()) << decoded.status().error_msg();
-    const std::unique_ptr<draco::Mesh> mesh = std::move(decoded).value();
+    const std::unique_ptr<draco::Mesh> mesh = decode_draco(glb, doc, ext);
+    ASSERT_TRUE(mesh);
     const std::size_t n = anim.vertex_count;
     ASSERT_EQ(mesh->num_points(), n);
     ASSERT_EQ(mesh->num_faces(), anim.triangles.size() / 3);
@@ -187,12 +195,7 @@ TEST(Draco, FramesDecodeToTheSameVerticesWithinTheQuantisation) {
 TEST(Draco, MorphBaseKeepsTheVertexOrderOfItsTargets) {
     // The morph form compresses only the base; its float targets are in our vertex
     // order, so the decoded base must be in that order too (Draco's sequential method).
-    Scene scene = default_scene();
-    scene.trace.ray_spacing = 4.0;
-    scene.fronts.step = 1.6;
-    scene.fronts.split_distance = 4.8;
-    const ScenePlan plan = plan_scene(scene);
-    const SceneAnimation anim = animate_scene(scene, plan, 2e9, FrameRange{0, 3});
+    const SceneAnimation anim = coarse_bay(3);
     MorphAnimationView view = anim.view();
     view.draco = DracoOptions{};
     const std::string glb = gltf_morph_glb(view);
@@ -200,15 +203,8 @@ TEST(Draco, MorphBaseKeepsTheVertexOrderOfItsTargets) {
     const auto& prim = doc["meshes"][0]["primitives"][0];
     ASSERT_EQ(prim["targets"].size(), 3u);
     const auto& ext = prim["extensions"]["KHR_draco_mesh_compression"];
-    std::uint32_t json_length = 0;
-    std::memcpy(&json_length, glb.data() + 12, 4);
-    const auto& bv = doc["bufferViews"][ext["bufferView"].get<int>()];
-    draco::DecoderBuffer buffer;
-    buffer.Init(glb.data() + 20 + json_length + 8 + bv.value("byteOffset", 0), bv["byteLength"].get<std::size_t>());
-    draco::Decoder decoder;
-    auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
-    ASSERT_TRUE(decoded.ok());
-    const std::unique_ptr<draco::Mesh> mesh = std::move(decoded).value();
+    const std::unique_ptr<draco::Mesh> mesh = decode_draco(glb, doc, ext);
+    ASSERT_TRUE(mesh);
     const std::size_t n = anim.vertex_count;
     ASSERT_EQ(mesh->num_points(), n);
     const draco::PointAttribute* pos = mesh->GetAttributeByUniqueId(ext["attributes"]["POSITION"].get<std::uint32_t>());
@@ -225,12 +221,7 @@ TEST(Draco, MorphBaseKeepsTheVertexOrderOfItsTargets) {
 TEST(Quantization, MorphFramesDecodeWithinTheInt16Step) {
     // KHR_mesh_quantization: frame k = node transform (base + target k), each stored as
     // normalised int16 — within one quantisation step of the float frame per target.
-    Scene scene = default_scene();
-    scene.trace.ray_spacing = 4.0;
-    scene.fronts.step = 1.6;
-    scene.fronts.split_distance = 4.8;
-    const ScenePlan plan = plan_scene(scene);
-    const SceneAnimation anim = animate_scene(scene, plan, 2e9, FrameRange{0, 4});
+    const SceneAnimation anim = coarse_bay(4);
     MorphAnimationView view = anim.view();
     view.quantize = true;
     const std::string glb = gltf_morph_glb(view);

@@ -132,7 +132,7 @@ struct SceneAnimation {
     bool quantize = false;
     float z_min = 0, z_max = 0;    ///< height range over all frames (m)
     double fps = 24.0;
-    std::span<const std::uint32_t> triangles;  ///< the plan's index list (strips or height field)
+    std::vector<std::uint32_t> triangles;  ///< a copy of the plan's index list (the animation outlives the plan)
 
     MorphAnimationView view() const;
 };

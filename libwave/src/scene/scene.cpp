@@ -487,7 +487,7 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
                          " holds no frame of the loop's 0:" + std::to_string(a.loop_frames));
     a.first_frame = range.first;
     a.frame_count = end - range.first;
-    a.triangles = strips ? std::span<const std::uint32_t>(plan.strips.triangles) : std::span<const std::uint32_t>(sp.triangles);
+    a.triangles = strips ? plan.strips.triangles : sp.triangles;
     const std::size_t n = a.vertex_count;
     const bool shaded = scene.attributes != Scene::Attributes::none;
     const double bytes_per_vertex = 24.0 + (shaded ? 12.0 : 0.0) + (scene.color ? 12.0 : 0.0);
