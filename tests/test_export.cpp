@@ -324,6 +324,51 @@ TEST(Foam, ReleasedAtTheCrestOfBreakingWavesAndFading) {
     EXPECT_THROW(breaking_foam(s, m, 0.0, o, foam), InputError);
 }
 
+TEST(Foam, HeightFieldNodesReleaseFoamAndVerticesBlendIt) {
+    // 2 × 2 control nodes, 2 samples per span: 3 × 3 vertices. Node 0 carries a
+    // breaking train (a = γh/2 at h = 1 m); the others are calm.
+    HeightFieldPlan plan;
+    plan.nx = plan.ny = 2;
+    plan.samples_per_span = 2;
+    plan.vertex_nx = plan.vertex_ny = 3;
+    plan.term_offsets = {0, 1, 2, 2, 2};
+    plan.term_amplitude = {0.5 * kBreakerIndex, 0.1};
+    plan.term_phase = {0.0, 0.0};
+    plan.term_omega = {1.0, 1.0};
+    const std::vector<float> depth{1.0f, 1.0f, 1.0f, 1.0f};
+    std::vector<float> nodes(4), foam(9);
+    const FoamOptions o;
+    const double crest = -0.5 * std::numbers::pi;  // φ − ω t = π/2
+    height_field_foam(plan, depth, crest, o, nodes, foam);
+    EXPECT_NEAR(nodes[0], 1.0, 1e-6);
+    EXPECT_EQ(nodes[1], 0.0f);  // 0.1 m on 1 m: far from breaking
+    EXPECT_NEAR(foam[0], 1.0, 1e-6);
+    EXPECT_NEAR(foam[1], 0.5, 1e-6);   // half-way to node 1
+    EXPECT_NEAR(foam[4], 0.25, 1e-6);  // the centre blends all four
+    EXPECT_EQ(foam[8], 0.0f);
+    height_field_foam(plan, depth, crest + 1.0, o, nodes, foam);
+    EXPECT_NEAR(foam[0], std::exp(-1.0 / o.fade_time), 1e-6);
+    std::vector<float> wrong(3);
+    EXPECT_THROW(height_field_foam(plan, depth, 0.0, o, nodes, wrong), InputError);
+}
+
+TEST(Foam, PlanarBeachHeightFieldFoamsInTheSurfZoneOnly) {
+    Scene scene = read_scene(std::string(LIBWAVE_EXAMPLES_DIR) + "/planar-beach.json");
+    scene.fps = 2.0;
+    const ScenePlan plan = plan_scene(scene);
+    const SceneAnimation anim = animate_scene(scene, plan);
+    const std::size_t n = anim.vertex_count;
+    float surf = 0.0f, offshore = 0.0f;
+    for (std::size_t f = 0; f < anim.frame_count; ++f)
+        for (std::size_t v = 0; v < n; ++v) {
+            const double h = depth_at(plan.seafloor.grid, anim.positions[3 * (f * n + v)], anim.positions[3 * (f * n + v) + 1]);
+            float& bucket = h > 3.0 ? offshore : surf;
+            bucket = std::max(bucket, anim.foam[f * n + v]);
+        }
+    EXPECT_GT(surf, 0.5f);      // waves break near the shore
+    EXPECT_EQ(offshore, 0.0f);  // and nowhere in deep water
+}
+
 TEST(WaterColour, TsoMixOfReflectedAndRefractedWithFoam) {
     const std::vector<float> r{1.0f, 0.0f, 0.0f, 0.5f}, depth{0, 0, 100, 0}, foam{0, 0, 0, 1};
     std::vector<float> rgb(12);

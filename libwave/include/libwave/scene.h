@@ -124,8 +124,8 @@ struct SceneAnimation {
     std::vector<float> normals;    ///< same layout, unit (area-weighted, Jeschke §5)
     std::vector<float> texcoords;  ///< vertex_count · 2: rest position scaled to the domain
     /// Shading per frame (frame_count · vertex_count each; empty when the scene's
-    /// attributes are none): Fresnel weights, foam (ray strips only: the height field
-    /// has no per-vertex breaking yet, so 0), and COLOR_0 (3 per vertex) when asked.
+    /// attributes are none): Fresnel weights, foam from depth-limited breaking, and
+    /// COLOR_0 (3 per vertex) when asked.
     std::vector<float> reflect, refract, foam, colors;
     ScalarLayout layout = ScalarLayout::blender34;
     std::optional<DracoOptions> draco;

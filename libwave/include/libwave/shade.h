@@ -65,6 +65,15 @@ struct FoamOptions {
 void breaking_foam(const RayStrips& strips, const GonzatoMotionPlan& motion, double t, const FoamOptions& options,
                    std::span<float> foam);
 
+/// The same foam on Ts'o's height field: at each control node, every train's term
+/// whose amplitude reaches the breaking ramp (onset · γh/2 … γh/2, h = `node_depth`)
+/// releases foam at its crest (phase π/2 of sin) that fades with time; trains combine
+/// by max, and the sampled vertices take the bilinear blend of their span's four
+/// nodes. `node_foam` is scratch (control_count() floats); `foam` one float per
+/// sampled vertex. Allocates nothing; throws InputError on mismatched sizes.
+void height_field_foam(const HeightFieldPlan& plan, std::span<const float> node_depth, double t,
+                       const FoamOptions& options, std::span<float> node_foam, std::span<float> foam);
+
 /// Ts'o eq. 4.1 baked into linear RGB: colour = R · reflected + T · refracted, the
 /// refracted colour fading towards `deep` as the depth grows (e^{−depth/attenuation}),
 /// and foam mixed in as white. Depth per vertex in m (>= 0). Writes 3 floats per vertex.

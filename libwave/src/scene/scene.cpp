@@ -520,6 +520,15 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
             depth[v] = static_cast<float>(std::max(0.0, depth_at(g, x, y)));
         }
     }
+    std::vector<float> node_depth, node_foam;  // height field: foam from its control nodes
+    if (shaded && !strips) {
+        node_depth.resize(sp.control_count());
+        node_foam.resize(sp.control_count());
+        for (std::size_t j = 0; j < sp.ny; ++j)
+            for (std::size_t i = 0; i < sp.nx; ++i)
+                node_depth[j * sp.nx + i] = static_cast<float>(std::max(
+                    0.0, depth_at(g, sp.x0 + static_cast<double>(i) * sp.dx, sp.y0 + static_cast<double>(j) * sp.dy)));
+    }
     if (shaded) {
         a.reflect.resize(n * a.frame_count);
         a.refract.resize(n * a.frame_count);
@@ -543,6 +552,7 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
             const std::span<float> r(&a.reflect[n * f], n), tr(&a.refract[n * f], n), foam(&a.foam[n * f], n);
             fresnel_weights(p, nr, fresnel, r, tr);
             if (strips) breaking_foam(plan.strips, plan.motion, t, scene.foam, foam);
+            else height_field_foam(sp, node_depth, t, scene.foam, node_foam, foam);
             if (scene.color) water_colour(r, depth, foam, WaterColours{}, std::span<float>(&a.colors[3 * n * f], 3 * n));
         }
         if (progress) progress(f + 1, a.frame_count);

@@ -69,6 +69,43 @@ void breaking_foam(const RayStrips& s, const GonzatoMotionPlan& m, double t, con
     }
 }
 
+void height_field_foam(const HeightFieldPlan& plan, std::span<const float> node_depth, double t, const FoamOptions& o,
+                       std::span<float> node_foam, std::span<float> foam) {
+    require_size(node_depth.size(), plan.control_count(), "node depth");
+    require_size(node_foam.size(), plan.control_count(), "node foam");
+    require_size(foam.size(), plan.vertex_count(), "foam");
+    if (!(o.breaker_index > 0.0) || !(o.fade_time > 0.0) || !(o.onset > 0.0 && o.onset < 1.0))
+        throw InputError("shade: foam needs breaker_index > 0, fade_time > 0 s and 0 < onset < 1");
+    const double two_pi = 2.0 * std::numbers::pi;
+    for (std::size_t v = 0; v < plan.control_count(); ++v) {
+        double f = 0.0;
+        const double h = node_depth[v];
+        for (std::size_t i = plan.term_offsets[v]; h > 0.0 && i < plan.term_offsets[v + 1]; ++i) {
+            const double ratio = 2.0 * plan.term_amplitude[i] / (o.breaker_index * h);
+            const double weight = std::clamp((ratio - o.onset) / (1.0 - o.onset), 0.0, 1.0);
+            if (weight == 0.0) continue;
+            // a sin(φ − ω t) crests at φ − ω t ≡ π/2, a value that falls with time: the
+            // crest passed Δt ago with ω Δt = (π/2 − (φ − ω t)) mod 2π.
+            const double omega = plan.term_omega[i];
+            double since = std::fmod(0.5 * std::numbers::pi - (plan.term_phase[i] - omega * t), two_pi);
+            if (since < 0.0) since += two_pi;
+            f = std::max(f, weight * std::exp(-since / omega / o.fade_time));
+        }
+        node_foam[v] = static_cast<float>(f);
+    }
+    // Sampled vertex (row, col) lies at control coordinates (col, row) / samples.
+    const auto s = static_cast<std::size_t>(plan.samples_per_span);
+    for (std::size_t row = 0; row < plan.vertex_ny; ++row)
+        for (std::size_t col = 0; col < plan.vertex_nx; ++col) {
+            const std::size_t i = std::min(col / s, plan.nx - 2), j = std::min(row / s, plan.ny - 2);
+            const double u = static_cast<double>(col) / static_cast<double>(s) - static_cast<double>(i);
+            const double w = static_cast<double>(row) / static_cast<double>(s) - static_cast<double>(j);
+            const auto at = [&](std::size_t a, std::size_t b) { return double{node_foam[b * plan.nx + a]}; };
+            foam[row * plan.vertex_nx + col] = static_cast<float>(
+                (1 - w) * ((1 - u) * at(i, j) + u * at(i + 1, j)) + w * ((1 - u) * at(i, j + 1) + u * at(i + 1, j + 1)));
+        }
+}
+
 void water_colour(std::span<const float> reflect, std::span<const float> depth, std::span<const float> foam,
                   const WaterColours& c, std::span<float> rgb) {
     const std::size_t count = reflect.size();
