@@ -74,6 +74,10 @@ TEST(GltfMorph, WritesAGlbAndRefusesBadInput) {
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("frame 1, vertex 0"), std::string::npos) << e.what();
     }
+    // A frame file checks its own frame (the files form writes them one by one).
+    EXPECT_THROW(gltf_frame_glb(nan.view(), 1), InputError);
+    EXPECT_NO_THROW(gltf_frame_glb(nan.view(), 0));
+    EXPECT_THROW(gltf_frame_glb(nan.view(), 3), InputError);  // no such frame
     Quad bad;
     bad.tri[4] = 7;
     EXPECT_THROW(gltf_morph_glb(bad.view()), InputError);

@@ -80,8 +80,11 @@ void to_y_up(const float* in, float* out) {
     out[2] = -in[1];
 }
 
-void check(const MorphAnimationView& a) {
+// Sizes, indices and options always; the NaN/Inf scan only over the frames that will
+// be written (`first` … `first + count − 1`): the files form writes one frame per call.
+void check(const MorphAnimationView& a, std::size_t first = 0, std::size_t count = static_cast<std::size_t>(-1)) {
     const std::size_t n = a.vertex_count, f = a.frame_count;
+    count = std::min(count, f > first ? f - first : 0);
     if (n == 0 || f == 0) throw InputError("glTF export: nothing to export (no vertices or no frames)");
     if (a.positions.size() != f * n * 3 || a.normals.size() != f * n * 3 || a.texcoords.size() != n * 2)
         throw InputError("glTF export: array sizes do not match " + std::to_string(f) + " frames of " +
@@ -91,7 +94,8 @@ void check(const MorphAnimationView& a) {
         if (!channel.empty() && channel.size() != f * n * static_cast<std::size_t>(width))
             throw InputError(std::string("glTF export: ") + name + " holds " + std::to_string(channel.size()) +
                              " floats, expected " + std::to_string(f * n * static_cast<std::size_t>(width)));
-        for (std::size_t i = 0; i < channel.size(); ++i)
+        const std::size_t per_frame = n * static_cast<std::size_t>(width);
+        for (std::size_t i = first * per_frame; i < std::min(channel.size(), (first + count) * per_frame); ++i)
             if (!std::isfinite(channel[i]))
                 throw InputError(std::string("glTF export: ") + name + " of frame " + std::to_string(i / (n * static_cast<std::size_t>(width))) +
                                  " is NaN or infinite; refusing to write it");
@@ -104,7 +108,7 @@ void check(const MorphAnimationView& a) {
     for (std::uint32_t v : a.triangles)
         if (v >= n) throw InputError("glTF export: triangle index " + std::to_string(v) + " >= vertex count " + std::to_string(n));
     if (!(a.fps > 0.0) || !std::isfinite(a.fps)) throw InputError("glTF export: fps must be > 0, got " + detail::format_number(a.fps));
-    for (std::size_t i = 0; i < a.positions.size(); ++i)
+    for (std::size_t i = 3 * n * first; i < 3 * n * (first + count); ++i)
         if (!std::isfinite(a.positions[i]) || !std::isfinite(a.normals[i]))
             throw InputError("glTF export: frame " + std::to_string(i / (3 * n)) + ", vertex " + std::to_string((i / 3) % n) +
                              " has a NaN or infinite position or normal; refusing to write it");
@@ -461,7 +465,7 @@ std::string gltf_nodes_glb(const MorphAnimationView& a) {
 }
 
 std::string gltf_frame_glb(const MorphAnimationView& a, std::size_t f) {
-    check(a);
+    check(a, f, 1);
     if (f >= a.frame_count)
         throw InputError("glTF export: frame " + std::to_string(f) + " of " + std::to_string(a.frame_count));
     ModelWriter w(a, a.draco ? 0 : 1);
