@@ -172,7 +172,7 @@ int run_trace(const TraceArgs& a) {
     const bool strips = scene.surface_kind == SurfaceKind::ray_strips;
     if (!a.mesh_out.empty() && !strips)
         throw InputError(a.scene + ": --mesh-out needs the ray-strips surface (this scene's /surface/kind is height-field)");
-    const ScenePlan plan = plan_scene(scene);
+    const ScenePlan plan = plan_scene(scene, PlanStages::trace);  // no surface or motion plan
     if (!a.output.empty()) write_file_atomic(a.output, strips ? fronts_to_csv(plan.fronts) : rays_to_csv(plan.rays));
     if (!a.mesh_out.empty()) write_ray_strips_ply(plan.strips, a.mesh_out);
     const json summary = trace_summary(scene, plan);

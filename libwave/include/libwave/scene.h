@@ -113,7 +113,10 @@ struct ScenePlan {
 /// Throws InputError when the Bresenham footprint is asked for with fewer than one
 /// orthogonal per grid line (Ts'o's minimum: the grid would have holes), or when ray
 /// strips are asked for with other than one wave train.
-ScenePlan plan_scene(const Scene& scene);
+/// How far plan_scene goes: through the tracing only (what `wave trace` needs), or
+/// through the surface and motion plans as well.
+enum class PlanStages { trace, all };
+ScenePlan plan_scene(const Scene& scene, PlanStages stages = PlanStages::all);
 
 /// Every frame of one animation loop of a planned scene, ready for an exporter.
 struct SceneAnimation {

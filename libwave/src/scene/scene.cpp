@@ -408,7 +408,7 @@ TraceOptions scene_trace_options(const Scene& scene, const Seafloor& seafloor) {
     return trace;
 }
 
-ScenePlan plan_scene(const Scene& scene) {
+ScenePlan plan_scene(const Scene& scene, PlanStages stages) {
     ScenePlan p;
     p.seafloor = load_seafloor(scene.seafloor);
     scene_camera(scene, p.seafloor);  // a camera inside the seafloor is an input error, found before the work
@@ -422,7 +422,7 @@ ScenePlan plan_scene(const Scene& scene) {
         p.isobaths = extract_isobaths(p.seafloor, scene.isobaths);
         p.fronts = trace_fronts(p.seafloor, scene.waves[0], fronts, &p.isobaths);
         p.strips = build_ray_strips(p.fronts);
-        p.motion = plan_gonzato_motion(p.strips, scene.profile);
+        if (stages == PlanStages::all) p.motion = plan_gonzato_motion(p.strips, scene.profile);
         p.loop_period = scene.waves[0].period;
         return p;
     }
@@ -447,6 +447,7 @@ ScenePlan plan_scene(const Scene& scene) {
     }
     p.isobaths = extract_isobaths(p.seafloor, scene.isobaths);
     p.rays = trace_rays(p.seafloor, p.isobaths, scene.waves, trace);
+    if (stages == PlanStages::trace) return p;
     p.surface = plan_height_field(p.seafloor, p.rays, scene.waves, scene.surface);
     p.loop_period = p.surface.loop_period;
     return p;
