@@ -12,8 +12,15 @@
 
 #include "libwave/surface.h"
 
+#include <array>
+#include <complex>
 #include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <numbers>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace wave {
@@ -73,5 +80,188 @@ GonzatoMotionPlan plan_gonzato_motion(const RayStrips& strips, const GonzatoProf
 /// does not depend on the thread count. Allocates nothing; throws InputError if
 /// `positions` is not 3 · vertex_count() floats.
 void evaluate_gonzato_motion(const GonzatoMotionPlan& plan, double t, std::span<float> positions);
+
+// ---------------------------------------------------------------------------------
+// Tessendorf's FFT ocean (§3.3–3.7) and Gerstner waves (§3.1)
+// ---------------------------------------------------------------------------------
+
+/// The wind-wave spectra DCC ocean tools offer.
+enum class OceanSpectrumModel {
+    phillips,           ///< eq. 23 with the small-wave cutoff of eq. 24
+    pierson_moskowitz,  ///< fully developed sea (physics.h)
+    jonswap,            ///< fetch-limited sea with peak enhancement
+    tma,                ///< JONSWAP × Kitaigorodskii's depth function (finite depth)
+};
+
+/// A directional wavenumber spectrum F(k) (m⁴: ∫ F d²k is the elevation variance).
+/// Phillips is eq. 23 as printed, F = A e^{−1/(kL)²} k⁻⁴ D(θ) e^{−k²ℓ²}, with
+/// L = V²/g. The frequency spectra become F = S(ω(k)) (dω/dk) / k · D(θ)/∫D, so their
+/// variance is the spectrum's. D(θ) = |k̂·ŵ|^p, times `against_wind` where k̂·ŵ < 0.
+struct OceanSpectrum {
+    OceanSpectrumModel model = OceanSpectrumModel::phillips;
+    /// V (m/s): Phillips' V, U at 19.5 m for Pierson–Moskowitz, U10 for JONSWAP/TMA.
+    double wind_speed = 31.0;
+    std::array<double, 2> wind_direction{1.0, 0.0};  ///< ŵ (normalised on use)
+    double directional_exponent = 2.0;  ///< p of |k̂·ŵ|^p (eq. 23: 2; figure 8: 6)
+    /// Factor on waves running against the wind (k̂·ŵ < 0): 1 is the paper's symmetric
+    /// |k̂·ŵ|^p (half the energy runs upwind), 0 a sea that runs with the wind only.
+    double against_wind = 1.0;
+    /// A of eq. 23 for the continuous spectrum (dimensionless). The default α/(2π),
+    /// α = 8.1e-3, gives Pierson–Moskowitz's high-frequency tail α g² ω⁻⁵ with p = 2.
+    double phillips_constant = 8.1e-3 / (2.0 * std::numbers::pi);
+    double small_wave_cutoff = 0.0;  ///< ℓ of eq. 24 (m); 0 = none (applied to every model)
+    double fetch = 100e3;            ///< JONSWAP/TMA fetch (m)
+    double peak_enhancement = 3.3;   ///< JONSWAP/TMA γ
+    /// Water depth (m): finite-depth dispersion (eq. 15) and the TMA depth function;
+    /// +inf = deep water (eq. 14).
+    double depth = std::numeric_limits<double>::infinity();
+    double capillary_length = 0.0;   ///< L of eq. 16 (m); 0 = gravity waves only
+};
+
+/// F(k) at the wavevector (kx, ky) (m⁴); 0 at k = 0. Throws nothing: call
+/// validate_ocean_spectrum first.
+double ocean_spectrum_density(const OceanSpectrum& spectrum, double kx, double ky) noexcept;
+
+/// ∫ F d²k over all wavevectors (m²), by quadrature in log k (relative error < 1e-6);
+/// 4 sqrt of it is the significant wave height H_s.
+double ocean_spectrum_variance(const OceanSpectrum& spectrum);
+
+/// The spectrum's peak angular frequency ω_p (rad/s): PM 0.877 g/U, JONSWAP/TMA's ω_p,
+/// Phillips' maximum of F k at k = sqrt(2/3)/L (before the cutoff).
+double ocean_peak_omega(const OceanSpectrum& spectrum) noexcept;
+
+/// A tileable ocean patch (§3.3): N×N wave components on a patch of L×L metres.
+struct OceanOptions {
+    std::size_t resolution = 256;  ///< N: a power of two, 16 … 4096
+    double size = 1000.0;          ///< L (m)
+    OceanSpectrum spectrum{};
+    /// λ of eq. 29 (>= 0). The surface point moves to x − λD: with eq. 29's D this is
+    /// Gerstner's eq. 9 for one wave (crests sharpen); the printed x + λD would fold
+    /// the troughs instead (see docs/motion.md).
+    double choppiness = 1.0;
+    /// T of eqs. 17–18 (s): frequencies quantised so that every frame repeats after T;
+    /// 0 = the exact dispersion relation (no loop).
+    double repeat_time = 0.0;
+    std::uint64_t seed = 1;  ///< h̃0 of eq. 25 is a pure function of (seed, wave index)
+};
+
+/// Throws InputError naming the field when an option is out of range (size not a
+/// power of two, wind speed <= 0, a cutoff at least the patch size, …); `where` is
+/// prefixed to the message (e.g. the scene's JSON pointer).
+void validate_ocean_options(const OceanOptions& options, const std::string& where = "ocean");
+
+/// The static half of the FFT ocean: h̃0 (eq. 25) and ω for the N × (N/2 + 1)
+/// non-negative-kx half of the wavevector lattice, as FFTW's real transforms read it.
+/// Row j is k_y = 2π (j < N/2 ? j : j − N) / L, column i is k_x = 2π i / L.
+struct OceanPlan {
+    std::size_t n = 0;
+    double size = 0.0, choppiness = 0.0, repeat_time = 0.0;
+    double peak_omega = 0.0;   ///< of the spectrum (for depth factors)
+    double expected_variance = 0.0;  ///< Σ F Δk² over the lattice: the mean of the sample variance of h
+    std::vector<std::complex<float>> h0;        ///< h̃0(k)
+    std::vector<std::complex<float>> h0_minus;  ///< conj(h̃0(−k))
+    std::vector<float> kx, ky;                  ///< per column / per row (rad/m)
+    std::vector<double> omega;                  ///< ω(k), or ω̄(k) when quantised
+    std::vector<std::int32_t> omega_steps;      ///< ω̄ / ω0 when quantised (else empty)
+
+    std::size_t half() const noexcept { return n / 2 + 1; }
+    double spacing() const noexcept { return size / static_cast<double>(n); }
+};
+
+/// Draws the amplitudes (eq. 25: h̃0 = (ξr + iξi) sqrt(F Δk² / 2)) and the frequencies.
+/// k = 0 and the Nyquist row and column are 0 (a real field's Nyquist mode has no
+/// direction to travel in). Throws InputError for bad options.
+OceanPlan plan_ocean(const OceanOptions& options);
+
+/// One frame of the ocean on the N×N lattice x = (i L/N, j L/N), row-major (j, i):
+/// height h (eq. 19), slope ∇h (eq. 20), displacement D (eq. 29) and its derivatives
+/// ∂Dx/∂x, ∂Dy/∂y, ∂Dx/∂y (for the Jacobian, eq. 30). Views into an OceanWorkspace,
+/// valid until its next evaluation.
+struct OceanFields {
+    std::size_t n = 0;
+    std::span<const float> height, slope_x, slope_y, disp_x, disp_y, disp_xx, disp_yy, disp_xy;
+};
+
+/// FFTW plans (made once, FFTW_ESTIMATE so the plan — and so every bit of the result —
+/// is the same on every run) and aligned buffers for one OceanPlan's size. Not
+/// thread-safe: one workspace per thread.
+class OceanWorkspace {
+public:
+    explicit OceanWorkspace(std::size_t n);
+    ~OceanWorkspace();
+    OceanWorkspace(OceanWorkspace&&) noexcept;
+    OceanWorkspace& operator=(OceanWorkspace&&) noexcept;
+    OceanWorkspace(const OceanWorkspace&) = delete;
+    OceanWorkspace& operator=(const OceanWorkspace&) = delete;
+    struct Impl;
+    Impl& impl() noexcept { return *impl_; }
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
+
+/// h̃(k, t) = h̃0(k) e^{−iωt} + conj(h̃0(−k)) e^{iωt} (eq. 26 with t → −t, so that h̃0(k)
+/// is the wave running along +k), then eight inverse real FFTs (in parallel, each one
+/// sequential: the result does not depend on the thread count). With a repeat time, t
+/// is taken modulo T first, so frame T·fps is bit-identical to frame 0.
+OceanFields evaluate_ocean(const OceanPlan& plan, double t, OceanWorkspace& workspace);
+
+/// Only what the Jacobian needs (three transforms instead of eight): J₋ (eq. 32) of the
+/// map x → x − λD on the lattice, into `j_minus` (N² floats).
+void evaluate_ocean_jacobian(const OceanPlan& plan, double t, OceanWorkspace& workspace, std::span<float> j_minus);
+
+/// The Jacobian of x → x − λD at one lattice point: J (eq. 30), its eigenvalues
+/// J₋ <= J₊ (eq. 32) and the unit eigenvector ê₋ (eqs. 33–34), the direction of folding.
+struct OceanJacobian {
+    double j = 1.0, j_minus = 1.0, j_plus = 1.0;
+    std::array<double, 2> e_minus{1.0, 0.0};
+};
+OceanJacobian ocean_jacobian(double dxx, double dyy, double dxy, double choppiness) noexcept;
+
+/// The open-ocean patch surface for one frame: (N+1)² vertices, row-major, the last
+/// row and column repeating the first one patch further (so patches tile without a
+/// seam). Positions (x − λDx, y − λDy, h), normals exact from the FFT slopes and
+/// displacement derivatives (the cross product of the two tangents of the displaced
+/// surface: (−∂h/∂x, −∂h/∂y, 1) without chop), J₋ per vertex. Parallel over rows.
+void ocean_patch_frame(const OceanPlan& plan, const OceanFields& fields, std::span<float> positions,
+                       std::span<float> normals, std::span<float> j_minus);
+
+/// Samples the (periodic) field at arbitrary rest positions (x, y) by bicubic
+/// Catmull–Rom interpolation and adds `scale[v]` × (−λDx, −λDy, h) to `positions`
+/// (3 per vertex; an empty `scale` is 1 everywhere). Parallel over vertices.
+void add_ocean_samples(const OceanPlan& plan, const OceanFields& fields, std::span<const double> x,
+                       std::span<const double> y, std::span<const float> scale, std::span<float> positions);
+
+/// J₋ on the lattice of one frame (eq. 32), N² floats.
+void ocean_jacobian_field(const OceanPlan& plan, const OceanFields& fields, std::span<float> j_minus);
+
+/// Samples a lattice field (N², periodic) at (x, y) by bicubic Catmull–Rom
+/// interpolation; with `scale`, maps J₋ to 1 + s (J₋ − 1) as add_ocean_samples does.
+void sample_ocean_field(const OceanPlan& plan, std::span<const float> field, std::span<const double> x,
+                        std::span<const double> y, std::span<const float> scale, std::span<float> out);
+
+/// How much of a wind sea of peak frequency ω_p survives in depth h, as an amplitude
+/// factor: sqrt of Kitaigorodskii's depth function (the finite-depth dispersion's
+/// ratio of energies, physics.h). 1 in deep water, → 0 at the shore.
+double wind_sea_depth_factor(double peak_omega, double depth) noexcept;
+
+/// One Gerstner wave (eqs. 9–10): a point at rest x0 moves to
+/// x0 − k̂ A sin(k·x0 − ωt + φ), height A cos(k·x0 − ωt + φ).
+struct GerstnerWave {
+    double kx = 0.0, ky = 0.0;  ///< wavevector (rad/m), along the direction of travel
+    double amplitude = 0.0;     ///< A (m)
+    double omega = 0.0;         ///< ω (rad/s), from dispersion_omega (quantised for loops)
+    double phase = 0.0;         ///< φ (rad)
+};
+
+/// Σ k_i A_i: below 1 the sum of eqs. 12–13 cannot loop over itself; at or above 1 the
+/// crests may form loops ("the insides of the wave surface are outside", §3.1).
+double gerstner_steepness(std::span<const GerstnerWave> waves) noexcept;
+
+/// Adds the Gerstner sum (eqs. 12–13) at time t for rest positions (x, y) to
+/// `positions` (3 per vertex). `depth` (optional, one per vertex) scales each wave by
+/// wind_sea_depth_factor(ω, h). Parallel over vertices.
+void add_gerstner_waves(std::span<const GerstnerWave> waves, std::span<const double> x, std::span<const double> y,
+                        std::span<const float> depth, double t, std::span<float> positions);
 
 }  // namespace wave

@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstddef>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -85,6 +86,44 @@ double shoaling_coefficient(double omega, double depth);
 /// in deep water b∞ and here b (both > 0, m). Energy flux between two rays is
 /// conserved, so the amplitude scales with 1/sqrt(b) (Gonzato eq. 9 printed inverted).
 double refraction_coefficient(double spacing_deep, double spacing_here) noexcept;
+
+/// Angular frequency of a wave of wavenumber k (rad/m) by ω² = g k (1 + k²L²) tanh(k h)
+/// (Tessendorf eqs. 14–16): depth h = +inf (or >= 20/k) is deep water, L the capillary
+/// length (0 = gravity waves only). Returns 0 for k <= 0 or h <= 0.
+double dispersion_omega(double k, double depth = std::numeric_limits<double>::infinity(),
+                        double capillary_length = 0.0) noexcept;
+
+/// Tessendorf eq. 18: ω quantised to a whole multiple of ω0 = 2π / repeat_time (the
+/// integer part, as printed), so that every wave repeats after repeat_time.
+/// repeat_time <= 0 returns ω unchanged.
+double quantize_frequency(double omega, double repeat_time) noexcept;
+
+// ---------------------------------------------------------------------------------
+// Wind-wave spectra (frequency spectra S(ω) in m²·s: ∫ S dω is the elevation variance)
+// ---------------------------------------------------------------------------------
+
+/// Pierson & Moskowitz (1964): S(ω) = α g² ω⁻⁵ exp(−β (g / (U ω))⁴), α = 8.1e-3,
+/// β = 0.74, U the wind speed at 19.5 m. Variance α U⁴ / (4 β g²), H_s = 0.21 U²/g.
+double pierson_moskowitz_spectrum(double omega, double wind_speed) noexcept;
+
+/// JONSWAP (Hasselmann et al. 1973) for a wind U10 blowing over a fetch F:
+/// α = 0.076 (U10² / (F g))^0.22, ω_p = 22 (g² / (U10 F))^{1/3}, peak enhancement γ.
+struct JonswapParameters {
+    double alpha = 0.0;
+    double peak_omega = 0.0;  ///< rad/s
+    double gamma = 3.3;
+};
+JonswapParameters jonswap_parameters(double wind_speed, double fetch, double peak_enhancement = 3.3) noexcept;
+
+/// S(ω) = α g² ω⁻⁵ exp(−5/4 (ω_p/ω)⁴) γ^r, r = exp(−(ω − ω_p)² / (2 σ² ω_p²)),
+/// σ = 0.07 below the peak and 0.09 above.
+double jonswap_spectrum(double omega, const JonswapParameters& p) noexcept;
+
+/// Kitaigorodskii's depth function φ(ω_h), ω_h = ω sqrt(h/g), in the piecewise form of
+/// Thompson & Vincent (1983) used by the TMA spectrum: ½ω_h² (ω_h <= 1),
+/// 1 − ½(2 − ω_h)² (<= 2), 1 beyond. The share of deep-water energy a wind sea keeps in
+/// depth h; 0 when dry, 1 for h = +inf.
+double kitaigorodskii_depth_factor(double omega, double depth) noexcept;
 
 // ---------------------------------------------------------------------------------
 // Breaking

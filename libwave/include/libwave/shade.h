@@ -17,6 +17,8 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <vector>
+#include <string>
 
 namespace wave {
 
@@ -73,6 +75,41 @@ void breaking_foam(const RayStrips& strips, const GonzatoMotionPlan& motion, dou
 /// sampled vertex. Allocates nothing; throws InputError on mismatched sizes.
 void height_field_foam(const HeightFieldPlan& plan, std::span<const float> node_depth, double t,
                        const FoamOptions& options, std::span<float> node_foam, std::span<float> foam);
+
+/// Foam from folding (Tessendorf §3.7, DESIGN.md shade (b)): the choppy map folds
+/// where its minimum eigenvalue J₋ (eq. 32) drops below 0. Foam appears below
+/// `threshold`, is full at threshold − softness, and fades over time without history:
+/// foam(t) = max over τ of coverage(J₋(τ)) · fade(t − τ), τ being t itself and the
+/// times of a fixed lattice j · lattice_step in (t − window, t]. J₋ at those times is
+/// computable alone (Tessendorf's h̃(k, t) is closed-form in t), so any frame is.
+struct FoldFoamOptions {
+    double threshold = 0.0;      ///< J₋ at which foam starts (0: where the surface folds)
+    double softness = 0.25;      ///< full foam at J₋ = threshold − softness (> 0)
+    double fade_time = 1.5;      ///< s: e-folding time of the fade
+    double window = 4.5;         ///< s: foam older than this is gone (the fade reaches 0 there)
+    double lattice_step = 0.25;  ///< s: spacing of the past times looked at (<= window)
+};
+
+/// coverage(J₋) in [0, 1].
+double fold_coverage(double j_minus, const FoldFoamOptions& options) noexcept;
+
+/// fade(age) = (e^{−age/τ} − e^{−W/τ}) / (1 − e^{−W/τ}) for 0 <= age < W, else 0:
+/// exponential, yet exactly 0 when a lattice time leaves the window (no pop).
+double fold_fade(double age, const FoldFoamOptions& options) noexcept;
+
+/// The lattice indices j with j · step in (t − window, t]; with a repeat time T the
+/// step used is T / round(T / lattice_step) (so the lattice, and the foam, loops too),
+/// returned in `step`.
+std::vector<long long> fold_lattice(double t, const FoldFoamOptions& options, double repeat_time, double& step);
+
+/// foam = max(foam, coverage(J₋) · fade(age)) per vertex: call with age 0 for the
+/// current frame and with t − τ for each lattice time τ (in any order: max commutes).
+/// Combines with breaking foam already in `foam` by max. Throws InputError on sizes.
+void accumulate_fold_foam(std::span<const float> j_minus, double age, const FoldFoamOptions& options,
+                          std::span<float> foam);
+
+/// Throws InputError naming the field for out-of-range options.
+void validate_fold_foam(const FoldFoamOptions& options, const std::string& where = "fold foam");
 
 /// Ts'o eq. 4.1 baked into linear RGB: colour = R · reflected + T · refracted, the
 /// refracted colour fading towards `deep` as the depth grows (e^{−depth/attenuation}),

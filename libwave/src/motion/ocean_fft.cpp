@@ -1,0 +1,317 @@
+// Tessendorf §3.3–3.7 per frame: h̃(k, t) (eq. 26), height, slope (eq. 20),
+// choppy displacement (eq. 29) and the Jacobian (eqs. 30–34) by inverse real FFTs.
+#include "libwave/errors.h"
+#include "libwave/motion.h"
+#include "libwave/physics.h"
+
+#include <fftw3.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+#include <numbers>
+
+namespace wave {
+
+namespace {
+// FFTW's planner is not thread-safe; execution with the new-array interface is.
+std::mutex& planner_mutex() {
+    static std::mutex m;
+    return m;
+}
+
+enum Field { kHeight, kSlopeX, kSlopeY, kDispX, kDispY, kDispXX, kDispYY, kDispXY, kFieldCount };
+}  // namespace
+
+struct OceanWorkspace::Impl {
+    std::size_t n = 0, half = 0;
+    fftwf_complex* spectrum[kFieldCount]{};
+    float* field[kFieldCount]{};
+    fftwf_plan plan = nullptr;
+    std::vector<std::complex<double>> phase_table;
+
+    explicit Impl(std::size_t size) : n(size), half(size / 2 + 1) {
+        for (int f = 0; f < kFieldCount; ++f) {
+            spectrum[f] = fftwf_alloc_complex(n * half);
+            field[f] = fftwf_alloc_real(n * n);
+            if (!spectrum[f] || !field[f]) release(), throw RuntimeError("ocean: out of memory for the FFT buffers");
+        }
+        const std::lock_guard lock(planner_mutex());
+        // FFTW_ESTIMATE: the plan depends on the size only (no timing), so every run
+        // computes the same bits. FFTW_MEASURE would pick by timing — not reproducible.
+        plan = fftwf_plan_dft_c2r_2d(static_cast<int>(n), static_cast<int>(n), spectrum[0], field[0], FFTW_ESTIMATE);
+        if (!plan) release(), throw RuntimeError("ocean: FFTW could not plan a " + std::to_string(n) + "² transform");
+    }
+    ~Impl() { release(); }
+    void release() noexcept {
+        const std::lock_guard lock(planner_mutex());
+        if (plan) fftwf_destroy_plan(plan);
+        plan = nullptr;
+        for (int f = 0; f < kFieldCount; ++f) {
+            fftwf_free(spectrum[f]);
+            fftwf_free(field[f]);
+            spectrum[f] = nullptr;
+            field[f] = nullptr;
+        }
+    }
+};
+
+OceanWorkspace::OceanWorkspace(std::size_t n) : impl_(std::make_unique<Impl>(n)) {}
+OceanWorkspace::~OceanWorkspace() = default;
+OceanWorkspace::OceanWorkspace(OceanWorkspace&&) noexcept = default;
+OceanWorkspace& OceanWorkspace::operator=(OceanWorkspace&&) noexcept = default;
+
+namespace {
+
+double loop_time(const OceanPlan& plan, double t) {
+    if (!(plan.repeat_time > 0.0)) return t;
+    double r = std::fmod(t, plan.repeat_time);  // t = T gives exactly 0: frame T·fps is frame 0
+    if (r < 0.0) r += plan.repeat_time;
+    return r;
+}
+
+void check(const OceanPlan& plan, OceanWorkspace& ws) {
+    if (plan.n == 0) throw InputError("ocean: the plan is empty (plan_ocean first)");
+    if (ws.impl().n != plan.n)
+        throw InputError("ocean: a workspace for " + std::to_string(ws.impl().n) + "² used with a " +
+                         std::to_string(plan.n) + "² plan");
+}
+
+// Fills the spectra of the fields in `fields` at time t, then transforms them.
+template <class Fields>
+void transform(const OceanPlan& plan, double t, OceanWorkspace::Impl& w, const Fields& fields) {
+    const std::size_t n = plan.n, half = plan.half();
+    const double tt = loop_time(plan, t);
+    const bool quantised = !plan.omega_steps.empty();
+    if (quantised) {
+        // Every ω̄ is a multiple of ω0 (eq. 18): e^{−i m ω0 t} for the few m in use.
+        const auto top = *std::max_element(plan.omega_steps.begin(), plan.omega_steps.end());
+        const double omega0 = 2.0 * std::numbers::pi / plan.repeat_time;
+        w.phase_table.resize(static_cast<std::size_t>(top) + 1);
+        for (std::size_t m = 0; m < w.phase_table.size(); ++m)
+            w.phase_table[m] = std::polar(1.0, -static_cast<double>(m) * omega0 * tt);
+    }
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t j) {
+        const float ky = plan.ky[j];
+        for (std::size_t i = 0; i < half; ++i) {
+            const std::size_t e = j * half + i;
+            const std::complex<double> ex =
+                quantised ? w.phase_table[static_cast<std::size_t>(plan.omega_steps[e])] : std::polar(1.0, -plan.omega[e] * tt);
+            const std::complex<float> ef(ex);
+            const std::complex<float> h = plan.h0[e] * ef + plan.h0_minus[e] * std::conj(ef);  // eq. 26
+            const float kx = plan.kx[i];
+            const float k = std::sqrt(kx * kx + ky * ky);
+            const float inv_k = k > 0.0f ? 1.0f / k : 0.0f;
+            const std::complex<float> ih(-h.imag(), h.real());  // i h̃
+            for (int f : fields) {
+                std::complex<float> v;
+                switch (f) {
+                    case kHeight: v = h; break;                               // eq. 19
+                    case kSlopeX: v = kx * ih; break;                         // eq. 20
+                    case kSlopeY: v = ky * ih; break;
+                    case kDispX: v = -kx * inv_k * ih; break;                 // eq. 29
+                    case kDispY: v = -ky * inv_k * ih; break;
+                    case kDispXX: v = kx * kx * inv_k * h; break;             // ∂/∂x of eq. 29
+                    case kDispYY: v = ky * ky * inv_k * h; break;
+                    default: v = kx * ky * inv_k * h; break;
+                }
+                w.spectrum[f][e][0] = v.real();
+                w.spectrum[f][e][1] = v.imag();
+            }
+        }
+    });
+    // One sequential transform per field, the fields in parallel: bits independent of threads.
+    tbb::parallel_for(std::size_t{0}, std::size(fields), [&](std::size_t q) {
+        const int f = fields[q];
+        fftwf_execute_dft_c2r(w.plan, w.spectrum[f], w.field[f]);
+    });
+}
+
+std::span<const float> view(const OceanWorkspace::Impl& w, int f) { return {w.field[f], w.n * w.n}; }
+
+}  // namespace
+
+OceanFields evaluate_ocean(const OceanPlan& plan, double t, OceanWorkspace& ws) {
+    check(plan, ws);
+    static constexpr int all[] = {kHeight, kSlopeX, kSlopeY, kDispX, kDispY, kDispXX, kDispYY, kDispXY};
+    auto& w = ws.impl();
+    transform(plan, t, w, all);
+    return {plan.n,           view(w, kHeight), view(w, kSlopeX), view(w, kSlopeY), view(w, kDispX),
+            view(w, kDispY),  view(w, kDispXX), view(w, kDispYY), view(w, kDispXY)};
+}
+
+OceanJacobian ocean_jacobian(double dxx, double dyy, double dxy, double lambda) noexcept {
+    // The map x → x − λD (eq. 30 with the sign of Gerstner's eq. 9).
+    const double jxx = 1.0 - lambda * dxx, jyy = 1.0 - lambda * dyy, jxy = -lambda * dxy;
+    OceanJacobian J;
+    J.j = jxx * jyy - jxy * jxy;
+    const double mean = 0.5 * (jxx + jyy), root = 0.5 * std::sqrt((jxx - jyy) * (jxx - jyy) + 4.0 * jxy * jxy);
+    J.j_minus = mean - root;  // eq. 32
+    J.j_plus = mean + root;
+    if (std::abs(jxy) > 1e-12 * (std::abs(jxx) + std::abs(jyy) + 1e-300)) {
+        const double q = (J.j_minus - jxx) / jxy;  // eq. 34
+        const double len = std::sqrt(1.0 + q * q);
+        J.e_minus = {1.0 / len, q / len};          // eq. 33
+    } else {
+        J.e_minus = jxx <= jyy ? std::array<double, 2>{1.0, 0.0} : std::array<double, 2>{0.0, 1.0};
+    }
+    return J;
+}
+
+void evaluate_ocean_jacobian(const OceanPlan& plan, double t, OceanWorkspace& ws, std::span<float> j_minus) {
+    check(plan, ws);
+    if (j_minus.size() != plan.n * plan.n) throw InputError("ocean: j_minus must hold N² values");
+    static constexpr int three[] = {kDispXX, kDispYY, kDispXY};
+    auto& w = ws.impl();
+    transform(plan, t, w, three);
+    OceanFields f;
+    f.n = plan.n;
+    f.disp_xx = view(w, kDispXX);
+    f.disp_yy = view(w, kDispYY);
+    f.disp_xy = view(w, kDispXY);
+    ocean_jacobian_field(plan, f, j_minus);
+}
+
+void ocean_jacobian_field(const OceanPlan& plan, const OceanFields& f, std::span<float> j_minus) {
+    const std::size_t n = plan.n;
+    if (f.n != n || j_minus.size() != n * n) throw InputError("ocean: j_minus must hold N² values");
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t j) {
+        for (std::size_t i = j * n; i < (j + 1) * n; ++i)
+            j_minus[i] = static_cast<float>(ocean_jacobian(f.disp_xx[i], f.disp_yy[i], f.disp_xy[i], plan.choppiness).j_minus);
+    });
+}
+
+void ocean_patch_frame(const OceanPlan& plan, const OceanFields& f, std::span<float> positions,
+                       std::span<float> normals, std::span<float> j_minus) {
+    const std::size_t n = plan.n, side = n + 1, count = side * side;
+    if (f.n != n || positions.size() != 3 * count || normals.size() != 3 * count ||
+        (!j_minus.empty() && j_minus.size() != count))
+        throw InputError("ocean: the patch frame needs (N+1)² vertices: 3 floats each for positions and normals");
+    const double d = plan.spacing(), lambda = plan.choppiness;
+    tbb::parallel_for(std::size_t{0}, side, [&](std::size_t row) {
+        for (std::size_t col = 0; col < side; ++col) {
+            const std::size_t v = row * side + col, s = (row % n) * n + (col % n);
+            const double jxx = 1.0 - lambda * f.disp_xx[s], jyy = 1.0 - lambda * f.disp_yy[s];
+            const double jxy = -lambda * f.disp_xy[s];
+            positions[3 * v] = static_cast<float>(d * static_cast<double>(col) - lambda * f.disp_x[s]);
+            positions[3 * v + 1] = static_cast<float>(d * static_cast<double>(row) - lambda * f.disp_y[s]);
+            positions[3 * v + 2] = f.height[s];
+            // ∂P/∂x0 = (Jxx, Jxy, ∂h/∂x), ∂P/∂y0 = (Jxy, Jyy, ∂h/∂y): their cross product.
+            const double sx = f.slope_x[s], sy = f.slope_y[s];
+            const double nx = jxy * sy - sx * jyy, ny = sx * jxy - jxx * sy, nz = jxx * jyy - jxy * jxy;
+            const double len = std::sqrt(nx * nx + ny * ny + nz * nz);
+            const double inv = len > 0.0 ? 1.0 / len : 0.0;
+            normals[3 * v] = static_cast<float>(nx * inv);
+            normals[3 * v + 1] = static_cast<float>(ny * inv);
+            normals[3 * v + 2] = len > 0.0 ? static_cast<float>(nz * inv) : 1.0f;
+            if (!j_minus.empty())
+                j_minus[v] = static_cast<float>(ocean_jacobian(f.disp_xx[s], f.disp_yy[s], f.disp_xy[s], lambda).j_minus);
+        }
+    });
+}
+
+namespace {
+
+// Catmull–Rom weights for the fraction u in [0, 1).
+std::array<double, 4> catmull_rom(double u) noexcept {
+    const double u2 = u * u, u3 = u2 * u;
+    return {0.5 * (-u3 + 2.0 * u2 - u), 0.5 * (3.0 * u3 - 5.0 * u2 + 2.0), 0.5 * (-3.0 * u3 + 4.0 * u2 + u),
+            0.5 * (u3 - u2)};
+}
+
+struct Taps {
+    std::size_t index[16];
+    double weight[16];
+};
+
+Taps periodic_taps(std::size_t n, double spacing, double x, double y) noexcept {
+    const double u = x / spacing, v = y / spacing;
+    const double fu = std::floor(u), fv = std::floor(v);
+    const auto wu = catmull_rom(u - fu), wv = catmull_rom(v - fv);
+    const long N = static_cast<long>(n);
+    const auto wrap = [N](double c, long o) {
+        const long q = (static_cast<long>(std::fmod(c, static_cast<double>(N))) + o) % N;
+        return static_cast<std::size_t>(q < 0 ? q + N : q);
+    };
+    Taps t{};
+    for (int b = 0; b < 4; ++b)
+        for (int a = 0; a < 4; ++a) {
+            t.index[4 * b + a] = wrap(fv, b - 1) * n + wrap(fu, a - 1);
+            t.weight[4 * b + a] = wu[static_cast<std::size_t>(a)] * wv[static_cast<std::size_t>(b)];
+        }
+    return t;
+}
+
+double tap_sum(const Taps& t, std::span<const float> field) noexcept {
+    double s = 0.0;
+    for (int q = 0; q < 16; ++q) s += t.weight[q] * field[t.index[q]];
+    return s;
+}
+
+}  // namespace
+
+void add_ocean_samples(const OceanPlan& plan, const OceanFields& f, std::span<const double> x, std::span<const double> y,
+                       std::span<const float> scale, std::span<float> positions) {
+    const std::size_t count = x.size();
+    if (f.n != plan.n || y.size() != count || positions.size() != 3 * count || (!scale.empty() && scale.size() != count))
+        throw InputError("ocean: add_ocean_samples needs x, y (and scale) per vertex and 3 floats of positions per vertex");
+    const double lambda = plan.choppiness, d = plan.spacing();
+    tbb::parallel_for(std::size_t{0}, count, [&](std::size_t v) {
+        const double s = scale.empty() ? 1.0 : static_cast<double>(scale[v]);
+        if (s == 0.0) return;
+        const Taps t = periodic_taps(plan.n, d, x[v], y[v]);
+        positions[3 * v] += static_cast<float>(-s * lambda * tap_sum(t, f.disp_x));
+        positions[3 * v + 1] += static_cast<float>(-s * lambda * tap_sum(t, f.disp_y));
+        positions[3 * v + 2] += static_cast<float>(s * tap_sum(t, f.height));
+    });
+}
+
+void sample_ocean_field(const OceanPlan& plan, std::span<const float> field, std::span<const double> x,
+                        std::span<const double> y, std::span<const float> scale, std::span<float> out) {
+    const std::size_t count = x.size();
+    if (field.size() != plan.n * plan.n || y.size() != count || out.size() != count ||
+        (!scale.empty() && scale.size() != count))
+        throw InputError("ocean: sample_ocean_field needs an N² field and x, y, out (and scale) per point");
+    const double d = plan.spacing();
+    tbb::parallel_for(std::size_t{0}, count, [&](std::size_t v) {
+        const double value = tap_sum(periodic_taps(plan.n, d, x[v], y[v]), field);
+        // J₋ of x → x − sλD is 1 + s (J₋ − 1) for a constant s.
+        out[v] = static_cast<float>(scale.empty() ? value : 1.0 + static_cast<double>(scale[v]) * (value - 1.0));
+    });
+}
+
+double wind_sea_depth_factor(double peak_omega, double depth) noexcept {
+    return std::sqrt(kitaigorodskii_depth_factor(peak_omega, depth));
+}
+
+double gerstner_steepness(std::span<const GerstnerWave> waves) noexcept {
+    double s = 0.0;
+    for (const auto& w : waves) s += std::hypot(w.kx, w.ky) * w.amplitude;
+    return s;
+}
+
+void add_gerstner_waves(std::span<const GerstnerWave> waves, std::span<const double> x, std::span<const double> y,
+                        std::span<const float> depth, double t, std::span<float> positions) {
+    const std::size_t count = x.size();
+    if (y.size() != count || positions.size() != 3 * count || (!depth.empty() && depth.size() != count))
+        throw InputError("gerstner: x, y (and depth) per vertex and 3 floats of positions per vertex");
+    tbb::parallel_for(std::size_t{0}, count, [&](std::size_t v) {
+        double dx = 0.0, dy = 0.0, dz = 0.0;
+        for (const auto& w : waves) {
+            const double k = std::hypot(w.kx, w.ky);
+            if (!(k > 0.0)) continue;
+            const double a = w.amplitude * (depth.empty() ? 1.0 : wind_sea_depth_factor(w.omega, depth[v]));
+            const double theta = w.kx * x[v] + w.ky * y[v] - w.omega * t + w.phase;
+            const double s = std::sin(theta), c = std::cos(theta);
+            dx -= w.kx / k * a * s;  // eq. 12
+            dy -= w.ky / k * a * s;
+            dz += a * c;             // eq. 13
+        }
+        positions[3 * v] += static_cast<float>(dx);
+        positions[3 * v + 1] += static_cast<float>(dy);
+        positions[3 * v + 2] += static_cast<float>(dz);
+    });
+}
+
+}  // namespace wave

@@ -1,0 +1,52 @@
+// Foam from the folding of Tessendorf's choppy map (§3.7, eqs. 30–32), faded over time
+// without history: the past is looked up on a fixed time lattice, not remembered.
+#include "core/format.h"
+#include "libwave/errors.h"
+#include "libwave/shade.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace wave {
+
+double fold_coverage(double j_minus, const FoldFoamOptions& o) noexcept {
+    return std::clamp((o.threshold - j_minus) / o.softness, 0.0, 1.0);
+}
+
+double fold_fade(double age, const FoldFoamOptions& o) noexcept {
+    if (age < 0.0 || age >= o.window) return age < 0.0 ? 0.0 : 0.0;
+    const double floor = std::exp(-o.window / o.fade_time);
+    return (std::exp(-age / o.fade_time) - floor) / (1.0 - floor);
+}
+
+std::vector<long long> fold_lattice(double t, const FoldFoamOptions& o, double repeat_time, double& step) {
+    step = o.lattice_step;
+    if (repeat_time > 0.0) step = repeat_time / std::max(1.0, std::round(repeat_time / o.lattice_step));
+    const auto last = static_cast<long long>(std::floor(t / step + 1e-9));
+    std::vector<long long> out;
+    for (long long j = last; static_cast<double>(j) * step > t - o.window; --j) out.push_back(j);
+    return out;
+}
+
+void accumulate_fold_foam(std::span<const float> j_minus, double age, const FoldFoamOptions& o, std::span<float> foam) {
+    if (j_minus.size() != foam.size())
+        throw InputError("shade: j_minus holds " + std::to_string(j_minus.size()) + " values, foam " +
+                         std::to_string(foam.size()));
+    const double w = fold_fade(age, o);
+    if (w <= 0.0) return;
+    for (std::size_t v = 0; v < foam.size(); ++v)
+        foam[v] = std::max(foam[v], static_cast<float>(fold_coverage(j_minus[v], o) * w));
+}
+
+void validate_fold_foam(const FoldFoamOptions& o, const std::string& where) {
+    const auto fail = [&](const char* field, const std::string& what) { throw InputError(where + "/" + field + ": " + what); };
+    const auto f = [](double v) { return detail::format_number(v); };
+    if (!std::isfinite(o.threshold)) fail("fold_threshold", "expected a finite J₋");
+    if (!(o.softness > 0.0) || !std::isfinite(o.softness)) fail("fold_softness", "expected a number > 0, got " + f(o.softness));
+    if (!(o.fade_time > 0.0) || !std::isfinite(o.fade_time)) fail("foam_fade_time", "expected a time > 0 s, got " + f(o.fade_time));
+    if (!(o.window > 0.0) || !std::isfinite(o.window)) fail("fold_window", "expected a time > 0 s, got " + f(o.window));
+    if (!(o.lattice_step > 0.0) || o.lattice_step > o.window)
+        fail("fold_lattice_step", "expected a time in (0, window], got " + f(o.lattice_step));
+}
+
+}  // namespace wave

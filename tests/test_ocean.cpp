@@ -1,0 +1,432 @@
+// Tessendorf's FFT ocean and Gerstner waves (motion), fold foam (shade): against
+// analytic integrals, the statistics of eq. 25, Gerstner's eqs. 9–10, the folding of
+// the choppy map (figures 16 and 20), exact loops (eq. 18), and the dispersion
+// relation recovered from the animation by a space-time Fourier transform (§3.6).
+#include "libwave/errors.h"
+#include "libwave/motion.h"
+#include "libwave/physics.h"
+#include "libwave/shade.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <complex>
+#include <cstring>
+#include <numbers>
+#include <vector>
+
+namespace {
+
+using namespace wave;
+constexpr double kPi = std::numbers::pi;
+
+TEST(OceanSpectrum, PiersonMoskowitzVarianceIsAnalytic) {
+    // ∫ α g² ω⁻⁵ e^{−β (g/Uω)⁴} dω = α U⁴ / (4 β g²), whatever the spreading.
+    for (double U : {5.0, 12.0, 31.0}) {
+        for (double p : {2.0, 6.0}) {
+            OceanSpectrum s{.model = OceanSpectrumModel::pierson_moskowitz, .wind_speed = U, .directional_exponent = p};
+            const double exact = 8.1e-3 * std::pow(U, 4) / (4.0 * 0.74 * kGravity * kGravity);
+            EXPECT_NEAR(ocean_spectrum_variance(s) / exact, 1.0, 1e-6) << "U " << U << " p " << p;
+            s.against_wind = 0.0;  // a one-sided sea keeps the spectrum's energy
+            EXPECT_NEAR(ocean_spectrum_variance(s) / exact, 1.0, 1e-6);
+        }
+        // H_s = 0.21 U²/g, the textbook value.
+        const double hs = 4.0 * std::sqrt(ocean_spectrum_variance({.model = OceanSpectrumModel::pierson_moskowitz, .wind_speed = U}));
+        EXPECT_NEAR(hs / (U * U / kGravity), 0.209, 0.001);
+    }
+}
+
+TEST(OceanSpectrum, PhillipsVarianceIsAnalytic) {
+    // eq. 23 with p = 2, no cutoff: A ∫ e^{−1/(kL)²} k⁻³ dk ∫ cos²θ dθ = A π L² / 2.
+    const OceanSpectrum s{.model = OceanSpectrumModel::phillips, .wind_speed = 31.0};
+    const double L = 31.0 * 31.0 / kGravity;
+    EXPECT_NEAR(ocean_spectrum_variance(s) / (s.phillips_constant * kPi * L * L / 2.0), 1.0, 1e-6);
+    // The default A matches Pierson–Moskowitz's tail: F k (per unit k, all directions)
+    // = α / (2 k³) far above the peak.
+    const double k = 50.0 / L;
+    double omni = 0.0;
+    for (int i = 0; i < 3600; ++i) {
+        const double th = 2.0 * kPi * (i + 0.5) / 3600.0;
+        omni += ocean_spectrum_density(s, k * std::cos(th), k * std::sin(th)) * k * 2.0 * kPi / 3600.0;
+    }
+    EXPECT_NEAR(omni / (8.1e-3 / (2.0 * k * k * k)), std::exp(-1.0 / 2500.0), 1e-6);
+}
+
+TEST(OceanSpectrum, JonswapAndTma) {
+    // γ = 1 is Pierson–Moskowitz's shape (with JONSWAP's α and ω_p): the variance is
+    // α g² / (5 ω_p⁴) exactly.
+    const OceanSpectrum s{.model = OceanSpectrumModel::jonswap, .wind_speed = 15.0, .fetch = 50e3, .peak_enhancement = 1.0};
+    const auto p = jonswap_parameters(15.0, 50e3, 1.0);
+    EXPECT_NEAR(ocean_spectrum_variance(s) / (p.alpha * kGravity * kGravity / (5.0 * std::pow(p.peak_omega, 4))), 1.0, 1e-6);
+    // Peak enhancement raises the energy; TMA in shallow water lowers it, and in deep
+    // water TMA is JONSWAP.
+    OceanSpectrum j = s;
+    j.peak_enhancement = 3.3;
+    const double vj = ocean_spectrum_variance(j);
+    EXPECT_GT(vj, ocean_spectrum_variance(s) * 1.3);
+    OceanSpectrum t = j;
+    t.model = OceanSpectrumModel::tma;
+    t.depth = 1000.0;
+    EXPECT_NEAR(ocean_spectrum_variance(t) / vj, 1.0, 1e-6);
+    t.depth = 3.0;
+    EXPECT_LT(ocean_spectrum_variance(t), 0.5 * vj);
+    // Kitaigorodskii's φ: ½ω_h² below 1, continuous at 1 and 2, 1 in deep water.
+    const double w = 1.0;
+    EXPECT_NEAR(kitaigorodskii_depth_factor(w, 0.5 * kGravity), 0.25, 1e-12);
+    for (double wh : {1.0, 2.0}) {
+        const double h = wh * wh * kGravity;  // ω_h = ω sqrt(h/g) with ω = 1
+        EXPECT_NEAR(kitaigorodskii_depth_factor(w, h * (1 - 1e-9)), kitaigorodskii_depth_factor(w, h * (1 + 1e-9)), 1e-8);
+    }
+    EXPECT_EQ(kitaigorodskii_depth_factor(w, 100.0), 1.0);
+    EXPECT_EQ(kitaigorodskii_depth_factor(w, 0.0), 0.0);
+}
+
+TEST(OceanDispersion, ForwardRelationAndQuantisation) {
+    // dispersion_omega inverts solve_dispersion (eqs. 14–16).
+    for (double h : {0.5, 5.0, 1e6})
+        for (double L : {0.0, 2.7e-3})
+            for (double T : {0.2, 2.0, 12.0}) {
+                const double omega = 2.0 * kPi / T;
+                const double k = solve_dispersion(omega, h, {.capillary_length = L}).k;
+                EXPECT_NEAR(dispersion_omega(k, h, L) / omega, 1.0, 1e-12);
+            }
+    EXPECT_NEAR(dispersion_omega(1.0), std::sqrt(kGravity), 1e-15);
+    // eq. 18: integer multiples of 2π/T, never above ω, within one step below it.
+    for (double omega : {0.05, 0.7, 3.3}) {
+        const double q = quantize_frequency(omega, 20.0), w0 = 2.0 * kPi / 20.0;
+        EXPECT_NEAR(q / w0, std::round(q / w0), 1e-12);
+        EXPECT_LE(q, omega);
+        EXPECT_GT(q, omega - w0);
+    }
+    EXPECT_EQ(quantize_frequency(0.7, 0.0), 0.7);
+}
+
+OceanOptions small_ocean() {
+    OceanOptions o;
+    o.resolution = 64;
+    o.size = 200.0;
+    o.spectrum.wind_speed = 10.0;  // L = 10.2 m: the peak (λ ≈ 78 m) and the tail on the grid
+    o.spectrum.small_wave_cutoff = 1.0;
+    return o;
+}
+
+double sample_variance(std::span<const float> h) {
+    double m = 0.0, s = 0.0;
+    for (float v : h) m += v;
+    m /= static_cast<double>(h.size());
+    for (float v : h) s += (v - m) * (v - m);
+    return s / static_cast<double>(h.size());
+}
+
+TEST(OceanFft, SampleVarianceMatchesTheSpectrum) {
+    // Parseval: the sample variance is Σ |h̃(k,t)|² over the lattice; for each pair
+    // (k, −k) that is 2 |a e^{−iωt} + conj(b) e^{iωt}|², an exponential variable of mean
+    // 2 (P(k) + P(−k)), P = F Δk²/2. Its mean is plan.expected_variance and its
+    // standard deviation sqrt(Σ 4 μ²), computed here from the same lattice.
+    OceanOptions o = small_ocean();
+    const OceanPlan p0 = plan_ocean(o);
+    const double dk = 2.0 * kPi / o.size;
+    double mean = 0.0, var = 0.0;
+    const long N = 64;
+    for (long m = -N / 2 + 1; m < N / 2; ++m)
+        for (long n = -N / 2 + 1; n < N / 2; ++n) {
+            if (n < 0 || (n == 0 && m <= 0)) continue;  // one of each pair
+            const double mu = (ocean_spectrum_density(o.spectrum, double(n) * dk, double(m) * dk) +
+                               ocean_spectrum_density(o.spectrum, -double(n) * dk, -double(m) * dk)) * dk * dk / 2.0;
+            mean += 2.0 * mu;
+            var += 4.0 * mu * mu;
+        }
+    EXPECT_NEAR(p0.expected_variance / mean, 1.0, 1e-9);
+    // The lattice resolves the spectrum: within 3 % of the continuous integral (eq. 24's
+    // cutoff included; what is lost is below the patch's fundamental and beyond Nyquist).
+    EXPECT_NEAR(mean / ocean_spectrum_variance(o.spectrum), 1.0, 0.03);
+    // Average over 16 seeds and 2 times: within 4 standard deviations of the mean.
+    const int seeds = 16;
+    double sum = 0.0;
+    OceanWorkspace ws(o.resolution);
+    for (int s = 0; s < seeds; ++s) {
+        o.seed = 1000 + static_cast<std::uint64_t>(s);
+        const OceanPlan p = plan_ocean(o);
+        sum += sample_variance(evaluate_ocean(p, 0.0, ws).height);
+        sum += sample_variance(evaluate_ocean(p, 7.3, ws).height);
+    }
+    const double avg = sum / (2 * seeds);
+    // Two times of one seed are not independent: count seeds only in the error.
+    EXPECT_NEAR(avg, mean, 4.0 * std::sqrt(var / seeds)) << "mean " << mean << " sd " << std::sqrt(var);
+}
+
+TEST(OceanFft, SingleModeIsGerstner) {
+    // One wave component: the FFT's height and x − λD with λ = 1 are Gerstner's eqs. 9–10
+    // (Tessendorf §3.7 says the two are alike; with the sign used here they are equal).
+    OceanOptions o = small_ocean();
+    o.choppiness = 1.0;
+    OceanPlan p = plan_ocean(o);
+    std::fill(p.h0.begin(), p.h0.end(), std::complex<float>{});
+    std::fill(p.h0_minus.begin(), p.h0_minus.end(), std::complex<float>{});
+    const std::size_t i = 3, j = 2, e = j * p.half() + i;  // k = 2π/200 (3, 2)
+    const double A = 1.5;
+    p.h0[e] = {static_cast<float>(A / 2), 0.0f};  // h = 2 Re(h̃ e^{ik·x}) = A cos(k·x − ωt)
+    const GerstnerWave g{.kx = p.kx[i], .ky = p.ky[j], .amplitude = A, .omega = p.omega[e]};
+    OceanWorkspace ws(p.n);
+    const double t = 4.2;
+    const OceanFields f = evaluate_ocean(p, t, ws);
+    const std::size_t side = p.n + 1, count = side * side;
+    std::vector<float> pos(3 * count), nrm(3 * count), jm(count);
+    ocean_patch_frame(p, f, pos, nrm, jm);
+    std::vector<double> x(count), y(count);
+    std::vector<float> gp(3 * count);
+    for (std::size_t v = 0; v < count; ++v) {
+        x[v] = p.spacing() * static_cast<double>(v % side);
+        y[v] = p.spacing() * static_cast<double>(v / side);
+        gp[3 * v] = static_cast<float>(x[v]);
+        gp[3 * v + 1] = static_cast<float>(y[v]);
+    }
+    add_gerstner_waves(std::span<const GerstnerWave>(&g, 1), x, y, {}, t, gp);
+    double worst = 0.0;
+    for (std::size_t q = 0; q < 3 * count; ++q) worst = std::max(worst, std::abs(double(pos[q]) - gp[q]));
+    EXPECT_LT(worst, 1e-4);  // float FFT of a 1.5 m wave on a 200 m patch
+    // Its Jacobian is 1 − kA cos θ along k̂ (folding at the crest when kA > 1).
+    const double k = std::hypot(g.kx, g.ky);
+    for (std::size_t v = 0; v < count; v += 97) {
+        const double theta = g.kx * x[v] + g.ky * y[v] - g.omega * t;
+        EXPECT_NEAR(jm[v], std::min(1.0, 1.0 - k * A * std::cos(theta)), 1e-5);
+    }
+    EXPECT_NEAR(gerstner_steepness(std::span<const GerstnerWave>(&g, 1)), k * A, 1e-12);
+}
+
+TEST(OceanFft, FoldsExactlyWhereTheJacobianIsNegative) {
+    // A 1D random sea (only the k_y = 0 row of a real spectrum) with strong chop: the
+    // horizontal map x → x − λDx(x) runs backwards (the surface folds, figures 16 and
+    // 20) exactly where J₋ = J < 0.
+    OceanOptions o = small_ocean();
+    o.resolution = 1024;
+    o.size = 400.0;
+    o.spectrum.small_wave_cutoff = 0.5;
+    OceanPlan p = plan_ocean(o);
+    for (std::size_t j = 1; j < p.n; ++j)
+        for (std::size_t i = 0; i < p.half(); ++i) p.h0[j * p.half() + i] = p.h0_minus[j * p.half() + i] = {};
+    OceanWorkspace ws(p.n);
+    const OceanFields f = evaluate_ocean(p, 3.0, ws);
+    // λ such that the steepest point folds to J = −0.5 (the fields do not depend on λ).
+    float steepest = 0.0f;
+    for (std::size_t i = 0; i < p.n; ++i) steepest = std::max(steepest, f.disp_xx[i]);
+    p.choppiness = 1.5 / steepest;
+    std::size_t folded = 0, checked = 0, disagree = 0;
+    for (std::size_t i = 0; i + 1 < p.n; ++i) {
+        const double X0 = p.spacing() * double(i) - p.choppiness * f.disp_x[i];
+        const double X1 = p.spacing() * double(i + 1) - p.choppiness * f.disp_x[i + 1];
+        const double jm = 0.5 * (ocean_jacobian(f.disp_xx[i], f.disp_yy[i], f.disp_xy[i], p.choppiness).j +
+                                 ocean_jacobian(f.disp_xx[i + 1], f.disp_yy[i + 1], f.disp_xy[i + 1], p.choppiness).j);
+        if (std::abs(jm) < 0.05) continue;  // at a fold's edge the midpoint rule cannot decide
+        ++checked;
+        folded += X1 < X0;
+        disagree += (X1 < X0) != (jm < 0.0);
+        const auto J = ocean_jacobian(f.disp_xx[i], f.disp_yy[i], f.disp_xy[i], p.choppiness);
+        EXPECT_NEAR(J.j, J.j_minus * J.j_plus, 1e-9);
+        // nothing varies along y: the eigenvalues are 1 − λ ∂Dx/∂x and 1
+        EXPECT_NEAR(J.j_minus + J.j_plus, 2.0 - p.choppiness * f.disp_xx[i], 1e-6);
+        EXPECT_LE(J.j_minus, 1.0);
+    }
+    EXPECT_GT(folded, 20u) << "the test needs folds";
+    EXPECT_LT(folded, checked / 2);
+    EXPECT_EQ(disagree, 0u);
+}
+
+TEST(OceanFft, EigenvectorPointsAcrossTheFold) {
+    // eqs. 33–34: ê₋ is the unit eigenvector of J₋; for a wave along k̂ it is ±k̂.
+    const double c = std::cos(0.6), s = std::sin(0.6), a = 0.8;  // ∂D = a k̂ k̂ᵀ
+    const auto J = ocean_jacobian(a * c * c, a * s * s, a * c * s, 2.0);
+    EXPECT_NEAR(J.j_minus, 1.0 - 2.0 * a, 1e-12);
+    EXPECT_NEAR(J.j_plus, 1.0, 1e-12);
+    EXPECT_NEAR(std::abs(J.e_minus[0] * c + J.e_minus[1] * s), 1.0, 1e-12);
+}
+
+TEST(OceanFft, LoopsBitIdentically) {
+    OceanOptions o = small_ocean();
+    o.repeat_time = 20.0;
+    const OceanPlan p = plan_ocean(o);
+    OceanWorkspace ws(p.n);
+    const double fps = 24.0;
+    const std::vector<float> first(evaluate_ocean(p, 0.0 / fps, ws).height.begin(), evaluate_ocean(p, 0.0, ws).height.end());
+    const OceanFields last = evaluate_ocean(p, 480.0 / fps, ws);  // frame T·fps
+    ASSERT_EQ(first.size(), last.height.size());
+    EXPECT_EQ(std::memcmp(first.data(), last.height.data(), first.size() * sizeof(float)), 0);
+    const OceanFields mid = evaluate_ocean(p, 10.0, ws);
+    EXPECT_NE(std::memcmp(first.data(), mid.height.data(), first.size() * sizeof(float)), 0);
+    // Every quantised frequency is a multiple of 2π/T.
+    for (std::size_t e = 0; e < p.omega.size(); ++e)
+        EXPECT_EQ(p.omega[e], p.omega_steps[e] * (2.0 * kPi / 20.0));
+}
+
+TEST(OceanFft, SameBitsForAnyThreadCount) {
+    const OceanOptions o = small_ocean();
+    std::vector<float> one, two;
+    for (int threads : {1, 2}) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+        const OceanPlan p = plan_ocean(o);
+        OceanWorkspace ws(p.n);
+        const OceanFields f = evaluate_ocean(p, 2.5, ws);
+        auto& out = threads == 1 ? one : two;
+        for (auto field : {f.height, f.disp_x, f.disp_xy, f.slope_y}) out.insert(out.end(), field.begin(), field.end());
+    }
+    EXPECT_EQ(one, two);
+}
+
+TEST(OceanFft, SlopesAndNormalsAreExact) {
+    // eq. 20's spectral slope against a central difference of the height on a smooth
+    // sea (the cutoff keeps waves > 8 cells long), and the patch normal against the
+    // cross product of the displaced surface's finite-difference tangents.
+    OceanOptions o = small_ocean();
+    o.spectrum.small_wave_cutoff = 8.0;
+    o.choppiness = 0.8;
+    const OceanPlan p = plan_ocean(o);
+    OceanWorkspace ws(p.n);
+    const OceanFields f = evaluate_ocean(p, 1.0, ws);
+    const std::size_t n = p.n, side = n + 1;
+    std::vector<float> pos(3 * side * side), nrm(3 * side * side);
+    ocean_patch_frame(p, f, pos, nrm, {});
+    double slope_err = 0.0, slope_max = 0.0, angle = 0.0;
+    for (std::size_t j = 1; j + 1 < n; ++j)
+        for (std::size_t i = 1; i + 1 < n; ++i) {
+            const double fd = (f.height[j * n + i + 1] - f.height[j * n + i - 1]) / (2.0 * p.spacing());
+            slope_err = std::max(slope_err, std::abs(fd - f.slope_x[j * n + i]));
+            slope_max = std::max(slope_max, std::abs(double(f.slope_x[j * n + i])));
+            const auto P = [&](std::size_t jj, std::size_t ii, int c) { return double(pos[3 * (jj * side + ii) + c]); };
+            double tx[3], ty[3];
+            for (int c = 0; c < 3; ++c) {
+                tx[c] = P(j, i + 1, c) - P(j, i - 1, c);
+                ty[c] = P(j + 1, i, c) - P(j - 1, i, c);
+            }
+            const double cx = tx[1] * ty[2] - tx[2] * ty[1], cy = tx[2] * ty[0] - tx[0] * ty[2], cz = tx[0] * ty[1] - tx[1] * ty[0];
+            const double len = std::sqrt(cx * cx + cy * cy + cz * cz);
+            const float* nv = &nrm[3 * (j * side + i)];
+            angle = std::max(angle, std::acos(std::min(1.0, (cx * nv[0] + cy * nv[1] + cz * nv[2]) / len)));
+        }
+    EXPECT_LT(slope_err, 0.05 * slope_max);  // central differences: O((k dx)²) with k dx <= 0.35
+    EXPECT_LT(angle, 2.0 * kPi / 180.0);
+}
+
+TEST(OceanFft, DispersionRecoveredFromTheAnimation) {
+    // Tessendorf §3.6: transform the animated heights in space and time; each
+    // wavevector's energy lies at ω² = g k tanh(k h) (here finite depth h = 2 m, no
+    // quantisation), within one frequency bin.
+    OceanOptions o;
+    o.resolution = 16;
+    o.size = 40.0;
+    o.spectrum.wind_speed = 6.0;
+    o.spectrum.depth = 2.0;
+    const OceanPlan p = plan_ocean(o);
+    OceanWorkspace ws(p.n);
+    const std::size_t n = p.n, frames = 256;
+    const double dt = 0.1;
+    std::vector<std::vector<float>> h(frames);
+    for (std::size_t f = 0; f < frames; ++f) {
+        const auto v = evaluate_ocean(p, static_cast<double>(f) * dt, ws).height;
+        h[f].assign(v.begin(), v.end());
+    }
+    const double dk = 2.0 * kPi / o.size, dw = 2.0 * kPi / (frames * dt);
+    int checked = 0;
+    for (long m = -3; m <= 3; ++m)
+        for (long q = 1; q <= 5; ++q) {
+            // spatial DFT at k = (q, m) Δk, per frame
+            std::vector<std::complex<double>> c(frames);
+            for (std::size_t f = 0; f < frames; ++f)
+                for (std::size_t j = 0; j < n; ++j)
+                    for (std::size_t i = 0; i < n; ++i)
+                        c[f] += double(h[f][j * n + i]) *
+                                std::polar(1.0, -2.0 * kPi * (double(q) * double(i) + double(m) * double(j)) / double(n));
+            // temporal DFT: the peak over ω
+            double best = 0.0, best_w = 0.0;
+            for (long b = -long(frames) / 2; b < long(frames) / 2; ++b) {
+                std::complex<double> s;
+                for (std::size_t f = 0; f < frames; ++f) s += c[f] * std::polar(1.0, 2.0 * kPi * double(b) * double(f) / double(frames));
+                if (std::abs(s) > best) best = std::abs(s), best_w = std::abs(double(b) * dw);
+            }
+            const double k = dk * std::hypot(double(q), double(m));
+            EXPECT_NEAR(best_w, std::sqrt(kGravity * k * std::tanh(2.0 * k)), dw) << "k " << k;
+            ++checked;
+        }
+    EXPECT_EQ(checked, 35);
+}
+
+TEST(OceanFft, SamplingInterpolatesTheLatticeAndTiles) {
+    const OceanPlan p = plan_ocean(small_ocean());
+    OceanWorkspace ws(p.n);
+    const OceanFields f = evaluate_ocean(p, 0.5, ws);
+    const std::vector<double> x{0.0, 3 * p.spacing(), 3 * p.spacing() + p.size, -p.size + 5 * p.spacing()};
+    const std::vector<double> y{0.0, 7 * p.spacing(), 7 * p.spacing() - 2 * p.size, 0.0};
+    std::vector<float> pos(12, 0.0f);
+    add_ocean_samples(p, f, x, y, {}, pos);
+    EXPECT_FLOAT_EQ(pos[2], f.height[0]);
+    EXPECT_NEAR(pos[5], f.height[7 * p.n + 3], 1e-6);
+    EXPECT_NEAR(pos[8], pos[5], 1e-6);  // one patch further: the same water
+    EXPECT_NEAR(pos[11], f.height[5], 1e-6);
+    EXPECT_NEAR(pos[3], -p.choppiness * f.disp_x[7 * p.n + 3], 1e-6);
+    // The depth factor: 1 in deep water, ≈ 0 near the shore, monotonic.
+    EXPECT_EQ(wind_sea_depth_factor(1.0, std::numeric_limits<double>::infinity()), 1.0);
+    EXPECT_LT(wind_sea_depth_factor(1.0, 0.05), 0.06);
+    EXPECT_LT(wind_sea_depth_factor(1.0, 1.0), wind_sea_depth_factor(1.0, 3.0));
+}
+
+TEST(OceanFft, BadOptionsNameTheField) {
+    const auto message = [](OceanOptions o) {
+        try {
+            validate_ocean_options(o, "scene.json: /ocean");
+        } catch (const InputError& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    OceanOptions o;
+    o.resolution = 100;
+    EXPECT_NE(message(o).find("/ocean/resolution: expected a power of two"), std::string::npos) << message(o);
+    o = {};
+    o.spectrum.wind_speed = 0.0;
+    EXPECT_NE(message(o).find("/ocean/wind_speed: expected a wind speed > 0"), std::string::npos);
+    o = {};
+    o.spectrum.small_wave_cutoff = 1000.0;
+    EXPECT_NE(message(o).find("/ocean/small_wave_cutoff: the cutoff 1000 m is not smaller than the patch"), std::string::npos) << message(o);
+    o = {};
+    o.spectrum.model = OceanSpectrumModel::tma;
+    EXPECT_NE(message(o).find("/ocean/depth: the TMA spectrum needs a finite water depth"), std::string::npos);
+    o = {};
+    o.repeat_time = -1.0;
+    EXPECT_NE(message(o).find("/ocean/repeat_time"), std::string::npos);
+    EXPECT_EQ(message(OceanOptions{}), "");
+    OceanWorkspace ws(32);
+    EXPECT_THROW(evaluate_ocean(plan_ocean(small_ocean()), 0.0, ws), InputError);  // 64² plan, 32² workspace
+}
+
+TEST(FoldFoam, CoverageFadeAndLattice) {
+    FoldFoamOptions o;
+    EXPECT_EQ(fold_coverage(0.5, o), 0.0);
+    EXPECT_EQ(fold_coverage(0.0, o), 0.0);
+    EXPECT_NEAR(fold_coverage(-0.125, o), 0.5, 1e-12);
+    EXPECT_EQ(fold_coverage(-1.0, o), 1.0);
+    EXPECT_EQ(fold_fade(0.0, o), 1.0);
+    EXPECT_EQ(fold_fade(o.window, o), 0.0);
+    EXPECT_NEAR(fold_fade(o.window - 1e-9, o), 0.0, 1e-8);  // no pop when a time leaves the window
+    for (double a = 0.0; a < o.window; a += 0.1) EXPECT_GT(fold_fade(a, o), fold_fade(a + 0.1, o));
+    // With a loop of 10 s and a 0.3 s step, the step becomes 10/33 s and the lattice
+    // indices at t and t + T differ by exactly 33.
+    double step = 0.0;
+    o.lattice_step = 0.3;
+    const auto a = fold_lattice(1.0, o, 10.0, step);
+    EXPECT_NEAR(step, 10.0 / 33.0, 1e-15);
+    const auto b = fold_lattice(11.0, o, 10.0, step);
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(b[i] - a[i], 33);
+    for (long long j : a) {
+        EXPECT_LE(double(j) * step, 1.0 + 1e-12);
+        EXPECT_GT(double(j) * step, 1.0 - o.window);
+    }
+    // Foam combines with what is already there by max, and fades.
+    std::vector<float> foam{0.3f, 0.0f}, jm{-1.0f, -1.0f};
+    accumulate_fold_foam(jm, 1.0, o, foam);
+    EXPECT_NEAR(foam[1], fold_fade(1.0, o), 1e-6);
+    EXPECT_EQ(foam[0], std::max(0.3f, foam[1]));
+    EXPECT_THROW(validate_fold_foam({.softness = 0.0}), InputError);
+}
+
+}  // namespace
