@@ -134,6 +134,7 @@ namespace {
 
 // What the tracing stage produced, for reports.
 json trace_summary(const Scene& scene, const ScenePlan& plan) {
+    if (scene.surface_kind == SurfaceKind::ocean) return json::object();  // nothing traced
     if (scene.surface_kind == SurfaceKind::ray_strips) {
         const FrontSet& f = plan.fronts;
         return {{"mode", scene.fronts.refraction == FrontRefraction::gradient ? "gonzato-fronts (gradient refraction)"
@@ -170,6 +171,8 @@ int run_trace(const TraceArgs& a) {
         throw InputError("trace: nothing to do; give -o CSV, --mesh-out PLY and/or --json");
     const Scene scene = read_scene(a.scene);
     const bool strips = scene.surface_kind == SurfaceKind::ray_strips;
+    if (scene.surface_kind == SurfaceKind::ocean)
+        throw InputError(a.scene + ": the open-ocean patch (/surface/kind \"ocean\") traces no rays; use wave run");
     if (!a.mesh_out.empty() && !strips)
         throw InputError(a.scene + ": --mesh-out needs the ray-strips surface (this scene's /surface/kind is height-field)");
     const ScenePlan plan = plan_scene(scene, PlanStages::trace);  // no surface or motion plan
@@ -311,8 +314,9 @@ int run_job(const RunArgs& a) {
 
     const auto ms = [](auto d) { return std::chrono::duration<double, std::milli>(d).count(); };
     const SeafloorStats st = seafloor_stats(plan.seafloor);
+    const bool ocean_kind = scene.surface_kind == SurfaceKind::ocean;
     const char* trace_file = strips ? "strips.ply" : "rays.csv";
-    json surface{{"kind", strips ? "ray-strips" : "height-field"},
+    json surface{{"kind", ocean_kind ? "ocean" : strips ? "ray-strips" : "height-field"},
                  {"vertices", anim.vertex_count},
                  {"triangles", anim.triangles.size() / 3},
                  {"loop_period_s", plan.loop_period},
@@ -326,7 +330,17 @@ int run_job(const RunArgs& a) {
                  {"shading", scene.attributes == Scene::Attributes::none ? "none"
                              : scene.attributes == Scene::Attributes::named ? "named" : "uv-maps"},
                  {"height_range_m", {anim.z_min, anim.z_max}}};
-    if (!strips) surface["control_grid"] = {plan.surface.nx, plan.surface.ny};
+    if (scene.surface_kind == SurfaceKind::height_field) surface["control_grid"] = {plan.surface.nx, plan.surface.ny};
+    if (plan.ocean.n > 0) {
+        const OceanOptions& o = *scene.ocean;
+        surface["wind_sea"] = {{"resolution", plan.ocean.n},
+                               {"size_m", plan.ocean.size},
+                               {"repeat_time_s", plan.ocean.repeat_time},
+                               {"choppiness", plan.ocean.choppiness},
+                               {"wind_speed_m_s", o.spectrum.wind_speed},
+                               {"significant_height_m", 4.0 * std::sqrt(plan.ocean.expected_variance)}};
+    }
+    if (!plan.gerstner.empty()) surface["gerstner_waves"] = plan.gerstner.size();
     json report{{"libwave", version()},
                 {"scene", scene.name},
                 {"seafloor", {{"source", plan.seafloor.source}, {"nodes", {st.nx, st.ny}}, {"depth_range_m", {st.depth_min, st.depth_max}}}},
@@ -337,7 +351,10 @@ int run_job(const RunArgs& a) {
                 {"outputs", json::array()}};
     for (const auto& f : files) report["outputs"].push_back(f.first);
     if (scene.form == Scene::Form::files) report["outputs"].push_back("index.json");
-    for (const char* f : {"isobaths.json", trace_file, "surface-frame-0000.obj", "report.json"}) report["outputs"].push_back(f);
+    // What the static stages leave beside the animation (the open ocean traces nothing).
+    std::vector<const char*> side_files{"surface-frame-0000.obj", "report.json"};
+    if (!ocean_kind) side_files.insert(side_files.begin(), {"isobaths.json", trace_file});
+    for (const char* f : side_files) report["outputs"].push_back(f);
 
     // Every file is first written into a staging folder inside the output folder and
     // only then renamed into place: a run that fails while writing (disk full, a
@@ -356,13 +373,13 @@ int run_job(const RunArgs& a) {
         std::vector<std::string> names;
         for (const auto& [name, bytes] : files) write_file_atomic(staged(name), bytes), names.push_back(name);
         if (scene.form == Scene::Form::files) write_file_atomic(staged("index.json"), index.dump(2) + "\n"), names.push_back("index.json");
-        write_file_atomic(staged("isobaths.json"), contours_to_json(plan.isobaths));
+        if (!ocean_kind) write_file_atomic(staged("isobaths.json"), contours_to_json(plan.isobaths));
         if (strips) write_ray_strips_ply(plan.strips, staged(trace_file));
-        else write_file_atomic(staged(trace_file), rays_to_csv(plan.rays));
+        else if (!ocean_kind) write_file_atomic(staged(trace_file), rays_to_csv(plan.rays));
         write_file_atomic(staged("surface-frame-0000.obj"),
                           mesh_to_obj(first, anim.triangles, "libwave " + std::string(version()) + ": " + scene.name + ", frame 0, z up"));
         write_file_atomic(staged("report.json"), report.dump(2) + "\n");
-        for (const char* name : {"isobaths.json", trace_file, "surface-frame-0000.obj", "report.json"}) names.push_back(name);
+        for (const char* name : side_files) names.push_back(name);
         if (scene.form == Scene::Form::files) fs::create_directories(out("frames"));
         for (const std::string& name : names) fs::rename(staged(name), out(name));
         fs::remove_all(staging);
@@ -383,9 +400,13 @@ int run_job(const RunArgs& a) {
     std::cout << std::setprecision(4)
               << "scene      " << scene.name << '\n'
               << "seafloor   " << plan.seafloor.source << ", " << st.nx << " x " << st.ny << " nodes, depth "
-              << st.depth_min << " .. " << st.depth_max << " m\n"
-              << "isobaths   " << plan.isobaths.size() << " polylines (CGAL slicer)\n";
-    if (strips)
+              << st.depth_min << " .. " << st.depth_max << " m\n";
+    if (!ocean_kind) std::cout << "isobaths   " << plan.isobaths.size() << " polylines (CGAL slicer)\n";
+    if (ocean_kind)
+        std::cout << "surface    ocean patch: " << plan.ocean.n << "² FFT (Tessendorf) over " << plan.ocean.size << " m -> "
+                  << anim.vertex_count << " vertices, " << anim.triangles.size() / 3 << " triangles, Hs "
+                  << 4.0 * std::sqrt(plan.ocean.expected_variance) << " m\n";
+    else if (strips)
         std::cout << "fronts     " << plan.fronts.initial_rays << " rays + " << plan.fronts.inserted_rays << " inserted, "
                   << plan.fronts.front_count() - 1 << " steps, " << plan.fronts.rays_aground << " aground (Gonzato)\n"
                   << "surface    ray strips: " << anim.vertex_count << " vertices, " << anim.triangles.size() / 3
@@ -404,17 +425,23 @@ int run_job(const RunArgs& a) {
                                                      : shown_name + " (" + std::to_string(frames) + " morph targets, STEP weights")
               << "; " << static_cast<double>(animation_bytes) / 1e6 << " MB; set the scene fps to " << scene.fps
               << " before importing)\n"
-              << "           " << out_dir << "/{isobaths.json, " << trace_file << ", surface-frame-0000.obj, report.json}\n";
+              << "           " << out_dir << "/{" << (ocean_kind ? "" : "isobaths.json, " + std::string(trace_file) + ", ")
+              << "surface-frame-0000.obj, report.json}\n";
+    if (plan.ocean.n > 0 && !ocean_kind)
+        std::cout << "wind sea   " << plan.ocean.n << "² FFT patch of " << plan.ocean.size << " m superposed, Hs "
+                  << 4.0 * std::sqrt(plan.ocean.expected_variance) << " m offshore, loop " << plan.ocean.repeat_time << " s\n";
     for (const std::string& w : plan.warnings) std::cout << "warning    " << w << '\n';
     return 0;
 }
 
 int run_validate(const std::string& path, bool as_json) {
     const Scene scene = read_scene(path);
-    const Seafloor sea = load_seafloor(scene.seafloor);
+    const Seafloor sea = scene_seafloor(scene);
     const auto camera = scene_camera(scene, sea);
     const SeafloorStats st = seafloor_stats(sea);
-    const char* kind = scene.surface_kind == SurfaceKind::ray_strips ? "ray-strips" : "height-field";
+    const char* kind = scene.surface_kind == SurfaceKind::ray_strips ? "ray-strips"
+                       : scene.surface_kind == SurfaceKind::ocean    ? "ocean"
+                                                                     : "height-field";
     if (as_json) {
         std::cout << json{{"scene", scene.name}, {"valid", true}, {"surface", kind}, {"waves", scene.waves.size()},
                           {"seafloor", sea.source}, {"camera", camera}, {"fps", scene.fps}}

@@ -401,9 +401,13 @@ TEST(OceanFft, BadOptionsNameTheField) {
 TEST(FoldFoam, CoverageFadeAndLattice) {
     FoldFoamOptions o;
     EXPECT_EQ(fold_coverage(0.5, o), 0.0);
+    EXPECT_EQ(fold_coverage(0.4, o), 0.0);
+    EXPECT_NEAR(fold_coverage(0.25, o), 0.5, 1e-12);
+    EXPECT_EQ(fold_coverage(0.1, o), 1.0);
+    o.threshold = 0.0;  // Tessendorf's strict criterion: foam only where the map folds
     EXPECT_EQ(fold_coverage(0.0, o), 0.0);
-    EXPECT_NEAR(fold_coverage(-0.125, o), 0.5, 1e-12);
-    EXPECT_EQ(fold_coverage(-1.0, o), 1.0);
+    EXPECT_NEAR(fold_coverage(-0.15, o), 0.5, 1e-12);
+    o = {};
     EXPECT_EQ(fold_fade(0.0, o), 1.0);
     EXPECT_EQ(fold_fade(o.window, o), 0.0);
     EXPECT_NEAR(fold_fade(o.window - 1e-9, o), 0.0, 1e-8);  // no pop when a time leaves the window
@@ -427,6 +431,97 @@ TEST(FoldFoam, CoverageFadeAndLattice) {
     EXPECT_NEAR(foam[1], fold_fade(1.0, o), 1e-6);
     EXPECT_EQ(foam[0], std::max(0.3f, foam[1]));
     EXPECT_THROW(validate_fold_foam({.softness = 0.0}), InputError);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------
+// Scenes: the open-ocean patch and wind waves superposed on the traced swell
+// ---------------------------------------------------------------------------------
+#include "libwave/scene.h"
+
+namespace {
+
+const char* kSmallOcean = R"({"surface": {"kind": "ocean"},
+  "ocean": {"resolution": 32, "size": 100, "wind_speed": 15, "repeat_time": 2, "choppiness": 4, "small_wave_cutoff": 0.2},
+  "animation": {"fps": 8}})";
+
+TEST(OceanScene, AnyFrameAloneEqualsTheSameFrameOfARun) {
+    // The fold foam's fade looks back on a time lattice that the run caches; a frame
+    // computed alone must get the same bits (no history).
+    const Scene scene = parse_scene(kSmallOcean, "small.json", ".");
+    const ScenePlan plan = plan_scene(scene);
+    const SceneAnimation all = animate_scene(scene, plan);
+    ASSERT_EQ(all.frame_count, 16u);
+    ASSERT_EQ(all.vertex_count, 33u * 33u);
+    const std::size_t n = all.vertex_count;
+    float foam_max = 0.0f;
+    for (float f : all.foam) foam_max = std::max(foam_max, f);
+    EXPECT_GT(foam_max, 0.2f) << "the test needs folds";
+    for (std::size_t k : {0u, 7u, 15u}) {
+        const SceneAnimation one = animate_scene(scene, plan, 2e9, {k, k + 1});
+        EXPECT_EQ(std::memcmp(one.foam.data(), &all.foam[k * n], n * sizeof(float)), 0) << "frame " << k;
+        EXPECT_EQ(std::memcmp(one.positions.data(), &all.positions[3 * k * n], 3 * n * sizeof(float)), 0);
+    }
+    // The patch tiles: the last column repeats the first one patch further.
+    const std::size_t side = 33;
+    for (std::size_t row = 0; row < side; ++row) {
+        const float* a = &all.positions[3 * (row * side)];
+        const float* b = &all.positions[3 * (row * side + side - 1)];
+        EXPECT_NEAR(b[0] - a[0], 100.0f, 1e-4f);
+        EXPECT_EQ(b[1], a[1]);
+        EXPECT_EQ(b[2], a[2]);
+    }
+}
+
+TEST(OceanScene, WindWavesCalmDownOverTheShelf) {
+    // The bay with its swell, with and without FFT wind waves: the difference is the
+    // wind sea, scaled by sqrt(φ(ω_p sqrt(h/g))) — small near the shore, full offshore.
+    const std::string base = R"({"waves": [{"period": 5, "amplitude": 0.3}], "trace": {"ray_spacing": 2},
+      "fronts": {"step": 0.8, "split_distance": 2.4}, "outputs": {"attributes": "none"})";
+    const Scene calm = parse_scene(base + "}", "calm.json", ".");
+    const Scene windy = parse_scene(base + R"(, "ocean": {"resolution": 64, "size": 64, "wind_speed": 6,
+      "spectrum": "pierson-moskowitz", "small_wave_cutoff": 0.05, "repeat_time": 5}})", "windy.json", ".");
+    const ScenePlan pc = plan_scene(calm), pw = plan_scene(windy);
+    EXPECT_EQ(pw.loop_period, 5.0);
+    const SceneAnimation ac = animate_scene(calm, pc, 2e9, {0, 12}), aw = animate_scene(windy, pw, 2e9, {0, 12});
+    ASSERT_EQ(ac.positions.size(), aw.positions.size());
+    double shallow = 0.0, deep = 0.0, scale_shallow = 0.0, scale_deep = 0.0;
+    double ns = 0, nd = 0;
+    for (std::size_t f = 0; f < 12; ++f)
+        for (std::size_t v = 0; v < ac.vertex_count; ++v) {
+            const double dz = aw.positions[3 * (f * ac.vertex_count + v) + 2] - ac.positions[3 * (f * ac.vertex_count + v) + 2];
+            const double h = pw.rest_depth[v];
+            if (h < 0.3) shallow += dz * dz, scale_shallow += pw.wind_sea_scale[v] * pw.wind_sea_scale[v], ++ns;
+            if (h > 2.0) deep += dz * dz, scale_deep += pw.wind_sea_scale[v] * pw.wind_sea_scale[v], ++nd;
+        }
+    ASSERT_GT(ns, 100.0);
+    ASSERT_GT(nd, 100.0);
+    const double rms_ratio = std::sqrt(shallow / ns) / std::sqrt(deep / nd);
+    EXPECT_LT(rms_ratio, 0.5);
+    // …in proportion to the depth factor's RMS (the field's own RMS varies by ±30 % between regions).
+    EXPECT_NEAR(rms_ratio / std::sqrt((scale_shallow / ns) / (scale_deep / nd)), 1.0, 0.3);
+    // A repeat time that is no multiple of the swell's 5 s cannot loop.
+    const Scene bad = parse_scene(base + R"(, "ocean": {"repeat_time": 12}})", "bad.json", ".");
+    try {
+        plan_scene(bad);
+        ADD_FAILURE() << "expected an error";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("/ocean/repeat_time 12 s is not a whole multiple of the swell's loop (5 s)"),
+                  std::string::npos) << e.what();
+    }
+}
+
+TEST(OceanScene, GerstnerOnThePatch) {
+    // Gerstner waves on a calm patch: the surface is eqs. 12–13; Σ kA >= 1 is warned about.
+    const Scene s = parse_scene(R"({"surface": {"kind": "ocean"}, "ocean": {"resolution": 16, "size": 40, "wind_speed": 0.5,
+      "repeat_time": 4}, "gerstner": [{"wavelength": 10, "amplitude": 1.7, "direction": [1, 0]}], "animation": {"fps": 4}})",
+                                "g.json", ".");
+    const ScenePlan p = plan_scene(s);
+    ASSERT_EQ(p.gerstner.size(), 1u);
+    EXPECT_NEAR(p.gerstner[0].omega, quantize_frequency(std::sqrt(kGravity * 2 * kPi / 10), 4.0), 1e-12);
+    ASSERT_EQ(p.warnings.size(), 2u);  // V²/g = 2.5 cm under two 2.5 m cells, and kA = 1.07
+    EXPECT_NE(p.warnings[1].find("Σ k A = 1.068"), std::string::npos) << p.warnings[1];
 }
 
 }  // namespace

@@ -37,6 +37,16 @@ Seafloor load_seafloor(const SeafloorSource& source);
 enum class SurfaceKind {
     ray_strips,    ///< Gonzato: adaptive fronts → ray strips, animated by the plunging profile (one train)
     height_field,  ///< Ts'o: rays at exact isobath crossings → Beta2-spline height field (any trains)
+    ocean,         ///< Tessendorf: a tileable open-ocean FFT patch (no seafloor, no traced swell)
+};
+
+/// A Gerstner wave as a scene gives it (Tessendorf §3.1); its ω comes from the
+/// dispersion relation, quantised to the scene's loop (eq. 18).
+struct GerstnerSpec {
+    double wavelength = 10.0;  ///< λ = 2π/k (m)
+    double amplitude = 0.1;    ///< A (m)
+    double direction_x = 1.0, direction_y = 0.0;  ///< direction of travel
+    double phase = 0.0;        ///< φ (rad)
 };
 
 struct Scene {
@@ -53,6 +63,13 @@ struct Scene {
     /// Adaptive fronts (ray strips); ray_spacing and breaker_index come from `trace`.
     FrontOptions fronts{};
     GonzatoProfileOptions profile{};
+    /// Tessendorf's FFT wind waves: the surface itself (kind ocean) or superposed on the
+    /// traced swell, scaled by wind_sea_depth_factor so they calm down over the shelf.
+    /// A repeat time of 0 in a scene means: the multiple of the swell's loop nearest
+    /// 20 s (kind ocean: 20 s).
+    std::optional<OceanOptions> ocean;
+    std::vector<GerstnerSpec> gerstner;  ///< Gerstner waves superposed on any surface
+    FoldFoamOptions fold_foam{};         ///< foam where the choppy FFT surface folds
     /// Camera for the Fresnel weights (m, z up); empty = above the domain's up-wave
     /// side, looking across it (scene_camera).
     std::optional<std::array<double, 3>> camera;
@@ -84,6 +101,10 @@ Scene parse_scene(std::string_view json_text, const std::string& origin, const s
 /// Reads and parses a scene file.
 Scene read_scene(const std::string& path);
 
+/// The seafloor a scene stands on: its source, or for the open-ocean patch a flat
+/// bottom under the patch at /ocean/depth (10 km when deep).
+Seafloor scene_seafloor(const Scene& scene);
+
 /// The camera of a scene: its own, or by default 60 % of the domain's length before
 /// its up-wave edge (against the first train's direction), at 40 % of that length up.
 std::array<double, 3> scene_camera(const Scene& scene, const Seafloor& seafloor);
@@ -102,6 +123,13 @@ struct ScenePlan {
     FrontSet fronts;          ///< ray strips: Gonzato's fronts
     RayStrips strips;         ///< ray strips: the tessellated surface
     GonzatoMotionPlan motion; ///< ray strips: the profile's per-vertex shapes
+    OceanPlan ocean;          ///< the FFT ocean (kind ocean, or superposed); n = 0 when none
+    std::vector<GerstnerWave> gerstner;  ///< with ω quantised to the loop
+    std::vector<std::uint32_t> patch_triangles;  ///< kind ocean: the patch's (N+1)² grid
+    /// Per surface vertex, for the superposed components: rest position, depth there,
+    /// and the wind-sea amplitude factor (1 in deep water, → 0 at the shore).
+    std::vector<double> rest_x, rest_y;
+    std::vector<float> rest_depth, wind_sea_scale;
     double loop_period = 0.0; ///< the animation repeats after this (s)
     /// Doubts about the result that are not errors, e.g. a train whose wavelength the
     /// surface grid cannot resolve (aliasing).

@@ -83,8 +83,12 @@ void height_field_foam(const HeightFieldPlan& plan, std::span<const float> node_
 /// times of a fixed lattice j · lattice_step in (t − window, t]. J₋ at those times is
 /// computable alone (Tessendorf's h̃(k, t) is closed-form in t), so any frame is.
 struct FoldFoamOptions {
-    double threshold = 0.0;      ///< J₋ at which foam starts (0: where the surface folds)
-    double softness = 0.25;      ///< full foam at J₋ = threshold − softness (> 0)
+    /// J₋ at which foam starts. 0 is Tessendorf's strict criterion (only where the map
+    /// folds); a linear sea with realistic slopes rarely folds at λ = 1, so the default
+    /// starts foam where the surface is compressed to 40 % along ê₋, as DCC ocean tools
+    /// bias their foam coverage.
+    double threshold = 0.4;
+    double softness = 0.3;       ///< full foam at J₋ = threshold − softness (> 0)
     double fade_time = 1.5;      ///< s: e-folding time of the fade
     double window = 4.5;         ///< s: foam older than this is gone (the fade reaches 0 there)
     double lattice_step = 0.25;  ///< s: spacing of the past times looked at (<= window)

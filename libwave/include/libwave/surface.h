@@ -46,6 +46,10 @@ struct HeightFieldOptions {
     std::size_t max_vertices = 20'000'000;  ///< guard rail on the sampled surface
 };
 
+/// Triangles of a row-major grid of nx × ny vertices (2 per cell, counter-clockwise
+/// seen from +z): the topology of the height field and of the ocean patch.
+std::vector<std::uint32_t> grid_triangles(std::size_t nx, std::size_t ny);
+
 /// Least common multiple of periods that are rational multiples of each other (each
 /// ratio to the first a fraction p/q with q <= 1000 within 1e-9), or 0 when none exists.
 double loop_period(std::span<const double> periods);

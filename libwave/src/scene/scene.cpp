@@ -195,10 +195,13 @@ void read_surface(const Node& n, Scene& s) {
                       "max_tension", "repeat_time", "max_vertices"});
     if (n.has("kind"))
         s.surface_kind = n["kind"].choice<SurfaceKind>({{"ray-strips", SurfaceKind::ray_strips},
-                                                        {"height-field", SurfaceKind::height_field}});
-    if (s.surface_kind == SurfaceKind::ray_strips)
+                                                        {"height-field", SurfaceKind::height_field},
+                                                        {"ocean", SurfaceKind::ocean}});
+    if (s.surface_kind != SurfaceKind::height_field)
         for (const auto& [key, _] : n.value().items())
-            if (key != "kind") n[key.c_str()].fail("a height-field option; this scene's surface kind is \"ray-strips\"");
+            if (key != "kind")
+                n[key.c_str()].fail(std::string("a height-field option; this scene's surface kind is \"") +
+                                    (s.surface_kind == SurfaceKind::ocean ? "ocean\" (set /ocean instead)" : "ray-strips\""));
     HeightFieldOptions& o = s.surface;
     if (n.has("grid")) {
         const Node g = n["grid"];
@@ -242,6 +245,53 @@ void read_profile(const Node& n, GonzatoProfileOptions& o) {
     if (n.has("kz")) o.kz = n["kz"].positive("1/m");
 }
 
+void read_ocean(const Node& n, OceanOptions& o, const std::string& origin) {
+    n.require_object({"resolution", "size", "spectrum", "wind_speed", "wind_direction", "directional_exponent",
+                      "against_wind", "phillips_constant", "small_wave_cutoff", "fetch", "peak_enhancement", "depth",
+                      "capillary_length", "choppiness", "repeat_time", "seed"});
+    OceanSpectrum& s = o.spectrum;
+    if (n.has("resolution")) o.resolution = n["resolution"].count(1);
+    if (n.has("size")) o.size = n["size"].positive("m");
+    if (n.has("spectrum"))
+        s.model = n["spectrum"].choice<OceanSpectrumModel>({{"phillips", OceanSpectrumModel::phillips},
+                                                            {"pierson-moskowitz", OceanSpectrumModel::pierson_moskowitz},
+                                                            {"jonswap", OceanSpectrumModel::jonswap},
+                                                            {"tma", OceanSpectrumModel::tma}});
+    if (n.has("wind_speed")) s.wind_speed = n["wind_speed"].positive("m/s");
+    if (n.has("wind_direction")) {
+        const auto d = n["wind_direction"].numbers(2, "direction");
+        if (std::hypot(d[0], d[1]) == 0.0) n["wind_direction"].fail("expected a non-zero direction [x, y]");
+        s.wind_direction = {d[0], d[1]};
+    }
+    if (n.has("directional_exponent")) s.directional_exponent = n["directional_exponent"].non_negative("exponent");
+    if (n.has("against_wind")) s.against_wind = n["against_wind"].non_negative("factor in [0, 1]");
+    if (n.has("phillips_constant")) s.phillips_constant = n["phillips_constant"].positive("A");
+    if (n.has("small_wave_cutoff")) s.small_wave_cutoff = n["small_wave_cutoff"].non_negative("m");
+    if (n.has("fetch")) s.fetch = n["fetch"].positive("m");
+    if (n.has("peak_enhancement")) s.peak_enhancement = n["peak_enhancement"].positive("γ");
+    if (n.has("depth")) s.depth = n["depth"].positive("m");
+    if (n.has("capillary_length")) s.capillary_length = n["capillary_length"].non_negative("m");
+    if (n.has("choppiness")) o.choppiness = n["choppiness"].non_negative("λ");
+    if (n.has("repeat_time")) o.repeat_time = n["repeat_time"].positive("s");
+    if (n.has("seed")) o.seed = n["seed"].count(0);
+    validate_ocean_options(o, origin + ": /ocean");
+}
+
+GerstnerSpec read_gerstner(const Node& n) {
+    n.require_object({"wavelength", "amplitude", "direction", "phase"});
+    GerstnerSpec g;
+    if (n.has("wavelength")) g.wavelength = n["wavelength"].positive("m");
+    if (n.has("amplitude")) g.amplitude = n["amplitude"].non_negative("m");
+    if (n.has("direction")) {
+        const auto d = n["direction"].numbers(2, "direction");
+        if (std::hypot(d[0], d[1]) == 0.0) n["direction"].fail("expected a non-zero direction [x, y]");
+        g.direction_x = d[0];
+        g.direction_y = d[1];
+    }
+    if (n.has("phase")) g.phase = n["phase"].number("rad");
+    return g;
+}
+
 }  // namespace
 
 Seafloor load_seafloor(const SeafloorSource& s) {
@@ -272,28 +322,49 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     }
     const Node root(doc, "", origin);
     root.require_object({"name", "seafloor", "isobaths", "waves", "trace", "surface", "fronts", "motion", "camera",
-                         "shade", "outputs", "animation"});
+                         "shade", "outputs", "animation", "ocean", "gerstner"});
     Scene s;
     if (root.has("name")) s.name = root["name"].string();
+    if (root.has("surface")) read_surface(root["surface"], s);
+    if (s.surface_kind == SurfaceKind::ocean) {
+        // The open-ocean patch: no seafloor to trace over, no swell to trace.
+        for (const char* key : {"seafloor", "isobaths", "waves", "trace", "fronts", "motion"})
+            if (root.has(key))
+                root[key].fail("not for the open-ocean patch (/surface/kind \"ocean\"): it has no seafloor and no traced "
+                               "swell; superpose /gerstner waves, or use a coastal surface with /ocean");
+        s.ocean = OceanOptions{};
+        s.ocean->repeat_time = 20.0;  // Tessendorf's figure 5
+        if (root.has("ocean")) read_ocean(root["ocean"], *s.ocean, origin);
+    } else if (root.has("ocean")) {
+        s.ocean = OceanOptions{};
+        read_ocean(root["ocean"], *s.ocean, origin);
+    }
+    if (root.has("gerstner")) {
+        const Node g = root["gerstner"];
+        if (!g.value().is_array()) g.fail("expected an array of Gerstner waves {wavelength, amplitude, direction, phase}");
+        for (std::size_t i = 0; i < g.size(); ++i) s.gerstner.push_back(read_gerstner(g[i]));
+    }
     if (root.has("seafloor")) read_seafloor_spec(root["seafloor"], s.seafloor, base_dir);
     if (root.has("isobaths")) {
         s.isobaths.spacing = 0.0;
         read_isobaths(root["isobaths"], s.isobaths);
         if (s.isobaths.levels.empty() && s.isobaths.spacing == 0.0) root["isobaths"].fail("give levels or a spacing");
     }
-    if (!root.has("waves")) root.fail("missing \"waves\": at least one wave train {period, amplitude, direction}");
-    const Node waves = root["waves"];
-    if (!waves.value().is_array() || waves.size() == 0) waves.fail("expected a non-empty array of wave trains");
-    for (std::size_t i = 0; i < waves.size(); ++i) s.waves.push_back(read_wave(waves[i]));
+    if (s.surface_kind != SurfaceKind::ocean) {
+        if (!root.has("waves")) root.fail("missing \"waves\": at least one wave train {period, amplitude, direction}");
+        const Node waves = root["waves"];
+        if (!waves.value().is_array() || waves.size() == 0) waves.fail("expected a non-empty array of wave trains");
+        for (std::size_t i = 0; i < waves.size(); ++i) s.waves.push_back(read_wave(waves[i]));
+    }
     if (root.has("trace")) read_trace(root["trace"], s);
-    if (root.has("surface")) read_surface(root["surface"], s);
     if (s.surface_kind == SurfaceKind::ray_strips) {
+        const Node waves = root["waves"];
         if (s.waves.size() != 1)
             waves.fail("the ray-strips surface traces one wave train, got " + std::to_string(s.waves.size()) +
                        " (use \"surface\": {\"kind\": \"height-field\"} to superpose trains)");
         if (root.has("trace") && root["trace"].has("orthogonals_per_grid_line"))
             root["trace"]["orthogonals_per_grid_line"].fail("only for the height-field surface");
-    } else {
+    } else if (s.surface_kind == SurfaceKind::height_field) {
         if (root.has("fronts")) root["fronts"].fail("only for the ray-strips surface");
         if (root.has("motion")) root["motion"].fail("only for the ray-strips surface (the height field moves as Ts'o's sinusoids)");
     }
@@ -309,7 +380,12 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     }
     if (root.has("shade")) {
         const Node sh = root["shade"];
-        sh.require_object({"fresnel", "foam_fade_time", "foam_onset"});
+        sh.require_object({"fresnel", "foam_fade_time", "foam_onset", "fold_threshold", "fold_softness", "fold_window",
+                           "fold_lattice_step"});
+        if (sh.has("fold_threshold")) s.fold_foam.threshold = sh["fold_threshold"].number("J₋");
+        if (sh.has("fold_softness")) s.fold_foam.softness = sh["fold_softness"].positive("J₋");
+        if (sh.has("fold_window")) s.fold_foam.window = sh["fold_window"].positive("s");
+        if (sh.has("fold_lattice_step")) s.fold_foam.lattice_step = sh["fold_lattice_step"].positive("s");
         if (sh.has("fresnel")) s.fresnel = sh["fresnel"].choice<FresnelModel>({{"exact", FresnelModel::exact}, {"tso", FresnelModel::tso}});
         if (sh.has("foam_fade_time")) s.foam.fade_time = sh["foam_fade_time"].positive("s");
         if (sh.has("foam_onset")) {
@@ -359,6 +435,8 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
         if (s.color && s.attributes == Scene::Attributes::none) o["color"].fail("a baked colour needs the shading: set attributes to uv-maps or named");
     }
     s.foam.breaker_index = s.trace.breaker_index;
+    s.fold_foam.fade_time = s.foam.fade_time;
+    validate_fold_foam(s.fold_foam, origin + ": /shade");
     if (root.has("animation")) {
         const Node a = root["animation"];
         a.require_object({"fps"});
@@ -408,10 +486,113 @@ TraceOptions scene_trace_options(const Scene& scene, const Seafloor& seafloor) {
     return trace;
 }
 
+Seafloor scene_seafloor(const Scene& scene) {
+    if (scene.surface_kind != SurfaceKind::ocean) return load_seafloor(scene.seafloor);
+    const OceanOptions o = scene.ocean.value_or(OceanOptions{});
+    const double depth = std::isinf(o.spectrum.depth) ? 1e4 : o.spectrum.depth;
+    Seafloor sea;
+    sea.grid.nx = sea.grid.ny = 2;
+    sea.grid.dx = sea.grid.dy = o.size;
+    sea.grid.z.assign(4, -depth);
+    sea.source = "open ocean: flat bottom " + fmt(depth) + " m under a " + fmt(o.size) + " m patch";
+    sea.frame = "local metres";
+    return sea;
+}
+
+namespace {
+
+// The components every surface kind can carry: the FFT ocean (its loop fitted to the
+// swell's), Gerstner waves, and the per-vertex rest data they are evaluated at.
+void plan_components(const Scene& scene, ScenePlan& p) {
+    const bool ocean_kind = scene.surface_kind == SurfaceKind::ocean;
+    if (scene.ocean || ocean_kind) {
+        OceanOptions o = scene.ocean.value_or(OceanOptions{});
+        if (ocean_kind) {
+            if (o.repeat_time == 0.0) o.repeat_time = 20.0;
+        } else {
+            const double base = p.loop_period;
+            if (o.repeat_time == 0.0) {
+                o.repeat_time = base * std::max(1.0, std::round(20.0 / base));  // the multiple nearest 20 s
+            } else {
+                const double r = o.repeat_time / base;
+                if (std::round(r) < 1.0 || std::abs(r - std::round(r)) > 1e-6 * r)
+                    throw InputError("scene: /ocean/repeat_time " + fmt(o.repeat_time) +
+                                     " s is not a whole multiple of the swell's loop (" + fmt(base) +
+                                     " s), so the animation could not loop; use e.g. " +
+                                     fmt(base * std::max(1.0, std::round(r))) + " s");
+            }
+        }
+        p.ocean = plan_ocean(o);
+        p.loop_period = o.repeat_time;
+        if (o.spectrum.wind_speed * o.spectrum.wind_speed / kGravity < 2.0 * p.ocean.spacing())
+            p.warnings.push_back("the ocean's largest waves (V²/g = " +
+                                 fmt(o.spectrum.wind_speed * o.spectrum.wind_speed / kGravity) +
+                                 " m) are shorter than two cells (" + fmt(p.ocean.spacing()) +
+                                 " m): raise /ocean/resolution or lower /ocean/size (Tessendorf §3.4)");
+    }
+    if (!(p.loop_period * scene.fps >= 1.0))
+        throw InputError("scene: the loop (" + fmt(p.loop_period) + " s) is shorter than one frame at " + fmt(scene.fps) +
+                         " fps; lengthen /ocean/repeat_time or raise /animation/fps");
+
+    // Rest positions and depths of the surface's vertices.
+    const ElevationGrid& g = p.seafloor.grid;
+    if (ocean_kind) {
+        const std::size_t side = p.ocean.n + 1;
+        p.patch_triangles = grid_triangles(side, side);
+        for (std::size_t row = 0; row < side; ++row)
+            for (std::size_t col = 0; col < side; ++col) {
+                p.rest_x.push_back(p.ocean.spacing() * static_cast<double>(col));
+                p.rest_y.push_back(p.ocean.spacing() * static_cast<double>(row));
+            }
+    } else if (scene.surface_kind == SurfaceKind::ray_strips) {
+        p.rest_x = p.motion.x;
+        p.rest_y = p.motion.y;
+    } else {
+        const HeightFieldPlan& sp = p.surface;
+        for (std::size_t v = 0; v < sp.vertex_count(); ++v) {
+            const std::size_t row = v / sp.vertex_nx, col = v % sp.vertex_nx;
+            p.rest_x.push_back(g.x0 + (g.x_max() - g.x0) * static_cast<double>(col) / static_cast<double>(sp.vertex_nx - 1));
+            p.rest_y.push_back(g.y0 + (g.y_max() - g.y0) * static_cast<double>(row) / static_cast<double>(sp.vertex_ny - 1));
+        }
+    }
+    p.rest_depth.resize(p.rest_x.size());
+    for (std::size_t v = 0; v < p.rest_x.size(); ++v)
+        p.rest_depth[v] = static_cast<float>(std::max(0.0, depth_at(g, p.rest_x[v], p.rest_y[v])));
+    if (scene.ocean && !ocean_kind) {
+        // Wind waves calm down over the shelf (Kitaigorodskii's depth function at the peak).
+        p.wind_sea_scale.resize(p.rest_x.size());
+        for (std::size_t v = 0; v < p.rest_x.size(); ++v)
+            p.wind_sea_scale[v] = static_cast<float>(wind_sea_depth_factor(p.ocean.peak_omega, p.rest_depth[v]));
+    }
+
+    for (std::size_t i = 0; i < scene.gerstner.size(); ++i) {
+        const GerstnerSpec& s = scene.gerstner[i];
+        const double k = 2.0 * std::numbers::pi / s.wavelength, len = std::hypot(s.direction_x, s.direction_y);
+        const double depth = ocean_kind ? scene.ocean.value_or(OceanOptions{}).spectrum.depth
+                                        : std::numeric_limits<double>::infinity();
+        GerstnerWave w{.kx = k * s.direction_x / len, .ky = k * s.direction_y / len, .amplitude = s.amplitude,
+                       .omega = quantize_frequency(dispersion_omega(k, depth), p.loop_period), .phase = s.phase};
+        if (w.omega == 0.0)
+            p.warnings.push_back("Gerstner wave " + std::to_string(i) + " (λ = " + fmt(s.wavelength) +
+                                 " m) is slower than the loop allows (eq. 18 rounds its ω to 0): it stands still; "
+                                 "lengthen the loop");
+        p.gerstner.push_back(w);
+    }
+    if (gerstner_steepness(p.gerstner) >= 1.0)
+        p.warnings.push_back("the Gerstner waves' Σ k A = " + fmt(gerstner_steepness(p.gerstner)) +
+                             " >= 1: crests may loop over themselves (Tessendorf §3.1); lower the amplitudes");
+}
+
+}  // namespace
+
 ScenePlan plan_scene(const Scene& scene, PlanStages stages) {
     ScenePlan p;
-    p.seafloor = load_seafloor(scene.seafloor);
+    p.seafloor = scene_seafloor(scene);
     scene_camera(scene, p.seafloor);  // a camera inside the seafloor is an input error, found before the work
+    if (scene.surface_kind == SurfaceKind::ocean) {
+        if (stages == PlanStages::all) plan_components(scene, p);
+        return p;
+    }
     if (scene.surface_kind == SurfaceKind::ray_strips) {
         if (scene.waves.size() != 1)
             throw InputError("scene: the ray-strips surface traces one wave train, got " + std::to_string(scene.waves.size()));
@@ -422,8 +603,11 @@ ScenePlan plan_scene(const Scene& scene, PlanStages stages) {
         p.isobaths = extract_isobaths(p.seafloor, scene.isobaths);
         p.fronts = trace_fronts(p.seafloor, scene.waves[0], fronts, &p.isobaths);
         p.strips = build_ray_strips(p.fronts);
-        if (stages == PlanStages::all) p.motion = plan_gonzato_motion(p.strips, scene.profile);
         p.loop_period = scene.waves[0].period;
+        if (stages == PlanStages::all) {
+            p.motion = plan_gonzato_motion(p.strips, scene.profile);
+            plan_components(scene, p);
+        }
         return p;
     }
     const TraceOptions trace = scene_trace_options(scene, p.seafloor);
@@ -450,6 +634,7 @@ ScenePlan plan_scene(const Scene& scene, PlanStages stages) {
     if (stages == PlanStages::trace) return p;
     p.surface = plan_height_field(p.seafloor, p.rays, scene.waves, scene.surface);
     p.loop_period = p.surface.loop_period;
+    plan_components(scene, p);
     return p;
 }
 
@@ -476,10 +661,12 @@ MorphAnimationView SceneAnimation::view() const {
 SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double max_bytes, FrameRange range,
                              const std::function<void(std::size_t, std::size_t)>& progress) {
     const bool strips = scene.surface_kind == SurfaceKind::ray_strips;
+    const bool ocean_kind = scene.surface_kind == SurfaceKind::ocean;
+    const bool wind_sea = plan.ocean.n > 0;
     const HeightFieldPlan& sp = plan.surface;
     SceneAnimation a;
     a.fps = scene.fps;
-    a.vertex_count = strips ? plan.motion.vertex_count() : sp.vertex_count();
+    a.vertex_count = plan.rest_x.size();
     a.loop_frames = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(plan.loop_period * scene.fps)));
     const std::size_t end = std::min(range.end, a.loop_frames);
     if (range.first >= end)
@@ -488,15 +675,16 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
                          " holds no frame of the loop's 0:" + std::to_string(a.loop_frames));
     a.first_frame = range.first;
     a.frame_count = end - range.first;
-    a.triangles = strips ? plan.strips.triangles : sp.triangles;
+    a.triangles = ocean_kind ? plan.patch_triangles : strips ? plan.strips.triangles : sp.triangles;
     const std::size_t n = a.vertex_count;
     const bool shaded = scene.attributes != Scene::Attributes::none;
     const double bytes_per_vertex = 24.0 + (shaded ? 12.0 : 0.0) + (scene.color ? 12.0 : 0.0);
     if (static_cast<double>(a.frame_count) * static_cast<double>(n) * bytes_per_vertex > max_bytes)
         throw LimitError("scene: the animation would hold " + std::to_string(a.frame_count) + " frames of " +
                          std::to_string(n) + " vertices (over " + fmt(max_bytes / 1e9) + " GB of per-frame arrays); " +
-                         (strips ? "raise /trace/ray_spacing or /fronts/step, or lower /animation/fps"
-                                 : "lower /surface/samples_per_span, /surface/grid or /animation/fps"));
+                         (ocean_kind ? "lower /ocean/resolution, /ocean/repeat_time or /animation/fps"
+                          : strips   ? "raise /trace/ray_spacing or /fronts/step, or lower /animation/fps"
+                                     : "lower /surface/samples_per_span, /surface/grid or /animation/fps"));
     a.positions.resize(3 * n * a.frame_count);
     a.normals.resize(3 * n * a.frame_count);
     a.layout = scene.attributes == Scene::Attributes::named ? ScalarLayout::custom : ScalarLayout::blender34;
@@ -507,22 +695,8 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
     fresnel.model = scene.fresnel;
     const ElevationGrid& g = plan.seafloor.grid;
     const double width = g.x_max() - g.x0, height = g.y_max() - g.y0;
-    const auto rest = [&](std::size_t v) -> std::array<double, 2> {
-        if (strips) return {plan.motion.x[v], plan.motion.y[v]};
-        const std::size_t row = v / sp.vertex_nx, col = v % sp.vertex_nx;
-        return {g.x0 + width * static_cast<double>(col) / static_cast<double>(sp.vertex_nx - 1),
-                g.y0 + height * static_cast<double>(row) / static_cast<double>(sp.vertex_ny - 1)};
-    };
-    std::vector<float> depth;  // at the rest position, for the colour
-    if (scene.color) {
-        depth.resize(n);
-        for (std::size_t v = 0; v < n; ++v) {
-            const auto [x, y] = rest(v);
-            depth[v] = static_cast<float>(std::max(0.0, depth_at(g, x, y)));
-        }
-    }
     std::vector<float> node_depth, node_foam;  // height field: foam from its control nodes
-    if (shaded && !strips) {
+    if (shaded && !strips && !ocean_kind) {
         node_depth.resize(sp.control_count());
         node_foam.resize(sp.control_count());
         for (std::size_t j = 0; j < sp.ny; ++j)
@@ -536,15 +710,50 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
         a.foam.assign(n * a.frame_count, 0.0f);
     }
     if (scene.color) a.colors.resize(3 * n * a.frame_count);
-    std::vector<float> heights(strips ? 0 : sp.control_count());
+    std::vector<float> heights(strips || ocean_kind ? 0 : sp.control_count());
+    std::optional<OceanWorkspace> ocean_ws;
+    std::vector<float> lattice_j, vertex_j;  // J₋ on the FFT lattice and at the vertices
+    // J₋ at the vertices for past lattice times of the fold-foam fade (FoldFoamOptions),
+    // kept while they are inside the window: each is computed once for a run of frames,
+    // and equals what a frame computed alone would compute.
+    std::map<long long, std::vector<float>> fold_past;
+    if (wind_sea) {
+        ocean_ws.emplace(plan.ocean.n);
+        lattice_j.resize(plan.ocean.n * plan.ocean.n);
+        vertex_j.resize(n);
+    }
+    const auto to_vertices = [&](std::span<float> out) {  // lattice_j → J₋ per vertex
+        if (ocean_kind) {
+            const std::size_t N = plan.ocean.n, side = N + 1;
+            for (std::size_t v = 0; v < n; ++v) out[v] = lattice_j[((v / side) % N) * N + (v % side) % N];
+        } else {
+            sample_ocean_field(plan.ocean, lattice_j, plan.rest_x, plan.rest_y, plan.wind_sea_scale, out);
+        }
+    };
     a.z_min = std::numeric_limits<float>::infinity();
     a.z_max = -std::numeric_limits<float>::infinity();
     for (std::size_t f = 0; f < a.frame_count; ++f) {
         const std::span<float> p(&a.positions[3 * n * f], 3 * n), nr(&a.normals[3 * n * f], 3 * n);
         const double t = static_cast<double>(a.first_frame + f) / scene.fps;
-        if (strips) evaluate_gonzato_motion(plan.motion, t, p);
-        else evaluate_height_field(sp, t, heights, p);
-        vertex_normals(p, a.triangles, nr);
+        bool normals_done = false;
+        if (ocean_kind) {
+            const OceanFields fields = evaluate_ocean(plan.ocean, t, *ocean_ws);
+            ocean_patch_frame(plan.ocean, fields, p, nr, vertex_j);  // exact normals from the FFT
+            normals_done = plan.gerstner.empty();
+        } else {
+            if (strips) evaluate_gonzato_motion(plan.motion, t, p);
+            else evaluate_height_field(sp, t, heights, p);
+            if (wind_sea) {
+                const OceanFields fields = evaluate_ocean(plan.ocean, t, *ocean_ws);
+                add_ocean_samples(plan.ocean, fields, plan.rest_x, plan.rest_y, plan.wind_sea_scale, p);
+                if (shaded) {
+                    ocean_jacobian_field(plan.ocean, fields, lattice_j);
+                    to_vertices(vertex_j);
+                }
+            }
+        }
+        if (!plan.gerstner.empty()) add_gerstner_waves(plan.gerstner, plan.rest_x, plan.rest_y, plan.rest_depth, t, p);
+        if (!normals_done) vertex_normals(p, a.triangles, nr);
         for (std::size_t v = 0; v < n; ++v) {
             a.z_min = std::min(a.z_min, p[3 * v + 2]);
             a.z_max = std::max(a.z_max, p[3 * v + 2]);
@@ -553,18 +762,33 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
             const std::span<float> r(&a.reflect[n * f], n), tr(&a.refract[n * f], n), foam(&a.foam[n * f], n);
             fresnel_weights(p, nr, fresnel, r, tr);
             if (strips) breaking_foam(plan.strips, plan.motion, t, scene.foam, foam);
-            else height_field_foam(sp, node_depth, t, scene.foam, node_foam, foam);
-            if (scene.color) water_colour(r, depth, foam, WaterColours{}, std::span<float>(&a.colors[3 * n * f], 3 * n));
+            else if (!ocean_kind) height_field_foam(sp, node_depth, t, scene.foam, node_foam, foam);
+            if (wind_sea) {
+                accumulate_fold_foam(vertex_j, 0.0, scene.fold_foam, foam);
+                double step = 0.0;
+                const auto lattice = fold_lattice(t, scene.fold_foam, plan.loop_period, step);
+                for (long long j : lattice) {
+                    auto it = fold_past.find(j);
+                    if (it == fold_past.end()) {
+                        evaluate_ocean_jacobian(plan.ocean, static_cast<double>(j) * step, *ocean_ws, lattice_j);
+                        std::vector<float> past(n);
+                        to_vertices(past);
+                        it = fold_past.emplace(j, std::move(past)).first;
+                    }
+                    accumulate_fold_foam(it->second, t - static_cast<double>(j) * step, scene.fold_foam, foam);
+                }
+                if (!lattice.empty()) fold_past.erase(fold_past.begin(), fold_past.lower_bound(lattice.back()));
+            }
+            if (scene.color) water_colour(r, plan.rest_depth, foam, WaterColours{}, std::span<float>(&a.colors[3 * n * f], 3 * n));
         }
         if (progress) progress(f + 1, a.frame_count);
     }
-    // TEXCOORD_0: the rest position over the seafloor's rectangle, u along +x, v down
-    // (glTF's image origin is top-left).
+    // TEXCOORD_0: the rest position over the seafloor's rectangle (the patch for the
+    // ocean: it tiles), u along +x, v down (glTF's image origin is top-left).
     a.texcoords.resize(2 * n);
     for (std::size_t v = 0; v < n; ++v) {
-        const auto [x, y] = rest(v);
-        a.texcoords[2 * v] = static_cast<float>((x - g.x0) / width);
-        a.texcoords[2 * v + 1] = static_cast<float>(1.0 - (y - g.y0) / height);
+        a.texcoords[2 * v] = static_cast<float>((plan.rest_x[v] - g.x0) / width);
+        a.texcoords[2 * v + 1] = static_cast<float>(1.0 - (plan.rest_y[v] - g.y0) / height);
     }
     return a;
 }

@@ -197,14 +197,21 @@ HeightFieldPlan plan_height_field(const Seafloor& seafloor, const RaySet& rays, 
             plan.term_offsets.push_back(plan.term_amplitude.size());
         }
 
-    plan.triangles.reserve(6 * (plan.vertex_nx - 1) * (plan.vertex_ny - 1));
-    for (std::size_t b = 0; b + 1 < plan.vertex_ny; ++b)
-        for (std::size_t a = 0; a + 1 < plan.vertex_nx; ++a) {
-            const auto v00 = static_cast<std::uint32_t>(b * plan.vertex_nx + a);
-            const auto v10 = v00 + 1, v01 = static_cast<std::uint32_t>(v00 + plan.vertex_nx), v11 = v01 + 1;
-            plan.triangles.insert(plan.triangles.end(), {v00, v10, v11, v00, v11, v01});
-        }
+    plan.triangles = grid_triangles(plan.vertex_nx, plan.vertex_ny);
     return plan;
+}
+
+std::vector<std::uint32_t> grid_triangles(std::size_t nx, std::size_t ny) {
+    std::vector<std::uint32_t> tris;
+    if (nx < 2 || ny < 2) return tris;
+    tris.reserve(6 * (nx - 1) * (ny - 1));
+    for (std::size_t b = 0; b + 1 < ny; ++b)
+        for (std::size_t a = 0; a + 1 < nx; ++a) {
+            const auto v00 = static_cast<std::uint32_t>(b * nx + a);
+            const auto v10 = v00 + 1, v01 = static_cast<std::uint32_t>(v00 + nx), v11 = v01 + 1;
+            tris.insert(tris.end(), {v00, v10, v11, v00, v11, v01});
+        }
+    return tris;
 }
 
 void evaluate_control_heights(const HeightFieldPlan& plan, double t, std::span<float> heights) {
