@@ -600,5 +600,109 @@ class MainJob(unittest.TestCase):
             self.assertEqual(os.listdir(d), ["file"])
 
 
+
+class WindWaves(unittest.TestCase):
+    """Tessendorf's FFT ocean as a surface of its own and superposed on the traced swell."""
+    SMALL_OCEAN = {"surface": {"kind": "ocean"},
+                   "ocean": {"resolution": 32, "size": 100, "wind_speed": 15, "repeat_time": 2, "choppiness": 4,
+                             "small_wave_cutoff": 0.2},
+                   "outputs": {"attributes": "named"}, "animation": {"fps": 8}}
+
+    def write(self, d, doc, name="s.json"):
+        path = os.path.join(d, name)
+        with open(path, "w") as f:
+            json.dump(doc, f)
+        return path
+
+    def test_open_ocean_example(self):
+        # Two frames of the 512² gale: the patch, the analytic significant height, valid files.
+        with tempfile.TemporaryDirectory() as d:
+            r = wave("run", os.path.join(EXAMPLES, "open-ocean.json"), "-o", d, "--frames", "0:2", "--json")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            report = json.loads(r.stdout)
+            self.assertEqual(report["surface"]["kind"], "ocean")
+            self.assertEqual(report["surface"]["vertices"], 513 * 513)
+            self.assertEqual(report["surface"]["triangles"], 2 * 512 * 512)
+            self.assertEqual(report["surface"]["loop_frames"], 240)  # 20 s at 12 fps
+            # Phillips with the default A = α/2π: variance A π L²/2, L = V²/g (Hs 17.6 m at
+            # 31 m/s); the lattice and the 0.5 m cutoff keep it within 5 %.
+            L = 31.0 ** 2 / 9.81
+            hs = 4 * (8.1e-3 / (2 * 3.141592653589793) * 3.141592653589793 * L * L / 2) ** 0.5
+            self.assertAlmostEqual(report["surface"]["wind_sea"]["significant_height_m"] / hs, 1.0, delta=0.05)
+            self.assertNotIn("isobaths.json", report["outputs"])
+            self.assertEqual(sorted(os.listdir(d)), ["frames", "index.json", "report.json", "surface-frame-0000.obj"])
+            for name in sorted(os.listdir(os.path.join(d, "frames"))):
+                validate_gltf(self, os.path.join(d, "frames", name))
+
+    def test_small_ocean_morph_foam_and_tiling(self):
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, "out")
+            r = wave("run", self.write(d, self.SMALL_OCEAN), "-o", out, "--json")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            report = json.loads(r.stdout)
+            self.assertEqual(report["surface"]["frames"], 16)
+            glb = os.path.join(out, "animation.glb")
+            validate_gltf(self, glb)
+            doc, binary = read_glb(glb)
+            prim = doc["meshes"][0]["primitives"][0]
+            self.assertEqual(len(prim["targets"]), 16)
+            foam = floats(doc, binary, prim["attributes"]["_FOAM"])
+            peak = 0.0
+            for target in prim["targets"]:
+                frame = [b + t for b, t in zip(foam, floats(doc, binary, target["_FOAM"]))]
+                self.assertGreaterEqual(min(frame), -1e-6)
+                self.assertLessEqual(max(frame), 1 + 1e-6)
+                peak = max(peak, max(frame))
+            self.assertGreater(peak, 0.5)  # λ = 4 folds the crests
+            # TEXCOORD_0 spans the patch exactly, so a texture tiles with the water.
+            uv = floats(doc, binary, prim["attributes"]["TEXCOORD_0"])
+            self.assertEqual((min(uv[0::2]), max(uv[0::2])), (0.0, 1.0))
+
+    def test_ocean_is_identical_with_one_and_two_threads(self):
+        with tempfile.TemporaryDirectory() as d:
+            scene = self.write(d, self.SMALL_OCEAN)
+            a, b = os.path.join(d, "a"), os.path.join(d, "b")
+            self.assertEqual(wave("run", scene, "--threads", "1", "-o", a, "-q").returncode, 0)
+            self.assertEqual(wave("run", scene, "--threads", "2", "-o", b, "-q").returncode, 0)
+            self.assertEqual(pathlib.Path(a, "animation.glb").read_bytes(), pathlib.Path(b, "animation.glb").read_bytes())
+
+    def test_coast_with_wind_waves_example(self):
+        with tempfile.TemporaryDirectory() as d:
+            r = wave("run", os.path.join(EXAMPLES, "coast-with-wind-waves.json"), "-o", d, "--frames", "0:2", "--json")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            report = json.loads(r.stdout)
+            self.assertEqual(report["surface"]["kind"], "ray-strips")
+            self.assertEqual(report["surface"]["loop_period_s"], 24.0)  # 2 swell periods: the multiple nearest 20 s
+            self.assertIn("wind_sea", report["surface"])
+            self.assertGreater(report["trace"]["rays_aground"], 100)
+            for name in sorted(os.listdir(os.path.join(d, "frames"))):
+                validate_gltf(self, os.path.join(d, "frames", name))
+
+    def test_bad_ocean_scenes_exit_2_without_output(self):
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, "out")
+            ocean = lambda **o: {"surface": {"kind": "ocean"}, "ocean": o}
+            cases = [
+                (ocean(resolution=100), "/ocean/resolution: expected a power of two"),
+                (ocean(wind_speed=0), "/ocean/wind_speed"),
+                (ocean(repeat_time=0.01), "shorter than one frame"),
+                (ocean(size=50, small_wave_cutoff=80), "/ocean/small_wave_cutoff: the cutoff 80 m is not smaller than the patch"),
+                (ocean(spectrum="tma"), "/ocean/depth: the TMA spectrum needs a finite water depth"),
+                (ocean(spectrum="bretschneider"), "jonswap, phillips, pierson-moskowitz, tma"),
+                ({"surface": {"kind": "ocean"}, "waves": [{"period": 5}]}, "/waves: not for the open-ocean patch"),
+                ({"waves": [{"period": 5}], "ocean": {"repeat_time": 12}}, "not a whole multiple of the swell's loop (5 s)"),
+                ({"waves": [{"period": 5}], "gerstner": [{"wavelength": -1}]}, "/gerstner/0/wavelength"),
+                ({"waves": [{"period": 5}], "shade": {"fold_softness": 0}}, "/shade/fold_softness"),
+            ]
+            for doc, part in cases:
+                r = wave("run", self.write(d, doc, "bad.json"), "-o", out)
+                self.assertEqual(r.returncode, 2, f"{doc}: {r.stderr}")
+                self.assertTrue(r.stderr.startswith("error: "))
+                self.assertIn(part, r.stderr, doc)
+                self.assertFalse(os.path.exists(out), doc)
+            r = wave("trace", self.write(d, self.SMALL_OCEAN), "--json")
+            self.assertEqual(r.returncode, 2)
+            self.assertIn("traces no rays", r.stderr)
+
 if __name__ == "__main__":
     unittest.main(verbosity=2)
