@@ -431,6 +431,14 @@ TEST(FoldFoam, CoverageFadeAndLattice) {
     EXPECT_NEAR(foam[1], fold_fade(1.0, o), 1e-6);
     EXPECT_EQ(foam[0], std::max(0.3f, foam[1]));
     EXPECT_THROW(validate_fold_foam({.softness = 0.0}), InputError);
+    // The sparse sample of a lattice time accumulates exactly what the dense J₋ does.
+    std::vector<float> j_field{0.9f, 0.2f, 0.39f, -0.4f, 0.41f, 0.1f};
+    const FoldSample sample = fold_sample(j_field, o);
+    EXPECT_EQ(sample.vertex, (std::vector<std::uint32_t>{1, 2, 3, 5}));
+    std::vector<float> dense(6, 0.05f), sparse(6, 0.05f);
+    accumulate_fold_foam(j_field, 0.7, o, dense);
+    accumulate_fold_foam(sample, 0.7, o, sparse);
+    EXPECT_EQ(dense, sparse);
 }
 
 }  // namespace

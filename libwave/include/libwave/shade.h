@@ -112,6 +112,18 @@ std::vector<long long> fold_lattice(double t, const FoldFoamOptions& options, do
 void accumulate_fold_foam(std::span<const float> j_minus, double age, const FoldFoamOptions& options,
                           std::span<float> foam);
 
+/// The foam-bearing vertices of one lattice time, kept sparse (most of a sea has no
+/// foam): ascending vertex indices where J₋ < threshold, and their J₋.
+struct FoldSample {
+    std::vector<std::uint32_t> vertex;
+    std::vector<float> j_minus;
+};
+FoldSample fold_sample(std::span<const float> j_minus, const FoldFoamOptions& options);
+
+/// foam = max(foam, coverage · fade(age)) at the sample's vertices; the same result as
+/// accumulate_fold_foam on the J₋ the sample was taken from.
+void accumulate_fold_foam(const FoldSample& sample, double age, const FoldFoamOptions& options, std::span<float> foam);
+
 /// Throws InputError naming the field for out-of-range options.
 void validate_fold_foam(const FoldFoamOptions& options, const std::string& where = "fold foam");
 

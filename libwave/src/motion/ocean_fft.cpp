@@ -190,8 +190,9 @@ void ocean_patch_frame(const OceanPlan& plan, const OceanFields& f, std::span<fl
         throw InputError("ocean: the patch frame needs (N+1)² vertices: 3 floats each for positions and normals");
     const double d = plan.spacing(), lambda = plan.choppiness;
     tbb::parallel_for(std::size_t{0}, side, [&](std::size_t row) {
+        const std::size_t src_row = (row == n ? 0 : row) * n;  // the last row repeats the first
         for (std::size_t col = 0; col < side; ++col) {
-            const std::size_t v = row * side + col, s = (row % n) * n + (col % n);
+            const std::size_t v = row * side + col, s = src_row + (col == n ? 0 : col);
             const double jxx = 1.0 - lambda * f.disp_xx[s], jyy = 1.0 - lambda * f.disp_yy[s];
             const double jxy = -lambda * f.disp_xy[s];
             positions[3 * v] = static_cast<float>(d * static_cast<double>(col) - lambda * f.disp_x[s]);
@@ -205,8 +206,8 @@ void ocean_patch_frame(const OceanPlan& plan, const OceanFields& f, std::span<fl
             normals[3 * v] = static_cast<float>(nx * inv);
             normals[3 * v + 1] = static_cast<float>(ny * inv);
             normals[3 * v + 2] = len > 0.0 ? static_cast<float>(nz * inv) : 1.0f;
-            if (!j_minus.empty())
-                j_minus[v] = static_cast<float>(ocean_jacobian(f.disp_xx[s], f.disp_yy[s], f.disp_xy[s], lambda).j_minus);
+            if (!j_minus.empty())  // eq. 32 (the eigenvector is not needed here)
+                j_minus[v] = static_cast<float>(0.5 * (jxx + jyy) - 0.5 * std::sqrt((jxx - jyy) * (jxx - jyy) + 4.0 * jxy * jxy));
         }
     });
 }

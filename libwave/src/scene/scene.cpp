@@ -716,7 +716,7 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
     // J₋ at the vertices for past lattice times of the fold-foam fade (FoldFoamOptions),
     // kept while they are inside the window: each is computed once for a run of frames,
     // and equals what a frame computed alone would compute.
-    std::map<long long, std::vector<float>> fold_past;
+    std::map<long long, FoldSample> fold_past;
     if (wind_sea) {
         ocean_ws.emplace(plan.ocean.n);
         lattice_j.resize(plan.ocean.n * plan.ocean.n);
@@ -773,7 +773,7 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
                         evaluate_ocean_jacobian(plan.ocean, static_cast<double>(j) * step, *ocean_ws, lattice_j);
                         std::vector<float> past(n);
                         to_vertices(past);
-                        it = fold_past.emplace(j, std::move(past)).first;
+                        it = fold_past.emplace(j, fold_sample(past, scene.fold_foam)).first;
                     }
                     accumulate_fold_foam(it->second, t - static_cast<double>(j) * step, scene.fold_foam, foam);
                 }

@@ -4,6 +4,9 @@
 #include "libwave/errors.h"
 #include "libwave/shade.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -14,7 +17,7 @@ double fold_coverage(double j_minus, const FoldFoamOptions& o) noexcept {
 }
 
 double fold_fade(double age, const FoldFoamOptions& o) noexcept {
-    if (age < 0.0 || age >= o.window) return age < 0.0 ? 0.0 : 0.0;
+    if (age < 0.0 || age >= o.window) return 0.0;
     const double floor = std::exp(-o.window / o.fade_time);
     return (std::exp(-age / o.fade_time) - floor) / (1.0 - floor);
 }
@@ -34,8 +37,31 @@ void accumulate_fold_foam(std::span<const float> j_minus, double age, const Fold
                          std::to_string(foam.size()));
     const double w = fold_fade(age, o);
     if (w <= 0.0) return;
-    for (std::size_t v = 0; v < foam.size(); ++v)
-        foam[v] = std::max(foam[v], static_cast<float>(fold_coverage(j_minus[v], o) * w));
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, foam.size(), 4096), [&](const auto& r) {
+        for (std::size_t v = r.begin(); v < r.end(); ++v)
+            foam[v] = std::max(foam[v], static_cast<float>(fold_coverage(j_minus[v], o) * w));
+    });
+}
+
+FoldSample fold_sample(std::span<const float> j_minus, const FoldFoamOptions& o) {
+    FoldSample s;
+    for (std::size_t v = 0; v < j_minus.size(); ++v) {
+        if (!(j_minus[v] < o.threshold)) continue;  // coverage 0 (also for NaN)
+        s.vertex.push_back(static_cast<std::uint32_t>(v));
+        s.j_minus.push_back(j_minus[v]);
+    }
+    return s;
+}
+
+void accumulate_fold_foam(const FoldSample& sample, double age, const FoldFoamOptions& o, std::span<float> foam) {
+    const double w = fold_fade(age, o);
+    if (w <= 0.0) return;
+    for (std::size_t i = 0; i < sample.vertex.size(); ++i) {
+        const std::uint32_t v = sample.vertex[i];
+        if (v >= foam.size()) throw InputError("shade: a fold sample's vertex " + std::to_string(v) + " is beyond the foam array");
+        // The same expression as the dense accumulate_fold_foam: the same bits.
+        foam[v] = std::max(foam[v], static_cast<float>(fold_coverage(sample.j_minus[i], o) * w));
+    }
 }
 
 void validate_fold_foam(const FoldFoamOptions& o, const std::string& where) {

@@ -3,6 +3,8 @@
 #include "libwave/errors.h"
 #include "libwave/shade.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -27,7 +29,8 @@ void fresnel_weights(std::span<const float> p, std::span<const float> n, const F
     require_size(reflect.size(), count, "reflect");
     require_size(refract.size(), count, "refract");
     if (!(o.water_index >= 1.0)) throw InputError("shade: water_index must be >= 1");
-    for (std::size_t v = 0; v < count; ++v) {
+    // Per vertex alone: parallel, and the same bits for any thread count.
+    tbb::parallel_for(std::size_t{0}, count, [&](std::size_t v) {
         const double ex = o.camera[0] - p[3 * v], ey = o.camera[1] - p[3 * v + 1], ez = o.camera[2] - p[3 * v + 2];
         const double len = std::sqrt(ex * ex + ey * ey + ez * ez);
         double cos_i = len > 0.0 ? (ex * n[3 * v] + ey * n[3 * v + 1] + ez * n[3 * v + 2]) / len : 1.0;
@@ -36,7 +39,7 @@ void fresnel_weights(std::span<const float> p, std::span<const float> n, const F
                                                         : fresnel_reflectivity_tso(std::acos(cos_i));
         reflect[v] = static_cast<float>(r);
         refract[v] = static_cast<float>(1.0 - r);
-    }
+    });
 }
 
 void breaking_foam(const RayStrips& s, const GonzatoMotionPlan& m, double t, const FoamOptions& o,

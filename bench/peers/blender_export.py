@@ -1,6 +1,6 @@
 # Peer measurement for bench/RESULTS.md: Blender's own glTF exporter on a wavy grid of
 # the same sizes as bench_export.cpp (one static frame, positions + normals + UVs).
-#   blender -b --factory-startup --python bench/blender_export_peer.py -- OUT_DIR
+#   blender -b --factory-startup --python bench/peers/blender_export.py -- OUT_DIR
 import math
 import os
 import sys

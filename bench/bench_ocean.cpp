@@ -1,0 +1,105 @@
+// Tessendorf's FFT ocean per frame, against the raw FFTW cost of the same transforms
+// (the floor) and, in bench/peers/blender_ocean.py, Blender 3.4's Ocean modifier on the
+// same grids. Range arguments: N (the grid is N²).
+#include "libwave/motion.h"
+#include "libwave/scene.h"
+#include "libwave/shade.h"
+
+#include <benchmark/benchmark.h>
+#include <fftw3.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include <vector>
+
+namespace {
+
+// The floor: the eight inverse real N² transforms a frame with chop and foam needs
+// (h, ∇h, D, ∂D), one sequential FFTW_ESTIMATE plan, the eight in parallel on the
+// machine's cores — what evaluate_ocean does without filling the spectra.
+void BM_fftw_floor(benchmark::State& state) {
+    const auto n = static_cast<int>(state.range(0));
+    const std::size_t half = static_cast<std::size_t>(n / 2 + 1), count = static_cast<std::size_t>(n) * half;
+    std::vector<fftwf_complex*> in(8);
+    std::vector<float*> out(8);
+    for (int f = 0; f < 8; ++f) {
+        in[f] = fftwf_alloc_complex(count);
+        out[f] = fftwf_alloc_real(static_cast<std::size_t>(n) * n);
+    }
+    fftwf_plan plan = fftwf_plan_dft_c2r_2d(n, n, in[0], out[0], FFTW_ESTIMATE);
+    for (auto _ : state) {
+        state.PauseTiming();  // c2r destroys its input: refill outside the timing
+        for (int f = 0; f < 8; ++f)
+            for (std::size_t i = 0; i < count; ++i) in[f][i][0] = in[f][i][1] = 1e-3f * static_cast<float>(i % 7);
+        state.ResumeTiming();
+        tbb::parallel_for(0, 8, [&](int f) { fftwf_execute_dft_c2r(plan, in[f], out[f]); });
+        benchmark::DoNotOptimize(out[7]);
+    }
+    fftwf_destroy_plan(plan);
+    for (int f = 0; f < 8; ++f) fftwf_free(in[f]), fftwf_free(out[f]);
+}
+BENCHMARK(BM_fftw_floor)->Arg(256)->Arg(512)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+wave::OceanOptions gale(std::int64_t n) {
+    wave::OceanOptions o;
+    o.resolution = static_cast<std::size_t>(n);
+    o.size = 1000.0;
+    o.spectrum.wind_speed = 31.0;
+    o.spectrum.small_wave_cutoff = 0.5;
+    o.choppiness = 1.6;
+    o.repeat_time = 20.0;
+    return o;
+}
+
+// evaluate_ocean: spectra at t (eq. 26, phase table) + the eight transforms.
+void BM_ocean_fields(benchmark::State& state) {
+    const wave::OceanPlan plan = wave::plan_ocean(gale(state.range(0)));
+    wave::OceanWorkspace ws(plan.n);
+    double t = 0.0;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(wave::evaluate_ocean(plan, t, ws).height.data());
+        t += 1.0 / 24.0;
+    }
+}
+BENCHMARK(BM_ocean_fields)->Arg(256)->Arg(512)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The surface of one frame: fields + (N+1)² positions, exact normals, J₋, Fresnel
+// weights and the fold foam of this frame (the past lattice times are amortised in a
+// run: see BM_ocean_scene_frames).
+void BM_ocean_surface_frame(benchmark::State& state) {
+    const wave::OceanPlan plan = wave::plan_ocean(gale(state.range(0)));
+    wave::OceanWorkspace ws(plan.n);
+    const std::size_t side = plan.n + 1, count = side * side;
+    std::vector<float> p(3 * count), nr(3 * count), jm(count), r(count), tr(count), foam(count);
+    wave::FresnelOptions fresnel;
+    fresnel.camera = {500.0, -600.0, 250.0};
+    double t = 0.0;
+    for (auto _ : state) {
+        wave::ocean_patch_frame(plan, wave::evaluate_ocean(plan, t, ws), p, nr, jm);
+        wave::fresnel_weights(p, nr, fresnel, r, tr);
+        std::fill(foam.begin(), foam.end(), 0.0f);
+        wave::accumulate_fold_foam(jm, 0.0, {}, foam);
+        benchmark::DoNotOptimize(foam.data());
+        t += 1.0 / 24.0;
+    }
+    state.counters["vertices"] = static_cast<double>(count);
+}
+BENCHMARK(BM_ocean_surface_frame)->Arg(256)->Arg(512)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// What `wave run` does per frame for the open-ocean surface (animate_scene: surface,
+// normals, Fresnel, fold foam with its faded past, the per-frame arrays), over a run of
+// 1 and 25 (13) frames at 24 fps: the first frame also computes the 18 past lattice
+// times, so the steady cost per frame is the difference over 24 (12) frames.
+void BM_ocean_scene_frames(benchmark::State& state) {
+    wave::Scene scene;
+    scene.surface_kind = wave::SurfaceKind::ocean;
+    scene.ocean = gale(state.range(0));
+    scene.camera = std::array<double, 3>{500.0, -600.0, 250.0};
+    const wave::ScenePlan plan = wave::plan_scene(scene);
+    const std::size_t frames = static_cast<std::size_t>(state.range(1));
+    for (auto _ : state) benchmark::DoNotOptimize(wave::animate_scene(scene, plan, 4e9, {0, frames}).foam.data());
+    state.counters["frames"] = static_cast<double>(frames);
+}
+BENCHMARK(BM_ocean_scene_frames)->Args({256, 1})->Args({256, 25})->Args({1024, 1})->Args({1024, 13})->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace

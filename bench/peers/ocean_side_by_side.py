@@ -1,0 +1,36 @@
+#!/usr/bin/env python3
+"""Blender 3.4's Ocean modifier and libwave's FFT ocean on the same grids, in one run
+(shared machines are noisy: only ratios taken minutes apart mean something).
+    python3 bench/peers/ocean_side_by_side.py build/release/bench/libwave_bench
+Prints one line per grid: Blender ms/frame, libwave surface frame and `wave run` frame
+(ms), the FFTW floor, and the ratios."""
+import json
+import os
+import re
+import subprocess
+import sys
+
+bench = sys.argv[1] if len(sys.argv) > 1 else "build/release/bench/libwave_bench"
+here = os.path.dirname(os.path.abspath(__file__))
+blender = subprocess.run(["blender", "-b", "--factory-startup", "--python", os.path.join(here, "blender_ocean.py")],
+                         capture_output=True, text=True, timeout=1800)
+peer = {int(m.group(1)): float(m.group(2))
+        for m in re.finditer(r"BLENDER-OCEAN grid=(\d+) vertices=\d+ ms_per_frame=([\d.]+)", blender.stdout)}
+if not peer:
+    sys.exit("blender produced no measurement:\n" + blender.stdout[-2000:] + blender.stderr[-2000:])
+ours = subprocess.run([bench, "--benchmark_filter=BM_fftw_floor|BM_ocean_surface_frame|BM_ocean_scene_frames",
+                       "--benchmark_format=json"], capture_output=True, text=True, timeout=1800, check=True)
+times = {b["name"].replace("/real_time", ""): b["real_time"] for b in json.loads(ours.stdout)["benchmarks"]}
+for grid in sorted(peer):
+    floor = times[f"BM_fftw_floor/{grid}"]
+    surface = times[f"BM_ocean_surface_frame/{grid}"]
+    line = (f"grid {grid}²: Blender {peer[grid]:.1f} ms/frame; libwave surface frame {surface:.1f} ms "
+            f"({peer[grid] / surface:.1f}x faster), FFTW floor {floor:.1f} ms ({surface / floor:.2f}x the floor)")
+    # `wave run`'s steady cost per frame: a run of F frames minus a run of 1, over F − 1.
+    runs = {int(k.split("/")[2]): v for k, v in times.items() if k.startswith(f"BM_ocean_scene_frames/{grid}/")}
+    if len(runs) == 2:
+        many = max(runs)
+        steady = (runs[many] - runs[1]) / (many - 1)
+        line += (f"; wave run {steady:.1f} ms/frame with the per-frame arrays and faded foam "
+                 f"({peer[grid] / steady:.1f}x faster; its first frame {runs[1]:.0f} ms)")
+    print(line)
