@@ -176,9 +176,13 @@ void evaluate_ocean_jacobian(const OceanPlan& plan, double t, OceanWorkspace& ws
 void ocean_jacobian_field(const OceanPlan& plan, const OceanFields& f, std::span<float> j_minus) {
     const std::size_t n = plan.n;
     if (f.n != n || j_minus.size() != n * n) throw InputError("ocean: j_minus must hold N² values");
+    const double lambda = plan.choppiness;
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t j) {
-        for (std::size_t i = j * n; i < (j + 1) * n; ++i)
-            j_minus[i] = static_cast<float>(ocean_jacobian(f.disp_xx[i], f.disp_yy[i], f.disp_xy[i], plan.choppiness).j_minus);
+        for (std::size_t i = j * n; i < (j + 1) * n; ++i) {
+            // eq. 32 as ocean_jacobian computes it (same bits), without the eigenvector
+            const double jxx = 1.0 - lambda * f.disp_xx[i], jyy = 1.0 - lambda * f.disp_yy[i], jxy = -lambda * f.disp_xy[i];
+            j_minus[i] = static_cast<float>(0.5 * (jxx + jyy) - 0.5 * std::sqrt((jxx - jyy) * (jxx - jyy) + 4.0 * jxy * jxy));
+        }
     });
 }
 

@@ -723,9 +723,13 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
         vertex_j.resize(n);
     }
     const auto to_vertices = [&](std::span<float> out) {  // lattice_j → J₋ per vertex
-        if (ocean_kind) {
+        if (ocean_kind) {  // the patch's (N+1)² vertices repeat the first row and column
             const std::size_t N = plan.ocean.n, side = N + 1;
-            for (std::size_t v = 0; v < n; ++v) out[v] = lattice_j[((v / side) % N) * N + (v % side) % N];
+            for (std::size_t row = 0; row < side; ++row) {
+                const float* src = &lattice_j[(row == N ? 0 : row) * N];
+                std::copy(src, src + N, &out[row * side]);
+                out[row * side + N] = src[0];
+            }
         } else {
             sample_ocean_field(plan.ocean, lattice_j, plan.rest_x, plan.rest_y, plan.wind_sea_scale, out);
         }
