@@ -92,13 +92,19 @@ TEST(OceanDispersion, ForwardRelationAndQuantisation) {
                 EXPECT_NEAR(dispersion_omega(k, h, L) / omega, 1.0, 1e-12);
             }
     EXPECT_NEAR(dispersion_omega(1.0), std::sqrt(kGravity), 1e-15);
-    // eq. 18: integer multiples of 2π/T, never above ω, within one step below it.
-    for (double omega : {0.05, 0.7, 3.3}) {
-        const double q = quantize_frequency(omega, 20.0), w0 = 2.0 * kPi / 20.0;
+    // eq. 18: whole multiples of ω0 = 2π/T, the nearest one (within ω0/2), at least ω0.
+    const double w0 = 2.0 * kPi / 20.0;
+    for (double omega : {0.7, 3.3, 0.2 * w0, 1.49 * w0, 1.51 * w0}) {
+        const double q = quantize_frequency(omega, 20.0);
         EXPECT_NEAR(q / w0, std::round(q / w0), 1e-12);
-        EXPECT_LE(q, omega);
-        EXPECT_GT(q, omega - w0);
+        EXPECT_GE(q, w0);
+        if (omega > w0) {
+            EXPECT_LE(std::abs(q - omega), 0.5 * w0 + 1e-12);
+        }
     }
+    EXPECT_EQ(quantize_frequency(1.49 * w0, 20.0), w0);
+    EXPECT_EQ(quantize_frequency(1.51 * w0, 20.0), 2.0 * w0);
+    EXPECT_EQ(quantize_frequency(0.0, 20.0), 0.0);
     EXPECT_EQ(quantize_frequency(0.7, 0.0), 0.7);
 }
 

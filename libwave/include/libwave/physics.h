@@ -93,8 +93,9 @@ double refraction_coefficient(double spacing_deep, double spacing_here) noexcept
 double dispersion_omega(double k, double depth = std::numeric_limits<double>::infinity(),
                         double capillary_length = 0.0) noexcept;
 
-/// Tessendorf eq. 18: ω quantised to a whole multiple of ω0 = 2π / repeat_time (the
-/// integer part, as printed), so that every wave repeats after repeat_time.
+/// Tessendorf eq. 18: ω quantised to a whole multiple of ω0 = 2π / repeat_time, so that
+/// every wave repeats after repeat_time. The multiple is the nearest one, at least 1
+/// (the printed integer part would freeze waves slower than ω0); ω <= 0 gives 0.
 /// repeat_time <= 0 returns ω unchanged.
 double quantize_frequency(double omega, double repeat_time) noexcept;
 

@@ -217,7 +217,7 @@ OceanPlan plan_ocean(const OceanOptions& o) {
             p.h0_minus[e] = std::complex<float>(std::conj(b));
             const double w = dispersion_omega(std::hypot(kx, ky), o.spectrum.depth, o.spectrum.capillary_length);
             if (quantised) {
-                const double steps = std::floor(w / omega0);  // eq. 18
+                const double steps = std::round(quantize_frequency(w, o.repeat_time) / omega0);  // eq. 18
                 p.omega_steps[e] = static_cast<std::int32_t>(steps);
                 p.omega[e] = steps * omega0;
             } else {

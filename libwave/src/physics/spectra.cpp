@@ -3,6 +3,7 @@
 // spectrum in motion/ocean_spectrum.cpp: it is defined in wavenumber space).
 #include "libwave/physics.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -16,9 +17,13 @@ double dispersion_omega(double k, double depth, double capillary_length) noexcep
 }
 
 double quantize_frequency(double omega, double repeat_time) noexcept {
-    if (!(repeat_time > 0.0)) return omega;
+    if (!(repeat_time > 0.0) || !(omega > 0.0)) return repeat_time > 0.0 ? 0.0 : omega;
     const double omega0 = 2.0 * std::numbers::pi / repeat_time;  // eq. 17
-    return std::floor(omega / omega0) * omega0;                  // eq. 18: [[ω/ω0]] ω0
+    // eq. 18 with [[·]] read as the nearest whole number, at least 1 (the printed
+    // integer part freezes every wave slower than ω0 — the dominant waves of a gale
+    // under a 20 s loop — and errs by up to ω0; this errs by ω0/2 at most and every
+    // wave still repeats after T).
+    return std::max(1.0, std::round(omega / omega0)) * omega0;
 }
 
 double pierson_moskowitz_spectrum(double omega, double wind_speed) noexcept {

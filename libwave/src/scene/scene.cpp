@@ -572,10 +572,6 @@ void plan_components(const Scene& scene, ScenePlan& p) {
                                         : std::numeric_limits<double>::infinity();
         GerstnerWave w{.kx = k * s.direction_x / len, .ky = k * s.direction_y / len, .amplitude = s.amplitude,
                        .omega = quantize_frequency(dispersion_omega(k, depth), p.loop_period), .phase = s.phase};
-        if (w.omega == 0.0)
-            p.warnings.push_back("Gerstner wave " + std::to_string(i) + " (λ = " + fmt(s.wavelength) +
-                                 " m) is slower than the loop allows (eq. 18 rounds its ω to 0): it stands still; "
-                                 "lengthen the loop");
         p.gerstner.push_back(w);
     }
     if (gerstner_steepness(p.gerstner) >= 1.0)

@@ -106,9 +106,8 @@ HeightFieldPlan plan_height_field(const Seafloor& seafloor, const RaySet& rays, 
     for (const WaveTrain& t : trains) periods.push_back(t.period);
     if (o.repeat_time > 0.0) {
         plan.loop_period = o.repeat_time;
-        const double w0 = kTwoPi / o.repeat_time;  // Tessendorf eq. 18: ω = ⌊ω/ω0⌋ ω0
-        for (std::size_t n = 0; n < trains.size(); ++n)
-            omega[n] = std::max(1.0, std::round(kTwoPi / trains[n].period / w0)) * w0;
+        for (std::size_t n = 0; n < trains.size(); ++n)  // Tessendorf eq. 18 (physics.h)
+            omega[n] = quantize_frequency(kTwoPi / trains[n].period, o.repeat_time);
     } else {
         plan.loop_period = loop_period(periods);
         if (plan.loop_period == 0.0) {
