@@ -614,12 +614,16 @@ class WindWaves(unittest.TestCase):
             json.dump(doc, f)
         return path
 
+    def example_frames(self, name, out):
+        """The first two frames of an example: its report."""
+        r = wave("run", os.path.join(EXAMPLES, name), "-o", out, "--frames", "0:2", "--json")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        return json.loads(r.stdout)
+
     def test_open_ocean_example(self):
         # Two frames of the 512² gale: the patch, the analytic significant height, valid files.
         with tempfile.TemporaryDirectory() as d:
-            r = wave("run", os.path.join(EXAMPLES, "open-ocean.json"), "-o", d, "--frames", "0:2", "--json")
-            self.assertEqual(r.returncode, 0, r.stderr)
-            report = json.loads(r.stdout)
+            report = self.example_frames("open-ocean.json", d)
             self.assertEqual(report["surface"]["kind"], "ocean")
             self.assertEqual(report["surface"]["vertices"], 513 * 513)
             self.assertEqual(report["surface"]["triangles"], 2 * 512 * 512)
@@ -668,9 +672,7 @@ class WindWaves(unittest.TestCase):
 
     def test_coast_with_wind_waves_example(self):
         with tempfile.TemporaryDirectory() as d:
-            r = wave("run", os.path.join(EXAMPLES, "coast-with-wind-waves.json"), "-o", d, "--frames", "0:2", "--json")
-            self.assertEqual(r.returncode, 0, r.stderr)
-            report = json.loads(r.stdout)
+            report = self.example_frames("coast-with-wind-waves.json", d)
             self.assertEqual(report["surface"]["kind"], "ray-strips")
             self.assertEqual(report["surface"]["loop_period_s"], 24.0)  # 2 swell periods: the multiple nearest 20 s
             self.assertIn("wind_sea", report["surface"])
