@@ -12,7 +12,7 @@ packages=(
   nlohmann-json3-dev libcli11-dev
   libgdal-dev gdal-bin
   libgtest-dev libgmock-dev libbenchmark-dev
-  pybind11-dev python3-pybind11 python3 python3-jsonschema
+  pybind11-dev python3-pybind11 python3 python3-dev python3-numpy python3-pytest python3-jsonschema
   nodejs
 )
 

@@ -1,0 +1,201 @@
+// `import libwave`: the scene → plan → frames → export pipeline for Python, with the
+// per-frame arrays as NumPy views of libwave's own buffers (no copies). Argument
+// handling and calls into libwave only; the GIL is released during long work.
+#include "libwave/errors.h"
+#include "libwave/export.h"
+#include "libwave/physics.h"
+#include "libwave/scene.h"
+#include "libwave/version.h"
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <fstream>
+#include <memory>
+#include <string>
+
+namespace py = pybind11;
+
+namespace {
+
+using wave::SceneAnimation;
+using wave::ScenePlan;
+
+// A NumPy view of a std::vector owned by the Python object `owner` (kept alive by the
+// array's base), shaped as given.
+template <class T>
+py::array view(const std::vector<T>& data, std::vector<py::ssize_t> shape, const py::object& owner) {
+    std::vector<py::ssize_t> strides(shape.size());
+    py::ssize_t step = sizeof(T);
+    for (std::size_t i = shape.size(); i-- > 0;) {
+        strides[i] = step;
+        step *= shape[i];
+    }
+    if (data.empty()) return py::array_t<T>(shape);
+    py::array a(py::dtype::of<T>(), shape, strides, data.data(), owner);
+    py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;  // libwave's buffers
+    return a;
+}
+
+std::string mesh_form_bytes(const SceneAnimation& a, const std::string& form) {
+    if (form == "morph") return wave::gltf_morph_glb(a.view());
+    if (form == "nodes") return wave::gltf_nodes_glb(a.view());
+    throw wave::InputError("export: form must be \"morph\" or \"nodes\" (one file per frame: frame_glb), got \"" + form + "\"");
+}
+
+void write_bytes(const std::string& path, const std::string& bytes) {
+    std::ofstream out(path, std::ios::binary);
+    if (!out || !out.write(bytes.data(), static_cast<std::streamsize>(bytes.size())))
+        throw wave::RuntimeError(path + ": cannot write the file");
+}
+
+}  // namespace
+
+PYBIND11_MODULE(libwave, m) {
+    m.doc() = "libwave: coastal wave tracing and animated water meshes (scene → plan → frames → glTF)";
+    m.attr("__version__") = wave::version();
+
+    // Errors keep libwave's messages (file, JSON pointer, value); InputError is a ValueError.
+    static py::exception<wave::Error> error(m, "Error", PyExc_RuntimeError);
+    static py::exception<wave::InputError> input_error(m, "InputError", PyExc_ValueError);
+    static py::exception<wave::LimitError> limit_error(m, "LimitError", input_error.ptr());
+    py::register_exception_translator([](std::exception_ptr p) {
+        try {
+            if (p) std::rethrow_exception(p);
+        } catch (const wave::LimitError& e) {
+            limit_error(e.what());
+        } catch (const wave::InputError& e) {
+            input_error(e.what());
+        } catch (const wave::Error& e) {
+            error(e.what());
+        }
+    });
+
+    py::class_<wave::Scene>(m, "Scene", "A validated scene (docs/scene.md)")
+        .def_readonly("name", &wave::Scene::name)
+        .def_readonly("fps", &wave::Scene::fps)
+        .def_property_readonly("surface_kind", [](const wave::Scene& s) {
+            return s.surface_kind == wave::SurfaceKind::ray_strips ? "ray-strips"
+                   : s.surface_kind == wave::SurfaceKind::ocean    ? "ocean"
+                                                                   : "height-field";
+        });
+    m.def("default_scene", &wave::default_scene, "The built-in default scene (Gonzato's bay with a swell)");
+    m.def("read_scene", &wave::read_scene, py::arg("path"), py::call_guard<py::gil_scoped_release>(),
+          "Reads and validates a scene file; raises InputError naming the file and JSON pointer");
+    m.def(
+        "parse_scene",
+        [](py::object doc, const std::string& origin, const std::string& base_dir) {
+            // A dict is serialised by Python's json module; a str is JSON text.
+            const std::string text = py::isinstance<py::str>(doc) ? doc.cast<std::string>()
+                                                                  : py::module_::import("json").attr("dumps")(doc).cast<std::string>();
+            py::gil_scoped_release release;
+            return wave::parse_scene(text, origin, base_dir);
+        },
+        py::arg("scene"), py::arg("origin") = "<python>", py::arg("base_dir") = ".",
+        "A scene from a dict or JSON text; relative seafloor paths are resolved against base_dir");
+
+    py::class_<ScenePlan, std::shared_ptr<ScenePlan>>(m, "Plan", "The static products of a scene (computed once)")
+        .def_property_readonly("vertex_count", [](const ScenePlan& p) { return p.rest_x.size(); })
+        .def_readonly("loop_period", &ScenePlan::loop_period)
+        .def_readonly("warnings", &ScenePlan::warnings)
+        .def_property_readonly("rest_positions", [](py::object self) {
+            const auto& p = self.cast<const ScenePlan&>();
+            py::array_t<double> xy({static_cast<py::ssize_t>(p.rest_x.size()), py::ssize_t{2}});
+            auto r = xy.mutable_unchecked<2>();
+            for (py::ssize_t v = 0; v < r.shape(0); ++v) r(v, 0) = p.rest_x[v], r(v, 1) = p.rest_y[v];
+            return xy;
+        });
+    m.def(
+        "plan",
+        [](const wave::Scene& scene) {
+            py::gil_scoped_release release;
+            return std::make_shared<ScenePlan>(wave::plan_scene(scene));
+        },
+        py::arg("scene"), "Runs the static stages: seafloor, isobaths, tracing, surface, motion plan");
+
+    py::class_<SceneAnimation, std::shared_ptr<SceneAnimation>>(m, "Animation",
+                                                                "Frames of one loop; arrays are read-only NumPy views")
+        .def_readonly("vertex_count", &SceneAnimation::vertex_count)
+        .def_readonly("frame_count", &SceneAnimation::frame_count)
+        .def_readonly("first_frame", &SceneAnimation::first_frame)
+        .def_readonly("loop_frames", &SceneAnimation::loop_frames)
+        .def_readonly("fps", &SceneAnimation::fps)
+        .def_property_readonly("positions", [](py::object self) {
+            const auto& a = self.cast<const SceneAnimation&>();
+            return view(a.positions, {static_cast<py::ssize_t>(a.frame_count), static_cast<py::ssize_t>(a.vertex_count), 3}, self);
+        }, "(frames, vertices, 3) float32, z up (m)")
+        .def_property_readonly("normals", [](py::object self) {
+            const auto& a = self.cast<const SceneAnimation&>();
+            return view(a.normals, {static_cast<py::ssize_t>(a.frame_count), static_cast<py::ssize_t>(a.vertex_count), 3}, self);
+        })
+        .def_property_readonly("triangles", [](py::object self) {
+            const auto& a = self.cast<const SceneAnimation&>();
+            return view(a.triangles, {static_cast<py::ssize_t>(a.triangles.size() / 3), 3}, self);
+        }, "(triangles, 3) uint32, counter-clockwise seen from above")
+        .def_property_readonly("texcoords", [](py::object self) {
+            const auto& a = self.cast<const SceneAnimation&>();
+            return view(a.texcoords, {static_cast<py::ssize_t>(a.vertex_count), 2}, self);
+        })
+        .def_property_readonly("foam", [](py::object self) {
+            const auto& a = self.cast<const SceneAnimation&>();
+            return view(a.foam, {static_cast<py::ssize_t>(a.foam.empty() ? 0 : a.frame_count), static_cast<py::ssize_t>(a.vertex_count)}, self);
+        }, "(frames, vertices) in [0, 1]; empty when the scene's attributes are none")
+        .def_property_readonly("reflect", [](py::object self) {
+            const auto& a = self.cast<const SceneAnimation&>();
+            return view(a.reflect, {static_cast<py::ssize_t>(a.reflect.empty() ? 0 : a.frame_count), static_cast<py::ssize_t>(a.vertex_count)}, self);
+        }, "Fresnel reflect weight R per frame and vertex")
+        .def_property_readonly("refract", [](py::object self) {
+            const auto& a = self.cast<const SceneAnimation&>();
+            return view(a.refract, {static_cast<py::ssize_t>(a.refract.empty() ? 0 : a.frame_count), static_cast<py::ssize_t>(a.vertex_count)}, self);
+        }, "T = 1 − R")
+        .def(
+            "glb",
+            [](const SceneAnimation& a, const std::string& form) {
+                std::string bytes;
+                {
+                    py::gil_scoped_release release;
+                    bytes = mesh_form_bytes(a, form);
+                }
+                return py::bytes(bytes);
+            },
+            py::arg("form") = "morph", "The animation as one .glb (morph targets or scale-switched nodes)")
+        .def(
+            "frame_glb", [](const SceneAnimation& a, std::size_t k) {
+                if (k >= a.frame_count) throw wave::InputError("frame_glb: frame " + std::to_string(k) + " of " + std::to_string(a.frame_count));
+                std::string bytes;
+                {
+                    py::gil_scoped_release release;
+                    bytes = wave::gltf_frame_glb(a.view(), k);
+                }
+                return py::bytes(bytes);
+            },
+            py::arg("frame"), "One frame (index within this animation) as a static .glb")
+        .def(
+            "write_glb",
+            [](const SceneAnimation& a, const std::string& path, const std::string& form) {
+                py::gil_scoped_release release;
+                write_bytes(path, mesh_form_bytes(a, form));
+            },
+            py::arg("path"), py::arg("form") = "morph");
+    m.def(
+        "animate",
+        [](const wave::Scene& scene, const ScenePlan& plan, std::size_t first, py::object end) {
+            wave::FrameRange range{first, end.is_none() ? static_cast<std::size_t>(-1) : end.cast<std::size_t>()};
+            py::gil_scoped_release release;
+            return std::make_shared<SceneAnimation>(wave::animate_scene(scene, plan, 2e9, range));
+        },
+        py::arg("scene"), py::arg("plan"), py::arg("first") = 0, py::arg("end") = py::none(),
+        "Evaluates frames [first, end) of the loop: positions, normals, shading");
+
+    m.def(
+        "linear_wave",
+        [](double period, double depth) {
+            const wave::LinearWave w = wave::linear_wave(2.0 * 3.141592653589793 / period, depth);
+            py::dict d;
+            d["k"] = w.k, d["wavelength"] = w.wavelength, d["celerity"] = w.celerity;
+            d["group_velocity"] = w.group_velocity, d["shoaling"] = w.shoaling, d["dry"] = w.dry;
+            return d;
+        },
+        py::arg("period"), py::arg("depth"), "Linear wave quantities (SI) for a period (s) in depth h (m)");
+}

@@ -1,0 +1,121 @@
+"""`import libwave`: the Python module against the C++ pipeline and the CLI it mirrors.
+Run by ctest (`python` test) with PYTHONPATH at the built module and WAVE_EXE at the CLI."""
+import json
+import os
+import pathlib
+import subprocess
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import libwave
+
+SMALL = {"waves": [{"period": 5, "amplitude": 0.3}], "trace": {"ray_spacing": 2},
+         "fronts": {"step": 0.8, "split_distance": 2.4}}
+
+
+@pytest.fixture(scope="module")
+def small():
+    scene = libwave.parse_scene(SMALL, "small.json")
+    return scene, libwave.plan(scene)
+
+
+def test_version_matches_the_cli():
+    out = subprocess.run([os.environ["WAVE_EXE"], "--version"], capture_output=True, text=True, check=True).stdout
+    assert out.split()[1] == libwave.__version__
+
+
+def test_arrays_are_read_only_views_with_the_right_shapes(small):
+    scene, plan = small
+    anim = libwave.animate(scene, plan, 0, 4)
+    n = plan.vertex_count
+    assert anim.positions.shape == (4, n, 3) and anim.positions.dtype == np.float32
+    assert anim.normals.shape == (4, n, 3)
+    assert anim.foam.shape == (4, n) and anim.reflect.shape == (4, n)
+    assert anim.triangles.dtype == np.uint32 and anim.triangles.max() < n
+    assert anim.positions.base is not None  # a view of libwave's buffer, not a copy
+    with pytest.raises(ValueError):
+        anim.positions[0, 0, 0] = 1.0
+    np.testing.assert_allclose(np.linalg.norm(anim.normals, axis=2), 1.0, atol=1e-5)
+    np.testing.assert_allclose(anim.reflect + anim.refract, 1.0, atol=1e-6)
+    # The rest positions are the frames' horizontal positions for flat water far out.
+    assert plan.rest_positions.shape == (n, 2)
+    # Views outlive the Animation object that owns them.
+    positions = anim.positions
+    del anim
+    assert np.isfinite(positions).all()
+
+
+def test_a_frame_alone_equals_the_same_frame_of_a_run(small):
+    scene, plan = small
+    whole = libwave.animate(scene, plan)
+    one = libwave.animate(scene, plan, 7, 8)
+    assert whole.frame_count == whole.loop_frames == 120
+    assert np.array_equal(one.positions[0], whole.positions[7])
+    assert np.array_equal(one.foam[0], whole.foam[7])
+
+
+def test_the_glb_is_byte_identical_to_wave_run(small, tmp_path):
+    scene, plan = small
+    path = tmp_path / "s.json"
+    path.write_text(json.dumps(SMALL))
+    out = tmp_path / "out"
+    subprocess.run([os.environ["WAVE_EXE"], "run", str(path), "-o", str(out), "-q"], check=True)
+    anim = libwave.animate(libwave.read_scene(str(path)), libwave.plan(libwave.read_scene(str(path))))
+    assert anim.glb("morph") == (out / "animation.glb").read_bytes()
+    anim.write_glb(str(tmp_path / "py.glb"), "nodes")
+    assert (tmp_path / "py.glb").read_bytes()[:4] == b"glTF"
+    assert anim.frame_glb(3)[:4] == b"glTF"
+
+
+def test_dict_and_json_text_give_the_same_scene():
+    a = libwave.plan(libwave.parse_scene(SMALL))
+    b = libwave.plan(libwave.parse_scene(json.dumps(SMALL)))
+    assert a.vertex_count == b.vertex_count and a.loop_period == b.loop_period == 5.0
+
+
+def test_errors_carry_libwave_messages():
+    with pytest.raises(libwave.InputError, match=r"bad\.json: /waves/0/period: expected a number > 0"):
+        libwave.parse_scene({"waves": [{"period": -1}]}, "bad.json")
+    with pytest.raises(ValueError):  # InputError is a ValueError
+        libwave.parse_scene({"waves": [{"period": 5}], "fronts": {"stpe": 1}})
+    with pytest.raises(libwave.InputError, match="file not found"):
+        libwave.read_scene("/nonexistent/scene.json")
+    # A guard rail, refused before any allocation, is a LimitError (an InputError).
+    huge = libwave.parse_scene({"surface": {"kind": "ocean"}, "ocean": {"resolution": 2048, "repeat_time": 60}})
+    with pytest.raises(libwave.LimitError, match="frames of"):
+        libwave.animate(huge, libwave.plan(huge))
+    with pytest.raises(libwave.InputError, match="form"):
+        libwave.animate(*small_pair(), 0, 1).glb("files")
+
+
+def small_pair():
+    scene = libwave.parse_scene(SMALL)
+    return scene, libwave.plan(scene)
+
+
+def test_the_gil_is_released_during_long_work():
+    scene = libwave.parse_scene({"surface": {"kind": "ocean"}, "ocean": {"resolution": 256, "repeat_time": 4}})
+    plan = libwave.plan(scene)
+    ticks, done = [0], threading.Event()
+
+    def work():
+        libwave.animate(scene, plan, 0, 24)
+        done.set()
+
+    worker = threading.Thread(target=work)
+    start = time.perf_counter()
+    worker.start()
+    while not done.is_set():
+        ticks[0] += 1
+    worker.join()
+    elapsed = time.perf_counter() - start
+    assert elapsed > 0.05  # the work is long enough to tell
+    assert ticks[0] > 10000, f"the main thread ran only {ticks[0]} loops in {elapsed:.2f} s"
+
+
+def test_linear_wave():
+    w = libwave.linear_wave(10.0, 5.0)
+    assert abs(w["wavelength"] / (9.81 * 100 / (2 * np.pi)) - 0.4335) < 2e-3  # SPM Table C-1
