@@ -17,3 +17,13 @@ if(NOT last_output MATCHES "0\\.7093")
   message(FATAL_ERROR "dispersion_table printed an unexpected table:\n${last_output}")
 endif()
 message(STATUS "installed libwave consumed by examples/:\n${last_output}")
+# The installed Python module imports from the prefix (Debian's dist-packages layout).
+if(PYTHON_MODULE_DIR)
+  execute_process(COMMAND ${CMAKE_COMMAND} -E env PYTHONPATH=${PREFIX}/${PYTHON_MODULE_DIR}
+                    ${PYTHON} -c "import libwave; print('libwave', libwave.__version__, libwave.__file__)"
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0 OR NOT out MATCHES "${PREFIX}")
+    message(FATAL_ERROR "import libwave from ${PREFIX}/${PYTHON_MODULE_DIR} failed (${rc}):\n${out}\n${err}")
+  endif()
+  message(STATUS "installed Python module: ${out}")
+endif()
