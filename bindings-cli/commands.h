@@ -59,6 +59,19 @@ struct RunArgs {
 };
 int run_job(const RunArgs& a);
 
+/// `wave batch`: every scene of the inputs (files, folders of *.json, glob patterns)
+/// run by its own `wave run` process into OUT/<file stem>, `jobs` at a time; a failed
+/// scene does not stop the others. Writes OUT/batch-summary.json; returns 0 when all
+/// succeeded, else 2 if any scene had bad input, else 1.
+struct BatchArgs {
+    std::vector<std::string> inputs;
+    std::string out_dir = "wave-out/batch";
+    int jobs = 1;
+    std::vector<std::string> run_args;  ///< passed to every `wave run` (--form, --fps, …)
+    bool quiet = false, json = false;
+};
+int run_batch(const BatchArgs& a);
+
 /// Checks a scene file (JSON, keys, values, the seafloor source, the camera) without
 /// running it; prints what it would do.
 int run_validate(const std::string& scene, bool json);

@@ -76,6 +76,25 @@ int main(int argc, char** argv) {
     run_cmd->add_option("--threads", run.threads, "worker threads (default: all cores); the outputs are the same for any count")
         ->check(CLI::PositiveNumber);
 
+    cli::BatchArgs batch;
+    std::string batch_form, batch_frames, batch_container;
+    double batch_fps = 0.0;
+    bool batch_draco = false, batch_quantize = false;
+    int batch_threads = 0;
+    auto* batch_cmd = app.add_subcommand("batch", "Run many scenes (files, folders of *.json, glob patterns), each into OUT/<name>, with a summary");
+    batch_cmd->add_option("inputs", batch.inputs, "scene files, folders or patterns")->required();
+    batch_cmd->add_option("-o,--out", batch.out_dir, "output folder (default: wave-out/batch)");
+    batch_cmd->add_option("-j,--jobs", batch.jobs, "scenes run at the same time (default 1)")->check(CLI::PositiveNumber);
+    batch_cmd->add_option("--form", batch_form, "as for run")->check(CLI::IsMember({"morph", "nodes", "files"}));
+    batch_cmd->add_option("--frames", batch_frames, "as for run");
+    batch_cmd->add_option("--container", batch_container, "as for run")->check(CLI::IsMember({"glb", "gltf"}));
+    batch_cmd->add_option("--fps", batch_fps, "as for run")->check(CLI::PositiveNumber);
+    batch_cmd->add_flag("--draco", batch_draco, "as for run");
+    batch_cmd->add_flag("--quantize", batch_quantize, "as for run");
+    batch_cmd->add_option("--threads", batch_threads, "worker threads of each scene's run")->check(CLI::PositiveNumber);
+    batch_cmd->add_flag("-q,--quiet", batch.quiet, "no line per scene");
+    batch_cmd->add_flag("--json", batch.json, "print the summary as JSON");
+
     std::string validate_scene;
     bool validate_json = false;
     auto* validate_cmd = app.add_subcommand("validate", "Check a scene file (keys, values, seafloor, camera) without running it");
@@ -128,6 +147,19 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
         if (*run_cmd) return cli::run_job(run);
+        if (*batch_cmd) {
+            const auto pass = [&](const char* flag, const std::string& value) {
+                if (!value.empty()) batch.run_args.insert(batch.run_args.end(), {flag, value});
+            };
+            pass("--form", batch_form);
+            pass("--frames", batch_frames);
+            pass("--container", batch_container);
+            if (batch_fps > 0) pass("--fps", std::to_string(batch_fps));
+            if (batch_threads > 0) pass("--threads", std::to_string(batch_threads));
+            if (batch_draco) batch.run_args.push_back("--draco");
+            if (batch_quantize) batch.run_args.push_back("--quantize");
+            return cli::run_batch(batch);
+        }
         if (*validate_cmd) return cli::run_validate(validate_scene, validate_json);
         if (*schema_cmd) return cli::run_schema();
         if (*trace_cmd) return cli::run_trace(trace);

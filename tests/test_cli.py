@@ -706,5 +706,66 @@ class WindWaves(unittest.TestCase):
             self.assertEqual(r.returncode, 2)
             self.assertIn("traces no rays", r.stderr)
 
+
+class Batch(unittest.TestCase):
+    SCENES = {
+        "bay.json": {"waves": [{"period": 5, "amplitude": 0.3}], "trace": {"ray_spacing": 2},
+                     "fronts": {"step": 0.8, "split_distance": 2.4}},
+        "sea.json": {"surface": {"kind": "ocean"}, "ocean": {"resolution": 32, "size": 100, "repeat_time": 2},
+                     "animation": {"fps": 8}},
+        "broken.json": {"waves": [{"period": -5}]},
+    }
+
+    def scenes(self, d):
+        folder = os.path.join(d, "scenes")
+        os.makedirs(folder)
+        for name, doc in self.SCENES.items():
+            with open(os.path.join(folder, name), "w") as f:
+                json.dump(doc, f)
+        return folder
+
+    def test_a_failed_scene_does_not_stop_the_others(self):
+        with tempfile.TemporaryDirectory() as d:
+            folder, out = self.scenes(d), os.path.join(d, "out")
+            r = wave("batch", folder, "-o", out, "--jobs", "2", "--json")
+            self.assertEqual(r.returncode, 2, r.stderr)  # bad input in one scene
+            summary = json.loads(r.stdout)
+            self.assertEqual((summary["scenes"], summary["ok"], summary["failed"]), (3, 2, 1))
+            self.assertEqual(json.load(open(os.path.join(out, "batch-summary.json")))["ok"], 2)
+            failed = [x for x in summary["results"] if x["status"] == "failed"]
+            self.assertEqual(failed[0]["exit_code"], 2)
+            self.assertIn("broken.json: /waves/0/period", failed[0]["error"])
+            self.assertEqual(sorted(os.listdir(out)), ["batch-summary.json", "bay", "sea"])  # no temporaries, no partial
+            # Each scene's outputs are what `wave run` writes for it alone.
+            alone = os.path.join(d, "alone")
+            self.assertEqual(wave("run", os.path.join(folder, "bay.json"), "-o", alone, "-q").returncode, 0)
+            for name in ["animation.glb", "strips.ply", "report.json"]:
+                self.assertEqual(pathlib.Path(out, "bay", name).read_bytes(), pathlib.Path(alone, name).read_bytes(), name)
+
+    def test_patterns_run_options_and_bad_batches(self):
+        with tempfile.TemporaryDirectory() as d:
+            folder, out = self.scenes(d), os.path.join(d, "out")
+            os.remove(os.path.join(folder, "broken.json"))
+            r = wave("batch", os.path.join(folder, "s*.json"), os.path.join(folder, "bay.json"), "-o", out,
+                     "--form", "files", "--fps", "4", "-q")
+            self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+            self.assertEqual(r.stdout, "")
+            index = json.load(open(os.path.join(out, "sea", "index.json")))
+            self.assertEqual(index["fps"], 4)
+            self.assertEqual(len(index["frames"]), 8)  # 2 s at 4 fps
+            self.assertTrue(os.path.exists(os.path.join(out, "bay", "index.json")))
+            # Two scenes with one name would write one folder: refused before running.
+            other = os.path.join(d, "other")
+            os.makedirs(other)
+            with open(os.path.join(other, "bay.json"), "w") as f:
+                json.dump(self.SCENES["bay.json"], f)
+            r = wave("batch", folder, other, "-o", os.path.join(d, "clash"))
+            self.assertEqual(r.returncode, 2)
+            self.assertIn("rename one", r.stderr)
+            self.assertFalse(os.path.exists(os.path.join(d, "clash")))
+            r = wave("batch", os.path.join(d, "nothing-*.json"), "-o", os.path.join(d, "none"))
+            self.assertEqual(r.returncode, 2)
+            self.assertIn("no such scene file", r.stderr)
+
 if __name__ == "__main__":
     unittest.main(verbosity=2)
