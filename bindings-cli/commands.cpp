@@ -21,6 +21,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <iomanip>
 #include <iostream>
@@ -214,9 +215,17 @@ FrameRange parse_frames(const std::string& text) {
 
 // The frame index of the `files` form, merged with an index a previous slice of the
 // same animation left in the folder.
-json merged_index(const std::string& path, const Scene& scene, const SceneAnimation& anim, double loop_period) {
-    json index{{"scene", scene.name}, {"fps", scene.fps}, {"loop_period_s", loop_period},
-               {"loop_frames", anim.loop_frames}, {"frames", json::array()}};
+// What a frame index describes: one animation (name, fps, loop) and the frames written now.
+struct IndexInfo {
+    std::string name;
+    double fps = 24.0, loop_period = 0.0;
+    std::size_t loop_frames = 0, first_frame = 0, frame_count = 0;
+    bool gltf = false;  ///< .gltf frame files (else .glb)
+};
+
+json merged_index(const std::string& path, const IndexInfo& info) {
+    json index{{"scene", info.name}, {"fps", info.fps}, {"loop_period_s", info.loop_period},
+               {"loop_frames", info.loop_frames}, {"frames", json::array()}};
     std::map<std::size_t, json> frames;
     if (std::filesystem::exists(path)) {
         std::ifstream in(path);
@@ -226,21 +235,86 @@ json merged_index(const std::string& path, const Scene& scene, const SceneAnimat
         } catch (const json::exception&) {
             throw InputError(path + ": not a frame index (invalid JSON); use another output folder");
         }
-        if (old.value("scene", "") != scene.name || old.value("fps", 0.0) != scene.fps ||
-            old.value("loop_frames", std::size_t{0}) != anim.loop_frames)
+        if (old.value("scene", "") != info.name || old.value("fps", 0.0) != info.fps ||
+            old.value("loop_frames", std::size_t{0}) != info.loop_frames)
             throw InputError(path + ": the index there belongs to another animation (scene, fps or loop differ); "
                              "use another output folder");
         for (const json& f : old.at("frames")) frames[f.at("frame").get<std::size_t>()] = f;
     }
-    for (std::size_t k = 0; k < anim.frame_count; ++k) {
-        const std::size_t frame = anim.first_frame + k;
+    for (std::size_t k = 0; k < info.frame_count; ++k) {
+        const std::size_t frame = info.first_frame + k;
         char name[48];
-        std::snprintf(name, sizeof name, "frames/frame-%04zu.%s", frame,
-                      scene.container == Scene::Container::gltf ? "gltf" : "glb");
-        frames[frame] = {{"frame", frame}, {"time", key_time(frame, scene.fps)}, {"file", name}};
+        std::snprintf(name, sizeof name, "frames/frame-%04zu.%s", frame, info.gltf ? "gltf" : "glb");
+        frames[frame] = {{"frame", frame}, {"time", key_time(frame, info.fps)}, {"file", name}};
     }
     for (auto& [_, f] : frames) index["frames"].push_back(f);
     return index;
+}
+
+
+// The animation in a form: (file name, bytes) pairs — animation.glb (or
+// animation-frames-A-B.glb for a slice), or frames/frame-NNNN.glb; with the gltf
+// container each .glb becomes name.gltf + name.bin.
+std::vector<std::pair<std::string, std::string>> encode_animation(const MorphAnimationView& view, Scene::Form form,
+                                                                  Scene::Container container, bool whole) {
+    std::vector<std::pair<std::string, std::string>> files;
+    char slice_name[64];
+    std::snprintf(slice_name, sizeof slice_name, "animation-frames-%zu-%zu.glb", view.first_frame, view.first_frame + view.frame_count);
+    const std::string animation_name = whole ? "animation.glb" : slice_name;
+    if (form == Scene::Form::morph) files.emplace_back(animation_name, gltf_morph_glb(view));
+    if (form == Scene::Form::nodes) files.emplace_back(animation_name, gltf_nodes_glb(view));
+    if (form == Scene::Form::files)
+        for (std::size_t k = 0; k < view.frame_count; ++k) {
+            char name[48];
+            std::snprintf(name, sizeof name, "frames/frame-%04zu.glb", view.first_frame + k);
+            files.emplace_back(name, gltf_frame_glb(view, k));
+        }
+    if (container == Scene::Container::gltf) {
+        // Each .glb becomes name.gltf + name.bin (the .bin named relative to the .gltf).
+        std::vector<std::pair<std::string, std::string>> split;
+        for (auto& [name, bytes] : files) {
+            const std::string base = name.substr(0, name.size() - 4);  // without ".glb"
+            const std::string bin = base + ".bin";
+            GltfFiles g = glb_to_gltf(bytes, std::filesystem::path(bin).filename().string());
+            split.emplace_back(base + ".gltf", std::move(g.json));
+            split.emplace_back(bin, std::move(g.bin));
+        }
+        files.swap(split);
+    }
+    return files;
+}
+
+// Every file is first written into a staging folder inside the output folder and only
+// then renamed into place: a run that fails while writing (disk full, a permission)
+// leaves neither partial files nor a half-replaced set of outputs.
+// `write_more` writes files that are not held as bytes (the strips PLY) into the
+// staging folder and returns their names.
+void publish(const std::string& out_dir, const std::vector<std::pair<std::string, std::string>>& files,
+             const std::function<std::vector<std::string>(const std::filesystem::path&)>& write_more = {}) {
+    namespace fs = std::filesystem;
+    const bool created = !fs::exists(out_dir);
+    fs::create_directories(out_dir);
+    const fs::path staging = fs::path(out_dir) / (".wave-staging-" + std::to_string(getpid()));
+    try {
+        std::vector<std::string> names;
+        for (const auto& [name, bytes] : files) {
+            fs::create_directories((staging / name).parent_path());
+            write_file_atomic((staging / name).string(), bytes);
+            names.push_back(name);
+        }
+        if (write_more)
+            for (std::string& name : write_more(staging)) names.push_back(std::move(name));
+        for (const std::string& name : names) {
+            fs::create_directories((fs::path(out_dir) / name).parent_path());
+            fs::rename(staging / name, fs::path(out_dir) / name);
+        }
+        fs::remove_all(staging);
+    } catch (...) {
+        std::error_code ignored;
+        fs::remove_all(staging, ignored);
+        if (created) fs::remove_all(out_dir, ignored);  // it was ours and holds nothing finished
+        throw;
+    }
 }
 
 }  // namespace
@@ -281,31 +355,10 @@ int run_job(const RunArgs& a) {
     const std::size_t frames = anim.frame_count;
     const bool whole = anim.first_frame == 0 && frames == anim.loop_frames;
     const auto t2 = Clock::now();
-    // The animation in the scene's form: (file name, bytes) pairs.
-    std::vector<std::pair<std::string, std::string>> files;
-    char slice_name[64];
-    std::snprintf(slice_name, sizeof slice_name, "animation-frames-%zu-%zu.glb", anim.first_frame, anim.first_frame + frames);
-    const std::string animation_name = whole ? "animation.glb" : slice_name;
-    if (scene.form == Scene::Form::morph) files.emplace_back(animation_name, gltf_morph_glb(anim.view()));
-    if (scene.form == Scene::Form::nodes) files.emplace_back(animation_name, gltf_nodes_glb(anim.view()));
-    if (scene.form == Scene::Form::files)
-        for (std::size_t k = 0; k < frames; ++k) {
-            char name[48];
-            std::snprintf(name, sizeof name, "frames/frame-%04zu.glb", anim.first_frame + k);
-            files.emplace_back(name, gltf_frame_glb(anim.view(), k));
-        }
-    if (scene.container == Scene::Container::gltf) {
-        // Each .glb becomes name.gltf + name.bin (the .bin named relative to the .gltf).
-        std::vector<std::pair<std::string, std::string>> split;
-        for (auto& [name, bytes] : files) {
-            const std::string base = name.substr(0, name.size() - 4);  // without ".glb"
-            const std::string bin = base + ".bin";
-            GltfFiles g = glb_to_gltf(bytes, std::filesystem::path(bin).filename().string());
-            split.emplace_back(base + ".gltf", std::move(g.json));
-            split.emplace_back(bin, std::move(g.bin));
-        }
-        files.swap(split);
-    }
+    const MorphAnimationView view = anim.view();
+    std::vector<std::pair<std::string, std::string>> files = encode_animation(view, scene.form, scene.container, whole);
+    const std::string animation_name = files.empty() ? "" : files.front().first;
+    const std::size_t animation_files = files.size();
     std::size_t animation_bytes = 0;
     for (const auto& f : files) animation_bytes += f.second.size();
     const std::string shown_name = files.empty() ? animation_name : files.front().first;
@@ -356,39 +409,23 @@ int run_job(const RunArgs& a) {
     if (!ocean_kind) side_files.insert(side_files.begin(), {"isobaths.json", trace_file});
     for (const char* f : side_files) report["outputs"].push_back(f);
 
-    // Every file is first written into a staging folder inside the output folder and
-    // only then renamed into place: a run that fails while writing (disk full, a
-    // permission) leaves neither partial files nor a half-replaced set of outputs.
-    namespace fs = std::filesystem;
-    const bool created = !fs::exists(out_dir);
-    fs::create_directories(out_dir);
-    const fs::path staging = fs::path(out_dir) / (".wave-staging-" + std::to_string(getpid()));
-    const auto out = [&](const std::string& name) { return (fs::path(out_dir) / name).string(); };
-    try {
-        json index;
-        if (scene.form == Scene::Form::files)
-            index = merged_index(out("index.json"), scene, anim, plan.loop_period);  // refuses a foreign index first
-        fs::create_directories(staging / "frames");
-        const auto staged = [&](const std::string& name) { return (staging / name).string(); };
-        std::vector<std::string> names;
-        for (const auto& [name, bytes] : files) write_file_atomic(staged(name), bytes), names.push_back(name);
-        if (scene.form == Scene::Form::files) write_file_atomic(staged("index.json"), index.dump(2) + "\n"), names.push_back("index.json");
-        if (!ocean_kind) write_file_atomic(staged("isobaths.json"), contours_to_json(plan.isobaths));
-        if (strips) write_ray_strips_ply(plan.strips, staged(trace_file));
-        else if (!ocean_kind) write_file_atomic(staged(trace_file), rays_to_csv(plan.rays));
-        write_file_atomic(staged("surface-frame-0000.obj"),
-                          mesh_to_obj(first, anim.triangles, "libwave " + std::string(version()) + ": " + scene.name + ", frame 0, z up"));
-        write_file_atomic(staged("report.json"), report.dump(2) + "\n");
-        for (const char* name : side_files) names.push_back(name);
-        if (scene.form == Scene::Form::files) fs::create_directories(out("frames"));
-        for (const std::string& name : names) fs::rename(staged(name), out(name));
-        fs::remove_all(staging);
-    } catch (...) {
-        std::error_code ignored;
-        fs::remove_all(staging, ignored);
-        if (created) fs::remove_all(out_dir, ignored);  // it was ours and holds nothing finished
-        throw;
-    }
+    // The index first: it refuses a foreign index.json before anything is written.
+    if (scene.form == Scene::Form::files)
+        files.emplace_back("index.json",
+                           merged_index((std::filesystem::path(out_dir) / "index.json").string(),
+                                        {scene.name, scene.fps, plan.loop_period, anim.loop_frames, anim.first_frame,
+                                         anim.frame_count, scene.container == Scene::Container::gltf})
+                                   .dump(2) + "\n");
+    if (!ocean_kind) files.emplace_back("isobaths.json", contours_to_json(plan.isobaths));
+    if (!strips && !ocean_kind) files.emplace_back(trace_file, rays_to_csv(plan.rays));
+    files.emplace_back("surface-frame-0000.obj",
+                       mesh_to_obj(first, anim.triangles, "libwave " + std::string(version()) + ": " + scene.name + ", frame 0, z up"));
+    files.emplace_back("report.json", report.dump(2) + "\n");
+    publish(out_dir, files, [&](const std::filesystem::path& staging) {
+        if (!strips) return std::vector<std::string>{};
+        write_ray_strips_ply(plan.strips, (staging / trace_file).string());  // OpenMesh writes the file itself
+        return std::vector<std::string>{trace_file};
+    });
 
     if (a.quiet) return 0;
     if (a.json) {
@@ -420,7 +457,7 @@ int run_job(const RunArgs& a) {
               << "time       plan " << ms(t1 - t0) << " ms, frames " << ms(t2 - t1) / static_cast<double>(std::max<std::size_t>(frames, 1))
               << " ms each, export " << ms(t3 - t2) << " ms\n"
               << "wrote      " << out_dir << "/"
-              << (scene.form == Scene::Form::files ? "frames/ + index.json (" + std::to_string(files.size()) + " files"
+              << (scene.form == Scene::Form::files ? "frames/ + index.json (" + std::to_string(animation_files) + " files"
                   : scene.form == Scene::Form::nodes ? shown_name + " (" + std::to_string(frames) + " scale-switched nodes"
                                                      : shown_name + " (" + std::to_string(frames) + " morph targets, STEP weights")
               << "; " << static_cast<double>(animation_bytes) / 1e6 << " MB; set the scene fps to " << scene.fps
@@ -452,6 +489,38 @@ int run_validate(const std::string& path, bool as_json) {
     std::cout << path << ": valid — " << scene.name << "; " << kind << " surface, " << scene.waves.size()
               << " wave train(s) over " << sea.source << " (" << st.nx << " x " << st.ny << " nodes), camera at ["
               << camera[0] << ", " << camera[1] << ", " << camera[2] << "], " << scene.fps << " fps\n";
+    return 0;
+}
+
+int run_convert(const ConvertArgs& a) {
+    if (a.draco && a.quantize) throw InputError("convert: choose --draco or --quantize, not both (Draco quantises itself)");
+    StoredAnimation stored = read_animation(a.input);
+    MorphAnimationView view = stored.view();
+    if (a.draco) view.draco = DracoOptions{};
+    view.quantize = a.quantize;
+    const Scene::Form form = a.form == "nodes" ? Scene::Form::nodes : a.form == "files" ? Scene::Form::files : Scene::Form::morph;
+    const Scene::Container container = a.container == "gltf" ? Scene::Container::gltf : Scene::Container::glb;
+    const bool whole = stored.first_frame == 0 && stored.frame_count == stored.loop_frames;
+    auto files = encode_animation(view, form, container, whole);
+    std::size_t bytes = 0;
+    for (const auto& f : files) bytes += f.second.size();
+    if (form == Scene::Form::files)
+        files.emplace_back("index.json",
+                           merged_index((std::filesystem::path(a.out_dir) / "index.json").string(),
+                                        {stored.name, stored.fps, static_cast<double>(stored.loop_frames) / stored.fps,
+                                         stored.loop_frames, stored.first_frame, stored.frame_count,
+                                         container == Scene::Container::gltf})
+                                   .dump(2) + "\n");
+    publish(a.out_dir, files);
+    json summary{{"input", a.input}, {"frames", stored.frame_count}, {"first_frame", stored.first_frame},
+                 {"vertices", stored.vertex_count}, {"fps", stored.fps}, {"form", a.form.empty() ? "morph" : a.form},
+                 {"draco", a.draco}, {"quantized", a.quantize}, {"bytes", bytes}, {"outputs", json::array()}};
+    for (const auto& f : files) summary["outputs"].push_back(f.first);
+    if (a.json) std::cout << summary.dump(2) << '\n';
+    else if (!a.quiet)
+        std::cout << "converted " << a.input << " (" << stored.frame_count << " frames of " << stored.vertex_count
+                  << " vertices) -> " << a.out_dir << "/ (" << files.size() << " files, " << static_cast<double>(bytes) / 1e6
+                  << " MB)\n";
     return 0;
 }
 

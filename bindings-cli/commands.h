@@ -72,6 +72,16 @@ struct BatchArgs {
 };
 int run_batch(const BatchArgs& a);
 
+/// `wave convert`: re-encodes an output of `wave run` (any form; its index.json for
+/// the files form) into another form / compression / container without recomputing.
+struct ConvertArgs {
+    std::string input, out_dir;
+    std::string form = "morph";  ///< morph | nodes | files
+    std::string container = "glb";
+    bool draco = false, quantize = false, quiet = false, json = false;
+};
+int run_convert(const ConvertArgs& a);
+
 /// Checks a scene file (JSON, keys, values, the seafloor source, the camera) without
 /// running it; prints what it would do.
 int run_validate(const std::string& scene, bool json);

@@ -95,6 +95,17 @@ int main(int argc, char** argv) {
     batch_cmd->add_flag("-q,--quiet", batch.quiet, "no line per scene");
     batch_cmd->add_flag("--json", batch.json, "print the summary as JSON");
 
+    cli::ConvertArgs convert;
+    auto* convert_cmd = app.add_subcommand("convert", "Re-encode an output of wave run (a .glb/.gltf, or the files form's index.json) in another form or compression, without recomputing");
+    convert_cmd->add_option("input", convert.input, "animation.glb / .gltf, a frame file, or index.json")->required();
+    convert_cmd->add_option("-o,--out", convert.out_dir, "output folder")->required();
+    convert_cmd->add_option("--form", convert.form, "morph (default), nodes or files")->check(CLI::IsMember({"morph", "nodes", "files"}));
+    convert_cmd->add_option("--container", convert.container, "glb (default) or gltf")->check(CLI::IsMember({"glb", "gltf"}));
+    convert_cmd->add_flag("--draco", convert.draco, "Draco-compress (morph: the base mesh)");
+    convert_cmd->add_flag("--quantize", convert.quantize, "KHR_mesh_quantization");
+    convert_cmd->add_flag("-q,--quiet", convert.quiet, "print nothing");
+    convert_cmd->add_flag("--json", convert.json, "print a JSON summary");
+
     std::string validate_scene;
     bool validate_json = false;
     auto* validate_cmd = app.add_subcommand("validate", "Check a scene file (keys, values, seafloor, camera) without running it");
@@ -147,6 +158,7 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
         if (*run_cmd) return cli::run_job(run);
+        if (*convert_cmd) return cli::run_convert(convert);
         if (*batch_cmd) {
             const auto pass = [&](const char* flag, const std::string& value) {
                 if (!value.empty()) batch.run_args.insert(batch.run_args.end(), {flag, value});

@@ -26,7 +26,8 @@ def validate_gltf(test, path):
 
 def read_glb(path):
     """(json, binary chunk) of a .glb, read by hand: independent of the writer."""
-    data = open(path, "rb").read()
+    with open(path, "rb") as f:
+        data = f.read()
     magic, version, length = struct.unpack_from("<4sII", data, 0)
     assert magic == b"glTF" and version == 2 and length == len(data)
     json_len, json_type = struct.unpack_from("<I4s", data, 12)
@@ -766,6 +767,79 @@ class Batch(unittest.TestCase):
             r = wave("batch", os.path.join(d, "nothing-*.json"), "-o", os.path.join(d, "none"))
             self.assertEqual(r.returncode, 2)
             self.assertIn("no such scene file", r.stderr)
+
+
+class Convert(unittest.TestCase):
+    SCENE = {"waves": [{"period": 5, "amplitude": 0.3}], "trace": {"ray_spacing": 2},
+             "fronts": {"step": 0.8, "split_distance": 2.4}, "animation": {"fps": 6}}
+
+    def positions(self, folder):
+        """POSITION of every frame file of a files-form folder (glTF axes), by frame."""
+        index = json.load(open(os.path.join(folder, "index.json")))
+        out = []
+        for f in index["frames"]:
+            doc, binary = read_glb(os.path.join(folder, f["file"]))
+            out.append(floats(doc, binary, doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"]))
+        return out
+
+    def test_forms_round_trip_without_recomputing(self):
+        with tempfile.TemporaryDirectory() as d:
+            scene = os.path.join(d, "s.json")
+            with open(scene, "w") as f:
+                json.dump(self.SCENE, f)
+            run = lambda out, *args: self.assertEqual(wave("run", scene, "-o", os.path.join(d, out), "-q", *args).returncode, 0)
+            run("files", "--form", "files")
+            run("morph")
+            run("quantized", "--quantize")
+            run("draco", "--draco")
+            convert = lambda src, out, *args: wave("convert", os.path.join(d, src), "-o", os.path.join(d, out), "--json", *args)
+            # files -> morph: the very file `wave run` writes in the morph form.
+            r = convert("files/index.json", "c-morph")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertEqual(pathlib.Path(d, "c-morph", "animation.glb").read_bytes(),
+                             pathlib.Path(d, "morph", "animation.glb").read_bytes())
+            reference = self.positions(os.path.join(d, "files"))
+            extent = max(max(abs(x) for x in frame) for frame in reference)
+            # morph -> files: base + delta in float (one rounding); quantised: two int16
+            # steps (base and delta); Draco base: its 14-bit grid (targets stay float).
+            for src, tolerance in [("morph/animation.glb", 1e-5 * extent), ("quantized/animation.glb", 2.5 * 2 * extent / 65534),
+                                   ("draco/animation.glb", 2 * extent / (2 ** 14 - 1))]:
+                out = "c-" + src.split("/")[0]
+                r = convert(src, out, "--form", "files")
+                self.assertEqual(r.returncode, 0, r.stderr)
+                got = self.positions(os.path.join(d, out))
+                self.assertEqual(len(got), 30)  # 5 s at 6 fps
+                worst = max(abs(a - b) for g, e in zip(got, reference) for a, b in zip(g, e))
+                self.assertLess(worst, tolerance, src)
+                validate_gltf(self, os.path.join(d, out, "frames", "frame-0007.glb"))
+            # morph -> nodes (Draco), and a .gltf container: valid files.
+            r = convert("morph/animation.glb", "c-nodes", "--form", "nodes", "--draco")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            validate_gltf(self, os.path.join(d, "c-nodes", "animation.glb"))
+            r = convert("morph/animation.glb", "c-gltf", "--container", "gltf", "--quantize")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertEqual(sorted(os.listdir(os.path.join(d, "c-gltf"))), ["animation.bin", "animation.gltf"])
+            validate_gltf(self, os.path.join(d, "c-gltf", "animation.gltf"))
+
+    def test_what_cannot_be_converted_exits_2_without_output(self):
+        with tempfile.TemporaryDirectory() as d:
+            scene = os.path.join(d, "s.json")
+            with open(scene, "w") as f:
+                json.dump(self.SCENE, f)
+            self.assertEqual(wave("run", scene, "-o", os.path.join(d, "df"), "-q", "--form", "files", "--draco").returncode, 0)
+            foreign = os.path.join(d, "foreign.glb")
+            with open(os.path.join(d, "df", "frames", "frame-0000.glb"), "rb") as f:
+                data = f.read()
+            with open(foreign, "wb") as f:  # the same bytes without libwave's asset extras
+                f.write(data.replace(b'"extras":{"libwave"', b'"extrax":{"libwave"'))
+            for src, part in [(os.path.join(d, "df", "index.json"), "Draco-compressed one by one"),
+                              (foreign, "not written by libwave"),
+                              (os.path.join(d, "missing.glb"), "file not found"),
+                              (scene, "not a frame index")]:
+                r = wave("convert", src, "-o", os.path.join(d, "out"))
+                self.assertEqual(r.returncode, 2, src + r.stderr)
+                self.assertIn(part, r.stderr)
+                self.assertFalse(os.path.exists(os.path.join(d, "out")))
 
 if __name__ == "__main__":
     unittest.main(verbosity=2)

@@ -11,6 +11,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 #include <string_view>
 
 namespace wave {
@@ -54,6 +55,8 @@ struct MorphAnimationView {
     /// Number of the first frame in the whole loop (a slice starts later): key times
     /// and frame names count from it.
     std::size_t first_frame = 0;
+    /// Frames in the whole loop (0 = not known); recorded in the file for readers.
+    std::size_t loop_frames = 0;
     std::string name = "water";
     /// Compress with Draco. In the morph form only the base mesh is compressed (with
     /// Draco's order-keeping sequential method); the targets stay float.
@@ -97,5 +100,28 @@ GltfFiles glb_to_gltf(std::string_view glb, const std::string& bin_uri);
 
 /// The `files` form: frame `frame` (0-based within the view) as a static .glb.
 std::string gltf_frame_glb(const MorphAnimationView& animation, std::size_t frame);
+
+/// An animation read back from libwave's own output (`wave convert`): every frame's
+/// arrays, as MorphAnimationView describes them, owned.
+struct StoredAnimation {
+    std::size_t vertex_count = 0, frame_count = 0, first_frame = 0, loop_frames = 0;
+    double fps = 24.0;
+    std::string name = "water";
+    std::vector<std::uint32_t> triangles;
+    std::vector<float> positions, normals, texcoords, reflect, refract, foam, colors;  ///< z up, as written
+    ScalarLayout layout = ScalarLayout::custom;
+    bool draco_frames = false;  ///< read from a Draco-compressed frame (its own point order)
+
+    MorphAnimationView view() const;
+};
+
+/// Reads a libwave output: a .glb or .gltf of the morph or nodes form or one frame file,
+/// or the index.json of the files form (its frame files beside it). Plain, quantised
+/// (KHR_mesh_quantization) and Draco-compressed morph bases are decoded; Draco frames
+/// of the nodes and files forms are refused (Draco's edgebreaker reorders each frame's
+/// points, so frames no longer share a vertex order). Positions come back within the
+/// writer's quantisation. Throws InputError naming the file for anything else (not
+/// glTF, not written by libwave, frames whose triangles differ).
+StoredAnimation read_animation(const std::string& path);
 
 }  // namespace wave

@@ -6,6 +6,7 @@
 #define TINYGLTF_NO_STB_IMAGE
 #define TINYGLTF_NO_STB_IMAGE_WRITE
 #define TINYGLTF_NO_EXTERNAL_IMAGE
+#define TINYGLTF_ENABLE_DRACO  // the reader (gltf_read.cpp) decodes Draco bases
 #include <tiny_gltf.h>
 
 #include "core/format.h"
@@ -208,6 +209,15 @@ struct ModelWriter {
                         4 * frames * frames + (1 << 16));
         model.asset.version = "2.0";
         model.asset.generator = "libwave";
+        // What a reader (read_animation, `wave convert`) needs that glTF has no field for.
+        tinygltf::Value::Object info;
+        info["fps"] = tinygltf::Value(a.fps);
+        info["first_frame"] = tinygltf::Value(static_cast<int>(a.first_frame));
+        info["loop_frames"] = tinygltf::Value(static_cast<int>(a.loop_frames));
+        info["name"] = tinygltf::Value(a.name);
+        tinygltf::Value::Object extras;
+        extras["libwave"] = tinygltf::Value(info);
+        model.asset.extras = tinygltf::Value(extras);
         if (a.draco) return;  // every primitive carries its own compressed indices and UVs
         if (a.quantize) {
             quant = quantization_for(a);
@@ -468,7 +478,10 @@ std::string gltf_frame_glb(const MorphAnimationView& a, std::size_t f) {
     check(a, f, 1);
     if (f >= a.frame_count)
         throw InputError("glTF export: frame " + std::to_string(f) + " of " + std::to_string(a.frame_count));
-    ModelWriter w(a, a.draco ? 0 : 1);
+    // The file describes its own frame (so a slice's frame file is the whole run's, byte for byte).
+    MorphAnimationView one = a;
+    one.first_frame = a.first_frame + f;
+    ModelWriter w(one, a.draco ? 0 : 1);
     tinygltf::Mesh mesh;
     mesh.name = a.name;
     mesh.primitives.push_back(w.frame_primitive(a, f));

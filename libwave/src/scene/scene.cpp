@@ -649,6 +649,7 @@ MorphAnimationView SceneAnimation::view() const {
     v.layout = layout;
     v.fps = fps;
     v.first_frame = first_frame;
+    v.loop_frames = loop_frames;
     v.draco = draco;
     v.quantize = quantize;
     return v;

@@ -1,0 +1,267 @@
+// Reading libwave's own glTF outputs back (`wave convert`): every form, layout,
+// quantisation, and Draco-compressed morph bases. Only files libwave wrote: the asset
+// carries `extras.libwave` (fps, first frame, loop) that glTF has no field for.
+#define TINYGLTF_NO_STB_IMAGE
+#define TINYGLTF_NO_STB_IMAGE_WRITE
+#define TINYGLTF_NO_EXTERNAL_IMAGE
+#include <tiny_gltf.h>
+
+#include "libwave/errors.h"
+#include "libwave/export.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+namespace wave {
+namespace {
+
+struct Reader {
+    const tinygltf::Model& m;
+    const std::string& path;
+
+    [[noreturn]] void fail(const std::string& what) const { throw InputError(path + ": " + what); }
+
+    // An accessor as floats (normalised integers mapped to [-1, 1] / [0, 1]), `width`
+    // components per element.
+    std::vector<float> floats(int index, std::size_t width) const {
+        if (index < 0 || static_cast<std::size_t>(index) >= m.accessors.size()) fail("an attribute has no accessor");
+        const tinygltf::Accessor& a = m.accessors[static_cast<std::size_t>(index)];
+        const std::size_t comps = a.type == TINYGLTF_TYPE_SCALAR ? 1 : a.type == TINYGLTF_TYPE_VEC2 ? 2
+                                  : a.type == TINYGLTF_TYPE_VEC3 ? 3 : a.type == TINYGLTF_TYPE_VEC4 ? 4 : 0;
+        if (comps != width) fail("accessor " + std::to_string(index) + " has " + std::to_string(comps) + " components, expected " + std::to_string(width));
+        if (a.bufferView < 0 || static_cast<std::size_t>(a.bufferView) >= m.bufferViews.size()) fail("accessor " + std::to_string(index) + " has no data");
+        const tinygltf::BufferView& v = m.bufferViews[static_cast<std::size_t>(a.bufferView)];
+        const std::vector<unsigned char>& data = m.buffers.at(static_cast<std::size_t>(v.buffer)).data;
+        const int size = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(a.componentType));
+        if (size <= 0) fail("accessor " + std::to_string(index) + ": unknown component type");
+        const std::size_t stride = v.byteStride ? v.byteStride : comps * static_cast<std::size_t>(size);
+        const std::size_t start = v.byteOffset + a.byteOffset;
+        if (a.count > 0 && start + (a.count - 1) * stride + comps * static_cast<std::size_t>(size) > data.size())
+            fail("accessor " + std::to_string(index) + " runs past its buffer");
+        std::vector<float> out(a.count * comps);
+        for (std::size_t e = 0; e < a.count; ++e)
+            for (std::size_t c = 0; c < comps; ++c) {
+                const unsigned char* p = &data[start + e * stride + c * static_cast<std::size_t>(size)];
+                double x = 0.0;
+                switch (a.componentType) {
+                    case TINYGLTF_COMPONENT_TYPE_FLOAT: { float f; std::memcpy(&f, p, 4); x = f; break; }
+                    case TINYGLTF_COMPONENT_TYPE_SHORT: { std::int16_t q; std::memcpy(&q, p, 2); x = a.normalized ? std::max(q / 32767.0, -1.0) : q; break; }
+                    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { std::uint16_t q; std::memcpy(&q, p, 2); x = a.normalized ? q / 65535.0 : q; break; }
+                    case TINYGLTF_COMPONENT_TYPE_BYTE: { std::int8_t q; std::memcpy(&q, p, 1); x = a.normalized ? std::max(q / 127.0, -1.0) : q; break; }
+                    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: x = a.normalized ? *p / 255.0 : *p; break;
+                    default: fail("accessor " + std::to_string(index) + ": unsupported component type");
+                }
+                out[e * comps + c] = static_cast<float>(x);
+            }
+        return out;
+    }
+
+    std::vector<std::uint32_t> indices(int index) const {
+        const tinygltf::Accessor& a = m.accessors.at(static_cast<std::size_t>(index));
+        if (a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT) fail("indices are not uint32");
+        const tinygltf::BufferView& v = m.bufferViews.at(static_cast<std::size_t>(a.bufferView));
+        const auto& data = m.buffers.at(static_cast<std::size_t>(v.buffer)).data;
+        const std::size_t start = v.byteOffset + a.byteOffset;
+        if (start + 4 * a.count > data.size()) fail("indices run past their buffer");
+        std::vector<std::uint32_t> out(a.count);
+        std::memcpy(out.data(), &data[start], 4 * a.count);
+        return out;
+    }
+
+    // The static translation and scale of the node showing `mesh` (the quantisation's
+    // transform; a switched-off nodes-form frame has scale 0, which is the switch, not
+    // the geometry's).
+    std::pair<std::array<double, 3>, std::array<double, 3>> transform(int mesh) const {
+        std::array<double, 3> t{0, 0, 0}, s{1, 1, 1};
+        for (const tinygltf::Node& n : m.nodes) {
+            if (n.mesh != mesh) continue;
+            if (n.translation.size() == 3) t = {n.translation[0], n.translation[1], n.translation[2]};
+            if (n.scale.size() == 3 && (n.scale[0] != 0.0 || n.scale[1] != 0.0 || n.scale[2] != 0.0)) s = {n.scale[0], n.scale[1], n.scale[2]};
+        }
+        return {t, s};
+    }
+};
+
+// glTF y up → z up: (X, Y, Z) → (X, −Z, Y), with the node's translation and scale
+// (the translation only for positions, not for morph deltas).
+void append_z_up(std::vector<float>& out, const std::vector<float>& v, const std::array<double, 3>& t,
+                 const std::array<double, 3>& s, bool translate) {
+    // Untransformed values are copied as they are (0 + −0.0 would turn −0.0 into +0.0,
+    // and the file written again would differ from the original).
+    const auto map = [&](float x, std::size_t c) {
+        if (s[c] == 1.0 && (!translate || t[c] == 0.0)) return x;
+        return static_cast<float>((translate ? t[c] : 0.0) + s[c] * x);
+    };
+    for (std::size_t i = 0; i + 2 < v.size(); i += 3) {
+        out.push_back(map(v[i], 0));
+        out.push_back(-map(v[i + 2], 2));
+        out.push_back(map(v[i + 1], 1));
+    }
+}
+
+// One frame's arrays from a primitive's attributes (+ `delta` of a morph target).
+struct Frame {
+    std::vector<float> position, normal, reflect, refract, foam, color;
+};
+
+Frame read_frame(const Reader& r, const std::map<std::string, int>& attrs, int mesh, bool delta, ScalarLayout& layout) {
+    Frame f;
+    const auto [t, s] = r.transform(mesh);
+    const auto has = [&](const char* n) { return attrs.count(n) != 0; };
+    if (!has("POSITION") || !has("NORMAL")) r.fail("a frame without POSITION or NORMAL");
+    append_z_up(f.position, r.floats(attrs.at("POSITION"), 3), t, s, !delta);
+    append_z_up(f.normal, r.floats(attrs.at("NORMAL"), 3), {0, 0, 0}, {1, 1, 1}, false);
+    if (has("COLOR_0")) f.color = r.floats(attrs.at("COLOR_0"), 3);
+    if (has("_REFLECT")) {
+        layout = ScalarLayout::custom;
+        f.reflect = r.floats(attrs.at("_REFLECT"), 1);
+        f.refract = r.floats(attrs.at("_REFRACT"), 1);
+        f.foam = r.floats(attrs.at("_FOAM"), 1);
+    } else if (has("TEXCOORD_1") && has("TEXCOORD_2")) {
+        layout = ScalarLayout::blender34;  // TEXCOORD_1 = (R, T), TEXCOORD_2 = (foam, 0)
+        const auto uv1 = r.floats(attrs.at("TEXCOORD_1"), 2), uv2 = r.floats(attrs.at("TEXCOORD_2"), 2);
+        for (std::size_t v = 0; 2 * v < uv1.size(); ++v) {
+            f.reflect.push_back(uv1[2 * v]);
+            f.refract.push_back(uv1[2 * v + 1]);
+            f.foam.push_back(uv2[2 * v]);
+        }
+    }
+    return f;
+}
+
+void add(std::vector<float>& into, const std::vector<float>& base, const std::vector<float>& delta) {
+    for (std::size_t i = 0; i < base.size(); ++i) into.push_back(base[i] + (delta.empty() ? 0.0f : delta[i]));
+}
+
+void append(StoredAnimation& a, const Frame& f) {
+    a.positions.insert(a.positions.end(), f.position.begin(), f.position.end());
+    a.normals.insert(a.normals.end(), f.normal.begin(), f.normal.end());
+    a.reflect.insert(a.reflect.end(), f.reflect.begin(), f.reflect.end());
+    a.refract.insert(a.refract.end(), f.refract.begin(), f.refract.end());
+    a.foam.insert(a.foam.end(), f.foam.begin(), f.foam.end());
+    a.colors.insert(a.colors.end(), f.color.begin(), f.color.end());
+}
+
+StoredAnimation read_glb(const std::string& path) {
+    tinygltf::Model m;
+    tinygltf::TinyGLTF loader;
+    std::string err, warn;
+    const bool binary = std::filesystem::path(path).extension() == ".glb";
+    if (!std::filesystem::exists(path)) throw InputError(path + ": file not found");
+    const bool ok = binary ? loader.LoadBinaryFromFile(&m, &err, &warn, path) : loader.LoadASCIIFromFile(&m, &err, &warn, path);
+    if (!ok) throw InputError(path + ": not a readable glTF 2.0 file: " + err);
+    const Reader r{m, path};
+    if (!m.asset.extras.Has("libwave")) r.fail("not written by libwave (no asset.extras.libwave): only libwave's outputs can be converted");
+    const tinygltf::Value& info = m.asset.extras.Get("libwave");
+    StoredAnimation a;
+    a.fps = info.Get("fps").GetNumberAsDouble();
+    a.first_frame = static_cast<std::size_t>(info.Get("first_frame").GetNumberAsInt());
+    a.loop_frames = static_cast<std::size_t>(info.Get("loop_frames").GetNumberAsInt());
+    a.name = info.Get("name").Get<std::string>();
+    if (m.meshes.empty() || m.meshes[0].primitives.empty()) r.fail("no mesh");
+    const std::string path_kind = m.animations.empty() || m.animations[0].channels.empty() ? "" : m.animations[0].channels[0].target_path;
+    const tinygltf::Primitive& first = m.meshes[0].primitives[0];
+    a.draco_frames = path_kind != "weights" && first.extensions.count("KHR_draco_mesh_compression") != 0;
+    if (a.draco_frames && m.meshes.size() > 1)
+        r.fail("its frames are Draco-compressed one by one (Draco reorders each frame's points, so frames no longer "
+               "share a vertex order): convert from an uncompressed output, or run the scene again");
+    a.triangles = r.indices(first.indices);
+    a.texcoords = r.floats(first.attributes.at("TEXCOORD_0"), 2);
+    a.vertex_count = a.texcoords.size() / 2;
+    if (path_kind == "weights") {  // morph: frame k = base + target k
+        const Frame base = read_frame(r, first.attributes, 0, false, a.layout);
+        for (const auto& target : first.targets) {
+            const Frame d = read_frame(r, target, 0, true, a.layout);
+            Frame f;
+            add(f.position, base.position, d.position);
+            add(f.normal, base.normal, d.normal);
+            add(f.reflect, base.reflect, d.reflect);
+            add(f.refract, base.refract, d.refract);
+            add(f.foam, base.foam, d.foam);
+            add(f.color, base.color, d.color);
+            append(a, f);
+            ++a.frame_count;
+        }
+    } else {  // nodes (a mesh per frame) or one frame file
+        for (std::size_t mesh = 0; mesh < m.meshes.size(); ++mesh) {
+            const tinygltf::Primitive& p = m.meshes[mesh].primitives.at(0);
+            if (r.indices(p.indices) != a.triangles) r.fail("frame " + std::to_string(mesh) + " has other triangles than frame 0");
+            append(a, read_frame(r, p.attributes, static_cast<int>(mesh), false, a.layout));
+            ++a.frame_count;
+        }
+    }
+    if (a.positions.size() != 3 * a.vertex_count * a.frame_count) r.fail("frames of different sizes");
+    return a;
+}
+
+}  // namespace
+
+MorphAnimationView StoredAnimation::view() const {
+    MorphAnimationView v;
+    v.triangles = triangles;
+    v.vertex_count = vertex_count;
+    v.frame_count = frame_count;
+    v.positions = positions;
+    v.normals = normals;
+    v.texcoords = texcoords;
+    v.reflect = reflect;
+    v.refract = refract;
+    v.foam = foam;
+    v.colors = colors;
+    v.layout = layout;
+    v.fps = fps;
+    v.first_frame = first_frame;
+    v.loop_frames = loop_frames;
+    v.name = name;
+    return v;
+}
+
+StoredAnimation read_animation(const std::string& path) {
+    if (std::filesystem::path(path).extension() != ".json") return read_glb(path);
+    // The files form: index.json lists the frame files.
+    std::ifstream in(path);
+    if (!in) throw InputError(path + ": file not found");
+    nlohmann::json index;
+    try {
+        index = nlohmann::json::parse(in);
+    } catch (const nlohmann::json::exception& e) {
+        throw InputError(path + ": not a frame index: " + e.what());
+    }
+    if (!index.contains("frames") || !index["frames"].is_array() || index["frames"].empty())
+        throw InputError(path + ": not a frame index (no \"frames\")");
+    StoredAnimation a;
+    std::size_t expected = 0;
+    for (const auto& entry : index["frames"]) {
+        const std::string file = (std::filesystem::path(path).parent_path() / entry.at("file").get<std::string>()).string();
+        StoredAnimation f = read_glb(file);
+        const std::size_t frame = entry.at("frame").get<std::size_t>();
+        if (a.frame_count == 0) {
+            a = std::move(f);
+            a.first_frame = frame;
+            a.fps = index.value("fps", a.fps);
+            a.loop_frames = index.value("loop_frames", a.loop_frames);
+            expected = frame + 1;
+            continue;
+        }
+        if (a.draco_frames || f.draco_frames)
+            throw InputError(path + ": its frames are Draco-compressed one by one (Draco reorders each frame's points, so "
+                             "frames no longer share a vertex order): convert from an uncompressed output, or run the scene again");
+        if (frame != expected) throw InputError(path + ": frame " + std::to_string(expected) + " is missing (next is " + std::to_string(frame) + ")");
+        if (f.triangles != a.triangles || f.vertex_count != a.vertex_count)
+            throw InputError(file + ": other triangles than the first frame");
+        ++expected;
+        ++a.frame_count;
+        const auto cat = [](std::vector<float>& to, const std::vector<float>& from) { to.insert(to.end(), from.begin(), from.end()); };
+        cat(a.positions, f.positions), cat(a.normals, f.normals), cat(a.reflect, f.reflect), cat(a.refract, f.refract);
+        cat(a.foam, f.foam), cat(a.colors, f.colors);
+    }
+    return a;
+}
+
+}  // namespace wave
