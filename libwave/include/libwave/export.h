@@ -67,6 +67,28 @@ struct MorphAnimationView {
     bool quantize = false;
 };
 
+/// A view of any struct holding an animation's arrays under MorphAnimationView's names
+/// (SceneAnimation, StoredAnimation): the arrays, counts, layout, fps and frame numbers.
+template <class Frames>
+MorphAnimationView animation_view(const Frames& a) {
+    MorphAnimationView v;
+    v.triangles = a.triangles;
+    v.vertex_count = a.vertex_count;
+    v.frame_count = a.frame_count;
+    v.positions = a.positions;
+    v.normals = a.normals;
+    v.texcoords = a.texcoords;
+    v.reflect = a.reflect;
+    v.refract = a.refract;
+    v.foam = a.foam;
+    v.colors = a.colors;
+    v.layout = a.layout;
+    v.fps = a.fps;
+    v.first_frame = a.first_frame;
+    v.loop_frames = a.loop_frames;
+    return v;
+}
+
 /// The largest float32 <= k / fps: nearest rounding lands some keys just after frame k
 /// and Blender then shows the previous frame there (DESIGN.md).
 float key_time(std::size_t k, double fps) noexcept;

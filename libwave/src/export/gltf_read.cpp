@@ -203,21 +203,7 @@ StoredAnimation read_glb(const std::string& path) {
 }  // namespace
 
 MorphAnimationView StoredAnimation::view() const {
-    MorphAnimationView v;
-    v.triangles = triangles;
-    v.vertex_count = vertex_count;
-    v.frame_count = frame_count;
-    v.positions = positions;
-    v.normals = normals;
-    v.texcoords = texcoords;
-    v.reflect = reflect;
-    v.refract = refract;
-    v.foam = foam;
-    v.colors = colors;
-    v.layout = layout;
-    v.fps = fps;
-    v.first_frame = first_frame;
-    v.loop_frames = loop_frames;
+    MorphAnimationView v = animation_view(*this);
     v.name = name;
     return v;
 }

@@ -635,21 +635,7 @@ ScenePlan plan_scene(const Scene& scene, PlanStages stages) {
 }
 
 MorphAnimationView SceneAnimation::view() const {
-    MorphAnimationView v;
-    v.triangles = triangles;
-    v.vertex_count = vertex_count;
-    v.frame_count = frame_count;
-    v.positions = positions;
-    v.normals = normals;
-    v.texcoords = texcoords;
-    v.reflect = reflect;
-    v.refract = refract;
-    v.foam = foam;
-    v.colors = colors;
-    v.layout = layout;
-    v.fps = fps;
-    v.first_frame = first_frame;
-    v.loop_frames = loop_frames;
+    MorphAnimationView v = animation_view(*this);
     v.draco = draco;
     v.quantize = quantize;
     return v;
