@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cctype>
+#include <cstring>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -213,8 +214,23 @@ FrameRange parse_frames(const std::string& text) {
     return r;
 }
 
-// The frame index of the `files` form, merged with an index a previous slice of the
-// same animation left in the folder.
+// "I/N" → slice I of N of a loop of `loop_frames`: frames [I·F/N, (I+1)·F/N).
+FrameRange slice_frames(const std::string& text, std::size_t loop_frames) {
+    const auto slash = text.find('/');
+    const auto whole = [&](const std::string& part) -> std::size_t {
+        if (part.empty() || part.find_first_not_of("0123456789") != std::string::npos)
+            throw InputError("--slice: expected I/N with whole numbers 0 <= I < N, got \"" + text + "\"");
+        return std::stoull(part);
+    };
+    if (slash == std::string::npos) throw InputError("--slice: expected I/N, got \"" + text + "\"");
+    const std::size_t i = whole(text.substr(0, slash)), n = whole(text.substr(slash + 1));
+    if (n == 0 || i >= n) throw InputError("--slice: expected 0 <= I < N, got \"" + text + "\"");
+    if (n > loop_frames)
+        throw InputError("--slice " + text + ": the loop has only " + std::to_string(loop_frames) + " frames; use at most " +
+                         std::to_string(loop_frames) + " slices");
+    return {i * loop_frames / n, (i + 1) * loop_frames / n};
+}
+
 // What a frame index describes: one animation (name, fps, loop) and the frames written now.
 struct IndexInfo {
     std::string name;
@@ -223,6 +239,8 @@ struct IndexInfo {
     bool gltf = false;  ///< .gltf frame files (else .glb)
 };
 
+// The frame index of the `files` form, merged with an index a previous slice of the
+// same animation left in the folder.
 json merged_index(const std::string& path, const IndexInfo& info) {
     json index{{"scene", info.name}, {"fps", info.fps}, {"loop_period_s", info.loop_period},
                {"loop_frames", info.loop_frames}, {"frames", json::array()}};
@@ -333,7 +351,8 @@ int run_job(const RunArgs& a) {
     if (a.quantize) scene.quantize = true;
     if (scene.draco && scene.quantize) throw InputError("choose --draco or --quantize, not both (Draco quantises itself)");
     if (!a.container.empty()) scene.container = a.container == "gltf" ? Scene::Container::gltf : Scene::Container::glb;
-    const FrameRange range = parse_frames(a.frames);
+    if (!a.frames.empty() && !a.slice.empty()) throw InputError("choose --frames or --slice, not both");
+    FrameRange range = parse_frames(a.frames);
     const std::string stem = a.scene.empty() ? "default" : std::filesystem::path(a.scene).stem().string();
     const std::string out_dir = a.out_dir.empty() ? "wave-out/" + stem : a.out_dir;
     const bool strips = scene.surface_kind == SurfaceKind::ray_strips;
@@ -351,6 +370,8 @@ int run_job(const RunArgs& a) {
                   << std::string(static_cast<std::size_t>(width - filled), ' ') << "] " << done << "/" << total
                   << (done == total ? "\n" : "") << std::flush;
     };
+    if (!a.slice.empty())
+        range = slice_frames(a.slice, std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(plan.loop_period * scene.fps))));
     const SceneAnimation anim = animate_scene(scene, plan, 2e9, range, progress);
     const std::size_t frames = anim.frame_count;
     const bool whole = anim.first_frame == 0 && frames == anim.loop_frames;
@@ -507,7 +528,7 @@ int run_convert(const ConvertArgs& a) {
     if (form == Scene::Form::files)
         files.emplace_back("index.json",
                            merged_index((std::filesystem::path(a.out_dir) / "index.json").string(),
-                                        {stored.name, stored.fps, static_cast<double>(stored.loop_frames) / stored.fps,
+                                        {stored.scene, stored.fps, static_cast<double>(stored.loop_frames) / stored.fps,
                                          stored.loop_frames, stored.first_frame, stored.frame_count,
                                          container == Scene::Container::gltf})
                                    .dump(2) + "\n");
@@ -521,6 +542,74 @@ int run_convert(const ConvertArgs& a) {
         std::cout << "converted " << a.input << " (" << stored.frame_count << " frames of " << stored.vertex_count
                   << " vertices) -> " << a.out_dir << "/ (" << files.size() << " files, " << static_cast<double>(bytes) / 1e6
                   << " MB)\n";
+    return 0;
+}
+
+// asset.extras.libwave of a .glb or .gltf, from its JSON alone (the binary is not read).
+json frame_metadata(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path + ": cannot open the file");
+    std::string text;
+    char head[20];
+    if (in.read(head, 20) && std::memcmp(head, "glTF", 4) == 0) {
+        std::uint32_t length = 0;
+        std::memcpy(&length, head + 12, 4);
+        text.resize(length);
+        if (!in.read(text.data(), length)) throw InputError(path + ": truncated GLB");
+    } else {
+        in.clear();
+        in.seekg(0);
+        text.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    try {
+        return json::parse(text).at("asset").at("extras").at("libwave");
+    } catch (const json::exception&) {
+        throw InputError(path + ": not a frame written by libwave (no asset.extras.libwave)");
+    }
+}
+
+int run_merge(const MergeArgs& a) {
+    // The frames present, each described by its own asset extras (name, fps, loop).
+    namespace fs = std::filesystem;
+    const fs::path frames = fs::path(a.out_dir) / "frames";
+    if (!fs::is_directory(frames)) throw InputError(a.out_dir + ": no frames/ folder (the files form's output)");
+    std::map<std::size_t, std::string> files;
+    bool gltf = false;
+    for (const auto& e : fs::directory_iterator(frames)) {
+        const std::string name = e.path().filename().string();
+        std::size_t frame = 0;
+        char ext[8] = {};
+        if (std::sscanf(name.c_str(), "frame-%zu.%7s", &frame, ext) != 2 || (std::strcmp(ext, "glb") && std::strcmp(ext, "gltf")))
+            continue;
+        gltf = std::strcmp(ext, "gltf") == 0;
+        files[frame] = "frames/" + name;
+    }
+    if (files.empty()) throw InputError(frames.string() + ": no frame files");
+    json meta;
+    for (const auto& [frame, file] : files) {
+        const json m = frame_metadata((fs::path(a.out_dir) / file).string());
+        if (meta.is_null()) meta = m;
+        if (m.value("scene", "") != meta.value("scene", "") || m.at("fps") != meta.at("fps") ||
+            m.at("loop_frames") != meta.at("loop_frames"))
+            throw InputError(file + ": belongs to another animation than " + files.begin()->second + " (name, fps or loop differ)");
+        if (m.at("first_frame").get<std::size_t>() != frame) throw InputError(file + ": holds frame " + m.at("first_frame").dump());
+    }
+    const auto loop_frames = meta.at("loop_frames").get<std::size_t>();
+    const double fps = meta.at("fps").get<double>();
+    std::vector<std::size_t> missing;
+    for (std::size_t f = 0; f < loop_frames; ++f)
+        if (!files.count(f)) missing.push_back(f);
+    json index{{"scene", meta.value("scene", "")}, {"fps", fps}, {"loop_period_s", static_cast<double>(loop_frames) / fps},
+               {"loop_frames", loop_frames}, {"frames", json::array()}};
+    for (const auto& [frame, file] : files) index["frames"].push_back({{"frame", frame}, {"time", key_time(frame, fps)}, {"file", file}});
+    if (!missing.empty() && !a.partial)
+        throw InputError(a.out_dir + ": " + std::to_string(missing.size()) + " of " + std::to_string(loop_frames) +
+                         " frames are missing (first: " + std::to_string(missing.front()) +
+                         "); run their slices, or --partial to index what is there");
+    write_file_atomic((fs::path(a.out_dir) / "index.json").string(), index.dump(2) + "\n");
+    (void)gltf;
+    if (!a.quiet)
+        std::cout << "indexed " << files.size() << " of " << loop_frames << " frames in " << a.out_dir << "/index.json\n";
     return 0;
 }
 

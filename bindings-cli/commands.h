@@ -50,6 +50,7 @@ struct RunArgs {
     int threads = 0;     ///< worker threads (0 = all cores); outputs do not depend on it
     std::string form;    ///< morph | nodes | files; empty = the scene's
     std::string frames;  ///< "A:B" slice of the loop's frames; empty = all
+    std::string slice;   ///< "I/N": slice I of N equal slices of the loop (farm array jobs)
     double fps = 0.0;    ///< > 0 overrides the scene's fps
     bool draco = false;  ///< Draco-compress (nodes and files forms)
     std::string container;  ///< glb | gltf; empty = the scene's
@@ -81,6 +82,16 @@ struct ConvertArgs {
     bool draco = false, quantize = false, quiet = false, json = false;
 };
 int run_convert(const ConvertArgs& a);
+
+/// `wave merge OUT`: rebuilds OUT/index.json of the files form from the frame files
+/// present (each records its animation and frame), e.g. after slices ran on several
+/// machines at once. Refuses frames of different animations and, unless `partial`, a
+/// loop with frames missing (naming the first).
+struct MergeArgs {
+    std::string out_dir;
+    bool partial = false, quiet = false;
+};
+int run_merge(const MergeArgs& a);
 
 /// Checks a scene file (JSON, keys, values, the seafloor source, the camera) without
 /// running it; prints what it would do.

@@ -67,6 +67,7 @@ int main(int argc, char** argv) {
     run_cmd->add_option("--form", run.form, "animation form: morph (one .glb of shape keys), nodes (one object per frame), files (one .glb per frame + index.json)")
         ->check(CLI::IsMember({"morph", "nodes", "files"}));
     run_cmd->add_option("--frames", run.frames, "A:B: only frames A … B-1 of the loop (slices of one animation can run on different machines; the files form merges them in index.json)");
+    run_cmd->add_option("--slice", run.slice, "I/N: slice I (0-based) of N equal slices of the loop, e.g. a Slurm array task's $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT");
     run_cmd->add_option("--container", run.container, "glb (binary, default) or gltf (JSON + external .bin)")
         ->check(CLI::IsMember({"glb", "gltf"}));
     run_cmd->add_flag("--quantize", run.quantize, "KHR_mesh_quantization: int16 positions, int8 normals, uint16 UV maps (~30 % smaller morph files)");
@@ -105,6 +106,12 @@ int main(int argc, char** argv) {
     convert_cmd->add_flag("--quantize", convert.quantize, "KHR_mesh_quantization");
     convert_cmd->add_flag("-q,--quiet", convert.quiet, "print nothing");
     convert_cmd->add_flag("--json", convert.json, "print a JSON summary");
+
+    cli::MergeArgs merge;
+    auto* merge_cmd = app.add_subcommand("merge", "Rebuild the files form's index.json from the frame files present (after slices ran on several machines)");
+    merge_cmd->add_option("out", merge.out_dir, "the output folder holding frames/")->required();
+    merge_cmd->add_flag("--partial", merge.partial, "index the frames present even if some of the loop are missing");
+    merge_cmd->add_flag("-q,--quiet", merge.quiet, "print nothing");
 
     std::string validate_scene;
     bool validate_json = false;
@@ -159,6 +166,7 @@ int main(int argc, char** argv) {
         app.parse(argc, argv);
         if (*run_cmd) return cli::run_job(run);
         if (*convert_cmd) return cli::run_convert(convert);
+        if (*merge_cmd) return cli::run_merge(merge);
         if (*batch_cmd) {
             const auto pass = [&](const char* flag, const std::string& value) {
                 if (!value.empty()) batch.run_args.insert(batch.run_args.end(), {flag, value});

@@ -57,7 +57,8 @@ struct MorphAnimationView {
     std::size_t first_frame = 0;
     /// Frames in the whole loop (0 = not known); recorded in the file for readers.
     std::size_t loop_frames = 0;
-    std::string name = "water";
+    std::string name = "water";  ///< mesh and node names
+    std::string scene;           ///< the scene's name, recorded in the file for readers
     /// Compress with Draco. In the morph form only the base mesh is compressed (with
     /// Draco's order-keeping sequential method); the targets stay float.
     std::optional<DracoOptions> draco;
@@ -86,6 +87,7 @@ MorphAnimationView animation_view(const Frames& a) {
     v.fps = a.fps;
     v.first_frame = a.first_frame;
     v.loop_frames = a.loop_frames;
+    v.scene = a.scene;
     return v;
 }
 
@@ -128,7 +130,7 @@ std::string gltf_frame_glb(const MorphAnimationView& animation, std::size_t fram
 struct StoredAnimation {
     std::size_t vertex_count = 0, frame_count = 0, first_frame = 0, loop_frames = 0;
     double fps = 24.0;
-    std::string name = "water";
+    std::string name = "water", scene;
     std::vector<std::uint32_t> triangles;
     std::vector<float> positions, normals, texcoords, reflect, refract, foam, colors;  ///< z up, as written
     ScalarLayout layout = ScalarLayout::custom;

@@ -164,6 +164,7 @@ struct SceneAnimation {
     float z_min = 0, z_max = 0;    ///< height range over all frames (m)
     double fps = 24.0;
     std::vector<std::uint32_t> triangles;  ///< a copy of the plan's index list (the animation outlives the plan)
+    std::string scene;  ///< the scene's name (recorded in the files)
 
     MorphAnimationView view() const;
 };

@@ -215,6 +215,7 @@ struct ModelWriter {
         info["first_frame"] = tinygltf::Value(static_cast<int>(a.first_frame));
         info["loop_frames"] = tinygltf::Value(static_cast<int>(a.loop_frames));
         info["name"] = tinygltf::Value(a.name);
+        info["scene"] = tinygltf::Value(a.scene);
         tinygltf::Value::Object extras;
         extras["libwave"] = tinygltf::Value(info);
         model.asset.extras = tinygltf::Value(extras);

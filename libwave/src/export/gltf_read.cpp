@@ -164,6 +164,7 @@ StoredAnimation read_glb(const std::string& path) {
     a.first_frame = static_cast<std::size_t>(info.Get("first_frame").GetNumberAsInt());
     a.loop_frames = static_cast<std::size_t>(info.Get("loop_frames").GetNumberAsInt());
     a.name = info.Get("name").Get<std::string>();
+    if (info.Has("scene")) a.scene = info.Get("scene").Get<std::string>();
     if (m.meshes.empty() || m.meshes[0].primitives.empty()) r.fail("no mesh");
     const std::string path_kind = m.animations.empty() || m.animations[0].channels.empty() ? "" : m.animations[0].channels[0].target_path;
     const tinygltf::Primitive& first = m.meshes[0].primitives[0];

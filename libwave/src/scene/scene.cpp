@@ -649,6 +649,7 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
     const HeightFieldPlan& sp = plan.surface;
     SceneAnimation a;
     a.fps = scene.fps;
+    a.scene = scene.name;
     a.vertex_count = plan.rest_x.size();
     a.loop_frames = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(plan.loop_period * scene.fps)));
     const std::size_t end = std::min(range.end, a.loop_frames);
