@@ -200,13 +200,17 @@ int run_trace(const TraceArgs& a) {
 namespace {
 
 // "A:B" → [A, B); empty → everything.
+// A non-negative whole number, or InputError(`usage`).
+std::size_t whole_number(const std::string& part, const std::string& usage) {
+    if (part.empty() || part.size() > 18 || part.find_first_not_of("0123456789") != std::string::npos) throw InputError(usage);
+    return std::stoull(part);
+}
+
 FrameRange parse_frames(const std::string& text) {
     if (text.empty()) return {};
     const auto colon = text.find(':');
-    const auto whole = [&](const std::string& part) -> std::size_t {
-        if (part.empty() || part.find_first_not_of("0123456789") != std::string::npos)
-            throw InputError("--frames: expected A:B with whole numbers A < B, got \"" + text + "\"");
-        return std::stoull(part);
+    const auto whole = [&](const std::string& part) {
+        return whole_number(part, "--frames: expected A:B with whole numbers A < B, got \"" + text + "\"");
     };
     if (colon == std::string::npos) throw InputError("--frames: expected A:B, got \"" + text + "\"");
     FrameRange r{whole(text.substr(0, colon)), whole(text.substr(colon + 1))};
@@ -217,10 +221,8 @@ FrameRange parse_frames(const std::string& text) {
 // "I/N" → slice I of N of a loop of `loop_frames`: frames [I·F/N, (I+1)·F/N).
 FrameRange slice_frames(const std::string& text, std::size_t loop_frames) {
     const auto slash = text.find('/');
-    const auto whole = [&](const std::string& part) -> std::size_t {
-        if (part.empty() || part.find_first_not_of("0123456789") != std::string::npos)
-            throw InputError("--slice: expected I/N with whole numbers 0 <= I < N, got \"" + text + "\"");
-        return std::stoull(part);
+    const auto whole = [&](const std::string& part) {
+        return whole_number(part, "--slice: expected I/N with whole numbers 0 <= I < N, got \"" + text + "\"");
     };
     if (slash == std::string::npos) throw InputError("--slice: expected I/N, got \"" + text + "\"");
     const std::size_t i = whole(text.substr(0, slash)), n = whole(text.substr(slash + 1));
