@@ -272,6 +272,11 @@ json merged_index(const std::string& path, const IndexInfo& info) {
 }
 
 
+// The report of a run of frames [first, first + count) that is not the whole loop.
+std::string slice_report_name(std::size_t first, std::size_t count) {
+    return "report-frames-" + std::to_string(first) + "-" + std::to_string(first + count) + ".json";
+}
+
 // The animation in a form: (file name, bytes) pairs — animation.glb (or
 // animation-frames-A-B.glb for a slice), or frames/frame-NNNN.glb; with the gltf
 // container each .glb becomes name.gltf + name.bin.
@@ -314,7 +319,10 @@ void publish(const std::string& out_dir, const std::vector<std::pair<std::string
     namespace fs = std::filesystem;
     const bool created = !fs::exists(out_dir);
     fs::create_directories(out_dir);
-    const fs::path staging = fs::path(out_dir) / (".wave-staging-" + std::to_string(getpid()));
+    // Slices on several hosts may publish into one shared folder: host and pid name the staging.
+    char host[256] = {};
+    if (gethostname(host, sizeof host - 1) != 0) host[0] = '\0';
+    const fs::path staging = fs::path(out_dir) / (".wave-staging-" + std::string(host) + "-" + std::to_string(getpid()));
     try {
         std::vector<std::string> names;
         for (const auto& [name, bytes] : files) {
@@ -428,9 +436,15 @@ int run_job(const RunArgs& a) {
     for (const auto& f : files) report["outputs"].push_back(f.first);
     if (scene.form == Scene::Form::files) report["outputs"].push_back("index.json");
     // What the static stages leave beside the animation (the open ocean traces nothing).
-    std::vector<const char*> side_files{"surface-frame-0000.obj", "report.json"};
-    if (!ocean_kind) side_files.insert(side_files.begin(), {"isobaths.json", trace_file});
-    for (const char* f : side_files) report["outputs"].push_back(f);
+    // A slice reports in its own file (slices may run at once into one folder; `wave
+    // merge` joins their reports) and only the slice holding frame 0 writes its OBJ.
+    const bool has_frame0 = anim.first_frame == 0;
+    const std::string report_name = whole ? "report.json" : slice_report_name(anim.first_frame, anim.frame_count);
+    std::vector<std::string> side_files;
+    if (!ocean_kind) side_files.insert(side_files.end(), {"isobaths.json", trace_file});
+    if (has_frame0) side_files.emplace_back("surface-frame-0000.obj");
+    side_files.push_back(report_name);
+    for (const std::string& f : side_files) report["outputs"].push_back(f);
 
     // The index first: it refuses a foreign index.json before anything is written.
     if (scene.form == Scene::Form::files)
@@ -441,9 +455,10 @@ int run_job(const RunArgs& a) {
                                    .dump(2) + "\n");
     if (!ocean_kind) files.emplace_back("isobaths.json", contours_to_json(plan.isobaths));
     if (!strips && !ocean_kind) files.emplace_back(trace_file, rays_to_csv(plan.rays));
-    files.emplace_back("surface-frame-0000.obj",
-                       mesh_to_obj(first, anim.triangles, "libwave " + std::string(version()) + ": " + scene.name + ", frame 0, z up"));
-    files.emplace_back("report.json", report.dump(2) + "\n");
+    if (has_frame0)
+        files.emplace_back("surface-frame-0000.obj",
+                           mesh_to_obj(first, anim.triangles, "libwave " + std::string(version()) + ": " + scene.name + ", frame 0, z up"));
+    files.emplace_back(report_name, report.dump(2) + "\n");
     publish(out_dir, files, [&](const std::filesystem::path& staging) {
         if (!strips) return std::vector<std::string>{};
         write_ray_strips_ply(plan.strips, (staging / trace_file).string());  // OpenMesh writes the file itself
@@ -486,7 +501,7 @@ int run_job(const RunArgs& a) {
               << "; " << static_cast<double>(animation_bytes) / 1e6 << " MB; set the scene fps to " << scene.fps
               << " before importing)\n"
               << "           " << out_dir << "/{" << (ocean_kind ? "" : "isobaths.json, " + std::string(trace_file) + ", ")
-              << "surface-frame-0000.obj, report.json}\n";
+              << (has_frame0 ? "surface-frame-0000.obj, " : "") << report_name << "}\n";
     if (plan.ocean.n > 0 && !ocean_kind)
         std::cout << "wind sea   " << plan.ocean.n << "² FFT patch of " << plan.ocean.size << " m superposed, Hs "
                   << 4.0 * std::sqrt(plan.ocean.expected_variance) << " m offshore, loop " << plan.ocean.repeat_time << " s\n";
@@ -570,6 +585,64 @@ json frame_metadata(const std::string& path) {
     }
 }
 
+// The slices' reports joined into the report.json of one run over the whole loop: the
+// same plan, the frame count and height range over every slice, the whole run's
+// outputs. Only when the slices tile the loop exactly; returns the slice reports used.
+std::vector<std::filesystem::path> join_slice_reports(const std::filesystem::path& out_dir, std::size_t loop_frames) {
+    namespace fs = std::filesystem;
+    std::map<std::size_t, std::pair<fs::path, json>> slices;  // by first frame
+    for (const auto& e : fs::directory_iterator(out_dir)) {
+        const std::string name = e.path().filename().string();
+        std::size_t first = 0, end = 0;
+        char tail[8] = {};
+        if (std::sscanf(name.c_str(), "report-frames-%zu-%zu%7s", &first, &end, tail) != 3 || std::strcmp(tail, ".json") ||
+            name != slice_report_name(first, end - first))
+            continue;
+        std::ifstream in(e.path());
+        json r = json::parse(in, nullptr, false);
+        if (r.is_discarded() || !r.contains("surface")) throw InputError(e.path().string() + ": not a libwave report");
+        slices.emplace(first, std::make_pair(e.path(), std::move(r)));
+    }
+    std::size_t next = 0;
+    for (const auto& [first, s] : slices) {
+        if (first != next) return {};  // a gap or an overlap: the reports stay per slice
+        next = first + s.second.at("surface").at("frames").get<std::size_t>();
+    }
+    if (slices.empty() || next != loop_frames) return {};
+    // What every slice must share: the report without its frame-dependent fields.
+    const auto plan_part = [](json r) {
+        for (const char* k : {"frames", "first_frame", "height_range_m"}) r["surface"].erase(k);
+        r.erase("outputs");
+        return r;
+    };
+    json report = slices.begin()->second.second;
+    const json shared = plan_part(report);
+    json frame_files = json::array(), rest = json::array();
+    double z_min = report["surface"]["height_range_m"][0], z_max = report["surface"]["height_range_m"][1];
+    std::vector<fs::path> used;
+    for (const auto& [first, s] : slices) {
+        const auto& [path, r] = s;
+        if (plan_part(r) != shared)
+            throw InputError(path.string() + ": a report of another run than " + slices.begin()->second.first.string());
+        z_min = std::min(z_min, r["surface"]["height_range_m"][0].get<double>());
+        z_max = std::max(z_max, r["surface"]["height_range_m"][1].get<double>());
+        for (const auto& o : r.at("outputs"))
+            if (o.get<std::string>().starts_with("frames/")) frame_files.push_back(o);
+        used.push_back(path);
+    }
+    for (const auto& o : report.at("outputs")) {
+        const std::string name = o.get<std::string>();
+        if (!name.starts_with("frames/")) rest.push_back(name.starts_with("report-frames-") ? "report.json" : name);
+    }
+    report["surface"]["frames"] = loop_frames;
+    report["surface"]["first_frame"] = 0;
+    report["surface"]["height_range_m"] = {z_min, z_max};
+    report["outputs"] = frame_files;
+    for (auto& o : rest) report["outputs"].push_back(o);
+    write_file_atomic((out_dir / "report.json").string(), report.dump(2) + "\n");
+    return used;
+}
+
 int run_merge(const MergeArgs& a) {
     // The frames present, each described by its own asset extras (name, fps, loop).
     namespace fs = std::filesystem;
@@ -610,8 +683,12 @@ int run_merge(const MergeArgs& a) {
                          "); run their slices, or --partial to index what is there");
     write_file_atomic((fs::path(a.out_dir) / "index.json").string(), index.dump(2) + "\n");
     (void)gltf;
-    if (!a.quiet)
+    const std::vector<fs::path> joined = missing.empty() ? join_slice_reports(a.out_dir, loop_frames) : std::vector<fs::path>{};
+    for (const fs::path& p : joined) fs::remove(p);  // report.json now holds them
+    if (!a.quiet) {
         std::cout << "indexed " << files.size() << " of " << loop_frames << " frames in " << a.out_dir << "/index.json\n";
+        if (!joined.empty()) std::cout << "joined " << joined.size() << " slice reports into " << a.out_dir << "/report.json\n";
+    }
     return 0;
 }
 

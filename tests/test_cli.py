@@ -360,6 +360,61 @@ class MainJob(unittest.TestCase):
             self.assertIn("index.json", r.stderr)
             self.assertEqual(sorted(os.listdir(os.path.join(out, "frames"))), before)
 
+    def test_slices_merged_are_one_run_byte_for_byte(self):
+        # Four --slice runs into one folder (as a Slurm array would, in any order), then
+        # `wave merge`: the folder equals a single run's, file for file and byte for byte.
+        for container in ["glb", "gltf"]:
+            with tempfile.TemporaryDirectory() as d:
+                scene, sliced, whole = os.path.join(d, "s.json"), os.path.join(d, "sliced"), os.path.join(d, "whole")
+                with open(scene, "w") as f:
+                    json.dump(self.SMALL, f)
+                common = ["--form", "files", "--fps", "4", "--container", container, "-q"]
+                for i in [2, 0, 3, 1]:
+                    r = wave("run", scene, "-o", sliced, "--slice", "%d/4" % i, *common)
+                    self.assertEqual(r.returncode, 0, r.stderr)
+                # Each slice reports alone; only the one holding frame 0 writes its OBJ.
+                self.assertIn("report-frames-15-20.json", os.listdir(sliced))
+                self.assertNotIn("report.json", os.listdir(sliced))
+                self.assertEqual(wave("run", scene, "-o", whole, *common).returncode, 0)
+                r = wave("merge", sliced)
+                self.assertEqual(r.returncode, 0, r.stderr)
+                self.assertIn("joined 4 slice reports", r.stdout)
+                tree = lambda root: sorted(str(p.relative_to(root)) for p in pathlib.Path(root).rglob("*"))
+                self.assertEqual(tree(sliced), tree(whole))
+                for name in tree(whole):
+                    if os.path.isfile(os.path.join(whole, name)):
+                        self.assertEqual(pathlib.Path(sliced, name).read_bytes(), pathlib.Path(whole, name).read_bytes(), name)
+                report = json.load(open(os.path.join(sliced, "report.json")))
+                self.assertEqual((report["surface"]["frames"], report["surface"]["first_frame"]), (20, 0))
+
+    def test_merge_refuses_missing_frames_unless_partial(self):
+        with tempfile.TemporaryDirectory() as d:
+            scene, out = os.path.join(d, "s.json"), os.path.join(d, "out")
+            with open(scene, "w") as f:
+                json.dump(self.SMALL, f)
+            for i in [0, 2]:
+                self.assertEqual(wave("run", scene, "-o", out, "--slice", "%d/4" % i, "--form", "files", "--fps", "4", "-q").returncode, 0)
+            os.remove(os.path.join(out, "index.json"))
+            r = wave("merge", out)
+            self.assertEqual(r.returncode, 2)
+            self.assertIn("10 of 20 frames are missing (first: 5)", r.stderr)
+            self.assertFalse(os.path.exists(os.path.join(out, "index.json")))  # nothing written
+            r = wave("merge", out, "--partial")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            index = json.load(open(os.path.join(out, "index.json")))
+            self.assertEqual([f["frame"] for f in index["frames"]], list(range(5)) + list(range(10, 15)))
+            # The slice reports stay as they are until the loop is complete.
+            self.assertEqual(sorted(n for n in os.listdir(out) if n.startswith("report")),
+                             ["report-frames-0-5.json", "report-frames-10-15.json"])
+            # A frame of another animation in the folder: refused, naming the file.
+            other = os.path.join(d, "other")
+            self.assertEqual(wave("run", scene, "-o", other, "--frames", "5:6", "--form", "files", "--fps", "8", "-q").returncode, 0)
+            os.replace(os.path.join(other, "frames", "frame-0005.glb"), os.path.join(out, "frames", "frame-0005.glb"))
+            r = wave("merge", out, "--partial")
+            self.assertEqual(r.returncode, 2)
+            self.assertIn("frame-0005.glb: belongs to another animation", r.stderr)
+            self.assertEqual(wave("merge", os.path.join(d, "nothing")).returncode, 2)
+
     def test_draco_nodes_and_files_validate_and_shrink(self):
         with tempfile.TemporaryDirectory() as d:
             scene = os.path.join(d, "s.json")
@@ -636,7 +691,7 @@ class WindWaves(unittest.TestCase):
             self.assertAlmostEqual(report["surface"]["wind_sea"]["significant_height_m"] / hs, 1.0, delta=0.05)
             self.assertNotIn("isobaths.json", report["outputs"])
             # One animated .glb (scale-switched nodes, Draco): a slice of it here.
-            self.assertEqual(sorted(os.listdir(d)), ["animation-frames-0-2.glb", "report.json", "surface-frame-0000.obj"])
+            self.assertEqual(sorted(os.listdir(d)), ["animation-frames-0-2.glb", "report-frames-0-2.json", "surface-frame-0000.obj"])
             validate_gltf(self, os.path.join(d, "animation-frames-0-2.glb"))
 
     def test_small_ocean_morph_foam_and_tiling(self):
