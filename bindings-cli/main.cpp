@@ -11,6 +11,21 @@
 
 namespace {
 
+// CLI11's NonNegativeNumber prints its range up to DBL_MAX in full; this says it plainly.
+const CLI::Validator non_negative(
+    [](std::string& text) {
+        double v = 0.0;
+        try {
+            std::size_t used = 0;
+            v = std::stod(text, &used);
+            if (used != text.size()) return "expected a number, got \"" + text + "\"";
+        } catch (const std::exception&) {
+            return "expected a number, got \"" + text + "\"";
+        }
+        return v >= 0.0 ? std::string() : "must be >= 0, got " + text;
+    },
+    "NUMBER >= 0");
+
 using namespace wave;
 
 void add_reader_options(CLI::App& cmd, cli::SeafloorArgs& a) {
@@ -33,13 +48,13 @@ void add_reader_options(CLI::App& cmd, cli::SeafloorArgs& a) {
         r.swan_ny = std::stoul(v.at(1));
         return true;
     }, "SWAN .bot: nodes per row and rows, NX,NY")->expected(2)->delimiter(',')->type_name("NX,NY")
-        ->check(CLI::PositiveNumber);
+        ->check(CLI::Range(1, 65536));
     cmd.add_option("--swan-spacing", [&r](const CLI::results_t& v) {
         r.swan_dx = std::stod(v.at(0));
         r.swan_dy = v.size() > 1 ? std::stod(v.at(1)) : 0.0;
         return true;
     }, "SWAN .bot: spacing DX[,DY] (m)")->expected(1, 2)->delimiter(',')->type_name("DX[,DY]")
-        ->check(CLI::PositiveNumber);
+        ->check(CLI::Range(1, 65536));
     cmd.add_option("--swan-origin", [&r](const CLI::results_t& v) {
         r.swan_x0 = std::stod(v.at(0));
         r.swan_y0 = std::stod(v.at(1));
@@ -47,7 +62,7 @@ void add_reader_options(CLI::App& cmd, cli::SeafloorArgs& a) {
     }, "SWAN .bot: position of the first value X0,Y0 (m)")->expected(2)->delimiter(',')->type_name("X0,Y0")
         ->check(CLI::Number);
     cmd.add_option("--spacing", r.resample_spacing, "node spacing when a mesh or contour file is gridded (m; 0 = automatic)")
-        ->check(CLI::NonNegativeNumber)->capture_default_str();
+        ->check(non_negative)->capture_default_str();
     cmd.add_option("--max-nodes", r.max_nodes, "refuse grids with more nodes than this")->capture_default_str();
 }
 
@@ -72,10 +87,10 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"glb", "gltf"}));
     run_cmd->add_flag("--quantize", run.quantize, "KHR_mesh_quantization: int16 positions, int8 normals, uint16 UV maps (~30 % smaller morph files)");
     run_cmd->add_flag("--draco", run.draco, "Draco-compress the meshes (morph: the base mesh only; default quantisation: positions 14 bits)");
-    run_cmd->add_option("--fps", run.fps, "frames per second (overrides the scene's)")->check(CLI::PositiveNumber);
+    run_cmd->add_option("--fps", run.fps, "frames per second (overrides the scene's)")->check(CLI::Range(1, 65536));
     run_cmd->add_flag("-q,--quiet", run.quiet, "no progress bar and no report on stdout");
     run_cmd->add_option("--threads", run.threads, "worker threads (default: all cores); the outputs are the same for any count")
-        ->check(CLI::PositiveNumber);
+        ->check(CLI::Range(1, 65536));
 
     cli::BatchArgs batch;
     std::string batch_form, batch_frames, batch_container;
@@ -85,14 +100,14 @@ int main(int argc, char** argv) {
     auto* batch_cmd = app.add_subcommand("batch", "Run many scenes (files, folders of *.json, glob patterns), each into OUT/<name>, with a summary");
     batch_cmd->add_option("inputs", batch.inputs, "scene files, folders or patterns")->required();
     batch_cmd->add_option("-o,--out", batch.out_dir, "output folder (default: wave-out/batch)");
-    batch_cmd->add_option("-j,--jobs", batch.jobs, "scenes run at the same time (default 1)")->check(CLI::PositiveNumber);
+    batch_cmd->add_option("-j,--jobs", batch.jobs, "scenes run at the same time (default 1)")->check(CLI::Range(1, 65536));
     batch_cmd->add_option("--form", batch_form, "as for run")->check(CLI::IsMember({"morph", "nodes", "files"}));
     batch_cmd->add_option("--frames", batch_frames, "as for run");
     batch_cmd->add_option("--container", batch_container, "as for run")->check(CLI::IsMember({"glb", "gltf"}));
-    batch_cmd->add_option("--fps", batch_fps, "as for run")->check(CLI::PositiveNumber);
+    batch_cmd->add_option("--fps", batch_fps, "as for run")->check(CLI::Range(1, 65536));
     batch_cmd->add_flag("--draco", batch_draco, "as for run");
     batch_cmd->add_flag("--quantize", batch_quantize, "as for run");
-    batch_cmd->add_option("--threads", batch_threads, "worker threads of each scene's run")->check(CLI::PositiveNumber);
+    batch_cmd->add_option("--threads", batch_threads, "worker threads of each scene's run")->check(CLI::Range(1, 65536));
     batch_cmd->add_flag("-q,--quiet", batch.quiet, "no line per scene");
     batch_cmd->add_flag("--json", batch.json, "print the summary as JSON");
 
@@ -129,12 +144,12 @@ int main(int argc, char** argv) {
 
     cli::DispersionArgs disp;
     auto* disp_cmd = app.add_subcommand("dispersion", "Linear wave quantities for a period and a depth");
-    disp_cmd->add_option("-T,--period", disp.period, "wave period (s)")->required()->check(CLI::PositiveNumber);
+    disp_cmd->add_option("-T,--period", disp.period, "wave period (s)")->required()->check(CLI::Range(1, 65536));
     disp_cmd->add_option("-d,--depth", disp.depth, "water depth (m, positive down; <= 0 is dry)")->required()->check(CLI::Number);
     disp_cmd->add_option("--capillary-length", disp.capillary_length, "capillary length L (m) of Tessendorf eq. 16")
-        ->check(CLI::NonNegativeNumber);
+        ->check(non_negative);
     disp_cmd->add_option("--deep-height", disp.deep_height, "deep-water wave height H0 (m): also report the shoaled height and breaking")
-        ->check(CLI::NonNegativeNumber);
+        ->check(non_negative);
     disp_cmd->add_flag("--json", disp.json, "print JSON");
 
     cli::SeafloorArgs sea;
@@ -152,11 +167,11 @@ int main(int argc, char** argv) {
     cont_cmd->add_option("source", cont.seafloor.source, "a grid/mesh/contour file, or a procedural seafloor")->required();
     auto* levels_opt = cont_cmd->add_option("--levels", cont.levels, "depth levels (m, positive down), e.g. 1,2,5")->delimiter(',');
     auto* spacing_opt = cont_cmd->add_option("--level-spacing", cont.level_spacing, "a level every S metres of depth")
-        ->check(CLI::PositiveNumber);
+        ->check(CLI::Range(1, 65536));
     levels_opt->excludes(spacing_opt);
     cont_cmd->add_flag("--no-shoreline", cont.no_shoreline, "do not add the shoreline (depth 0)");
     cont_cmd->add_option("--smooth", cont.smooth_samples, "Beta-spline smoothing: samples per span (0 = off)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(non_negative);
     cont_cmd->add_option("--beta1", cont.beta1, "Beta-spline bias (> 0)")->capture_default_str();
     cont_cmd->add_option("--beta2", cont.beta2, "Beta-spline tension (>= 0)")->capture_default_str();
     cont_cmd->add_option("-o,--output", cont.output, "output file: .json (libwave contours) or .obj (polylines)")->required();

@@ -14,6 +14,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   pybind11-dev python3-pybind11 python3 python3-dev python3-numpy python3-pytest python3-jsonschema
   nodejs
+  slurm-wlm munge
 )
 
 missing=()

@@ -103,6 +103,12 @@ class BadInput(unittest.TestCase):
         self.expect_error(["dispersion", "--period", "abc", "--depth", "3"], 2, "abc")
         self.expect_error(["dispersion", "--period", "-4", "--depth", "3"], 2, "-4")
         self.expect_error(["dispersion", "--depth", "3"], 2, "--period")
+        # Ranges said plainly (not "0 to 1.797e308" written out in 300 digits).
+        self.expect_error(["seafloor", "info", "planar-beach", "--spacing", "-1"], 2, "--spacing: must be >= 0, got -1")
+        self.expect_error(["run", "--threads", "0"], 2, "--threads", "1 to 65536")
+        r = wave("dispersion", "--period", "8", "--depth", "3", "--deep-height", "-2")
+        self.assertEqual(r.returncode, 2)
+        self.assertLess(len(r.stderr), 200, r.stderr)
 
     def test_bad_files_exit_2(self):
         with tempfile.TemporaryDirectory() as d:
