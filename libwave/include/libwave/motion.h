@@ -10,6 +10,7 @@
 // Units: SI. Phase φ in rad; the profile's horizontal axis points along the ray, z up.
 #pragma once
 
+#include "libwave/physics.h"
 #include "libwave/surface.h"
 
 #include <array>
@@ -80,6 +81,119 @@ GonzatoMotionPlan plan_gonzato_motion(const RayStrips& strips, const GonzatoProf
 /// does not depend on the thread count. Allocates nothing; throws InputError if
 /// `positions` is not 3 · vertex_count() floats.
 void evaluate_gonzato_motion(const GonzatoMotionPlan& plan, double t, std::span<float> positions);
+
+// ---------------------------------------------------------------------------------
+// Jeschke, Birkholz & Schumann's procedural breaker (§3–4, table 1)
+// ---------------------------------------------------------------------------------
+
+/// The life cycle of a breaking wave (figure 3): round → breaking (the front dents,
+/// the top falls over into a tube) → collapsing (flat again); dead afterwards.
+enum class BreakerPhase { round, breaking, collapsing, dead };
+
+/// k1 … k7 of table 1 for one half of the wave (k[0] unused) at time t ∈ [0, 1] of a
+/// phase. Entries that table 1 gives as constants are blended linearly over the phase
+/// from the previous phase's final value ("the constants k_i are linearly blended over
+/// the three phases"), so no k jumps between phases. The breaking phase's k5, printed
+/// 3/t², is read as t^{3/2} (0 where the round phase ends, 1 as the collapsing phase
+/// holds it; docs/motion.md). `dead` gives the collapsing phase's end (k7 = 0: flat).
+struct BreakerConstants {
+    std::array<double, 8> k{};
+};
+BreakerConstants jeschke_constants(BreakerPhase phase, double t, bool front) noexcept;
+
+/// A point of the paper's unit wave shape: y from 1 (back edge, s = 0) to 0 (front
+/// edge, s = 1) — the wave runs towards −y —, z up (the round phase's crest is at
+/// k7 / 4).
+struct BreakerShapePoint {
+    double y = 0.0, z = 0.0;
+};
+
+/// §4: s ∈ [0, 1] from the back to the front (the lip at s = 0.5), split into s1, s2
+/// per half; z1 (cosine + exponential), φ (rotation about (½, 0)), y and z (scaling by
+/// k7). `curl` scales the rotation k5 (1 = the paper's plunging tube; smaller for
+/// spilling breakers). The edges s = 0 and s = 1 map to (1, 0) and (0, 0) in every phase.
+BreakerShapePoint jeschke_shape(double s, const BreakerConstants& back, const BreakerConstants& front,
+                                double curl = 1.0) noexcept;
+
+/// Where a crest is in its life when it stands at phase ψ (rad, Σ k Δs) of a ray that
+/// breaks at phase `break_phase` and ends (aground) at `end_phase`: round over the
+/// first `rise` radians (coming up from still water), breaking from the break point
+/// for `breaking_length` radians, collapsing until the end, dead beyond.
+struct BreakerLife {
+    BreakerPhase phase = BreakerPhase::round;
+    double t = 1.0;  ///< time parameter within the phase, 0 … 1
+};
+BreakerLife jeschke_life(double psi, double rise, double break_phase, double breaking_length, double end_phase) noexcept;
+
+/// The automatic parametrisation (the paper's "future work") and the options of the
+/// model. The paper's y_end(x) (coastline and crest alignment) is the traced fronts
+/// themselves — every point moves in its ray's phase coordinate, so crests bend with
+/// refraction and align with the shore —, and t_break(x) is where each ray first
+/// reaches depth-limited breaking H >= γh.
+struct JeschkeBreakerOptions {
+    double breaker_index = kBreakerIndex;  ///< γ (the scene takes it from trace)
+    /// The breaking phase takes this share of each ray's surf zone (break point → end
+    /// of the ray), at most `max_breaking_wavelengths`; collapsing takes the rest.
+    double breaking_share = 0.4;
+    double max_breaking_wavelengths = 1.0;
+    /// Round phase: crests come up from still water over this many wavelengths from
+    /// the offshore edge (the paper's birth); 0 = they enter fully grown.
+    double rise_wavelengths = 1.0;
+    /// §3.1: foam fades linearly over this time after a broken crest passed (s).
+    double foam_fade_time = 6.0;
+    /// Foam production ramps up over this share of the breaking phase (no hard line).
+    double foam_onset = 0.25;
+    /// Rotation (k5) per breaker type from the Iribarren number: the plunging tube of
+    /// the paper is 1; spilling crests only tip forward.
+    double curl_spilling = 0.3, curl_plunging = 1.0, curl_collapsing = 0.6, curl_surging = 0.3;
+    BreakerThresholds thresholds{};
+};
+
+/// Where one traced ray breaks (for reports and tests).
+struct RayBreak {
+    std::uint32_t ray = 0;
+    bool breaks = false;
+    double break_phase = 0.0, end_phase = 0.0;  ///< rad along the ray
+    double x = 0.0, y = 0.0;                    ///< break point (m)
+    double depth = 0.0, height = 0.0;           ///< h and H = 2A there (m)
+    double iribarren = 0.0;
+    BreakerType type = BreakerType::spilling;
+};
+
+/// The breakers on a ray-strip surface, planned once per scene (flat per-vertex arrays).
+struct JeschkeMotionPlan {
+    std::vector<double> x, y, dir_x, dir_y, phase;
+    /// Per vertex: the unit shape's width W = local wavelength 2π/k (m), its vertical
+    /// scale 5H (the round crest k7·k2 = 1/5 is the traced height H = 2A), the mean
+    /// level removed (min(k7, 4/5)/8 of the scale: the offshore swell is centred on still water),
+    /// and its ray's break/end phases, rise and breaking length (rad) and curl.
+    std::vector<float> width, scale, mean_level;
+    std::vector<float> break_phase, end_phase, rise, breaking_length, curl, foam_yield;
+    std::vector<RayBreak> rays;
+    double omega = 0.0;
+    double foam_fade_time = 6.0;
+
+    std::size_t vertex_count() const noexcept { return x.size(); }
+};
+
+/// Plans the breakers on the strips of a train of deep-water height H0 and
+/// wavelength L0 (for the Iribarren number ξ0 = tan β / sqrt(H0/L0), with tan β the
+/// mean bottom slope over one local wavelength seaward of the break). Throws
+/// InputError naming the option when one is out of range.
+JeschkeMotionPlan plan_jeschke_breakers(const RayStrips& strips, double deep_height, double deep_wavelength,
+                                        const JeschkeBreakerOptions& options = {});
+
+/// Vertex positions at time t (3 floats per vertex, z up): each vertex lies in the
+/// unit shape of the crest nearest to it in phase (crests pass a vertex when
+/// ωt − Φ ≡ 0 mod 2π), at s = ½ − δ/2π, moved along its ray by (1 − y − s)·W and up by
+/// scale·z − mean. The horizontal move fades with k7 as the wave dies (§4's scaling),
+/// so a dead crest leaves the surface at rest. Parallel; independent of the thread count.
+void evaluate_jeschke_breakers(const JeschkeMotionPlan& plan, double t, std::span<float> positions);
+
+/// §3.1 foam for any time without history: the time since the last crest passed
+/// each vertex, whether that crest had broken there (its life at the vertex), and a
+/// linear fade; the largest value over the recent waves. In [0, 1].
+void jeschke_foam(const JeschkeMotionPlan& plan, double t, std::span<float> foam);
 
 // ---------------------------------------------------------------------------------
 // Tessendorf's FFT ocean (§3.3–3.7) and Gerstner waves (§3.1)

@@ -63,6 +63,9 @@ struct Scene {
     /// Adaptive fronts (ray strips); ray_spacing and breaker_index come from `trace`.
     FrontOptions fronts{};
     GonzatoProfileOptions profile{};
+    /// Jeschke's procedural breakers instead of Gonzato's profile (ray strips only),
+    /// parametrised from the traced rays; their foam replaces the breaking foam.
+    std::optional<JeschkeBreakerOptions> breakers;
     /// Tessendorf's FFT wind waves: the surface itself (kind ocean) or superposed on the
     /// traced swell, scaled by wind_sea_depth_factor so they calm down over the shelf.
     /// A repeat time of 0 in a scene means: the multiple of the swell's loop nearest
@@ -123,6 +126,7 @@ struct ScenePlan {
     FrontSet fronts;          ///< ray strips: Gonzato's fronts
     RayStrips strips;         ///< ray strips: the tessellated surface
     GonzatoMotionPlan motion; ///< ray strips: the profile's per-vertex shapes
+    JeschkeMotionPlan breakers; ///< ray strips with Scene::breakers: the breakers' plan
     OceanPlan ocean;          ///< the FFT ocean (kind ocean, or superposed); n = 0 when none
     std::vector<GerstnerWave> gerstner;  ///< with ω quantised to the loop
     std::vector<std::uint32_t> patch_triangles;  ///< kind ocean: the patch's (N+1)² grid

@@ -245,6 +245,33 @@ void read_profile(const Node& n, GonzatoProfileOptions& o) {
     if (n.has("kz")) o.kz = n["kz"].positive("1/m");
 }
 
+// "breakers": "jeschke", or {"model": "jeschke", …options}.
+JeschkeBreakerOptions read_breakers(const Node& n) {
+    JeschkeBreakerOptions o;
+    if (n.value().is_string()) {
+        n.choice<int>({{"jeschke", 0}});
+        return o;
+    }
+    n.require_object({"model", "breaking_share", "max_breaking_wavelengths", "rise_wavelengths", "foam_fade_time",
+                      "foam_onset", "curl_spilling", "curl_plunging", "curl_collapsing", "curl_surging"});
+    if (n.has("model")) n["model"].choice<int>({{"jeschke", 0}});
+    const auto share = [&](const char* key, double& v, double lo, double hi, const char* unit) {
+        if (!n.has(key)) return;
+        v = n[key].number(unit);
+        if (!(v >= lo && v <= hi)) n[key].fail("expected a number in [" + fmt(lo) + ", " + fmt(hi) + "], got " + fmt(v));
+    };
+    share("breaking_share", o.breaking_share, 0.01, 0.99, "share of the surf zone");
+    share("max_breaking_wavelengths", o.max_breaking_wavelengths, 0.05, 100.0, "wavelengths");
+    share("rise_wavelengths", o.rise_wavelengths, 0.0, 100.0, "wavelengths");
+    share("foam_fade_time", o.foam_fade_time, 1e-3, 1e6, "s");
+    share("foam_onset", o.foam_onset, 0.0, 1.0, "share of the breaking phase");
+    share("curl_spilling", o.curl_spilling, 0.0, 2.0, "share of the paper's rotation");
+    share("curl_plunging", o.curl_plunging, 0.0, 2.0, "share of the paper's rotation");
+    share("curl_collapsing", o.curl_collapsing, 0.0, 2.0, "share of the paper's rotation");
+    share("curl_surging", o.curl_surging, 0.0, 2.0, "share of the paper's rotation");
+    return o;
+}
+
 void read_ocean(const Node& n, OceanOptions& o, const std::string& origin) {
     n.require_object({"resolution", "size", "spectrum", "wind_speed", "wind_direction", "directional_exponent",
                       "against_wind", "phillips_constant", "small_wave_cutoff", "fetch", "peak_enhancement", "depth",
@@ -322,7 +349,7 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     }
     const Node root(doc, "", origin);
     root.require_object({"name", "seafloor", "isobaths", "waves", "trace", "surface", "fronts", "motion", "camera",
-                         "shade", "outputs", "animation", "ocean", "gerstner"});
+                         "shade", "outputs", "animation", "ocean", "gerstner", "breakers"});
     Scene s;
     if (root.has("name")) s.name = root["name"].string();
     if (root.has("surface")) read_surface(root["surface"], s);
@@ -367,6 +394,12 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     } else if (s.surface_kind == SurfaceKind::height_field) {
         if (root.has("fronts")) root["fronts"].fail("only for the ray-strips surface");
         if (root.has("motion")) root["motion"].fail("only for the ray-strips surface (the height field moves as Ts'o's sinusoids)");
+    }
+    if (root.has("breakers")) {
+        if (s.surface_kind != SurfaceKind::ray_strips)
+            root["breakers"].fail("only for the ray-strips surface (Jeschke's breakers move the traced fronts)");
+        if (root.has("motion")) root["motion"].fail("not with /breakers: the breakers replace Gonzato's profile");
+        s.breakers = read_breakers(root["breakers"]);
     }
     if (root.has("fronts")) read_fronts(root["fronts"], s.fronts);
     if (root.has("motion")) read_profile(root["motion"], s.profile);
@@ -602,6 +635,12 @@ ScenePlan plan_scene(const Scene& scene, PlanStages stages) {
         p.loop_period = scene.waves[0].period;
         if (stages == PlanStages::all) {
             p.motion = plan_gonzato_motion(p.strips, scene.profile);
+            if (scene.breakers) {
+                JeschkeBreakerOptions o = *scene.breakers;
+                o.breaker_index = scene.trace.breaker_index;
+                const WaveTrain& w = scene.waves[0];
+                p.breakers = plan_jeschke_breakers(p.strips, 2.0 * w.amplitude, kGravity * w.period * w.period / (2.0 * std::numbers::pi), o);
+            }
             plan_components(scene, p);
         }
         return p;
@@ -729,7 +768,8 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
             ocean_patch_frame(plan.ocean, fields, p, nr, vertex_j);  // exact normals from the FFT
             normals_done = plan.gerstner.empty();
         } else {
-            if (strips) evaluate_gonzato_motion(plan.motion, t, p);
+            if (strips && scene.breakers) evaluate_jeschke_breakers(plan.breakers, t, p);
+            else if (strips) evaluate_gonzato_motion(plan.motion, t, p);
             else evaluate_height_field(sp, t, heights, p);
             if (wind_sea) {
                 const OceanFields fields = evaluate_ocean(plan.ocean, t, *ocean_ws);
@@ -749,7 +789,8 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
         if (shaded) {
             const std::span<float> r(&a.reflect[n * f], n), tr(&a.refract[n * f], n), foam(&a.foam[n * f], n);
             fresnel_weights(p, nr, fresnel, r, tr);
-            if (strips) breaking_foam(plan.strips, plan.motion, t, scene.foam, foam);
+            if (strips && scene.breakers) jeschke_foam(plan.breakers, t, foam);
+            else if (strips) breaking_foam(plan.strips, plan.motion, t, scene.foam, foam);
             else if (!ocean_kind) height_field_foam(sp, node_depth, t, scene.foam, node_foam, foam);
             if (wind_sea) {
                 accumulate_fold_foam(vertex_j, 0.0, scene.fold_foam, foam);

@@ -1,0 +1,293 @@
+// Jeschke, Birkholz & Schumann (WSCG 2003): a procedural breaker whose shape (§4,
+// table 1) and foam (§3.1) are pure functions of space and time, parametrised here from
+// the traced rays instead of by hand (the paper's stated future work).
+#include "libwave/errors.h"
+#include "libwave/motion.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numbers>
+#include <string>
+
+namespace wave {
+namespace {
+
+constexpr double pi = std::numbers::pi;
+constexpr double two_pi = 2.0 * std::numbers::pi;
+
+double lerp(double a, double b, double t) noexcept { return a + (b - a) * t; }
+
+// x^p for x in [0, 1]; 0^0 = 1 as in the formulas (only ever multiplied by a k that is
+// 0 there: see the note on table 1 in jeschke_constants).
+double power(double x, double p) noexcept { return p == 1.0 ? x : p == 0.0 ? 1.0 : std::pow(x, p); }
+
+// The shape's point for one half (s1, s2 of §4 and that half's constants).
+BreakerShapePoint half_point(double s1, double s2, const BreakerConstants& c, double curl) noexcept {
+    const auto& k = c.k;
+    const double z1 = k[2] * (1.0 + std::cos((s2 - 1.0) * pi)) / 2.0 + (k[3] != 0.0 ? k[3] * power(s2, k[4]) : 0.0);
+    const double phi = k[5] != 0.0 ? pi * curl * k[5] * power(s2, k[6]) / 2.0 : 0.0;
+    const double a = 0.5 - s1, cp = std::cos(phi), sp = std::sin(phi);
+    return {a * cp - z1 * sp + 0.5, (a * sp + z1 * cp) * k[7]};
+}
+
+// Half width (in s) of the seam that joins the two halves at the lip where their
+// constants give different lip points (the collapsing phase: the back's jet is thrown
+// forward while the front's face subsides).
+constexpr double lip_seam = 0.03;
+
+}  // namespace
+
+BreakerConstants jeschke_constants(BreakerPhase phase, double t, bool front) noexcept {
+    // Table 1 with every constant entry blended from the previous phase's final value
+    // (round → breaking → collapsing). The breaking k5, printed 3/t², is read as t^{3/2}:
+    // the one reading continuous at both ends (0 where the round phase ends, 1 = the
+    // collapsing phase's constant) — the lip turns through 90° and falls onto the water
+    // ahead (figure 3b); 3t² would turn it through 270°, back under the wave.
+    t = std::clamp(t, 0.0, 1.0);
+    BreakerConstants c;
+    auto& k = c.k;
+    switch (phase) {
+        case BreakerPhase::round:
+            k = {0.0, 1.0, 0.25, 0.0, 0.0, 0.0, 0.0, 0.8 * t};
+            break;
+        case BreakerPhase::breaking:
+            if (front)
+                k = {0.0, lerp(1.0, 2.0, t), (1.0 - std::pow(t, 0.85)) / 4.0, std::pow(t, 0.85) / 4.0, lerp(0.0, 4.0, t),
+                     t * std::sqrt(t), lerp(0.0, 16.0, t), (4.0 + t) / 5.0};
+            else
+                k = {0.0, lerp(1.0, 0.7, t), 0.25, 0.0, 0.0, t * std::sqrt(t), lerp(0.0, 4.0, t), (4.0 + t) / 5.0};
+            break;
+        case BreakerPhase::collapsing:
+        case BreakerPhase::dead:
+            if (phase == BreakerPhase::dead) t = 1.0;
+            if (front)
+                k = {0.0, 2.0, 0.0, (1.0 - t) / 4.0, 4.0, 1.0, 16.0, 1.0 - t};
+            else
+                k = {0.0, lerp(0.7, 0.5, t), 0.25, std::pow(t, 0.7) / 2.0, lerp(0.0, 40.0, t), 1.0, 4.0, 1.0 - t};
+            break;
+    }
+    return c;
+}
+
+BreakerShapePoint jeschke_shape(double s, const BreakerConstants& back, const BreakerConstants& front, double curl) noexcept {
+    s = std::clamp(s, 0.0, 1.0);
+    const bool is_front = s >= 0.5;
+    BreakerShapePoint p;
+    if (!is_front) {
+        const double u = power(2.0 * s, back.k[1]);
+        p = half_point(u / 2.0, u, back, curl);
+    } else {
+        const double u = power(2.0 * s - 1.0, front.k[1]);
+        p = half_point((1.0 + u) / 2.0, 1.0 - u, front, curl);
+    }
+    const double d = std::abs(s - 0.5);
+    if (d < lip_seam) {
+        // Both halves meet at their mean lip point; the blend fades over the seam.
+        const BreakerShapePoint lb = half_point(0.5, 1.0, back, curl), lf = half_point(0.5, 1.0, front, curl);
+        const double w = 1.0 - d / lip_seam, w2 = w * w * (3.0 - 2.0 * w);  // smoothstep
+        const double sign = is_front ? 1.0 : -1.0;  // back moves by −D/2, front by +D/2
+        p.y += sign * 0.5 * (lb.y - lf.y) * w2;
+        p.z += sign * 0.5 * (lb.z - lf.z) * w2;
+    }
+    return p;
+}
+
+BreakerLife jeschke_life(double psi, double rise, double break_phase, double breaking_length, double end_phase) noexcept {
+    if (psi >= end_phase) return {BreakerPhase::dead, 1.0};
+    const double collapse_start = break_phase + breaking_length;
+    if (psi >= collapse_start) return {BreakerPhase::collapsing, (psi - collapse_start) / (end_phase - collapse_start)};
+    if (psi >= break_phase) return {BreakerPhase::breaking, (psi - break_phase) / breaking_length};
+    return {BreakerPhase::round, rise > 0.0 ? std::clamp(psi / rise, 0.0, 1.0) : 1.0};
+}
+
+namespace {
+
+// Foam produced by a crest at the moment it passes phase ψ: none while round, ramping
+// up over the first `onset` of the breaking phase, full while breaking and collapsing.
+double foam_yield(const BreakerLife& life, double onset) noexcept {
+    switch (life.phase) {
+        case BreakerPhase::breaking:
+            return onset > 0.0 ? std::min(1.0, life.t / onset) : 1.0;
+        case BreakerPhase::collapsing:
+            return 1.0;
+        default:
+            return 0.0;
+    }
+}
+
+void check_options(const JeschkeBreakerOptions& o) {
+    const auto check = [](double v, double lo, double hi, const char* name) {
+        if (!(v >= lo && v <= hi))
+            throw InputError(std::string("breakers: ") + name + " must be in [" + std::to_string(lo) + ", " +
+                             std::to_string(hi) + "], got " + std::to_string(v));
+    };
+    check(o.breaker_index, 0.1, 2.0, "breaker_index");
+    check(o.breaking_share, 0.01, 0.99, "breaking_share");
+    check(o.max_breaking_wavelengths, 0.05, 100.0, "max_breaking_wavelengths");
+    check(o.rise_wavelengths, 0.0, 100.0, "rise_wavelengths");
+    check(o.foam_fade_time, 1e-3, 1e6, "foam_fade_time");
+    check(o.foam_onset, 0.0, 1.0, "foam_onset");
+    for (double c : {o.curl_spilling, o.curl_plunging, o.curl_collapsing, o.curl_surging}) check(c, 0.0, 2.0, "curl");
+}
+
+}  // namespace
+
+JeschkeMotionPlan plan_jeschke_breakers(const RayStrips& strips, double deep_height, double deep_wavelength,
+                                        const JeschkeBreakerOptions& o) {
+    check_options(o);
+    if (!(deep_height > 0.0) || !(deep_wavelength > 0.0))
+        throw InputError("breakers: the wave train needs a deep-water height and wavelength > 0");
+    const std::size_t n = strips.vertex_count();
+    JeschkeMotionPlan p;
+    p.omega = strips.omega;
+    p.foam_fade_time = o.foam_fade_time;
+    p.x = strips.x;
+    p.y = strips.y;
+    p.dir_x = strips.dir_x;
+    p.dir_y = strips.dir_y;
+    p.phase = strips.phase;
+
+    // Each ray's vertices from offshore to its end.
+    std::map<std::uint32_t, std::vector<std::uint32_t>> rays;
+    for (std::size_t v = 0; v < n; ++v) rays[strips.ray[v]].push_back(static_cast<std::uint32_t>(v));
+    constexpr double never = std::numeric_limits<double>::infinity();
+    p.break_phase.resize(n);
+    p.end_phase.resize(n);
+    p.rise.resize(n);
+    p.breaking_length.resize(n);
+    p.curl.resize(n);
+    for (auto& [id, vs] : rays) {
+        std::sort(vs.begin(), vs.end(), [&](std::uint32_t a, std::uint32_t b) { return strips.step[a] < strips.step[b]; });
+        // Depth-limited breaking H = 2A >= γh (dry counts): the first crossing of
+        // f = 2A − γh, located between the two vertices by linear interpolation.
+        const auto f = [&](std::uint32_t v) {
+            return strips.depth[v] <= 0.0 ? 1.0 : 2.0 * strips.amplitude[v] - o.breaker_index * strips.depth[v];
+        };
+        RayBreak rb;
+        rb.ray = id;
+        rb.end_phase = strips.phase[vs.back()];
+        std::size_t i = 0;
+        while (i < vs.size() && f(vs[i]) < 0.0) ++i;
+        double rise_len = o.rise_wavelengths * two_pi;
+        double breaking_len = 0.0, curl = 1.0;
+        if (i < vs.size()) {
+            rb.breaks = true;
+            const std::uint32_t b = vs[i];
+            double w = 0.0;  // share of the way from the previous vertex to b
+            if (i > 0) {
+                const double fa = f(vs[i - 1]), fb = f(b);
+                w = fb > fa ? -fa / (fb - fa) : 1.0;
+            }
+            const std::uint32_t a = i > 0 ? vs[i - 1] : b;
+            const auto at = [&](const std::vector<double>& q) { return q[a] + w * (q[b] - q[a]); };
+            rb.break_phase = at(strips.phase);
+            rb.x = at(strips.x);
+            rb.y = at(strips.y);
+            rb.depth = std::max(0.0, at(strips.depth));
+            rb.height = 2.0 * at(strips.amplitude);
+            // Mean bottom slope over one local wavelength seaward of the break.
+            const double k_b = strips.k[a] > 0.0 && std::isfinite(strips.k[a]) ? strips.k[a] : 2.0 * pi / deep_wavelength;
+            const double wavelength = two_pi / k_b;
+            double run = 0.0, h_back = rb.depth;
+            double px = rb.x, py = rb.y;
+            for (std::size_t j = i; j-- > 0 && run < wavelength;) {
+                run += std::hypot(strips.x[vs[j]] - px, strips.y[vs[j]] - py);
+                px = strips.x[vs[j]];
+                py = strips.y[vs[j]];
+                h_back = strips.depth[vs[j]];
+            }
+            const double slope = run > 0.0 ? std::max(0.0, (h_back - rb.depth) / run) : 0.0;
+            rb.iribarren = iribarren_number(slope, deep_height, deep_wavelength);
+            rb.type = classify_breaker(rb.iribarren, o.thresholds);
+            curl = rb.type == BreakerType::spilling     ? o.curl_spilling
+                   : rb.type == BreakerType::plunging   ? o.curl_plunging
+                   : rb.type == BreakerType::collapsing ? o.curl_collapsing
+                                                        : o.curl_surging;
+            breaking_len = std::min(o.breaking_share * (rb.end_phase - rb.break_phase), o.max_breaking_wavelengths * two_pi);
+            if (!(breaking_len > 0.0)) breaking_len = 1e-6;  // breaks on its last vertex
+            rise_len = std::min(rise_len, rb.break_phase);
+        } else {
+            rb.break_phase = rb.end_phase = never;
+        }
+        for (std::uint32_t v : vs) {
+            p.break_phase[v] = static_cast<float>(rb.break_phase);
+            p.end_phase[v] = static_cast<float>(rb.breaks ? rb.end_phase : never);
+            p.rise[v] = static_cast<float>(rise_len);
+            p.breaking_length[v] = static_cast<float>(breaking_len);
+            p.curl[v] = static_cast<float>(curl);
+        }
+        p.rays.push_back(rb);
+    }
+
+    // Shape size per vertex, the still-water mean removed, and the foam a crest leaves.
+    p.width.resize(n);
+    p.scale.resize(n);
+    p.mean_level.resize(n);
+    p.foam_yield.resize(n);
+    for (std::size_t v = 0; v < n; ++v) {
+        const double k = strips.k[v];
+        const bool wet = strips.depth[v] > 0.0 && k > 0.0 && std::isfinite(k);
+        p.width[v] = wet ? static_cast<float>(two_pi / k) : 0.0f;
+        p.scale[v] = wet ? static_cast<float>(5.0 * 2.0 * strips.amplitude[v]) : 0.0f;
+        const BreakerLife here = jeschke_life(p.phase[v], p.rise[v], p.break_phase[v], p.breaking_length[v], p.end_phase[v]);
+        // The round shape's mean (k7/8 of the scale) centres the offshore swell on still
+        // water; it is held through breaking (the crest then stands ~0.75 H above still
+        // water, as breaker crests do) and fades with k7 while the wave collapses.
+        p.mean_level[v] = static_cast<float>(p.scale[v] * std::min(0.8, jeschke_constants(here.phase, here.t, false).k[7]) / 8.0);
+        p.foam_yield[v] = static_cast<float>(foam_yield(here, o.foam_onset));
+    }
+    return p;
+}
+
+void evaluate_jeschke_breakers(const JeschkeMotionPlan& p, double t, std::span<float> positions) {
+    const std::size_t n = p.vertex_count();
+    if (positions.size() != 3 * n)
+        throw InputError("jeschke breakers: positions hold " + std::to_string(positions.size()) + " floats, expected " +
+                         std::to_string(3 * n));
+    const double wt = p.omega * t;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t v = r.begin(); v != r.end(); ++v) {
+            // δ ∈ [−π, π): how far the nearest crest ψ = ωt − 2πm has run past this vertex.
+            const double delta = wt - p.phase[v] - two_pi * std::floor((wt - p.phase[v] + pi) / two_pi);
+            const double psi = p.phase[v] + delta, s = 0.5 - delta / two_pi;
+            const BreakerLife life = jeschke_life(psi, p.rise[v], p.break_phase[v], p.breaking_length[v], p.end_phase[v]);
+            const BreakerConstants back = jeschke_constants(life.phase, life.t, false);
+            const BreakerConstants front = jeschke_constants(life.phase, life.t, true);
+            const BreakerShapePoint q = jeschke_shape(s, back, front, p.curl[v]);
+            // §4's scaling fades the horizontal move with k7 as the wave dies (k7 = 1 − t
+            // while collapsing): a dead crest leaves every point at rest.
+            const double fade = std::min(1.0, 1.25 * back.k[7]);
+            const double forward = (1.0 - q.y - s) * p.width[v] * fade;
+            positions[3 * v] = static_cast<float>(p.x[v] + forward * p.dir_x[v]);
+            positions[3 * v + 1] = static_cast<float>(p.y[v] + forward * p.dir_y[v]);
+            positions[3 * v + 2] = static_cast<float>(p.scale[v] * q.z - p.mean_level[v]);
+        }
+    });
+}
+
+void jeschke_foam(const JeschkeMotionPlan& p, double t, std::span<float> foam) {
+    const std::size_t n = p.vertex_count();
+    if (foam.size() != n)
+        throw InputError("jeschke foam: " + std::to_string(foam.size()) + " values for " + std::to_string(n) + " vertices");
+    const double wt = p.omega * t;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t v = r.begin(); v != r.end(); ++v) {
+            if (p.foam_yield[v] <= 0.0f) {
+                foam[v] = 0.0f;
+                continue;
+            }
+            // Every crest passes here alike (a periodic swell): the latest one, τ ago,
+            // holds the largest of the faded values (§3.1's maximum over the waves).
+            const double since = wt - p.phase[v] - two_pi * std::floor((wt - p.phase[v]) / two_pi);
+            const double tau = since / p.omega;
+            foam[v] = static_cast<float>(p.foam_yield[v] * std::max(0.0, 1.0 - tau / p.foam_fade_time));
+        }
+    });
+}
+
+}  // namespace wave
