@@ -23,6 +23,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <map>
 #include <iomanip>
 #include <iostream>
@@ -135,6 +136,23 @@ int run_contours(const ContoursArgs& a) {
 namespace {
 
 // What the tracing stage produced, for reports.
+// Where the traced rays break (Jeschke's automatic parametrisation).
+json breakers_summary(const JeschkeMotionPlan& b) {
+    std::size_t breaking = 0;
+    double h_min = std::numeric_limits<double>::infinity(), h_max = 0.0;
+    std::map<std::string, std::size_t> types;
+    for (const RayBreak& r : b.rays) {
+        if (!r.breaks) continue;
+        ++breaking;
+        h_min = std::min(h_min, r.depth);
+        h_max = std::max(h_max, r.depth);
+        ++types[to_string(r.type)];
+    }
+    json out{{"model", "jeschke"}, {"rays", b.rays.size()}, {"breaking_rays", breaking}, {"breaker_types", types}};
+    if (breaking > 0) out["break_depth_m"] = {h_min, h_max};
+    return out;
+}
+
 json trace_summary(const Scene& scene, const ScenePlan& plan) {
     if (scene.surface_kind == SurfaceKind::ocean) return json::object();  // nothing traced
     if (scene.surface_kind == SurfaceKind::ray_strips) {
@@ -425,6 +443,7 @@ int run_job(const RunArgs& a) {
                                {"significant_height_m", 4.0 * std::sqrt(plan.ocean.expected_variance)}};
     }
     if (!plan.gerstner.empty()) surface["gerstner_waves"] = plan.gerstner.size();
+    if (strips && scene.breakers) surface["breakers"] = breakers_summary(plan.breakers);
     json report{{"libwave", version()},
                 {"scene", scene.name},
                 {"seafloor", {{"source", plan.seafloor.source}, {"nodes", {st.nx, st.ny}}, {"depth_range_m", {st.depth_min, st.depth_max}}}},
@@ -485,7 +504,16 @@ int run_job(const RunArgs& a) {
         std::cout << "fronts     " << plan.fronts.initial_rays << " rays + " << plan.fronts.inserted_rays << " inserted, "
                   << plan.fronts.front_count() - 1 << " steps, " << plan.fronts.rays_aground << " aground (Gonzato)\n"
                   << "surface    ray strips: " << anim.vertex_count << " vertices, " << anim.triangles.size() / 3
-                  << " triangles; Gonzato's plunging profile\n";
+                  << " triangles; " << (scene.breakers ? "Jeschke's breakers" : "Gonzato's plunging profile") << '\n';
+    if (strips && scene.breakers) {
+        const json b = breakers_summary(plan.breakers);
+        std::cout << "breakers   " << b["breaking_rays"].get<std::size_t>() << " of " << b["rays"].get<std::size_t>()
+                  << " rays break";
+        if (b.contains("break_depth_m"))
+            std::cout << " in " << b["break_depth_m"][0].get<double>() << " .. " << b["break_depth_m"][1].get<double>()
+                      << " m of water (H = γh), " << b["breaker_types"].dump();
+        std::cout << '\n';
+    }
     else
         std::cout << "rays       " << plan.rays.ray_count() << " traced (Ts'o-Barsky, exact isobath crossings)\n"
                   << "surface    " << plan.surface.nx << " x " << plan.surface.ny << " Beta2-spline control grid -> "

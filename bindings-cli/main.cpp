@@ -11,20 +11,26 @@
 
 namespace {
 
-// CLI11's NonNegativeNumber prints its range up to DBL_MAX in full; this says it plainly.
-const CLI::Validator non_negative(
-    [](std::string& text) {
-        double v = 0.0;
-        try {
-            std::size_t used = 0;
-            v = std::stod(text, &used);
-            if (used != text.size()) return "expected a number, got \"" + text + "\"";
-        } catch (const std::exception&) {
-            return "expected a number, got \"" + text + "\"";
-        }
-        return v >= 0.0 ? std::string() : "must be >= 0, got " + text;
-    },
-    "NUMBER >= 0");
+// CLI11's NonNegativeNumber/PositiveNumber print their range up to DBL_MAX in full;
+// these say it plainly: "--fps: must be > 0, got 0".
+CLI::Validator number_above(double lo, bool strict) {
+    return CLI::Validator(
+        [lo, strict](std::string& text) {
+            double v = 0.0;
+            try {
+                std::size_t used = 0;
+                v = std::stod(text, &used);
+                if (used != text.size()) return "expected a number, got \"" + text + "\"";
+            } catch (const std::exception&) {
+                return "expected a number, got \"" + text + "\"";
+            }
+            const bool ok = strict ? v > lo : v >= lo;
+            return ok ? std::string() : std::string(strict ? "must be > " : "must be >= ") + CLI::detail::to_string(lo) + ", got " + text;
+        },
+        strict ? "NUMBER > 0" : "NUMBER >= 0");
+}
+const CLI::Validator non_negative = number_above(0.0, false);
+const CLI::Validator positive = number_above(0.0, true);
 
 using namespace wave;
 
@@ -48,13 +54,13 @@ void add_reader_options(CLI::App& cmd, cli::SeafloorArgs& a) {
         r.swan_ny = std::stoul(v.at(1));
         return true;
     }, "SWAN .bot: nodes per row and rows, NX,NY")->expected(2)->delimiter(',')->type_name("NX,NY")
-        ->check(CLI::Range(1, 65536));
+        ->check(positive);
     cmd.add_option("--swan-spacing", [&r](const CLI::results_t& v) {
         r.swan_dx = std::stod(v.at(0));
         r.swan_dy = v.size() > 1 ? std::stod(v.at(1)) : 0.0;
         return true;
     }, "SWAN .bot: spacing DX[,DY] (m)")->expected(1, 2)->delimiter(',')->type_name("DX[,DY]")
-        ->check(CLI::Range(1, 65536));
+        ->check(positive);
     cmd.add_option("--swan-origin", [&r](const CLI::results_t& v) {
         r.swan_x0 = std::stod(v.at(0));
         r.swan_y0 = std::stod(v.at(1));
@@ -87,10 +93,10 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"glb", "gltf"}));
     run_cmd->add_flag("--quantize", run.quantize, "KHR_mesh_quantization: int16 positions, int8 normals, uint16 UV maps (~30 % smaller morph files)");
     run_cmd->add_flag("--draco", run.draco, "Draco-compress the meshes (morph: the base mesh only; default quantisation: positions 14 bits)");
-    run_cmd->add_option("--fps", run.fps, "frames per second (overrides the scene's)")->check(CLI::Range(1, 65536));
+    run_cmd->add_option("--fps", run.fps, "frames per second (overrides the scene's)")->check(positive);
     run_cmd->add_flag("-q,--quiet", run.quiet, "no progress bar and no report on stdout");
     run_cmd->add_option("--threads", run.threads, "worker threads (default: all cores); the outputs are the same for any count")
-        ->check(CLI::Range(1, 65536));
+        ->check(positive);
 
     cli::BatchArgs batch;
     std::string batch_form, batch_frames, batch_container;
@@ -100,14 +106,14 @@ int main(int argc, char** argv) {
     auto* batch_cmd = app.add_subcommand("batch", "Run many scenes (files, folders of *.json, glob patterns), each into OUT/<name>, with a summary");
     batch_cmd->add_option("inputs", batch.inputs, "scene files, folders or patterns")->required();
     batch_cmd->add_option("-o,--out", batch.out_dir, "output folder (default: wave-out/batch)");
-    batch_cmd->add_option("-j,--jobs", batch.jobs, "scenes run at the same time (default 1)")->check(CLI::Range(1, 65536));
+    batch_cmd->add_option("-j,--jobs", batch.jobs, "scenes run at the same time (default 1)")->check(positive);
     batch_cmd->add_option("--form", batch_form, "as for run")->check(CLI::IsMember({"morph", "nodes", "files"}));
     batch_cmd->add_option("--frames", batch_frames, "as for run");
     batch_cmd->add_option("--container", batch_container, "as for run")->check(CLI::IsMember({"glb", "gltf"}));
-    batch_cmd->add_option("--fps", batch_fps, "as for run")->check(CLI::Range(1, 65536));
+    batch_cmd->add_option("--fps", batch_fps, "as for run")->check(positive);
     batch_cmd->add_flag("--draco", batch_draco, "as for run");
     batch_cmd->add_flag("--quantize", batch_quantize, "as for run");
-    batch_cmd->add_option("--threads", batch_threads, "worker threads of each scene's run")->check(CLI::Range(1, 65536));
+    batch_cmd->add_option("--threads", batch_threads, "worker threads of each scene's run")->check(positive);
     batch_cmd->add_flag("-q,--quiet", batch.quiet, "no line per scene");
     batch_cmd->add_flag("--json", batch.json, "print the summary as JSON");
 
@@ -144,7 +150,7 @@ int main(int argc, char** argv) {
 
     cli::DispersionArgs disp;
     auto* disp_cmd = app.add_subcommand("dispersion", "Linear wave quantities for a period and a depth");
-    disp_cmd->add_option("-T,--period", disp.period, "wave period (s)")->required()->check(CLI::Range(1, 65536));
+    disp_cmd->add_option("-T,--period", disp.period, "wave period (s)")->required()->check(positive);
     disp_cmd->add_option("-d,--depth", disp.depth, "water depth (m, positive down; <= 0 is dry)")->required()->check(CLI::Number);
     disp_cmd->add_option("--capillary-length", disp.capillary_length, "capillary length L (m) of Tessendorf eq. 16")
         ->check(non_negative);
@@ -167,7 +173,7 @@ int main(int argc, char** argv) {
     cont_cmd->add_option("source", cont.seafloor.source, "a grid/mesh/contour file, or a procedural seafloor")->required();
     auto* levels_opt = cont_cmd->add_option("--levels", cont.levels, "depth levels (m, positive down), e.g. 1,2,5")->delimiter(',');
     auto* spacing_opt = cont_cmd->add_option("--level-spacing", cont.level_spacing, "a level every S metres of depth")
-        ->check(CLI::Range(1, 65536));
+        ->check(positive);
     levels_opt->excludes(spacing_opt);
     cont_cmd->add_flag("--no-shoreline", cont.no_shoreline, "do not add the shoreline (depth 0)");
     cont_cmd->add_option("--smooth", cont.smooth_samples, "Beta-spline smoothing: samples per span (0 = off)")

@@ -105,7 +105,8 @@ class BadInput(unittest.TestCase):
         self.expect_error(["dispersion", "--depth", "3"], 2, "--period")
         # Ranges said plainly (not "0 to 1.797e308" written out in 300 digits).
         self.expect_error(["seafloor", "info", "planar-beach", "--spacing", "-1"], 2, "--spacing: must be >= 0, got -1")
-        self.expect_error(["run", "--threads", "0"], 2, "--threads", "1 to 65536")
+        self.expect_error(["run", "--threads", "0"], 2, "--threads: must be > 0, got 0")
+        self.expect_error(["run", "--fps", "0"], 2, "--fps: must be > 0, got 0")
         r = wave("dispersion", "--period", "8", "--depth", "3", "--deep-height", "-2")
         self.assertEqual(r.returncode, 2)
         self.assertLess(len(r.stderr), 200, r.stderr)
@@ -681,6 +682,22 @@ class WindWaves(unittest.TestCase):
         r = wave("run", os.path.join(EXAMPLES, name), "-o", out, "--frames", "0:2", "--json")
         self.assertEqual(r.returncode, 0, r.stderr)
         return json.loads(r.stdout)
+
+    def test_breaking_examples(self):
+        # Jeschke's breakers parametrised from the traced rays: the planar beach breaks
+        # in one band (H = γh), Okushiri in many places; files validate, foam present.
+        for name, types in [("breaking-beach.json", {"plunging", "spilling"}), ("breaking-okushiri.json", {"plunging", "spilling"})]:
+            with tempfile.TemporaryDirectory() as d:
+                report = self.example_frames(name, d)
+                b = report["surface"]["breakers"]
+                self.assertEqual(b["model"], "jeschke")
+                self.assertGreater(b["breaking_rays"], 0.3 * b["rays"])
+                self.assertLessEqual(set(b["breaker_types"]), types | {"collapsing", "surging"})
+                self.assertGreater(b["break_depth_m"][1], 0.5)
+                frame = os.path.join(d, "frames", "frame-0001.glb")
+                validate_gltf(self, frame)
+                doc, _ = read_glb(frame)
+                self.assertIn("KHR_draco_mesh_compression", doc["extensionsRequired"])
 
     def test_open_ocean_example(self):
         # Two frames of the 512² gale: the patch, the analytic significant height, valid files.

@@ -79,7 +79,13 @@ BreakerShapePoint jeschke_shape(double s, const BreakerConstants& back, const Br
     const bool is_front = s >= 0.5;
     BreakerShapePoint p;
     if (!is_front) {
-        const double u = power(2.0 * s, back.k[1]);
+        // k1 < 1 (the back half while breaking and collapsing) printed as (2s)^k1 has an
+        // infinite slope at the back edge: points at the trough would race as crests
+        // pass. The mirrored power 1 − (1 − 2s)^{1/k1} spreads the points the same way
+        // (sparse at the trough, dense towards the lip) with a finite slope; the curve
+        // itself does not depend on k1 (s1 and s2 are both functions of it).
+        const double k1 = back.k[1];
+        const double u = k1 >= 1.0 ? power(2.0 * s, k1) : 1.0 - std::pow(1.0 - 2.0 * s, 1.0 / k1);
         p = half_point(u / 2.0, u, back, curl);
     } else {
         const double u = power(2.0 * s - 1.0, front.k[1]);

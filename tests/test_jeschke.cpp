@@ -1,0 +1,245 @@
+// Jeschke, Birkholz & Schumann's procedural breaker: the shape of table 1 against its
+// closed forms, continuity in s and in time, the automatic parametrisation on the
+// planar beach against the analytic shoaling, and the history-free foam.
+#include <gtest/gtest.h>
+
+#include "libwave/errors.h"
+#include "libwave/motion.h"
+#include "libwave/physics.h"
+#include "libwave/scene.h"
+
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <numbers>
+#include <vector>
+
+using namespace wave;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+const BreakerPhase kPhases[] = {BreakerPhase::round, BreakerPhase::breaking, BreakerPhase::collapsing};
+
+BreakerShapePoint shape(BreakerPhase phase, double t, double s, double curl = 1.0) {
+    return jeschke_shape(s, jeschke_constants(phase, t, false), jeschke_constants(phase, t, true), curl);
+}
+
+// The planar beach (slope 0.05, waves running +y at normal incidence), 8 s swell.
+const char* kBeach = R"({"name": "jeschke beach", "seafloor": {"source": "planar-beach"},
+  "isobaths": {"spacing": 0.5}, "waves": [{"period": 8, "amplitude": 0.4, "direction": [0, 1]}],
+  "trace": {"ray_spacing": 4}, "breakers": "jeschke", "animation": {"fps": 8}})";
+
+}  // namespace
+
+TEST(JeschkeShape, RoundPhaseIsARaisedCosine) {
+    // k1 = 1, k2 = 1/4, k3 = k5 = 0: y = 1 − s and z = k7 (1 − cos 2πs) / 8 exactly.
+    for (double t : {0.3, 1.0})
+        for (int i = 0; i <= 100; ++i) {
+            const double s = i / 100.0;
+            const BreakerShapePoint p = shape(BreakerPhase::round, t, s);
+            EXPECT_NEAR(p.y, 1.0 - s, 1e-12) << s;
+            EXPECT_NEAR(p.z, 0.8 * t * (1.0 - std::cos(2 * kPi * s)) / 8.0, 1e-12) << s;
+        }
+}
+
+TEST(JeschkeShape, EdgesRestOnStillWaterInEveryPhase) {
+    // Neighbouring crests meet at s = 0 / s = 1: both edges must be at rest whatever
+    // the phase, so a vertex passing from one crest's shape to the next does not jump.
+    for (BreakerPhase ph : kPhases)
+        for (double t : {0.0, 0.1, 0.5, 0.9, 1.0})
+            for (double curl : {0.3, 1.0}) {
+                const BreakerShapePoint back = shape(ph, t, 0.0, curl), front = shape(ph, t, 1.0, curl);
+                EXPECT_NEAR(back.y, 1.0, 1e-12);
+                EXPECT_NEAR(back.z, 0.0, 1e-12);
+                EXPECT_NEAR(front.y, 0.0, 1e-12);
+                EXPECT_NEAR(front.z, 0.0, 1e-12);
+            }
+}
+
+TEST(JeschkeConstants, NoJumpBetweenPhasesAndTheMisprintReadContinuously) {
+    for (bool front : {false, true}) {
+        const auto r1 = jeschke_constants(BreakerPhase::round, 1.0, front);
+        const auto b0 = jeschke_constants(BreakerPhase::breaking, 0.0, front);
+        const auto b1 = jeschke_constants(BreakerPhase::breaking, 1.0, front);
+        const auto c0 = jeschke_constants(BreakerPhase::collapsing, 0.0, front);
+        for (int i = 1; i <= 7; ++i) {
+            EXPECT_NEAR(r1.k[i], b0.k[i], 1e-12) << "k" << i << (front ? " front" : " back");
+            EXPECT_NEAR(b1.k[i], c0.k[i], 1e-12) << "k" << i << (front ? " front" : " back");
+        }
+        // Table 1's values at the phases' ends: breaking front k1 = 2, k6 = 16, k7 = 1;
+        // collapsing ends flat (k7 = 0); dead is the collapsing end.
+        EXPECT_DOUBLE_EQ(b1.k[7], 1.0);
+        EXPECT_DOUBLE_EQ(jeschke_constants(BreakerPhase::collapsing, 1.0, front).k[7], 0.0);
+        EXPECT_EQ(jeschke_constants(BreakerPhase::dead, 0.2, front).k, jeschke_constants(BreakerPhase::collapsing, 1.0, front).k);
+        // k5 (printed 3/t², infinite at t = 0) read as t^{3/2}: finite and rising.
+        for (double t : {0.0, 0.25, 0.5, 1.0})
+            EXPECT_NEAR(jeschke_constants(BreakerPhase::breaking, t, front).k[5], std::pow(t, 1.5), 1e-12);
+    }
+    EXPECT_DOUBLE_EQ(jeschke_constants(BreakerPhase::breaking, 1.0, true).k[1], 2.0);
+    EXPECT_DOUBLE_EQ(jeschke_constants(BreakerPhase::breaking, 1.0, true).k[6], 16.0);
+    EXPECT_DOUBLE_EQ(jeschke_constants(BreakerPhase::breaking, 1.0, false).k[1], 0.7);
+}
+
+TEST(JeschkeShape, BreakingEndsInAClosedTubeAndSpillingOnlyTips) {
+    // Figure 3b: at the end of the breaking phase the lip has fallen onto the water ahead
+    // of the crest, closing a tube; the front overhangs (1 − y, the distance along the
+    // travel, runs backwards somewhere on the front half).
+    const auto crest_and_lip = [](double curl) {
+        double z_max = 0.0, x_crest = 0.0;
+        for (int i = 0; i <= 1000; ++i) {
+            const BreakerShapePoint p = shape(BreakerPhase::breaking, 1.0, i / 1000.0, curl);
+            if (p.z > z_max) z_max = p.z, x_crest = 1.0 - p.y;
+        }
+        const BreakerShapePoint lip = shape(BreakerPhase::breaking, 1.0, 0.5, curl);
+        return std::array<double, 4>{z_max, x_crest, lip.z, 1.0 - lip.y};
+    };
+    const auto plunging = crest_and_lip(1.0);
+    EXPECT_LT(plunging[2], 0.05 * plunging[0]) << "the lip reaches the water";
+    EXPECT_GT(plunging[3], plunging[1] + 0.1) << "ahead of the crest";
+    bool overhang = false;
+    double prev = 1.0 - shape(BreakerPhase::breaking, 1.0, 0.5).y;
+    for (int i = 1; i <= 500; ++i) {
+        const double x = 1.0 - shape(BreakerPhase::breaking, 1.0, 0.5 + i / 1000.0).y;
+        overhang |= x < prev - 1e-6;
+        prev = x;
+    }
+    EXPECT_TRUE(overhang);
+    const auto spilling = crest_and_lip(0.3);
+    EXPECT_GT(spilling[2], 0.5 * spilling[0]) << "a spilling crest only tips forward";
+}
+
+TEST(JeschkeShape, NoTearAlongTheWave) {
+    // Consecutive points 1e-4 apart in s stay close in every phase: the halves meet at
+    // the lip (the seam joins the collapsing phase's two different lip points).
+    for (BreakerPhase ph : kPhases)
+        for (double t : {0.0, 0.3, 0.6, 1.0}) {
+            double worst = 0.0;
+            BreakerShapePoint prev = shape(ph, t, 0.0);
+            for (int i = 1; i <= 10000; ++i) {
+                const BreakerShapePoint p = shape(ph, t, i / 10000.0);
+                worst = std::max(worst, std::hypot(p.y - prev.y, p.z - prev.z));
+                prev = p;
+            }
+            EXPECT_LT(worst, 0.01) << "phase " << static_cast<int>(ph) << " t " << t;
+        }
+}
+
+TEST(JeschkeBreakers, PlanarBeachBreaksWhereShoalingReachesGamma) {
+    const Scene scene = parse_scene(kBeach, "beach.json", ".");
+    const ScenePlan plan = plan_scene(scene);
+    // The analytic answer: linear shoaling at normal incidence on the same 1:20 slope.
+    std::vector<double> depth;
+    for (double h = 10.0; h > 0.0; h -= 0.01) depth.push_back(h);
+    const double omega = 2 * kPi / 8.0;
+    const ShoalingProfile analytic = shoal_profile(omega, 0.8, depth, 0.01 / 0.05);
+    ASSERT_GE(analytic.break_index, 0);
+    std::size_t central = 0;
+    for (const RayBreak& rb : plan.breakers.rays) {
+        if (std::abs(rb.x - 100.0) > 50.0) continue;  // away from the side walls
+        ++central;
+        ASSERT_TRUE(rb.breaks) << "ray " << rb.ray;
+        EXPECT_NEAR(rb.height / rb.depth, kBreakerIndex, 1e-6) << "ray " << rb.ray;
+        EXPECT_NEAR(rb.depth, analytic.break_depth, 0.03 * analytic.break_depth) << "ray " << rb.ray;
+        // ξ0 = 0.05 / sqrt(0.8 / 99.9) = 0.56: plunging (Battjes: 0.5 … 3.3).
+        EXPECT_NEAR(rb.iribarren, 0.05 / std::sqrt(0.8 / (kGravity * 64 / (2 * kPi))), 0.02);
+        EXPECT_EQ(rb.type, BreakerType::plunging);
+        EXPECT_GT(rb.end_phase, rb.break_phase);
+    }
+    EXPECT_GE(central, 20u);
+}
+
+TEST(JeschkeBreakers, NoVertexJumpsBetweenFrames) {
+    // Over a whole period every vertex passes through round, breaking, collapsing and
+    // crest changes. A continuous motion moves 4× less in a 4× shorter step; a jump
+    // would not shrink. Stated bound: at 60 fps no vertex moves more than 0.5 m
+    // (measured: 0.20 m, the collapsing jet at 12 m/s; 0.05 m at 240 fps).
+    const Scene scene = parse_scene(kBeach, "beach.json", ".");
+    const ScenePlan plan = plan_scene(scene);
+    const JeschkeMotionPlan& b = plan.breakers;
+    const std::size_t n = b.vertex_count();
+    std::vector<float> p0(3 * n), p1(3 * n);
+    const auto worst_step = [&](double dt) {  // over a quarter period: 10⁴ vertices in transitions
+        double worst = 0.0;
+        evaluate_jeschke_breakers(b, 0.0, p1);
+        for (double t = 0.0; t < 2.0; t += dt) {
+            p0.swap(p1);
+            evaluate_jeschke_breakers(b, t + dt, p1);
+            for (std::size_t i = 0; i < 3 * n; i += 3)
+                worst = std::max(worst, static_cast<double>(std::hypot(p1[i] - p0[i], p1[i + 1] - p0[i + 1], p1[i + 2] - p0[i + 2])));
+        }
+        return worst;
+    };
+    const double coarse = worst_step(1.0 / 60.0), fine = worst_step(1.0 / 240.0);
+    EXPECT_LT(coarse, 0.5);
+    EXPECT_LT(fine, 0.35 * coarse) << "a jump does not shrink with the time step";
+    for (float v : p1) ASSERT_TRUE(std::isfinite(v));
+}
+
+TEST(JeschkeFoam, NoneBeforeTheBreakThenDecayingUntilTheNextCrest) {
+    const Scene scene = parse_scene(kBeach, "beach.json", ".");
+    const ScenePlan plan = plan_scene(scene);
+    const JeschkeMotionPlan& b = plan.breakers;
+    const std::size_t n = b.vertex_count();
+    const double period = 8.0, dt = period / 400.0;
+    std::vector<std::vector<float>> foam(401, std::vector<float>(n));
+    for (std::size_t f = 0; f <= 400; ++f) jeschke_foam(b, static_cast<double>(f) * dt, foam[f]);
+    std::size_t seaward = 0, surf = 0;
+    for (std::size_t v = 0; v < n; ++v) {
+        if (b.phase[v] < b.break_phase[v]) {  // no crest has broken here yet
+            ++seaward;
+            for (std::size_t f = 0; f <= 400; ++f) ASSERT_EQ(foam[f][v], 0.0f) << "vertex " << v;
+            continue;
+        }
+        if (b.foam_yield[v] < 1.0f || b.phase[v] >= b.end_phase[v]) continue;
+        ++surf;
+        // Within a period: one rise (a broken crest passes), monotone decay otherwise.
+        int rises = 0;
+        for (std::size_t f = 1; f <= 400; ++f) {
+            if (foam[f][v] > foam[f - 1][v]) {
+                ++rises;
+                const double since = std::fmod(b.omega * static_cast<double>(f) * dt - b.phase[v] + 100 * kPi, 2 * kPi) / b.omega;
+                EXPECT_NEAR(foam[f][v], 1.0 - since / b.foam_fade_time, 1e-3);  // linear fade from the passage
+            }
+        }
+        EXPECT_EQ(rises, 1) << "vertex " << v;
+    }
+    EXPECT_GT(seaward, 1000u);
+    EXPECT_GT(surf, 100u);
+}
+
+TEST(JeschkeBreakers, SameBytesForAnyThreadCount) {
+    const Scene scene = parse_scene(kBeach, "beach.json", ".");
+    const ScenePlan plan = plan_scene(scene);
+    const std::size_t n = plan.breakers.vertex_count();
+    std::vector<float> many(3 * n), one(3 * n);
+    evaluate_jeschke_breakers(plan.breakers, 3.3, many);
+    {
+        tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+        evaluate_jeschke_breakers(plan.breakers, 3.3, one);
+    }
+    EXPECT_EQ(std::memcmp(many.data(), one.data(), many.size() * sizeof(float)), 0);
+}
+
+TEST(JeschkeBreakers, SceneErrorsNameTheKey) {
+    const auto message = [](const std::string& text) {
+        try {
+            parse_scene(text, "s.json", ".");
+        } catch (const InputError& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    EXPECT_NE(message(R"({"waves": [{"period": 5, "amplitude": 0.3}], "surface": {"kind": "height-field"}, "breakers": "jeschke"})")
+                  .find("s.json: /breakers: only for the ray-strips surface"),
+              std::string::npos);
+    EXPECT_NE(message(R"({"waves": [{"period": 5, "amplitude": 0.3}], "breakers": "gonzato"})").find("expected one of jeschke"),
+              std::string::npos);
+    EXPECT_NE(message(R"({"waves": [{"period": 5, "amplitude": 0.3}], "breakers": {"breaking_share": 2}})")
+                  .find("/breakers/breaking_share: expected a number in [0.01, 0.99], got 2"),
+              std::string::npos);
+    EXPECT_NE(message(R"({"waves": [{"period": 5, "amplitude": 0.3}], "breakers": {"curl": 1}})").find("/breakers/curl: unknown key"),
+              std::string::npos);
+}
