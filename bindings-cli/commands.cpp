@@ -444,6 +444,8 @@ int run_job(const RunArgs& a) {
     }
     if (!plan.gerstner.empty()) surface["gerstner_waves"] = plan.gerstner.size();
     if (strips && scene.breakers) surface["breakers"] = breakers_summary(plan.breakers);
+    if (plan.camera_grid.vertex_count() > 0)
+        surface["camera_grid"] = {{"columns", plan.camera_grid.columns}, {"rows", plan.camera_grid.rows}};
     json report{{"libwave", version()},
                 {"scene", scene.name},
                 {"seafloor", {{"source", plan.seafloor.source}, {"nodes", {st.nx, st.ny}}, {"depth_range_m", {st.depth_min, st.depth_max}}}},
@@ -503,8 +505,12 @@ int run_job(const RunArgs& a) {
     else if (strips)
         std::cout << "fronts     " << plan.fronts.initial_rays << " rays + " << plan.fronts.inserted_rays << " inserted, "
                   << plan.fronts.front_count() - 1 << " steps, " << plan.fronts.rays_aground << " aground (Gonzato)\n"
-                  << "surface    ray strips: " << anim.vertex_count << " vertices, " << anim.triangles.size() / 3
+                  << "surface    ray strips: " << plan.strips.vertex_count() << " vertices, " << plan.strips.triangle_count()
                   << " triangles; " << (scene.breakers ? "Jeschke's breakers" : "Gonzato's plunging profile") << '\n';
+    if (plan.camera_grid.vertex_count() > 0)
+        std::cout << "sampled    camera grid (Hinsinger): " << plan.camera_grid.columns << " x " << plan.camera_grid.rows
+                  << " points seeing the water -> " << anim.vertex_count << " vertices, " << anim.triangles.size() / 3
+                  << " triangles\n";
     if (strips && scene.breakers) {
         const json b = breakers_summary(plan.breakers);
         std::cout << "breakers   " << b["breaking_rays"].get<std::size_t>() << " of " << b["rays"].get<std::size_t>()

@@ -7,6 +7,7 @@
 #include "libwave/motion.h"
 #include "libwave/physics.h"
 #include "libwave/scene.h"
+#include "libwave/shade.h"
 
 #include <tbb/global_control.h>
 
@@ -242,4 +243,79 @@ TEST(JeschkeBreakers, SceneErrorsNameTheKey) {
               std::string::npos);
     EXPECT_NE(message(R"({"waves": [{"period": 5, "amplitude": 0.3}], "breakers": {"curl": 1}})").find("/breakers/curl: unknown key"),
               std::string::npos);
+}
+
+TEST(CameraGrid, PixelRaysMeetTheWaterWhereTheCameraLooks) {
+    GridCamera c;
+    c.position = {10.0, -40.0, 40.0};
+    c.look_at = {10.0, 20.0, 0.0};
+    c.image_width = c.image_height = 101;  // the middle pixel looks straight at look_at
+    c.pixel_step = 1;
+    const CameraGrid g = camera_grid(c);
+    ASSERT_EQ(g.columns, 101u);
+    ASSERT_EQ(g.rows, 101u);  // 34° down, 25° half field: every row sees the water
+    const std::size_t mid = 50 * 101 + 50;
+    EXPECT_NEAR(g.x[mid], 10.0, 1e-9);
+    EXPECT_NEAR(g.y[mid], 20.0, 1e-9);
+    // Far rows first, each row further than the next; triangles counter-clockwise from +z.
+    for (std::size_t row = 1; row < g.rows; ++row) EXPECT_GT(g.y[(row - 1) * 101 + 50], g.y[row * 101 + 50]);
+    for (std::size_t t = 0; t < g.triangles.size() / 3; ++t) {
+        const auto a = g.triangles[3 * t], b = g.triangles[3 * t + 1], e = g.triangles[3 * t + 2];
+        ASSERT_GT((g.x[b] - g.x[a]) * (g.y[e] - g.y[a]) - (g.x[e] - g.x[a]) * (g.y[b] - g.y[a]), 0.0) << t;
+    }
+    // Looking at the horizon: the upper half of the image sees sky and is left out.
+    c.look_at = {10.0, 20.0, 40.0};
+    c.image_height = 100;
+    EXPECT_EQ(camera_grid(c).rows, 50u);
+    c.max_distance = 200.0;  // and the far water too
+    EXPECT_LT(camera_grid(c).rows, 50u);
+    c.position[2] = -1.0;
+    EXPECT_THROW(camera_grid(c), InputError);
+}
+
+TEST(CameraGrid, BreakersResampledAtTheStripVerticesAreTheStrips) {
+    const Scene scene = parse_scene(kBeach, "beach.json", ".");
+    const ScenePlan plan = plan_scene(scene);
+    const JeschkeMotionPlan& b = plan.breakers;
+    std::vector<double> x = b.x, y = b.y;
+    x.push_back(-500.0);  // off the strips: at rest, no foam
+    y.push_back(-500.0);
+    const JeschkeMotionPlan r = resample_jeschke_breakers(b, plan.strips.triangles, x, y);
+    const std::size_t n = b.vertex_count();
+    std::vector<float> ps(3 * n), pr(3 * (n + 1)), fs(n), fr(n + 1);
+    std::size_t checked = 0;
+    for (double t : {1.0, 4.5}) {
+        evaluate_jeschke_breakers(b, t, ps);
+        evaluate_jeschke_breakers(r, t, pr);
+        jeschke_foam(b, t, fs);
+        jeschke_foam(r, t, fr);
+        for (std::size_t v = 0; v < n; ++v) {
+            if (!std::isfinite(b.break_phase[v])) continue;  // interpolated rays that never break stay round
+            ++checked;
+            for (int k = 0; k < 3; ++k) ASSERT_NEAR(pr[3 * v + k], ps[3 * v + k], 2e-3) << "vertex " << v;
+            ASSERT_NEAR(fr[v], fs[v], 1e-4);
+        }
+        EXPECT_EQ(pr[3 * n], -500.0f);
+        EXPECT_EQ(pr[3 * n + 2], 0.0f);
+        EXPECT_EQ(fr[n], 0.0f);
+    }
+    EXPECT_GT(checked, 10000u);
+}
+
+TEST(VertexNormals, ParallelGatherEqualsTheSerialSumBitForBit) {
+    // Jeschke §5's accumulated face normals on the breaking beach (overhanging lips,
+    // folded faces): the parallel version adds the same floats in the same order.
+    const Scene scene = parse_scene(kBeach, "beach.json", ".");
+    const ScenePlan plan = plan_scene(scene);
+    const std::size_t n = plan.breakers.vertex_count();
+    std::vector<float> p(3 * n), serial(3 * n), parallel(3 * n);
+    const VertexFaces adjacency = vertex_faces(n, plan.strips.triangles);
+    for (double t : {0.0, 2.7, 5.1}) {
+        evaluate_jeschke_breakers(plan.breakers, t, p);
+        vertex_normals(p, plan.strips.triangles, serial);
+        vertex_normals(p, plan.strips.triangles, adjacency, parallel);
+        ASSERT_EQ(std::memcmp(serial.data(), parallel.data(), serial.size() * sizeof(float)), 0) << "t = " << t;
+    }
+    EXPECT_THROW(vertex_normals(p, plan.strips.triangles, vertex_faces(n - 1, std::span(plan.strips.triangles).first(0)), parallel),
+                 InputError);
 }

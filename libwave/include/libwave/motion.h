@@ -183,6 +183,14 @@ struct JeschkeMotionPlan {
 JeschkeMotionPlan plan_jeschke_breakers(const RayStrips& strips, double deep_height, double deep_wavelength,
                                         const JeschkeBreakerOptions& options = {});
 
+/// The breakers at other points of the water — e.g. a camera grid: every per-vertex
+/// field interpolated linearly from the strip triangle holding the point (the first
+/// by index where strips overlap at caustics; a ray that never breaks wins over
+/// interpolation), points off the strips at rest and without foam. Parallel;
+/// independent of the thread count.
+JeschkeMotionPlan resample_jeschke_breakers(const JeschkeMotionPlan& plan, std::span<const std::uint32_t> triangles,
+                                            std::span<const double> x, std::span<const double> y);
+
 /// Vertex positions at time t (3 floats per vertex, z up): each vertex lies in the
 /// unit shape of the crest nearest to it in phase (crests pass a vertex when
 /// ωt − Φ ≡ 0 mod 2π), at s = ½ − δ/2π, moved along its ray by (1 − y − s)·W and up by

@@ -66,6 +66,9 @@ struct Scene {
     /// Jeschke's procedural breakers instead of Gonzato's profile (ray strips only),
     /// parametrised from the traced rays; their foam replaces the breaking foam.
     std::optional<JeschkeBreakerOptions> breakers;
+    /// Hinsinger's camera-projected grid as the surface (with breakers): sampled from
+    /// the camera at /camera/position (or the default camera) instead of the strips.
+    std::optional<GridCamera> camera_grid;
     /// Tessendorf's FFT wind waves: the surface itself (kind ocean) or superposed on the
     /// traced swell, scaled by wind_sea_depth_factor so they calm down over the shelf.
     /// A repeat time of 0 in a scene means: the multiple of the swell's loop nearest
@@ -126,7 +129,8 @@ struct ScenePlan {
     FrontSet fronts;          ///< ray strips: Gonzato's fronts
     RayStrips strips;         ///< ray strips: the tessellated surface
     GonzatoMotionPlan motion; ///< ray strips: the profile's per-vertex shapes
-    JeschkeMotionPlan breakers; ///< ray strips with Scene::breakers: the breakers' plan
+    JeschkeMotionPlan breakers; ///< ray strips with Scene::breakers: the breakers' plan (on the camera grid if any)
+    CameraGrid camera_grid;     ///< Scene::camera_grid: the sampled points (empty otherwise)
     OceanPlan ocean;          ///< the FFT ocean (kind ocean, or superposed); n = 0 when none
     std::vector<GerstnerWave> gerstner;  ///< with ω quantised to the loop
     std::vector<std::uint32_t> patch_triangles;  ///< kind ocean: the patch's (N+1)² grid

@@ -30,6 +30,20 @@ namespace wave {
 void vertex_normals(std::span<const float> positions, std::span<const std::uint32_t> triangles,
                     std::span<float> normals) noexcept;
 
+/// The triangles touching each vertex, in increasing order (compressed rows: vertex v's
+/// are faces[offsets[v] .. offsets[v + 1])), built once per topology.
+struct VertexFaces {
+    std::vector<std::uint32_t> offsets, faces;
+};
+VertexFaces vertex_faces(std::size_t vertex_count, std::span<const std::uint32_t> triangles);
+
+/// The same normals, bit for bit, in parallel (TBB): the triangles' cross products
+/// first (one float triple per triangle, allocated here), then each vertex gathers its
+/// own in the order the serial version adds them, so the result does not depend on
+/// the thread count either. Throws InputError when `adjacency` is for another size.
+void vertex_normals(std::span<const float> positions, std::span<const std::uint32_t> triangles,
+                    const VertexFaces& adjacency, std::span<float> normals);
+
 enum class FresnelModel {
     exact,  ///< unpolarised Fresnel from cosines (Tessendorf eq. 44)
     tso,    ///< Ts'o–Barsky's parabola in the incidence angle (§4.2.3), air → water only

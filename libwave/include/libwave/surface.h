@@ -19,6 +19,8 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <limits>
+#include <array>
 #include <vector>
 
 namespace wave {
@@ -49,6 +51,35 @@ struct HeightFieldOptions {
 /// Triangles of a row-major grid of nx × ny vertices (2 per cell, counter-clockwise
 /// seen from +z): the topology of the height field and of the ocean patch.
 std::vector<std::uint32_t> grid_triangles(std::size_t nx, std::size_t ny);
+
+/// Hinsinger, Neyret & Cani's view-dependent sampling (Jeschke §5): a ray from the
+/// camera through every `pixel_step`-th pixel of the image, met with the still-water
+/// plane z = 0. The camera looks from `position` at `look_at` with z up and no roll.
+struct GridCamera {
+    std::array<double, 3> position{0.0, -50.0, 20.0};
+    std::array<double, 3> look_at{0.0, 0.0, 0.0};
+    double vertical_fov_degrees = 50.0;
+    std::size_t image_width = 1024, image_height = 768;
+    std::size_t pixel_step = 4;
+    /// Pixel rows whose rays meet the water further than this (or above the horizon)
+    /// are left out (m).
+    double max_distance = std::numeric_limits<double>::infinity();
+};
+
+/// The sampled still-water points (row-major, `columns` per row, near rows last) and
+/// their triangles (counter-clockwise seen from +z). Uniform in screen space: dense
+/// near the camera, sparse towards the horizon.
+struct CameraGrid {
+    std::vector<double> x, y;
+    std::vector<std::uint32_t> triangles;
+    std::size_t columns = 0, rows = 0;
+    std::size_t vertex_count() const noexcept { return x.size(); }
+};
+
+/// Throws InputError naming the value when the camera is at or below the water,
+/// looks nowhere, has a field of view outside (0, 170)°, an empty image or step, or
+/// when fewer than two pixel rows see the water.
+CameraGrid camera_grid(const GridCamera& camera);
 
 /// Least common multiple of periods that are rational multiples of each other (each
 /// ratio to the first a fraction p/q with q <= 1000 within 1e-9), or 0 when none exists.

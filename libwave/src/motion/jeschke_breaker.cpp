@@ -250,6 +250,97 @@ JeschkeMotionPlan plan_jeschke_breakers(const RayStrips& strips, double deep_hei
     return p;
 }
 
+JeschkeMotionPlan resample_jeschke_breakers(const JeschkeMotionPlan& src, std::span<const std::uint32_t> triangles,
+                                            std::span<const double> x, std::span<const double> y) {
+    if (x.size() != y.size()) throw InputError("resample breakers: x and y differ in length");
+    const std::size_t n = x.size(), nt = triangles.size() / 3;
+    JeschkeMotionPlan p;
+    p.omega = src.omega;
+    p.foam_fade_time = src.foam_fade_time;
+    p.rays = src.rays;
+    p.x.assign(x.begin(), x.end());
+    p.y.assign(y.begin(), y.end());
+    p.dir_x.assign(n, 1.0);
+    p.dir_y.assign(n, 0.0);
+    p.phase.assign(n, 0.0);
+    constexpr float never = std::numeric_limits<float>::infinity();
+    for (auto* f : {&p.width, &p.scale, &p.mean_level, &p.rise, &p.breaking_length, &p.curl, &p.foam_yield}) f->assign(n, 0.0f);
+    p.break_phase.assign(n, never);
+    p.end_phase.assign(n, never);
+    if (nt == 0 || n == 0) return p;
+
+    // A bucket grid over the strips: each cell lists the triangles whose bounding box
+    // meets it, in index order (compressed rows).
+    double x0 = src.x[0], x1 = x0, y0 = src.y[0], y1 = y0;
+    for (std::size_t v = 0; v < src.vertex_count(); ++v) {
+        x0 = std::min(x0, src.x[v]);
+        x1 = std::max(x1, src.x[v]);
+        y0 = std::min(y0, src.y[v]);
+        y1 = std::max(y1, src.y[v]);
+    }
+    const double cell = std::max(2.0 * std::sqrt((x1 - x0) * (y1 - y0) / static_cast<double>(nt)),
+                                 std::max(x1 - x0, y1 - y0) / 2048.0) + 1e-12;
+    const std::size_t cx = static_cast<std::size_t>((x1 - x0) / cell) + 1, cy = static_cast<std::size_t>((y1 - y0) / cell) + 1;
+    const auto cell_of = [&](double v, double lo, std::size_t count) {
+        return static_cast<std::size_t>(std::clamp((v - lo) / cell, 0.0, static_cast<double>(count - 1)));
+    };
+    std::vector<std::uint32_t> start(cx * cy + 1, 0), items;
+    for (int pass = 0; pass < 2; ++pass) {
+        std::vector<std::uint32_t> fill(pass ? start.begin() : start.end(), start.end());
+        if (pass) items.resize(start.back());
+        for (std::size_t t = 0; t < nt; ++t) {
+            const std::uint32_t a = triangles[3 * t], b = triangles[3 * t + 1], c = triangles[3 * t + 2];
+            const std::size_t i0 = cell_of(std::min({src.x[a], src.x[b], src.x[c]}), x0, cx),
+                              i1 = cell_of(std::max({src.x[a], src.x[b], src.x[c]}), x0, cx),
+                              j0 = cell_of(std::min({src.y[a], src.y[b], src.y[c]}), y0, cy),
+                              j1 = cell_of(std::max({src.y[a], src.y[b], src.y[c]}), y0, cy);
+            for (std::size_t j = j0; j <= j1; ++j)
+                for (std::size_t i = i0; i <= i1; ++i) {
+                    if (pass == 0) ++start[j * cx + i + 1];
+                    else items[fill[j * cx + i]++] = static_cast<std::uint32_t>(t);
+                }
+        }
+        if (pass == 0)
+            for (std::size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
+    }
+
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t v = r.begin(); v != r.end(); ++v) {
+            const double px = x[v], py = y[v];
+            if (px < x0 || px > x1 || py < y0 || py > y1) continue;
+            const std::size_t k = cell_of(py, y0, cy) * cx + cell_of(px, x0, cx);
+            for (std::uint32_t i = start[k]; i < start[k + 1]; ++i) {
+                const std::size_t t = items[i];
+                const std::uint32_t a = triangles[3 * t], b = triangles[3 * t + 1], c = triangles[3 * t + 2];
+                const double ux = src.x[b] - src.x[a], uy = src.y[b] - src.y[a], wx = src.x[c] - src.x[a], wy = src.y[c] - src.y[a];
+                const double d = ux * wy - uy * wx;
+                if (d == 0.0) continue;
+                const double qx = px - src.x[a], qy = py - src.y[a];
+                const double wb = (qx * wy - qy * wx) / d, wc = (ux * qy - uy * qx) / d, wa = 1.0 - wb - wc;
+                constexpr double eps = -1e-9;
+                if (wa < eps || wb < eps || wc < eps) continue;
+                const auto mix = [&](const auto& f) { return wa * f[a] + wb * f[b] + wc * f[c]; };
+                const auto mixf = [&](const std::vector<float>& f) {
+                    // A ray that never breaks (+inf) keeps the point round.
+                    if (!std::isfinite(f[a]) || !std::isfinite(f[b]) || !std::isfinite(f[c])) return never;
+                    return static_cast<float>(mix(f));
+                };
+                p.phase[v] = mix(src.phase);
+                const double dx = mix(src.dir_x), dy = mix(src.dir_y), dl = std::hypot(dx, dy);
+                if (dl > 0.0) p.dir_x[v] = dx / dl, p.dir_y[v] = dy / dl;
+                for (auto [to, from] : {std::pair{&p.width, &src.width}, {&p.scale, &src.scale}, {&p.mean_level, &src.mean_level},
+                                        {&p.rise, &src.rise}, {&p.breaking_length, &src.breaking_length},
+                                        {&p.curl, &src.curl}, {&p.foam_yield, &src.foam_yield}})
+                    (*to)[v] = static_cast<float>(mix(*from));
+                p.break_phase[v] = mixf(src.break_phase);
+                p.end_phase[v] = mixf(src.end_phase);
+                break;
+            }
+        }
+    });
+    return p;
+}
+
 void evaluate_jeschke_breakers(const JeschkeMotionPlan& p, double t, std::span<float> positions) {
     const std::size_t n = p.vertex_count();
     if (positions.size() != 3 * n)
@@ -258,6 +349,12 @@ void evaluate_jeschke_breakers(const JeschkeMotionPlan& p, double t, std::span<f
     const double wt = p.omega * t;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t v = r.begin(); v != r.end(); ++v) {
+            if (p.width[v] == 0.0f) {  // dry, or off the traced water: at rest
+                positions[3 * v] = static_cast<float>(p.x[v]);
+                positions[3 * v + 1] = static_cast<float>(p.y[v]);
+                positions[3 * v + 2] = -p.mean_level[v];
+                continue;
+            }
             // δ ∈ [−π, π): how far the nearest crest ψ = ωt − 2πm has run past this vertex.
             const double delta = wt - p.phase[v] - two_pi * std::floor((wt - p.phase[v] + pi) / two_pi);
             const double psi = p.phase[v] + delta, s = 0.5 - delta / two_pi;

@@ -192,14 +192,35 @@ void read_trace(const Node& n, Scene& s) {
 
 void read_surface(const Node& n, Scene& s) {
     n.require_object({"kind", "grid", "samples_per_span", "footprint", "footprint_radius", "tension_per_metre",
-                      "max_tension", "repeat_time", "max_vertices"});
+                      "max_tension", "repeat_time", "max_vertices", "camera_grid"});
     if (n.has("kind"))
         s.surface_kind = n["kind"].choice<SurfaceKind>({{"ray-strips", SurfaceKind::ray_strips},
                                                         {"height-field", SurfaceKind::height_field},
                                                         {"ocean", SurfaceKind::ocean}});
+    if (n.has("camera_grid")) {
+        // Hinsinger's screen-space sampling (Jeschke §5); the camera stands at /camera/position.
+        const Node c = n["camera_grid"];
+        if (s.surface_kind != SurfaceKind::ray_strips) c.fail("only for the ray-strips surface with /breakers");
+        c.require_object({"look_at", "vertical_fov_degrees", "image", "pixel_step", "max_distance"});
+        GridCamera g;
+        if (c.has("look_at")) {
+            const auto v = c["look_at"].numbers(3, "m");
+            g.look_at = {v[0], v[1], v[2]};
+        }
+        if (c.has("vertical_fov_degrees")) g.vertical_fov_degrees = c["vertical_fov_degrees"].positive("degrees");
+        if (c.has("image")) {
+            const Node im = c["image"];
+            if (!im.value().is_array() || im.size() != 2) im.fail("expected [width, height] in pixels");
+            g.image_width = im[std::size_t{0}].count(2);
+            g.image_height = im[1].count(2);
+        }
+        if (c.has("pixel_step")) g.pixel_step = c["pixel_step"].count(1);
+        if (c.has("max_distance")) g.max_distance = c["max_distance"].positive("m");
+        s.camera_grid = g;
+    }
     if (s.surface_kind != SurfaceKind::height_field)
         for (const auto& [key, _] : n.value().items())
-            if (key != "kind")
+            if (key != "kind" && key != "camera_grid")
                 n[key.c_str()].fail(std::string("a height-field option; this scene's surface kind is \"") +
                                     (s.surface_kind == SurfaceKind::ocean ? "ocean\" (set /ocean instead)" : "ray-strips\""));
     HeightFieldOptions& o = s.surface;
@@ -401,6 +422,8 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
         if (root.has("motion")) root["motion"].fail("not with /breakers: the breakers replace Gonzato's profile");
         s.breakers = read_breakers(root["breakers"]);
     }
+    if (s.camera_grid && !s.breakers)
+        root["surface"]["camera_grid"].fail("needs /breakers (the camera grid samples Jeschke's breakers)");
     if (root.has("fronts")) read_fronts(root["fronts"], s.fronts);
     if (root.has("motion")) read_profile(root["motion"], s.profile);
     if (root.has("camera")) {
@@ -577,6 +600,9 @@ void plan_components(const Scene& scene, ScenePlan& p) {
                 p.rest_x.push_back(p.ocean.spacing() * static_cast<double>(col));
                 p.rest_y.push_back(p.ocean.spacing() * static_cast<double>(row));
             }
+    } else if (scene.surface_kind == SurfaceKind::ray_strips && p.camera_grid.vertex_count() > 0) {
+        p.rest_x = p.camera_grid.x;
+        p.rest_y = p.camera_grid.y;
     } else if (scene.surface_kind == SurfaceKind::ray_strips) {
         p.rest_x = p.motion.x;
         p.rest_y = p.motion.y;
@@ -640,6 +666,12 @@ ScenePlan plan_scene(const Scene& scene, PlanStages stages) {
                 o.breaker_index = scene.trace.breaker_index;
                 const WaveTrain& w = scene.waves[0];
                 p.breakers = plan_jeschke_breakers(p.strips, 2.0 * w.amplitude, kGravity * w.period * w.period / (2.0 * std::numbers::pi), o);
+                if (scene.camera_grid) {
+                    GridCamera c = *scene.camera_grid;
+                    c.position = scene_camera(scene, p.seafloor);
+                    p.camera_grid = camera_grid(c);
+                    p.breakers = resample_jeschke_breakers(p.breakers, p.strips.triangles, p.camera_grid.x, p.camera_grid.y);
+                }
             }
             plan_components(scene, p);
         }
@@ -698,7 +730,10 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
                          " holds no frame of the loop's 0:" + std::to_string(a.loop_frames));
     a.first_frame = range.first;
     a.frame_count = end - range.first;
-    a.triangles = ocean_kind ? plan.patch_triangles : strips ? plan.strips.triangles : sp.triangles;
+    a.triangles = ocean_kind                            ? plan.patch_triangles
+                  : plan.camera_grid.vertex_count() > 0 ? plan.camera_grid.triangles
+                  : strips                              ? plan.strips.triangles
+                                                        : sp.triangles;
     const std::size_t n = a.vertex_count;
     const bool shaded = scene.attributes != Scene::Attributes::none;
     const double bytes_per_vertex = 24.0 + (shaded ? 12.0 : 0.0) + (scene.color ? 12.0 : 0.0);
@@ -757,6 +792,7 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
             sample_ocean_field(plan.ocean, lattice_j, plan.rest_x, plan.rest_y, plan.wind_sea_scale, out);
         }
     };
+    const VertexFaces adjacency = vertex_faces(n, a.triangles);  // normals gathered in parallel
     a.z_min = std::numeric_limits<float>::infinity();
     a.z_max = -std::numeric_limits<float>::infinity();
     for (std::size_t f = 0; f < a.frame_count; ++f) {
@@ -781,7 +817,7 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
             }
         }
         if (!plan.gerstner.empty()) add_gerstner_waves(plan.gerstner, plan.rest_x, plan.rest_y, plan.rest_depth, t, p);
-        if (!normals_done) vertex_normals(p, a.triangles, nr);
+        if (!normals_done) vertex_normals(p, a.triangles, adjacency, nr);
         for (std::size_t v = 0; v < n; ++v) {
             a.z_min = std::min(a.z_min, p[3 * v + 2]);
             a.z_max = std::max(a.z_max, p[3 * v + 2]);
