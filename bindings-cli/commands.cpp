@@ -446,6 +446,10 @@ int run_job(const RunArgs& a) {
     if (strips && scene.breakers) surface["breakers"] = breakers_summary(plan.breakers);
     if (plan.camera_grid.vertex_count() > 0)
         surface["camera_grid"] = {{"columns", plan.camera_grid.columns}, {"rows", plan.camera_grid.rows}};
+    if (scene.refine)
+        surface["refine"] = {{"scheme", scene.refine->scheme == RefineScheme::loop ? "loop" : "catmull-clark"},
+                             {"level", scene.refine->level},
+                             {"coarse_vertices", plan.rest_x.size()}};
     json report{{"libwave", version()},
                 {"scene", scene.name},
                 {"seafloor", {{"source", plan.seafloor.source}, {"nodes", {st.nx, st.ny}}, {"depth_range_m", {st.depth_min, st.depth_max}}}},
@@ -498,19 +502,22 @@ int run_job(const RunArgs& a) {
               << "seafloor   " << plan.seafloor.source << ", " << st.nx << " x " << st.ny << " nodes, depth "
               << st.depth_min << " .. " << st.depth_max << " m\n";
     if (!ocean_kind) std::cout << "isobaths   " << plan.isobaths.size() << " polylines (CGAL slicer)\n";
+    const std::size_t coarse_vertices = plan.rest_x.size();
     if (ocean_kind)
         std::cout << "surface    ocean patch: " << plan.ocean.n << "² FFT (Tessendorf) over " << plan.ocean.size << " m -> "
-                  << anim.vertex_count << " vertices, " << anim.triangles.size() / 3 << " triangles, Hs "
-                  << 4.0 * std::sqrt(plan.ocean.expected_variance) << " m\n";
+                  << coarse_vertices << " vertices, Hs " << 4.0 * std::sqrt(plan.ocean.expected_variance) << " m\n";
     else if (strips)
         std::cout << "fronts     " << plan.fronts.initial_rays << " rays + " << plan.fronts.inserted_rays << " inserted, "
                   << plan.fronts.front_count() - 1 << " steps, " << plan.fronts.rays_aground << " aground (Gonzato)\n"
                   << "surface    ray strips: " << plan.strips.vertex_count() << " vertices, " << plan.strips.triangle_count()
                   << " triangles; " << (scene.breakers ? "Jeschke's breakers" : "Gonzato's plunging profile") << '\n';
+    else
+        std::cout << "rays       " << plan.rays.ray_count() << " traced (Ts'o-Barsky, exact isobath crossings)\n"
+                  << "surface    " << plan.surface.nx << " x " << plan.surface.ny << " Beta2-spline control grid -> "
+                  << coarse_vertices << " vertices\n";
     if (plan.camera_grid.vertex_count() > 0)
         std::cout << "sampled    camera grid (Hinsinger): " << plan.camera_grid.columns << " x " << plan.camera_grid.rows
-                  << " points seeing the water -> " << anim.vertex_count << " vertices, " << anim.triangles.size() / 3
-                  << " triangles\n";
+                  << " points seeing the water, " << plan.camera_grid.triangles.size() / 3 << " triangles\n";
     if (strips && scene.breakers) {
         const json b = breakers_summary(plan.breakers);
         std::cout << "breakers   " << b["breaking_rays"].get<std::size_t>() << " of " << b["rays"].get<std::size_t>()
@@ -520,10 +527,12 @@ int run_job(const RunArgs& a) {
                       << " m of water (H = γh), " << b["breaker_types"].dump();
         std::cout << '\n';
     }
+    if (scene.refine)
+        std::cout << "refined    OpenSubdiv " << (scene.refine->scheme == RefineScheme::loop ? "Loop" : "Catmull-Clark")
+                  << ", level " << scene.refine->level << ": " << coarse_vertices << " -> " << anim.vertex_count
+                  << " vertices, " << anim.triangles.size() / 3 << " triangles (stencils applied per frame)\n";
     else
-        std::cout << "rays       " << plan.rays.ray_count() << " traced (Ts'o-Barsky, exact isobath crossings)\n"
-                  << "surface    " << plan.surface.nx << " x " << plan.surface.ny << " Beta2-spline control grid -> "
-                  << anim.vertex_count << " vertices, " << anim.triangles.size() / 3 << " triangles\n";
+        std::cout << "mesh       " << anim.vertex_count << " vertices, " << anim.triangles.size() / 3 << " triangles\n";
     std::cout << "animation  " << frames << " frames at " << scene.fps << " fps, loop " << plan.loop_period
               << " s, heights " << anim.z_min << " .. " << anim.z_max << " m\n"
               << "time       plan " << ms(t1 - t0) << " ms, frames " << ms(t2 - t1) / static_cast<double>(std::max<std::size_t>(frames, 1))

@@ -4,6 +4,7 @@
 import json
 import os
 import pathlib
+import shutil
 import struct
 import subprocess
 import sys
@@ -682,6 +683,29 @@ class WindWaves(unittest.TestCase):
         r = wave("run", os.path.join(EXAMPLES, name), "-o", out, "--frames", "0:2", "--json")
         self.assertEqual(r.returncode, 0, r.stderr)
         return json.loads(r.stdout)
+
+    def test_refined_surfaces_validate(self):
+        # OpenSubdiv on the default bay's strips and on Jeschke's breakers: Loop level 1
+        # has four times the triangles; the files validate and carry the refined mesh.
+        with tempfile.TemporaryDirectory() as d:
+            for extra in [{}, {"breakers": "jeschke"}]:
+                scene = dict(MainJob.SMALL, refine={"scheme": "loop", "level": 1}, **extra)
+                path, out = os.path.join(d, "r.json"), os.path.join(d, "out")
+                with open(path, "w") as f:
+                    json.dump(scene, f)
+                r = wave("run", path, "-o", out, "--frames", "0:2", "--fps", "4", "--json")
+                self.assertEqual(r.returncode, 0, r.stderr)
+                report = json.loads(r.stdout)
+                self.assertEqual(report["surface"]["refine"]["level"], 1)
+                coarse = report["surface"]["refine"]["coarse_vertices"]
+                self.assertEqual(report["surface"]["triangles"], 4 * report["trace"]["triangles"])
+                self.assertGreater(report["surface"]["vertices"], 3 * coarse)
+                glb = os.path.join(out, "animation-frames-0-2.glb")
+                validate_gltf(self, glb)
+                doc, _ = read_glb(glb)
+                self.assertEqual(doc["accessors"][doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"]]["count"],
+                                 report["surface"]["vertices"])
+                shutil.rmtree(out)
 
     def test_breaking_examples(self):
         # Jeschke's breakers parametrised from the traced rays: the planar beach breaks

@@ -69,6 +69,9 @@ struct Scene {
     /// Hinsinger's camera-projected grid as the surface (with breakers): sampled from
     /// the camera at /camera/position (or the default camera) instead of the strips.
     std::optional<GridCamera> camera_grid;
+    /// OpenSubdiv refinement of the surface (any kind); the exported mesh is the refined one.
+    std::optional<RefineOptions> refine;
+    std::size_t max_refined_vertices = 50'000'000;  ///< refuse refinements above this (LimitError)
     /// Tessendorf's FFT wind waves: the surface itself (kind ocean) or superposed on the
     /// traced swell, scaled by wind_sea_depth_factor so they calm down over the shelf.
     /// A repeat time of 0 in a scene means: the multiple of the swell's loop nearest
@@ -131,6 +134,7 @@ struct ScenePlan {
     GonzatoMotionPlan motion; ///< ray strips: the profile's per-vertex shapes
     JeschkeMotionPlan breakers; ///< ray strips with Scene::breakers: the breakers' plan (on the camera grid if any)
     CameraGrid camera_grid;     ///< Scene::camera_grid: the sampled points (empty otherwise)
+    Refinement refinement;      ///< Scene::refine: refined topology + stencils (fine_vertices = 0 when none)
     OceanPlan ocean;          ///< the FFT ocean (kind ocean, or superposed); n = 0 when none
     std::vector<GerstnerWave> gerstner;  ///< with ω quantised to the loop
     std::vector<std::uint32_t> patch_triangles;  ///< kind ocean: the patch's (N+1)² grid

@@ -81,6 +81,46 @@ struct CameraGrid {
 /// when fewer than two pixel rows see the water.
 CameraGrid camera_grid(const GridCamera& camera);
 
+// ---------------------------------------------------------------------------------
+// Subdivision (OpenSubdiv): any triangle surface refined once per scene
+// ---------------------------------------------------------------------------------
+
+enum class RefineScheme {
+    loop,           ///< Loop: triangles stay triangles (4 per level)
+    catmull_clark,  ///< Catmull–Clark: each triangle becomes 3 quads, then 4 per level; split into 2 triangles each
+};
+
+struct RefineOptions {
+    RefineScheme scheme = RefineScheme::loop;
+    int level = 1;  ///< uniform refinement levels, 1 … 6
+};
+
+/// The refined topology of a triangle mesh and the stencils that give each refined
+/// vertex as a weighted sum of the coarse ones (OpenSubdiv Far::StencilTable, boundary
+/// edges and corners kept sharp). Built once; frames only apply the stencils.
+struct Refinement {
+    std::size_t coarse_vertices = 0, fine_vertices = 0;
+    std::vector<std::uint32_t> triangles;                ///< of the refined mesh, same orientation
+    std::vector<std::uint32_t> stencil_offsets;          ///< fine_vertices + 1 (compressed rows)
+    std::vector<std::uint32_t> stencil_indices;          ///< coarse vertex of each weight
+    std::vector<float> stencil_weights;
+    std::size_t triangle_count() const noexcept { return triangles.size() / 3; }
+};
+
+/// Throws InputError for a level outside 1 … 6, an index out of range, or a topology
+/// OpenSubdiv rejects (non-manifold), and LimitError when the refined mesh would
+/// exceed `max_vertices` (naming the level that fits).
+Refinement plan_refinement(std::size_t vertex_count, std::span<const std::uint32_t> triangles, const RefineOptions& options,
+                           std::size_t max_vertices = 50'000'000);
+
+/// fine[i·c + k] = Σ_j w_ij coarse[j·c + k] for c = `components` per vertex (3 for
+/// positions, 1 for foam). Parallel over refined vertices; each is computed alone, so
+/// the result does not depend on the thread count. Throws InputError on sizes.
+void apply_refinement(const Refinement& refinement, std::span<const float> coarse, std::size_t components,
+                      std::span<float> fine);
+void apply_refinement(const Refinement& refinement, std::span<const double> coarse, std::size_t components,
+                      std::span<double> fine);
+
 /// Least common multiple of periods that are rational multiples of each other (each
 /// ratio to the first a fraction p/q with q <= 1000 within 1e-9), or 0 when none exists.
 double loop_period(std::span<const double> periods);

@@ -293,6 +293,18 @@ JeschkeBreakerOptions read_breakers(const Node& n) {
     return o;
 }
 
+RefineOptions read_refine(const Node& n) {
+    n.require_object({"scheme", "level"});
+    RefineOptions o;
+    if (n.has("scheme"))
+        o.scheme = n["scheme"].choice<RefineScheme>({{"loop", RefineScheme::loop}, {"catmull-clark", RefineScheme::catmull_clark}});
+    if (n.has("level")) {
+        o.level = static_cast<int>(n["level"].count(1));
+        if (o.level > 6) n["level"].fail("expected 1 … 6 levels (each multiplies the triangles by 4), got " + std::to_string(o.level));
+    }
+    return o;
+}
+
 void read_ocean(const Node& n, OceanOptions& o, const std::string& origin) {
     n.require_object({"resolution", "size", "spectrum", "wind_speed", "wind_direction", "directional_exponent",
                       "against_wind", "phillips_constant", "small_wave_cutoff", "fetch", "peak_enhancement", "depth",
@@ -370,7 +382,7 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     }
     const Node root(doc, "", origin);
     root.require_object({"name", "seafloor", "isobaths", "waves", "trace", "surface", "fronts", "motion", "camera",
-                         "shade", "outputs", "animation", "ocean", "gerstner", "breakers"});
+                         "shade", "outputs", "animation", "ocean", "gerstner", "breakers", "refine"});
     Scene s;
     if (root.has("name")) s.name = root["name"].string();
     if (root.has("surface")) read_surface(root["surface"], s);
@@ -424,6 +436,7 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     }
     if (s.camera_grid && !s.breakers)
         root["surface"]["camera_grid"].fail("needs /breakers (the camera grid samples Jeschke's breakers)");
+    if (root.has("refine")) s.refine = read_refine(root["refine"]);
     if (root.has("fronts")) read_fronts(root["fronts"], s.fronts);
     if (root.has("motion")) read_profile(root["motion"], s.profile);
     if (root.has("camera")) {
@@ -636,6 +649,14 @@ void plan_components(const Scene& scene, ScenePlan& p) {
     if (gerstner_steepness(p.gerstner) >= 1.0)
         p.warnings.push_back("the Gerstner waves' Σ k A = " + fmt(gerstner_steepness(p.gerstner)) +
                              " >= 1: crests may loop over themselves (Tessendorf §3.1); lower the amplitudes");
+    // Subdivision: the surface's topology refined once; frames apply the stencils.
+    if (scene.refine) {
+        const std::vector<std::uint32_t>& coarse = ocean_kind                          ? p.patch_triangles
+                                                   : p.camera_grid.vertex_count() > 0 ? p.camera_grid.triangles
+                                                   : scene.surface_kind == SurfaceKind::ray_strips ? p.strips.triangles
+                                                                                                    : p.surface.triangles;
+        p.refinement = plan_refinement(p.rest_x.size(), coarse, *scene.refine, scene.max_refined_vertices);
+    }
 }
 
 }  // namespace
@@ -721,7 +742,10 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
     SceneAnimation a;
     a.fps = scene.fps;
     a.scene = scene.name;
-    a.vertex_count = plan.rest_x.size();
+    // The surface's own vertices (coarse), and with /refine the subdivided ones.
+    const std::size_t nc = plan.rest_x.size();
+    const Refinement* refined = plan.refinement.fine_vertices > 0 ? &plan.refinement : nullptr;
+    a.vertex_count = refined ? refined->fine_vertices : nc;
     a.loop_frames = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(plan.loop_period * scene.fps)));
     const std::size_t end = std::min(range.end, a.loop_frames);
     if (range.first >= end)
@@ -730,7 +754,8 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
                          " holds no frame of the loop's 0:" + std::to_string(a.loop_frames));
     a.first_frame = range.first;
     a.frame_count = end - range.first;
-    a.triangles = ocean_kind                            ? plan.patch_triangles
+    a.triangles = refined                               ? refined->triangles
+                  : ocean_kind                          ? plan.patch_triangles
                   : plan.camera_grid.vertex_count() > 0 ? plan.camera_grid.triangles
                   : strips                              ? plan.strips.triangles
                                                         : sp.triangles;
@@ -778,8 +803,18 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
     if (wind_sea) {
         ocean_ws.emplace(plan.ocean.n);
         lattice_j.resize(plan.ocean.n * plan.ocean.n);
-        vertex_j.resize(n);
+        vertex_j.resize(nc);
     }
+    // With /refine every component is evaluated on the coarse surface, then the stencils
+    // carry positions, foam and depths to the refined one; normals and Fresnel are the
+    // refined mesh's own.
+    std::vector<float> coarse_p(refined ? 3 * nc : 0), coarse_nr(refined ? 3 * nc : 0), coarse_foam(refined ? nc : 0);
+    std::vector<float> fine_depth;
+    if (refined) {
+        fine_depth.resize(n);
+        apply_refinement(*refined, std::span<const float>(plan.rest_depth), 1, fine_depth);
+    }
+    const std::span<const float> depth_at_vertices = refined ? std::span<const float>(fine_depth) : std::span<const float>(plan.rest_depth);
     const auto to_vertices = [&](std::span<float> out) {  // lattice_j → J₋ per vertex
         if (ocean_kind) {  // the patch's (N+1)² vertices repeat the first row and column
             const std::size_t N = plan.ocean.n, side = N + 1;
@@ -797,26 +832,28 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
     a.z_max = -std::numeric_limits<float>::infinity();
     for (std::size_t f = 0; f < a.frame_count; ++f) {
         const std::span<float> p(&a.positions[3 * n * f], 3 * n), nr(&a.normals[3 * n * f], 3 * n);
+        const std::span<float> pc = refined ? std::span<float>(coarse_p) : p, nrc = refined ? std::span<float>(coarse_nr) : nr;
         const double t = static_cast<double>(a.first_frame + f) / scene.fps;
         bool normals_done = false;
         if (ocean_kind) {
             const OceanFields fields = evaluate_ocean(plan.ocean, t, *ocean_ws);
-            ocean_patch_frame(plan.ocean, fields, p, nr, vertex_j);  // exact normals from the FFT
-            normals_done = plan.gerstner.empty();
+            ocean_patch_frame(plan.ocean, fields, pc, nrc, vertex_j);  // exact normals from the FFT
+            normals_done = plan.gerstner.empty() && !refined;
         } else {
-            if (strips && scene.breakers) evaluate_jeschke_breakers(plan.breakers, t, p);
-            else if (strips) evaluate_gonzato_motion(plan.motion, t, p);
-            else evaluate_height_field(sp, t, heights, p);
+            if (strips && scene.breakers) evaluate_jeschke_breakers(plan.breakers, t, pc);
+            else if (strips) evaluate_gonzato_motion(plan.motion, t, pc);
+            else evaluate_height_field(sp, t, heights, pc);
             if (wind_sea) {
                 const OceanFields fields = evaluate_ocean(plan.ocean, t, *ocean_ws);
-                add_ocean_samples(plan.ocean, fields, plan.rest_x, plan.rest_y, plan.wind_sea_scale, p);
+                add_ocean_samples(plan.ocean, fields, plan.rest_x, plan.rest_y, plan.wind_sea_scale, pc);
                 if (shaded) {
                     ocean_jacobian_field(plan.ocean, fields, lattice_j);
                     to_vertices(vertex_j);
                 }
             }
         }
-        if (!plan.gerstner.empty()) add_gerstner_waves(plan.gerstner, plan.rest_x, plan.rest_y, plan.rest_depth, t, p);
+        if (!plan.gerstner.empty()) add_gerstner_waves(plan.gerstner, plan.rest_x, plan.rest_y, plan.rest_depth, t, pc);
+        if (refined) apply_refinement(*refined, pc, 3, p);
         if (!normals_done) vertex_normals(p, a.triangles, adjacency, nr);
         for (std::size_t v = 0; v < n; ++v) {
             a.z_min = std::min(a.z_min, p[3 * v + 2]);
@@ -824,36 +861,48 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
         }
         if (shaded) {
             const std::span<float> r(&a.reflect[n * f], n), tr(&a.refract[n * f], n), foam(&a.foam[n * f], n);
+            const std::span<float> fc = refined ? std::span<float>(coarse_foam) : foam;
+            if (refined) std::fill(fc.begin(), fc.end(), 0.0f);
             fresnel_weights(p, nr, fresnel, r, tr);
-            if (strips && scene.breakers) jeschke_foam(plan.breakers, t, foam);
-            else if (strips) breaking_foam(plan.strips, plan.motion, t, scene.foam, foam);
-            else if (!ocean_kind) height_field_foam(sp, node_depth, t, scene.foam, node_foam, foam);
+            if (strips && scene.breakers) jeschke_foam(plan.breakers, t, fc);
+            else if (strips) breaking_foam(plan.strips, plan.motion, t, scene.foam, fc);
+            else if (!ocean_kind) height_field_foam(sp, node_depth, t, scene.foam, node_foam, fc);
             if (wind_sea) {
-                accumulate_fold_foam(vertex_j, 0.0, scene.fold_foam, foam);
+                accumulate_fold_foam(vertex_j, 0.0, scene.fold_foam, fc);
                 double step = 0.0;
                 const auto lattice = fold_lattice(t, scene.fold_foam, plan.loop_period, step);
                 for (long long j : lattice) {
                     auto it = fold_past.find(j);
                     if (it == fold_past.end()) {
                         evaluate_ocean_jacobian(plan.ocean, static_cast<double>(j) * step, *ocean_ws, lattice_j);
-                        std::vector<float> past(n);
+                        std::vector<float> past(nc);
                         to_vertices(past);
                         it = fold_past.emplace(j, fold_sample(past, scene.fold_foam)).first;
                     }
-                    accumulate_fold_foam(it->second, t - static_cast<double>(j) * step, scene.fold_foam, foam);
+                    accumulate_fold_foam(it->second, t - static_cast<double>(j) * step, scene.fold_foam, fc);
                 }
                 if (!lattice.empty()) fold_past.erase(fold_past.begin(), fold_past.lower_bound(lattice.back()));
             }
-            if (scene.color) water_colour(r, plan.rest_depth, foam, WaterColours{}, std::span<float>(&a.colors[3 * n * f], 3 * n));
+            if (refined) apply_refinement(*refined, std::span<const float>(fc), 1, foam);
+            if (scene.color) water_colour(r, depth_at_vertices, foam, WaterColours{}, std::span<float>(&a.colors[3 * n * f], 3 * n));
         }
         if (progress) progress(f + 1, a.frame_count);
     }
     // TEXCOORD_0: the rest position over the seafloor's rectangle (the patch for the
     // ocean: it tiles), u along +x, v down (glTF's image origin is top-left).
+    std::vector<double> fine_x, fine_y;
+    if (refined) {
+        fine_x.resize(n);
+        fine_y.resize(n);
+        apply_refinement(*refined, std::span<const double>(plan.rest_x), 1, fine_x);
+        apply_refinement(*refined, std::span<const double>(plan.rest_y), 1, fine_y);
+    }
+    const std::vector<double>& rx = refined ? fine_x : plan.rest_x;
+    const std::vector<double>& ry = refined ? fine_y : plan.rest_y;
     a.texcoords.resize(2 * n);
     for (std::size_t v = 0; v < n; ++v) {
-        a.texcoords[2 * v] = static_cast<float>((plan.rest_x[v] - g.x0) / width);
-        a.texcoords[2 * v + 1] = static_cast<float>(1.0 - (plan.rest_y[v] - g.y0) / height);
+        a.texcoords[2 * v] = static_cast<float>((rx[v] - g.x0) / width);
+        a.texcoords[2 * v + 1] = static_cast<float>(1.0 - (ry[v] - g.y0) / height);
     }
     return a;
 }

@@ -1,0 +1,145 @@
+// OpenSubdiv refinement: counts, affine invariance (a plane stays a plane), the
+// domain's boundary kept, orientation, determinism, limits and scene wiring.
+#include <gtest/gtest.h>
+
+#include "libwave/errors.h"
+#include "libwave/scene.h"
+#include "libwave/surface.h"
+
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+using namespace wave;
+
+namespace {
+
+struct Grid {
+    std::vector<float> p;  // 3 per vertex
+    std::vector<std::uint32_t> tris;
+    std::size_t nx, ny;
+};
+
+// A tilted plane z = 0.3x − 0.2y + 1 sampled on an nx × ny grid of spacing 2 m.
+Grid plane(std::size_t nx, std::size_t ny) {
+    Grid g{{}, grid_triangles(nx, ny), nx, ny};
+    for (std::size_t j = 0; j < ny; ++j)
+        for (std::size_t i = 0; i < nx; ++i) {
+            const float x = 2.0f * static_cast<float>(i), y = 2.0f * static_cast<float>(j);
+            g.p.insert(g.p.end(), {x, y, 0.3f * x - 0.2f * y + 1.0f});
+        }
+    return g;
+}
+
+}  // namespace
+
+TEST(Refine, LoopCountsAndAPlaneStaysAPlane) {
+    const Grid g = plane(9, 7);
+    for (int level : {1, 2, 3}) {
+        const Refinement r = plan_refinement(g.nx * g.ny, g.tris, {RefineScheme::loop, level});
+        const std::size_t s = std::size_t{1} << level;
+        // Loop on a triangulated grid: every edge gets a midpoint each level.
+        EXPECT_EQ(r.fine_vertices, (s * (g.nx - 1) + 1) * (s * (g.ny - 1) + 1));
+        EXPECT_EQ(r.triangle_count(), g.tris.size() / 3 * s * s);
+        for (std::size_t v = 0; v < r.fine_vertices; ++v) {
+            double w = 0.0;
+            for (std::uint32_t i = r.stencil_offsets[v]; i < r.stencil_offsets[v + 1]; ++i) w += r.stencil_weights[i];
+            ASSERT_NEAR(w, 1.0, 1e-6) << "stencil " << v;  // affine: weights sum to one
+        }
+        std::vector<float> fine(3 * r.fine_vertices);
+        apply_refinement(r, g.p, 3, fine);
+        for (std::size_t v = 0; v < r.fine_vertices; ++v)
+            ASSERT_NEAR(fine[3 * v + 2], 0.3f * fine[3 * v] - 0.2f * fine[3 * v + 1] + 1.0f, 2e-5) << "vertex " << v;
+        // Counter-clockwise from +z like the coarse grid, no degenerate triangle.
+        for (std::size_t t = 0; t < r.triangle_count(); ++t) {
+            const auto a = 3 * r.triangles[3 * t], b = 3 * r.triangles[3 * t + 1], c = 3 * r.triangles[3 * t + 2];
+            ASSERT_GT((fine[b] - fine[a]) * (fine[c + 1] - fine[a + 1]) - (fine[c] - fine[a]) * (fine[b + 1] - fine[a + 1]), 1e-6f);
+        }
+        // The domain's corners stay where they are (boundary edges and corners sharp).
+        float xmax = 0, ymax = 0;
+        for (std::size_t v = 0; v < r.fine_vertices; ++v) {
+            xmax = std::max(xmax, fine[3 * v]);
+            ymax = std::max(ymax, fine[3 * v + 1]);
+        }
+        EXPECT_FLOAT_EQ(xmax, 16.0f);
+        EXPECT_FLOAT_EQ(ymax, 12.0f);
+    }
+}
+
+TEST(Refine, CatmullClarkSplitsTrianglesIntoQuadsThenTwoTriangles) {
+    const Grid g = plane(5, 4);
+    const std::size_t V = g.nx * g.ny, F = g.tris.size() / 3;
+    const std::size_t E = (g.nx - 1) * g.ny + g.nx * (g.ny - 1) + (g.nx - 1) * (g.ny - 1);  // + one diagonal per cell
+    const Refinement r = plan_refinement(V, g.tris, {RefineScheme::catmull_clark, 1});
+    EXPECT_EQ(r.fine_vertices, V + E + F);  // a point per vertex, edge and face
+    EXPECT_EQ(r.triangle_count(), 3 * F * 2);
+    std::vector<float> fine(3 * r.fine_vertices);
+    apply_refinement(r, g.p, 3, fine);
+    for (std::size_t v = 0; v < r.fine_vertices; ++v)
+        ASSERT_NEAR(fine[3 * v + 2], 0.3f * fine[3 * v] - 0.2f * fine[3 * v + 1] + 1.0f, 2e-5);
+}
+
+TEST(Refine, SmoothsACreaseAndIsIndependentOfTheThreadCount) {
+    Grid g = plane(21, 21);
+    for (std::size_t v = 0; v < g.p.size() / 3; ++v) g.p[3 * v + 2] = (v % 21 == 10) ? 1.0f : 0.0f;  // a ridge
+    const Refinement r = plan_refinement(21 * 21, g.tris, {RefineScheme::loop, 2});
+    std::vector<float> many(3 * r.fine_vertices), one(3 * r.fine_vertices);
+    apply_refinement(r, g.p, 3, many);
+    {
+        tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+        apply_refinement(r, g.p, 3, one);
+    }
+    EXPECT_EQ(std::memcmp(many.data(), one.data(), many.size() * sizeof(float)), 0);
+    float top = 0.0f;
+    for (std::size_t v = 0; v < r.fine_vertices; ++v) top = std::max(top, many[3 * v + 2]);
+    EXPECT_LT(top, 1.0f) << "an approximating scheme rounds the ridge";
+    EXPECT_GT(top, 0.3f);
+}
+
+TEST(Refine, RefusesBadLevelsAndHugeResultsBeforeAllocating) {
+    const Grid g = plane(101, 101);
+    EXPECT_THROW(plan_refinement(101 * 101, g.tris, {RefineScheme::loop, 0}), InputError);
+    EXPECT_THROW(plan_refinement(101 * 101, g.tris, {RefineScheme::loop, 7}), InputError);
+    try {
+        plan_refinement(101 * 101, g.tris, {RefineScheme::loop, 6}, 1'000'000);
+        FAIL() << "no LimitError";
+    } catch (const LimitError& e) {
+        EXPECT_NE(std::string(e.what()).find("use level 3"), std::string::npos) << e.what();
+    }
+    const std::vector<std::uint32_t> bad{0, 1, 99};
+    EXPECT_THROW(plan_refinement(3, bad, {}), InputError);
+}
+
+TEST(Refine, SceneRefinesTheExportedSurface) {
+    const char* text = R"({"seafloor": {"source": "gonzato-bay"}, "waves": [{"period": 5, "amplitude": 0.3}],
+      "trace": {"ray_spacing": 4}, "fronts": {"step": 1.5, "split_distance": 6},
+      "refine": {"scheme": "loop", "level": 1}, "animation": {"fps": 4}})";
+    const Scene scene = parse_scene(text, "r.json", ".");
+    const ScenePlan plan = plan_scene(scene);
+    const SceneAnimation a = animate_scene(scene, plan, 2e9, {0, 2});
+    EXPECT_EQ(a.vertex_count, plan.refinement.fine_vertices);
+    EXPECT_EQ(a.triangles.size(), 4 * plan.strips.triangles.size());
+    EXPECT_EQ(a.foam.size(), 2 * a.vertex_count);
+    // The coarse vertices' refined positions follow the coarse frame: stencils applied
+    // to the unrefined frame give the refined one.
+    Scene coarse_scene = scene;
+    coarse_scene.refine.reset();
+    const ScenePlan coarse_plan = plan_scene(coarse_scene);
+    const SceneAnimation c = animate_scene(coarse_scene, coarse_plan, 2e9, {1, 2});
+    std::vector<float> fine(3 * a.vertex_count);
+    apply_refinement(plan.refinement, std::span<const float>(c.positions), 3, fine);
+    EXPECT_EQ(std::memcmp(fine.data(), &a.positions[3 * a.vertex_count], fine.size() * sizeof(float)), 0);
+    const auto message = [](const char* t) {
+        try {
+            parse_scene(t, "r.json", ".");
+        } catch (const InputError& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    EXPECT_NE(message(R"({"waves": [{"period": 5, "amplitude": 0.3}], "refine": {"level": 9}})").find("/refine/level"), std::string::npos);
+    EXPECT_NE(message(R"({"waves": [{"period": 5, "amplitude": 0.3}], "refine": {"scheme": "butterfly"}})").find("expected one of"),
+              std::string::npos);
+}
