@@ -8,6 +8,7 @@
 #include "libwave/isobath.h"
 #include "libwave/export.h"
 #include "libwave/scene.h"
+#include "libwave/shade.h"
 #include "libwave/physics.h"
 #include "libwave/version.h"
 
@@ -483,6 +484,22 @@ int run_job(const RunArgs& a) {
     if (has_frame0)
         files.emplace_back("surface-frame-0000.obj",
                            mesh_to_obj(first, anim.triangles, "libwave " + std::string(version()) + ": " + scene.name + ", frame 0, z up"));
+    if (a.preview) {
+        // Four frames spread over the evaluated range, side by side (half-size each).
+        PreviewOptions o = scene_preview(scene, plan.seafloor);
+        o.width = std::max<std::size_t>(1, o.width / 2);
+        o.height = std::max<std::size_t>(1, o.height / 2);
+        std::vector<Image> shots;
+        const std::size_t n = anim.vertex_count;
+        for (std::size_t k = 0; k < 4; ++k) {
+            const std::size_t f = k * anim.frame_count / 4;
+            if (k > 0 && f == (k - 1) * anim.frame_count / 4) continue;  // fewer than four frames
+            shots.push_back(render_preview(std::span<const float>(&anim.positions[3 * n * f], 3 * n),
+                                           std::span<const float>(&anim.normals[3 * n * f], 3 * n), anim.triangles, o));
+        }
+        files.emplace_back("preview.png", png_bytes(contact_sheet(shots, 2)));
+        report["outputs"].push_back("preview.png");
+    }
     files.emplace_back(report_name, report.dump(2) + "\n");
     publish(out_dir, files, [&](const std::filesystem::path& staging) {
         if (!strips) return std::vector<std::string>{};
@@ -732,6 +749,25 @@ int run_merge(const MergeArgs& a) {
         std::cout << "indexed " << files.size() << " of " << loop_frames << " frames in " << a.out_dir << "/index.json\n";
         if (!joined.empty()) std::cout << "joined " << joined.size() << " slice reports into " << a.out_dir << "/report.json\n";
     }
+    return 0;
+}
+
+int run_preview(const PreviewArgs& a) {
+    const Scene scene = a.scene.empty() ? default_scene() : read_scene(a.scene);
+    const ScenePlan plan = plan_scene(scene);
+    const SceneAnimation anim = animate_scene(scene, plan, 2e9, FrameRange{a.frame, a.frame + 1});
+    PreviewOptions o = scene_preview(scene, plan.seafloor);
+    if (a.width > 0) o.width = a.width;
+    if (a.height > 0) o.height = a.height;
+    if (!std::isnan(a.sun_azimuth)) o.sun_azimuth_degrees = a.sun_azimuth;
+    if (!std::isnan(a.sun_elevation)) o.sun_elevation_degrees = a.sun_elevation;
+    const auto t0 = std::chrono::steady_clock::now();
+    const Image image = render_preview(anim.positions, anim.normals, anim.triangles, o);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    write_png(image, a.output);
+    if (!a.quiet)
+        std::cout << "rendered   frame " << a.frame << " of " << scene.name << ": " << image.width << " x " << image.height
+                  << " pixels, " << anim.triangles.size() / 3 << " triangles, in " << ms << " ms -> " << a.output << '\n';
     return 0;
 }
 

@@ -3,6 +3,7 @@
 
 #include "libwave/bathymetry.h"
 
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -57,8 +58,20 @@ struct RunArgs {
     bool quantize = false;  ///< KHR_mesh_quantization
     bool quiet = false;  ///< no progress bar and no text report
     bool json = false;
+    bool preview = false;  ///< also write preview.png: a contact sheet of four frames
 };
 int run_job(const RunArgs& a);
+
+/// `wave preview`: one frame of a scene rendered by the sunset ray caster to PNG.
+struct PreviewArgs {
+    std::string scene;  ///< empty = the built-in default scene
+    std::size_t frame = 0;
+    std::string output = "preview.png";
+    std::size_t width = 0, height = 0;  ///< 0 = the scene's /preview/image
+    double sun_azimuth = std::numeric_limits<double>::quiet_NaN(), sun_elevation = std::numeric_limits<double>::quiet_NaN();
+    bool quiet = false;
+};
+int run_preview(const PreviewArgs& a);
 
 /// `wave batch`: every scene of the inputs (files, folders of *.json, glob patterns)
 /// run by its own `wave run` process into OUT/<file stem>, `jobs` at a time; a failed

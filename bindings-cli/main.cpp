@@ -95,6 +95,7 @@ int main(int argc, char** argv) {
     run_cmd->add_flag("--draco", run.draco, "Draco-compress the meshes (morph: the base mesh only; default quantisation: positions 14 bits)");
     run_cmd->add_option("--fps", run.fps, "frames per second (overrides the scene's)")->check(positive);
     run_cmd->add_flag("-q,--quiet", run.quiet, "no progress bar and no report on stdout");
+    run_cmd->add_flag("--preview", run.preview, "also write preview.png: four frames rendered by the preview ray caster");
     run_cmd->add_option("--threads", run.threads, "worker threads (default: all cores); the outputs are the same for any count")
         ->check(positive);
 
@@ -127,6 +128,17 @@ int main(int argc, char** argv) {
     convert_cmd->add_flag("--quantize", convert.quantize, "KHR_mesh_quantization");
     convert_cmd->add_flag("-q,--quiet", convert.quiet, "print nothing");
     convert_cmd->add_flag("--json", convert.json, "print a JSON summary");
+
+    cli::PreviewArgs prev;
+    auto* prev_cmd = app.add_subcommand("preview", "Render one frame of a scene to PNG (the sunset ray caster: sun glitter, Fresnel sky and deep water)");
+    prev_cmd->add_option("scene", prev.scene, "scene file (JSON); none = the built-in default scene");
+    prev_cmd->add_option("--frame", prev.frame, "frame of the loop (default 0)");
+    prev_cmd->add_option("-o,--output", prev.output, "PNG file")->capture_default_str();
+    prev_cmd->add_option("--width", prev.width, "pixels (default: the scene's /preview/image)")->check(positive);
+    prev_cmd->add_option("--height", prev.height, "pixels")->check(positive);
+    prev_cmd->add_option("--sun-azimuth", prev.sun_azimuth, "degrees from +x towards +y");
+    prev_cmd->add_option("--sun-elevation", prev.sun_elevation, "degrees above the horizon");
+    prev_cmd->add_flag("-q,--quiet", prev.quiet, "print nothing");
 
     cli::MergeArgs merge;
     auto* merge_cmd = app.add_subcommand("merge", "Rebuild the files form's index.json from the frame files present (after slices ran on several machines)");
@@ -188,6 +200,7 @@ int main(int argc, char** argv) {
         if (*run_cmd) return cli::run_job(run);
         if (*convert_cmd) return cli::run_convert(convert);
         if (*merge_cmd) return cli::run_merge(merge);
+        if (*prev_cmd) return cli::run_preview(prev);
         if (*batch_cmd) {
             const auto pass = [&](const char* flag, const std::string& value) {
                 if (!value.empty()) batch.run_args.insert(batch.run_args.end(), {flag, value});

@@ -707,6 +707,32 @@ class WindWaves(unittest.TestCase):
                                  report["surface"]["vertices"])
                 shutil.rmtree(out)
 
+    def test_preview_renders_pngs_and_refuses_bad_input(self):
+        with tempfile.TemporaryDirectory() as d:
+            png = os.path.join(d, "sunset.png")
+            r = wave("preview", os.path.join(EXAMPLES, "sunset.json"), "-o", png, "--width", "320", "--height", "160")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            data = pathlib.Path(png).read_bytes()
+            self.assertEqual(data[:8], b"\x89PNG\r\n\x1a\n")
+            self.assertEqual(struct.unpack(">II", data[16:24]), (320, 160))  # IHDR width, height
+            # wave run --preview: a contact sheet of four frames beside the export.
+            out = os.path.join(d, "run")
+            scene = os.path.join(d, "s.json")
+            with open(scene, "w") as f:
+                json.dump(dict(MainJob.SMALL, preview={"image": [200, 100]}), f)
+            r = wave("run", scene, "-o", out, "--fps", "2", "--preview", "-q")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            sheet = pathlib.Path(out, "preview.png").read_bytes()
+            self.assertEqual(struct.unpack(">II", sheet[16:24]), (200, 100))  # 2 × 2 frames of 100 × 50
+            # Bad input: exit 2, the value named, no file.
+            bad = os.path.join(d, "bad.json")
+            with open(bad, "w") as f:
+                json.dump(dict(MainJob.SMALL, preview={"vertical_fov_degrees": 200}), f)
+            r = wave("preview", bad, "-o", os.path.join(d, "bad.png"))
+            self.assertEqual(r.returncode, 2)
+            self.assertIn("/preview/vertical_fov_degrees", r.stderr)
+            self.assertFalse(os.path.exists(os.path.join(d, "bad.png")))
+
     def test_breaking_examples(self):
         # Jeschke's breakers parametrised from the traced rays: the planar beach breaks
         # in one band (H = γh), Okushiri in many places; files validate, foam present.

@@ -69,6 +69,10 @@ struct Scene {
     /// Hinsinger's camera-projected grid as the surface (with breakers): sampled from
     /// the camera at /camera/position (or the default camera) instead of the strips.
     std::optional<GridCamera> camera_grid;
+    /// The preview renderer's view, sun and bump waves (`wave preview`, `--preview`);
+    /// its camera position is the scene's camera.
+    PreviewOptions preview{};
+    bool preview_look_at_set = false;  ///< else the view looks at the domain's centre
     /// OpenSubdiv refinement of the surface (any kind); the exported mesh is the refined one.
     std::optional<RefineOptions> refine;
     std::size_t max_refined_vertices = 50'000'000;  ///< refuse refinements above this (LimitError)
@@ -117,6 +121,10 @@ Seafloor scene_seafloor(const Scene& scene);
 /// The camera of a scene: its own, or by default 60 % of the domain's length before
 /// its up-wave edge (against the first train's direction), at 40 % of that length up.
 std::array<double, 3> scene_camera(const Scene& scene, const Seafloor& seafloor);
+
+/// The preview options of a scene with its camera filled in: the scene's camera,
+/// looking at /preview/look_at or the centre of the domain at still water.
+PreviewOptions scene_preview(const Scene& scene, const Seafloor& seafloor);
 
 /// The scene's trace options with Ts'o's rule applied: when orthogonals_per_grid_line
 /// > 0, ray_spacing = min(surface cell dx, dy) / orthogonals_per_grid_line.

@@ -153,4 +153,58 @@ struct WaterColours {
 void water_colour(std::span<const float> reflect, std::span<const float> depth, std::span<const float> foam,
                   const WaterColours& colours, std::span<float> rgb);
 
+// ---------------------------------------------------------------------------------
+// Preview renderer: the sunset ray caster (sunset-bumpmap-raytracer.txt)
+// ---------------------------------------------------------------------------------
+
+/// A sine wave of the paper's bump map: the normal tilts towards its direction by
+/// atan(A sin((POI − R)·D)), with D = k·direction (rad/m) and R the reference point.
+struct BumpWave {
+    double amplitude = 0.1;                     ///< A: tangent of the largest tilt
+    double direction_x = 1.0, direction_y = 0.0;  ///< unit direction (normalised on use)
+    double wavelength = 10.0;                   ///< m
+    double phase = 0.0;                         ///< rad
+};
+
+struct PreviewOptions {
+    std::array<double, 3> camera{0.0, -50.0, 10.0};   ///< eye (m, z up)
+    std::array<double, 3> look_at{0.0, 0.0, 0.0};
+    double vertical_fov_degrees = 40.0;
+    std::size_t width = 960, height = 540;
+    double sun_azimuth_degrees = 90.0;    ///< from +x towards +y
+    double sun_elevation_degrees = 10.0;  ///< above the horizon
+    /// The paper's colouring: white where the reflected ray meets the sun (0°), dark
+    /// blue from 90°; in between (1 − angle/90°)^glitter_exponent (1 = linear).
+    double glitter_exponent = 1.0;
+    /// Mix in Fresnel: colour = R·(sky + 30·glitter·white) + T·deep water — the sun
+    /// is far brighter than the sky — (false = the paper's white/blue only).
+    bool fresnel = true;
+    std::vector<BumpWave> bump;  ///< analytic normals added at each hit (none = the mesh's)
+    std::array<double, 2> bump_reference{0.0, 0.0};  ///< R of the paper
+    /// Rays that miss the mesh but meet z = 0 below the horizon see flat water (with
+    /// the bump normals): the paper's sea to the horizon.
+    bool sea_to_horizon = true;
+};
+
+struct Image {
+    std::size_t width = 0, height = 0;
+    std::vector<std::uint8_t> rgb;  ///< row-major from the top, 3 bytes per pixel
+};
+
+/// Ray-casts a triangle mesh (positions 3 per vertex, z up; Embree's BVH) with
+/// per-vertex normals interpolated at the hit (or none: face normals), bump normals
+/// evaluated analytically at every hit point, the sky (a gradient and the sun's disc)
+/// where rays miss. Parallel over pixel rows; the image does not depend on the thread
+/// count. An empty mesh renders the paper's flat sea. Throws InputError on sizes.
+Image render_preview(std::span<const float> positions, std::span<const float> normals,
+                     std::span<const std::uint32_t> triangles, const PreviewOptions& options);
+
+/// Images side by side in a grid of `columns` (a contact sheet); all the same size.
+Image contact_sheet(std::span<const Image> images, std::size_t columns);
+
+/// The image as PNG bytes (stb_image_write); write_png writes them atomically.
+/// Throw RuntimeError on failure.
+std::string png_bytes(const Image& image);
+void write_png(const Image& image, const std::string& path);
+
 }  // namespace wave

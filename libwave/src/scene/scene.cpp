@@ -293,6 +293,61 @@ JeschkeBreakerOptions read_breakers(const Node& n) {
     return o;
 }
 
+// "preview": the sunset ray caster's view, sun and bump waves.
+void read_preview(const Node& n, Scene& s) {
+    n.require_object({"look_at", "vertical_fov_degrees", "image", "sun", "glitter_exponent", "fresnel", "bump_waves",
+                      "bump_reference", "sea_to_horizon"});
+    PreviewOptions& o = s.preview;
+    if (n.has("look_at")) {
+        const auto v = n["look_at"].numbers(3, "m");
+        o.look_at = {v[0], v[1], v[2]};
+        s.preview_look_at_set = true;
+    }
+    if (n.has("vertical_fov_degrees")) {
+        o.vertical_fov_degrees = n["vertical_fov_degrees"].positive("degrees");
+        if (o.vertical_fov_degrees >= 170.0) n["vertical_fov_degrees"].fail("expected less than 170 degrees");
+    }
+    if (n.has("image")) {
+        const Node im = n["image"];
+        if (!im.value().is_array() || im.size() != 2) im.fail("expected [width, height] in pixels");
+        o.width = im[std::size_t{0}].count(1);
+        o.height = im[1].count(1);
+        if (o.width * o.height > 100'000'000) im.fail("more than 10⁸ pixels");
+    }
+    if (n.has("sun")) {
+        const Node sun = n["sun"];
+        sun.require_object({"azimuth_degrees", "elevation_degrees"});
+        if (sun.has("azimuth_degrees")) o.sun_azimuth_degrees = sun["azimuth_degrees"].number("degrees");
+        if (sun.has("elevation_degrees")) o.sun_elevation_degrees = sun["elevation_degrees"].number("degrees");
+    }
+    if (n.has("glitter_exponent")) o.glitter_exponent = n["glitter_exponent"].positive("exponent");
+    if (n.has("fresnel")) o.fresnel = n["fresnel"].boolean();
+    if (n.has("sea_to_horizon")) o.sea_to_horizon = n["sea_to_horizon"].boolean();
+    if (n.has("bump_reference")) {
+        const auto v = n["bump_reference"].numbers(2, "m");
+        o.bump_reference = {v[0], v[1]};
+    }
+    if (n.has("bump_waves")) {
+        const Node b = n["bump_waves"];
+        if (!b.value().is_array()) b.fail("expected an array of {amplitude, direction, wavelength, phase}");
+        for (std::size_t i = 0; i < b.size(); ++i) {
+            const Node w = b[i];
+            w.require_object({"amplitude", "direction", "wavelength", "phase"});
+            BumpWave bw;
+            if (w.has("amplitude")) bw.amplitude = w["amplitude"].non_negative("tan of the tilt");
+            if (w.has("direction")) {
+                const auto d = w["direction"].numbers(2, "");
+                if (d[0] == 0.0 && d[1] == 0.0) w["direction"].fail("the direction must not be zero");
+                bw.direction_x = d[0];
+                bw.direction_y = d[1];
+            }
+            if (w.has("wavelength")) bw.wavelength = w["wavelength"].positive("m");
+            if (w.has("phase")) bw.phase = w["phase"].number("rad");
+            o.bump.push_back(bw);
+        }
+    }
+}
+
 RefineOptions read_refine(const Node& n) {
     n.require_object({"scheme", "level"});
     RefineOptions o;
@@ -382,7 +437,7 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     }
     const Node root(doc, "", origin);
     root.require_object({"name", "seafloor", "isobaths", "waves", "trace", "surface", "fronts", "motion", "camera",
-                         "shade", "outputs", "animation", "ocean", "gerstner", "breakers", "refine"});
+                         "shade", "outputs", "animation", "ocean", "gerstner", "breakers", "refine", "preview"});
     Scene s;
     if (root.has("name")) s.name = root["name"].string();
     if (root.has("surface")) read_surface(root["surface"], s);
@@ -437,6 +492,7 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     if (s.camera_grid && !s.breakers)
         root["surface"]["camera_grid"].fail("needs /breakers (the camera grid samples Jeschke's breakers)");
     if (root.has("refine")) s.refine = read_refine(root["refine"]);
+    if (root.has("preview")) read_preview(root["preview"], s);
     if (root.has("fronts")) read_fronts(root["fronts"], s.fronts);
     if (root.has("motion")) read_profile(root["motion"], s.profile);
     if (root.has("camera")) {
@@ -520,6 +576,16 @@ Scene read_scene(const std::string& path) {
     std::ostringstream text;
     text << in.rdbuf();
     return parse_scene(text.str(), path, std::filesystem::path(path).parent_path().string());
+}
+
+PreviewOptions scene_preview(const Scene& scene, const Seafloor& seafloor) {
+    PreviewOptions o = scene.preview;
+    o.camera = scene_camera(scene, seafloor);
+    if (!scene.preview_look_at_set) {
+        const ElevationGrid& g = seafloor.grid;
+        o.look_at = {0.5 * (g.x0 + g.x_max()), 0.5 * (g.y0 + g.y_max()), 0.0};
+    }
+    return o;
 }
 
 std::array<double, 3> scene_camera(const Scene& scene, const Seafloor& seafloor) {
