@@ -14,6 +14,8 @@
 
 #include <nlohmann/json.hpp>
 #include <unistd.h>
+#include <csignal>
+#include <cerrno>
 #include <tbb/global_control.h>
 
 #include <algorithm>
@@ -341,7 +343,22 @@ void publish(const std::string& out_dir, const std::vector<std::pair<std::string
     // Slices on several hosts may publish into one shared folder: host and pid name the staging.
     char host[256] = {};
     if (gethostname(host, sizeof host - 1) != 0) host[0] = '\0';
-    const fs::path staging = fs::path(out_dir) / (".wave-staging-" + std::string(host) + "-" + std::to_string(getpid()));
+    const std::string mine = ".wave-staging-" + std::string(host) + "-";
+    const fs::path staging = fs::path(out_dir) / (mine + std::to_string(getpid()));
+    // A run killed on this host (SIGKILL, power) left its staging folder: nothing in it
+    // was published, so it goes.
+    std::error_code scan_error;
+    for (const auto& e : fs::directory_iterator(out_dir, scan_error)) {
+        const std::string name = e.path().filename().string();
+        if (!name.starts_with(mine)) continue;
+        const std::string pid_text = name.substr(mine.size());
+        if (pid_text.empty() || pid_text.find_first_not_of("0123456789") != std::string::npos) continue;
+        const auto pid = static_cast<pid_t>(std::stol(pid_text));
+        if (pid != getpid() && ::kill(pid, 0) != 0 && errno == ESRCH) {
+            std::error_code ignored;
+            fs::remove_all(e.path(), ignored);
+        }
+    }
     try {
         std::vector<std::string> names;
         for (const auto& [name, bytes] : files) {

@@ -4,6 +4,9 @@
 import json
 import os
 import pathlib
+import time
+import signal
+import random
 import shutil
 import struct
 import subprocess
@@ -834,6 +837,56 @@ class WindWaves(unittest.TestCase):
             r = wave("trace", self.write(d, self.SMALL_OCEAN), "--json")
             self.assertEqual(r.returncode, 2)
             self.assertIn("traces no rays", r.stderr)
+
+
+class CrashSafety(unittest.TestCase):
+    """SIGKILL at random moments while `wave run` computes and writes: every file under
+    its final name is complete (one of the two runs' versions, byte for byte), and the
+    staging a killed run left is cleared by the next run."""
+
+    def check_killed_runs(self, form, files_of, new_fps):
+        with tempfile.TemporaryDirectory() as d:
+            out, new = os.path.join(d, "out"), os.path.join(d, "new")
+            base = ["run", "-q", "--form", form]
+            self.assertEqual(wave(*base, "-o", out, "--fps", "12").returncode, 0)
+            self.assertEqual(wave(*base, "-o", new, "--fps", new_fps).returncode, 0)
+            old_files = files_of(out)
+            new_files = files_of(new)
+            rng = random.Random(1234)  # reproducible kill times
+            for _ in range(6):
+                p = subprocess.Popen([WAVE, *base, "-o", out, "--fps", new_fps], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                time.sleep(rng.uniform(0.05, 2.5))
+                p.send_signal(signal.SIGKILL)
+                p.wait()
+                for name, data in files_of(out).items():
+                    self.assertIn(data, (old_files.get(name), new_files.get(name)), name + ": truncated or mixed")
+                for name in files_of(out):
+                    if name.endswith(".glb"):
+                        read_glb(os.path.join(out, name))  # the header's length matches the file
+            # The next run clears what killed runs left on this host and completes.
+            self.assertEqual(wave(*base, "-o", out, "--fps", new_fps).returncode, 0)
+            self.assertEqual([n for n in os.listdir(out) if n.startswith(".wave-staging-")], [])
+            self.assertEqual(files_of(out), new_files)
+
+    @staticmethod
+    def final_files(root):
+        """Every file under its final name (hidden temporaries are not outputs)."""
+        found = {}
+        for dirpath, dirnames, filenames in os.walk(root):
+            dirnames[:] = [x for x in dirnames if not x.startswith(".")]
+            for f in filenames:
+                if not f.startswith("."):
+                    path = os.path.join(dirpath, f)
+                    found[os.path.relpath(path, root)] = pathlib.Path(path).read_bytes()
+        return found
+
+    def test_sigkill_during_a_morph_run(self):
+        self.check_killed_runs("morph", self.final_files, "16")  # a different animation replaces the old
+
+    def test_sigkill_during_a_files_run(self):
+        # The files form merges into its folder's animation (same fps): every frame file
+        # must still be whole after each kill.
+        self.check_killed_runs("files", self.final_files, "12")
 
 
 class Batch(unittest.TestCase):
