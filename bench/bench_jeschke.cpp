@@ -36,18 +36,27 @@ const Fixture& fixture(int points) {
     return f;
 }
 
+// Runs `frame(t)` once per iteration at 30 frames/s of animation time and reports the
+// points and the frame rate.
+template <class Frame>
+void frames_at_30fps(benchmark::State& state, std::size_t points, Frame&& frame) {
+    double t = 0.0;
+    for (auto _ : state) {
+        frame(t);
+        t += 1.0 / 30.0;
+    }
+    state.counters["points"] = static_cast<double>(points);
+    state.counters["frames/s"] = benchmark::Counter(1.0, benchmark::Counter::kIsIterationInvariantRate);
+}
+
 void BM_jeschke_positions(benchmark::State& state) {
     const Fixture& f = fixture(static_cast<int>(state.range(0)));
     const std::size_t n = f.plan.breakers.vertex_count();
     std::vector<float> p(3 * n);
-    double t = 0.0;
-    for (auto _ : state) {
+    frames_at_30fps(state, n, [&](double t) {
         wave::evaluate_jeschke_breakers(f.plan.breakers, t, p);
         benchmark::DoNotOptimize(p.data());
-        t += 1.0 / 30.0;
-    }
-    state.counters["points"] = static_cast<double>(n);
-    state.counters["frames/s"] = benchmark::Counter(1.0, benchmark::Counter::kIsIterationInvariantRate);
+    });
 }
 BENCHMARK(BM_jeschke_positions)->Arg(50000)->Arg(1000000)->Unit(benchmark::kMillisecond)->UseRealTime();
 
@@ -57,17 +66,13 @@ void BM_jeschke_frame(benchmark::State& state) {
     const std::size_t n = f.plan.breakers.vertex_count();
     std::vector<float> p(3 * n), nr(3 * n), foam(n);
     const wave::VertexFaces adjacency = wave::vertex_faces(n, f.plan.camera_grid.triangles);  // once per topology
-    double t = 0.0;
-    for (auto _ : state) {
+    frames_at_30fps(state, n, [&](double t) {
         wave::evaluate_jeschke_breakers(f.plan.breakers, t, p);
         wave::vertex_normals(p, f.plan.camera_grid.triangles, adjacency, nr);
         wave::jeschke_foam(f.plan.breakers, t, foam);
         benchmark::DoNotOptimize(nr.data());
         benchmark::DoNotOptimize(foam.data());
-        t += 1.0 / 30.0;
-    }
-    state.counters["points"] = static_cast<double>(n);
-    state.counters["frames/s"] = benchmark::Counter(1.0, benchmark::Counter::kIsIterationInvariantRate);
+    });
 }
 BENCHMARK(BM_jeschke_frame)->Arg(50000)->Arg(1000000)->Unit(benchmark::kMillisecond)->UseRealTime();
 
@@ -76,13 +81,10 @@ void BM_gonzato_positions_strips(benchmark::State& state) {
     const Fixture& f = fixture(1000000);
     const std::size_t n = f.plan.motion.vertex_count();
     std::vector<float> p(3 * n);
-    double t = 0.0;
-    for (auto _ : state) {
+    frames_at_30fps(state, n, [&](double t) {
         wave::evaluate_gonzato_motion(f.plan.motion, t, p);
         benchmark::DoNotOptimize(p.data());
-        t += 1.0 / 30.0;
-    }
-    state.counters["points"] = static_cast<double>(n);
+    });
 }
 BENCHMARK(BM_gonzato_positions_strips)->Unit(benchmark::kMillisecond)->UseRealTime();
 

@@ -91,6 +91,16 @@ public:
         }
         return it->second;
     }
+    /// [a, b] of whole numbers >= min (an image size, a grid's node counts).
+    std::array<std::size_t, 2> count_pair(std::size_t min, const char* what) const {
+        if (!v_.is_array() || v_.size() != 2) fail(std::string("expected ") + what);
+        return {(*this)[std::size_t{0}].count(min), (*this)[1].count(min)};
+    }
+    /// [x, y, z] in metres.
+    std::array<double, 3> point3() const {
+        const auto v = numbers(3, "m");
+        return {v[0], v[1], v[2]};
+    }
     std::vector<double> numbers(std::size_t exact, const char* unit) const {
         if (!v_.is_array() || (exact && v_.size() != exact))
             fail(exact ? "expected an array of " + std::to_string(exact) + " numbers" : std::string("expected an array of numbers"));
@@ -128,10 +138,9 @@ void read_seafloor_spec(const Node& n, SeafloorSource& s, const std::string& bas
         r.nodata_policy = n["nodata_policy"].choice<NodataPolicy>({{"land", NodataPolicy::land}, {"error", NodataPolicy::error}});
     if (n.has("nodata_elevation")) r.nodata_elevation = n["nodata_elevation"].number("m");
     if (n.has("swan_grid")) {
-        const Node g = n["swan_grid"];
-        if (!g.value().is_array() || g.size() != 2) g.fail("expected [nx, ny]");
-        r.swan_nx = g[std::size_t{0}].count(2);
-        r.swan_ny = g[1].count(2);
+        const auto g = n["swan_grid"].count_pair(2, "[nx, ny]");
+        r.swan_nx = g[0];
+        r.swan_ny = g[1];
     }
     if (n.has("swan_spacing")) {
         const auto d = n["swan_spacing"].numbers(0, "m");
@@ -203,16 +212,12 @@ void read_surface(const Node& n, Scene& s) {
         if (s.surface_kind != SurfaceKind::ray_strips) c.fail("only for the ray-strips surface with /breakers");
         c.require_object({"look_at", "vertical_fov_degrees", "image", "pixel_step", "max_distance"});
         GridCamera g;
-        if (c.has("look_at")) {
-            const auto v = c["look_at"].numbers(3, "m");
-            g.look_at = {v[0], v[1], v[2]};
-        }
+        if (c.has("look_at")) g.look_at = c["look_at"].point3();
         if (c.has("vertical_fov_degrees")) g.vertical_fov_degrees = c["vertical_fov_degrees"].positive("degrees");
         if (c.has("image")) {
-            const Node im = c["image"];
-            if (!im.value().is_array() || im.size() != 2) im.fail("expected [width, height] in pixels");
-            g.image_width = im[std::size_t{0}].count(2);
-            g.image_height = im[1].count(2);
+            const auto im = c["image"].count_pair(2, "[width, height] in pixels");
+            g.image_width = im[0];
+            g.image_height = im[1];
         }
         if (c.has("pixel_step")) g.pixel_step = c["pixel_step"].count(1);
         if (c.has("max_distance")) g.max_distance = c["max_distance"].positive("m");
@@ -299,8 +304,7 @@ void read_preview(const Node& n, Scene& s) {
                       "bump_reference", "sea_to_horizon"});
     PreviewOptions& o = s.preview;
     if (n.has("look_at")) {
-        const auto v = n["look_at"].numbers(3, "m");
-        o.look_at = {v[0], v[1], v[2]};
+        o.look_at = n["look_at"].point3();
         s.preview_look_at_set = true;
     }
     if (n.has("vertical_fov_degrees")) {
@@ -308,11 +312,10 @@ void read_preview(const Node& n, Scene& s) {
         if (o.vertical_fov_degrees >= 170.0) n["vertical_fov_degrees"].fail("expected less than 170 degrees");
     }
     if (n.has("image")) {
-        const Node im = n["image"];
-        if (!im.value().is_array() || im.size() != 2) im.fail("expected [width, height] in pixels");
-        o.width = im[std::size_t{0}].count(1);
-        o.height = im[1].count(1);
-        if (o.width * o.height > 100'000'000) im.fail("more than 10⁸ pixels");
+        const auto im = n["image"].count_pair(1, "[width, height] in pixels");
+        o.width = im[0];
+        o.height = im[1];
+        if (o.width * o.height > 100'000'000) n["image"].fail("more than 10⁸ pixels");
     }
     if (n.has("sun")) {
         const Node sun = n["sun"];
@@ -498,10 +501,7 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     if (root.has("camera")) {
         const Node c = root["camera"];
         c.require_object({"position"});
-        if (c.has("position")) {
-            const auto p = c["position"].numbers(3, "m");
-            s.camera = std::array<double, 3>{p[0], p[1], p[2]};
-        }
+        if (c.has("position")) s.camera = c["position"].point3();
     }
     if (root.has("shade")) {
         const Node sh = root["shade"];
