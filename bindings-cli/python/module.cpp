@@ -5,6 +5,7 @@
 #include "libwave/export.h"
 #include "libwave/physics.h"
 #include "libwave/scene.h"
+#include "libwave/shade.h"
 #include "libwave/version.h"
 
 #include <pybind11/numpy.h>
@@ -187,6 +188,30 @@ PYBIND11_MODULE(libwave, m) {
         },
         py::arg("scene"), py::arg("plan"), py::arg("first") = 0, py::arg("end") = py::none(),
         "Evaluates frames [first, end) of the loop: positions, normals, shading");
+
+    m.def(
+        "preview",
+        [](const wave::Scene& scene, const ScenePlan& plan, const SceneAnimation& a, std::size_t frame, std::size_t width,
+           std::size_t height) {
+            if (frame >= a.frame_count)
+                throw wave::InputError("preview: frame " + std::to_string(frame) + " of " + std::to_string(a.frame_count));
+            wave::PreviewOptions o = wave::scene_preview(scene, plan.seafloor);
+            if (width > 0) o.width = width;
+            if (height > 0) o.height = height;
+            wave::Image image;
+            {
+                py::gil_scoped_release release;
+                const std::size_t n = a.vertex_count;
+                image = wave::render_preview(std::span<const float>(&a.positions[3 * n * frame], 3 * n),
+                                             std::span<const float>(&a.normals[3 * n * frame], 3 * n), a.triangles, o);
+            }
+            py::array_t<std::uint8_t> rgb({static_cast<py::ssize_t>(image.height), static_cast<py::ssize_t>(image.width), py::ssize_t{3}});
+            std::copy(image.rgb.begin(), image.rgb.end(), rgb.mutable_data());
+            return rgb;
+        },
+        py::arg("scene"), py::arg("plan"), py::arg("animation"), py::arg("frame") = 0, py::arg("width") = 0,
+        py::arg("height") = 0,
+        "A frame (index within the animation) rendered by the sunset ray caster: (height, width, 3) uint8 RGB");
 
     m.def(
         "linear_wave",

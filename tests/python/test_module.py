@@ -119,3 +119,17 @@ def test_the_gil_is_released_during_long_work():
 def test_linear_wave():
     w = libwave.linear_wave(10.0, 5.0)
     assert abs(w["wavelength"] / (9.81 * 100 / (2 * np.pi)) - 0.4335) < 2e-3  # SPM Table C-1
+
+
+def test_preview_renders_a_frame_as_an_rgb_array():
+    # The sunset example: the sun's glitter column stands under the sun (image centre).
+    scene = libwave.parse_scene(json.load(open(os.path.join(os.path.dirname(__file__), "..", "..", "examples", "sunset.json"))))
+    plan = libwave.plan(scene)
+    anim = libwave.animate(scene, plan, 0, 1)
+    rgb = libwave.preview(scene, plan, anim, 0, 200, 100)
+    assert rgb.shape == (100, 200, 3) and rgb.dtype == np.uint8
+    water = rgb[60:, :, :].astype(int).sum(axis=2)
+    glitter_columns = np.nonzero((water > 3 * 235).any(axis=0))[0]
+    assert len(glitter_columns) > 0 and abs(glitter_columns.mean() - 100) < 15
+    with pytest.raises(ValueError, match="frame 3 of 1"):
+        libwave.preview(scene, plan, anim, 3)
