@@ -467,6 +467,7 @@ int run_job(const RunArgs& a) {
     if (scene.refine)
         surface["refine"] = {{"scheme", scene.refine->scheme == RefineScheme::loop ? "loop" : "catmull-clark"},
                              {"level", scene.refine->level},
+                             {"adaptive", scene.refine->adaptive},
                              {"coarse_vertices", plan.rest_x.size()}};
     json report{{"libwave", version()},
                 {"scene", scene.name},
@@ -563,7 +564,7 @@ int run_job(const RunArgs& a) {
     }
     if (scene.refine)
         std::cout << "refined    OpenSubdiv " << (scene.refine->scheme == RefineScheme::loop ? "Loop" : "Catmull-Clark")
-                  << ", level " << scene.refine->level << ": " << coarse_vertices << " -> " << anim.vertex_count
+                  << (scene.refine->adaptive ? ", adaptive up to level " : ", level ") << scene.refine->level << ": " << coarse_vertices << " -> " << anim.vertex_count
                   << " vertices, " << anim.triangles.size() / 3 << " triangles (stencils applied per frame)\n";
     else
         std::cout << "mesh       " << anim.vertex_count << " vertices, " << anim.triangles.size() / 3 << " triangles\n";

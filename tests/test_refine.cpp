@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <vector>
 
 using namespace wave;
@@ -142,4 +143,67 @@ TEST(Refine, SceneRefinesTheExportedSurface) {
     EXPECT_NE(message(R"({"waves": [{"period": 5, "amplitude": 0.3}], "refine": {"level": 9}})").find("/refine/level"), std::string::npos);
     EXPECT_NE(message(R"({"waves": [{"period": 5, "amplitude": 0.3}], "refine": {"scheme": "butterfly"}})").find("expected one of"),
               std::string::npos);
+}
+
+namespace {
+
+// Unit normals of a height grid z(x, y) by central differences (one sampled frame).
+std::vector<float> grid_normals(const Grid& g) {
+    std::vector<float> n(g.p.size());
+    for (std::size_t j = 0; j < g.ny; ++j)
+        for (std::size_t i = 0; i < g.nx; ++i) {
+            const auto z = [&](std::size_t a, std::size_t b) { return g.p[3 * (b * g.nx + a) + 2]; };
+            const float dx = (z(std::min(i + 1, g.nx - 1), j) - z(i > 0 ? i - 1 : 0, j)) / 4.0f;
+            const float dy = (z(i, std::min(j + 1, g.ny - 1)) - z(i, j > 0 ? j - 1 : 0)) / 4.0f;
+            const float l = std::sqrt(dx * dx + dy * dy + 1.0f);
+            const std::size_t v = 3 * (j * g.nx + i);
+            n[v] = -dx / l, n[v + 1] = -dy / l, n[v + 2] = 1.0f / l;
+        }
+    return n;
+}
+
+}  // namespace
+
+TEST(RefineAdaptive, RefinesWhereTheSurfaceBendsWithoutCracks) {
+    // A plane with one sharp ridge along x = 20 m: only the ridge's neighbourhood is cut.
+    Grid g = plane(21, 21);
+    std::vector<double> rx, ry;
+    for (std::size_t v = 0; v < g.p.size() / 3; ++v) {
+        g.p[3 * v + 2] = (v % 21 == 10) ? 1.5f : 0.0f;
+        rx.push_back(g.p[3 * v]);
+        ry.push_back(g.p[3 * v + 1]);
+    }
+    const std::vector<float> normals = grid_normals(g);
+    AdaptiveCriteria c{normals, rx, ry, {20.0, -100.0, 30.0}};
+    RefineOptions o{RefineScheme::loop, 3, true, 4.0, 0.0};
+    const Refinement r = plan_refinement(21 * 21, g.tris, o, 50'000'000, &c);
+    const Refinement uniform = plan_refinement(21 * 21, g.tris, {RefineScheme::loop, 3});
+    EXPECT_GT(r.fine_vertices, 21u * 21u);
+    EXPECT_LT(r.fine_vertices, uniform.fine_vertices / 3) << "only near the ridge";
+    // Watertight: a disc (V − E + F = 1: a T-junction's slit would open a hole), every
+    // edge with one or two triangles, every rim vertex on exactly two rim edges.
+    std::vector<float> fine(3 * r.fine_vertices);
+    apply_refinement(r, g.p, 3, fine);
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
+    for (std::size_t t = 0; t < r.triangle_count(); ++t)
+        for (int k = 0; k < 3; ++k) ++uses[std::minmax(r.triangles[3 * t + k], r.triangles[3 * t + (k + 1) % 3])];
+    std::vector<int> rim(r.fine_vertices, 0);
+    for (const auto& [e, count] : uses) {
+        ASSERT_LE(count, 2);
+        if (count == 1) ++rim[e.first], ++rim[e.second];
+    }
+    for (int k : rim) ASSERT_TRUE(k == 0 || k == 2);
+    EXPECT_EQ(static_cast<long long>(r.fine_vertices) - static_cast<long long>(uses.size()) +
+                  static_cast<long long>(r.triangle_count()), 1);
+    // Counter-clockwise from +z like the coarse grid.
+    for (std::size_t t = 0; t < r.triangle_count(); ++t) {
+        const auto a = 3 * r.triangles[3 * t], b = 3 * r.triangles[3 * t + 1], e = 3 * r.triangles[3 * t + 2];
+        ASSERT_GT((fine[b] - fine[a]) * (fine[e + 1] - fine[a + 1]) - (fine[e] - fine[a]) * (fine[b + 1] - fine[a + 1]), 0.0f);
+    }
+    // Near the camera everything is cut to the full rate; Catmull-Clark is refused.
+    RefineOptions near = o;
+    near.max_angle_degrees = 90.0;
+    near.near_distance = 1000.0;
+    EXPECT_EQ(plan_refinement(21 * 21, g.tris, near, 50'000'000, &c).triangle_count(), uniform.triangle_count());
+    EXPECT_THROW(plan_refinement(21 * 21, g.tris, {RefineScheme::catmull_clark, 2, true}, 50'000'000, &c), InputError);
 }

@@ -174,8 +174,9 @@ struct PreviewOptions {
     double sun_azimuth_degrees = 90.0;    ///< from +x towards +y
     double sun_elevation_degrees = 10.0;  ///< above the horizon
     /// The paper's colouring: white where the reflected ray meets the sun (0°), dark
-    /// blue from 90°; in between (1 − angle/90°)^glitter_exponent (1 = linear).
-    double glitter_exponent = 1.0;
+    /// blue from 90°; in between (1 − angle/90°)^glitter_exponent (1 = the paper's
+    /// linear blend; the default 64 gives a sun glitter of a few degrees).
+    double glitter_exponent = 64.0;
     /// Mix in Fresnel: colour = R·(sky + 30·glitter·white) + T·deep water — the sun
     /// is far brighter than the sky — (false = the paper's white/blue only).
     bool fresnel = true;

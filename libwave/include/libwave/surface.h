@@ -92,7 +92,23 @@ enum class RefineScheme {
 
 struct RefineOptions {
     RefineScheme scheme = RefineScheme::loop;
-    int level = 1;  ///< uniform refinement levels, 1 … 6
+    int level = 1;  ///< uniform refinement levels, 1 … 6 (adaptive: at most 2^level segments per edge)
+    /// Adaptive (Loop only): each coarse edge is cut into 1 … 2^level segments — more
+    /// where the surface bends (Ts'o's flatness criterion: the angle between its end
+    /// normals over sampled frames of the loop, per `max_angle_degrees`) or near the
+    /// camera (`near_distance`) — and every face is tessellated on the limit surface
+    /// with its edges' rates (OpenSubdiv Bfr), so neighbours share their edge points.
+    bool adaptive = false;
+    double max_angle_degrees = 4.0;  ///< a segment may turn the normal by this much
+    double near_distance = 0.0;      ///< m: full rate within it, falling as 1/distance; 0 = off
+};
+
+/// What adaptive refinement looks at: unit normals of the coarse surface at K sampled
+/// times (K · vertices · 3 floats), the vertices' rest positions and the camera.
+struct AdaptiveCriteria {
+    std::span<const float> sample_normals;
+    std::span<const double> rest_x, rest_y;
+    std::array<double, 3> camera{0.0, 0.0, 0.0};
 };
 
 /// The refined topology of a triangle mesh and the stencils that give each refined
@@ -111,7 +127,7 @@ struct Refinement {
 /// OpenSubdiv rejects (non-manifold), and LimitError when the refined mesh would
 /// exceed `max_vertices` (naming the level that fits).
 Refinement plan_refinement(std::size_t vertex_count, std::span<const std::uint32_t> triangles, const RefineOptions& options,
-                           std::size_t max_vertices = 50'000'000);
+                           std::size_t max_vertices = 50'000'000, const AdaptiveCriteria* adaptive = nullptr);
 
 /// fine[i·c + k] = Σ_j w_ij coarse[j·c + k] for c = `components` per vertex (3 for
 /// positions, 1 for foam). Parallel over refined vertices; each is computed alone, so

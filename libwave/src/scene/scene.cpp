@@ -352,14 +352,18 @@ void read_preview(const Node& n, Scene& s) {
 }
 
 RefineOptions read_refine(const Node& n) {
-    n.require_object({"scheme", "level"});
+    n.require_object({"scheme", "level", "adaptive", "max_angle_degrees", "near_distance"});
     RefineOptions o;
+    if (n.has("adaptive")) o.adaptive = n["adaptive"].boolean();
+    if (n.has("max_angle_degrees")) o.max_angle_degrees = n["max_angle_degrees"].positive("degrees");
+    if (n.has("near_distance")) o.near_distance = n["near_distance"].non_negative("m");
     if (n.has("scheme"))
         o.scheme = n["scheme"].choice<RefineScheme>({{"loop", RefineScheme::loop}, {"catmull-clark", RefineScheme::catmull_clark}});
     if (n.has("level")) {
         o.level = static_cast<int>(n["level"].count(1));
         if (o.level > 6) n["level"].fail("expected 1 … 6 levels (each multiplies the triangles by 4), got " + std::to_string(o.level));
     }
+    if (o.adaptive && o.scheme != RefineScheme::loop) n["scheme"].fail("adaptive refinement tessellates triangles: use \"loop\"");
     return o;
 }
 
@@ -721,7 +725,25 @@ void plan_components(const Scene& scene, ScenePlan& p) {
                                                    : p.camera_grid.vertex_count() > 0 ? p.camera_grid.triangles
                                                    : scene.surface_kind == SurfaceKind::ray_strips ? p.strips.triangles
                                                                                                     : p.surface.triangles;
-        p.refinement = plan_refinement(p.rest_x.size(), coarse, *scene.refine, scene.max_refined_vertices);
+        if (!scene.refine->adaptive) {
+            p.refinement = plan_refinement(p.rest_x.size(), coarse, *scene.refine, scene.max_refined_vertices);
+        } else {
+            // Where the surface bends: its normals at 8 times spread over the loop (the
+            // crests move, so one frame would not do), and the camera for nearness.
+            Scene probe = scene;
+            probe.refine.reset();
+            probe.attributes = Scene::Attributes::none;
+            probe.color = false;
+            const auto loop_frames = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(p.loop_period * scene.fps)));
+            std::vector<float> normals;
+            for (std::size_t k = 0; k < 8; ++k) {
+                const std::size_t f = k * loop_frames / 8;
+                const SceneAnimation a = animate_scene(probe, p, 2e9, FrameRange{f, f + 1});
+                normals.insert(normals.end(), a.normals.begin(), a.normals.end());
+            }
+            const AdaptiveCriteria criteria{normals, p.rest_x, p.rest_y, scene_camera(scene, p.seafloor)};
+            p.refinement = plan_refinement(p.rest_x.size(), coarse, *scene.refine, scene.max_refined_vertices, &criteria);
+        }
     }
 }
 

@@ -4,6 +4,9 @@
 #include "libwave/errors.h"
 #include "libwave/surface.h"
 
+#include <opensubdiv/bfr/refinerSurfaceFactory.h>
+#include <opensubdiv/bfr/surface.h>
+#include <opensubdiv/bfr/tessellation.h>
 #include <opensubdiv/far/stencilTable.h>
 #include <opensubdiv/far/stencilTableFactory.h>
 #include <opensubdiv/far/topologyDescriptor.h>
@@ -12,8 +15,14 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+#include <cmath>
+#include <map>
 #include <memory>
+#include <numbers>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 namespace wave {
@@ -54,18 +63,150 @@ void apply(const Refinement& r, std::span<const T> coarse, std::size_t c, std::s
     });
 }
 
+// Adaptive refinement: every coarse edge gets a rate (segments), every face is
+// tessellated on the limit surface with its edges' rates (Bfr), and each new point's
+// stencil over the face's control points is kept. Edge points are shared between the
+// two faces of an edge (same rate, the same k-th point from the lower vertex), corners
+// between all faces of a vertex: the mesh has no cracks.
+Refinement adaptive_refinement(const Far::TopologyRefiner& refiner, std::size_t vertex_count,
+                               std::span<const std::uint32_t> tri, const RefineOptions& o, std::size_t max_vertices,
+                               const AdaptiveCriteria& c) {
+    const std::size_t nt = tri.size() / 3;
+    if (c.sample_normals.empty() || c.sample_normals.size() % (3 * vertex_count) != 0 || c.rest_x.size() != vertex_count ||
+        c.rest_y.size() != vertex_count)
+        throw InputError("refine: adaptive refinement needs sampled normals and rest positions of every vertex");
+    const std::size_t samples = c.sample_normals.size() / (3 * vertex_count);
+    const int max_rate = 1 << o.level;
+    const double tolerance = o.max_angle_degrees * std::numbers::pi / 180.0;
+
+    // The rate of each edge: Ts'o's flatness (the largest turn of the normal along it over
+    // the sampled frames, in steps of the tolerance) or nearness to the camera.
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> rate;
+    for (std::size_t t = 0; t < nt; ++t)
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t a = tri[3 * t + static_cast<std::size_t>(k)], b = tri[3 * t + static_cast<std::size_t>((k + 1) % 3)];
+            const auto key = std::minmax(a, b);
+            if (rate.count(key)) continue;
+            double turn = 0.0;
+            for (std::size_t sm = 0; sm < samples; ++sm) {
+                const float* na = &c.sample_normals[3 * (sm * vertex_count + a)];
+                const float* nb = &c.sample_normals[3 * (sm * vertex_count + b)];
+                const double d = std::clamp(double{na[0]} * nb[0] + double{na[1]} * nb[1] + double{na[2]} * nb[2], -1.0, 1.0);
+                turn = std::max(turn, std::acos(d));
+            }
+            double r = tolerance > 0.0 ? std::ceil(turn / tolerance) : max_rate;
+            if (o.near_distance > 0.0) {
+                const double mx = 0.5 * (c.rest_x[a] + c.rest_x[b]), my = 0.5 * (c.rest_y[a] + c.rest_y[b]);
+                const double dist = std::max(std::hypot(mx - c.camera[0], my - c.camera[1], c.camera[2]), 1e-9);
+                r = std::max(r, std::ceil(max_rate * o.near_distance / dist));
+            }
+            rate[key] = static_cast<int>(std::clamp(r, 1.0, static_cast<double>(max_rate)));
+        }
+    double estimate = static_cast<double>(vertex_count);
+    for (std::size_t t = 0; t < nt; ++t) {
+        int m = 1;
+        for (int k = 0; k < 3; ++k)
+            m = std::max(m, rate[std::minmax(tri[3 * t + static_cast<std::size_t>(k)], tri[3 * t + static_cast<std::size_t>((k + 1) % 3)])]);
+        estimate += 0.5 * m * m;
+    }
+    if (estimate > static_cast<double>(max_vertices))
+        throw LimitError("refine: adaptive level " + std::to_string(o.level) + " would make about " +
+                         std::to_string(static_cast<long long>(estimate)) + " vertices (limit " + std::to_string(max_vertices) +
+                         "); lower the level, raise max_angle_degrees or shorten near_distance");
+
+    Refinement r;
+    r.coarse_vertices = vertex_count;
+    r.stencil_offsets.push_back(0);
+    std::vector<std::uint32_t> corner(vertex_count, UINT32_MAX);
+    std::map<std::tuple<std::uint32_t, std::uint32_t, int>, std::uint32_t> edge_point;
+    Bfr::RefinerSurfaceFactory<> factory(refiner);
+    Bfr::Surface<double> surface;
+    std::vector<int> controls;
+    std::vector<double> uv, weights;
+    std::vector<int> facets;
+    std::vector<std::uint32_t> global;
+    constexpr double eps = 1e-9;
+    for (std::size_t t = 0; t < nt; ++t) {
+        if (!factory.InitVertexSurface(static_cast<int>(t), &surface) || !surface.IsValid())
+            throw InputError("refine: OpenSubdiv cannot build the limit surface of triangle " + std::to_string(t));
+        controls.resize(static_cast<std::size_t>(surface.GetNumControlPoints()));
+        surface.GetControlPointIndices(controls.data());
+        weights.resize(controls.size());
+        const std::uint32_t v[3] = {tri[3 * t], tri[3 * t + 1], tri[3 * t + 2]};
+        int rates[3];
+        for (int k = 0; k < 3; ++k) rates[k] = rate[std::minmax(v[k], v[(k + 1) % 3])];
+        Bfr::Tessellation tess(surface.GetParameterization(), 3, rates, Bfr::Tessellation::Options().SetFacetSize(3));
+        const int nc = tess.GetNumCoords(), nb = tess.GetNumBoundaryCoords();
+        uv.resize(2 * static_cast<std::size_t>(nc));
+        tess.GetCoords(uv.data());
+        global.assign(static_cast<std::size_t>(nc), 0);
+        const auto add_point = [&](const double* at) {  // a new refined vertex: its stencil
+            surface.EvaluateStencil(at, weights.data());
+            for (std::size_t i = 0; i < controls.size(); ++i)
+                if (weights[i] != 0.0) {
+                    r.stencil_indices.push_back(static_cast<std::uint32_t>(controls[i]));
+                    r.stencil_weights.push_back(static_cast<float>(weights[i]));
+                }
+            r.stencil_offsets.push_back(static_cast<std::uint32_t>(r.stencil_indices.size()));
+            return static_cast<std::uint32_t>(r.stencil_offsets.size() - 2);
+        };
+        for (int i = 0; i < nc; ++i) {
+            const double* q = &uv[2 * static_cast<std::size_t>(i)];
+            const double u = q[0], w = q[1];
+            std::uint32_t& id = global[static_cast<std::size_t>(i)];
+            if (i >= nb) {
+                id = add_point(q);
+                continue;
+            }
+            // A boundary point of the triangle's (u, v) domain: a corner or a point of an edge.
+            int corner_k = -1;
+            if (u < eps && w < eps) corner_k = 0;
+            else if (u > 1.0 - eps && w < eps) corner_k = 1;
+            else if (u < eps && w > 1.0 - eps) corner_k = 2;
+            if (corner_k >= 0) {
+                std::uint32_t& cid = corner[v[corner_k]];
+                if (cid == UINT32_MAX) cid = add_point(q);
+                id = cid;
+                continue;
+            }
+            int e;
+            double along;  // from the edge's first vertex (in this face's order)
+            if (w < eps) e = 0, along = u;
+            else if (u < eps) e = 2, along = 1.0 - w;
+            else e = 1, along = w;
+            const std::uint32_t a = v[e], b = v[(e + 1) % 3];
+            int k = static_cast<int>(std::lround(along * rates[e]));
+            if (a > b) k = rates[e] - k;  // count from the lower vertex: both faces agree
+            const auto key = std::make_tuple(std::min(a, b), std::max(a, b), k);
+            auto it = edge_point.find(key);
+            if (it == edge_point.end()) it = edge_point.emplace(key, add_point(q)).first;
+            id = it->second;
+        }
+        facets.resize(3 * static_cast<std::size_t>(tess.GetNumFacets()));
+        tess.GetFacets(facets.data());
+        for (int f : facets) r.triangles.push_back(global[static_cast<std::size_t>(f)]);
+    }
+    r.fine_vertices = r.stencil_offsets.size() - 1;
+    return r;
+}
+
 }  // namespace
 
 Refinement plan_refinement(std::size_t vertex_count, std::span<const std::uint32_t> triangles, const RefineOptions& o,
-                           std::size_t max_vertices) {
+                           std::size_t max_vertices, const AdaptiveCriteria* adaptive) {
     if (o.level < 1 || o.level > 6) throw InputError("refine: level must be 1 … 6, got " + std::to_string(o.level));
     const std::size_t nt = triangles.size() / 3;
     if (triangles.size() % 3 != 0 || nt == 0) throw InputError("refine: no triangles to refine");
     for (std::uint32_t v : triangles)
         if (v >= vertex_count) throw InputError("refine: triangle index " + std::to_string(v) + " >= " + std::to_string(vertex_count));
+    if (o.adaptive && o.scheme != RefineScheme::loop)
+        throw InputError("refine: adaptive refinement tessellates triangles: use the loop scheme");
+    if (o.adaptive && !adaptive) throw InputError("refine: adaptive refinement needs its criteria (sampled normals, camera)");
+    if (o.adaptive && !(o.max_angle_degrees >= 0.0 && o.near_distance >= 0.0))
+        throw InputError("refine: max_angle_degrees and near_distance must be >= 0");
     // Refuse before OpenSubdiv allocates: a triangle mesh has about half as many
     // vertices as triangles.
-    const double fine_estimate = 0.5 * refined_triangles(nt, o.scheme, o.level);
+    const double fine_estimate = o.adaptive ? 0.0 : 0.5 * refined_triangles(nt, o.scheme, o.level);
     if (fine_estimate > static_cast<double>(max_vertices)) {
         int fits = 0;
         while (fits < o.level && 0.5 * refined_triangles(nt, o.scheme, fits + 1) <= static_cast<double>(max_vertices)) ++fits;
@@ -89,6 +230,7 @@ Refinement plan_refinement(std::size_t vertex_count, std::span<const std::uint32
     std::unique_ptr<Far::TopologyRefiner> refiner(Far::TopologyRefinerFactory<Far::TopologyDescriptor>::Create(
         desc, Far::TopologyRefinerFactory<Far::TopologyDescriptor>::Options(scheme, sdc)));
     if (!refiner) throw InputError("refine: OpenSubdiv rejected the surface's topology (non-manifold?)");
+    if (o.adaptive) return adaptive_refinement(*refiner, vertex_count, triangles, o, max_vertices, *adaptive);
     Far::TopologyRefiner::UniformOptions uniform(o.level);
     uniform.fullTopologyInLastLevel = true;
     refiner->RefineUniform(uniform);
