@@ -235,10 +235,13 @@ Refinement plan_refinement(std::size_t vertex_count, std::span<const std::uint32
     uniform.fullTopologyInLastLevel = true;
     refiner->RefineUniform(uniform);
 
-    Far::StencilTableFactory::Options so;
+    // The Real<float> factory itself: Far::StencilTableFactory::Create downcasts its
+    // StencilTableReal<float> to StencilTable, which UBSan reports (OpenSubdiv 3.5).
+    using Factory = Far::StencilTableFactoryReal<float>;
+    Factory::Options so;
     so.generateOffsets = true;
     so.generateIntermediateLevels = false;  // the last level only, from the coarse vertices
-    std::unique_ptr<const Far::StencilTable> table(Far::StencilTableFactory::Create(*refiner, so));
+    std::unique_ptr<const Far::StencilTableReal<float>> table(Factory::Create(*refiner, so));
 
     Refinement r;
     r.coarse_vertices = vertex_count;
