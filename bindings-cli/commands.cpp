@@ -468,6 +468,7 @@ int run_job(const RunArgs& a) {
         surface["refine"] = {{"scheme", scene.refine->scheme == RefineScheme::loop ? "loop" : "catmull-clark"},
                              {"level", scene.refine->level},
                              {"adaptive", scene.refine->adaptive},
+                             {"crest_sharpness_per_metre", scene.refine->crest_sharpness_per_metre},
                              {"coarse_vertices", plan.rest_x.size()}};
     json report{{"libwave", version()},
                 {"scene", scene.name},
@@ -565,7 +566,10 @@ int run_job(const RunArgs& a) {
     if (scene.refine)
         std::cout << "refined    OpenSubdiv " << (scene.refine->scheme == RefineScheme::loop ? "Loop" : "Catmull-Clark")
                   << (scene.refine->adaptive ? ", adaptive up to level " : ", level ") << scene.refine->level << ": " << coarse_vertices << " -> " << anim.vertex_count
-                  << " vertices, " << anim.triangles.size() / 3 << " triangles (stencils applied per frame)\n";
+                  << " vertices, " << anim.triangles.size() / 3 << " triangles ("
+                  << (scene.refine->crest_sharpness_per_metre > 0.0 ? "crest creases: refined again each frame"
+                                                                    : "stencils applied per frame")
+                  << ")\n";
     else
         std::cout << "mesh       " << anim.vertex_count << " vertices, " << anim.triangles.size() / 3 << " triangles\n";
     std::cout << "animation  " << frames << " frames at " << scene.fps << " fps, loop " << plan.loop_period

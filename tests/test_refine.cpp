@@ -5,10 +5,12 @@
 #include "libwave/errors.h"
 #include "libwave/scene.h"
 #include "libwave/surface.h"
+#include "libwave/beta_spline.h"
 
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <map>
 #include <vector>
@@ -206,4 +208,69 @@ TEST(RefineAdaptive, RefinesWhereTheSurfaceBendsWithoutCracks) {
     near.near_distance = 1000.0;
     EXPECT_EQ(plan_refinement(21 * 21, g.tris, near, 50'000'000, &c).triangle_count(), uniform.triangle_count());
     EXPECT_THROW(plan_refinement(21 * 21, g.tris, {RefineScheme::catmull_clark, 2, true}, 50'000'000, &c), InputError);
+}
+
+TEST(Refine, CrestSharpnessKeepsCrestsAsTsosTensionDoes) {
+    // One sampled swell: η = A cos(2πx/L), L = 8 m on a 1 m grid (41 × 9 nodes), A = 0.5 m.
+    const double A = 0.5, L = 8.0, kPi = 3.141592653589793;
+    Grid g = plane(41, 9);
+    for (std::size_t v = 0; v < g.p.size() / 3; ++v) {
+        g.p[3 * v] *= 0.5f;  // 1 m spacing
+        g.p[3 * v + 1] *= 0.5f;
+        g.p[3 * v + 2] = static_cast<float>(A * std::cos(2 * kPi * g.p[3 * v] / L));
+    }
+    const auto crest = [&](const Refinement& r) {
+        std::vector<float> fine(3 * r.fine_vertices);
+        apply_refinement(r, g.p, 3, fine);
+        float top = -1.0f;
+        for (std::size_t v = 0; v < r.fine_vertices; ++v)
+            if (fine[3 * v] > 4.0f && fine[3 * v] < 36.0f) top = std::max(top, fine[3 * v + 2]);  // inner crests
+        return top / A;
+    };
+    const RefineOptions loop{RefineScheme::loop, 2};
+    const Refinement plain = plan_refinement(g.p.size() / 3, g.tris, loop);
+    const Creases c = crest_creases(g.p, g.tris, 8.0, 4.0);
+    ASSERT_FALSE(c.sharpness.empty());
+    for (std::size_t i = 0; i < c.sharpness.size(); ++i) {
+        ASSERT_LE(c.sharpness[i], 4.0f);
+        ASSERT_GT(g.p[3 * c.edges[2 * i] + 2], 0.0f);  // only above still water
+    }
+    const Refinement sharp = plan_refinement(g.p.size() / 3, g.tris, loop, 50'000'000, nullptr, &c);
+    EXPECT_EQ(sharp.triangles, plain.triangles) << "creases change the stencils, not the faces";
+    const double loop_plain = crest(plain), loop_sharp = crest(sharp);
+    // Ts'o's Beta2-spline through the same samples with tension β2 = τ·η at the crest
+    // (τ = 20 /m, the height field's default), against the plain cubic B-spline.
+    const auto beta_crest = [&](double beta2) {
+        double top = -1.0;
+        for (int span = 0; span < 2; ++span)  // the two spans around the crest at x = 16
+            for (int i = 0; i <= 100; ++i) {
+                double w[4];
+                beta_spline_basis(i / 100.0, 1.0, beta2, w);
+                double z = 0.0;
+                for (int j = 0; j < 4; ++j) z += w[j] * A * std::cos(2 * kPi * (16 + span + j - 2) / L);
+                top = std::max(top, z);
+            }
+        return top / A;
+    };
+    const double beta_plain = beta_crest(0.0), beta_tension = beta_crest(std::min(30.0, 20.0 * A));
+    EXPECT_GT(loop_sharp, loop_plain + 0.02) << "sharp crests keep more of their height";
+    EXPECT_GT(beta_tension, beta_plain + 0.02);
+    EXPECT_LE(loop_sharp, 1.0 + 1e-6);
+    EXPECT_LE(beta_tension, 1.0 + 1e-6);
+    std::printf("crest height kept: Loop %.3f, Loop + crest sharpness %.3f; B-spline %.3f, Beta2 with tension %.3f\n",
+                loop_plain, loop_sharp, beta_plain, beta_tension);
+}
+
+TEST(Refine, SceneCrestSharpnessRaisesTheCrestsWithTheSameFaces) {
+    const char* base = R"({"seafloor": {"source": "gonzato-bay"}, "waves": [{"period": 5, "amplitude": 0.3}],
+      "trace": {"ray_spacing": 4}, "fronts": {"step": 1.5, "split_distance": 6}, "animation": {"fps": 4},
+      "refine": {"level": 1)";
+    const Scene plain = parse_scene(std::string(base) + "}}", "r.json", ".");
+    const Scene sharp = parse_scene(std::string(base) + R"(, "crest_sharpness_per_metre": 10}})", "r.json", ".");
+    const SceneAnimation a = animate_scene(plain, plan_scene(plain), 2e9, {0, 4});
+    const SceneAnimation b = animate_scene(sharp, plan_scene(sharp), 2e9, {0, 4});
+    EXPECT_EQ(a.triangles, b.triangles);
+    EXPECT_GT(b.z_max, a.z_max + 0.005f) << "creased crests keep their height";
+    EXPECT_THROW(parse_scene(std::string(base) + R"(, "adaptive": true, "crest_sharpness_per_metre": 10}})", "r.json", "."),
+                 InputError);
 }

@@ -101,7 +101,25 @@ struct RefineOptions {
     bool adaptive = false;
     double max_angle_degrees = 4.0;  ///< a segment may turn the normal by this much
     double near_distance = 0.0;      ///< m: full rate within it, falling as 1/distance; 0 = off
+    /// Crest sharpness (uniform refinement): edges whose ends stand above still water
+    /// get OpenSubdiv edge sharpness crest_sharpness_per_metre · (mean height), at most
+    /// max_crest_sharpness — the subdivision counterpart of Ts'o's tension β2 = τ·η
+    /// (§3.3). Sharpness is topology in OpenSubdiv: a frame with creases is refined
+    /// again (same faces, its own stencils). 0 = off.
+    double crest_sharpness_per_metre = 0.0;
+    double max_crest_sharpness = 4.0;
 };
+
+/// Crest creases of one frame (positions 3 per vertex, z up): every edge of the
+/// triangles whose two ends are above z = 0, with sharpness per_metre · (z_a + z_b)/2
+/// capped at `max`; edges as pairs of vertex indices (lower first, each edge once, in
+/// the order first met).
+struct Creases {
+    std::vector<std::uint32_t> edges;  ///< 2 per crease
+    std::vector<float> sharpness;
+};
+Creases crest_creases(std::span<const float> positions, std::span<const std::uint32_t> triangles, double per_metre,
+                      double max);
 
 /// What adaptive refinement looks at: unit normals of the coarse surface at K sampled
 /// times (K · vertices · 3 floats), the vertices' rest positions and the camera.
@@ -127,7 +145,8 @@ struct Refinement {
 /// OpenSubdiv rejects (non-manifold), and LimitError when the refined mesh would
 /// exceed `max_vertices` (naming the level that fits).
 Refinement plan_refinement(std::size_t vertex_count, std::span<const std::uint32_t> triangles, const RefineOptions& options,
-                           std::size_t max_vertices = 50'000'000, const AdaptiveCriteria* adaptive = nullptr);
+                           std::size_t max_vertices = 50'000'000, const AdaptiveCriteria* adaptive = nullptr,
+                           const Creases* creases = nullptr);
 
 /// fine[i·c + k] = Σ_j w_ij coarse[j·c + k] for c = `components` per vertex (3 for
 /// positions, 1 for foam). Parallel over refined vertices; each is computed alone, so

@@ -352,8 +352,14 @@ void read_preview(const Node& n, Scene& s) {
 }
 
 RefineOptions read_refine(const Node& n) {
-    n.require_object({"scheme", "level", "adaptive", "max_angle_degrees", "near_distance"});
+    n.require_object({"scheme", "level", "adaptive", "max_angle_degrees", "near_distance", "crest_sharpness_per_metre",
+                      "max_crest_sharpness"});
     RefineOptions o;
+    if (n.has("crest_sharpness_per_metre")) o.crest_sharpness_per_metre = n["crest_sharpness_per_metre"].non_negative("1/m");
+    if (n.has("max_crest_sharpness")) {
+        o.max_crest_sharpness = n["max_crest_sharpness"].non_negative("sharpness");
+        if (o.max_crest_sharpness > 10.0) n["max_crest_sharpness"].fail("expected at most 10 (OpenSubdiv: infinitely sharp)");
+    }
     if (n.has("adaptive")) o.adaptive = n["adaptive"].boolean();
     if (n.has("max_angle_degrees")) o.max_angle_degrees = n["max_angle_degrees"].positive("degrees");
     if (n.has("near_distance")) o.near_distance = n["near_distance"].non_negative("m");
@@ -364,6 +370,8 @@ RefineOptions read_refine(const Node& n) {
         if (o.level > 6) n["level"].fail("expected 1 … 6 levels (each multiplies the triangles by 4), got " + std::to_string(o.level));
     }
     if (o.adaptive && o.scheme != RefineScheme::loop) n["scheme"].fail("adaptive refinement tessellates triangles: use \"loop\"");
+    if (o.adaptive && o.crest_sharpness_per_metre > 0.0)
+        n["crest_sharpness_per_metre"].fail("crest sharpness needs uniform refinement (not adaptive)");
     return o;
 }
 
@@ -642,6 +650,14 @@ namespace {
 
 // The components every surface kind can carry: the FFT ocean (its loop fitted to the
 // swell's), Gerstner waves, and the per-vertex rest data they are evaluated at.
+// The triangles of the surface's own vertices (before any refinement).
+const std::vector<std::uint32_t>& surface_triangles(const Scene& scene, const ScenePlan& p) {
+    if (scene.surface_kind == SurfaceKind::ocean) return p.patch_triangles;
+    if (p.camera_grid.vertex_count() > 0) return p.camera_grid.triangles;
+    if (scene.surface_kind == SurfaceKind::ray_strips) return p.strips.triangles;
+    return p.surface.triangles;
+}
+
 void plan_components(const Scene& scene, ScenePlan& p) {
     const bool ocean_kind = scene.surface_kind == SurfaceKind::ocean;
     if (scene.ocean || ocean_kind) {
@@ -721,10 +737,7 @@ void plan_components(const Scene& scene, ScenePlan& p) {
                              " >= 1: crests may loop over themselves (Tessendorf §3.1); lower the amplitudes");
     // Subdivision: the surface's topology refined once; frames apply the stencils.
     if (scene.refine) {
-        const std::vector<std::uint32_t>& coarse = ocean_kind                          ? p.patch_triangles
-                                                   : p.camera_grid.vertex_count() > 0 ? p.camera_grid.triangles
-                                                   : scene.surface_kind == SurfaceKind::ray_strips ? p.strips.triangles
-                                                                                                    : p.surface.triangles;
+        const std::vector<std::uint32_t>& coarse = surface_triangles(scene, p);
         if (!scene.refine->adaptive) {
             p.refinement = plan_refinement(p.rest_x.size(), coarse, *scene.refine, scene.max_refined_vertices);
         } else {
@@ -842,11 +855,11 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
                          " holds no frame of the loop's 0:" + std::to_string(a.loop_frames));
     a.first_frame = range.first;
     a.frame_count = end - range.first;
-    a.triangles = refined                               ? refined->triangles
-                  : ocean_kind                          ? plan.patch_triangles
-                  : plan.camera_grid.vertex_count() > 0 ? plan.camera_grid.triangles
-                  : strips                              ? plan.strips.triangles
-                                                        : sp.triangles;
+    const std::vector<std::uint32_t>& coarse_triangles = surface_triangles(scene, plan);
+    a.triangles = refined ? refined->triangles : coarse_triangles;
+    // Crest sharpness: creases follow the frame's heights, so each frame is refined again.
+    const bool creased = refined && scene.refine->crest_sharpness_per_metre > 0.0;
+    Refinement frame_refinement;
     const std::size_t n = a.vertex_count;
     const bool shaded = scene.attributes != Scene::Attributes::none;
     const double bytes_per_vertex = 24.0 + (shaded ? 12.0 : 0.0) + (scene.color ? 12.0 : 0.0);
@@ -941,7 +954,14 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
             }
         }
         if (!plan.gerstner.empty()) add_gerstner_waves(plan.gerstner, plan.rest_x, plan.rest_y, plan.rest_depth, t, pc);
-        if (refined) apply_refinement(*refined, pc, 3, p);
+        const Refinement* fr = refined;
+        if (creased) {
+            const Creases c = crest_creases(pc, coarse_triangles, scene.refine->crest_sharpness_per_metre,
+                                            scene.refine->max_crest_sharpness);
+            frame_refinement = plan_refinement(nc, coarse_triangles, *scene.refine, scene.max_refined_vertices, nullptr, &c);
+            fr = &frame_refinement;
+        }
+        if (refined) apply_refinement(*fr, pc, 3, p);
         if (!normals_done) vertex_normals(p, a.triangles, adjacency, nr);
         for (std::size_t v = 0; v < n; ++v) {
             a.z_min = std::min(a.z_min, p[3 * v + 2]);
@@ -971,7 +991,7 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
                 }
                 if (!lattice.empty()) fold_past.erase(fold_past.begin(), fold_past.lower_bound(lattice.back()));
             }
-            if (refined) apply_refinement(*refined, std::span<const float>(fc), 1, foam);
+            if (refined) apply_refinement(*fr, std::span<const float>(fc), 1, foam);
             if (scene.color) water_colour(r, depth_at_vertices, foam, WaterColours{}, std::span<float>(&a.colors[3 * n * f], 3 * n));
         }
         if (progress) progress(f + 1, a.frame_count);

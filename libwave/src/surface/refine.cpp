@@ -192,8 +192,24 @@ Refinement adaptive_refinement(const Far::TopologyRefiner& refiner, std::size_t 
 
 }  // namespace
 
+Creases crest_creases(std::span<const float> p, std::span<const std::uint32_t> tri, double per_metre, double max) {
+    Creases c;
+    if (!(per_metre > 0.0)) return c;
+    std::map<std::pair<std::uint32_t, std::uint32_t>, bool> seen;
+    for (std::size_t t = 0; 3 * t + 2 < tri.size(); ++t)
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t a = tri[3 * t + static_cast<std::size_t>(k)], b = tri[3 * t + static_cast<std::size_t>((k + 1) % 3)];
+            const float za = p[3 * std::size_t{a} + 2], zb = p[3 * std::size_t{b} + 2];
+            if (!(za > 0.0f && zb > 0.0f) || !seen.emplace(std::minmax(a, b), true).second) continue;
+            const auto [lo, hi] = std::minmax(a, b);
+            c.edges.insert(c.edges.end(), {lo, hi});
+            c.sharpness.push_back(static_cast<float>(std::min(max, per_metre * 0.5 * (double{za} + zb))));
+        }
+    return c;
+}
+
 Refinement plan_refinement(std::size_t vertex_count, std::span<const std::uint32_t> triangles, const RefineOptions& o,
-                           std::size_t max_vertices, const AdaptiveCriteria* adaptive) {
+                           std::size_t max_vertices, const AdaptiveCriteria* adaptive, const Creases* creases) {
     if (o.level < 1 || o.level > 6) throw InputError("refine: level must be 1 … 6, got " + std::to_string(o.level));
     const std::size_t nt = triangles.size() / 3;
     if (triangles.size() % 3 != 0 || nt == 0) throw InputError("refine: no triangles to refine");
@@ -226,6 +242,15 @@ Refinement plan_refinement(std::size_t vertex_count, std::span<const std::uint32
     const std::vector<int> indices(triangles.begin(), triangles.end());
     desc.numVertsPerFace = per_face.data();
     desc.vertIndicesPerFace = indices.data();
+    std::vector<int> crease_pairs;
+    if (creases && !creases->sharpness.empty()) {
+        if (o.adaptive) throw InputError("refine: crest sharpness needs uniform refinement (not adaptive)");
+        if (creases->edges.size() != 2 * creases->sharpness.size()) throw InputError("refine: creases need 2 vertices each");
+        crease_pairs.assign(creases->edges.begin(), creases->edges.end());
+        desc.numCreases = static_cast<int>(creases->sharpness.size());
+        desc.creaseVertexIndexPairs = crease_pairs.data();
+        desc.creaseWeights = creases->sharpness.data();
+    }
     const Sdc::SchemeType scheme = o.scheme == RefineScheme::loop ? Sdc::SCHEME_LOOP : Sdc::SCHEME_CATMARK;
     std::unique_ptr<Far::TopologyRefiner> refiner(Far::TopologyRefinerFactory<Far::TopologyDescriptor>::Create(
         desc, Far::TopologyRefinerFactory<Far::TopologyDescriptor>::Options(scheme, sdc)));
