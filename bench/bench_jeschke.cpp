@@ -60,6 +60,32 @@ void BM_jeschke_positions(benchmark::State& state) {
 }
 BENCHMARK(BM_jeschke_positions)->Arg(50000)->Arg(1000000)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// §3.1 foam alone (with the per-wave variation: the recent crests' lives at each point).
+void BM_jeschke_foam(benchmark::State& state) {
+    const Fixture& f = fixture(static_cast<int>(state.range(0)));
+    const std::size_t n = f.plan.breakers.vertex_count();
+    std::vector<float> foam(n);
+    frames_at_30fps(state, n, [&](double t) {
+        wave::jeschke_foam(f.plan.breakers, t, foam);
+        benchmark::DoNotOptimize(foam.data());
+    });
+}
+BENCHMARK(BM_jeschke_foam)->Arg(1000000)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// §5 normals alone on the breakers' surface (accumulated face normals, parallel gather).
+void BM_jeschke_normals(benchmark::State& state) {
+    const Fixture& f = fixture(static_cast<int>(state.range(0)));
+    const std::size_t n = f.plan.breakers.vertex_count();
+    std::vector<float> p(3 * n), nr(3 * n);
+    const wave::VertexFaces adjacency = wave::vertex_faces(n, f.plan.camera_grid.triangles);
+    wave::evaluate_jeschke_breakers(f.plan.breakers, 2.0, p);
+    frames_at_30fps(state, n, [&](double) {
+        wave::vertex_normals(p, f.plan.camera_grid.triangles, adjacency, nr);
+        benchmark::DoNotOptimize(nr.data());
+    });
+}
+BENCHMARK(BM_jeschke_normals)->Arg(1000000)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 // What a renderer needs each frame: positions, area-weighted normals (§5) and foam (§3.1).
 void BM_jeschke_frame(benchmark::State& state) {
     const Fixture& f = fixture(static_cast<int>(state.range(0)));

@@ -153,6 +153,8 @@ json breakers_summary(const JeschkeMotionPlan& b) {
     }
     json out{{"model", "jeschke"}, {"rays", b.rays.size()}, {"breaking_rays", breaking}, {"breaker_types", types}};
     if (breaking > 0) out["break_depth_m"] = {h_min, h_max};
+    out["varied_waves"] = b.loop_periods();  // the loop holds this many swell periods
+    out["wave_variation"] = b.variation;
     return out;
 }
 

@@ -33,6 +33,13 @@ const char* kBeach = R"({"name": "jeschke beach", "seafloor": {"source": "planar
   "isobaths": {"spacing": 0.5}, "waves": [{"period": 8, "amplitude": 0.4, "direction": [0, 1]}],
   "trace": {"ray_spacing": 4}, "breakers": "jeschke", "animation": {"fps": 8}})";
 
+// The same beach with every crest alike (no per-wave variation): one period loops.
+std::string alike_beach() {
+    std::string s = kBeach;
+    s.replace(s.find("\"breakers\": \"jeschke\""), 21, R"("breakers": {"wave_variation": 0})");
+    return s;
+}
+
 }  // namespace
 
 TEST(JeschkeShape, RoundPhaseIsARaisedCosine) {
@@ -180,7 +187,7 @@ TEST(JeschkeBreakers, NoVertexJumpsBetweenFrames) {
 }
 
 TEST(JeschkeFoam, NoneBeforeTheBreakThenDecayingUntilTheNextCrest) {
-    const Scene scene = parse_scene(kBeach, "beach.json", ".");
+    const Scene scene = parse_scene(alike_beach(), "beach.json", ".");
     const ScenePlan plan = plan_scene(scene);
     const JeschkeMotionPlan& b = plan.breakers;
     const std::size_t n = b.vertex_count();
@@ -318,4 +325,106 @@ TEST(VertexNormals, ParallelGatherEqualsTheSerialSumBitForBit) {
     }
     EXPECT_THROW(vertex_normals(p, plan.strips.triangles, vertex_faces(n - 1, std::span(plan.strips.triangles).first(0)), parallel),
                  InputError);
+}
+
+TEST(JeschkeVariation, EveryCrestKeepsAWholeLifeCycle) {
+    // Any draw leaves rise <= break, a breaking phase, at least a quarter of the collapse
+    // zone, and an end no further than the ray's (the aground point).
+    const double rise = 6.0, b = 20.0, len = 5.0, e = 40.0, collapse = e - b - len;
+    for (double u1 = -1.0; u1 <= 1.0; u1 += 0.125)
+        for (double u2 = -1.0; u2 <= 1.0; u2 += 0.125)
+            for (double v : {0.1, 0.25, 0.5}) {
+                const CrestPhases c = vary_crest(rise, b, len, e, {u1, u2}, v);
+                ASSERT_GE(c.break_phase, rise);
+                ASSERT_LE(c.end_phase, e);
+                ASSERT_GE(c.end_phase - c.break_phase - c.breaking_length, 0.25 * collapse - 1e-12);
+                ASSERT_NEAR(c.break_phase, std::clamp(b + u1 * v * 2 * kPi, rise, b + 0.25 * collapse), 1e-12);
+            }
+    const CrestPhases never = vary_crest(rise, INFINITY, 0.0, INFINITY, {1.0, 1.0}, 0.5);
+    EXPECT_TRUE(std::isinf(never.break_phase));
+    const CrestPhases none = vary_crest(rise, b, len, e, {1.0, 1.0}, 0.0);
+    EXPECT_EQ(none.break_phase, b);
+    EXPECT_EQ(none.end_phase, e);
+}
+
+TEST(JeschkeVariation, CrestsDifferAndTheLoopIsTheirCount) {
+    // Three varied crests: the surface repeats after 3 periods, not after one, and the
+    // scene's loop holds the 3 periods (frames = 3 T fps).
+    const Scene scene = parse_scene(kBeach, "beach.json", ".");
+    const ScenePlan plan = plan_scene(scene);
+    const JeschkeMotionPlan& b = plan.breakers;
+    ASSERT_EQ(b.loop_periods(), 3u);
+    EXPECT_DOUBLE_EQ(plan.loop_period, 24.0);
+    const std::size_t n = b.vertex_count();
+    std::vector<float> a(3 * n), one(3 * n), three(3 * n);
+    const double period = 2 * kPi / b.omega;
+    evaluate_jeschke_breakers(b, 1.7, a);
+    evaluate_jeschke_breakers(b, 1.7 + period, one);
+    evaluate_jeschke_breakers(b, 1.7 + 3 * period, three);
+    double differ = 0.0, loop = 0.0;
+    for (std::size_t i = 0; i < 3 * n; ++i) {
+        differ = std::max(differ, static_cast<double>(std::abs(one[i] - a[i])));
+        loop = std::max(loop, static_cast<double>(std::abs(three[i] - a[i])));
+    }
+    EXPECT_GT(differ, 0.3) << "the next crest breaks elsewhere (m)";
+    EXPECT_LT(loop, 1e-3) << "the loop repeats after 3 periods (m, float rounding of ωt)";
+
+    // Where each crest breaks along one central ray: not all alike, each within the
+    // stated ±0.25 local wavelengths of the traced break (k from the ray).
+    std::vector<double> breaks;
+    const RayBreak* ray = nullptr;
+    for (const RayBreak& rb : b.rays) {
+        if (rb.breaks && std::abs(rb.x - 100.0) < 50.0) ray = &rb;
+    }
+    ASSERT_NE(ray, nullptr);
+    std::size_t v0 = n;
+    for (std::size_t v = 0; v < n && v0 == n; ++v)
+        if (b.break_phase[v] == static_cast<float>(ray->break_phase)) v0 = v;
+    ASSERT_LT(v0, n);
+    for (const CrestVariation& d : b.crest_draws)
+        breaks.push_back(vary_crest(b.rise[v0], b.break_phase[v0], b.breaking_length[v0], b.end_phase[v0], d, b.variation).break_phase);
+    const auto [lo, hi] = std::minmax_element(breaks.begin(), breaks.end());
+    EXPECT_GT(*hi - *lo, 0.1 * 2 * kPi) << "crests break at least a tenth of a wavelength apart";
+    for (double x : breaks) EXPECT_LE(std::abs(x - ray->break_phase), 0.25 * 2 * kPi + 1e-4);
+}
+
+TEST(JeschkeVariation, FoamOnlyWhereSomeCrestBrokeAndBoundedByTheFade) {
+    // §3.1 with varied crests: no foam seaward of the earliest break of any crest; the
+    // largest faded value over the recent crests never rises except when a crest passes.
+    const Scene scene = parse_scene(kBeach, "beach.json", ".");
+    const ScenePlan plan = plan_scene(scene);
+    const JeschkeMotionPlan& b = plan.breakers;
+    const std::size_t n = b.vertex_count();
+    const double loop = plan.loop_period, dt = loop / 600.0;
+    std::vector<float> prev(n), cur(n);
+    jeschke_foam(b, 0.0, prev);
+    std::size_t foamy = 0, alike_differs = 0;
+    std::vector<float> alike(n);
+    const ScenePlan alike_plan = plan_scene(parse_scene(alike_beach(), "beach.json", "."));
+    for (std::size_t f = 1; f <= 600; ++f) {
+        const double t = static_cast<double>(f) * dt;
+        jeschke_foam(b, t, cur);
+        jeschke_foam(alike_plan.breakers, t, alike);
+        for (std::size_t v = 0; v < n; ++v) {
+            ASSERT_GE(cur[v], 0.0f);
+            ASSERT_LE(cur[v], 1.0f);
+            double earliest = INFINITY;
+            for (const CrestVariation& d : b.crest_draws)
+                earliest = std::min(earliest, vary_crest(b.rise[v], b.break_phase[v], b.breaking_length[v], b.end_phase[v], d,
+                                                         b.variation).break_phase);
+            if (b.phase[v] < earliest) {
+                ASSERT_EQ(cur[v], 0.0f) << "vertex " << v;
+            }
+            if (cur[v] > prev[v]) {
+                // A rise only when a crest has just passed (within one step).
+                const double since = std::fmod(b.omega * t - b.phase[v] + 1000 * kPi, 2 * kPi) / b.omega;
+                ASSERT_LT(since, dt + 1e-9) << "vertex " << v << " t " << t;
+            }
+            foamy += cur[v] > 0.0f;
+            alike_differs += std::abs(cur[v] - alike[v]) > 0.05f;
+        }
+        prev.swap(cur);
+    }
+    EXPECT_GT(foamy, 1000u);
+    EXPECT_GT(alike_differs, 1000u) << "the varied crests leave other foam than identical ones";
 }

@@ -146,8 +146,35 @@ struct JeschkeBreakerOptions {
     /// Rotation (k5) per breaker type from the Iribarren number: the plunging tube of
     /// the paper is 1; spilling crests only tip forward.
     double curl_spilling = 0.3, curl_plunging = 1.0, curl_collapsing = 0.6, curl_surging = 0.3;
+    /// Per-wave variation (§3: every wave its own r and y_end, so the set does not look
+    /// cloned). The paper's r decides when in its run a wave reaches its break; here the
+    /// traced phase is the run, so each crest breaks up to `wave_variation` local
+    /// wavelengths earlier or later (at most a quarter of the collapse zone later, never
+    /// before it is fully grown), and its y_end, where it dies, comes up to
+    /// `wave_variation` of its collapse zone earlier. `varied_waves` crests differ (a
+    /// pseudo-random draw from `variation_seed`), then repeat: the loop is that many
+    /// swell periods. 0 or 1 wave = every crest alike, the loop one period.
+    double wave_variation = 0.25;
+    std::uint32_t varied_waves = 3;
+    std::uint64_t variation_seed = 1;
     BreakerThresholds thresholds{};
 };
+
+/// One crest's break and end (rad along its ray) after the per-wave variation.
+struct CrestPhases {
+    double break_phase = 0.0, breaking_length = 0.0, end_phase = 0.0;
+};
+
+/// The variation draw: `break_shift` and `end_shift` in [−1, 1] per varied wave.
+struct CrestVariation {
+    double break_shift = 0.0, end_shift = 0.0;
+};
+
+/// Applies a crest's draw to a ray's phases (see JeschkeBreakerOptions::wave_variation):
+/// the result keeps rise <= break, break + breaking_length < end, end <= the ray's end,
+/// and at least a quarter of the collapse zone. Rays that never break are returned as they are.
+CrestPhases vary_crest(double rise, double break_phase, double breaking_length, double end_phase,
+                       const CrestVariation& draw, double variation) noexcept;
 
 /// Where one traced ray breaks (for reports and tests).
 struct RayBreak {
@@ -171,9 +198,15 @@ struct JeschkeMotionPlan {
     std::vector<float> break_phase, end_phase, rise, breaking_length, curl, foam_yield;
     std::vector<RayBreak> rays;
     double omega = 0.0;
-    double foam_fade_time = 6.0;
+    double foam_fade_time = 6.0, foam_onset = 0.25;
+    /// Crest n (passing phase ψ at ωt = ψ + 2πn) takes draw n mod size; empty or
+    /// `variation` 0 = every crest alike.
+    std::vector<CrestVariation> crest_draws;
+    double variation = 0.0;
 
     std::size_t vertex_count() const noexcept { return x.size(); }
+    /// Swell periods after which the breakers repeat.
+    std::size_t loop_periods() const noexcept { return variation > 0.0 && !crest_draws.empty() ? crest_draws.size() : 1; }
 };
 
 /// Plans the breakers on the strips of a train of deep-water height H0 and

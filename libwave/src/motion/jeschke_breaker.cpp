@@ -31,7 +31,9 @@ BreakerShapePoint half_point(double s1, double s2, const BreakerConstants& c, do
     const auto& k = c.k;
     const double z1 = k[2] * (1.0 + std::cos((s2 - 1.0) * pi)) / 2.0 + (k[3] != 0.0 ? k[3] * power(s2, k[4]) : 0.0);
     const double phi = k[5] != 0.0 ? pi * curl * k[5] * power(s2, k[6]) / 2.0 : 0.0;
-    const double a = 0.5 - s1, cp = std::cos(phi), sp = std::sin(phi);
+    const double a = 0.5 - s1;
+    if (phi == 0.0) return {a + 0.5, z1 * k[7]};  // the round phase: no rotation (most of the sea)
+    const double cp = std::cos(phi), sp = std::sin(phi);
     return {a * cp - z1 * sp + 0.5, (a * sp + z1 * cp) * k[7]};
 }
 
@@ -74,23 +76,31 @@ BreakerConstants jeschke_constants(BreakerPhase phase, double t, bool front) noe
     return c;
 }
 
+namespace {
+
+// One half of the shape away from the lip seam (§4's s1, s2 of that half).
+BreakerShapePoint back_half(double s, const BreakerConstants& back, double curl) noexcept {
+    // k1 < 1 (the back half while breaking and collapsing) printed as (2s)^k1 has an
+    // infinite slope at the back edge: points at the trough would race as crests
+    // pass. The mirrored power 1 − (1 − 2s)^{1/k1} spreads the points the same way
+    // (sparse at the trough, dense towards the lip) with a finite slope; the curve
+    // itself does not depend on k1 (s1 and s2 are both functions of it).
+    const double k1 = back.k[1];
+    const double u = k1 >= 1.0 ? power(2.0 * s, k1) : 1.0 - std::pow(1.0 - 2.0 * s, 1.0 / k1);
+    return half_point(u / 2.0, u, back, curl);
+}
+
+BreakerShapePoint front_half(double s, const BreakerConstants& front, double curl) noexcept {
+    const double u = power(2.0 * s - 1.0, front.k[1]);
+    return half_point((1.0 + u) / 2.0, 1.0 - u, front, curl);
+}
+
+}  // namespace
+
 BreakerShapePoint jeschke_shape(double s, const BreakerConstants& back, const BreakerConstants& front, double curl) noexcept {
     s = std::clamp(s, 0.0, 1.0);
     const bool is_front = s >= 0.5;
-    BreakerShapePoint p;
-    if (!is_front) {
-        // k1 < 1 (the back half while breaking and collapsing) printed as (2s)^k1 has an
-        // infinite slope at the back edge: points at the trough would race as crests
-        // pass. The mirrored power 1 − (1 − 2s)^{1/k1} spreads the points the same way
-        // (sparse at the trough, dense towards the lip) with a finite slope; the curve
-        // itself does not depend on k1 (s1 and s2 are both functions of it).
-        const double k1 = back.k[1];
-        const double u = k1 >= 1.0 ? power(2.0 * s, k1) : 1.0 - std::pow(1.0 - 2.0 * s, 1.0 / k1);
-        p = half_point(u / 2.0, u, back, curl);
-    } else {
-        const double u = power(2.0 * s - 1.0, front.k[1]);
-        p = half_point((1.0 + u) / 2.0, 1.0 - u, front, curl);
-    }
+    BreakerShapePoint p = is_front ? front_half(s, front, curl) : back_half(s, back, curl);
     const double d = std::abs(s - 0.5);
     if (d < lip_seam) {
         // Both halves meet at their mean lip point; the blend fades over the seam.
@@ -126,6 +136,34 @@ double foam_yield(const BreakerLife& life, double onset) noexcept {
     }
 }
 
+// SplitMix64 (Steele, Lea & Flood 2014): a fixed, platform-independent draw per wave.
+std::uint64_t splitmix64(std::uint64_t x) noexcept {
+    x += 0x9E3779B97F4A7C15ull;
+    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+    return x ^ (x >> 31);
+}
+
+double unit_draw(std::uint64_t x) noexcept {  // in [−1, 1)
+    return static_cast<double>(splitmix64(x) >> 11) * 0x1.0p-52 - 1.0;
+}
+
+// The crest nearest a vertex in phase: ωt − Φ = 2πn + δ, δ ∈ [−π, π).
+long long crest_index(double wt_minus_phase) noexcept {
+    return static_cast<long long>(std::floor((wt_minus_phase + pi) / two_pi));
+}
+
+// Break/end phases of crest n at vertex v, when it stands at phase ψ (the plan's own
+// when crests are alike, or when ψ lies seaward of any crest's break: there every
+// crest is round, and no crest breaks more than variation · 2π early).
+CrestPhases crest_phases(const JeschkeMotionPlan& p, std::size_t v, long long n, double psi) noexcept {
+    if (p.loop_periods() == 1 || psi < static_cast<double>(p.break_phase[v]) - p.variation * two_pi)
+        return {p.break_phase[v], p.breaking_length[v], p.end_phase[v]};
+    const long long m = static_cast<long long>(p.crest_draws.size());
+    return vary_crest(p.rise[v], p.break_phase[v], p.breaking_length[v], p.end_phase[v],
+                      p.crest_draws[static_cast<std::size_t>(((n % m) + m) % m)], p.variation);
+}
+
 void check_options(const JeschkeBreakerOptions& o) {
     const auto check = [](double v, double lo, double hi, const char* name) {
         if (!(v >= lo && v <= hi))
@@ -139,9 +177,23 @@ void check_options(const JeschkeBreakerOptions& o) {
     check(o.foam_fade_time, 1e-3, 1e6, "foam_fade_time");
     check(o.foam_onset, 0.0, 1.0, "foam_onset");
     for (double c : {o.curl_spilling, o.curl_plunging, o.curl_collapsing, o.curl_surging}) check(c, 0.0, 2.0, "curl");
+    check(o.wave_variation, 0.0, 0.5, "wave_variation");
+    check(o.varied_waves, 1, 16, "varied_waves");
 }
 
 }  // namespace
+
+CrestPhases vary_crest(double rise, double break_phase, double breaking_length, double end_phase,
+                       const CrestVariation& draw, double variation) noexcept {
+    if (!std::isfinite(break_phase) || variation <= 0.0) return {break_phase, breaking_length, end_phase};
+    const double collapse = end_phase - break_phase - breaking_length;  // the collapse zone (rad)
+    // Later by at most a quarter of the collapse zone and earlier end by at most
+    // variation (<= ½) of it: at least ¼ of it remains, so no crest skips collapsing.
+    const double shifted = break_phase + draw.break_shift * variation * two_pi;
+    const double b = std::clamp(shifted, std::min(rise, break_phase), break_phase + 0.25 * collapse);
+    const double e = end_phase - 0.5 * (1.0 + draw.end_shift) * variation * collapse;
+    return {b, breaking_length, e};
+}
 
 JeschkeMotionPlan plan_jeschke_breakers(const RayStrips& strips, double deep_height, double deep_wavelength,
                                         const JeschkeBreakerOptions& o) {
@@ -152,6 +204,11 @@ JeschkeMotionPlan plan_jeschke_breakers(const RayStrips& strips, double deep_hei
     JeschkeMotionPlan p;
     p.omega = strips.omega;
     p.foam_fade_time = o.foam_fade_time;
+    p.foam_onset = o.foam_onset;
+    p.variation = o.varied_waves > 1 ? o.wave_variation : 0.0;
+    for (std::uint32_t i = 0; i < o.varied_waves && p.variation > 0.0; ++i)
+        p.crest_draws.push_back({unit_draw(o.variation_seed * 0x100000001B3ull + 2 * i),
+                                 unit_draw(o.variation_seed * 0x100000001B3ull + 2 * i + 1)});
     p.x = strips.x;
     p.y = strips.y;
     p.dir_x = strips.dir_x;
@@ -257,6 +314,9 @@ JeschkeMotionPlan resample_jeschke_breakers(const JeschkeMotionPlan& src, std::s
     JeschkeMotionPlan p;
     p.omega = src.omega;
     p.foam_fade_time = src.foam_fade_time;
+    p.foam_onset = src.foam_onset;
+    p.crest_draws = src.crest_draws;
+    p.variation = src.variation;
     p.rays = src.rays;
     p.x.assign(x.begin(), x.end());
     p.y.assign(y.begin(), y.end());
@@ -355,16 +415,30 @@ void evaluate_jeschke_breakers(const JeschkeMotionPlan& p, double t, std::span<f
                 positions[3 * v + 2] = -p.mean_level[v];
                 continue;
             }
-            // δ ∈ [−π, π): how far the nearest crest ψ = ωt − 2πm has run past this vertex.
-            const double delta = wt - p.phase[v] - two_pi * std::floor((wt - p.phase[v] + pi) / two_pi);
+            // δ ∈ [−π, π): how far the nearest crest ψ = ωt − 2πn has run past this vertex.
+            const double ahead = wt - p.phase[v];
+            const long long crest = crest_index(ahead);
+            const double delta = ahead - two_pi * static_cast<double>(crest);
             const double psi = p.phase[v] + delta, s = 0.5 - delta / two_pi;
-            const BreakerLife life = jeschke_life(psi, p.rise[v], p.break_phase[v], p.breaking_length[v], p.end_phase[v]);
-            const BreakerConstants back = jeschke_constants(life.phase, life.t, false);
-            const BreakerConstants front = jeschke_constants(life.phase, life.t, true);
-            const BreakerShapePoint q = jeschke_shape(s, back, front, p.curl[v]);
+            const CrestPhases c = crest_phases(p, v, crest, psi);
+            const BreakerLife life = jeschke_life(psi, p.rise[v], c.break_phase, c.breaking_length, c.end_phase);
+            // Away from the lip seam only the half holding s is needed (k7, the scale,
+            // is the same in both halves of every phase).
+            BreakerShapePoint q;
+            double k7 = 0.0;
+            if (std::abs(s - 0.5) < lip_seam) {
+                const BreakerConstants back = jeschke_constants(life.phase, life.t, false);
+                q = jeschke_shape(s, back, jeschke_constants(life.phase, life.t, true), p.curl[v]);
+                k7 = back.k[7];
+            } else {
+                const bool is_front = s >= 0.5;
+                const BreakerConstants half = jeschke_constants(life.phase, life.t, is_front);
+                q = is_front ? front_half(std::min(s, 1.0), half, p.curl[v]) : back_half(std::max(s, 0.0), half, p.curl[v]);
+                k7 = half.k[7];
+            }
             // §4's scaling fades the horizontal move with k7 as the wave dies (k7 = 1 − t
             // while collapsing): a dead crest leaves every point at rest.
-            const double fade = std::min(1.0, 1.25 * back.k[7]);
+            const double fade = std::min(1.0, 1.25 * k7);
             const double forward = (1.0 - q.y - s) * p.width[v] * fade;
             positions[3 * v] = static_cast<float>(p.x[v] + forward * p.dir_x[v]);
             positions[3 * v + 1] = static_cast<float>(p.y[v] + forward * p.dir_y[v]);
@@ -380,15 +454,31 @@ void jeschke_foam(const JeschkeMotionPlan& p, double t, std::span<float> foam) {
     const double wt = p.omega * t;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t v = r.begin(); v != r.end(); ++v) {
-            if (p.foam_yield[v] <= 0.0f) {
+            const double since = wt - p.phase[v] - two_pi * std::floor((wt - p.phase[v]) / two_pi);
+            const double tau = since / p.omega;
+            if (p.loop_periods() == 1) {
+                // Every crest passes here alike (a periodic swell): the latest one, τ ago,
+                // holds the largest of the faded values (§3.1's maximum over the waves).
+                foam[v] = p.foam_yield[v] <= 0.0f ? 0.0f
+                                                   : static_cast<float>(p.foam_yield[v] * std::max(0.0, 1.0 - tau / p.foam_fade_time));
+                continue;
+            }
+            // Varied crests: each recent one broke here or not; the largest faded value.
+            // No crest breaks more than variation · 2π before the traced break point.
+            if (!std::isfinite(p.break_phase[v]) || p.width[v] == 0.0f ||
+                p.phase[v] < static_cast<double>(p.break_phase[v]) - p.variation * two_pi) {
                 foam[v] = 0.0f;
                 continue;
             }
-            // Every crest passes here alike (a periodic swell): the latest one, τ ago,
-            // holds the largest of the faded values (§3.1's maximum over the waves).
-            const double since = wt - p.phase[v] - two_pi * std::floor((wt - p.phase[v]) / two_pi);
-            const double tau = since / p.omega;
-            foam[v] = static_cast<float>(p.foam_yield[v] * std::max(0.0, 1.0 - tau / p.foam_fade_time));
+            const long long latest = static_cast<long long>(std::floor((wt - p.phase[v]) / two_pi));
+            const double period = two_pi / p.omega;
+            double best = 0.0;
+            for (long long j = 0; tau + static_cast<double>(j) * period < p.foam_fade_time; ++j) {
+                const CrestPhases c = crest_phases(p, v, latest - j, p.phase[v]);
+                const BreakerLife life = jeschke_life(p.phase[v], p.rise[v], c.break_phase, c.breaking_length, c.end_phase);
+                best = std::max(best, foam_yield(life, p.foam_onset) * (1.0 - (tau + static_cast<double>(j) * period) / p.foam_fade_time));
+            }
+            foam[v] = static_cast<float>(best);
         }
     });
 }

@@ -279,7 +279,8 @@ JeschkeBreakerOptions read_breakers(const Node& n) {
         return o;
     }
     n.require_object({"model", "breaking_share", "max_breaking_wavelengths", "rise_wavelengths", "foam_fade_time",
-                      "foam_onset", "curl_spilling", "curl_plunging", "curl_collapsing", "curl_surging"});
+                      "foam_onset", "curl_spilling", "curl_plunging", "curl_collapsing", "curl_surging", "wave_variation",
+                      "varied_waves", "variation_seed"});
     if (n.has("model")) n["model"].choice<int>({{"jeschke", 0}});
     const auto share = [&](const char* key, double& v, double lo, double hi, const char* unit) {
         if (!n.has(key)) return;
@@ -295,6 +296,13 @@ JeschkeBreakerOptions read_breakers(const Node& n) {
     share("curl_plunging", o.curl_plunging, 0.0, 2.0, "share of the paper's rotation");
     share("curl_collapsing", o.curl_collapsing, 0.0, 2.0, "share of the paper's rotation");
     share("curl_surging", o.curl_surging, 0.0, 2.0, "share of the paper's rotation");
+    share("wave_variation", o.wave_variation, 0.0, 0.5, "local wavelengths / share of the collapse zone");
+    if (n.has("varied_waves")) {
+        const std::size_t m = n["varied_waves"].count(1);
+        if (m > 16) n["varied_waves"].fail("expected a whole number in [1, 16], got " + std::to_string(m));
+        o.varied_waves = static_cast<std::uint32_t>(m);
+    }
+    if (n.has("variation_seed")) o.variation_seed = n["variation_seed"].count(0);
     return o;
 }
 
@@ -794,6 +802,8 @@ ScenePlan plan_scene(const Scene& scene, PlanStages stages) {
                     p.camera_grid = camera_grid(c);
                     p.breakers = resample_jeschke_breakers(p.breakers, p.strips.triangles, p.camera_grid.x, p.camera_grid.y);
                 }
+                // Varied crests repeat after m of them: the loop holds m periods.
+                p.loop_period *= static_cast<double>(p.breakers.loop_periods());
             }
             plan_components(scene, p);
         }
