@@ -385,6 +385,11 @@ void publish(const std::string& out_dir, const std::vector<std::pair<std::string
 
 }  // namespace
 
+std::string run_out_dir(const RunArgs& a) {
+    if (!a.out_dir.empty()) return a.out_dir;
+    return "wave-out/" + (a.scene.empty() ? std::string("default") : std::filesystem::path(a.scene).stem().string());
+}
+
 int run_job(const RunArgs& a) {
     using Clock = std::chrono::steady_clock;
     // Limits libwave's parallel loops (TBB) for this run; each vertex is computed alone,
@@ -401,8 +406,7 @@ int run_job(const RunArgs& a) {
     if (!a.container.empty()) scene.container = a.container == "gltf" ? Scene::Container::gltf : Scene::Container::glb;
     if (!a.frames.empty() && !a.slice.empty()) throw InputError("choose --frames or --slice, not both");
     FrameRange range = parse_frames(a.frames);
-    const std::string stem = a.scene.empty() ? "default" : std::filesystem::path(a.scene).stem().string();
-    const std::string out_dir = a.out_dir.empty() ? "wave-out/" + stem : a.out_dir;
+    const std::string out_dir = run_out_dir(a);
     const bool strips = scene.surface_kind == SurfaceKind::ray_strips;
 
     const auto t0 = Clock::now();

@@ -3,6 +3,7 @@
 
 #include "libwave/bathymetry.h"
 
+#include <filesystem>
 #include <limits>
 #include <optional>
 #include <string>
@@ -59,8 +60,34 @@ struct RunArgs {
     bool quiet = false;  ///< no progress bar and no text report
     bool json = false;
     bool preview = false;  ///< also write preview.png: a contact sheet of four frames
+    bool view = false;     ///< then serve the output in the viewer (wave view)
 };
 int run_job(const RunArgs& a);
+/// Where run_job writes: --out, else wave-out/<scene file stem or "default">.
+std::string run_out_dir(const RunArgs& a);
+
+/// `wave view`: the outputs a path holds (a .glb/.gltf, index.json, or a folder with
+/// animation*.glb/.gltf and/or index.json), relative to `root`.
+struct ViewerOutputs {
+    struct Output {
+        std::string name;  ///< file name inside root
+        std::string kind;  ///< "gltf" (morph or nodes form) or "index" (files form)
+    };
+    std::filesystem::path root;
+    std::vector<Output> outputs;
+};
+/// Throws InputError naming the path when it holds none.
+ViewerOutputs find_viewer_outputs(const std::string& path);
+
+struct ViewArgs {
+    std::string path;                ///< output folder or file
+    std::string host = "127.0.0.1";
+    int port = 8765;                 ///< 0 = any free port
+    bool port_given = false;         ///< a busy --port is an error; a busy default falls back to any port
+    bool open = true;                ///< hand the URL to xdg-open when a display is available
+};
+/// Serves the viewer until interrupted (SIGINT/SIGTERM); prints the URL.
+int run_view(const ViewArgs& a);
 
 /// `wave preview`: one frame of a scene rendered by the sunset ray caster to PNG.
 struct PreviewArgs {

@@ -96,6 +96,7 @@ int main(int argc, char** argv) {
     run_cmd->add_option("--fps", run.fps, "frames per second (overrides the scene's)")->check(positive);
     run_cmd->add_flag("-q,--quiet", run.quiet, "no progress bar and no report on stdout");
     run_cmd->add_flag("--preview", run.preview, "also write preview.png: four frames rendered by the preview ray caster");
+    run_cmd->add_flag("--view", run.view, "then show the output in the browser viewer (wave view): opened when a display is available, the URL printed otherwise");
     run_cmd->add_option("--threads", run.threads, "worker threads (default: all cores); the outputs are the same for any count")
         ->check(positive);
 
@@ -145,6 +146,14 @@ int main(int argc, char** argv) {
     merge_cmd->add_option("out", merge.out_dir, "the output folder holding frames/")->required();
     merge_cmd->add_flag("--partial", merge.partial, "index the frames present even if some of the loop are missing");
     merge_cmd->add_flag("-q,--quiet", merge.quiet, "print nothing");
+
+    cli::ViewArgs view;
+    auto* view_cmd = app.add_subcommand("view", "Play an output of wave run in the browser: a local three.js page on 127.0.0.1 (morph, nodes and files forms; plain, quantised or Draco)");
+    view_cmd->add_option("path", view.path, "output folder (e.g. wave-out/default), a .glb/.gltf, or index.json")->required();
+    auto* port_opt = view_cmd->add_option("--port", view.port, "TCP port (0 = any free port; a busy default falls back to a free one)")
+        ->capture_default_str()->check(CLI::Range(0, 65535));
+    view_cmd->add_option("--host", view.host, "address to listen on")->capture_default_str();
+    view_cmd->add_flag("!--no-open", view.open, "only print the URL, even when a display is available");
 
     std::string validate_scene;
     bool validate_json = false;
@@ -197,7 +206,16 @@ int main(int argc, char** argv) {
 
     try {
         app.parse(argc, argv);
-        if (*run_cmd) return cli::run_job(run);
+        if (*run_cmd) {
+            const int rc = cli::run_job(run);
+            if (rc != 0 || !run.view) return rc;
+            view.path = cli::run_out_dir(run);
+            return cli::run_view(view);
+        }
+        if (*view_cmd) {
+            view.port_given = port_opt->count() > 0;
+            return cli::run_view(view);
+        }
         if (*convert_cmd) return cli::run_convert(convert);
         if (*merge_cmd) return cli::run_merge(merge);
         if (*prev_cmd) return cli::run_preview(prev);

@@ -15,7 +15,10 @@ packages=(
   pybind11-dev python3-pybind11 python3 python3-dev python3-numpy python3-pytest python3-jsonschema
   nodejs
   slurm-wlm munge
+  libcpp-httplib-dev
 )
+# `--tests`: also what only the test suite needs (Chromium for the viewer's browser test).
+if [[ ${1:-} == --tests ]]; then packages+=(chromium); fi
 
 missing=()
 for p in "${packages[@]}"; do
@@ -42,4 +45,12 @@ validator_dir="$(cd "$(dirname "$0")" && pwd)/gltf-validator"
 if [[ ! -f "$validator_dir/node_modules/gltf-validator/package.json" ]]; then
   echo "install-deps: installing the Khronos glTF validator (npm ci)" >&2
   (cd "$validator_dir" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
+fi
+
+# The viewer's JavaScript (three.js, esbuild; playwright-core for its test), pinned by
+# package-lock.json; bundled by the build (bindings-cli/CMakeLists.txt).
+viewer_dir="$(cd "$(dirname "$0")/.." && pwd)/bindings-cli/viewer"
+if [[ ! -f "$viewer_dir/node_modules/.package-lock.json" || "$viewer_dir/package-lock.json" -nt "$viewer_dir/node_modules/.package-lock.json" ]]; then
+  echo "install-deps: installing the viewer's npm packages (npm ci)" >&2
+  (cd "$viewer_dir" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
 fi

@@ -1,0 +1,418 @@
+// wave view: plays libwave's exported animations (docs/export.md) with three.js.
+// Three forms: `morph` (one mesh, one morph target per frame, a STEP weights track),
+// `nodes` (one child node per frame, its scale switched 0/1 by STEP keys) and `files`
+// (index.json + one .glb per frame); plain, KHR_mesh_quantization or Draco. The page
+// reads each frame's attributes itself (three.js keeps only POSITION, NORMAL and
+// COLOR_0 morph targets), so it can colour by _FOAM/_REFLECT/_REFRACT in every form.
+// window.wave is the page's API for tests and scripts.
+import * as THREE from 'three';
+import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+import { DRACOLoader } from 'three/addons/loaders/DRACOLoader.js';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+
+const $ = (id) => document.getElementById(id);
+
+// Where each shading value lives: the "named" layout or the "uv-maps" one
+// (TEXCOORD_1 = (R, T), TEXCOORD_2 = (foam, 0)); [glTF name, component].
+const SOURCES = {
+  foam: [['_FOAM', 0], ['TEXCOORD_2', 0]],
+  reflect: [['_REFLECT', 0], ['TEXCOORD_1', 0]],
+  refract: [['_REFRACT', 0], ['TEXCOORD_1', 1]],
+  color: [['COLOR_0', -1]],
+};
+const THREE_NAMES = { POSITION: 'position', NORMAL: 'normal', TEXCOORD_0: 'uv', TEXCOORD_1: 'uv1', TEXCOORD_2: 'uv2', COLOR_0: 'color' };
+const threeName = (gltfName) => THREE_NAMES[gltfName] || gltfName.toLowerCase();
+
+const SKY = new THREE.Color(0.78, 0.86, 0.95);
+const DEEP = new THREE.Color(0.02, 0.12, 0.2);
+// A perceptual-ish ramp for 0 … 1: deep blue → teal → yellow.
+const RAMP = [new THREE.Color(0.05, 0.05, 0.35), new THREE.Color(0.1, 0.55, 0.6), new THREE.Color(0.98, 0.92, 0.3)];
+function ramp(v, out) {
+  const x = Math.min(1, Math.max(0, v)) * (RAMP.length - 1);
+  const i = Math.min(RAMP.length - 2, Math.floor(x));
+  return out.copy(RAMP[i]).lerp(RAMP[i + 1], x - i);
+}
+
+const dracoLoader = new DRACOLoader().setDecoderPath('draco/');
+dracoLoader.setDecoderConfig({ type: 'wasm' });
+const loader = new GLTFLoader().setDRACOLoader(dracoLoader);
+
+// ---------------------------------------------------------------------------------
+// Frame sources: every form answers the same questions.
+// ---------------------------------------------------------------------------------
+
+function firstMesh(root) {
+  let mesh = null;
+  root.traverse((o) => { if (!mesh && o.isMesh) mesh = o; });
+  return mesh;
+}
+
+// A frame's own attribute: the file's, even where the page replaced `color` by its own.
+function baseAttribute(mesh, name) {
+  const original = mesh.geometry.userData.original;
+  return original && name in original ? original[name] : mesh.geometry.attributes[threeName(name)];
+}
+
+// Values of a glTF attribute of `mesh` (frame's own geometry) as a Float32Array.
+function readAttribute(attr) {
+  const n = attr.count, k = attr.itemSize, out = new Float32Array(n * k);
+  for (let i = 0; i < n; ++i) for (let c = 0; c < k; ++c) out[i * k + c] = attr.getComponent(i, c);
+  return out;
+}
+
+// Positions in glTF space: the mesh node's own transform (it undoes the
+// quantisation; the frame switch is on a parent or is 1 on the visible frame).
+function transformPositions(values, mesh) {
+  mesh.updateMatrix();
+  const m = mesh.matrix, v = new THREE.Vector3();
+  for (let i = 0; i < values.length; i += 3) {
+    v.set(values[i], values[i + 1], values[i + 2]).applyMatrix4(m);
+    values[i] = v.x; values[i + 1] = v.y; values[i + 2] = v.z;
+  }
+  return values;
+}
+
+function describe(json) {
+  const used = json.extensionsUsed || [];
+  return used.includes('KHR_draco_mesh_compression') ? 'Draco'
+    : used.includes('KHR_mesh_quantization') ? 'quantised' : 'plain';
+}
+
+// One .glb/.gltf holding the whole animation (morph or nodes form).
+async function gltfSource(url) {
+  const gltf = await loader.loadAsync(url);
+  const json = gltf.parser.json;
+  const libwave = (json.asset.extras || {}).libwave || {};
+  const clip = gltf.animations[0];
+  const mixer = new THREE.AnimationMixer(gltf.scene);
+  let action = null;
+  if (clip) {
+    action = mixer.clipAction(clip);
+    action.setLoop(THREE.LoopOnce, 1);
+    action.clampWhenFinished = true;
+  }
+  const fps = libwave.fps || 24;
+  const prim = json.meshes[0].primitives[0];
+  const morph = Array.isArray(prim.targets) && prim.targets.length > 0;
+  const meshes = [];
+  gltf.scene.traverse((o) => { if (o.isMesh) meshes.push(o); });
+  const frames = morph ? prim.targets.length : meshes.length;
+  const targetCache = new Map();  // target index → { gltf name → BufferAttribute }
+  const targetAttribute = async (i, name) => {
+    if (!targetCache.has(i)) targetCache.set(i, {});
+    const cache = targetCache.get(i);
+    if (!(name in cache)) {
+      const idx = prim.targets[i][name];
+      cache[name] = idx === undefined ? null : await gltf.parser.getDependency('accessor', idx);
+    }
+    return cache[name];
+  };
+  const mesh0 = meshes[0];
+  const source = {
+    form: morph ? 'morph' : 'nodes',
+    compression: describe(json),
+    fps, frames,
+    object: gltf.scene,
+    meshes,
+    vertices: mesh0.geometry.attributes.position.count,
+    triangles: mesh0.geometry.index ? mesh0.geometry.index.count / 3 : mesh0.geometry.attributes.position.count / 3,
+    has: (name) => (morph ? prim.attributes[name] !== undefined : json.meshes.some((m) => m.primitives[0].attributes[name] !== undefined)),
+    async load(f) { return f; },
+    // Shows frame f by the file's own animation at the middle of its frame interval
+    // (STEP keys sit at the largest float32 <= k / fps).
+    display(f) {
+      if (action) {
+        action.reset();
+        action.play();
+        mixer.setTime((f + 0.5) / fps);
+      }
+      gltf.scene.updateMatrixWorld(true);
+      return morph ? mesh0 : meshes.find((m) => visible(m)) || meshes[f];
+    },
+    // The displayed frame's values of a glTF attribute (glTF space for POSITION).
+    async values(mesh, name) {
+      const base = baseAttribute(mesh, name);
+      if (!base) return null;
+      const out = readAttribute(base);
+      if (morph) {
+        const w = mesh.morphTargetInfluences || [];
+        for (let i = 0; i < w.length; ++i) {
+          if (w[i] === 0) continue;
+          const t = await targetAttribute(i, name);
+          if (!t) continue;
+          for (let j = 0; j < out.length; ++j) out[j] += w[i] * t.getComponent(Math.floor(j / t.itemSize), j % t.itemSize);
+        }
+      }
+      return name === 'POSITION' ? transformPositions(out, mesh) : out;
+    },
+  };
+  if (morph) {
+    // Colours are recomputed on the CPU per frame: three must not add COLOR_0 deltas.
+    const g = mesh0.geometry;
+    g.userData.original = { COLOR_0: g.attributes.color };
+    delete g.morphAttributes.color;
+  }
+  return source;
+}
+
+function visible(mesh) {
+  for (let o = mesh; o; o = o.parent) if (o.scale.x === 0 && o.scale.y === 0 && o.scale.z === 0) return false;
+  return true;
+}
+
+// The files form: index.json and one static .glb per frame, loaded on demand.
+async function filesSource(url) {
+  const index = await (await fetch(url)).json();
+  const base = url.slice(0, url.lastIndexOf('/') + 1);
+  const frames = index.frames.slice().sort((a, b) => a.frame - b.frame);
+  const loaded = new Map();
+  const group = new THREE.Group();
+  const load = (f) => {
+    if (!loaded.has(f)) loaded.set(f, loader.loadAsync(base + frames[f].file).then((g) => {
+      const json = g.parser.json;
+      const mesh = firstMesh(g.scene);
+      return { scene: g.scene, mesh, json };
+    }));
+    return loaded.get(f);
+  };
+  const first = await load(0);
+  let current = null;
+  const source = {
+    form: 'files',
+    compression: describe(first.json),
+    fps: index.fps,
+    frames: frames.length,
+    object: group,
+    vertices: first.mesh.geometry.attributes.position.count,
+    triangles: first.mesh.geometry.index.count / 3,
+    has: (name) => first.json.meshes[0].primitives[0].attributes[name] !== undefined,
+    load,
+    display(frame, f) {
+      if (current !== frame) {
+        if (current) group.remove(current.scene);
+        group.add(frame.scene);
+        current = frame;
+      }
+      for (let k = 1; k <= 4 && f + k < frames.length; ++k) load(f + k);  // read ahead
+      // Keep memory bounded on long loops: drop frames far behind.
+      for (const key of loaded.keys()) if (Math.abs(key - f) > 32 && key !== 0) loaded.delete(key);
+      group.updateMatrixWorld(true);
+      return frame.mesh;
+    },
+    async values(mesh, name) {
+      const attr = baseAttribute(mesh, name);
+      if (!attr) return null;
+      const out = readAttribute(attr);
+      return name === 'POSITION' ? transformPositions(out, mesh) : out;
+    },
+  };
+  return source;
+}
+
+// ---------------------------------------------------------------------------------
+// The page
+// ---------------------------------------------------------------------------------
+
+let renderer;
+try {
+  renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+} catch (e) {
+  fail('WebGL is not available in this browser: ' + e.message);
+}
+const scene = new THREE.Scene();
+scene.background = new THREE.Color(0.04, 0.08, 0.13);
+const camera = new THREE.PerspectiveCamera(45, 1, 0.1, 1e6);
+scene.add(new THREE.HemisphereLight(0xdde8ff, 0x203040, 1.4));
+const sun = new THREE.DirectionalLight(0xffffff, 1.6);
+sun.position.set(0.4, 1, 0.3);
+scene.add(sun);
+const controls = renderer ? new OrbitControls(camera, renderer.domElement) : null;
+if (renderer) $('view').appendChild(renderer.domElement);
+const lit = new THREE.MeshLambertMaterial({ vertexColors: true, side: THREE.DoubleSide });
+const unlit = new THREE.MeshBasicMaterial({ vertexColors: true, side: THREE.DoubleSide });
+
+const state = { source: null, frame: 0, playing: true, loop: true, colorBy: 'water', mesh: null, outputs: [], busy: false, error: null };
+
+function fail(message) {
+  state.error = message;
+  $('error').hidden = false;
+  $('error').textContent = message;
+}
+
+function resize() {
+  if (!renderer) return;
+  const w = window.innerWidth, h = window.innerHeight;
+  renderer.setSize(w, h, false);
+  renderer.domElement.style.width = w + 'px';
+  renderer.domElement.style.height = h + 'px';
+  camera.aspect = w / h;
+  camera.updateProjectionMatrix();
+}
+window.addEventListener('resize', resize);
+
+// The first value of a colour source present in the file.
+function sourceOf(kind) {
+  return (SOURCES[kind] || []).find(([name]) => state.source.has(name));
+}
+
+async function applyColors(mesh, request = latestRequest) {
+  const g = mesh.geometry, n = g.attributes.position.count;
+  if (!g.userData.original) g.userData.original = {};
+  if (!('COLOR_0' in g.userData.original)) g.userData.original.COLOR_0 = g.attributes.color;
+  const colors = new Float32Array(3 * n), c = new THREE.Color();
+  const mode = state.colorBy;
+  const src = sourceOf(mode === 'water' ? 'reflect' : mode);
+  const values = src ? await state.source.values(mesh, src[0]) : null;
+  const k = values ? values.length / n : 0;
+  for (let i = 0; i < n; ++i) {
+    if (!values || mode === 'plain') c.setRGB(0.55, 0.62, 0.7);
+    else if (mode === 'color') c.setRGB(values[i * k], values[i * k + 1], values[i * k + 2]);
+    else if (mode === 'water') c.copy(DEEP).lerp(SKY, Math.min(1, Math.max(0, values[i * k + src[1]])));  // R · sky + T · deep
+    else ramp(values[i * k + src[1]], c);
+    colors[3 * i] = c.r; colors[3 * i + 1] = c.g; colors[3 * i + 2] = c.b;
+  }
+  if (request !== latestRequest) return;  // a newer frame is on its way
+  g.setAttribute('color', new THREE.BufferAttribute(colors, 3));
+  mesh.material = mode === 'water' ? unlit : lit;
+}
+
+// Requests can overlap (playback and the scrubber, files still loading): only the
+// latest one may change what is shown.
+let latestRequest = 0;
+async function showFrame(f) {
+  const s = state.source, request = ++latestRequest;
+  f = Math.max(0, Math.min(s.frames - 1, Math.round(f)));
+  const loaded = await s.load(f);
+  if (request !== latestRequest) return state.frame;
+  const mesh = s.display(loaded, f);
+  state.frame = f;
+  state.mesh = mesh;
+  await applyColors(mesh, request);
+  $('frame').value = String(f);
+  $('frame-label').textContent = `${f} / ${s.frames - 1}`;
+  return f;
+}
+
+function fitCamera(object) {
+  const box = new THREE.Box3().setFromObject(object, true);
+  if (box.isEmpty()) return;
+  const size = box.getSize(new THREE.Vector3()).length(), center = box.getCenter(new THREE.Vector3());
+  camera.position.copy(center).add(new THREE.Vector3(0.15 * size, 0.45 * size, 0.75 * size));
+  camera.near = size / 1000;
+  camera.far = size * 20;
+  camera.updateProjectionMatrix();
+  controls.target.copy(center);
+  controls.update();
+}
+
+async function openOutput(i) {
+  const o = state.outputs[i];
+  if (state.source) scene.remove(state.source.object);
+  state.source = null;
+  $('info').textContent = 'loading ' + o.name + '…';
+  const source = o.kind === 'index' ? await filesSource(o.url) : await gltfSource(o.url);
+  state.source = source;
+  scene.add(source.object);
+  $('frame').max = String(source.frames - 1);
+  for (const opt of $('color-by').options) {
+    const present = opt.value === 'plain' || !!sourceOf(opt.value === 'water' ? 'reflect' : opt.value);
+    opt.disabled = !present;
+    if (!present && opt.selected) state.colorBy = 'plain';
+  }
+  $('color-by').value = state.colorBy;
+  await showFrame(0);
+  fitCamera(source.object);
+  $('info').textContent = `${o.name}: ${source.form} form, ${source.compression}\n` +
+    `${source.frames} frames at ${source.fps} fps (${(source.frames / source.fps).toFixed(2)} s)\n` +
+    `${source.vertices} vertices, ${source.triangles} triangles`;
+  return info();
+}
+
+function info() {
+  const s = state.source;
+  return s && { form: s.form, compression: s.compression, frames: s.frames, fps: s.fps, vertices: s.vertices, triangles: s.triangles,
+    output: state.outputs[Number($('output').value) || 0]?.name };
+}
+
+// Playback at the file's fps; a files-form frame still loading holds the clock.
+let last = performance.now(), clock = 0;
+function tick(now) {
+  requestAnimationFrame(tick);
+  const dt = (now - last) / 1000;
+  last = now;
+  const s = state.source;
+  if (s && state.playing && !state.busy) {
+    clock += dt * s.fps;
+    if (clock >= 1) {
+      const steps = Math.floor(clock);
+      clock -= steps;
+      let next = state.frame + steps;
+      if (next >= s.frames) {
+        if (state.loop) next %= s.frames;
+        else { next = s.frames - 1; setPlaying(false); }
+      }
+      state.busy = true;
+      showFrame(next).finally(() => { state.busy = false; });
+    }
+  }
+  if (renderer) renderer.render(scene, camera);
+}
+
+function setPlaying(on) {
+  state.playing = on;
+  $('play').textContent = on ? '⏸' : '▶';
+}
+
+$('play').addEventListener('click', () => setPlaying(!state.playing));
+window.addEventListener('keydown', (e) => { if (e.code === 'Space') { setPlaying(!state.playing); e.preventDefault(); } });
+$('frame').addEventListener('input', () => { setPlaying(false); showFrame(Number($('frame').value)); });
+$('loop').addEventListener('change', () => { state.loop = $('loop').checked; });
+$('color-by').addEventListener('change', () => { state.colorBy = $('color-by').value; if (state.mesh) applyColors(state.mesh); });
+$('output').addEventListener('change', () => openOutput(Number($('output').value)).catch((e) => fail(String(e))));
+
+// The legend of the 0 … 1 ramp.
+{
+  const ctx = $('legend').getContext('2d'), c = new THREE.Color();
+  for (let x = 0; x < 120; ++x) { ramp(x / 119, c); ctx.fillStyle = '#' + c.getHexString(); ctx.fillRect(x, 0, 1, 10); }
+}
+
+const ready = (async () => {
+  resize();
+  const list = await (await fetch('api/outputs', { cache: 'no-store' })).json();
+  state.outputs = list.outputs;
+  for (const [i, o] of list.outputs.entries()) $('output').add(new Option(o.name, String(i)));
+  const wanted = new URLSearchParams(location.search).get('output');
+  const i = Math.max(0, list.outputs.findIndex((o) => o.name === wanted));
+  $('output').value = String(i);
+  if (!renderer) throw new Error(state.error);
+  const result = await openOutput(i);
+  requestAnimationFrame(tick);
+  return result;
+})().catch((e) => { fail('cannot show this output: ' + (e && e.message ? e.message : e)); throw e; });
+
+// The page's API (tests, scripts): everything in glTF coordinates (y up).
+window.wave = {
+  ready,
+  info,
+  get frame() { return state.frame; },
+  get error() { return state.error; },
+  async setFrame(f) { setPlaying(false); return showFrame(f); },
+  play() { setPlaying(true); },
+  pause() { setPlaying(false); },
+  async positions() { return Array.from(await state.source.values(state.mesh, 'POSITION')); },
+  async values(kind) {
+    const src = sourceOf(kind);
+    if (!src) return null;
+    const v = await state.source.values(state.mesh, src[0]);
+    const n = state.mesh.geometry.attributes.position.count, k = v.length / n;
+    return src[1] < 0 ? Array.from(v) : Array.from({ length: n }, (_, i) => v[i * k + src[1]]);
+  },
+  async setColor(mode) { state.colorBy = mode; $('color-by').value = mode; await applyColors(state.mesh); },
+  async openOutput(name) {
+    const i = state.outputs.findIndex((o) => o.name === name);
+    if (i < 0) throw new Error('no output ' + name);
+    $('output').value = String(i);
+    return openOutput(i);
+  },
+  colors() { return Array.from(state.mesh.geometry.attributes.color.array); },
+};

@@ -1,0 +1,285 @@
+// `wave view` in a real browser (Debian's Chromium driven by playwright-core): every
+// output form of the default scene is loaded by the page (three.js GLTFLoader +
+// DRACOLoader, served locally), its reported vertex and frame counts are checked
+// against the run's report, frames are stepped and compared with the uncompressed
+// files form vertex by vertex (exactly for plain, within the quantisation step for
+// KHR_mesh_quantization and Draco), the attribute colouring is exercised, and a
+// screenshot must show a lit, coloured surface.
+//   node test_viewer.mjs WAVE_BINARY VIEWER_NODE_MODULES WORK_DIR
+// Exit 77 (skipped) when Chromium is not installed.
+import { spawn, spawnSync } from 'node:child_process';
+import fs from 'node:fs';
+import path from 'node:path';
+import { pathToFileURL } from 'node:url';
+import assert from 'node:assert/strict';
+
+const [wave, modules, work] = process.argv.slice(2);
+const CHROMIUM = '/usr/bin/chromium';
+if (!fs.existsSync(CHROMIUM)) {
+  console.log('SKIP: /usr/bin/chromium is not installed (Debian package chromium)');
+  process.exit(77);
+}
+const { chromium } = await import(pathToFileURL(path.resolve(modules, 'playwright-core', 'index.mjs')).href);
+
+const FRAMES = 6;
+fs.rmSync(work, { recursive: true, force: true });
+fs.mkdirSync(work, { recursive: true });
+
+function run(args, expectCode = 0) {
+  const r = spawnSync(wave, args, { encoding: 'utf8' });
+  assert.equal(r.status, expectCode, `wave ${args.join(' ')}: exit ${r.status}\n${r.stderr}`);
+  return r;
+}
+
+// The outputs: every form, plain / quantised / Draco, glb and gltf containers.
+const forms = {
+  files: ['--form', 'files'],
+  'files-draco': ['--form', 'files', '--draco'],
+  morph: ['--form', 'morph'],
+  'morph-quantized': ['--form', 'morph', '--quantize'],
+  'morph-draco-gltf': ['--form', 'morph', '--draco', '--container', 'gltf'],
+  nodes: ['--form', 'nodes'],
+  'nodes-draco': ['--form', 'nodes', '--draco'],
+  'nodes-quantized': ['--form', 'nodes', '--quantize'],
+};
+const reports = {};
+for (const [name, args] of Object.entries(forms)) {
+  run(['run', '--frames', `0:${FRAMES}`, '-q', '-o', path.join(work, name), ...args]);
+  reports[name] = JSON.parse(fs.readFileSync(path.join(work, name, `report-frames-0-${FRAMES}.json`), 'utf8'));
+}
+
+// Bad input: exit 2 with the path named, before any server starts.
+{
+  const r = run(['view', path.join(work, 'nowhere')], 2);
+  assert.match(r.stderr, /no such file or folder '.*nowhere'/);
+  fs.mkdirSync(path.join(work, 'empty'));
+  assert.match(run(['view', path.join(work, 'empty')], 2).stderr, /no libwave output in/);
+  assert.match(run(['view', path.join(work, 'files', 'strips.ply')], 2).stderr, /not a libwave output/);
+}
+
+// Starts `wave ARGS` (a view); resolves with the URL it prints.
+function serve(dir, args = ['view', dir, '--port', '0', '--no-open'], env = process.env) {
+  const child = spawn(wave, args, { stdio: ['ignore', 'pipe', 'pipe'], env });
+  return new Promise((resolve, reject) => {
+    let out = '';
+    child.stdout.on('data', (d) => {
+      out += d;
+      const m = out.match(/(http:\/\/127\.0\.0\.1:\d+\/)/);
+      if (m) resolve({ url: m[1], child });
+    });
+    child.on('exit', (code) => reject(new Error(`wave view exited ${code}: ${out}`)));
+  });
+}
+
+// `wave run --view` without a display prints the URL and serves the new output; the
+// server answers only inside its folders.
+{
+  const env = { ...process.env };
+  delete env.DISPLAY;
+  delete env.WAYLAND_DISPLAY;
+  const out = path.join(work, 'viewed');
+  const { url, child } = await serve(out, ['run', '--frames', '0:2', '-q', '-o', out, '--view'], env);
+  const list = await (await fetch(url + 'api/outputs')).json();
+  assert.deepEqual(list.outputs.map((o) => o.name), ['animation-frames-0-2.glb']);
+  assert.match(await (await fetch(url)).text(), /<title>wave view<\/title>/);
+  const glb = await (await fetch(url + 'out/animation-frames-0-2.glb')).arrayBuffer();
+  assert.equal(glb.byteLength, fs.statSync(path.join(out, 'animation-frames-0-2.glb')).size);
+  for (const escape of ['out/../report-frames-0-2.json', 'out/%2e%2e/%2e%2e/etc/passwd', '../etc/passwd'])
+    assert.ok((await fetch(url + escape)).status >= 400, `${escape} must not be served`);
+  // A port in use is an error when asked for, naming it.
+  const port = new URL(url).port;
+  const busy = spawnSync(wave, ['view', out, '--port', port, '--no-open'], { encoding: 'utf8' });
+  assert.equal(busy.status, 2);
+  assert.match(busy.stderr, new RegExp(`port ${port} on 127.0.0.1 is in use`));
+  child.kill('SIGTERM');
+  // With a display the URL goes to the desktop's browser (xdg-open).
+  const bin = path.join(work, 'bin');
+  fs.mkdirSync(bin, { recursive: true });
+  fs.writeFileSync(path.join(bin, 'xdg-open'), `#!/bin/sh\necho "$1" > ${path.join(work, 'opened.txt')}\n`, { mode: 0o755 });
+  const shown = await serve(out, ['view', out, '--port', '0'], { ...env, DISPLAY: ':99', PATH: `${bin}:${process.env.PATH}` });
+  for (let i = 0; i < 50 && !fs.existsSync(path.join(work, 'opened.txt')); ++i) await new Promise((r) => setTimeout(r, 100));
+  assert.equal(fs.readFileSync(path.join(work, 'opened.txt'), 'utf8').trim(), shown.url);
+  shown.child.kill('SIGTERM');
+  console.log('ok   wave run --view, the URL, xdg-open with a display, a busy port, no escape from the folders');
+}
+
+const browser = await chromium.launch({
+  executablePath: CHROMIUM,
+  headless: true,
+  // The machine's closed network: no background connections; WebGL by SwiftShader.
+  args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking',
+    '--disable-component-update', '--disable-sync', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
+});
+const page = await browser.newPage({ viewport: { width: 960, height: 600 } });
+const external = [];
+page.on('request', (req) => {
+  const u = req.url();  // blob: and data: are the page's own (the Draco worker, the screenshot check)
+  if (!u.startsWith('http://127.0.0.1:') && !u.startsWith('data:') && !u.startsWith('blob:http://127.0.0.1:')) external.push(u);
+});
+page.on('response', (res) => { if (res.status() >= 400) consoleErrors.push(`HTTP ${res.status()} for ${res.url()}`); });
+const consoleErrors = [];
+page.on('console', (msg) => { if (msg.type() === 'error' && !msg.text().startsWith('Failed to load resource')) consoleErrors.push(msg.text()); });
+page.on('pageerror', (e) => consoleErrors.push(String(e)));
+
+async function open(name) {
+  const server = await serve(path.join(work, name));
+  await page.goto(server.url);
+  const info = await page.evaluate(() => window.wave.ready);
+  return { server, info };
+}
+
+// Largest per-axis distance between two frames' positions.
+function maxDiff(a, b) {
+  assert.equal(a.length, b.length);
+  let d = 0;
+  for (let i = 0; i < a.length; ++i) d = Math.max(d, Math.abs(a[i] - b[i]));
+  return d;
+}
+
+// Draco's edgebreaker reorders points: every decoded point must lie within `tol`
+// (per axis) of a reference point, and the counts must agree.
+function matchPoints(decoded, reference, tol) {
+  assert.equal(decoded.length, reference.length, 'vertex counts');
+  const cell = 4 * tol, grid = new Map();
+  const key = (x, y, z) => `${Math.floor(x / cell)},${Math.floor(y / cell)},${Math.floor(z / cell)}`;
+  for (let i = 0; i < reference.length; i += 3) {
+    const k = key(reference[i], reference[i + 1], reference[i + 2]);
+    if (!grid.has(k)) grid.set(k, []);
+    grid.get(k).push(i);
+  }
+  let worst = 0;
+  for (let i = 0; i < decoded.length; i += 3) {
+    const [x, y, z] = [decoded[i], decoded[i + 1], decoded[i + 2]];
+    let best = Infinity;
+    for (let dx = -1; dx <= 1; ++dx) for (let dy = -1; dy <= 1; ++dy) for (let dz = -1; dz <= 1; ++dz) {
+      const list = grid.get(`${Math.floor(x / cell) + dx},${Math.floor(y / cell) + dy},${Math.floor(z / cell) + dz}`) || [];
+      for (const j of list) best = Math.min(best, Math.max(Math.abs(reference[j] - x), Math.abs(reference[j + 1] - y), Math.abs(reference[j + 2] - z)));
+    }
+    worst = Math.max(worst, best);
+  }
+  assert.ok(worst <= tol, `a decoded point is ${worst} from every reference point (tolerance ${tol})`);
+  return worst;
+}
+
+function range(positions) {
+  let r = 0;
+  for (let c = 0; c < 3; ++c) {
+    let lo = Infinity, hi = -Infinity;
+    for (let i = c; i < positions.length; i += 3) { lo = Math.min(lo, positions[i]); hi = Math.max(hi, positions[i]); }
+    r = Math.max(r, hi - lo);
+  }
+  return r;
+}
+
+// Reference: the plain files form, frame by frame.
+const reference = [];
+const referenceFoam = [];
+let failures = 0;
+const check = async (label, fn) => {
+  try {
+    await fn();
+    console.log(`ok   ${label}`);
+  } catch (e) {
+    ++failures;
+    console.log(`FAIL ${label}: ${e.message}`);
+  }
+};
+
+for (const name of Object.keys(forms)) {
+  const { server, info } = await open(name);
+  await check(`${name}: counts`, async () => {
+    const expected = name.split('-')[0];
+    assert.equal(info.form, expected);
+    assert.equal(info.compression, name.includes('draco') ? 'Draco' : name.includes('quantized') ? 'quantised' : 'plain');
+    assert.equal(info.frames, FRAMES);
+    assert.equal(info.vertices, reports[name].surface.vertices);
+    assert.equal(info.triangles, reports[name].surface.triangles);
+    assert.equal(info.fps, reports[name].surface.fps);
+  });
+  await check(`${name}: frames step and match the plain files form`, async () => {
+    const frames = [];
+    for (const f of [0, 3, FRAMES - 1]) {
+      assert.equal(await page.evaluate((k) => window.wave.setFrame(k), f), f);
+      frames[f] = await page.evaluate(() => window.wave.positions());
+    }
+    assert.ok(maxDiff(frames[0], frames[3]) > 0.01, 'the geometry changes between frames 0 and 3');
+    if (name === 'files') {
+      for (const f of [0, 3, FRAMES - 1]) reference[f] = frames[f];
+      return;
+    }
+    const span = range(reference[0]);
+    for (const f of [0, 3, FRAMES - 1]) {
+      if (name.includes('draco') && name !== 'morph-draco-gltf') {
+        // 14-bit positions over the largest extent: one quantisation step.
+        matchPoints(frames[f], reference[f], span / ((1 << 14) - 1) * 1.01);
+      } else {
+        // Plain: float sums only; quantised: int16 steps of the morph/position range
+        // (the morph form's Draco base is decoded in order, 14 bits).
+        const tol = name === 'morph' || name === 'nodes' ? 1e-4 : name === 'morph-draco-gltf' ? span / ((1 << 14) - 1) * 1.01 : span / 32767 * 2.02;
+        const d = maxDiff(frames[f], reference[f]);
+        assert.ok(d <= tol, `frame ${f}: ${d} m from the plain files form (tolerance ${tol})`);
+      }
+    }
+  });
+  await check(`${name}: attributes`, async () => {
+    await page.evaluate(() => window.wave.setFrame(3));
+    const foam = await page.evaluate(() => window.wave.values('foam'));
+    const reflect = await page.evaluate(() => window.wave.values('reflect'));
+    const refract = await page.evaluate(() => window.wave.values('refract'));
+    assert.equal(foam.length, info.vertices);
+    for (let i = 0; i < reflect.length; ++i) {
+      assert.ok(foam[i] >= -1e-3 && foam[i] <= 1 + 1e-3, `foam ${foam[i]}`);
+      assert.ok(Math.abs(reflect[i] + refract[i] - 1) < 2e-3, `R + T = ${reflect[i] + refract[i]}`);
+    }
+    if (name === 'files') referenceFoam.push(...foam);
+    else if (!name.includes('draco')) assert.ok(maxDiff(foam, referenceFoam) < 1e-3, 'foam as in the plain files form');
+    const water = await page.evaluate(async () => { await window.wave.setColor('water'); return window.wave.colors(); });
+    const byFoam = await page.evaluate(async () => { await window.wave.setColor('foam'); return window.wave.colors(); });
+    assert.ok(maxDiff(water, byFoam) > 0.05, 'the colour selector changes the colours');
+    await page.evaluate(() => window.wave.setColor('water'));
+  });
+  if (name === 'nodes-draco' || name === 'morph') {
+    await check(`${name}: plays at the file's fps and loops`, async () => {
+      await page.evaluate(() => window.wave.setFrame(0));
+      await page.evaluate(() => window.wave.play());
+      await page.waitForFunction(() => window.wave.frame >= 2, null, { timeout: 10000 });
+      await page.evaluate(() => window.wave.pause());
+    });
+    await check(`${name}: screenshot shows the surface`, async () => {
+      await page.evaluate(() => window.wave.setFrame(2));
+      await page.waitForTimeout(300);
+      const file = path.join(work, `${name}.png`);
+      await page.screenshot({ path: file });
+      const stats = await page.evaluate(async (b64) => {
+        const img = new Image();
+        img.src = 'data:image/png;base64,' + b64;
+        await img.decode();
+        const c = document.createElement('canvas');
+        c.width = img.width; c.height = img.height;
+        const ctx = c.getContext('2d');
+        ctx.drawImage(img, 0, 0);
+        const d = ctx.getImageData(0, 0, c.width, c.height).data;
+        const bg = [d[0], d[1], d[2]];  // the top-left corner: background
+        let differs = 0;
+        const colours = new Set();
+        for (let i = 0; i < d.length; i += 4) {
+          if (Math.abs(d[i] - bg[0]) + Math.abs(d[i + 1] - bg[1]) + Math.abs(d[i + 2] - bg[2]) > 30) ++differs;
+          colours.add((d[i] >> 3) << 10 | (d[i + 1] >> 3) << 5 | (d[i + 2] >> 3));
+        }
+        return { share: differs / (d.length / 4), colours: colours.size };
+      }, fs.readFileSync(file).toString('base64'));
+      assert.ok(stats.share > 0.15, `only ${(100 * stats.share).toFixed(1)} % of the screenshot differs from the background`);
+      assert.ok(stats.colours > 50, `only ${stats.colours} colours: a blank or flat image`);
+    });
+  }
+  server.child.kill('SIGTERM');
+}
+
+await check('nothing was fetched from outside 127.0.0.1', async () => assert.deepEqual(external, []));
+await check('no errors in the page', async () => assert.deepEqual(consoleErrors, []));
+await browser.close();
+if (failures) {
+  console.log(`${failures} check(s) failed`);
+  process.exit(1);
+}
+console.log('all viewer checks passed');
