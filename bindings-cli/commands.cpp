@@ -424,7 +424,7 @@ int run_job(const RunArgs& a) {
     };
     if (!a.slice.empty())
         range = slice_frames(a.slice, std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(plan.loop_period * scene.fps))));
-    const SceneAnimation anim = animate_scene(scene, plan, 2e9, range, progress);
+    const SceneAnimation anim = animate_scene(scene, plan, a.max_memory_gb * 1e9, range, progress);
     const std::size_t frames = anim.frame_count;
     const bool whole = anim.first_frame == 0 && frames == anim.loop_frames;
     const auto t2 = Clock::now();
@@ -605,16 +605,27 @@ int run_validate(const std::string& path, bool as_json) {
     const char* kind = scene.surface_kind == SurfaceKind::ray_strips ? "ray-strips"
                        : scene.surface_kind == SurfaceKind::ocean    ? "ocean"
                                                                      : "height-field";
+    // The plan (tracing, surfaces; every limit is checked here, before the frames) gives
+    // what a run would hold and write.
+    const ScenePlan plan = plan_scene(scene);
+    const RunEstimate e = estimate_run(scene, plan);
+    const char* form = scene.form == Scene::Form::files ? "files" : scene.form == Scene::Form::nodes ? "nodes" : "morph";
     if (as_json) {
         std::cout << json{{"scene", scene.name}, {"valid", true}, {"surface", kind}, {"waves", scene.waves.size()},
-                          {"seafloor", sea.source}, {"camera", camera}, {"fps", scene.fps}}
+                          {"seafloor", sea.source}, {"camera", camera}, {"fps", scene.fps},
+                          {"estimate", {{"vertices", e.vertices}, {"triangles", e.triangles}, {"frames", e.frames}, {"form", form},
+                                        {"output_bytes", e.output_bytes}, {"frame_array_bytes", e.frame_array_bytes},
+                                        {"peak_memory_bytes", e.peak_memory_bytes}}}}
                          .dump(2)
                   << '\n';
         return 0;
     }
     std::cout << path << ": valid — " << scene.name << "; " << kind << " surface, " << scene.waves.size()
               << " wave train(s) over " << sea.source << " (" << st.nx << " x " << st.ny << " nodes), camera at ["
-              << camera[0] << ", " << camera[1] << ", " << camera[2] << "], " << scene.fps << " fps\n";
+              << camera[0] << ", " << camera[1] << ", " << camera[2] << "], " << scene.fps << " fps\n"
+              << "estimate: " << e.vertices << " vertices, " << e.triangles << " triangles, " << e.frames << " frames; "
+              << form << " output ~" << e.output_bytes / 1e6 << " MB; peak memory of wave run ~" << e.peak_memory_bytes / 1e9
+              << " GB\n";
     return 0;
 }
 

@@ -96,6 +96,8 @@ int main(int argc, char** argv) {
     run_cmd->add_option("--fps", run.fps, "frames per second (overrides the scene's)")->check(positive);
     run_cmd->add_flag("-q,--quiet", run.quiet, "no progress bar and no report on stdout");
     run_cmd->add_flag("--preview", run.preview, "also write preview.png: four frames rendered by the preview ray caster");
+    run_cmd->add_option("--max-memory-gb", run.max_memory_gb, "refuse animations whose per-frame arrays would exceed this (GB)")
+        ->check(positive)->capture_default_str();
     run_cmd->add_flag("--view", run.view, "then show the output in the browser viewer (wave view): opened when a display is available, the URL printed otherwise");
     run_cmd->add_option("--threads", run.threads, "worker threads (default: all cores); the outputs are the same for any count")
         ->check(positive);

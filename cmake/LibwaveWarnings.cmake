@@ -10,4 +10,7 @@ function(libwave_warnings target)
       -fno-sanitize-recover=undefined -fno-omit-frame-pointer)
     target_link_options(${target} PRIVATE -fsanitize=address,undefined)
   endif()
+  if(LIBWAVE_FUZZ)  # coverage for libFuzzer in every target the fuzzers reach
+    target_compile_options(${target} PRIVATE -fsanitize=fuzzer-no-link)
+  endif()
 endfunction()

@@ -17,8 +17,9 @@ packages=(
   slurm-wlm munge
   libcpp-httplib-dev
 )
-# `--tests`: also what only the test suite needs (Chromium for the viewer's browser test).
-if [[ ${1:-} == --tests ]]; then packages+=(chromium); fi
+# `--tests`: also what only the tests need (Chromium for the viewer's browser test,
+# clang and its runtimes for the libFuzzer targets).
+if [[ ${1:-} == --tests ]]; then packages+=(chromium clang libclang-rt-14-dev); fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -7,6 +7,7 @@ import pathlib
 import time
 import signal
 import random
+import resource
 import shutil
 import struct
 import subprocess
@@ -887,6 +888,81 @@ class CrashSafety(unittest.TestCase):
         # The files form merges into its folder's animation (same fps): every frame file
         # must still be whole after each kill.
         self.check_killed_runs("files", self.final_files, "12")
+
+
+class Limits(unittest.TestCase):
+    """Hostile or mistaken scenes are refused up front — before memory is allocated —
+    naming the limit and the option that raises it; `wave validate` estimates what a
+    run would write and hold."""
+
+    UNDER_ASAN = "ASAN_OPTIONS" in os.environ  # ASan reserves terabytes of address space
+
+    def run_limited(self, scene, *extra):
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "hostile.json")
+            with open(path, "w") as f:
+                json.dump(scene, f)
+
+            def cap():  # 4 GB of address space: an allocation before the check would fail
+                resource.setrlimit(resource.RLIMIT_AS, (4 << 30, 4 << 30))
+            t0 = time.monotonic()
+            r = subprocess.run([WAVE, "run", path, "-q", "-o", os.path.join(d, "out"), *extra], capture_output=True,
+                               text=True, timeout=120, preexec_fn=None if self.UNDER_ASAN else cap)
+            elapsed = time.monotonic() - t0
+            self.assertEqual(r.returncode, 2, r.stderr)
+            self.assertFalse(os.path.exists(os.path.join(d, "out")), "no output for a refused scene")
+            if not self.UNDER_ASAN:
+                self.assertLess(elapsed, 20.0, "refused up front, not after the work")
+            return r.stderr
+
+    def test_hostile_scenes_are_refused_naming_the_limit(self):
+        wave_train = [{"period": 5, "amplitude": 0.3}]
+        # 10^9 rays: a ray spacing of 0.1 µm over the 100 m bay.
+        err = self.run_limited({"waves": wave_train, "trace": {"ray_spacing": 1e-7}})
+        self.assertIn("more than the limit of 1000000 (max_rays", err)
+        # 10^6 frames.
+        err = self.run_limited({"waves": wave_train, "animation": {"fps": 200000}})
+        self.assertIn("the loop holds 1000000 frames", err)
+        self.assertIn("raise /animation/max_frames", err)
+        # A subdivision level of 20.
+        err = self.run_limited({"waves": wave_train, "refine": {"level": 20}})
+        self.assertIn("/refine/level: expected 1 … 6 levels", err)
+        # 10^9 surface vertices (a 40 000² control grid).
+        err = self.run_limited({"waves": wave_train, "surface": {"kind": "height-field", "grid": [40000, 40000]}})
+        self.assertIn("exceed max_vertices", err)
+        # Frame arrays over the memory limit, and the option that raises it.
+        err = self.run_limited({"waves": wave_train, "animation": {"fps": 1000}})
+        self.assertIn("GB of per-frame arrays", err)
+        self.assertIn("wave run --max-memory-gb", err)
+        # A 10^9-cell ocean patch is refused by the schema's range.
+        err = self.run_limited({"surface": {"kind": "ocean"}, "ocean": {"resolution": 32768}})
+        self.assertIn("/ocean/resolution", err)
+
+    def test_validate_estimates_the_output_and_the_memory(self):
+        scene = os.path.join(EXAMPLES, "gonzato-bay.json")
+        r = wave("validate", scene, "--json")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        est = json.loads(r.stdout)["estimate"]
+        self.assertEqual(est["frames"], 120)
+        with tempfile.TemporaryDirectory() as d:
+            # Measured in a fresh interpreter whose only child is wave: its peak RSS.
+            code = ("import resource, subprocess, sys; r = subprocess.run(sys.argv[1:]); "
+                    "print(r.returncode, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)")
+            out = subprocess.run([sys.executable, "-c", code, WAVE, "run", scene, "-q", "-o", os.path.join(d, "m")],
+                                 capture_output=True, text=True, timeout=600)
+            rc, rss_kb = map(int, out.stdout.split())
+            self.assertEqual(rc, 0, out.stderr)
+            size = os.path.getsize(os.path.join(d, "m", "animation.glb"))
+            self.assertAlmostEqual(size / est["output_bytes"], 1.0, delta=0.02)  # the writer's layout, exactly but for JSON
+            if not self.UNDER_ASAN:
+                ratio = rss_kb * 1024 / est["peak_memory_bytes"]
+                self.assertTrue(0.5 < ratio < 2.0, f"peak RSS {rss_kb / 1e6:.2f} GB vs estimate {est['peak_memory_bytes'] / 1e9:.2f} GB")
+            # Draco files: the measured bytes per vertex.
+            r = wave("run", scene, "-q", "--form", "files", "--draco", "--frames", "0:12", "-o", os.path.join(d, "f"))
+            self.assertEqual(r.returncode, 0, r.stderr)
+            frames = sum(os.path.getsize(os.path.join(d, "f", "frames", n)) for n in os.listdir(os.path.join(d, "f", "frames")))
+            per_frame_estimate = 4.8 * est["vertices"]
+            self.assertAlmostEqual(frames / 12 / per_frame_estimate, 1.0, delta=0.3)
 
 
 class Batch(unittest.TestCase):

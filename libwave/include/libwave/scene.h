@@ -101,6 +101,9 @@ struct Scene {
     /// Draco compression (empty = none); in the morph form, of the base mesh.
     std::optional<DracoOptions> draco;
     double fps = 24.0;  ///< frames per second of the animation (> 0)
+    /// Refuse loops of more frames (LimitError before any frame is computed); the
+    /// scene key /animation/max_frames raises it.
+    std::size_t max_frames = 100'000;
 };
 
 /// The built-in default scene: Gonzato's bay with a 5 s swell, ray strips animated by
@@ -201,6 +204,20 @@ struct FrameRange {
 /// `progress(done, total)` is called after each frame when given.
 /// Throws InputError for an empty frame range, LimitError when the frames would exceed
 /// `max_bytes` as float arrays (naming the scene values that lower it).
+/// What a run of the whole loop would hold and write (`wave validate`), from a plan:
+/// the per-frame float arrays animate_scene keeps (positions, normals, shading,
+/// colour), the files of the scene's form, and the peak memory of `wave run` (the plan,
+/// those arrays, and the encoded files, held until they are published; the constants
+/// were measured on the default scene, scene.cpp).
+/// Uncompressed sizes follow the writer's layout exactly (docs/export.md); Draco
+/// frames are estimated at 4.8 bytes per vertex (measured on the default scene with
+/// the default 14-bit positions), quantised morph targets at 0.7 of plain.
+struct RunEstimate {
+    std::size_t vertices = 0, triangles = 0, frames = 0;
+    double frame_array_bytes = 0.0, output_bytes = 0.0, peak_memory_bytes = 0.0;
+};
+RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan);
+
 SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double max_bytes = 2e9,
                              FrameRange range = {},
                              const std::function<void(std::size_t, std::size_t)>& progress = {});

@@ -584,8 +584,9 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     validate_fold_foam(s.fold_foam, origin + ": /shade");
     if (root.has("animation")) {
         const Node a = root["animation"];
-        a.require_object({"fps"});
+        a.require_object({"fps", "max_frames"});
         if (a.has("fps")) s.fps = a["fps"].positive("frames per second");
+        if (a.has("max_frames")) s.max_frames = a["max_frames"].count(1);
     }
     return s;
 }
@@ -844,6 +845,46 @@ MorphAnimationView SceneAnimation::view() const {
     return v;
 }
 
+RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan) {
+    RunEstimate e;
+    const Refinement* refined = plan.refinement.fine_vertices > 0 ? &plan.refinement : nullptr;
+    e.vertices = refined ? refined->fine_vertices : plan.rest_x.size();
+    e.triangles = (refined ? refined->triangles.size() : surface_triangles(scene, plan).size()) / 3;
+    e.frames = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(plan.loop_period * scene.fps)));
+    const double n = static_cast<double>(e.vertices), frames = static_cast<double>(e.frames);
+    const bool shaded = scene.attributes != Scene::Attributes::none;
+    // animate_scene: positions + normals, reflect/refract/foam, colour (floats).
+    const double arrays_per_vertex = 24.0 + (shaded ? 12.0 : 0.0) + (scene.color ? 12.0 : 0.0);
+    e.frame_array_bytes = frames * n * arrays_per_vertex;
+    // The writer: POSITION + NORMAL, TEXCOORD_0, shading (UV maps 2 × vec2, or 3 floats), COLOR_0.
+    const double shading = scene.attributes == Scene::Attributes::uv_maps ? 16.0 : scene.attributes == Scene::Attributes::named ? 12.0 : 0.0;
+    const double per_frame_vertex = 24.0 + shading + (scene.color ? 12.0 : 0.0);
+    const double indices = 12.0 * static_cast<double>(e.triangles), uv0 = 8.0 * n;
+    const double draco_frame = 4.8 * n;  // measured: default scene, 14-bit positions (see RunEstimate)
+    switch (scene.form) {
+        case Scene::Form::morph:
+            e.output_bytes = (scene.draco ? draco_frame : n * per_frame_vertex + uv0 + indices) +
+                             frames * n * per_frame_vertex * (scene.quantize ? 0.7 : 1.0);
+            break;
+        case Scene::Form::nodes:  // meshes share the indices and TEXCOORD_0
+            e.output_bytes = scene.draco ? frames * draco_frame
+                                         : indices + uv0 + frames * n * per_frame_vertex * (scene.quantize ? 0.7 : 1.0);
+            break;
+        case Scene::Form::files:
+            e.output_bytes = frames * (scene.draco ? draco_frame : indices + uv0 + n * per_frame_vertex * (scene.quantize ? 0.7 : 1.0));
+            break;
+    }
+    // Measured on the default scene (peak RSS of wave run, each form): ~30 MB of
+    // process and libraries, ~1.5 kB per surface vertex of plan (isobaths, fronts, the
+    // OpenMesh strips, motion fields), refinement stencils ~12 weights per fine vertex;
+    // a single-file form holds its bytes three times at the end (tinygltf's buffer, the
+    // serialised stream, the file's string), the files form once.
+    const double plan_bytes = 30e6 + 1500.0 * static_cast<double>(plan.rest_x.size()) + (refined ? 96.0 * n : 0.0);
+    const double output_copies = scene.form == Scene::Form::files ? 1.0 : 3.0;
+    e.peak_memory_bytes = plan_bytes + e.frame_array_bytes + output_copies * e.output_bytes;
+    return e;
+}
+
 SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double max_bytes, FrameRange range,
                              const std::function<void(std::size_t, std::size_t)>& progress) {
     const bool strips = scene.surface_kind == SurfaceKind::ray_strips;
@@ -863,6 +904,10 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
         throw InputError("scene: the frame range " + std::to_string(range.first) + ":" +
                          (range.end == static_cast<std::size_t>(-1) ? std::string() : std::to_string(range.end)) +
                          " holds no frame of the loop's 0:" + std::to_string(a.loop_frames));
+    if (a.loop_frames > scene.max_frames)
+        throw LimitError("scene: the loop holds " + std::to_string(a.loop_frames) + " frames (" + fmt(plan.loop_period) + " s at " +
+                         fmt(scene.fps) + " fps), more than the limit of " + std::to_string(scene.max_frames) +
+                         "; lower /animation/fps, or raise /animation/max_frames");
     a.first_frame = range.first;
     a.frame_count = end - range.first;
     const std::vector<std::uint32_t>& coarse_triangles = surface_triangles(scene, plan);
@@ -878,7 +923,8 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
                          std::to_string(n) + " vertices (over " + fmt(max_bytes / 1e9) + " GB of per-frame arrays); " +
                          (ocean_kind ? "lower /ocean/resolution, /ocean/repeat_time or /animation/fps"
                           : strips   ? "raise /trace/ray_spacing or /fronts/step, or lower /animation/fps"
-                                     : "lower /surface/samples_per_span, /surface/grid or /animation/fps"));
+                                     : "lower /surface/samples_per_span, /surface/grid or /animation/fps") +
+                         ", or raise the limit (wave run --max-memory-gb)");
     a.positions.resize(3 * n * a.frame_count);
     a.normals.resize(3 * n * a.frame_count);
     a.layout = scene.attributes == Scene::Attributes::named ? ScalarLayout::custom : ScalarLayout::blender34;

@@ -1,0 +1,44 @@
+// Shared by the libFuzzer targets: our readers take paths (GDAL, CGAL and tinygltf
+// open files themselves), so each input is written to a per-process file first. An
+// InputError is the expected answer to bad bytes; anything else escaping a reader —
+// another exception, a crash, a leak, a sanitizer report — is a finding.
+#pragma once
+
+#include "libwave/errors.h"
+
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <string>
+#include <typeinfo>
+
+#include <unistd.h>
+
+namespace wave::fuzz {
+
+// Grids stay small: a fuzzer must not spend its time allocating a legal 10⁸-node grid.
+constexpr std::size_t kMaxNodes = 1u << 20;
+
+inline std::string input_file(const uint8_t* data, size_t size, const char* extension) {
+    const std::string path = "/tmp/libwave-fuzz-" + std::to_string(getpid()) + extension;
+    std::FILE* f = std::fopen(path.c_str(), "wb");
+    if (!f) std::abort();
+    if (size > 0 && std::fwrite(data, 1, size, f) != size) std::abort();
+    std::fclose(f);
+    return path;
+}
+
+// Runs a reader: InputError is fine, any other exception aborts with its message.
+template <class Read>
+void expect_input_error_only(Read&& read) {
+    try {
+        read();
+    } catch (const wave::InputError&) {
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "finding: a reader threw %s instead of InputError: %s\n", typeid(e).name(), e.what());
+        std::abort();
+    }
+}
+
+}  // namespace wave::fuzz

@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets (the `fuzz` preset: clang, ASan + UBSan) and runs each
+# for a bounded time on its corpus, after replaying the regression inputs. Fails on
+# any crash, leak, sanitizer report, timeout or out-of-memory.
+#   tests/fuzz/run.sh [SECONDS_PER_TARGET=60] [TARGET...]
+# The corpora grow in build/fuzz/corpus/<target> (kept between runs); findings land in
+# build/fuzz/artifacts/. Seeds: examples/*.json, data/bathymetry, tests/fuzz/seeds.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+seconds=${1:-60}
+shift || true
+targets=("$@")
+((${#targets[@]})) || targets=(fuzz_scene fuzz_swan_bot fuzz_contours fuzz_raster fuzz_mesh fuzz_gltf)
+
+scripts/install-deps.sh --tests >&2
+cmake --preset fuzz >/dev/null
+cmake --build --preset fuzz
+
+build=build/fuzz
+mkdir -p "$build/artifacts"
+# Seeds per target (copied into the corpus once; the corpus then keeps what libFuzzer found).
+seed() {  # target, files...
+  local dir="$build/corpus/$1"
+  shift
+  mkdir -p "$dir"
+  for f in "$@"; do [[ -f $f ]] && cp -n "$f" "$dir/" || true; done
+}
+seed fuzz_scene examples/*.json
+seed fuzz_swan_bot tests/fuzz/seeds/swan/*
+if [[ ! -f $build/corpus/fuzz_swan_bot/haringvliet.bot ]]; then  # the real SWAN file with its grid line
+  { echo "88 117"; cat data/bathymetry/haringvliet_swan_f31hari_250m.bot; } >"$build/corpus/fuzz_swan_bot/haringvliet.bot"
+fi
+seed fuzz_contours tests/fuzz/seeds/contours/*
+seed fuzz_raster tests/fuzz/seeds/raster/*
+seed fuzz_mesh tests/fuzz/seeds/mesh/*
+seed fuzz_gltf tests/fuzz/seeds/gltf/*
+
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:allocator_may_return_null=1
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+summary=()
+for t in "${targets[@]}"; do
+  bin="$build/tests/fuzz/$t"
+  # Inputs that once failed stay fixed (tests/fuzz/regressions/<target>/).
+  if compgen -G "tests/fuzz/regressions/$t/*" >/dev/null; then
+    echo "== $t: regression inputs" >&2
+    "$bin" -runs=0 tests/fuzz/regressions/$t/* 2>&1 | tail -n 2 >&2
+  fi
+  echo "== $t: ${seconds} s" >&2
+  log="$build/$t.log"
+  if ! "$bin" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 \
+      -artifact_prefix="$build/artifacts/$t-" "$build/corpus/$t" >"$log" 2>&1; then
+    tail -n 60 "$log" >&2
+    echo "fuzz: $t FAILED; the input is in $build/artifacts/" >&2
+    exit 1
+  fi
+  runs=$(grep -o 'stat::number_of_executed_units: [0-9]*' "$log" | grep -o '[0-9]*$' || echo '?')
+  cov=$(grep -o 'cov: [0-9]*' "$log" | tail -n 1 | grep -o '[0-9]*$' || echo '?')
+  summary+=("$t: $runs executions, coverage $cov edges, corpus $(ls "$build/corpus/$t" | wc -l) inputs")
+done
+printf 'fuzz: %s\n' "${summary[@]}"
