@@ -2,13 +2,17 @@
 # Builds the libFuzzer targets (the `fuzz` preset: clang, ASan + UBSan) and runs each
 # for a bounded time on its corpus, after replaying the regression inputs. Fails on
 # any crash, leak, sanitizer report, timeout or out-of-memory.
-#   tests/fuzz/run.sh [SECONDS_PER_TARGET=60] [TARGET...]
+#   tests/fuzz/run.sh [SECONDS_PER_TARGET=60] [TARGET...]   # long runs, corpora kept
+#   tests/fuzz/run.sh --ci [TARGET...]                       # CI: reproducible bounded runs
 # The corpora grow in build/fuzz/corpus/<target> (kept between runs); findings land in
 # build/fuzz/artifacts/. Seeds: examples/*.json, data/bathymetry, tests/fuzz/seeds.
+# --ci starts every target from its seeds alone with -seed=1 and a fixed number of
+# executions, so a CI run does exactly what a developer's run of --ci did: it fails on a
+# regression, not on the luck of a time budget.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-seconds=${1:-60}
-shift || true
+ci=0
+if [[ ${1:-} == --ci ]]; then ci=1; seconds=0; shift; else seconds=${1:-60}; shift || true; fi
 targets=("$@")
 ((${#targets[@]})) || targets=(fuzz_scene fuzz_swan_bot fuzz_contours fuzz_raster fuzz_mesh fuzz_gltf)
 
@@ -18,17 +22,19 @@ cmake --build --preset fuzz
 
 build=build/fuzz
 mkdir -p "$build/artifacts"
+corpus_root="$build/corpus"
+if ((ci)); then corpus_root="$build/ci-corpus"; rm -rf "$corpus_root"; fi
 # Seeds per target (copied into the corpus once; the corpus then keeps what libFuzzer found).
 seed() {  # target, files...
-  local dir="$build/corpus/$1"
+  local dir="$corpus_root/$1"
   shift
   mkdir -p "$dir"
   for f in "$@"; do [[ -f $f ]] && cp -n "$f" "$dir/" || true; done
 }
 seed fuzz_scene examples/*.json
 seed fuzz_swan_bot tests/fuzz/seeds/swan/*
-if [[ ! -f $build/corpus/fuzz_swan_bot/haringvliet.bot ]]; then  # the real SWAN file with its grid line
-  { echo "88 117"; cat data/bathymetry/haringvliet_swan_f31hari_250m.bot; } >"$build/corpus/fuzz_swan_bot/haringvliet.bot"
+if [[ ! -f $corpus_root/fuzz_swan_bot/haringvliet.bot ]]; then  # the real SWAN file with its grid line
+  { echo "88 117"; cat data/bathymetry/haringvliet_swan_f31hari_250m.bot; } >"$corpus_root/fuzz_swan_bot/haringvliet.bot"
 fi
 seed fuzz_contours tests/fuzz/seeds/contours/*
 seed fuzz_raster tests/fuzz/seeds/raster/*
@@ -43,18 +49,24 @@ for t in "${targets[@]}"; do
   # Inputs that once failed stay fixed (tests/fuzz/regressions/<target>/).
   if compgen -G "tests/fuzz/regressions/$t/*" >/dev/null; then
     echo "== $t: regression inputs" >&2
-    "$bin" -runs=0 tests/fuzz/regressions/$t/* 2>&1 | tail -n 2 >&2
+    if ! "$bin" -runs=0 tests/fuzz/regressions/$t/* >"$build/$t.regressions.log" 2>&1; then
+      tail -n 40 "$build/$t.regressions.log" >&2
+      echo "fuzz: $t FAILED on a regression input (tests/fuzz/regressions/$t)" >&2
+      exit 1
+    fi
   fi
-  echo "== $t: ${seconds} s" >&2
+  budget=(-max_total_time="$seconds")
+  ((ci)) && budget=(-seed=1 -runs="${FUZZ_CI_RUNS:-20000}")
+  echo "== $t: ${budget[*]}" >&2
   log="$build/$t.log"
-  if ! "$bin" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 \
-      -artifact_prefix="$build/artifacts/$t-" "$build/corpus/$t" >"$log" 2>&1; then
+  if ! "$bin" "${budget[@]}" -timeout=20 -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 \
+      -artifact_prefix="$build/artifacts/$t-" "$corpus_root/$t" >"$log" 2>&1; then
     tail -n 60 "$log" >&2
     echo "fuzz: $t FAILED; the input is in $build/artifacts/" >&2
     exit 1
   fi
   runs=$(grep -o 'stat::number_of_executed_units: [0-9]*' "$log" | grep -o '[0-9]*$' || echo '?')
   cov=$(grep -o 'cov: [0-9]*' "$log" | tail -n 1 | grep -o '[0-9]*$' || echo '?')
-  summary+=("$t: $runs executions, coverage $cov edges, corpus $(ls "$build/corpus/$t" | wc -l) inputs")
+  summary+=("$t: $runs executions, coverage $cov edges, corpus $(ls "$corpus_root/$t" | wc -l) inputs")
 done
 printf 'fuzz: %s\n' "${summary[@]}"

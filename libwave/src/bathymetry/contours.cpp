@@ -51,6 +51,8 @@ Seafloor read_contour_file(const std::string& path, const ReadOptions& o) {
         doc = json::parse(in);
     } catch (const json::parse_error& e) {
         throw InputError(path + ": not valid JSON (byte " + std::to_string(e.byte) + "): " + e.what());
+    } catch (const json::exception& e) {  // out_of_range: a number too large for a double (tests/fuzz)
+        throw InputError(path + ": not valid JSON: " + e.what());
     }
     if (!doc.is_object() || !doc.contains("contours") || !doc["contours"].is_array())
         throw InputError(path + ": /contours: expected an array of {\"depth\": …, \"points\": [[x, y], …]}");
@@ -114,10 +116,10 @@ ElevationGrid grid_from_contours(const DepthContours& c, double spacing, std::si
         throw InputError("contours: the polylines span no area (all on one line)");
     if (!(spacing > 0.0)) spacing = std::max(x_hi - x_lo, y_hi - y_lo) / 256.0;
     ElevationGrid g;
-    g.nx = static_cast<std::size_t>(std::floor((x_hi - x_lo) / spacing)) + 2;
-    g.ny = static_cast<std::size_t>(std::floor((y_hi - y_lo) / spacing)) + 2;
     ReadOptions limits;
     limits.max_nodes = max_nodes;
+    g.nx = detail::nodes_along("contours", x_hi - x_lo, spacing, 1, limits);
+    g.ny = detail::nodes_along("contours", y_hi - y_lo, spacing, 1, limits);
     detail::check_grid_size("contours", g.nx, g.ny, limits);
     g.x0 = x_lo;
     g.y0 = y_lo;

@@ -134,6 +134,16 @@ void check_grid_size(const std::string& path, std::size_t nx, std::size_t ny,
                          " (ReadOptions::max_nodes, CLI --max-nodes)");
 }
 
+std::size_t nodes_along(const std::string& path, double extent, double spacing, std::size_t extra,
+                        const ReadOptions& options) {
+    const double n = std::floor(extent / spacing) + 1.0 + static_cast<double>(extra);
+    if (!(n <= static_cast<double>(options.max_nodes)))  // also NaN and infinity
+        throw LimitError(path + ": a grid spacing of " + format_number(spacing) + " m over " + format_number(extent) +
+                         " m needs more nodes than the limit of " + std::to_string(options.max_nodes) +
+                         " (ReadOptions::max_nodes, CLI --max-nodes; or a coarser --spacing)");
+    return static_cast<std::size_t>(n);
+}
+
 std::size_t convert_to_elevation(std::vector<double>& values, std::optional<double> nodata,
                                  const std::vector<char>& missing, ValueSign file_sign,
                                  const ReadOptions& o, const std::string& path,

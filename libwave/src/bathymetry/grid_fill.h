@@ -19,6 +19,12 @@ using NodeLocator = std::function<std::string(std::size_t i, std::size_t j)>;
 void check_grid_size(const std::string& path, std::size_t nx, std::size_t ny,
                      const ReadOptions& options);
 
+/// Nodes along a side of `extent` metres at `spacing` (floor(extent / spacing) + 1 +
+/// `extra`), computed in double and refused (LimitError) before any integer cast when
+/// it exceeds max_nodes or is not finite (a 1e300 m extent, a 1e-300 m spacing).
+std::size_t nodes_along(const std::string& path, double extent, double spacing, std::size_t extra,
+                        const ReadOptions& options);
+
 /// Converts raw values (grid order, j = 0 south) in place into elevations:
 /// NODATA nodes (== nodata, or flagged in `missing`) are filled per the policy and
 /// counted; NaN/Inf throws InputError naming the file and node; the rest become

@@ -8,8 +8,14 @@
 #include <CGAL/Simple_cartesian.h>
 
 #include <algorithm>
+#include <cctype>
+#include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
 #include <limits>
 
 namespace wave {
@@ -19,6 +25,91 @@ using Kernel = CGAL::Simple_cartesian<double>;
 
 // Writes z of every triangle into the grid nodes its xy projection covers; where
 // triangles overlap (overhangs, folded meshes) the highest surface wins.
+// CGAL 5.5's ASCII OFF scanner reads facet indices as doubles and casts them to
+// size_t: a negative, fractional-overflow or huge index is undefined behaviour there
+// (found by tests/fuzz/fuzz_mesh). ASCII OFF facets are checked here first: every
+// index a whole number in [0, vertex count), named by line when it is not.
+void check_off_facets(const std::string& path) {
+    std::ifstream in(path);
+    std::string line;
+    std::size_t number = 0;
+    const auto next = [&](std::istringstream& tokens) {  // the next line with content
+        while (std::getline(in, line)) {
+            ++number;
+            if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
+            if (line.find_first_not_of(" \t\r") != std::string::npos) {
+                tokens = std::istringstream(line);
+                return true;
+            }
+        }
+        return false;
+    };
+    std::istringstream tokens;
+    if (!next(tokens)) return;  // empty: CGAL refuses it
+    std::string header;
+    tokens >> header;
+    if (header.size() < 3 || header.compare(header.size() - 3, 3, "OFF") != 0) return;  // not OFF: CGAL refuses it
+    std::string word;
+    if (tokens >> word && word == "BINARY") return;  // binary indices are int32 in CGAL
+    long long nv = -1, nf = -1;
+    std::istringstream counts;
+    if (!word.empty() && std::isdigit(static_cast<unsigned char>(word[0]))) counts = std::istringstream(line.substr(line.find(word)));
+    else if (!next(counts)) return;
+    // Each vertex and facet takes a line: more than the file's bytes is a lie that
+    // would keep CGAL reading (or reserving) for ever.
+    const auto bytes = static_cast<long long>(std::filesystem::file_size(path));
+    if (!(counts >> nv >> nf) || nv < 0 || nf < 0 || nv > bytes || nf > bytes)
+        throw InputError(path + ": line " + std::to_string(number) + ": the OFF header's vertex and facet counts are not "
+                         "whole numbers that fit the file");
+    for (long long v = 0; v < nv; ++v)
+        if (!next(tokens)) return;
+    const auto whole = [](const std::string& t, long long lo, long long hi) {
+        long long value = 0;
+        const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), value);
+        return ec == std::errc() && end == t.data() + t.size() && value >= lo && value < hi;
+    };
+    for (long long f = 0; f < nf; ++f) {
+        if (!next(tokens)) return;
+        std::string t;
+        tokens >> t;
+        if (!whole(t, 0, 1 << 20))
+            throw InputError(path + ": line " + std::to_string(number) + ": the facet's vertex count '" + t + "' is not a whole number");
+        const long long k = std::stoll(t);
+        for (long long i = 0; i < k; ++i)
+            if (!(tokens >> t) || !whole(t, 0, nv))
+                throw InputError(path + ": line " + std::to_string(number) + ": facet vertex index '" + t +
+                                 "' is not a whole number in [0, " + std::to_string(nv) + ")");
+    }
+}
+
+// CGAL 5.5's PLY reader appends a `property` to the last `element` without checking
+// that one was declared (undefined behaviour; tests/fuzz/fuzz_mesh): the header is
+// checked here first.
+void check_ply_header(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::string line, keyword;
+    bool element = false;
+    for (std::size_t number = 1; std::getline(in, line); ++number) {
+        std::istringstream tokens(line);
+        if (!(tokens >> keyword)) continue;
+        if (keyword == "end_header") return;
+        if (keyword == "element") {
+            // The count is read by CGAL as an unsigned integer and looped over: a
+            // negative or oversized one never ends (tests/fuzz/fuzz_mesh).
+            std::string name, count;
+            unsigned long long n = 0;
+            tokens >> name >> count;
+            const auto [end, ec] = std::from_chars(count.data(), count.data() + count.size(), n);
+            if (ec != std::errc() || end != count.data() + count.size() || n > std::filesystem::file_size(path))
+                throw InputError(path + ": line " + std::to_string(number) + ": the PLY element count '" + count +
+                                 "' is not a whole number that fits the file");
+            element = true;
+        }
+        if (keyword == "property" && !element)
+            throw InputError(path + ": line " + std::to_string(number) + ": a PLY property before any element");
+    }
+}
+
 void rasterise(const SeafloorMesh& m, ElevationGrid& g, std::vector<char>& covered) {
     const double inf = std::numeric_limits<double>::infinity();
     std::fill(g.z.begin(), g.z.end(), -inf);
@@ -54,10 +145,20 @@ void rasterise(const SeafloorMesh& m, ElevationGrid& g, std::vector<char>& cover
 
 Seafloor read_mesh_file(const std::string& path, const ReadOptions& o) {
     if (!std::filesystem::exists(path)) throw InputError(path + ": file not found");
+    std::string extension = std::filesystem::path(path).extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+    if (extension == ".off") check_off_facets(path);
+    if (extension == ".ply") check_ply_header(path);
     std::vector<Kernel::Point_3> points;
     std::vector<std::vector<std::size_t>> polygons;
-    if (!CGAL::IO::read_polygon_soup(path, points, polygons, CGAL::parameters::verbose(false)))
-        throw InputError(path + ": not a readable OFF/OBJ/PLY/STL triangle mesh");
+    bool read = false;
+    try {
+        read = CGAL::IO::read_polygon_soup(path, points, polygons, CGAL::parameters::verbose(false));
+    } catch (const std::length_error& e) {  // CGAL sizes vectors from the file's counts
+        throw InputError(path + ": not a readable OFF/OBJ/PLY/STL triangle mesh (a count in the file is impossible: " +
+                         e.what() + ")");
+    }
+    if (!read) throw InputError(path + ": not a readable OFF/OBJ/PLY/STL triangle mesh");
 
     const ValueSign sign = o.sign.value_or(ValueSign::elevation);
     const double s = sign == ValueSign::elevation ? 1.0 : -1.0;
@@ -99,8 +200,8 @@ Seafloor read_mesh_file(const std::string& path, const ReadOptions& o) {
     const double spacing = o.resample_spacing > 0.0
         ? o.resample_spacing
         : std::sqrt((x_hi - x_lo) * (y_hi - y_lo) / static_cast<double>(points.size()));
-    const auto nx = static_cast<std::size_t>(std::floor((x_hi - x_lo) / spacing)) + 1;
-    const auto ny = static_cast<std::size_t>(std::floor((y_hi - y_lo) / spacing)) + 1;
+    const std::size_t nx = detail::nodes_along(path, x_hi - x_lo, spacing, 0, o);
+    const std::size_t ny = detail::nodes_along(path, y_hi - y_lo, spacing, 0, o);
     detail::check_grid_size(path, nx, ny, o);
     ElevationGrid& g = out.grid;
     g.nx = nx;

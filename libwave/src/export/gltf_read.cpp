@@ -9,6 +9,7 @@
 #include "libwave/errors.h"
 #include "libwave/export.h"
 
+#include <draco/compression/decode.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -16,6 +17,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
 #include <map>
 
 namespace wave {
@@ -37,7 +41,8 @@ struct Reader {
         if (comps != width) fail("accessor " + std::to_string(index) + " has " + std::to_string(comps) + " components, expected " + std::to_string(width));
         if (a.bufferView < 0 || static_cast<std::size_t>(a.bufferView) >= m.bufferViews.size()) fail("accessor " + std::to_string(index) + " has no data");
         const tinygltf::BufferView& v = m.bufferViews[static_cast<std::size_t>(a.bufferView)];
-        const std::vector<unsigned char>& data = m.buffers.at(static_cast<std::size_t>(v.buffer)).data;
+        if (v.buffer < 0 || static_cast<std::size_t>(v.buffer) >= m.buffers.size()) fail("accessor " + std::to_string(index) + " has no buffer");
+        const std::vector<unsigned char>& data = m.buffers[static_cast<std::size_t>(v.buffer)].data;
         const int size = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(a.componentType));
         if (size <= 0) fail("accessor " + std::to_string(index) + ": unknown component type");
         const std::size_t stride = v.byteStride ? v.byteStride : comps * static_cast<std::size_t>(size);
@@ -63,10 +68,13 @@ struct Reader {
     }
 
     std::vector<std::uint32_t> indices(int index) const {
-        const tinygltf::Accessor& a = m.accessors.at(static_cast<std::size_t>(index));
+        if (index < 0 || static_cast<std::size_t>(index) >= m.accessors.size()) fail("the mesh has no indices accessor");
+        const tinygltf::Accessor& a = m.accessors[static_cast<std::size_t>(index)];
         if (a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT) fail("indices are not uint32");
-        const tinygltf::BufferView& v = m.bufferViews.at(static_cast<std::size_t>(a.bufferView));
-        const auto& data = m.buffers.at(static_cast<std::size_t>(v.buffer)).data;
+        if (a.bufferView < 0 || static_cast<std::size_t>(a.bufferView) >= m.bufferViews.size()) fail("the indices have no data");
+        const tinygltf::BufferView& v = m.bufferViews[static_cast<std::size_t>(a.bufferView)];
+        if (v.buffer < 0 || static_cast<std::size_t>(v.buffer) >= m.buffers.size()) fail("the indices' bufferView has no buffer");
+        const auto& data = m.buffers[static_cast<std::size_t>(v.buffer)].data;
         const std::size_t start = v.byteOffset + a.byteOffset;
         if (start + 4 * a.count > data.size()) fail("indices run past their buffer");
         std::vector<std::uint32_t> out(a.count);
@@ -114,18 +122,24 @@ Frame read_frame(const Reader& r, const std::map<std::string, int>& attrs, int m
     Frame f;
     const auto [t, s] = r.transform(mesh);
     const auto has = [&](const char* n) { return attrs.count(n) != 0; };
+    const auto at = [&](const char* n) {  // a required attribute
+        const auto it = attrs.find(n);
+        if (it == attrs.end()) r.fail(std::string("a frame without ") + n);
+        return it->second;
+    };
     if (!has("POSITION") || !has("NORMAL")) r.fail("a frame without POSITION or NORMAL");
-    append_z_up(f.position, r.floats(attrs.at("POSITION"), 3), t, s, !delta);
-    append_z_up(f.normal, r.floats(attrs.at("NORMAL"), 3), {0, 0, 0}, {1, 1, 1}, false);
-    if (has("COLOR_0")) f.color = r.floats(attrs.at("COLOR_0"), 3);
+    append_z_up(f.position, r.floats(at("POSITION"), 3), t, s, !delta);
+    append_z_up(f.normal, r.floats(at("NORMAL"), 3), {0, 0, 0}, {1, 1, 1}, false);
+    if (has("COLOR_0")) f.color = r.floats(at("COLOR_0"), 3);
     if (has("_REFLECT")) {
+        if (!has("_REFRACT") || !has("_FOAM")) r.fail("_REFLECT without _REFRACT and _FOAM");
         layout = ScalarLayout::custom;
-        f.reflect = r.floats(attrs.at("_REFLECT"), 1);
-        f.refract = r.floats(attrs.at("_REFRACT"), 1);
-        f.foam = r.floats(attrs.at("_FOAM"), 1);
+        f.reflect = r.floats(at("_REFLECT"), 1);
+        f.refract = r.floats(at("_REFRACT"), 1);
+        f.foam = r.floats(at("_FOAM"), 1);
     } else if (has("TEXCOORD_1") && has("TEXCOORD_2")) {
         layout = ScalarLayout::blender34;  // TEXCOORD_1 = (R, T), TEXCOORD_2 = (foam, 0)
-        const auto uv1 = r.floats(attrs.at("TEXCOORD_1"), 2), uv2 = r.floats(attrs.at("TEXCOORD_2"), 2);
+        const auto uv1 = r.floats(at("TEXCOORD_1"), 2), uv2 = r.floats(at("TEXCOORD_2"), 2);
         for (std::size_t v = 0; 2 * v < uv1.size(); ++v) {
             f.reflect.push_back(uv1[2 * v]);
             f.refract.push_back(uv1[2 * v + 1]);
@@ -148,12 +162,130 @@ void append(StoredAnimation& a, const Frame& f) {
     a.colors.insert(a.colors.end(), f.color.begin(), f.color.end());
 }
 
+// tinygltf (Debian's) trusts the file's byte ranges when it decodes Draco
+// primitives: a bufferView beyond its buffer overflows the heap (found by
+// tests/fuzz/fuzz_gltf). The container and every range are checked here first.
+void check_layout(const std::string& path, bool binary) {
+    std::ifstream in(path, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const auto fail = [&](const std::string& what) { throw InputError(path + ": not a readable glTF 2.0 file: " + what); };
+    const auto u32 = [&](std::size_t at) {
+        std::uint32_t v = 0;
+        std::memcpy(&v, bytes.data() + at, 4);
+        return std::size_t{v};
+    };
+    std::string text;
+    std::size_t bin_length = 0;
+    if (binary) {
+        if (bytes.size() < 20 || bytes.compare(0, 4, "glTF") != 0 || u32(8) != bytes.size()) fail("the GLB header does not match the file");
+        const std::size_t json_length = u32(12);
+        if (json_length > bytes.size() - 20 || bytes.compare(16, 4, "JSON") != 0) fail("the JSON chunk runs past the file");
+        text = bytes.substr(20, json_length);
+        const std::size_t bin_at = 20 + json_length;
+        if (bin_at + 8 <= bytes.size()) {
+            bin_length = u32(bin_at);
+            if (bin_length > bytes.size() - bin_at - 8) fail("the BIN chunk runs past the file");
+        }
+    } else {
+        text = bytes;
+    }
+    nlohmann::json doc;
+    try {
+        doc = nlohmann::json::parse(text);
+    } catch (const nlohmann::json::exception& e) {
+        fail(std::string("its JSON: ") + e.what());
+    }
+    const auto count = [](const nlohmann::json& o, const char* key) -> double {
+        const auto it = o.find(key);
+        return it == o.end() ? 0.0 : it->is_number() ? it->get<double>() : -1.0;
+    };
+    std::vector<double> buffer_bytes;
+    if (doc.contains("buffers") && doc["buffers"].is_array())
+        for (const auto& b : doc["buffers"]) {
+            if (!b.is_object()) fail("a buffer is not an object");
+            double available = static_cast<double>(bin_length);  // the GLB's own buffer
+            if (b.contains("uri") && b["uri"].is_string()) {
+                std::error_code ec;
+                const auto size = std::filesystem::file_size(std::filesystem::path(path).parent_path() / b["uri"].get<std::string>(), ec);
+                available = ec ? -1.0 : static_cast<double>(size);
+            }
+            const double length = count(b, "byteLength");
+            if (!(length >= 0.0 && length <= available)) fail("a buffer's byteLength is not in its data");
+            buffer_bytes.push_back(length);
+        }
+    if (doc.contains("bufferViews") && doc["bufferViews"].is_array())
+        for (const auto& v : doc["bufferViews"]) {
+            if (!v.is_object()) fail("a bufferView is not an object");
+            const double buffer = count(v, "buffer"), offset = count(v, "byteOffset"), length = count(v, "byteLength");
+            if (!(buffer >= 0.0 && buffer < static_cast<double>(buffer_bytes.size()) && offset >= 0.0 && length >= 0.0 &&
+                  offset + length <= buffer_bytes[static_cast<std::size_t>(buffer)]))
+                fail("a bufferView lies outside its buffer");
+        }
+    // Indices into the arrays tinygltf indexes without checking (its Draco decoding).
+    const auto size_of = [&](const char* key) {
+        return doc.contains(key) && doc[key].is_array() ? static_cast<double>(doc[key].size()) : 0.0;
+    };
+    const double accessors = size_of("accessors"), views = size_of("bufferViews");
+    const auto index_in = [&](const nlohmann::json& v, double n, const char* what) {
+        if (!v.is_number_integer() || v.get<double>() < 0.0 || v.get<double>() >= n) fail(std::string("a ") + what + " index is out of range");
+    };
+    if (doc.contains("accessors") && doc["accessors"].is_array())
+        for (const auto& a : doc["accessors"])
+            if (a.is_object() && a.contains("bufferView")) index_in(a["bufferView"], views, "bufferView");
+    if (doc.contains("meshes") && doc["meshes"].is_array())
+        for (const auto& mesh : doc["meshes"]) {
+            if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
+            for (const auto& prim : mesh["primitives"]) {
+                if (!prim.is_object()) fail("a primitive is not an object");
+                if (prim.contains("indices")) index_in(prim["indices"], accessors, "indices accessor");
+                if (prim.contains("attributes") && prim["attributes"].is_object())
+                    for (const auto& [_, a] : prim["attributes"].items()) index_in(a, accessors, "attribute accessor");
+                if (prim.contains("targets") && prim["targets"].is_array())
+                    for (const auto& t : prim["targets"])
+                        if (t.is_object())
+                            for (const auto& [_, a] : t.items()) index_in(a, accessors, "morph target accessor");
+                const auto ext = prim.find("extensions");
+                if (ext != prim.end() && ext->is_object() && ext->contains("KHR_draco_mesh_compression")) {
+                    const auto& d = (*ext)["KHR_draco_mesh_compression"];
+                    if (!d.is_object() || !d.contains("bufferView")) fail("a Draco primitive without a bufferView");
+                    index_in(d["bufferView"], views, "Draco bufferView");
+                    if (!prim.contains("indices")) fail("a Draco primitive without indices");
+                    if (!d.contains("attributes") || !d["attributes"].is_object()) fail("a Draco primitive without attributes");
+                    // tinygltf sizes its decoded buffers by the accessors' component types.
+                    const auto component = [&](const nlohmann::json& accessor, std::initializer_list<int> valid) {
+                        const auto& a = doc["accessors"][accessor.get<std::size_t>()];
+                        const int type = a.is_object() && a.contains("componentType") && a["componentType"].is_number_integer()
+                                             ? a["componentType"].get<int>() : 0;
+                        if (std::find(valid.begin(), valid.end(), type) == valid.end()) fail("a Draco accessor has an invalid componentType");
+                    };
+                    component(prim["indices"], {5121, 5123, 5125});
+                    if (prim.contains("attributes") && prim["attributes"].is_object())
+                        for (const auto& [_, a] : prim["attributes"].items()) component(a, {5120, 5121, 5122, 5123, 5125, 5126});
+                    // tinygltf dereferences the Draco attribute of every id without a check:
+                    // decode the bitstream here and require each id (and a GLB's own buffer).
+                    const auto& view = doc["bufferViews"][d["bufferView"].get<std::size_t>()];
+                    if (!binary || count(view, "buffer") != 0.0 || doc["buffers"][0].contains("uri")) continue;
+                    const std::size_t at = 20 + u32(12) + 8 + static_cast<std::size_t>(count(view, "byteOffset"));
+                    draco::DecoderBuffer buffer;
+                    buffer.Init(bytes.data() + at, static_cast<std::size_t>(count(view, "byteLength")));
+                    draco::Decoder decoder;
+                    auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
+                    if (!decoded.ok()) fail(std::string("a Draco primitive does not decode: ") + decoded.status().error_msg());
+                    for (const auto& [name, id] : d["attributes"].items())
+                        if (!id.is_number_integer() || !decoded.value()->GetAttributeByUniqueId(id.get<std::uint32_t>()))
+                            fail("the Draco attribute of " + name + " is not in the bitstream");
+                }
+            }
+        }
+}
+
 StoredAnimation read_glb(const std::string& path) {
     tinygltf::Model m;
     tinygltf::TinyGLTF loader;
     std::string err, warn;
     const bool binary = std::filesystem::path(path).extension() == ".glb";
     if (!std::filesystem::exists(path)) throw InputError(path + ": file not found");
+    check_layout(path, binary);
     const bool ok = binary ? loader.LoadBinaryFromFile(&m, &err, &warn, path) : loader.LoadASCIIFromFile(&m, &err, &warn, path);
     if (!ok) throw InputError(path + ": not a readable glTF 2.0 file: " + err);
     const Reader r{m, path};
@@ -173,6 +305,7 @@ StoredAnimation read_glb(const std::string& path) {
         r.fail("its frames are Draco-compressed one by one (Draco reorders each frame's points, so frames no longer "
                "share a vertex order): convert from an uncompressed output, or run the scene again");
     a.triangles = r.indices(first.indices);
+    if (!first.attributes.count("TEXCOORD_0")) r.fail("the mesh has no TEXCOORD_0 (libwave writes the rest position there)");
     a.texcoords = r.floats(first.attributes.at("TEXCOORD_0"), 2);
     a.vertex_count = a.texcoords.size() / 2;
     if (path_kind == "weights") {  // morph: frame k = base + target k
@@ -191,7 +324,8 @@ StoredAnimation read_glb(const std::string& path) {
         }
     } else {  // nodes (a mesh per frame) or one frame file
         for (std::size_t mesh = 0; mesh < m.meshes.size(); ++mesh) {
-            const tinygltf::Primitive& p = m.meshes[mesh].primitives.at(0);
+            if (m.meshes[mesh].primitives.empty()) r.fail("a frame's mesh has no primitive");
+            const tinygltf::Primitive& p = m.meshes[mesh].primitives[0];
             if (r.indices(p.indices) != a.triangles) r.fail("frame " + std::to_string(mesh) + " has other triangles than frame 0");
             append(a, read_frame(r, p.attributes, static_cast<int>(mesh), false, a.layout));
             ++a.frame_count;

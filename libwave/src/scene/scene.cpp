@@ -457,6 +457,8 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
         doc = json::parse(text);
     } catch (const json::parse_error& e) {
         throw InputError(origin + ": not valid JSON (byte " + std::to_string(e.byte) + "): " + e.what());
+    } catch (const json::exception& e) {  // out_of_range: a number too large for a double (tests/fuzz)
+        throw InputError(origin + ": not valid JSON: " + e.what());
     }
     const Node root(doc, "", origin);
     root.require_object({"name", "seafloor", "isobaths", "waves", "trace", "surface", "fronts", "motion", "camera",
