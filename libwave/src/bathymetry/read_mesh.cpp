@@ -5,6 +5,7 @@
 #include "libwave/errors.h"
 
 #include <CGAL/IO/polygon_soup_io.h>
+#include <CGAL/exceptions.h>
 #include <CGAL/Simple_cartesian.h>
 
 #include <algorithm>
@@ -157,6 +158,8 @@ Seafloor read_mesh_file(const std::string& path, const ReadOptions& o) {
     } catch (const std::length_error& e) {  // CGAL sizes vectors from the file's counts
         throw InputError(path + ": not a readable OFF/OBJ/PLY/STL triangle mesh (a count in the file is impossible: " +
                          e.what() + ")");
+    } catch (const CGAL::Failure_exception& e) {  // CGAL's readers assert on some malformed headers (tests/fuzz)
+        throw InputError(path + ": not a readable OFF/OBJ/PLY/STL triangle mesh (" + e.expression() + ")");
     }
     if (!read) throw InputError(path + ": not a readable OFF/OBJ/PLY/STL triangle mesh");
 
