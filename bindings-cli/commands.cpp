@@ -1,6 +1,7 @@
 // The `wave` subcommands: parse nothing, compute nothing themselves — they call
 // libwave and print what it returns.
 #include "commands.h"
+#include "outputs.h"
 #include "scene_schema.h"
 
 #include "libwave/errors.h"
@@ -256,131 +257,39 @@ FrameRange slice_frames(const std::string& text, std::size_t loop_frames) {
     return {i * loop_frames / n, (i + 1) * loop_frames / n};
 }
 
-// What a frame index describes: one animation (name, fps, loop) and the frames written now.
-struct IndexInfo {
-    std::string name;
-    double fps = 24.0, loop_period = 0.0;
-    std::size_t loop_frames = 0, first_frame = 0, frame_count = 0;
-    bool gltf = false;  ///< .gltf frame files (else .glb)
-};
-
-// The frame index of the `files` form, merged with an index a previous slice of the
-// same animation left in the folder.
-json merged_index(const std::string& path, const IndexInfo& info) {
-    json index{{"scene", info.name}, {"fps", info.fps}, {"loop_period_s", info.loop_period},
-               {"loop_frames", info.loop_frames}, {"frames", json::array()}};
-    std::map<std::size_t, json> frames;
-    if (std::filesystem::exists(path)) {
-        std::ifstream in(path);
-        json old;
-        try {
-            old = json::parse(in);
-        } catch (const json::exception&) {
-            throw InputError(path + ": not a frame index (invalid JSON); use another output folder");
-        }
-        if (old.value("scene", "") != info.name || old.value("fps", 0.0) != info.fps ||
-            old.value("loop_frames", std::size_t{0}) != info.loop_frames)
-            throw InputError(path + ": the index there belongs to another animation (scene, fps or loop differ); "
-                             "use another output folder");
-        for (const json& f : old.at("frames")) frames[f.at("frame").get<std::size_t>()] = f;
-    }
-    for (std::size_t k = 0; k < info.frame_count; ++k) {
-        const std::size_t frame = info.first_frame + k;
-        char name[48];
-        std::snprintf(name, sizeof name, "frames/frame-%04zu.%s", frame, info.gltf ? "gltf" : "glb");
-        frames[frame] = {{"frame", frame}, {"time", key_time(frame, info.fps)}, {"file", name}};
-    }
-    for (auto& [_, f] : frames) index["frames"].push_back(f);
-    return index;
-}
-
-
 // The report of a run of frames [first, first + count) that is not the whole loop.
 std::string slice_report_name(std::size_t first, std::size_t count) {
     return "report-frames-" + std::to_string(first) + "-" + std::to_string(first + count) + ".json";
 }
 
-// The animation in a form: (file name, bytes) pairs — animation.glb (or
-// animation-frames-A-B.glb for a slice), or frames/frame-NNNN.glb; with the gltf
-// container each .glb becomes name.gltf + name.bin.
-std::vector<std::pair<std::string, std::string>> encode_animation(const MorphAnimationView& view, Scene::Form form,
-                                                                  Scene::Container container, bool whole) {
-    std::vector<std::pair<std::string, std::string>> files;
-    char slice_name[64];
-    std::snprintf(slice_name, sizeof slice_name, "animation-frames-%zu-%zu.glb", view.first_frame, view.first_frame + view.frame_count);
-    const std::string animation_name = whole ? "animation.glb" : slice_name;
-    if (form == Scene::Form::morph) files.emplace_back(animation_name, gltf_morph_glb(view));
-    if (form == Scene::Form::nodes) files.emplace_back(animation_name, gltf_nodes_glb(view));
-    if (form == Scene::Form::files)
-        for (std::size_t k = 0; k < view.frame_count; ++k) {
-            char name[48];
-            std::snprintf(name, sizeof name, "frames/frame-%04zu.glb", view.first_frame + k);
-            files.emplace_back(name, gltf_frame_glb(view, k));
-        }
-    if (container == Scene::Container::gltf) {
-        // Each .glb becomes name.gltf + name.bin (the .bin named relative to the .gltf).
-        std::vector<std::pair<std::string, std::string>> split;
-        for (auto& [name, bytes] : files) {
-            const std::string base = name.substr(0, name.size() - 4);  // without ".glb"
-            const std::string bin = base + ".bin";
-            GltfFiles g = glb_to_gltf(bytes, std::filesystem::path(bin).filename().string());
-            split.emplace_back(base + ".gltf", std::move(g.json));
-            split.emplace_back(bin, std::move(g.bin));
-        }
-        files.swap(split);
-    }
-    return files;
-}
+}  // namespace
 
-// Every file is first written into a staging folder inside the output folder and only
-// then renamed into place: a run that fails while writing (disk full, a permission)
-// leaves neither partial files nor a half-replaced set of outputs.
-// `write_more` writes files that are not held as bytes (the strips PLY) into the
-// staging folder and returns their names.
-void publish(const std::string& out_dir, const std::vector<std::pair<std::string, std::string>>& files,
-             const std::function<std::vector<std::string>(const std::filesystem::path&)>& write_more = {}) {
-    namespace fs = std::filesystem;
-    const bool created = !fs::exists(out_dir);
-    fs::create_directories(out_dir);
-    // Slices on several hosts may publish into one shared folder: host and pid name the staging.
-    char host[256] = {};
-    if (gethostname(host, sizeof host - 1) != 0) host[0] = '\0';
-    const std::string mine = ".wave-staging-" + std::string(host) + "-";
-    const fs::path staging = fs::path(out_dir) / (mine + std::to_string(getpid()));
-    // A run killed on this host (SIGKILL, power) left its staging folder: nothing in it
-    // was published, so it goes.
-    std::error_code scan_error;
-    for (const auto& e : fs::directory_iterator(out_dir, scan_error)) {
-        const std::string name = e.path().filename().string();
-        if (!name.starts_with(mine)) continue;
-        const std::string pid_text = name.substr(mine.size());
-        if (pid_text.empty() || pid_text.find_first_not_of("0123456789") != std::string::npos) continue;
-        const auto pid = static_cast<pid_t>(std::stol(pid_text));
-        if (pid != getpid() && ::kill(pid, 0) != 0 && errno == ESRCH) {
-            std::error_code ignored;
-            fs::remove_all(e.path(), ignored);
-        }
+namespace {
+
+// What decides the bytes of a run's frames: libwave's version, the scene file (or the
+// built-in scene), the command-line overrides and the seafloor's heights (a scene
+// naming a data file that changed gets another key). Threads do not count: outputs do
+// not depend on them.
+std::string run_key(const RunArgs& a, const Scene& scene, const ScenePlan& plan) {
+    std::string text = "libwave " + std::string(version()) + "\n";
+    if (a.scene.empty()) {
+        text += "built-in default scene\n";
+    } else {
+        std::ifstream in(a.scene, std::ios::binary);
+        text.append(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
     }
-    try {
-        std::vector<std::string> names;
-        for (const auto& [name, bytes] : files) {
-            fs::create_directories((staging / name).parent_path());
-            write_file_atomic((staging / name).string(), bytes);
-            names.push_back(name);
-        }
-        if (write_more)
-            for (std::string& name : write_more(staging)) names.push_back(std::move(name));
-        for (const std::string& name : names) {
-            fs::create_directories((fs::path(out_dir) / name).parent_path());
-            fs::rename(staging / name, fs::path(out_dir) / name);
-        }
-        fs::remove_all(staging);
-    } catch (...) {
-        std::error_code ignored;
-        fs::remove_all(staging, ignored);
-        if (created) fs::remove_all(out_dir, ignored);  // it was ours and holds nothing finished
-        throw;
-    }
+    char overrides[256];
+    const DracoOptions d = scene.draco.value_or(DracoOptions{});
+    std::snprintf(overrides, sizeof overrides, "\nfps %a container %d quantize %d draco %d %d %d %d %d %d %d\n", scene.fps,
+                  static_cast<int>(scene.container), scene.quantize ? 1 : 0, scene.draco ? 1 : 0, d.position_bits,
+                  d.normal_bits, d.texcoord_bits, d.color_bits, d.generic_bits, d.encode_speed);
+    text += overrides;
+    const ElevationGrid& g = plan.seafloor.grid;
+    char grid[160];
+    std::snprintf(grid, sizeof grid, "grid %zu %zu %a %a %a %a\n", g.nx, g.ny, g.x0, g.y0, g.dx, g.dy);
+    text += grid;
+    text.append(reinterpret_cast<const char*>(g.z.data()), g.z.size() * sizeof(double));
+    return sha256_hex(text);
 }
 
 }  // namespace
@@ -422,19 +331,52 @@ int run_job(const RunArgs& a) {
                   << std::string(static_cast<std::size_t>(width - filled), ' ') << "] " << done << "/" << total
                   << (done == total ? "\n" : "") << std::flush;
     };
-    if (!a.slice.empty())
-        range = slice_frames(a.slice, std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(plan.loop_period * scene.fps))));
-    const SceneAnimation anim = animate_scene(scene, plan, a.max_memory_gb * 1e9, range, progress);
-    const std::size_t frames = anim.frame_count;
-    const bool whole = anim.first_frame == 0 && frames == anim.loop_frames;
-    const auto t2 = Clock::now();
-    const MorphAnimationView view = anim.view();
-    std::vector<std::pair<std::string, std::string>> files = encode_animation(view, scene.form, scene.container, whole);
-    const std::string animation_name = files.empty() ? "" : files.front().first;
-    const std::size_t animation_files = files.size();
+    const std::size_t loop_frames = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(plan.loop_period * scene.fps)));
+    if (!a.slice.empty()) range = slice_frames(a.slice, loop_frames);
+    const bool files_form = scene.form == Scene::Form::files;
+    if (a.resume && !files_form)
+        throw InputError("--resume continues a run of the files form (one file per frame); this run's form is " +
+                         std::string(scene.form == Scene::Form::nodes ? "nodes" : "morph"));
+    const double max_bytes = a.max_memory_gb * 1e9;
+    // The files form computes and writes a chunk of frames at a time (a killed run can
+    // resume); `anim` then holds the range's first frame only (sizes, the OBJ). The
+    // single-file forms hold every frame of the range.
+    // (An empty range passes whole to animate_scene, which names it.)
+    const bool empty_range = range.first >= std::min(range.end, loop_frames);
+    const SceneAnimation anim = animate_scene(scene, plan, max_bytes,
+                                              files_form && !empty_range ? FrameRange{range.first, range.first + 1} : range,
+                                              files_form ? std::function<void(std::size_t, std::size_t)>{} : progress);
+    auto t2 = Clock::now();
+    const std::size_t first_frame = anim.first_frame;
+    const std::size_t frames = files_form ? std::min(range.end, loop_frames) - first_frame : anim.frame_count;
+    const bool whole = first_frame == 0 && frames == loop_frames;
+    const IndexInfo index_info{scene.name, scene.fps, plan.loop_period, loop_frames, files_form ? run_key(a, scene, plan) : ""};
+    const std::string index_path = (std::filesystem::path(out_dir) / "index.json").string();
+    std::optional<FilesFormRun> files_run;
+    Files files;
+    std::vector<std::string> animation_names;
     std::size_t animation_bytes = 0;
-    for (const auto& f : files) animation_bytes += f.second.size();
-    const std::string shown_name = files.empty() ? animation_name : files.front().first;
+    float z_min = anim.z_min, z_max = anim.z_max;
+    if (files_form) {
+        merged_index(index_path, index_info, {}, whole);  // refuses a foreign index before any frame is written
+        files_run.emplace(write_files_form(scene, plan, out_dir, index_info, range, a.resume, max_bytes, progress));
+        for (const json& e : files_run->entries)
+            for (const json& c : e["content"]) {
+                animation_names.push_back(c["file"].get<std::string>());
+                animation_bytes += c["bytes"].get<std::size_t>();
+            }
+        z_min = files_run->z_min;
+        z_max = files_run->z_max;
+        t2 = Clock::now();  // frames and their files were computed and written together
+    } else {
+        files = encode_animation(anim.view(), scene.form, scene.container, whole);
+        for (const auto& f : files) {
+            animation_names.push_back(f.first);
+            animation_bytes += f.second.size();
+        }
+    }
+    const std::size_t animation_files = animation_names.size();
+    const std::string shown_name = animation_names.empty() ? "" : animation_names.front();
     const auto t3 = Clock::now();
     const std::span<const float> first(anim.positions.data(), 3 * anim.vertex_count);
 
@@ -448,14 +390,14 @@ int run_job(const RunArgs& a) {
                  {"loop_period_s", plan.loop_period},
                  {"fps", scene.fps},
                  {"frames", frames},
-                 {"first_frame", anim.first_frame},
-                 {"loop_frames", anim.loop_frames},
+                 {"first_frame", first_frame},
+                 {"loop_frames", loop_frames},
                  {"form", scene.form == Scene::Form::morph ? "morph" : scene.form == Scene::Form::nodes ? "nodes" : "files"},
                  {"draco", scene.draco.has_value()},
                  {"quantized", scene.quantize},
                  {"shading", scene.attributes == Scene::Attributes::none ? "none"
                              : scene.attributes == Scene::Attributes::named ? "named" : "uv-maps"},
-                 {"height_range_m", {anim.z_min, anim.z_max}}};
+                 {"height_range_m", {z_min, z_max}}};
     if (scene.surface_kind == SurfaceKind::height_field) surface["control_grid"] = {plan.surface.nx, plan.surface.ny};
     if (plan.ocean.n > 0) {
         const OceanOptions& o = *scene.ocean;
@@ -484,26 +426,26 @@ int run_job(const RunArgs& a) {
                 {"surface", surface},
                 {"warnings", plan.warnings},
                 {"outputs", json::array()}};
-    for (const auto& f : files) report["outputs"].push_back(f.first);
-    if (scene.form == Scene::Form::files) report["outputs"].push_back("index.json");
+    for (const std::string& f : animation_names) report["outputs"].push_back(f);
+    if (files_form) report["outputs"].push_back("index.json");
     // What the static stages leave beside the animation (the open ocean traces nothing).
     // A slice reports in its own file (slices may run at once into one folder; `wave
     // merge` joins their reports) and only the slice holding frame 0 writes its OBJ.
-    const bool has_frame0 = anim.first_frame == 0;
-    const std::string report_name = whole ? "report.json" : slice_report_name(anim.first_frame, anim.frame_count);
+    const bool has_frame0 = first_frame == 0;
+    const std::string report_name = whole ? "report.json" : slice_report_name(first_frame, frames);
     std::vector<std::string> side_files;
     if (!ocean_kind) side_files.insert(side_files.end(), {"isobaths.json", trace_file});
     if (has_frame0) side_files.emplace_back("surface-frame-0000.obj");
     side_files.push_back(report_name);
     for (const std::string& f : side_files) report["outputs"].push_back(f);
 
-    // The index first: it refuses a foreign index.json before anything is written.
-    if (scene.form == Scene::Form::files)
-        files.emplace_back("index.json",
-                           merged_index((std::filesystem::path(out_dir) / "index.json").string(),
-                                        {scene.name, scene.fps, plan.loop_period, anim.loop_frames, anim.first_frame,
-                                         anim.frame_count, scene.container == Scene::Container::gltf})
-                                   .dump(2) + "\n");
+    // Slices writing into one folder at once take turns to merge and publish the index
+    // (a lock on the folder), so no slice's entries are lost.
+    std::optional<FolderLock> index_lock;
+    if (files_form) {
+        index_lock.emplace(out_dir, true, "");
+        files.emplace_back("index.json", merged_index(index_path, index_info, files_run->entries, whole).dump(2) + "\n");
+    }
     if (!ocean_kind) files.emplace_back("isobaths.json", contours_to_json(plan.isobaths));
     if (!strips && !ocean_kind) files.emplace_back(trace_file, rays_to_csv(plan.rays));
     if (has_frame0)
@@ -517,25 +459,40 @@ int run_job(const RunArgs& a) {
         std::vector<Image> shots;
         const std::size_t n = anim.vertex_count;
         for (std::size_t k = 0; k < 4; ++k) {
-            const std::size_t f = k * anim.frame_count / 4;
-            if (k > 0 && f == (k - 1) * anim.frame_count / 4) continue;  // fewer than four frames
-            shots.push_back(render_preview(std::span<const float>(&anim.positions[3 * n * f], 3 * n),
-                                           std::span<const float>(&anim.normals[3 * n * f], 3 * n), anim.triangles, o));
+            const std::size_t f = k * frames / 4;
+            if (k > 0 && f == (k - 1) * frames / 4) continue;  // fewer than four frames
+            if (!files_form) {
+                shots.push_back(render_preview(std::span<const float>(&anim.positions[3 * n * f], 3 * n),
+                                               std::span<const float>(&anim.normals[3 * n * f], 3 * n), anim.triangles, o));
+                continue;
+            }
+            // The files form keeps no frame in memory: each shown frame is evaluated again.
+            const SceneAnimation shown = animate_scene(scene, plan, max_bytes, {first_frame + f, first_frame + f + 1});
+            shots.push_back(render_preview(shown.positions, shown.normals, shown.triangles, o));
         }
         files.emplace_back("preview.png", png_bytes(contact_sheet(shots, 2)));
         report["outputs"].push_back("preview.png");
     }
     files.emplace_back(report_name, report.dump(2) + "\n");
     publish(out_dir, files, [&](const std::filesystem::path& staging) {
-        if (!strips) return std::vector<std::string>{};
-        write_ray_strips_ply(plan.strips, (staging / trace_file).string());  // OpenMesh writes the file itself
-        return std::vector<std::string>{trace_file};
+        std::vector<std::string> names = files_run ? files_run->stage(staging) : std::vector<std::string>{};
+        if (strips) {
+            write_ray_strips_ply(plan.strips, (staging / trace_file).string());  // OpenMesh writes the file itself
+            names.emplace_back(trace_file);
+        }
+        return names;
     });
+    if (files_run) {
+        index_lock.reset();
+        std::error_code ignored;
+        std::filesystem::remove_all(files_run->partial, ignored);  // every frame in it is published
+    }
 
     if (a.quiet) return 0;
     if (a.json) {
         // Timings only on stdout: report.json is byte-identical from run to run.
         report["timings_ms"] = {{"plan", ms(t1 - t0)}, {"frames", ms(t2 - t1)}, {"export", ms(t3 - t2)}};
+        if (files_run) report["resume"] = {{"kept_frames", files_run->verified}, {"computed_frames", files_run->computed}};
         std::cout << report.dump(2) << '\n';
         return 0;
     }
@@ -579,7 +536,7 @@ int run_job(const RunArgs& a) {
     else
         std::cout << "mesh       " << anim.vertex_count << " vertices, " << anim.triangles.size() / 3 << " triangles\n";
     std::cout << "animation  " << frames << " frames at " << scene.fps << " fps, loop " << plan.loop_period
-              << " s, heights " << anim.z_min << " .. " << anim.z_max << " m\n"
+              << " s, heights " << z_min << " .. " << z_max << " m\n"
               << "time       plan " << ms(t1 - t0) << " ms, frames " << ms(t2 - t1) / static_cast<double>(std::max<std::size_t>(frames, 1))
               << " ms each, export " << ms(t3 - t2) << " ms\n"
               << "wrote      " << out_dir << "/"
@@ -590,6 +547,9 @@ int run_job(const RunArgs& a) {
               << " before importing)\n"
               << "           " << out_dir << "/{" << (ocean_kind ? "" : "isobaths.json, " + std::string(trace_file) + ", ")
               << (has_frame0 ? "surface-frame-0000.obj, " : "") << report_name << "}\n";
+    if (a.resume)
+        std::cout << "resumed    " << files_run->verified << " of " << frames
+                  << " frames kept (their files match the index's sizes and SHA-256), " << files_run->computed << " computed\n";
     if (plan.ocean.n > 0 && !ocean_kind)
         std::cout << "wind sea   " << plan.ocean.n << "² FFT patch of " << plan.ocean.size << " m superposed, Hs "
                   << 4.0 * std::sqrt(plan.ocean.expected_variance) << " m offshore, loop " << plan.ocean.repeat_time << " s\n";
@@ -641,13 +601,27 @@ int run_convert(const ConvertArgs& a) {
     auto files = encode_animation(view, form, container, whole);
     std::size_t bytes = 0;
     for (const auto& f : files) bytes += f.second.size();
-    if (form == Scene::Form::files)
-        files.emplace_back("index.json",
-                           merged_index((std::filesystem::path(a.out_dir) / "index.json").string(),
-                                        {stored.scene, stored.fps, static_cast<double>(stored.loop_frames) / stored.fps,
-                                         stored.loop_frames, stored.first_frame, stored.frame_count,
-                                         container == Scene::Container::gltf})
-                                   .dump(2) + "\n");
+    if (form == Scene::Form::files) {
+        // Entries with each frame's files (size, SHA-256) and height range; no run key:
+        // these frames were re-encoded, not computed from a scene.
+        std::vector<json> entries;
+        const std::size_t per_frame = files.size() / stored.frame_count, n = stored.vertex_count;
+        for (std::size_t k = 0; k < stored.frame_count; ++k) {
+            float z[2] = {std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity()};
+            for (std::size_t v = 0; v < n; ++v) {
+                z[0] = std::min(z[0], view.positions[3 * n * k + 3 * v + 2]);
+                z[1] = std::max(z[1], view.positions[3 * n * k + 3 * v + 2]);
+            }
+            entries.push_back(frame_entry(stored.first_frame + k, stored.fps,
+                                          Files(files.begin() + static_cast<std::ptrdiff_t>(k * per_frame),
+                                                files.begin() + static_cast<std::ptrdiff_t>((k + 1) * per_frame)),
+                                          z));
+        }
+        const IndexInfo info{stored.scene, stored.fps, static_cast<double>(stored.loop_frames) / stored.fps, stored.loop_frames, ""};
+        files.emplace_back("index.json", merged_index((std::filesystem::path(a.out_dir) / "index.json").string(), info, entries,
+                                                      whole)
+                                                 .dump(2) + "\n");
+    }
     publish(a.out_dir, files);
     json summary{{"input", a.input}, {"frames", stored.frame_count}, {"first_frame", stored.first_frame},
                  {"vertices", stored.vertex_count}, {"fps", stored.fps}, {"form", a.form.empty() ? "morph" : a.form},
@@ -773,14 +747,47 @@ int run_merge(const MergeArgs& a) {
     std::vector<std::size_t> missing;
     for (std::size_t f = 0; f < loop_frames; ++f)
         if (!files.count(f)) missing.push_back(f);
-    json index{{"scene", meta.value("scene", "")}, {"fps", fps}, {"loop_period_s", static_cast<double>(loop_frames) / fps},
-               {"loop_frames", loop_frames}, {"frames", json::array()}};
-    for (const auto& [frame, file] : files) index["frames"].push_back({{"frame", frame}, {"time", key_time(frame, fps)}, {"file", file}});
+    // Each frame's files with their sizes and SHA-256; the run key and height ranges of
+    // the slices' own index carried over where the files are the ones it listed.
+    const fs::path old_path = fs::path(a.out_dir) / "index.json";
+    const FolderLock index_lock(a.out_dir, true, "");  // slices may still be publishing their entries
+    json old = json::object();
+    if (std::ifstream in(old_path); in) {
+        old = json::parse(in, nullptr, false);
+        if (old.is_discarded() || !old.is_object() || !old.contains("frames") || !old["frames"].is_array()) old = json::object();
+    }
+    std::map<std::size_t, json> old_entries;
+    if (old.contains("frames"))
+        for (const json& e : old["frames"])
+            if (e.is_object() && e.contains("frame") && e["frame"].is_number_unsigned()) old_entries[e["frame"].get<std::size_t>()] = e;
+    const IndexInfo info{meta.value("scene", ""), fps, static_cast<double>(loop_frames) / fps, loop_frames,
+                         old.value("run_key", "")};
+    bool all_listed = true;  // every frame's files are those the old index listed with the run key
+    std::vector<json> entries;
+    for (const auto& [frame, file] : files) {
+        Files content;
+        const auto add = [&](const std::string& name) {
+            std::ifstream in(fs::path(a.out_dir) / name, std::ios::binary);
+            if (!in) throw InputError((fs::path(a.out_dir) / name).string() + ": cannot open the file");
+            content.emplace_back(name, std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()));
+        };
+        add(file);
+        if (file.ends_with(".gltf")) add(file.substr(0, file.size() - 5) + ".bin");
+        json entry = frame_entry(frame, fps, content);
+        const auto o = old_entries.find(frame);
+        if (o != old_entries.end() && o->second.value("content", json()) == entry["content"] && o->second.contains("height_range_m"))
+            entry["height_range_m"] = o->second["height_range_m"];
+        else
+            all_listed = false;
+        entries.push_back(std::move(entry));
+    }
+    const json index = frame_index(all_listed ? info : IndexInfo{info.name, info.fps, info.loop_period, info.loop_frames, ""},
+                                   std::move(entries));
     if (!missing.empty() && !a.partial)
         throw InputError(a.out_dir + ": " + std::to_string(missing.size()) + " of " + std::to_string(loop_frames) +
                          " frames are missing (first: " + std::to_string(missing.front()) +
                          "); run their slices, or --partial to index what is there");
-    write_file_atomic((fs::path(a.out_dir) / "index.json").string(), index.dump(2) + "\n");
+    write_file_atomic(old_path.string(), index.dump(2) + "\n");
     (void)gltf;
     const std::vector<fs::path> joined = missing.empty() ? join_slice_reports(a.out_dir, loop_frames) : std::vector<fs::path>{};
     for (const fs::path& p : joined) fs::remove(p);  // report.json now holds them

@@ -62,6 +62,7 @@ struct RunArgs {
     bool preview = false;  ///< also write preview.png: a contact sheet of four frames
     bool view = false;     ///< then serve the output in the viewer (wave view)
     double max_memory_gb = 2.0;  ///< refuse animations whose frame arrays exceed this
+    bool resume = false;   ///< files form: keep the frames the index lists whose files still match it
 };
 int run_job(const RunArgs& a);
 /// Where run_job writes: --out, else wave-out/<scene file stem or "default">.

@@ -95,6 +95,7 @@ int main(int argc, char** argv) {
     run_cmd->add_flag("--draco", run.draco, "Draco-compress the meshes (morph: the base mesh only; default quantisation: positions 14 bits)");
     run_cmd->add_option("--fps", run.fps, "frames per second (overrides the scene's)")->check(positive);
     run_cmd->add_flag("-q,--quiet", run.quiet, "no progress bar and no report on stdout");
+    run_cmd->add_flag("--resume", run.resume, "files form: continue an interrupted run — keep the frames whose files match the index (size and SHA-256), compute the rest");
     run_cmd->add_flag("--preview", run.preview, "also write preview.png: four frames rendered by the preview ray caster");
     run_cmd->add_option("--max-memory-gb", run.max_memory_gb, "refuse animations whose per-frame arrays would exceed this (GB)")
         ->check(positive)->capture_default_str();

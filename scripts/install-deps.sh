@@ -15,7 +15,7 @@ packages=(
   pybind11-dev python3-pybind11 python3 python3-dev python3-numpy python3-pytest python3-jsonschema
   nodejs
   slurm-wlm munge
-  libcpp-httplib-dev
+  libcpp-httplib-dev libssl-dev
 )
 # `--tests`: also what only the tests need (Chromium for the viewer's browser test,
 # clang and its runtimes for the libFuzzer targets).

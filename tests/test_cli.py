@@ -466,8 +466,18 @@ class MainJob(unittest.TestCase):
             r = wave("run", scene, "-o", out, "--form", "files", "--fps", "6")
             self.assertEqual(r.returncode, 1, r.stderr)
             self.assertTrue(r.stderr.startswith("error: "))
-            after = {n: pathlib.Path(out, n).read_bytes() for n in os.listdir(out) if n != "frames"}
+            after = {n: pathlib.Path(out, n).read_bytes() for n in os.listdir(out)
+                     if n != "frames" and not n.startswith(".wave-partial-")}
             self.assertEqual(after, before)  # nothing replaced, no staging folder left
+            # The computed frames wait in the partial folder: once the obstacle is gone,
+            # --resume publishes them without computing any again.
+            os.remove(os.path.join(out, "frames"))
+            r = wave("run", scene, "-o", out, "--form", "files", "--fps", "6", "--resume", "--json")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            resumed = json.loads(r.stdout)["resume"]
+            self.assertEqual(resumed, {"kept_frames": 30, "computed_frames": 0})
+            self.assertEqual(len(os.listdir(os.path.join(out, "frames"))), 30)
+            self.assertEqual([n for n in os.listdir(out) if n.startswith(".wave-")], [])
 
     def test_quantized_forms_validate_and_shrink(self):
         with tempfile.TemporaryDirectory() as d:

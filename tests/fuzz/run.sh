@@ -3,6 +3,7 @@
 # for a bounded time on its corpus, after replaying the regression inputs. Fails on
 # any crash, leak, sanitizer report, timeout or out-of-memory.
 #   tests/fuzz/run.sh [SECONDS_PER_TARGET=60] [TARGET...]   # long runs, corpora kept
+#   tests/fuzz/run.sh --runs N [TARGET...]                   # long runs of N executions each
 #   tests/fuzz/run.sh --ci [TARGET...]                       # CI: regressions and seeds only
 # The corpora grow in build/fuzz/corpus/<target> (kept between runs); findings land in
 # build/fuzz/artifacts/. Seeds: examples/*.json, data/bathymetry, tests/fuzz/seeds.
@@ -13,7 +14,10 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 ci=0
-if [[ ${1:-} == --ci ]]; then ci=1; seconds=0; shift; else seconds=${1:-60}; shift || true; fi
+runs=0
+if [[ ${1:-} == --ci ]]; then ci=1; seconds=0; shift
+elif [[ ${1:-} == --runs ]]; then runs=${2:?--runs needs a count}; seconds=0; shift 2
+else seconds=${1:-60}; shift || true; fi
 targets=("$@")
 ((${#targets[@]})) || targets=(fuzz_scene fuzz_swan_bot fuzz_contours fuzz_raster fuzz_mesh fuzz_gltf)
 
@@ -58,6 +62,7 @@ for t in "${targets[@]}"; do
   fi
   budget=(-max_total_time="$seconds")
   ((ci)) && budget=(-runs=0)  # each corpus input once
+  ((runs)) && budget=(-runs="$runs")
   echo "== $t: ${budget[*]}" >&2
   log="$build/$t.log"
   if ! "$bin" "${budget[@]}" -timeout=20 -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 \
@@ -66,8 +71,9 @@ for t in "${targets[@]}"; do
     echo "fuzz: $t FAILED; the input is in $build/artifacts/" >&2
     exit 1
   fi
-  runs=$(grep -o 'stat::number_of_executed_units: [0-9]*' "$log" | grep -o '[0-9]*$' || echo '?')
+  executed=$(grep -o 'stat::number_of_executed_units: [0-9]*' "$log" | grep -o '[0-9]*$' || echo '?')
   cov=$(grep -o 'cov: [0-9]*' "$log" | tail -n 1 | grep -o '[0-9]*$' || echo '?')
-  summary+=("$t: $runs executions, coverage $cov edges, corpus $(ls "$corpus_root/$t" | wc -l) inputs")
+  secs=$(grep -o 'Done [0-9]* runs in [0-9]* second' "$log" | grep -o 'in [0-9]*' | grep -o '[0-9]*' || echo '?')
+  summary+=("$t: $executed executions in $secs s, coverage $cov edges, corpus $(ls "$corpus_root/$t" | wc -l) inputs")
 done
 printf 'fuzz: %s\n' "${summary[@]}"

@@ -218,6 +218,13 @@ struct RunEstimate {
 };
 RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan);
 
+/// How many frames the `files` form computes, writes and indexes at a time: it never
+/// holds the whole loop (a killed run loses at most one chunk; `wave run --resume`
+/// continues from the frames its index lists). At most 256 MB (and `max_bytes`) of
+/// per-frame arrays, at least one frame, and at most ~64 chunks per loop so that the
+/// index is rewritten a bounded number of times.
+std::size_t files_form_chunk(const RunEstimate& e, double max_bytes = 2e9);
+
 SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double max_bytes = 2e9,
                              FrameRange range = {},
                              const std::function<void(std::size_t, std::size_t)>& progress = {});

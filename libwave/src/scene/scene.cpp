@@ -880,11 +880,24 @@ RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan) {
     // process and libraries, ~1.5 kB per surface vertex of plan (isobaths, fronts, the
     // OpenMesh strips, motion fields), refinement stencils ~12 weights per fine vertex;
     // a single-file form holds its bytes three times at the end (tinygltf's buffer, the
-    // serialised stream, the file's string), the files form once.
+    // serialised stream, the file's string), the files form one chunk of frames.
     const double plan_bytes = 30e6 + 1500.0 * static_cast<double>(plan.rest_x.size()) + (refined ? 96.0 * n : 0.0);
-    const double output_copies = scene.form == Scene::Form::files ? 1.0 : 3.0;
-    e.peak_memory_bytes = plan_bytes + e.frame_array_bytes + output_copies * e.output_bytes;
+    if (scene.form == Scene::Form::files) {  // one chunk of frames at a time, each encoded once
+        const double chunk = static_cast<double>(files_form_chunk(e));
+        e.peak_memory_bytes = plan_bytes + (e.frame_array_bytes + e.output_bytes) * chunk / frames;
+    } else {
+        e.peak_memory_bytes = plan_bytes + e.frame_array_bytes + 3.0 * e.output_bytes;
+    }
     return e;
+}
+
+std::size_t files_form_chunk(const RunEstimate& e, double max_bytes) {
+    if (e.frames == 0) return 1;
+    const double per_frame = e.frame_array_bytes / static_cast<double>(e.frames);
+    const double by_memory = per_frame > 0.0 ? std::floor(std::min(max_bytes, 256e6) / per_frame) : static_cast<double>(e.frames);
+    const std::size_t spread = std::max<std::size_t>(8, (e.frames + 63) / 64);
+    const std::size_t chunk = by_memory < static_cast<double>(spread) ? static_cast<std::size_t>(std::max(1.0, by_memory)) : spread;
+    return std::min(chunk, e.frames);
 }
 
 SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double max_bytes, FrameRange range,

@@ -1,0 +1,345 @@
+// How `wave` puts its outputs on disk (outputs.h).
+#include "outputs.h"
+
+#include "libwave/errors.h"
+#include "libwave/io.h"
+
+#include <openssl/evp.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <csignal>
+#include <cstring>
+#include <fcntl.h>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <map>
+#include <memory>
+#include <optional>
+
+namespace wave::cli {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+std::string sha256_hex(std::string_view bytes) {
+    unsigned char digest[EVP_MAX_MD_SIZE];
+    unsigned int length = 0;
+    if (EVP_Digest(bytes.data(), bytes.size(), digest, &length, EVP_sha256(), nullptr) != 1)
+        throw RuntimeError("OpenSSL: SHA-256 failed");
+    static constexpr char hex[] = "0123456789abcdef";
+    std::string out(2 * length, '0');
+    for (unsigned int i = 0; i < length; ++i) {
+        out[2 * i] = hex[digest[i] >> 4];
+        out[2 * i + 1] = hex[digest[i] & 15];
+    }
+    return out;
+}
+
+Files encode_animation(const MorphAnimationView& view, Scene::Form form, Scene::Container container, bool whole) {
+    Files files;
+    char slice_name[64];
+    std::snprintf(slice_name, sizeof slice_name, "animation-frames-%zu-%zu.glb", view.first_frame, view.first_frame + view.frame_count);
+    const std::string animation_name = whole ? "animation.glb" : slice_name;
+    if (form == Scene::Form::morph) files.emplace_back(animation_name, gltf_morph_glb(view));
+    if (form == Scene::Form::nodes) files.emplace_back(animation_name, gltf_nodes_glb(view));
+    if (form == Scene::Form::files)
+        for (std::size_t k = 0; k < view.frame_count; ++k) {
+            char name[48];
+            std::snprintf(name, sizeof name, "frames/frame-%04zu.glb", view.first_frame + k);
+            files.emplace_back(name, gltf_frame_glb(view, k));
+        }
+    if (container == Scene::Container::gltf) {
+        // Each .glb becomes name.gltf + name.bin (the .bin named relative to the .gltf).
+        Files split;
+        for (auto& [name, bytes] : files) {
+            const std::string base = name.substr(0, name.size() - 4);  // without ".glb"
+            const std::string bin = base + ".bin";
+            GltfFiles g = glb_to_gltf(bytes, fs::path(bin).filename().string());
+            split.emplace_back(base + ".gltf", std::move(g.json));
+            split.emplace_back(bin, std::move(g.bin));
+        }
+        files.swap(split);
+    }
+    return files;
+}
+
+json frame_entry(std::size_t frame, double fps, const Files& frame_files, const float* height_range) {
+    json entry{{"frame", frame}, {"time", key_time(frame, fps)}, {"file", frame_files.front().first}, {"content", json::array()}};
+    for (const auto& [name, bytes] : frame_files)
+        entry["content"].push_back({{"file", name}, {"bytes", bytes.size()}, {"sha256", sha256_hex(bytes)}});
+    if (height_range) entry["height_range_m"] = {height_range[0], height_range[1]};
+    return entry;
+}
+
+namespace {
+
+// The file's bytes, or nothing when it cannot be read.
+std::optional<std::string> read_bytes(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return std::nullopt;
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (in.bad()) return std::nullopt;
+    return bytes;
+}
+
+// A frame index, or nothing when there is none or it is not one (an index that cannot be
+// parsed is a reason to recompute, not to stop a resumed run).
+std::optional<json> read_index(const fs::path& path) {
+    const auto bytes = read_bytes(path);
+    if (!bytes) return std::nullopt;
+    json index = json::parse(*bytes, nullptr, false);
+    if (index.is_discarded() || !index.is_object() || !index.contains("frames") || !index["frames"].is_array())
+        return std::nullopt;
+    return index;
+}
+
+bool same_animation(const json& index, const IndexInfo& info) {
+    return index.value("scene", "") == info.name && index.value("fps", 0.0) == info.fps &&
+           index.value("loop_frames", std::size_t{0}) == info.loop_frames;
+}
+
+}  // namespace
+
+bool entry_intact(const json& entry, const fs::path& root) {
+    if (!entry.is_object() || !entry.contains("content") || !entry["content"].is_array() || entry["content"].empty())
+        return false;
+    for (const json& c : entry["content"]) {
+        if (!c.is_object() || !c.contains("file") || !c["file"].is_string() || !c.contains("bytes") ||
+            !c["bytes"].is_number_unsigned() || !c.contains("sha256") || !c["sha256"].is_string())
+            return false;
+        const std::string name = c["file"].get<std::string>();
+        if (name.empty() || name.front() == '/' || name.find("..") != std::string::npos) return false;  // stays inside root
+        std::error_code ec;
+        const auto size = fs::file_size(root / name, ec);
+        if (ec || size != c["bytes"].get<std::uintmax_t>()) return false;  // cheap check first
+        const auto bytes = read_bytes(root / name);
+        if (!bytes || sha256_hex(*bytes) != c["sha256"].get<std::string>()) return false;
+    }
+    return true;
+}
+
+json frame_index(const IndexInfo& info, std::vector<json> entries) {
+    json index{{"scene", info.name}, {"fps", info.fps}, {"loop_period_s", info.loop_period}, {"loop_frames", info.loop_frames}};
+    if (!info.run_key.empty()) index["run_key"] = info.run_key;
+    index["frames"] = std::move(entries);
+    return index;
+}
+
+json merged_index(const std::string& path, const IndexInfo& info, const std::vector<json>& entries, bool whole_loop) {
+    std::map<std::size_t, json> frames;
+    if (fs::exists(path)) {
+        const auto old = read_index(path);
+        if (!old) throw InputError(path + ": not a frame index (invalid JSON); use another output folder");
+        if (!same_animation(*old, info))
+            throw InputError(path + ": the index there belongs to another animation (scene, fps or loop differ); "
+                             "use another output folder");
+        if (old->value("run_key", "") != info.run_key && !whole_loop)
+            throw InputError(path + ": its frames were computed from another version of the scene, its seafloor or "
+                             "libwave (run key differs); run the whole loop into it, or use another output folder");
+        if (!whole_loop)
+            for (const json& f : (*old)["frames"])
+                if (f.is_object() && f.contains("frame") && f["frame"].is_number_unsigned())
+                    frames[f["frame"].get<std::size_t>()] = f;
+    }
+    for (const json& e : entries) frames[e.at("frame").get<std::size_t>()] = e;
+    std::vector<json> merged;
+    for (auto& [_, f] : frames) merged.push_back(std::move(f));
+    return frame_index(info, std::move(merged));
+}
+
+void publish(const std::string& out_dir, const Files& files,
+             const std::function<std::vector<std::string>(const fs::path&)>& write_more) {
+    const bool created = !fs::exists(out_dir);
+    fs::create_directories(out_dir);
+    // Slices on several hosts may publish into one shared folder: host and pid name the staging.
+    char host[256] = {};
+    if (gethostname(host, sizeof host - 1) != 0) host[0] = '\0';
+    const std::string mine = ".wave-staging-" + std::string(host) + "-";
+    const fs::path staging = fs::path(out_dir) / (mine + std::to_string(getpid()));
+    // A run killed on this host (SIGKILL, power) left its staging folder: nothing in it
+    // was published, so it goes.
+    std::error_code scan_error;
+    for (const auto& e : fs::directory_iterator(out_dir, scan_error)) {
+        const std::string name = e.path().filename().string();
+        if (!name.starts_with(mine)) continue;
+        const std::string pid_text = name.substr(mine.size());
+        if (pid_text.empty() || pid_text.size() > 9 || pid_text.find_first_not_of("0123456789") != std::string::npos) continue;
+        const auto pid = static_cast<pid_t>(std::stol(pid_text));
+        if (pid != getpid() && ::kill(pid, 0) != 0 && errno == ESRCH) {
+            std::error_code ignored;
+            fs::remove_all(e.path(), ignored);
+        }
+    }
+    try {
+        fs::create_directories(staging);
+        std::vector<std::string> names;
+        if (write_more) names = write_more(staging);
+        for (const auto& [name, bytes] : files) {
+            fs::create_directories((staging / name).parent_path());
+            write_file_atomic((staging / name).string(), bytes);
+            names.push_back(name);
+        }
+        for (const std::string& name : names) {
+            fs::create_directories((fs::path(out_dir) / name).parent_path());
+            fs::rename(staging / name, fs::path(out_dir) / name);
+        }
+        fs::remove_all(staging);
+    } catch (...) {
+        std::error_code ignored;
+        fs::remove_all(staging, ignored);
+        if (created) fs::remove_all(out_dir, ignored);  // it was ours and holds nothing finished
+        throw;
+    }
+}
+
+FolderLock::FolderLock(const fs::path& folder, bool wait, const std::string& busy) {
+    fd_ = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd_ < 0) throw RuntimeError(folder.string() + ": cannot open the folder to lock it: " + std::strerror(errno));
+    int rc = 0;
+    while ((rc = ::flock(fd_, LOCK_EX | (wait ? 0 : LOCK_NB))) != 0 && errno == EINTR) {}
+    if (rc != 0) {
+        const int error = errno;
+        release();
+        if (error == EWOULDBLOCK) throw InputError(busy);
+        throw RuntimeError(folder.string() + ": cannot lock: " + std::strerror(error));
+    }
+}
+
+void FolderLock::release() noexcept {
+    if (fd_ >= 0) ::close(std::exchange(fd_, -1));
+}
+
+std::vector<std::string> FilesFormRun::stage(const fs::path& staging) const {
+    // Linked, not moved: if publishing fails the partial folder still holds every frame
+    // its index lists, and --resume keeps them.
+    for (const std::string& name : partial_files) {
+        fs::create_directories((staging / name).parent_path());
+        std::error_code ec;
+        fs::create_hard_link(partial / name, staging / name, ec);
+        if (ec) fs::copy_file(partial / name, staging / name);  // a file system without hard links
+    }
+    return partial_files;
+}
+
+FilesFormRun write_files_form(const Scene& scene, const ScenePlan& plan, const std::string& out_dir, const IndexInfo& info,
+                              FrameRange range, bool resume, double max_bytes,
+                              const std::function<void(std::size_t, std::size_t)>& progress) {
+    const fs::path root(out_dir);
+    const std::size_t first = range.first, end = std::min(range.end, info.loop_frames);
+    if (first >= end)
+        throw InputError("scene: the frame range " + std::to_string(first) + ":" +
+                         (range.end == static_cast<std::size_t>(-1) ? std::string() : std::to_string(range.end)) +
+                         " holds no frame of the loop's 0:" + std::to_string(info.loop_frames));
+    FilesFormRun run;
+    // One partial folder per run key and range: another scene, or another slice of this
+    // one, never finds its frames there.
+    run.partial = root / (".wave-partial-" + info.run_key.substr(0, 16) + "-" + std::to_string(first) + "-" + std::to_string(end));
+    const bool created = !fs::exists(root);
+    fs::create_directories(run.partial);
+    run.lock = FolderLock(run.partial, false,
+                        out_dir + ": another wave run is writing frames " + std::to_string(first) + ":" + std::to_string(end) +
+                            " of this animation there (" + run.partial.filename().string() + " is locked)");
+    const fs::path partial_index = run.partial / "index.json";
+    std::map<std::size_t, json> kept_partial, kept_final;
+    if (resume) {
+        // Frames are kept only when their files match what the index recorded: a frame
+        // file that exists but was truncated, overwritten or belongs to another run is
+        // computed again.
+        const auto listed = [&](const fs::path& index_path) {
+            std::map<std::size_t, json> frames;
+            const auto index = read_index(index_path);
+            if (!index || !same_animation(*index, info) || index->value("run_key", "") != info.run_key) return frames;
+            for (const json& e : (*index)["frames"])
+                if (e.is_object() && e.contains("frame") && e["frame"].is_number_unsigned() && e.contains("height_range_m") &&
+                    e["height_range_m"].is_array() && e["height_range_m"].size() == 2 && e["height_range_m"][0].is_number() &&
+                    e["height_range_m"][1].is_number()) {
+                    const auto f = e["frame"].get<std::size_t>();
+                    if (f >= first && f < end) frames[f] = e;
+                }
+            return frames;
+        };
+        for (auto& [f, e] : listed(partial_index))
+            if (entry_intact(e, run.partial)) kept_partial[f] = std::move(e);
+        for (auto& [f, e] : listed(root / "index.json"))
+            if (!kept_partial.count(f) && entry_intact(e, root)) kept_final[f] = std::move(e);
+    } else {
+        std::error_code ignored;
+        fs::remove_all(run.partial / "frames", ignored);
+        fs::remove(partial_index, ignored);
+    }
+    run.verified = kept_partial.size() + kept_final.size();
+    const auto write_partial_index = [&] {
+        std::vector<json> listed;
+        for (const auto& [_, e] : kept_partial) listed.push_back(e);
+        write_file_atomic(partial_index.string(), frame_index(info, std::move(listed)).dump(2) + "\n");
+    };
+    try {
+        if (resume) write_partial_index();  // lists only what was verified
+        std::vector<std::size_t> missing;
+        for (std::size_t f = first; f < end; ++f)
+            if (!kept_partial.count(f) && !kept_final.count(f)) missing.push_back(f);
+        const std::size_t chunk = files_form_chunk(estimate_run(scene, plan), max_bytes);
+        const std::size_t total = end - first;
+        if (progress && run.verified > 0) progress(run.verified, total);
+        for (std::size_t i = 0; i < missing.size();) {
+            // Runs of consecutive missing frames, at most `chunk` at a time.
+            const std::size_t a = missing[i];
+            std::size_t b = a + 1, j = i + 1;
+            while (j < missing.size() && missing[j] == b && b - a < chunk) ++b, ++j;
+            const std::size_t done_before = run.verified + run.computed;
+            const SceneAnimation anim = animate_scene(scene, plan, max_bytes, FrameRange{a, b}, [&](std::size_t done, std::size_t) {
+                if (progress) progress(done_before + done, total);
+            });
+            const MorphAnimationView view = anim.view();
+            const Files files = encode_animation(view, Scene::Form::files, scene.container, false);
+            const std::size_t per_frame = files.size() / anim.frame_count;  // .glb, or .gltf + .bin
+            const std::size_t n = anim.vertex_count;
+            for (std::size_t k = 0; k < anim.frame_count; ++k) {
+                const Files frame_files(files.begin() + static_cast<std::ptrdiff_t>(k * per_frame),
+                                        files.begin() + static_cast<std::ptrdiff_t>((k + 1) * per_frame));
+                for (const auto& [name, bytes] : frame_files) {
+                    fs::create_directories((run.partial / name).parent_path());
+                    write_file_atomic((run.partial / name).string(), bytes);
+                }
+                float z[2] = {std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity()};
+                for (std::size_t v = 0; v < n; ++v) {
+                    const float h = anim.positions[3 * n * k + 3 * v + 2];
+                    z[0] = std::min(z[0], h);
+                    z[1] = std::max(z[1], h);
+                }
+                kept_partial[a + k] = frame_entry(a + k, info.fps, frame_files, z);
+            }
+            // The index after its frames: it lists only files already whole on disk.
+            write_partial_index();
+            run.computed += anim.frame_count;
+            i = j;
+        }
+    } catch (...) {
+        std::error_code ignored;
+        if (kept_partial.empty()) {  // nothing to resume from: leave no trace
+            run.lock.release();
+            fs::remove_all(run.partial, ignored);
+            if (created) fs::remove_all(root, ignored);
+        }
+        throw;
+    }
+    run.z_min = std::numeric_limits<float>::infinity();
+    run.z_max = -std::numeric_limits<float>::infinity();
+    for (std::size_t f = first; f < end; ++f) {
+        const auto p = kept_partial.find(f);
+        json e = p != kept_partial.end() ? p->second : kept_final.at(f);
+        if (p != kept_partial.end())
+            for (const json& c : e["content"]) run.partial_files.push_back(c["file"].get<std::string>());
+        run.z_min = std::min(run.z_min, e["height_range_m"][0].get<float>());
+        run.z_max = std::max(run.z_max, e["height_range_m"][1].get<float>());
+        run.entries.push_back(std::move(e));
+    }
+    return run;
+}
+
+}  // namespace wave::cli
