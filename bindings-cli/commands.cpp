@@ -486,6 +486,18 @@ int run_job(const RunArgs& a) {
         index_lock.reset();
         std::error_code ignored;
         std::filesystem::remove_all(files_run->partial, ignored);  // every frame in it is published
+        // Frames an interrupted run of another version of the scene left can no longer be
+        // resumed into this folder's animation; a partial folder still locked is in use.
+        const std::string ours = ".wave-partial-" + index_info.run_key.substr(0, 16) + "-";
+        for (const auto& e : std::filesystem::directory_iterator(out_dir, ignored)) {
+            const std::string name = e.path().filename().string();
+            if (!name.starts_with(".wave-partial-") || name.starts_with(ours)) continue;
+            try {
+                const FolderLock unused(e.path(), false, "");
+                std::filesystem::remove_all(e.path(), ignored);
+            } catch (const std::exception&) {  // in use, or not ours to open: left alone
+            }
+        }
     }
 
     if (a.quiet) return 0;

@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """The `wave` command line as a user meets it: exit codes (0 ok, 2 bad input or usage,
 1 runtime failure), `error: …` on stderr naming the file/value, and no partial output."""
+import hashlib
 import json
 import os
 import pathlib
@@ -874,6 +875,9 @@ class CrashSafety(unittest.TestCase):
                 for name in files_of(out):
                     if name.endswith(".glb"):
                         read_glb(os.path.join(out, name))  # the header's length matches the file
+                if os.path.exists(os.path.join(out, "index.json")):  # every frame it lists is the one it checked
+                    with open(os.path.join(out, "index.json")) as f:
+                        Resume.assert_listed_files_intact(self, out, json.load(f))
             # The next run clears what killed runs left on this host and completes.
             self.assertEqual(wave(*base, "-o", out, "--fps", new_fps).returncode, 0)
             self.assertEqual([n for n in os.listdir(out) if n.startswith(".wave-staging-")], [])
@@ -898,6 +902,170 @@ class CrashSafety(unittest.TestCase):
         # The files form merges into its folder's animation (same fps): every frame file
         # must still be whole after each kill.
         self.check_killed_runs("files", self.final_files, "12")
+
+
+class Resume(unittest.TestCase):
+    """The files form computes, writes and indexes a chunk of frames at a time into a
+    hidden partial folder; `wave run --resume` keeps the frames its index lists whose
+    files still match (size and SHA-256) and computes the others. The result is the
+    uninterrupted run's output, byte for byte."""
+
+    # 600 small frames (~70 kB each) in about a second.
+    SCENE = {"name": "resume", "waves": [{"period": 5, "amplitude": 0.3}], "trace": {"ray_spacing": 5},
+             "fronts": {"step": 2, "split_distance": 6}, "animation": {"fps": 120}}
+    FRAMES = 600
+
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+        self.d = self.tmp.name
+        self.scene = self.write_scene(self.SCENE)
+        self.ref = os.path.join(self.d, "ref")
+        self.assertEqual(wave("run", self.scene, "-q", "--form", "files", "-o", self.ref).returncode, 0)
+
+    def tearDown(self):
+        self.tmp.cleanup()
+
+    def write_scene(self, doc, name="s.json"):
+        path = os.path.join(self.d, name)
+        with open(path, "w") as f:
+            json.dump(doc, f)
+        return path
+
+    @staticmethod
+    def partial(out):
+        """The partial folder and its index (None while there is none or it is being replaced)."""
+        found = [n for n in os.listdir(out) if n.startswith(".wave-partial-")] if os.path.isdir(out) else []
+        if len(found) != 1:
+            return None, None
+        root = os.path.join(out, found[0])
+        try:
+            with open(os.path.join(root, "index.json")) as f:
+                return root, json.load(f)
+        except (OSError, ValueError):
+            return root, None
+
+    def assert_listed_files_intact(self, root, index):
+        for entry in index["frames"]:
+            for c in entry["content"]:
+                data = pathlib.Path(root, c["file"]).read_bytes()
+                self.assertEqual(len(data), c["bytes"], c["file"])
+                self.assertEqual(hashlib.sha256(data).hexdigest(), c["sha256"], c["file"])
+
+    def kill_when_listed(self, args, out, frames):
+        """Runs wave and SIGKILLs it as soon as its partial index lists `frames` frames."""
+        p = subprocess.Popen([WAVE, *args], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        deadline = time.monotonic() + 300
+        while p.poll() is None and time.monotonic() < deadline:
+            _, index = self.partial(out)
+            if index and len(index["frames"]) >= frames:
+                break
+            time.sleep(0.005)
+        p.send_signal(signal.SIGKILL)
+        p.wait()
+        self.assertEqual(p.returncode, -signal.SIGKILL, "killed before it finished")
+        root, index = self.partial(out)
+        self.assertGreaterEqual(len(index["frames"]), frames)
+        return root, index
+
+    def resume(self, out, scene=None):
+        r = wave("run", scene or self.scene, "--form", "files", "-o", out, "--resume", "--json")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        return json.loads(r.stdout)["resume"]
+
+    def assert_same_as(self, out, ref):
+        self.assertEqual(CrashSafety.final_files(out), CrashSafety.final_files(ref))
+        self.assertEqual([n for n in os.listdir(out) if n.startswith(".wave-")], [])
+
+    def test_random_kills_then_resume_give_the_uninterrupted_run(self):
+        out = os.path.join(self.d, "out")
+        rng = random.Random(2026)  # reproducible kill times
+        for attempt in range(5):
+            args = ["run", self.scene, "-q", "--form", "files", "-o", out] + (["--resume"] if attempt else [])
+            p = subprocess.Popen([WAVE, *args], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            time.sleep(rng.uniform(0.02, 0.6))
+            p.send_signal(signal.SIGKILL)
+            p.wait()
+            # No final-named file until a run publishes: then they are the finished run's.
+            final = CrashSafety.final_files(out) if os.path.isdir(out) else {}
+            if final:
+                self.assertEqual(final, CrashSafety.final_files(self.ref))
+            root, index = self.partial(out)
+            if index:
+                self.assert_listed_files_intact(root, index)
+        root, index = self.partial(out)
+        listed = len(index["frames"]) if index else 0
+        resumed = self.resume(out)
+        if not CrashSafety.final_files(out) or listed:
+            self.assertEqual(resumed["kept_frames"], listed)
+        self.assertEqual(resumed["kept_frames"] + resumed["computed_frames"], self.FRAMES)
+        self.assert_same_as(out, self.ref)
+
+    def test_frames_whose_files_do_not_match_the_index_are_computed_again(self):
+        out = os.path.join(self.d, "out")
+        root, index = self.kill_when_listed(["run", self.scene, "-q", "--form", "files", "-o", out], out, 30)
+        listed = len(index["frames"])
+        # Same size, one byte changed; truncated; deleted: existence alone proves nothing.
+        files = [os.path.join(root, index["frames"][k]["file"]) for k in (3, 11, 20)]
+        data = bytearray(pathlib.Path(files[0]).read_bytes())
+        data[len(data) // 2] ^= 0xFF
+        pathlib.Path(files[0]).write_bytes(bytes(data))
+        os.truncate(files[1], 100)
+        os.remove(files[2])
+        resumed = self.resume(out)
+        self.assertEqual(resumed, {"kept_frames": listed - 3, "computed_frames": self.FRAMES - listed + 3})
+        self.assert_same_as(out, self.ref)
+        # A finished output is verified the same way by its own index.
+        frame = os.path.join(out, "frames", "frame-0042.glb")
+        data = bytearray(pathlib.Path(frame).read_bytes())
+        data[-1] ^= 0x01
+        pathlib.Path(frame).write_bytes(bytes(data))
+        self.assertEqual(self.resume(out), {"kept_frames": self.FRAMES - 1, "computed_frames": 1})
+        self.assert_same_as(out, self.ref)
+
+    def test_frames_of_another_version_of_the_scene_are_not_kept(self):
+        out = os.path.join(self.d, "out")
+        self.kill_when_listed(["run", self.scene, "-q", "--form", "files", "-o", out], out, 20)
+        # The same name, fps and loop, another amplitude: another run key.
+        changed = json.loads(json.dumps(self.SCENE))
+        changed["waves"][0]["amplitude"] = 0.35
+        scene2 = self.write_scene(changed)  # over the same file
+        ref2 = os.path.join(self.d, "ref2")
+        self.assertEqual(wave("run", scene2, "-q", "--form", "files", "-o", ref2).returncode, 0)
+        self.assertEqual(self.resume(out, scene2), {"kept_frames": 0, "computed_frames": self.FRAMES})
+        self.assert_same_as(out, ref2)  # the other version's partial folder is gone too
+        # Nor are the finished frames of the first version.
+        self.assertEqual(self.resume(self.ref, scene2), {"kept_frames": 0, "computed_frames": self.FRAMES})
+        self.assert_same_as(self.ref, ref2)
+
+    def test_resumed_slices_merge_into_the_whole_runs_index(self):
+        out = os.path.join(self.d, "out")
+        self.kill_when_listed(["run", self.scene, "-q", "--form", "files", "-o", out, "--slice", "1/2"], out, 10)
+        self.assertEqual(wave("run", self.scene, "-q", "--form", "files", "-o", out, "--slice", "0/2").returncode, 0)
+        resumed = wave("run", self.scene, "--form", "files", "-o", out, "--slice", "1/2", "--resume", "--json")
+        self.assertEqual(resumed.returncode, 0, resumed.stderr)
+        self.assertGreaterEqual(json.loads(resumed.stdout)["resume"]["kept_frames"], 10)
+        self.assertEqual(wave("merge", out, "-q").returncode, 0)
+        self.assert_same_as(out, self.ref)  # index.json with its run key and checks, report.json
+
+    def test_resume_is_refused_for_the_single_file_forms(self):
+        r = wave("run", self.scene, "--form", "morph", "-o", os.path.join(self.d, "m"), "--resume")
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("--resume continues a run of the files form", r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(self.d, "m")))
+
+    def test_two_runs_of_one_range_do_not_share_a_partial_folder(self):
+        out = os.path.join(self.d, "out")
+        p = subprocess.Popen([WAVE, "run", self.scene, "-q", "--form", "files", "-o", out],
+                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        while p.poll() is None and self.partial(out)[1] is None:
+            time.sleep(0.005)
+        r = wave("run", self.scene, "--form", "files", "-o", out, "--resume")
+        p.wait()
+        self.assertEqual(p.returncode, 0)
+        if r.returncode != 0:  # the first still held the range
+            self.assertEqual(r.returncode, 2)
+            self.assertIn("another wave run is writing frames 0:600", r.stderr)
+        self.assert_same_as(out, self.ref)
 
 
 class Limits(unittest.TestCase):
