@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -286,6 +287,53 @@ TEST_F(Scratch, BrokenMeshes) {
     const std::string junk = write("junk.ply", "this is not a mesh\n");
     expect_input_error([&] { read_seafloor(junk); }, {junk, "not a readable"});
     expect_input_error([&] { read_seafloor((dir_ / "gone.stl").string()); }, {"gone.stl", "not found"});
+}
+
+// CGAL's OFF scanner casts what it reads to size_t (tests/fuzz): the OFF family is
+// checked first. Spellings of the family read as the plain file; anything else is
+// refused by line.
+TEST_F(Scratch, OffIsPlainlyOffBeforeCgalReadsIt) {
+    const char* body = "0 0 -1\n10 0 -3\n10 6 -3\n0 6 -1\n3 0 1 2\n3 0 2 3\n";
+    const std::string plain = write("p.off", std::string("OFF\n4 2 0\n") + body);
+    const std::size_t triangles = read_seafloor(plain).mesh.triangles.size();
+    ASSERT_EQ(triangles, 6u);
+    // Counts on the keyword's line, comments, and colours per vertex and facet (COFF).
+    const std::string inline_counts = write("i.off", std::string("# a plane\nOFF 4 2 0 # counts\n") + body);
+    EXPECT_EQ(read_seafloor(inline_counts).mesh.triangles.size(), triangles);
+    const std::string coloured = write("c.off", "COFF\n4 2 0\n0 0 -1 255 0 0 255\n10 0 -3 0 255 0 255\n"
+                                                "10 6 -3 0 0 255 255\n0 6 -1 9 9 9 255\n3 0 1 2 1 0 0\n3 0 2 3 0 0 1\n");
+    EXPECT_EQ(read_seafloor(coloured).mesh.triangles.size(), triangles);
+    const struct {
+        const char *name, *text, *named;
+    } refused[] = {
+        {"word.off", "OFFICE\n4 2 0\n", "'OFFICE' is not an OFF header keyword"},
+        {"glued.off", "STOFF#01\n0 0 33\n", "line 1: 'STOFF' must be followed by a space or the end of the line"},
+        {"two.off", "OFF\n4 2\n", "line 2: expected the vertex, facet and edge counts"},
+        {"float.off", "OFF\n4.5 2 0\n", "line 2: expected the vertex, facet and edge counts"},
+        {"huge.off", "OFF\n4 99999999 0\n", "line 2: expected the vertex, facet and edge counts"},
+        {"short.off", "OFF\n4 2 0\n0 0 -1\n10 0\n", "line 4: vertex 2 has 2 numbers where OFF needs 3"},
+        {"texture.off", "STOFF\n4 2 0\n0 0 -1 0.5\n", "line 3: vertex 1 has 4 numbers where STOFF needs 5"},
+        {"colour.off", "COFF\n4 2 0\n0 0 -1 1 2\n", "line 3: vertex 1 has 5 numbers where COFF needs 3 (+ a colour of 1, 3 or 4)"},
+        {"cmap.off", "COFF\n4 2 0\n0 0 -1 -3\n", "line 3: vertex 1: the colour is neither a colour-map index 0 … 148"},
+        {"rgb.off", "COFF\n4 2 0\n0 0 -1 300 0 0\n", "line 3: vertex 1: the colour is neither"},
+        {"some.off", "COFF\n4 2 0\n0 0 -1 7\n10 0 -3\n", "line 4: vertex 2 has no colour, unlike vertex 1"},
+        {"facet.off", "COFF\n4 2 0\n0 0 -1\n10 0 -3\n10 6 -3\n0 6 -1\n3 0 1 2 1 0 0\n3 0 2 3 4 4\n",
+         "line 8: facet 2: a colour of 2 numbers"},
+        {"index.off", "OFF\n4 2 0\n0 0 -1\n10 0 -3\n10 6 -3\n0 6 -1\n3 0 1 4\n3 0 2 3\n",
+         "line 7: facet vertex index '4' is not a whole number in [0, 4)"},
+        {"negative.off", "OFF\n4 2 0\n0 0 -1\n10 0 -3\n10 6 -3\n0 6 -1\n3 0 1 2\n3 -1 2 3\n",
+         "line 8: facet vertex index '-1'"},
+        {"fraction.off", "OFF\n4 2 0\n0 0 -1\n10 0 -3\n10 6 -3\n0 6 -1\n3 0 1 2\n3 0 2.5 3\n",
+         "line 8: facet vertex index '2.5'"},
+        {"ends.off", "OFF\n4 2 0\n0 0 -1\n10 0 -3\n10 6 -3\n0 6 -1\n3 0 1 2\n", "the file ends before facet 2 of 2"},
+    };
+    for (const auto& r : refused) {
+        const std::string path = write(r.name, r.text);
+        expect_input_error([&] { read_seafloor(path); }, {path, r.named});
+    }
+    // The fuzzer's finding: a NUL before the keyword, which CGAL read on regardless.
+    const std::string nul = write("nul.off", std::string("\0OFF 0 2-0 -30  2\n3 ", 22));
+    expect_input_error([&] { read_seafloor(nul); }, {nul, "line 1:", "is not an OFF header keyword"});
 }
 
 // --- contour files -------------------------------------------------------------

@@ -1,9 +1,9 @@
 // Triangle-mesh seafloors through CGAL's polygon-soup readers (then resampled to a
 // grid). The first byte picks the format — OBJ, PLY, STL, or with FUZZ_MESH_OFF defined
 // (the fuzz_mesh_off target) OFF alone —; the rest is the file. Seeds:
-// tests/fuzz/seeds/mesh. fuzz_mesh_off is kept apart because CGAL 5.5's OFF scanner has
-// undefined behaviour on malformed headers that our pre-check does not yet catch
-// (tests/fuzz/open-findings, docs/hardening.md): CI runs fuzz_mesh.
+// tests/fuzz/seeds/mesh. OFF has its own target because CGAL 5.5's OFF scanner has
+// undefined behaviour on malformed files: it found what read_mesh.cpp's OFF check now
+// refuses first (tests/fuzz/regressions/fuzz_mesh_off, docs/hardening.md).
 #include "fuzz_input.h"
 #include "libwave/bathymetry.h"
 

@@ -19,7 +19,7 @@ if [[ ${1:-} == --ci ]]; then ci=1; seconds=0; shift
 elif [[ ${1:-} == --runs ]]; then runs=${2:?--runs needs a count}; seconds=0; shift 2
 else seconds=${1:-60}; shift || true; fi
 targets=("$@")
-((${#targets[@]})) || targets=(fuzz_scene fuzz_swan_bot fuzz_contours fuzz_raster fuzz_mesh fuzz_gltf)
+((${#targets[@]})) || targets=(fuzz_scene fuzz_swan_bot fuzz_contours fuzz_raster fuzz_mesh fuzz_mesh_off fuzz_gltf)
 
 scripts/install-deps.sh --tests >&2
 cmake --preset fuzz >/dev/null
@@ -44,6 +44,7 @@ fi
 seed fuzz_contours tests/fuzz/seeds/contours/*
 seed fuzz_raster tests/fuzz/seeds/raster/*
 seed fuzz_mesh tests/fuzz/seeds/mesh/*
+seed fuzz_mesh_off tests/fuzz/seeds/mesh/*.off
 seed fuzz_gltf tests/fuzz/seeds/gltf/*
 
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:allocator_may_return_null=1

@@ -11,12 +11,17 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <climits>
+#include <cstdio>
+#include <cstring>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 #include <limits>
 
 namespace wave {
@@ -26,17 +31,39 @@ using Kernel = CGAL::Simple_cartesian<double>;
 
 // Writes z of every triangle into the grid nodes its xy projection covers; where
 // triangles overlap (overhangs, folded meshes) the highest surface wins.
-// CGAL 5.5's ASCII OFF scanner reads facet indices as doubles and casts them to
-// size_t: a negative, fractional-overflow or huge index is undefined behaviour there
-// (found by tests/fuzz/fuzz_mesh). ASCII OFF facets are checked here first: every
-// index a whole number in [0, vertex count), named by line when it is not.
+// CGAL 5.5's ASCII OFF scanner reads counts and facet indices as doubles and casts them
+// to size_t: a negative, fractional-overflow or huge value is undefined behaviour there
+// (found by tests/fuzz/fuzz_mesh_off), and it accepts header spellings and token layouts
+// whose reading is anything but obvious. So an ASCII OFF file must be plainly OFF
+// before CGAL sees it: a header keyword of the OFF family ([ST][C][N][4][n]OFF, the
+// dimension after nOFF), a line of three whole counts, a line per vertex with at least
+// its coordinates, a line per facet with its vertex count and that many indices, each a
+// whole number in [0, vertex count). Anything else is refused, named by line.
+// A token read from a file, fit for an error message: bytes other than printable ASCII
+// as \xNN (a NUL would end the message).
+std::string printable(const std::string& token) {
+    std::string out;
+    for (const char c : token) {
+        const auto u = static_cast<unsigned char>(c);
+        if (u >= 0x20 && u < 0x7F) {
+            out += c;
+        } else {
+            char hex[5];
+            std::snprintf(hex, sizeof hex, "\\x%02X", u);
+            out += hex;
+        }
+    }
+    return out;
+}
+
 void check_off_facets(const std::string& path) {
-    std::ifstream in(path);
-    std::string line;
+    std::ifstream in(path, std::ios::binary);
+    std::string line, raw;  // a line without, and with, its comment
     std::size_t number = 0;
     const auto next = [&](std::istringstream& tokens) {  // the next line with content
         while (std::getline(in, line)) {
             ++number;
+            raw = line;
             if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
             if (line.find_first_not_of(" \t\r") != std::string::npos) {
                 tokens = std::istringstream(line);
@@ -45,41 +72,108 @@ void check_off_facets(const std::string& path) {
         }
         return false;
     };
-    std::istringstream tokens;
-    if (!next(tokens)) return;  // empty: CGAL refuses it
-    std::string header;
-    tokens >> header;
-    if (header.size() < 3 || header.compare(header.size() - 3, 3, "OFF") != 0) return;  // not OFF: CGAL refuses it
-    std::string word;
-    if (tokens >> word && word == "BINARY") return;  // binary indices are int32 in CGAL
-    long long nv = -1, nf = -1;
-    std::istringstream counts;
-    if (!word.empty() && std::isdigit(static_cast<unsigned char>(word[0]))) counts = std::istringstream(line.substr(line.find(word)));
-    else if (!next(counts)) return;
-    // Each vertex and facet takes a line: more than the file's bytes is a lie that
-    // would keep CGAL reading (or reserving) for ever.
-    const auto bytes = static_cast<long long>(std::filesystem::file_size(path));
-    if (!(counts >> nv >> nf) || nv < 0 || nf < 0 || nv > bytes || nf > bytes)
-        throw InputError(path + ": line " + std::to_string(number) + ": the OFF header's vertex and facet counts are not "
-                         "whole numbers that fit the file");
-    for (long long v = 0; v < nv; ++v)
-        if (!next(tokens)) return;
+    const auto fail = [&](const std::string& what) {
+        throw InputError(path + ": line " + std::to_string(number) + ": " + what);
+    };
     const auto whole = [](const std::string& t, long long lo, long long hi) {
         long long value = 0;
         const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), value);
         return ec == std::errc() && end == t.data() + t.size() && value >= lo && value < hi;
     };
+    std::istringstream tokens;
+    if (!next(tokens)) fail("an empty file is not an OFF mesh");
+    std::string header;
+    tokens >> header;
+    // CGAL reads the keyword up to the first character that is not a letter or digit and
+    // swallows that character: a comment glued to it ("OFF#…") would turn the rest of
+    // the comment into counts.
+    if (const auto start = raw.find(header); start + header.size() < raw.size() &&
+                                             !std::isspace(static_cast<unsigned char>(raw[start + header.size()])))
+        fail("'" + printable(header) + "' must be followed by a space or the end of the line");
+    // [ST][C][N][4][n]OFF: texture coordinates, colours, normals, homogeneous, n-dimensional.
+    std::size_t at = 0;
+    for (const char* prefix : {"ST", "C", "N", "4", "n"})
+        if (header.compare(at, std::strlen(prefix), prefix) == 0) at += std::strlen(prefix);
+    if (header.compare(at, std::string::npos, "OFF") != 0)
+        fail("'" + printable(header) + "' is not an OFF header keyword (OFF, COFF, NOFF, STOFF, 4OFF, nOFF, …)");
+    // The header is now [ST][C][N][4][n]OFF: its letters are its flags.
+    const bool dimensioned = header.find('n') != std::string::npos;
+    std::string word;
+    if (tokens >> word && word == "BINARY") return;  // binary indices are int32 in CGAL
+    std::vector<std::string> counts;
+    if (!word.empty()) counts.push_back(word);
+    for (std::string t; tokens >> t;) counts.push_back(t);
+    if (dimensioned) {
+        if (counts.empty() && next(tokens))
+            for (std::string t; tokens >> t;) counts.push_back(t);
+        if (counts.empty() || counts.front() != "3") fail("nOFF: a seafloor has dimension 3");
+        counts.erase(counts.begin());
+    }
+    if (counts.empty() && next(tokens))
+        for (std::string t; tokens >> t;) counts.push_back(t);
+    // Each vertex and facet takes a line: more than the file's bytes is a lie that
+    // would keep CGAL reading (or reserving) for ever.
+    const auto bytes = static_cast<long long>(std::filesystem::file_size(path)) + 1;
+    if (counts.size() != 3 || !whole(counts[0], 0, bytes) || !whole(counts[1], 0, bytes) || !whole(counts[2], 0, LLONG_MAX))
+        fail("expected the vertex, facet and edge counts (three whole numbers that fit the file)");
+    const long long nv = std::stoll(counts[0]), nf = std::stoll(counts[1]);
+    // CGAL indexes a vertex line's leading numbers without a bounds check: coordinates
+    // (3, or 4 homogeneous), then normals, a colour (1, 3 or 4 numbers) and texture
+    // coordinates as the keyword announces — they must all be there.
+    const std::size_t h = header.find('4') != std::string::npos ? 1 : 0;
+    const bool colours = header.find('C') != std::string::npos;
+    const std::size_t needed = (3 + h) + (header.find('N') != std::string::npos ? 3 + h : 0) +
+                               (header.starts_with("ST") ? 2 + h : 0);
+    // Once one vertex (or facet) has a colour CGAL reads one for every later one: in a
+    // C…OFF file all have a colour or none has.
+    std::optional<bool> vertex_colours, facet_colours;
+    const auto colour_fits = [](std::size_t n) { return n == 1 || n == 3 || n == 4; };
+    // CGAL casts colours to int and unsigned char: an index into its 149-colour map, or
+    // r g b [a] as whole numbers 0 … 255, or as fractions 0 … 1 when one is not whole.
+    const auto colour_in_range = [](const std::vector<double>& c) {
+        if (c.size() == 1) return c[0] >= 0.0 && c[0] < 149.0;
+        bool whole_numbers = true;
+        for (std::size_t i = 0; i < 3; ++i) whole_numbers = whole_numbers && std::floor(c[i]) == c[i];
+        for (std::size_t i = 0; i < 3; ++i)
+            if (!(c[i] >= 0.0 && c[i] <= (whole_numbers ? 255.0 : 1.0))) return false;
+        return true;
+    };
+    std::vector<double> numbers;
+    const auto read_numbers = [&](std::istringstream& line_tokens) {
+        numbers.clear();
+        for (double d = 0.0; line_tokens >> d;) numbers.push_back(d);
+    };
+    for (long long v = 0; v < nv; ++v) {
+        if (!next(tokens)) fail("the file ends before vertex " + std::to_string(v + 1) + " of " + std::to_string(nv));
+        read_numbers(tokens);
+        const std::size_t colour = numbers.size() >= needed ? numbers.size() - needed : 0;
+        if (numbers.size() < needed || (colours && colour != 0 && !colour_fits(colour)))
+            fail("vertex " + std::to_string(v + 1) + " has " + std::to_string(numbers.size()) + " numbers where " + header +
+                 " needs " + std::to_string(needed) + (colours ? " (+ a colour of 1, 3 or 4)" : ""));
+        if (colours && colour > 0 && !colour_in_range({numbers.begin() + static_cast<std::ptrdiff_t>(needed), numbers.end()}))
+            fail("vertex " + std::to_string(v + 1) + ": the colour is neither a colour-map index 0 … 148 nor r g b in 0 … 255 or 0 … 1");
+        if (colours && vertex_colours.value_or(colour > 0) != (colour > 0))
+            fail("vertex " + std::to_string(v + 1) + (colour > 0 ? " has" : " has no") + " colour, unlike vertex 1");
+        vertex_colours = colour > 0;
+    }
     for (long long f = 0; f < nf; ++f) {
-        if (!next(tokens)) return;
+        if (!next(tokens)) fail("the file ends before facet " + std::to_string(f + 1) + " of " + std::to_string(nf));
         std::string t;
         tokens >> t;
-        if (!whole(t, 0, 1 << 20))
-            throw InputError(path + ": line " + std::to_string(number) + ": the facet's vertex count '" + t + "' is not a whole number");
+        if (!whole(t, 1, 1 << 20)) fail("the facet's vertex count '" + printable(t) + "' is not a whole number");
         const long long k = std::stoll(t);
         for (long long i = 0; i < k; ++i)
             if (!(tokens >> t) || !whole(t, 0, nv))
-                throw InputError(path + ": line " + std::to_string(number) + ": facet vertex index '" + t +
-                                 "' is not a whole number in [0, " + std::to_string(nv) + ")");
+                fail("facet vertex index '" + printable(t) + "' is not a whole number in [0, " + std::to_string(nv) + ")");
+        if (!colours) continue;
+        read_numbers(tokens);
+        const std::size_t colour = numbers.size();
+        if ((colour != 0 && !colour_fits(colour)) || facet_colours.value_or(colour > 0) != (colour > 0))
+            fail("facet " + std::to_string(f + 1) + ": a colour of " + std::to_string(colour) +
+                 " numbers (1, 3 or 4, and on every facet or none)");
+        if (colour > 0 && !colour_in_range(numbers))
+            fail("facet " + std::to_string(f + 1) + ": the colour is neither a colour-map index 0 … 148 nor r g b in 0 … 255 or 0 … 1");
+        facet_colours = colour > 0;
     }
 }
 
