@@ -17,6 +17,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <iterator>
 #include <string>
 #include <vector>
@@ -164,10 +165,9 @@ void append(StoredAnimation& a, const Frame& f) {
 
 // tinygltf (Debian's) trusts the file's byte ranges when it decodes Draco
 // primitives: a bufferView beyond its buffer overflows the heap (found by
-// tests/fuzz/fuzz_gltf). The container and every range are checked here first.
-void check_layout(const std::string& path, bool binary) {
-    std::ifstream in(path, std::ios::binary);
-    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+// tests/fuzz/fuzz_gltf). The container and every range are checked here first, on the
+// bytes then handed to tinygltf (the file is read once).
+void check_layout(const std::string& path, const std::string& bytes, bool binary) {
     const auto fail = [&](const std::string& what) { throw InputError(path + ": not a readable glTF 2.0 file: " + what); };
     const auto u32 = [&](std::size_t at) {
         std::uint32_t v = 0;
@@ -285,8 +285,16 @@ StoredAnimation read_glb(const std::string& path) {
     std::string err, warn;
     const bool binary = std::filesystem::path(path).extension() == ".glb";
     if (!std::filesystem::exists(path)) throw InputError(path + ": file not found");
-    check_layout(path, binary);
-    const bool ok = binary ? loader.LoadBinaryFromFile(&m, &err, &warn, path) : loader.LoadASCIIFromFile(&m, &err, &warn, path);
+    std::ifstream in(path, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (!in.good() && !in.eof()) throw InputError(path + ": cannot read the file");
+    if (bytes.size() > std::numeric_limits<unsigned int>::max()) throw InputError(path + ": larger than glTF's 4 GB");
+    check_layout(path, bytes, binary);
+    const std::string base_dir = std::filesystem::path(path).parent_path().string();  // a .gltf's .bin lies beside it
+    const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+    const auto size = static_cast<unsigned int>(bytes.size());
+    const bool ok = binary ? loader.LoadBinaryFromMemory(&m, &err, &warn, data, size, base_dir)
+                           : loader.LoadASCIIFromString(&m, &err, &warn, bytes.data(), size, base_dir);
     if (!ok) throw InputError(path + ": not a readable glTF 2.0 file: " + err);
     const Reader r{m, path};
     if (!m.asset.extras.Has("libwave")) r.fail("not written by libwave (no asset.extras.libwave): only libwave's outputs can be converted");
