@@ -2,6 +2,7 @@
 #include "grid_fill.h"
 #include "libwave/bathymetry.h"
 #include "libwave/errors.h"
+#include "core/files.h"
 
 #include <nlohmann/json.hpp>
 
@@ -45,7 +46,7 @@ void closer_to_segment(double px, double py, const double* a, const double* b, N
 
 Seafloor read_contour_file(const std::string& path, const ReadOptions& o) {
     std::ifstream in(path);
-    if (!in) throw InputError(path + (std::filesystem::exists(path) ? ": cannot open the file" : ": file not found"));
+    if (!in) throw InputError(path + (detail::path_exists(path) ? ": cannot open the file" : ": file not found"));
     json doc;
     try {
         doc = json::parse(in);

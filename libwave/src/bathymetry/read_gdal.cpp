@@ -4,6 +4,7 @@
 #include "grid_fill.h"
 #include "libwave/bathymetry.h"
 #include "libwave/errors.h"
+#include "core/files.h"
 
 #include <cpl_conv.h>
 #include <cpl_error.h>
@@ -190,7 +191,7 @@ bool says_degrees_east(GDALDataset& ds) {
 }  // namespace
 
 Seafloor read_raster_gdal(const std::string& path, const ReadOptions& options) {
-    if (!std::filesystem::exists(path)) throw InputError(path + ": file not found");
+    if (!detail::path_exists(path)) throw InputError(path + ": file not found");
     register_gdal_once();
     QuietGdalErrors quiet;
     DatasetPtr ds = open_first_grid(open_raster(path, path), path);

@@ -3,6 +3,7 @@
 #include "grid_fill.h"
 #include "libwave/bathymetry.h"
 #include "libwave/errors.h"
+#include "core/files.h"
 
 #include <CGAL/IO/polygon_soup_io.h>
 #include <CGAL/exceptions.h>
@@ -98,6 +99,13 @@ void check_off_facets(const std::string& path) {
         fail("'" + printable(header) + "' is not an OFF header keyword (OFF, COFF, NOFF, STOFF, 4OFF, nOFF, …)");
     // The header is now [ST][C][N][4][n]OFF: its letters are its flags.
     const bool dimensioned = header.find('n') != std::string::npos;
+    const bool colours = header.find('C') != std::string::npos;
+    // CGAL 5.5 finds texture coordinates behind the colour, through an offset it sets
+    // only when the file has colours: ST…OFF without C reads from an uninitialised index.
+    if (header.starts_with("ST") && !colours)
+        fail("'" + header + "': CGAL 5.5 cannot read texture coordinates without colours; drop the ST (a seafloor "
+             "needs no texture coordinates) or convert the file to plain OFF");
+
     std::string word;
     if (tokens >> word && word == "BINARY") return;  // binary indices are int32 in CGAL
     std::vector<std::string> counts;
@@ -121,7 +129,6 @@ void check_off_facets(const std::string& path) {
     // (3, or 4 homogeneous), then normals, a colour (1, 3 or 4 numbers) and texture
     // coordinates as the keyword announces — they must all be there.
     const std::size_t h = header.find('4') != std::string::npos ? 1 : 0;
-    const bool colours = header.find('C') != std::string::npos;
     const std::size_t needed = (3 + h) + (header.find('N') != std::string::npos ? 3 + h : 0) +
                                (header.starts_with("ST") ? 2 + h : 0);
     // Once one vertex (or facet) has a colour CGAL reads one for every later one: in a
@@ -138,10 +145,26 @@ void check_off_facets(const std::string& path) {
             if (!(c[i] >= 0.0 && c[i] <= (whole_numbers ? 255.0 : 1.0))) return false;
         return true;
     };
+    // A line's leading numbers exactly as CGAL 5.5 scans them (IO::iformat<double>):
+    // a sign, then the longest run of [0-9.Ee+-], converted by sscanf's %lf ("1-2" is one
+    // number to CGAL, two to operator>>).
     std::vector<double> numbers;
     const auto read_numbers = [&](std::istringstream& line_tokens) {
         numbers.clear();
-        for (double d = 0.0; line_tokens >> d;) numbers.push_back(d);
+        const std::streamoff from = line_tokens.tellg();  // −1 once the tokens reached the end
+        const std::string rest = from < 0 ? std::string() : line_tokens.str().substr(static_cast<std::size_t>(from));
+        std::size_t c = 0;
+        for (;;) {
+            while (c < rest.size() && std::isspace(static_cast<unsigned char>(rest[c]))) ++c;
+            std::string buffer;
+            if (c < rest.size() && (rest[c] == '-' || rest[c] == '+')) buffer += rest[c++] == '-' ? "-" : "";
+            while (c < rest.size() && rest[c] != '\0' &&
+                   (std::isdigit(static_cast<unsigned char>(rest[c])) || std::strchr(".Ee+-", rest[c]) != nullptr))
+                buffer += rest[c++];
+            double d = 0.0;
+            if (std::sscanf(buffer.c_str(), "%lf", &d) != 1) break;
+            numbers.push_back(d);
+        }
     };
     for (long long v = 0; v < nv; ++v) {
         if (!next(tokens)) fail("the file ends before vertex " + std::to_string(v + 1) + " of " + std::to_string(nv));
@@ -239,7 +262,7 @@ void rasterise(const SeafloorMesh& m, ElevationGrid& g, std::vector<char>& cover
 }  // namespace
 
 Seafloor read_mesh_file(const std::string& path, const ReadOptions& o) {
-    if (!std::filesystem::exists(path)) throw InputError(path + ": file not found");
+    if (!detail::path_exists(path)) throw InputError(path + ": file not found");
     std::string extension = std::filesystem::path(path).extension().string();
     std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
     if (extension == ".off") check_off_facets(path);

@@ -3,6 +3,7 @@
 #include "grid_fill.h"
 #include "libwave/bathymetry.h"
 #include "libwave/errors.h"
+#include "core/files.h"
 
 #include <charconv>
 #include <filesystem>
@@ -19,7 +20,7 @@ Seafloor read_swan_bot(const std::string& path, const ReadOptions& o) {
                                 "swan_dx, CLI --swan-grid NX,NY --swan-spacing DX[,DY])");
     if (o.swan_dy < 0.0) throw InputError(path + ": swan_dy must be >= 0 (0 = same as dx)");
     std::ifstream in(path);
-    if (!in) throw InputError(path + (std::filesystem::exists(path) ? ": cannot open the file" : ": file not found"));
+    if (!in) throw InputError(path + (detail::path_exists(path) ? ": cannot open the file" : ": file not found"));
     const std::size_t nx = o.swan_nx, ny = o.swan_ny;
     detail::check_grid_size(path, nx, ny, o);
     std::vector<double> values;

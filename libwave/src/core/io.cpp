@@ -57,3 +57,12 @@ void write_file_atomic(const std::string& path, std::string_view bytes) {
 }
 
 }  // namespace wave
+
+namespace wave::detail {
+
+bool path_exists(const std::string& path) noexcept {
+    std::error_code ec;
+    return std::filesystem::exists(path, ec) && !ec;
+}
+
+}  // namespace wave::detail

@@ -8,6 +8,7 @@
 
 #include "libwave/errors.h"
 #include "libwave/export.h"
+#include "core/files.h"
 
 #include <draco/compression/decode.h>
 #include <nlohmann/json.hpp>
@@ -284,7 +285,7 @@ StoredAnimation read_glb(const std::string& path) {
     tinygltf::TinyGLTF loader;
     std::string err, warn;
     const bool binary = std::filesystem::path(path).extension() == ".glb";
-    if (!std::filesystem::exists(path)) throw InputError(path + ": file not found");
+    if (!detail::path_exists(path)) throw InputError(path + ": file not found");
     std::ifstream in(path, std::ios::binary);
     const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     if (!in.good() && !in.eof()) throw InputError(path + ": cannot read the file");

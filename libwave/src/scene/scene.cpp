@@ -5,6 +5,7 @@
 #include "core/format.h"
 #include "libwave/errors.h"
 #include "libwave/shade.h"
+#include "core/files.h"
 
 #include <nlohmann/json.hpp>
 
@@ -125,7 +126,7 @@ void read_seafloor_spec(const Node& n, SeafloorSource& s, const std::string& bas
         const bool procedural = std::find(names.begin(), names.end(), s.source) != names.end();
         const std::filesystem::path p(s.source);
         if (!procedural && p.is_relative()) s.source = (std::filesystem::path(base_dir) / p).string();
-        if (!procedural && !std::filesystem::exists(s.source))
+        if (!procedural && !detail::path_exists(s.source))
             n["source"].fail("no such file '" + s.source + "' and not a procedural seafloor");
     }
     ReadOptions& r = s.read;
@@ -434,7 +435,7 @@ GerstnerSpec read_gerstner(const Node& n) {
 
 Seafloor load_seafloor(const SeafloorSource& s) {
     const auto& names = procedural_seafloor_names();
-    if (!std::filesystem::exists(s.source) && std::find(names.begin(), names.end(), s.source) != names.end())
+    if (!detail::path_exists(s.source) && std::find(names.begin(), names.end(), s.source) != names.end())
         return make_named_seafloor(s.source);
     return read_seafloor(s.source, s.read);
 }
@@ -595,7 +596,7 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
 
 Scene read_scene(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path + (std::filesystem::exists(path) ? ": cannot open the file" : ": file not found"));
+    if (!in) throw InputError(path + (detail::path_exists(path) ? ": cannot open the file" : ": file not found"));
     std::ostringstream text;
     text << in.rdbuf();
     return parse_scene(text.str(), path, std::filesystem::path(path).parent_path().string());

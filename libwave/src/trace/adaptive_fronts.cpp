@@ -75,11 +75,24 @@ void advance(Ray& r, const ElevationGrid& g, const detail::WaveTable& waves, con
         r.dx = ndx;
         r.dy = ndy;
     }
-    r.x += o.step * r.dx;
-    r.y += o.step * r.dy;
+    const double x0 = r.x, y0 = r.y, depth0 = here.depth;  // (here is r.here: replaced below)
+    double run = o.step;
+    r.x += run * r.dx;
+    r.y += run * r.dy;
     r.here = sample_depth(g, r.x, r.y);
-    // Σ k Δs by the trapezoid rule between the two ends of the step.
-    r.phase += 0.5 * (w1.k + waves.at(r.here.depth).k) * o.step;
+    if (depth0 > 0.0 && r.here.depth <= 0.0) {
+        // The step crossed the shoreline: the ray ends on it (depth interpolated along
+        // the step), as its neighbours that follow the shore do — a vertex left on dry
+        // land beyond them folded the strip's last cells (tests/test_properties.cpp).
+        run *= depth0 / (depth0 - r.here.depth);
+        r.x = x0 + run * r.dx;
+        r.y = y0 + run * r.dy;
+        r.here = sample_depth(g, r.x, r.y);
+        r.ashore = true;
+    }
+    // Σ k Δs by the trapezoid rule between the two ends of the step (k counts as 0 on
+    // the shoreline, as on dry land: the shallow-water k diverges there).
+    r.phase += 0.5 * (w1.k + (r.ashore ? 0.0 : waves.at(r.here.depth).k)) * run;
 }
 
 // One step of an ALIVE or FLAT ray in isobath mode: straight to each exact isobath
@@ -118,8 +131,22 @@ void advance_isobath(Ray& r, const IsobathMode& m, const ElevationGrid& g, const
     r.here = sample_depth(g, r.x, r.y);
 }
 
+// Moves an AGROUND ray onto h = 0 by Newton steps along the depth gradient: one is
+// exact on a plane; a curved shore (a small island) needs a few, or the vertex stays
+// on dry land (tests/test_properties.cpp).
+void onto_shore(Ray& r, const ElevationGrid& g) {
+    for (int newton = 0; newton < 6; ++newton) {
+        const DepthSample s = sample_depth(g, r.x, r.y);
+        const double slope = std::hypot(s.dh_dx, s.dh_dy);
+        if (!(slope > 1e-12) || std::abs(s.depth) < 1e-9) break;
+        r.x -= s.depth * s.dh_dx / (slope * slope);
+        r.y -= s.depth * s.dh_dy / (slope * slope);
+    }
+    r.here = sample_depth(g, r.x, r.y);
+}
+
 // An AGROUND ray follows the shoreline: one step along the contour through it, in the
-// sense closest to its travel, then one Newton step back onto h = 0.
+// sense closest to its travel, then back onto h = 0.
 void follow_shore(Ray& r, const ElevationGrid& g, const FrontOptions& o) {
     DepthSample s = sample_depth(g, r.x, r.y);
     double slope = std::hypot(s.dh_dx, s.dh_dy);
@@ -130,13 +157,7 @@ void follow_shore(Ray& r, const ElevationGrid& g, const FrontOptions& o) {
     r.dy = ty;
     r.x += o.step * tx;
     r.y += o.step * ty;
-    s = sample_depth(g, r.x, r.y);
-    slope = std::hypot(s.dh_dx, s.dh_dy);
-    if (slope > 1e-12) {
-        r.x -= s.depth * s.dh_dx / (slope * slope);
-        r.y -= s.depth * s.dh_dy / (slope * slope);
-    }
-    r.here = sample_depth(g, r.x, r.y);
+    onto_shore(r, g);
 }
 
 }  // namespace
@@ -230,7 +251,8 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
             out.flag.push_back(r.flag);
             // A caustic: this ray and a neighbour have swapped sides (rays crossed).
             const auto flipped = [&](const Ray& p, const Ray& q) {
-                return side * ((q.x - p.x) * p.dy - (q.y - p.y) * p.dx) <= 0.0;
+                const Ray& travel = p.flag == RayFlag::aground ? q : p;  // an aground ray points along the shore
+                return side * ((q.x - p.x) * travel.dy - (q.y - p.y) * travel.dx) <= 0.0;
             };
             const bool caustic = r.flag != RayFlag::aground &&
                                  ((i > 0 && flipped(front[i - 1], r)) || (i + 1 < n && flipped(r, front[i + 1])));
@@ -312,7 +334,10 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
                 const double l = std::hypot(m.dx, m.dy);
                 m.dx = l > 0.0 ? m.dx / l : a.dx;
                 m.dy = l > 0.0 ? m.dy / l : a.dy;
-                if (m.here.depth <= 0.0) m.flag = RayFlag::aground;
+                if (m.here.depth <= 0.0) {  // the gap's middle is on land: a new ray on its shore
+                    m.flag = RayFlag::aground;
+                    onto_shore(m, g);
+                }
                 grown_gaps.push_back(0.5 * gap_b0[i]);
                 grown_gaps.push_back(0.5 * gap_b0[i]);
                 grown.push_back(m);

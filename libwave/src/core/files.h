@@ -1,0 +1,14 @@
+// Internal: questions about input paths that must not throw. std::filesystem's
+// throwing overloads turn a path the system refuses (too long, a loop of links) into
+// filesystem_error, which escaped as a crash (tests/fuzz/fuzz_scene): such a path
+// simply does not name a readable file.
+#pragma once
+
+#include <string>
+
+namespace wave::detail {
+
+/// Whether `path` names something that exists; false for any path the system refuses.
+bool path_exists(const std::string& path) noexcept;
+
+}  // namespace wave::detail
