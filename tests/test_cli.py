@@ -899,6 +899,9 @@ class CrashSafety(unittest.TestCase):
     def test_sigkill_during_a_morph_run(self):
         self.check_killed_runs("morph", self.final_files, "16")  # a different animation replaces the old
 
+    def test_sigkill_during_a_nodes_run(self):
+        self.check_killed_runs("nodes", self.final_files, "16")
+
     def test_sigkill_during_a_files_run(self):
         # The files form merges into its folder's animation (same fps): every frame file
         # must still be whole after each kill.
