@@ -333,7 +333,8 @@ TEST_F(Scratch, OffIsPlainlyOffBeforeCgalReadsIt) {
         expect_input_error([&] { read_seafloor(path); }, {path, r.named});
     }
     // The fuzzer's finding: a NUL before the keyword, which CGAL read on regardless.
-    const std::string nul = write("nul.off", std::string("\0OFF 0 2-0 -30  2\n3 ", 22));
+    static constexpr char kNulFirst[] = "\0OFF 0 2-0 -30  2\n3 ";
+    const std::string nul = write("nul.off", std::string(kNulFirst, sizeof kNulFirst - 1));
     expect_input_error([&] { read_seafloor(nul); }, {nul, "line 1:", "is not an OFF header keyword"});
 }
 
