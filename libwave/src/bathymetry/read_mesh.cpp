@@ -5,6 +5,7 @@
 #include "libwave/errors.h"
 #include "core/files.h"
 
+#include <CGAL/IO/io.h>
 #include <CGAL/IO/polygon_soup_io.h>
 #include <CGAL/exceptions.h>
 #include <CGAL/Simple_cartesian.h>
@@ -145,26 +146,15 @@ void check_off_facets(const std::string& path) {
             if (!(c[i] >= 0.0 && c[i] <= (whole_numbers ? 255.0 : 1.0))) return false;
         return true;
     };
-    // A line's leading numbers exactly as CGAL 5.5 scans them (IO::iformat<double>):
-    // a sign, then the longest run of [0-9.Ee+-], converted by sscanf's %lf ("1-2" is one
-    // number to CGAL, two to operator>>).
+    // A line's leading numbers exactly as CGAL scans them: with CGAL's own reader
+    // (IO::iformat), which splits "5-4" into 5 and −4 — a hand-written scanner got that
+    // wrong (tests/fuzz/regressions/fuzz_mesh_off).
     std::vector<double> numbers;
     const auto read_numbers = [&](std::istringstream& line_tokens) {
         numbers.clear();
         const std::streamoff from = line_tokens.tellg();  // −1 once the tokens reached the end
-        const std::string rest = from < 0 ? std::string() : line_tokens.str().substr(static_cast<std::size_t>(from));
-        std::size_t c = 0;
-        for (;;) {
-            while (c < rest.size() && std::isspace(static_cast<unsigned char>(rest[c]))) ++c;
-            std::string buffer;
-            if (c < rest.size() && (rest[c] == '-' || rest[c] == '+')) buffer += rest[c++] == '-' ? "-" : "";
-            while (c < rest.size() && rest[c] != '\0' &&
-                   (std::isdigit(static_cast<unsigned char>(rest[c])) || std::strchr(".Ee+-", rest[c]) != nullptr))
-                buffer += rest[c++];
-            double d = 0.0;
-            if (std::sscanf(buffer.c_str(), "%lf", &d) != 1) break;
-            numbers.push_back(d);
-        }
+        std::istringstream rest(from < 0 ? std::string() : line_tokens.str().substr(static_cast<std::size_t>(from)));
+        for (double d = 0.0; numbers.size() <= line.size() && rest >> CGAL::IO::iformat(d);) numbers.push_back(d);
     };
     for (long long v = 0; v < nv; ++v) {
         if (!next(tokens)) fail("the file ends before vertex " + std::to_string(v + 1) + " of " + std::to_string(nv));

@@ -142,6 +142,7 @@ Frame read_frame(const Reader& r, const std::map<std::string, int>& attrs, int m
     } else if (has("TEXCOORD_1") && has("TEXCOORD_2")) {
         layout = ScalarLayout::blender34;  // TEXCOORD_1 = (R, T), TEXCOORD_2 = (foam, 0)
         const auto uv1 = r.floats(at("TEXCOORD_1"), 2), uv2 = r.floats(at("TEXCOORD_2"), 2);
+        if (uv1.size() != uv2.size()) r.fail("TEXCOORD_1 and TEXCOORD_2 hold different vertex counts");
         for (std::size_t v = 0; 2 * v < uv1.size(); ++v) {
             f.reflect.push_back(uv1[2 * v]);
             f.refract.push_back(uv1[2 * v + 1]);
@@ -151,7 +152,13 @@ Frame read_frame(const Reader& r, const std::map<std::string, int>& attrs, int m
     return f;
 }
 
-void add(std::vector<float>& into, const std::vector<float>& base, const std::vector<float>& delta) {
+// A morph frame: base + delta (no delta: the base). A delta of another length than the
+// base is refused (found by tests/fuzz/fuzz_gltf: it was read past its end).
+void add(const Reader& r, std::size_t target, const char* what, std::vector<float>& into, const std::vector<float>& base,
+         const std::vector<float>& delta) {
+    if (!delta.empty() && delta.size() != base.size())
+        r.fail("morph target " + std::to_string(target) + ": its " + what + " has " + std::to_string(delta.size()) +
+               " values, the base mesh " + std::to_string(base.size()));
     for (std::size_t i = 0; i < base.size(); ++i) into.push_back(base[i] + (delta.empty() ? 0.0f : delta[i]));
 }
 
@@ -319,15 +326,15 @@ StoredAnimation read_glb(const std::string& path) {
     a.vertex_count = a.texcoords.size() / 2;
     if (path_kind == "weights") {  // morph: frame k = base + target k
         const Frame base = read_frame(r, first.attributes, 0, false, a.layout);
-        for (const auto& target : first.targets) {
-            const Frame d = read_frame(r, target, 0, true, a.layout);
+        for (std::size_t t = 0; t < first.targets.size(); ++t) {
+            const Frame d = read_frame(r, first.targets[t], 0, true, a.layout);
             Frame f;
-            add(f.position, base.position, d.position);
-            add(f.normal, base.normal, d.normal);
-            add(f.reflect, base.reflect, d.reflect);
-            add(f.refract, base.refract, d.refract);
-            add(f.foam, base.foam, d.foam);
-            add(f.color, base.color, d.color);
+            add(r, t, "POSITION", f.position, base.position, d.position);
+            add(r, t, "NORMAL", f.normal, base.normal, d.normal);
+            add(r, t, "reflect weight", f.reflect, base.reflect, d.reflect);
+            add(r, t, "refract weight", f.refract, base.refract, d.refract);
+            add(r, t, "foam", f.foam, base.foam, d.foam);
+            add(r, t, "COLOR_0", f.color, base.color, d.color);
             append(a, f);
             ++a.frame_count;
         }
@@ -341,6 +348,13 @@ StoredAnimation read_glb(const std::string& path) {
         }
     }
     if (a.positions.size() != 3 * a.vertex_count * a.frame_count) r.fail("frames of different sizes");
+    // Every attribute covers every vertex of every frame (or is absent): the writers
+    // index them by vertex.
+    const std::size_t values = a.vertex_count * a.frame_count;
+    if (a.normals.size() != 3 * values) r.fail("NORMAL does not cover every vertex of every frame");
+    for (const auto* scalar : {&a.reflect, &a.refract, &a.foam})
+        if (!scalar->empty() && scalar->size() != values) r.fail("a shading attribute does not cover every vertex of every frame");
+    if (!a.colors.empty() && a.colors.size() != 3 * values) r.fail("COLOR_0 does not cover every vertex of every frame");
     return a;
 }
 
