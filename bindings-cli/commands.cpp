@@ -619,15 +619,10 @@ int run_convert(const ConvertArgs& a) {
         std::vector<json> entries;
         const std::size_t per_frame = files.size() / stored.frame_count, n = stored.vertex_count;
         for (std::size_t k = 0; k < stored.frame_count; ++k) {
-            float z[2] = {std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity()};
-            for (std::size_t v = 0; v < n; ++v) {
-                z[0] = std::min(z[0], view.positions[3 * n * k + 3 * v + 2]);
-                z[1] = std::max(z[1], view.positions[3 * n * k + 3 * v + 2]);
-            }
             entries.push_back(frame_entry(stored.first_frame + k, stored.fps,
                                           Files(files.begin() + static_cast<std::ptrdiff_t>(k * per_frame),
                                                 files.begin() + static_cast<std::ptrdiff_t>((k + 1) * per_frame)),
-                                          z));
+                                          view.positions.subspan(3 * n * k, 3 * n)));
         }
         const IndexInfo info{stored.scene, stored.fps, static_cast<double>(stored.loop_frames) / stored.fps, stored.loop_frames, ""};
         files.emplace_back("index.json", merged_index((std::filesystem::path(a.out_dir) / "index.json").string(), info, entries,

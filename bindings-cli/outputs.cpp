@@ -68,11 +68,18 @@ Files encode_animation(const MorphAnimationView& view, Scene::Form form, Scene::
     return files;
 }
 
-json frame_entry(std::size_t frame, double fps, const Files& frame_files, const float* height_range) {
+json frame_entry(std::size_t frame, double fps, const Files& frame_files, std::span<const float> positions) {
     json entry{{"frame", frame}, {"time", key_time(frame, fps)}, {"file", frame_files.front().first}, {"content", json::array()}};
     for (const auto& [name, bytes] : frame_files)
         entry["content"].push_back({{"file", name}, {"bytes", bytes.size()}, {"sha256", sha256_hex(bytes)}});
-    if (height_range) entry["height_range_m"] = {height_range[0], height_range[1]};
+    if (!positions.empty()) {
+        float z_min = std::numeric_limits<float>::infinity(), z_max = -z_min;
+        for (std::size_t i = 2; i < positions.size(); i += 3) {
+            z_min = std::min(z_min, positions[i]);
+            z_max = std::max(z_max, positions[i]);
+        }
+        entry["height_range_m"] = {z_min, z_max};
+    }
     return entry;
 }
 
@@ -306,13 +313,7 @@ FilesFormRun write_files_form(const Scene& scene, const ScenePlan& plan, const s
                     fs::create_directories((run.partial / name).parent_path());
                     write_file_atomic((run.partial / name).string(), bytes);
                 }
-                float z[2] = {std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity()};
-                for (std::size_t v = 0; v < n; ++v) {
-                    const float h = anim.positions[3 * n * k + 3 * v + 2];
-                    z[0] = std::min(z[0], h);
-                    z[1] = std::max(z[1], h);
-                }
-                kept_partial[a + k] = frame_entry(a + k, info.fps, frame_files, z);
+                kept_partial[a + k] = frame_entry(a + k, info.fps, frame_files, view.positions.subspan(3 * n * k, 3 * n));
             }
             // The index after its frames: it lists only files already whole on disk.
             write_partial_index();

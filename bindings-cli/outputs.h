@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <functional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -43,9 +44,9 @@ struct IndexInfo {
 };
 
 /// A frame's index entry: its number, key time, file, each of its files ("content":
-/// file, bytes, sha256 — a .gltf frame has its .bin beside it) and, when known, its
-/// height range.
-nlohmann::json frame_entry(std::size_t frame, double fps, const Files& frame_files, const float* height_range = nullptr);
+/// file, bytes, sha256 — a .gltf frame has its .bin beside it) and, when its positions
+/// (x, y, z per vertex) are given, its height range.
+nlohmann::json frame_entry(std::size_t frame, double fps, const Files& frame_files, std::span<const float> positions = {});
 
 /// Whether every file an entry lists is under `root` with the size and SHA-256 the
 /// entry records (an entry without "content" cannot be verified: false).
