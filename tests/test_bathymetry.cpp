@@ -338,6 +338,71 @@ TEST_F(Scratch, OffIsPlainlyOffBeforeCgalReadsIt) {
     expect_input_error([&] { read_seafloor(nul); }, {nul, "line 1:", "is not an OFF header keyword"});
 }
 
+// CGAL's PLY reader sizes each list from a count it reads unchecked (tests/fuzz): the
+// data is walked first, as CGAL reads it. ASCII and both binary byte orders read; a
+// count or value that is not there or does not fit is refused, named by element, item
+// and property.
+TEST_F(Scratch, PlyIsWalkedBeforeCgalReadsIt) {
+    const std::string header = "element vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                               "element face 2\nproperty list uchar int vertex_indices\nend_header\n";
+    const std::string ascii = write("a.ply", "ply\nformat ascii 1.0\ncomment a plane\n" + header +
+                                             "0 0 -1\n10 0 -3\n10 6 -3\n0 6 -1\n3 0 1 2\n3 0 2 3\n");
+    const Seafloor plane = read_seafloor(ascii);
+    ASSERT_EQ(plane.mesh.triangles.size(), 6u);
+    // The same plane in binary, both byte orders (x y z float32, then uint8 count and int32 indices).
+    const auto binary = [&](bool little) {
+        std::string data = "ply\nformat " + std::string(little ? "binary_little_endian" : "binary_big_endian") + " 1.0\n" + header;
+        const auto put = [&](const void* v, std::size_t n) {
+            const auto* b = static_cast<const char*>(v);
+            for (std::size_t k = 0; k < n; ++k) data += b[little ? k : n - 1 - k];  // the host is little-endian
+        };
+        for (const float f : {0.f, 0.f, -1.f, 10.f, 0.f, -3.f, 10.f, 6.f, -3.f, 0.f, 6.f, -1.f}) put(&f, 4);
+        for (const std::array<std::int32_t, 3> face : {std::array{0, 1, 2}, std::array{0, 2, 3}}) {
+            data += '\3';
+            for (const std::int32_t i : face) put(&i, 4);
+        }
+        return data;
+    };
+    for (const bool little : {true, false}) {
+        const std::string path = write(little ? "le.ply" : "be.ply", binary(little));
+        const Seafloor s = read_seafloor(path);
+        EXPECT_EQ(s.mesh.triangles, plane.mesh.triangles) << path;
+        EXPECT_EQ(s.mesh.xyz, plane.mesh.xyz) << path;
+    }
+    const std::string vertices = "0 0 -1\n10 0 -3\n10 6 -3\n0 6 -1\n";
+    const std::string int_counts = "element vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                                   "element face 2\nproperty list int int vertex_indices\nend_header\n";
+    std::string truncated = binary(true);
+    truncated.resize(truncated.size() - 3);
+    std::string huge_count = binary(true);
+    huge_count[huge_count.size() - 13] = '\xFF';  // the second face's uint8 count: 255 indices, 3 there
+    const struct {
+        const char *name;
+        std::string text;
+        const char* named;
+    } refused[] = {
+        {"format.ply", "ply\nformat text 1.0\n" + header, "line 2: the PLY format 'text' is none of ascii"},
+        {"blank.ply", "ply\nformat ascii 1.0\n\n" + header, "line 3: an empty line in the PLY header"},
+        {"ends.ply", "ply\nformat ascii 1.0\n" + header + vertices + "3 0 1 2\n",
+         "PLY element 'face' 2 of 2, property 'vertex_indices': the file ends before its data"},
+        {"short.ply", "ply\nformat ascii 1.0\n" + header + vertices + "3 0 1 2\n3 0 2\n",
+         "PLY element 'face' 2 of 2, property 'vertex_indices': the file ends"},
+        {"uchar.ply", "ply\nformat ascii 1.0\n" + header + vertices + "3 0 1 2\n-3 0 2 3\n",
+         "'face' 2 of 2, property 'vertex_indices': '-3' is not a whole number of type uchar (0 … 255)"},
+        {"negative.ply", "ply\nformat ascii 1.0\n" + int_counts + vertices + "3 0 1 2\n-3 0 2 3\n",
+         "'face' 2 of 2, property 'vertex_indices': the list count -3 is negative"},
+        {"value.ply", "ply\nformat ascii 1.0\n" + header + "0 0 -1\n10 zero -3\n", "'vertex' 2 of 4, property 'y': 'zero' is not a number"},
+        {"index.ply", "ply\nformat ascii 1.0\n" + header + vertices + "3 0 1 2\n3 0 2.5 3\n",
+         "'face' 2 of 2, property 'vertex_indices': '2.5' is not a whole number of type int"},
+        {"truncated.ply", truncated, "PLY element 'face' 2 of 2, property 'vertex_indices': the file ends"},
+        {"count.ply", huge_count, "PLY element 'face' 2 of 2, property 'vertex_indices': the file ends"},
+    };
+    for (const auto& r : refused) {
+        const std::string path = write(r.name, r.text);
+        expect_input_error([&] { read_seafloor(path); }, {path, r.named});
+    }
+}
+
 // --- contour files -------------------------------------------------------------
 
 TEST_F(Scratch, ContoursAreGriddedLinearlyBetweenIsobaths) {

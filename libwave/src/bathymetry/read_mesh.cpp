@@ -14,6 +14,7 @@
 #include <cctype>
 #include <charconv>
 #include <climits>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <cmath>
@@ -190,31 +191,155 @@ void check_off_facets(const std::string& path) {
     }
 }
 
-// CGAL 5.5's PLY reader appends a `property` to the last `element` without checking
-// that one was declared (undefined behaviour; tests/fuzz/fuzz_mesh): the header is
-// checked here first.
-void check_ply_header(const std::string& path) {
+// CGAL 5.5's PLY reader trusts the file: it appends a `property` to the last `element`
+// without checking that one was declared, loops over element counts as given, and sizes
+// each list from a count it reads without checking the read — past the end of the data
+// that count is an uninitialised value, and one asked for 4.7 GB
+// (tests/fuzz/regressions/fuzz_mesh). So the file is first walked as CGAL will read it:
+// the header line by line (line 1 the signature, line 2 the format, whatever they say),
+// then the data element by element and property by property — in ASCII token by token,
+// in binary byte by byte. Every value CGAL will read must be there and fit its type, and
+// a list count must be a whole number whose values follow. Properties of a type CGAL
+// does not know it skips in the header and reads no data for; so does this walk.
+struct PlyType {
+    const char *name, *sized_name;
+    std::size_t bytes;
+    bool integer;
+    long long lo, hi;  // an integer type's range
+};
+constexpr PlyType kPlyTypes[] = {
+    {"char", "int8", 1, true, INT8_MIN, INT8_MAX},     {"uchar", "uint8", 1, true, 0, UINT8_MAX},
+    {"short", "int16", 2, true, INT16_MIN, INT16_MAX}, {"ushort", "uint16", 2, true, 0, UINT16_MAX},
+    {"int", "int32", 4, true, INT32_MIN, INT32_MAX},   {"uint", "uint32", 4, true, 0, UINT32_MAX},
+    {"float", "float32", 4, false, 0, 0},              {"double", "float64", 8, false, 0, 0},
+};
+const PlyType* ply_type(const std::string& word) {
+    for (const PlyType& t : kPlyTypes)
+        if (word == t.name || word == t.sized_name) return &t;
+    return nullptr;
+}
+struct PlyProperty {
+    std::string name;
+    const PlyType* count;  // a list's count type; nullptr for a single value
+    const PlyType* value;
+};
+struct PlyElement {
+    std::string name;
+    unsigned long long items;
+    std::vector<PlyProperty> properties;
+};
+
+void check_ply(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
+    const auto file_bytes = std::filesystem::file_size(path);
+    const auto at_line = [&](std::size_t number, const std::string& what) {
+        return InputError(path + ": line " + std::to_string(number) + ": " + what);
+    };
+    enum class Format { ascii, little_endian, big_endian } format = Format::ascii;
+    std::vector<PlyElement> elements;
     std::string line, keyword;
-    bool element = false;
     for (std::size_t number = 1; std::getline(in, line); ++number) {
         std::istringstream tokens(line);
-        if (!(tokens >> keyword)) continue;
-        if (keyword == "end_header") return;
+        if (number == 1) {
+            if (!(tokens >> keyword) || keyword != "ply") return;  // CGAL refuses it unread
+            continue;
+        }
+        if (number == 2) {
+            std::string tag, name, version;
+            if (!(tokens >> tag >> name >> version))
+                throw at_line(number, "expected 'format <ascii|binary_little_endian|binary_big_endian> <version>'");
+            if (name == "ascii") format = Format::ascii;
+            else if (name == "binary_little_endian") format = Format::little_endian;
+            else if (name == "binary_big_endian") format = Format::big_endian;
+            else throw at_line(number, "the PLY format '" + printable(name) + "' is none of ascii, binary_little_endian, binary_big_endian");
+            continue;
+        }
+        if (!(tokens >> keyword)) throw at_line(number, "an empty line in the PLY header");
+        if (keyword == "end_header") break;
         if (keyword == "element") {
-            // The count is read by CGAL as an unsigned integer and looped over: a
-            // negative or oversized one never ends (tests/fuzz/fuzz_mesh).
             std::string name, count;
             unsigned long long n = 0;
             tokens >> name >> count;
             const auto [end, ec] = std::from_chars(count.data(), count.data() + count.size(), n);
-            if (ec != std::errc() || end != count.data() + count.size() || n > std::filesystem::file_size(path))
-                throw InputError(path + ": line " + std::to_string(number) + ": the PLY element count '" + count +
-                                 "' is not a whole number that fits the file");
-            element = true;
+            if (ec != std::errc() || end != count.data() + count.size() || n > file_bytes)
+                throw at_line(number, "the PLY element count '" + printable(count) + "' is not a whole number that fits the file");
+            elements.push_back({name, n, {}});
+        } else if (keyword == "property") {
+            if (elements.empty()) throw at_line(number, "a PLY property before any element");
+            std::string type, name;
+            if (!(tokens >> type >> name)) throw at_line(number, "expected 'property <type> <name>'");
+            if (type != "list") {
+                if (const PlyType* t = ply_type(type)) elements.back().properties.push_back({name, nullptr, t});
+                continue;
+            }
+            const std::string count_type = name;
+            std::string value_type;
+            if (!(tokens >> value_type >> name))
+                throw at_line(number, "expected 'property list <count type> <value type> <name>'");
+            const PlyType* count = ply_type(count_type);
+            const PlyType* value = ply_type(value_type);
+            if (count && count->integer && value) elements.back().properties.push_back({name, count, value});
         }
-        if (keyword == "property" && !element)
-            throw InputError(path + ": line " + std::to_string(number) + ": a PLY property before any element");
+    }
+
+    // The data, read as CGAL reads it: straight after the header's last line.
+    const PlyElement* element = nullptr;
+    const PlyProperty* property = nullptr;
+    unsigned long long item = 0;
+    const auto fail = [&](const std::string& what) {
+        throw InputError(path + ": PLY element '" + printable(element->name) + "' " + std::to_string(item + 1) + " of " +
+                         std::to_string(element->items) + ", property '" + printable(property->name) + "': " + what);
+    };
+    const auto ends = [&] { fail("the file ends before its data"); };
+    std::string token;
+    // The next value as CGAL reads it; an integer's value is returned (a list's count).
+    const auto next = [&](const PlyType& t) -> long long {
+        if (format == Format::ascii) {
+            if (!(in >> token)) ends();
+            const char* first = token.data();
+            const char* last = first + token.size();
+            if (!t.integer) {
+                double d = 0.0;
+                const auto [end, ec] = std::from_chars(first, last, d);
+                if (ec != std::errc() || end != last) fail("'" + printable(token) + "' is not a number");
+                return 0;
+            }
+            long long v = 0;
+            const auto [end, ec] = std::from_chars(first, last, v);
+            if (ec != std::errc() || end != last || v < t.lo || v > t.hi)
+                fail("'" + printable(token) + "' is not a whole number of type " + t.name + " (" + std::to_string(t.lo) +
+                     " … " + std::to_string(t.hi) + ")");
+            return v;
+        }
+        unsigned char bytes[8] = {};
+        if (!in.read(reinterpret_cast<char*>(bytes), static_cast<std::streamsize>(t.bytes))) ends();
+        if (!t.integer) return 0;
+        unsigned long long u = 0;
+        for (std::size_t k = 0; k < t.bytes; ++k)
+            u |= static_cast<unsigned long long>(bytes[format == Format::little_endian ? k : t.bytes - 1 - k]) << (8 * k);
+        const unsigned long long sign = 1ull << (8 * t.bytes - 1);
+        if (t.lo < 0 && (u & sign)) return static_cast<long long>(u) - static_cast<long long>(sign << 1);
+        return static_cast<long long>(u);
+    };
+    for (const PlyElement& e : elements) {
+        element = &e;
+        for (item = 0; item < e.items; ++item) {
+            for (const PlyProperty& p : e.properties) {
+                property = &p;
+                if (!p.count) {
+                    next(*p.value);
+                    continue;
+                }
+                const long long count = next(*p.count);
+                if (count < 0) fail("the list count " + std::to_string(count) + " is negative");
+                if (format != Format::ascii) {  // the values must be in the file: no need to look at them
+                    const auto want = static_cast<std::streamsize>(static_cast<unsigned long long>(count) * p.value->bytes);
+                    if (in.ignore(want).gcount() != want) ends();
+                    continue;
+                }
+                for (long long k = 0; k < count; ++k) next(*p.value);
+            }
+        }
     }
 }
 
@@ -256,7 +381,7 @@ Seafloor read_mesh_file(const std::string& path, const ReadOptions& o) {
     std::string extension = std::filesystem::path(path).extension().string();
     std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
     if (extension == ".off") check_off_facets(path);
-    if (extension == ".ply") check_ply_header(path);
+    if (extension == ".ply") check_ply(path);
     std::vector<Kernel::Point_3> points;
     std::vector<std::vector<std::size_t>> polygons;
     bool read = false;
