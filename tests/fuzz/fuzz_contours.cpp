@@ -6,7 +6,8 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     wave::ReadOptions o;
     o.max_nodes = wave::fuzz::kMaxNodes;
-    const std::string path = wave::fuzz::input_file(data, size, ".json");
+    const wave::fuzz::InputFile file(data, size, ".json");
+    const std::string& path = file.path;
     wave::fuzz::expect_input_error_only([&] { wave::read_contour_file(path, o); });
     return 0;
 }

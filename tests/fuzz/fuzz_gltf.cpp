@@ -5,7 +5,8 @@
 #include "libwave/export.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-    const std::string path = wave::fuzz::input_file(data, size, ".glb");
+    const wave::fuzz::InputFile file(data, size, ".glb");
+    const std::string& path = file.path;
     wave::fuzz::expect_input_error_only([&] { wave::read_animation(path); });
     return 0;
 }

@@ -17,7 +17,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
 #endif
     wave::ReadOptions o;
     o.max_nodes = wave::fuzz::kMaxNodes;
-    const std::string path = wave::fuzz::input_file(data + 1, size - 1, extension);
+    const wave::fuzz::InputFile file(data + 1, size - 1, extension);
+    const std::string& path = file.path;
     wave::fuzz::expect_input_error_only([&] { wave::read_mesh_file(path, o); });
     return 0;
 }

@@ -14,7 +14,8 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     wave::ReadOptions o;
     o.max_nodes = wave::fuzz::kMaxNodes;
-    const std::string path = wave::fuzz::input_file(data, size, ".asc");
+    const wave::fuzz::InputFile file(data, size, ".asc");
+    const std::string& path = file.path;
     wave::fuzz::expect_input_error_only([&] { wave::read_raster_gdal(path, o); });
     return 0;
 }

@@ -18,7 +18,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     o.swan_dx = 250.0;
     o.nodata_value = -99.0;
     o.max_nodes = wave::fuzz::kMaxNodes;
-    const std::string path = wave::fuzz::input_file(data + head + 1, size - head - 1, ".bot");
+    const wave::fuzz::InputFile file(data + head + 1, size - head - 1, ".bot");
+    const std::string& path = file.path;
     wave::fuzz::expect_input_error_only([&] { wave::read_swan_bot(path, o); });
     return 0;
 }
