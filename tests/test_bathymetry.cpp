@@ -287,6 +287,15 @@ TEST_F(Scratch, BrokenMeshes) {
     const std::string junk = write("junk.ply", "this is not a mesh\n");
     expect_input_error([&] { read_seafloor(junk); }, {junk, "not a readable"});
     expect_input_error([&] { read_seafloor((dir_ / "gone.stl").string()); }, {"gone.stl", "not found"});
+    // A directory opens as an empty stream: it is named for what it is, not as a malformed file.
+    for (const char* name : {"d.ply", "d.off", "d.obj", "d.json", "d.bot"}) {
+        const auto d = dir_ / name;
+        std::filesystem::create_directory(d);
+        ReadOptions o;
+        o.swan_nx = o.swan_ny = 2;
+        o.swan_dx = 1.0;
+        expect_input_error([&] { read_seafloor(d.string(), o); }, {d.string(), "a directory, not a file"});
+    }
 }
 
 // CGAL's OFF scanner casts what it reads to size_t (tests/fuzz): the OFF family is

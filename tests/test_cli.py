@@ -122,6 +122,12 @@ class BadInput(unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             missing = os.path.join(d, "missing.asc")
             self.expect_error(["seafloor", "info", missing], 2, missing, "not found")
+            # A directory is named as one (an ifstream opens it and reads nothing).
+            for name in ["dir.ply", "dir.off", "dir.json"]:
+                folder = os.path.join(d, name)
+                os.mkdir(folder)
+                self.expect_error(["seafloor", "info", folder], 2, folder, "a directory, not a file")
+            self.expect_error(["run", os.path.join(d, "dir.json")], 2, "dir.json", "a directory, not a file")
             bot = os.path.join(d, "x.bot")
             with open(bot, "w") as f:
                 f.write("1 2 3\n")

@@ -45,8 +45,9 @@ void closer_to_segment(double px, double py, const double* a, const double* b, N
 }  // namespace
 
 Seafloor read_contour_file(const std::string& path, const ReadOptions& o) {
+    detail::require_input_file(path);
     std::ifstream in(path);
-    if (!in) throw InputError(path + (detail::path_exists(path) ? ": cannot open the file" : ": file not found"));
+    if (!in) throw InputError(path + ": cannot open the file");
     json doc;
     try {
         doc = json::parse(in);

@@ -24,6 +24,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <system_error>
 #include <vector>
 #include <limits>
 
@@ -123,7 +124,10 @@ void check_off_facets(const std::string& path) {
         for (std::string t; tokens >> t;) counts.push_back(t);
     // Each vertex and facet takes a line: more than the file's bytes is a lie that
     // would keep CGAL reading (or reserving) for ever.
-    const auto bytes = static_cast<long long>(std::filesystem::file_size(path)) + 1;
+    std::error_code size_error;
+    const auto size = std::filesystem::file_size(path, size_error);
+    if (size_error) throw InputError(path + ": cannot tell its size (" + size_error.message() + ")");
+    const auto bytes = static_cast<long long>(size) + 1;
     if (counts.size() != 3 || !whole(counts[0], 0, bytes) || !whole(counts[1], 0, bytes) || !whole(counts[2], 0, LLONG_MAX))
         fail("expected the vertex, facet and edge counts (three whole numbers that fit the file)");
     const long long nv = std::stoll(counts[0]), nf = std::stoll(counts[1]);
@@ -231,7 +235,9 @@ struct PlyElement {
 
 void check_ply(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
-    const auto file_bytes = std::filesystem::file_size(path);
+    std::error_code size_error;
+    const auto file_bytes = std::filesystem::file_size(path, size_error);
+    if (size_error) throw InputError(path + ": cannot tell its size (" + size_error.message() + ")");
     const auto at_line = [&](std::size_t number, const std::string& what) {
         return InputError(path + ": line " + std::to_string(number) + ": " + what);
     };
@@ -377,7 +383,7 @@ void rasterise(const SeafloorMesh& m, ElevationGrid& g, std::vector<char>& cover
 }  // namespace
 
 Seafloor read_mesh_file(const std::string& path, const ReadOptions& o) {
-    if (!detail::path_exists(path)) throw InputError(path + ": file not found");
+    detail::require_input_file(path);
     std::string extension = std::filesystem::path(path).extension().string();
     std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
     if (extension == ".off") check_off_facets(path);

@@ -19,8 +19,9 @@ Seafloor read_swan_bot(const std::string& path, const ReadOptions& o) {
                                 "row, the rows and the spacing (ReadOptions::swan_nx/swan_ny/"
                                 "swan_dx, CLI --swan-grid NX,NY --swan-spacing DX[,DY])");
     if (o.swan_dy < 0.0) throw InputError(path + ": swan_dy must be >= 0 (0 = same as dx)");
+    detail::require_input_file(path);
     std::ifstream in(path);
-    if (!in) throw InputError(path + (detail::path_exists(path) ? ": cannot open the file" : ": file not found"));
+    if (!in) throw InputError(path + ": cannot open the file");
     const std::size_t nx = o.swan_nx, ny = o.swan_ny;
     detail::check_grid_size(path, nx, ny, o);
     std::vector<double> values;

@@ -11,4 +11,9 @@ namespace wave::detail {
 /// Whether `path` names something that exists; false for any path the system refuses.
 bool path_exists(const std::string& path) noexcept;
 
+/// Throws InputError unless `path` names something a reader can open as a file: "file
+/// not found", or "a directory, not a file" (which std::ifstream opens and then reads as
+/// empty, so readers reported an empty or malformed file instead).
+void require_input_file(const std::string& path);
+
 }  // namespace wave::detail

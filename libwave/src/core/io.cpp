@@ -65,4 +65,11 @@ bool path_exists(const std::string& path) noexcept {
     return std::filesystem::exists(path, ec) && !ec;
 }
 
+void require_input_file(const std::string& path) {
+    std::error_code ec;
+    const auto status = std::filesystem::status(path, ec);
+    if (ec || !std::filesystem::exists(status)) throw InputError(path + ": file not found");
+    if (std::filesystem::is_directory(status)) throw InputError(path + ": a directory, not a file");
+}
+
 }  // namespace wave::detail

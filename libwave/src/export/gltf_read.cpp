@@ -292,7 +292,7 @@ StoredAnimation read_glb(const std::string& path) {
     tinygltf::TinyGLTF loader;
     std::string err, warn;
     const bool binary = std::filesystem::path(path).extension() == ".glb";
-    if (!detail::path_exists(path)) throw InputError(path + ": file not found");
+    detail::require_input_file(path);
     std::ifstream in(path, std::ios::binary);
     const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     if (!in.good() && !in.eof()) throw InputError(path + ": cannot read the file");

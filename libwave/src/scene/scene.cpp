@@ -595,8 +595,9 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
 }
 
 Scene read_scene(const std::string& path) {
+    detail::require_input_file(path);
     std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path + (detail::path_exists(path) ? ": cannot open the file" : ": file not found"));
+    if (!in) throw InputError(path + ": cannot open the file");
     std::ostringstream text;
     text << in.rdbuf();
     return parse_scene(text.str(), path, std::filesystem::path(path).parent_path().string());
