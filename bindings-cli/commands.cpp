@@ -651,6 +651,8 @@ json frame_metadata(const std::string& path) {
     if (in.read(head, 20) && std::memcmp(head, "glTF", 4) == 0) {
         std::uint32_t length = 0;
         std::memcpy(&length, head + 12, 4);
+        std::error_code ec;
+        if (length > std::filesystem::file_size(path, ec) || ec) throw InputError(path + ": truncated GLB");  // before allocating it
         text.resize(length);
         if (!in.read(text.data(), length)) throw InputError(path + ": truncated GLB");
     } else {
@@ -658,11 +660,16 @@ json frame_metadata(const std::string& path) {
         in.seekg(0);
         text.assign(std::istreambuf_iterator<char>(in), {});
     }
+    json extras;
     try {
-        return json::parse(text).at("asset").at("extras").at("libwave");
+        extras = json::parse(text).at("asset").at("extras").at("libwave");
     } catch (const json::exception&) {
         throw InputError(path + ": not a frame written by libwave (no asset.extras.libwave)");
     }
+    if (!extras.is_object() || !extras.value("scene", json()).is_string() || !extras.value("fps", json()).is_number() ||
+        !extras.value("loop_frames", json()).is_number_unsigned() || !extras.value("first_frame", json()).is_number_unsigned())
+        throw InputError(path + ": asset.extras.libwave lacks scene, fps, loop_frames or first_frame of the types libwave writes");
+    return extras;
 }
 
 // The slices' reports joined into the report.json of one run over the whole loop: the
@@ -680,7 +687,18 @@ std::vector<std::filesystem::path> join_slice_reports(const std::filesystem::pat
             continue;
         std::ifstream in(e.path());
         json r = json::parse(in, nullptr, false);
-        if (r.is_discarded() || !r.contains("surface")) throw InputError(e.path().string() + ": not a libwave report");
+        // What the join reads, of the types libwave writes.
+        const auto is_report = [](const json& j) {
+            if (!j.is_object() || !j.contains("surface") || !j["surface"].is_object() || !j.contains("outputs") ||
+                !j["outputs"].is_array())
+                return false;
+            const json& s = j["surface"];
+            const json range = s.value("height_range_m", json());
+            return s.value("frames", json()).is_number_unsigned() && range.is_array() && range.size() == 2 &&
+                   range[0].is_number() && range[1].is_number() &&
+                   std::all_of(j["outputs"].begin(), j["outputs"].end(), [](const json& o) { return o.is_string(); });
+        };
+        if (r.is_discarded() || !is_report(r)) throw InputError(e.path().string() + ": not a libwave report");
         slices.emplace(first, std::make_pair(e.path(), std::move(r)));
     }
     std::size_t next = 0;
@@ -758,11 +776,7 @@ int run_merge(const MergeArgs& a) {
     // the slices' own index carried over where the files are the ones it listed.
     const fs::path old_path = fs::path(a.out_dir) / "index.json";
     const FolderLock index_lock(a.out_dir, true, "");  // slices may still be publishing their entries
-    json old = json::object();
-    if (std::ifstream in(old_path); in) {
-        old = json::parse(in, nullptr, false);
-        if (old.is_discarded() || !old.is_object() || !old.contains("frames") || !old["frames"].is_array()) old = json::object();
-    }
+    const json old = read_index(old_path).value_or(json::object());
     std::map<std::size_t, json> old_entries;
     if (old.contains("frames"))
         for (const json& e : old["frames"])

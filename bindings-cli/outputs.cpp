@@ -94,16 +94,23 @@ std::optional<std::string> read_bytes(const fs::path& path) {
     return bytes;
 }
 
-// A frame index, or nothing when there is none or it is not one (an index that cannot be
-// parsed is a reason to recompute, not to stop a resumed run).
+}  // namespace
+
+// An index that cannot be read is a reason to recompute, not to stop a resumed run.
 std::optional<json> read_index(const fs::path& path) {
     const auto bytes = read_bytes(path);
     if (!bytes) return std::nullopt;
     json index = json::parse(*bytes, nullptr, false);
     if (index.is_discarded() || !index.is_object() || !index.contains("frames") || !index["frames"].is_array())
         return std::nullopt;
+    const auto typed = [&](const char* key, bool (json::*is)() const noexcept) { return !index.contains(key) || (index[key].*is)(); };
+    if (!typed("scene", &json::is_string) || !typed("fps", &json::is_number) ||
+        !typed("loop_frames", &json::is_number_unsigned) || !typed("run_key", &json::is_string))
+        return std::nullopt;
     return index;
 }
+
+namespace {
 
 bool same_animation(const json& index, const IndexInfo& info) {
     return index.value("scene", "") == info.name && index.value("fps", 0.0) == info.fps &&
@@ -141,7 +148,7 @@ json merged_index(const std::string& path, const IndexInfo& info, const std::vec
     std::map<std::size_t, json> frames;
     if (fs::exists(path)) {
         const auto old = read_index(path);
-        if (!old) throw InputError(path + ": not a frame index (invalid JSON); use another output folder");
+        if (!old) throw InputError(path + ": not a frame index of libwave (invalid JSON, or fields of other types); use another output folder");
         if (!same_animation(*old, info))
             throw InputError(path + ": the index there belongs to another animation (scene, fps or loop differ); "
                              "use another output folder");

@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -51,6 +52,12 @@ nlohmann::json frame_entry(std::size_t frame, double fps, const Files& frame_fil
 /// Whether every file an entry lists is under `root` with the size and SHA-256 the
 /// entry records (an entry without "content" cannot be verified: false).
 bool entry_intact(const nlohmann::json& entry, const std::filesystem::path& root);
+
+/// The frame index at `path`, or nothing when there is none or it is not one of ours:
+/// not JSON, no "frames" array, or "scene", "fps", "loop_frames", "run_key" of another
+/// type than libwave writes (an index is read back after crashes and by other tools'
+/// hands: a wrong type is "not an index", never an exception from deep inside).
+std::optional<nlohmann::json> read_index(const std::filesystem::path& path);
 
 /// index.json of an animation holding `entries` (frames in order).
 nlohmann::json frame_index(const IndexInfo& info, std::vector<nlohmann::json> entries);

@@ -1057,6 +1057,42 @@ class Resume(unittest.TestCase):
         self.assertEqual(wave("merge", out, "-q").returncode, 0)
         self.assert_same_as(out, self.ref)  # index.json with its run key and checks, report.json
 
+    def test_an_index_or_frame_of_other_types_is_not_read_as_ours(self):
+        """index.json and a frame's asset extras are read back after crashes and can be
+        edited by hand: a field of another type than libwave writes makes them "not
+        ours" (named, exit 2, nothing replaced) or "no index" (wave merge rebuilds it) —
+        never an exception from inside the JSON library (exit 1)."""
+        out = os.path.join(self.d, "out")
+        shutil.copytree(self.ref, out)
+        index_path = os.path.join(out, "index.json")
+        with open(index_path) as f:
+            index = json.load(f)
+        for key, value in [("fps", "120"), ("run_key", 5), ("loop_frames", -600), ("scene", ["resume"])]:
+            with open(index_path, "w") as f:
+                json.dump({**index, key: value}, f)
+            before = CrashSafety.final_files(out)
+            r = wave("run", self.scene, "--form", "files", "-o", out, "--resume")
+            self.assertEqual(r.returncode, 2, f"{key}: {r.stderr}")
+            self.assertIn(index_path + ": not a frame index of libwave", r.stderr)
+            self.assertEqual(CrashSafety.final_files(out), before)
+            self.assertEqual([n for n in os.listdir(out) if n.startswith(".wave-")], [])
+            # merge indexes what is there: the frames' own files, without the unreadable run key.
+            r = wave("merge", out)
+            self.assertEqual(r.returncode, 0, f"{key}: {r.stderr}")
+            with open(index_path) as f:
+                merged = json.load(f)
+            self.assertEqual(len(merged["frames"]), self.FRAMES)
+            self.assertNotIn("run_key", merged)
+            self.assertEqual([e["content"] for e in merged["frames"]], [e["content"] for e in index["frames"]], key)
+        # A frame whose asset extras have a string for the fps (same length: the GLB stays whole).
+        frame = os.path.join(out, "frames", "frame-0007.glb")
+        data = pathlib.Path(frame).read_bytes()
+        self.assertIn(b'"fps":120.0', data)
+        pathlib.Path(frame).write_bytes(data.replace(b'"fps":120.0', b'"fps":"120"', 1))
+        r = wave("merge", out)
+        self.assertEqual(r.returncode, 2, r.stderr)
+        self.assertIn(frame + ": asset.extras.libwave lacks scene, fps, loop_frames or first_frame", r.stderr)
+
     def test_resume_is_refused_for_the_single_file_forms(self):
         r = wave("run", self.scene, "--form", "morph", "-o", os.path.join(self.d, "m"), "--resume")
         self.assertEqual(r.returncode, 2)
