@@ -378,6 +378,19 @@ TEST_F(Scratch, PlyIsWalkedBeforeCgalReadsIt) {
         EXPECT_EQ(s.mesh.triangles, plane.mesh.triangles) << path;
         EXPECT_EQ(s.mesh.xyz, plane.mesh.xyz) << path;
     }
+    // What other tools write: CRLF lines, obj_info, normals, colours, texture coordinates,
+    // a leading '+', an edge element, 'vertex_index' with uint32 indices (MeshLab, Blender).
+    const std::string rich = write("rich.ply",
+        "ply\r\nformat ascii 1.0\r\ncomment made by hand\r\nobj_info a plane\r\nelement vertex 4\r\n"
+        "property float x\r\nproperty float y\r\nproperty float z\r\nproperty float nx\r\nproperty float ny\r\n"
+        "property float nz\r\nproperty uchar red\r\nproperty uchar green\r\nproperty uchar blue\r\n"
+        "property float s\r\nproperty float t\r\nelement face 2\r\nproperty list uint8 uint32 vertex_index\r\n"
+        "element edge 1\r\nproperty int vertex1\r\nproperty int vertex2\r\nend_header\r\n"
+        "0 0 -1 0 0 1 255 0 0 0 0\r\n10 0 -3 0 0 1 0 255 0 1 0\r\n+10 6 -3 0 0 1 0 0 255 1 1\r\n"
+        "0 6 -1.0e0 0 0 1 9 9 9 0 1\r\n3 0 1 2\r\n3 0 2 3\r\n0 1\r\n");
+    const Seafloor from_rich = read_seafloor(rich);
+    EXPECT_EQ(from_rich.mesh.triangles, plane.mesh.triangles);
+    EXPECT_EQ(from_rich.mesh.xyz, plane.mesh.xyz);
     const std::string vertices = "0 0 -1\n10 0 -3\n10 6 -3\n0 6 -1\n";
     const std::string int_counts = "element vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
                                    "element face 2\nproperty list int int vertex_indices\nend_header\n";

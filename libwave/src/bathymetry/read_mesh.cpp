@@ -304,6 +304,7 @@ void check_ply(const std::string& path) {
             if (!(in >> token)) ends();
             const char* first = token.data();
             const char* last = first + token.size();
+            if (token.size() > 1 && token[0] == '+' && token[1] != '-') ++first;  // a sign CGAL's >> reads, from_chars does not
             if (!t.integer) {
                 double d = 0.0;
                 const auto [end, ec] = std::from_chars(first, last, d);
