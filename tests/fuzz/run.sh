@@ -21,7 +21,7 @@ if [[ ${1:-} == --ci ]]; then ci=1; seconds=${FUZZ_CI_SECONDS:-60}; shift
 elif [[ ${1:-} == --runs ]]; then runs=${2:?--runs needs a count}; seconds=0; shift 2
 else seconds=${1:-60}; shift || true; fi
 targets=("$@")
-((${#targets[@]})) || targets=(fuzz_scene fuzz_swan_bot fuzz_contours fuzz_raster fuzz_mesh fuzz_mesh_off fuzz_gltf)
+((${#targets[@]})) || targets=(fuzz_scene fuzz_swan_bot fuzz_contours fuzz_raster fuzz_mesh fuzz_mesh_off fuzz_gltf fuzz_index)
 
 scripts/install-deps.sh --tests >&2
 cmake --preset fuzz >/dev/null
@@ -48,6 +48,7 @@ seed fuzz_raster tests/fuzz/seeds/raster/*
 seed fuzz_mesh tests/fuzz/seeds/mesh/*
 seed fuzz_mesh_off tests/fuzz/seeds/mesh/*.off
 seed fuzz_gltf tests/fuzz/seeds/gltf/*
+seed fuzz_index tests/fuzz/seeds/index/*
 
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:allocator_may_return_null=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
