@@ -320,6 +320,7 @@ TEST_F(Scratch, OffIsPlainlyOffBeforeCgalReadsIt) {
         {"two.off", "OFF\n4 2\n", "line 2: expected the vertex, facet and edge counts"},
         {"float.off", "OFF\n4.5 2 0\n", "line 2: expected the vertex, facet and edge counts"},
         {"huge.off", "OFF\n4 99999999 0\n", "line 2: expected the vertex, facet and edge counts"},
+        {"edges.off", "OFF\n4 2 0001557324494\n", "line 2: expected the vertex, facet and edge counts"},
         {"short.off", "OFF\n4 2 0\n0 0 -1\n10 0\n", "line 4: vertex 2 has 2 numbers where OFF needs 3"},
         {"texture.off", "STCOFF\n4 2 0\n0 0 -1 0.5\n", "line 3: vertex 1 has 4 numbers where STCOFF needs 5"},
         {"st.off", "STOFF\n4 2 0\n0 0 -1 0.5 0.5\n", "line 1: 'STOFF': CGAL 5.5 cannot read texture coordinates without colours"},
@@ -404,6 +405,14 @@ TEST_F(Scratch, PlyIsWalkedBeforeCgalReadsIt) {
         const char* named;
     } refused[] = {
         {"format.ply", "ply\nformat text 1.0\n" + header, "line 2: the PLY format 'text' is none of ascii"},
+        // Types CGAL would dereference as others (a segfault in release builds).
+        {"int.ply", "ply\nformat ascii 1.0\nelement vertex 4\nproperty int x\nproperty int y\nproperty int z\nend_header\n",
+         "PLY element 'vertex': property 'x' must be a float or double (a coordinate)"},
+        {"colour.ply", "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                       "property uchar red\nproperty float green\nproperty uchar g\nproperty uchar blue\nend_header\n",
+         "PLY element 'vertex': property 'green' must be a uchar, as red is (a colour channel)"},
+        {"halfedge.ply", "ply\nformat ascii 1.0\nelement halfedge 1\nproperty float source\nproperty uint target\nend_header\n0 1\n",
+         "PLY element 'halfedge': property 'source' must be a uint (a vertex number)"},
         {"blank.ply", "ply\nformat ascii 1.0\n\n" + header, "line 3: an empty line in the PLY header"},
         {"ends.ply", "ply\nformat ascii 1.0\n" + header + vertices + "3 0 1 2\n",
          "PLY element 'face' 2 of 2, property 'vertex_indices': the file ends before its data"},

@@ -20,10 +20,12 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <system_error>
 #include <vector>
 #include <limits>
@@ -128,7 +130,10 @@ void check_off_facets(const std::string& path) {
     const auto size = std::filesystem::file_size(path, size_error);
     if (size_error) throw InputError(path + ": cannot tell its size (" + size_error.message() + ")");
     const auto bytes = static_cast<long long>(size) + 1;
-    if (counts.size() != 3 || !whole(counts[0], 0, bytes) || !whole(counts[1], 0, bytes) || !whole(counts[2], 0, LLONG_MAX))
+    // CGAL reads the edge count into an int and doubles it (signed overflow past 2^30;
+    // tests/fuzz/regressions/fuzz_mesh_off): it must fit the file too.
+    const long long edges_limit = std::min<long long>(bytes, INT_MAX / 2);
+    if (counts.size() != 3 || !whole(counts[0], 0, bytes) || !whole(counts[1], 0, bytes) || !whole(counts[2], 0, edges_limit))
         fail("expected the vertex, facet and edge counts (three whole numbers that fit the file)");
     const long long nv = std::stoll(counts[0]), nf = std::stoll(counts[1]);
     // CGAL indexes a vertex line's leading numbers without a bounds check: coordinates
@@ -286,6 +291,39 @@ void check_ply(const std::string& path) {
             const PlyType* value = ply_type(value_type);
             if (count && count->integer && value) elements.back().properties.push_back({name, count, value});
         }
+    }
+
+    // CGAL then takes values by name and dereferences a null pointer (an assertion in
+    // debug builds, a segfault in release ones) when the property it names has another
+    // type than it expects (found by fuzz_mesh): a vertex's x, y, z must be float or
+    // double; the colour it picks, when every channel is a uchar under one of its names,
+    // uchar under the names it then reads; a halfedge's source and target uint.
+    for (const PlyElement& e : elements) {
+        const auto find = [&](const char* name) -> const PlyProperty* {
+            for (const PlyProperty& p : e.properties)
+                if (p.name == name) return &p;  // CGAL takes the first of a name
+            return nullptr;
+        };
+        const auto scalar_of = [&](const char* name, std::initializer_list<std::string_view> types) {
+            const PlyProperty* p = find(name);
+            return p && !p->count && std::find(types.begin(), types.end(), p->value->name) != types.end();
+        };
+        const auto need = [&](std::initializer_list<const char*> names, std::initializer_list<std::string_view> types,
+                              const std::string& what) {
+            for (const char* name : names)
+                if (find(name) && !scalar_of(name, types))
+                    throw InputError(path + ": PLY element '" + printable(e.name) + "': property '" + name + "' must be " + what);
+        };
+        const bool vertex = e.name == "vertex" || e.name == "vertices";
+        if (vertex) need({"x", "y", "z"}, {"float", "double"}, "a float or double (a coordinate)");
+        if (vertex || e.name == "face" || e.name == "faces") {
+            const auto uchar = [&](const char* name) { return scalar_of(name, {"uchar"}); };
+            if ((uchar("red") || uchar("r")) && (uchar("green") || uchar("g")) && (uchar("blue") || uchar("b"))) {
+                if (uchar("red")) need({"green", "blue"}, {"uchar"}, "a uchar, as red is (a colour channel)");
+                else need({"g", "b"}, {"uchar"}, "a uchar, as r is (a colour channel)");
+            }
+        }
+        if (e.name == "halfedge") need({"source", "target"}, {"uint"}, "a uint (a vertex number)");
     }
 
     // The data, read as CGAL reads it: straight after the header's last line.
