@@ -126,10 +126,7 @@ void check_off_facets(const std::string& path) {
         for (std::string t; tokens >> t;) counts.push_back(t);
     // Each vertex and facet takes a line: more than the file's bytes is a lie that
     // would keep CGAL reading (or reserving) for ever.
-    std::error_code size_error;
-    const auto size = std::filesystem::file_size(path, size_error);
-    if (size_error) throw InputError(path + ": cannot tell its size (" + size_error.message() + ")");
-    const auto bytes = static_cast<long long>(size) + 1;
+    const auto bytes = static_cast<long long>(detail::input_file_bytes(path)) + 1;
     // CGAL reads the edge count into an int and doubles it (signed overflow past 2^30;
     // tests/fuzz/regressions/fuzz_mesh_off): it must fit the file too.
     const long long edges_limit = std::min<long long>(bytes, INT_MAX / 2);
@@ -240,9 +237,7 @@ struct PlyElement {
 
 void check_ply(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
-    std::error_code size_error;
-    const auto file_bytes = std::filesystem::file_size(path, size_error);
-    if (size_error) throw InputError(path + ": cannot tell its size (" + size_error.message() + ")");
+    const auto file_bytes = detail::input_file_bytes(path);
     const auto at_line = [&](std::size_t number, const std::string& what) {
         return InputError(path + ": line " + std::to_string(number) + ": " + what);
     };

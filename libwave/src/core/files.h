@@ -4,6 +4,7 @@
 // simply does not name a readable file.
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 namespace wave::detail {
@@ -15,5 +16,9 @@ bool path_exists(const std::string& path) noexcept;
 /// not found", or "a directory, not a file" (which std::ifstream opens and then reads as
 /// empty, so readers reported an empty or malformed file instead).
 void require_input_file(const std::string& path);
+
+/// The size of the file at `path` in bytes; InputError naming the path and the system's
+/// reason if it cannot be told. Readers bound counts read from a header by it.
+std::uintmax_t input_file_bytes(const std::string& path);
 
 }  // namespace wave::detail

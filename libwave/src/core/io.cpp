@@ -72,4 +72,11 @@ void require_input_file(const std::string& path) {
     if (std::filesystem::is_directory(status)) throw InputError(path + ": a directory, not a file");
 }
 
+std::uintmax_t input_file_bytes(const std::string& path) {
+    std::error_code ec;
+    const auto bytes = std::filesystem::file_size(path, ec);
+    if (ec) throw InputError(path + ": cannot tell its size (" + ec.message() + ")");
+    return bytes;
+}
+
 }  // namespace wave::detail
