@@ -2,7 +2,6 @@
 // libwave and print what it returns.
 #include "commands.h"
 #include "outputs.h"
-#include "scene_schema.h"
 
 #include "libwave/errors.h"
 #include "libwave/io.h"
@@ -319,7 +318,17 @@ int run_job(const RunArgs& a) {
     const bool strips = scene.surface_kind == SurfaceKind::ray_strips;
 
     const auto t0 = Clock::now();
-    const ScenePlan plan = plan_scene(scene);
+    ScenePlan plan = plan_scene(scene, PlanStages::surface);
+    const double max_bytes = a.max_memory_gb * 1e9;
+    const bool files_form = scene.form == Scene::Form::files;
+    const std::size_t loop_frames = scene_loop_frames(scene, plan);
+    if (!a.slice.empty()) range = slice_frames(a.slice, loop_frames);
+    {  // the run's limits, before /refine's subdivision (which alone can take gigabytes)
+        const RunEstimate e = estimate_run(scene, plan);
+        const std::size_t in_range = range.first < std::min(range.end, loop_frames) ? std::min(range.end, loop_frames) - range.first : 0;
+        check_run_limits(scene, e, files_form ? std::min(files_form_chunk(e, max_bytes), in_range) : in_range, max_bytes);
+    }
+    refine_scene_plan(scene, plan);
     const auto t1 = Clock::now();
 
     // A progress bar on stderr when it is a terminal.
@@ -331,13 +340,9 @@ int run_job(const RunArgs& a) {
                   << std::string(static_cast<std::size_t>(width - filled), ' ') << "] " << done << "/" << total
                   << (done == total ? "\n" : "") << std::flush;
     };
-    const std::size_t loop_frames = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(plan.loop_period * scene.fps)));
-    if (!a.slice.empty()) range = slice_frames(a.slice, loop_frames);
-    const bool files_form = scene.form == Scene::Form::files;
     if (a.resume && !files_form)
         throw InputError("--resume continues a run of the files form (one file per frame); this run's form is " +
                          std::string(scene.form == Scene::Form::nodes ? "nodes" : "morph"));
-    const double max_bytes = a.max_memory_gb * 1e9;
     // The files form computes and writes a chunk of frames at a time (a killed run can
     // resume); `anim` then holds the range's first frame only (sizes, the OBJ). The
     // single-file forms hold every frame of the range.
@@ -569,7 +574,7 @@ int run_job(const RunArgs& a) {
     return 0;
 }
 
-int run_validate(const std::string& path, bool as_json) {
+int run_validate(const std::string& path, bool as_json, double max_memory_gb) {
     const Scene scene = read_scene(path);
     const Seafloor sea = scene_seafloor(scene);
     const auto camera = scene_camera(scene, sea);
@@ -578,9 +583,12 @@ int run_validate(const std::string& path, bool as_json) {
                        : scene.surface_kind == SurfaceKind::ocean    ? "ocean"
                                                                      : "height-field";
     // The plan (tracing, surfaces; every limit is checked here, before the frames) gives
-    // what a run would hold and write.
-    const ScenePlan plan = plan_scene(scene);
+    // what a run would hold and write; /refine's subdivision is predicted, not built, and
+    // the run's own limits are checked as `wave run` checks them.
+    const ScenePlan plan = plan_scene(scene, PlanStages::surface);
     const RunEstimate e = estimate_run(scene, plan);
+    const double max_bytes = max_memory_gb * 1e9;
+    check_run_limits(scene, e, scene.form == Scene::Form::files ? files_form_chunk(e, max_bytes) : e.frames, max_bytes);
     const char* form = scene.form == Scene::Form::files ? "files" : scene.form == Scene::Form::nodes ? "nodes" : "morph";
     if (as_json) {
         std::cout << json{{"scene", scene.name}, {"valid", true}, {"surface", kind}, {"waves", scene.waves.size()},
@@ -839,7 +847,7 @@ int run_preview(const PreviewArgs& a) {
 }
 
 int run_schema() {
-    std::cout << kSceneSchema;
+    std::cout << scene_schema();
     return 0;
 }
 

@@ -137,7 +137,7 @@ int run_merge(const MergeArgs& a);
 
 /// Checks a scene file (JSON, keys, values, the seafloor source, the camera) without
 /// running it; prints what it would do.
-int run_validate(const std::string& scene, bool json);
+int run_validate(const std::string& scene, bool json, double max_memory_gb);
 
 /// Prints the scene JSON Schema (docs/scene.schema.json).
 int run_schema();

@@ -163,6 +163,9 @@ int main(int argc, char** argv) {
     auto* validate_cmd = app.add_subcommand("validate", "Check a scene file (keys, values, seafloor, camera) without running it");
     validate_cmd->add_option("scene", validate_scene, "scene file (JSON)")->required();
     validate_cmd->add_flag("--json", validate_json, "print the result as JSON");
+    double validate_max_memory_gb = cli::RunArgs{}.max_memory_gb;
+    validate_cmd->add_option("--max-memory-gb", validate_max_memory_gb, "the limit `wave run --max-memory-gb` would apply (GB)")
+        ->check(positive)->capture_default_str();
     auto* schema_cmd = app.add_subcommand("schema", "Print the scene file's JSON Schema");
 
     cli::TraceArgs trace;
@@ -235,7 +238,7 @@ int main(int argc, char** argv) {
             if (batch_quantize) batch.run_args.push_back("--quantize");
             return cli::run_batch(batch);
         }
-        if (*validate_cmd) return cli::run_validate(validate_scene, validate_json);
+        if (*validate_cmd) return cli::run_validate(validate_scene, validate_json, validate_max_memory_gb);
         if (*schema_cmd) return cli::run_schema();
         if (*trace_cmd) return cli::run_trace(trace);
         if (*disp_cmd) return cli::run_dispersion(disp);

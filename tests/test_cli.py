@@ -1229,13 +1229,16 @@ class Limits(unittest.TestCase):
         # 10^9 rays: a ray spacing of 0.1 µm over the 100 m bay.
         err = self.run_limited({"waves": wave_train, "trace": {"ray_spacing": 1e-7}})
         self.assertIn("more than the limit of 1000000 (max_rays", err)
-        # 10^6 frames.
+        # 200 000 fps: out of the schema's range.
         err = self.run_limited({"waves": wave_train, "animation": {"fps": 200000}})
-        self.assertIn("the loop holds 1000000 frames", err)
+        self.assertIn("/animation/fps: expected a number in (0, 1000] (frames per second), got 200000", err)
+        # More frames than max_frames.
+        err = self.run_limited({"waves": wave_train, "animation": {"fps": 1000, "max_frames": 1000}})
+        self.assertIn("the loop holds 5000 frames", err)
         self.assertIn("raise /animation/max_frames", err)
         # A subdivision level of 20.
         err = self.run_limited({"waves": wave_train, "refine": {"level": 20}})
-        self.assertIn("/refine/level: expected 1 … 6 levels", err)
+        self.assertIn("/refine/level: expected a whole number in [1, 6], got 20", err)
         # 10^9 surface vertices (a 40 000² control grid).
         err = self.run_limited({"waves": wave_train, "surface": {"kind": "height-field", "grid": [40000, 40000]}})
         self.assertIn("exceed max_vertices", err)

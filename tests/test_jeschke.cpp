@@ -246,7 +246,7 @@ TEST(JeschkeBreakers, SceneErrorsNameTheKey) {
     EXPECT_NE(message(R"({"waves": [{"period": 5, "amplitude": 0.3}], "breakers": "gonzato"})").find("expected one of jeschke"),
               std::string::npos);
     EXPECT_NE(message(R"({"waves": [{"period": 5, "amplitude": 0.3}], "breakers": {"breaking_share": 2}})")
-                  .find("/breakers/breaking_share: expected a number in [0.01, 0.99], got 2"),
+                  .find("/breakers/breaking_share: expected a number in [0.01, 0.99] (share of the surf zone), got 2"),
               std::string::npos);
     EXPECT_NE(message(R"({"waves": [{"period": 5, "amplitude": 0.3}], "breakers": {"curl": 1}})").find("/breakers/curl: unknown key"),
               std::string::npos);

@@ -109,6 +109,10 @@ enum class NodataPolicy {
     error,  ///< reading fails with an InputError naming the first such node
 };
 
+/// Largest |elevation| (m) a reader accepts after scaling: the deepest trench is 11 km,
+/// the highest summit 9 km; a value past 100 km is a damaged file or a missing NODATA.
+inline constexpr double kMaxElevation = 1e5;
+
 /// Options for read_seafloor. Every value has a default that suits the common case.
 struct ReadOptions {
     /// Sign of the stored values. Empty = the format's convention (elevation for GDAL

@@ -111,8 +111,14 @@ struct Scene {
 Scene default_scene();
 
 /// Parses a scene from JSON text. `origin` names the file in messages; `base_dir` is
-/// where relative seafloor paths are resolved. Unknown keys are errors (typos).
+/// where relative seafloor paths are resolved. Unknown keys are errors (typos); every
+/// number must lie in the range scene_schema() gives its key, text nested deeper than
+/// 64 levels is refused before parsing.
 Scene parse_scene(std::string_view json_text, const std::string& origin, const std::string& base_dir);
+
+/// The scene file's JSON Schema (docs/scene.schema.json): keys, types, defaults and the
+/// valid range of every number — the ranges parse_scene enforces.
+std::string_view scene_schema();
 
 /// Reads and parses a scene file.
 Scene read_scene(const std::string& path);
@@ -164,10 +170,17 @@ struct ScenePlan {
 /// Throws InputError when the Bresenham footprint is asked for with fewer than one
 /// orthogonal per grid line (Ts'o's minimum: the grid would have holes), or when ray
 /// strips are asked for with other than one wave train.
-/// How far plan_scene goes: through the tracing only (what `wave trace` needs), or
-/// through the surface and motion plans as well.
-enum class PlanStages { trace, all };
+/// How far plan_scene goes: through the tracing only (what `wave trace` needs); through
+/// the surface and motion plans (`surface`: enough for estimate_run, without /refine's
+/// subdivision, which can take gigabytes); or all of it (`all` = `surface`, then
+/// refine_scene_plan).
+enum class PlanStages { trace, surface, all };
 ScenePlan plan_scene(const Scene& scene, PlanStages stages = PlanStages::all);
+
+/// The explicit last planning step: /refine's subdivision of the planned surface (a
+/// no-op without /refine). Call it after estimate_run and check_run_memory have found
+/// the run affordable; plan_scene(…, PlanStages::all) calls it itself.
+void refine_scene_plan(const Scene& scene, ScenePlan& plan);
 
 /// Every frame of one animation loop of a planned scene, ready for an exporter.
 struct SceneAnimation {
@@ -216,7 +229,20 @@ struct RunEstimate {
     std::size_t vertices = 0, triangles = 0, frames = 0;
     double frame_array_bytes = 0.0, output_bytes = 0.0, peak_memory_bytes = 0.0;
 };
+/// Frames in one loop of the planned animation: round(loop period · fps), at least 1
+/// (SIZE_MAX when it does not fit; /animation/max_frames refuses it).
+std::size_t scene_loop_frames(const Scene& scene, const ScenePlan& plan);
+
+/// Also for a plan of PlanStages::surface: /refine's vertex count is then predicted from
+/// the coarse triangles (uniform subdivision's count; an upper bound for adaptive).
 RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan);
+
+/// The limits of a run, checked by `wave validate`, by `wave run` before the refinement
+/// is planned, and by animate_scene: the loop's estimate.frames within
+/// /animation/max_frames, and the per-frame arrays of the `frames` held at once of the
+/// estimate's surface within `max_bytes`. LimitError naming the scene keys that shrink
+/// it and `wave run --max-memory-gb`.
+void check_run_limits(const Scene& scene, const RunEstimate& estimate, std::size_t frames, double max_bytes);
 
 /// How many frames the `files` form computes, writes and indexes at a time: it never
 /// holds the whole loop (a killed run loses at most one chunk; `wave run --resume`

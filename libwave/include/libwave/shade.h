@@ -105,8 +105,11 @@ struct FoldFoamOptions {
     double softness = 0.3;       ///< full foam at J₋ = threshold − softness (> 0)
     double fade_time = 1.5;      ///< s: e-folding time of the fade
     double window = 4.5;         ///< s: foam older than this is gone (the fade reaches 0 there)
-    double lattice_step = 0.25;  ///< s: spacing of the past times looked at (<= window)
+    double lattice_step = 0.25;  ///< s: spacing of the past times looked at (<= window, >= window / 256)
 };
+
+/// Most past times a frame's fold foam looks back at (window / lattice_step).
+inline constexpr double kMaxFoldLatticeTimes = 256;
 
 /// coverage(J₋) in [0, 1].
 double fold_coverage(double j_minus, const FoldFoamOptions& options) noexcept;

@@ -141,6 +141,11 @@ struct Refinement {
     std::size_t triangle_count() const noexcept { return triangles.size() / 3; }
 };
 
+/// Triangles a uniform refinement of `coarse_triangles` by `options` makes (Catmull–
+/// Clark's quads counted as two), without building it: an upper bound for adaptive
+/// refinement. About half as many vertices. Saturates instead of overflowing.
+double refined_triangle_estimate(std::size_t coarse_triangles, const RefineOptions& options) noexcept;
+
 /// Throws InputError for a level outside 1 … 6, an index out of range, or a topology
 /// OpenSubdiv rejects (non-manifold), and LimitError when the refined mesh would
 /// exceed `max_vertices` (naming the level that fits).

@@ -129,6 +129,9 @@ struct FrontOptions {
     double max_turn = 2.0 * 3.141592653589793;
     std::size_t max_rays = 200'000;   ///< guard rail on live + inserted rays
     std::size_t max_steps = 100'000;  ///< guard rail on fronts
+    /// Guard rail on the points of all fronts together (the strips' vertices): rays ×
+    /// steps, which max_rays and max_steps bound only one at a time (~100 bytes each).
+    std::size_t max_points = 10'000'000;
     double breaker_index = kBreakerIndex;  ///< amplitude cap γ h / 2
     DispersionOptions dispersion{};
 };

@@ -3,6 +3,7 @@
 #include "libwave/bathymetry.h"
 #include "libwave/errors.h"
 #include "core/files.h"
+#include "core/json_input.h"
 
 #include <nlohmann/json.hpp>
 
@@ -21,7 +22,7 @@ double number_at(const json& v, const std::string& path, const std::string& poin
                  const char* what) {
     if (!v.is_number())
         throw InputError(path + ": " + pointer + ": expected a number (" + what + "), got " +
-                         v.dump());
+                         detail::brief_json(v));
     const double d = v.get<double>();
     if (!std::isfinite(d)) throw InputError(path + ": " + pointer + ": value is not finite");
     return d;
@@ -46,16 +47,11 @@ void closer_to_segment(double px, double py, const double* a, const double* b, N
 
 Seafloor read_contour_file(const std::string& path, const ReadOptions& o) {
     detail::require_input_file(path);
-    std::ifstream in(path);
+    std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(path + ": cannot open the file");
-    json doc;
-    try {
-        doc = json::parse(in);
-    } catch (const json::parse_error& e) {
-        throw InputError(path + ": not valid JSON (byte " + std::to_string(e.byte) + "): " + e.what());
-    } catch (const json::exception& e) {  // out_of_range: a number too large for a double (tests/fuzz)
-        throw InputError(path + ": not valid JSON: " + e.what());
-    }
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (in.bad()) throw InputError(path + ": cannot read the file");
+    const json doc = detail::parse_json_input(text, path);
     if (!doc.is_object() || !doc.contains("contours") || !doc["contours"].is_array())
         throw InputError(path + ": /contours: expected an array of {\"depth\": …, \"points\": [[x, y], …]}");
     ValueSign sign = o.sign.value_or(ValueSign::depth);
@@ -63,7 +59,7 @@ Seafloor read_contour_file(const std::string& path, const ReadOptions& o) {
         const json& sv = doc["sign"];
         if (sv == "depth") sign = ValueSign::depth;
         else if (sv == "elevation") sign = ValueSign::elevation;
-        else throw InputError(path + ": /sign: expected \"depth\" or \"elevation\", got " + sv.dump());
+        else throw InputError(path + ": /sign: expected \"depth\" or \"elevation\", got " + detail::brief_json(sv));
     }
     const json& list = doc["contours"];
     if (list.empty()) throw InputError(path + ": /contours: the list is empty");
@@ -87,7 +83,7 @@ Seafloor read_contour_file(const std::string& path, const ReadOptions& o) {
         for (std::size_t k = 0; k < pts.size(); ++k) {
             const std::string pk = at + "/points/" + std::to_string(k);
             if (!pts[k].is_array() || pts[k].size() != 2)
-                throw InputError(path + ": " + pk + ": expected [x, y], got " + pts[k].dump());
+                throw InputError(path + ": " + pk + ": expected [x, y], got " + detail::brief_json(pts[k]));
             c.xy.push_back(number_at(pts[k][0], path, pk + "/0", "metres") * o.horizontal_scale);
             c.xy.push_back(number_at(pts[k][1], path, pk + "/1", "metres") * o.horizontal_scale);
         }

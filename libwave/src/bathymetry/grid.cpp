@@ -134,14 +134,24 @@ void check_grid_size(const std::string& path, std::size_t nx, std::size_t ny,
                          " (ReadOptions::max_nodes, CLI --max-nodes)");
 }
 
-std::size_t nodes_along(const std::string& path, double extent, double spacing, std::size_t extra,
-                        const ReadOptions& options) {
-    const double n = std::floor(extent / spacing) + 1.0 + static_cast<double>(extra);
+namespace {
+std::size_t checked_nodes(const std::string& path, double n, double extent, double spacing, const ReadOptions& options) {
     if (!(n <= static_cast<double>(options.max_nodes)))  // also NaN and infinity
         throw LimitError(path + ": a grid spacing of " + format_number(spacing) + " m over " + format_number(extent) +
                          " m needs more nodes than the limit of " + std::to_string(options.max_nodes) +
                          " (ReadOptions::max_nodes, CLI --max-nodes; or a coarser --spacing)");
     return static_cast<std::size_t>(n);
+}
+}  // namespace
+
+std::size_t nodes_along(const std::string& path, double extent, double spacing, std::size_t extra,
+                        const ReadOptions& options) {
+    return checked_nodes(path, std::floor(extent / spacing) + 1.0 + static_cast<double>(extra), extent, spacing, options);
+}
+
+std::size_t nodes_spanning(const std::string& path, double extent, double spacing, const ReadOptions& options) {
+    // A ratio a rounding error above a whole number (100 / (100/11)) needs no extra node.
+    return checked_nodes(path, std::ceil(extent / spacing * (1.0 - 1e-12)) + 1.0, extent, spacing, options);
 }
 
 std::size_t convert_to_elevation(std::vector<double>& values, std::optional<double> nodata,
@@ -165,9 +175,13 @@ std::size_t convert_to_elevation(std::vector<double>& values, std::optional<doub
         }
         if (!std::isfinite(v))
             throw InputError(path + ": " + where(n % nx, n / nx) + " holds " + format_number(v) +
-                             ", not a finite elevation; mark missing values with the "
-                             "file's NODATA value");
-        values[n] = s * (v * o.vertical_scale + o.vertical_offset);
+                             ", not a finite elevation; mark missing values with the file's NODATA value");
+        const double z = s * (v * o.vertical_scale + o.vertical_offset);
+        if (!(std::abs(z) <= kMaxElevation))
+            throw InputError(path + ": " + where(n % nx, n / nx) + " holds " + format_number(v) + ", an elevation of " +
+                             format_number(z) + " m, beyond ±" + format_number(kMaxElevation) +
+                             " m; mark missing values with the file's NODATA value (a damaged file reads as huge values)");
+        values[n] = z;
     }
     return count;
 }

@@ -25,6 +25,11 @@ void check_grid_size(const std::string& path, std::size_t nx, std::size_t ny,
 std::size_t nodes_along(const std::string& path, double extent, double spacing, std::size_t extra,
                         const ReadOptions& options);
 
+/// Nodes that span `extent` at `spacing` or a little less: ceil(extent / spacing) + 1,
+/// the first node on one end of the extent and the last on the other once the spacing is
+/// shrunk to extent / (nodes − 1). Refused as nodes_along.
+std::size_t nodes_spanning(const std::string& path, double extent, double spacing, const ReadOptions& options);
+
 /// Converts raw values (grid order, j = 0 south) in place into elevations:
 /// NODATA nodes (== nodata, or flagged in `missing`) are filled per the policy and
 /// counted; NaN/Inf throws InputError naming the file and node; the rest become

@@ -14,8 +14,12 @@
 #include <ogr_spatialref.h>
 
 #include <algorithm>
+#include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <mutex>
 #include <numbers>
@@ -50,6 +54,43 @@ public:
 using DatasetPtr = std::unique_ptr<GDALDataset, void (*)(GDALDataset*)>;
 DatasetPtr adopt(GDALDatasetH h) {
     return DatasetPtr(GDALDataset::FromHandle(h), [](GDALDataset* d) { GDALClose(d); });
+}
+
+// GDAL's ESRI ASCII reader turns a token it cannot read ("abc", "nan") into 0 or −0
+// without a word, which raised crests from 0.32 m to 1.99 m: every value token must be
+// a whole finite number (or the header's NODATA text) before GDAL reads the values.
+void check_ascii_grid_tokens(const std::string& path, std::size_t nx, std::size_t ny) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return;  // GDAL read it; a later RasterIO reports what is wrong
+    static const std::vector<std::string> keys = {"ncols", "nrows", "xllcorner", "yllcorner", "xllcenter", "yllcenter",
+                                                  "cellsize", "dx", "dy", "nodata_value"};
+    const auto lower = [](std::string s) {
+        for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        return s;
+    };
+    std::string token, nodata_text;
+    std::size_t n = 0;
+    bool header = true;
+    while (in >> token) {
+        if (header && std::find(keys.begin(), keys.end(), lower(token)) != keys.end()) {
+            const std::string key = lower(token);
+            if (!(in >> token)) break;
+            if (key == "nodata_value") nodata_text = token;
+            continue;
+        }
+        header = false;
+        if (n >= nx * ny) return;  // trailing text: GDAL's business
+        const std::size_t row = n / nx + 1, column = n % nx + 1;
+        ++n;
+        if (token == nodata_text) continue;
+        char* end = nullptr;
+        errno = 0;
+        const double v = std::strtod(token.c_str(), &end);
+        if (end != token.c_str() + token.size() || !std::isfinite(v) || errno == ERANGE)
+            throw InputError(path + ": row " + std::to_string(row) + ", column " + std::to_string(column) + " holds '" +
+                             (token.size() > 24 ? token.substr(0, 24) + "…" : token) +
+                             "', not a finite number; mark missing values with the NODATA_value");
+    }
 }
 
 DatasetPtr open_raster(const std::string& name, const std::string& path) {
@@ -229,6 +270,7 @@ Seafloor read_raster_gdal(const std::string& path, const ReadOptions& options) {
     detail::check_grid_size(path, nx, ny, options);
 
     GDALRasterBand* band = ds->GetRasterBand(1);
+    if (ds->GetDriver() && std::string_view(ds->GetDriver()->GetDescription()) == "AAIGrid") check_ascii_grid_tokens(path, nx, ny);
     std::vector<double> rows(nx * ny);
     if (band->RasterIO(GF_Read, 0, 0, static_cast<int>(nx), static_cast<int>(ny), rows.data(),
                        static_cast<int>(nx), static_cast<int>(ny), GDT_Float64, 0, 0) != CE_None)

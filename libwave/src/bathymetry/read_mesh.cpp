@@ -392,10 +392,12 @@ void rasterise(const SeafloorMesh& m, ElevationGrid& g, std::vector<char>& cover
         const double* c = &m.xyz[3 * m.triangles[t + 2]];
         const double det = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
         if (std::abs(det) < 1e-300) continue;  // vertical or degenerate: covers no area
-        const auto lo_i = static_cast<std::ptrdiff_t>(std::ceil((std::min({a[0], b[0], c[0]}) - g.x0) / g.dx));
-        const auto hi_i = static_cast<std::ptrdiff_t>(std::floor((std::max({a[0], b[0], c[0]}) - g.x0) / g.dx));
-        const auto lo_j = static_cast<std::ptrdiff_t>(std::ceil((std::min({a[1], b[1], c[1]}) - g.y0) / g.dy));
-        const auto hi_j = static_cast<std::ptrdiff_t>(std::floor((std::max({a[1], b[1], c[1]}) - g.y0) / g.dy));
+        // Node ranges with a rounding's slack: the grid's last node lies on the box's edge.
+        constexpr double kSlack = 1e-9;
+        const auto lo_i = static_cast<std::ptrdiff_t>(std::ceil((std::min({a[0], b[0], c[0]}) - g.x0) / g.dx - kSlack));
+        const auto hi_i = static_cast<std::ptrdiff_t>(std::floor((std::max({a[0], b[0], c[0]}) - g.x0) / g.dx + kSlack));
+        const auto lo_j = static_cast<std::ptrdiff_t>(std::ceil((std::min({a[1], b[1], c[1]}) - g.y0) / g.dy - kSlack));
+        const auto hi_j = static_cast<std::ptrdiff_t>(std::floor((std::max({a[1], b[1], c[1]}) - g.y0) / g.dy + kSlack));
         constexpr double kEdge = -1e-9;  // nodes on shared edges belong to both triangles
         for (auto j = std::max<std::ptrdiff_t>(lo_j, 0); j <= std::min<std::ptrdiff_t>(hi_j, static_cast<std::ptrdiff_t>(g.ny) - 1); ++j) {
             for (auto i = std::max<std::ptrdiff_t>(lo_i, 0); i <= std::min<std::ptrdiff_t>(hi_i, static_cast<std::ptrdiff_t>(g.nx) - 1); ++i) {
@@ -471,19 +473,22 @@ Seafloor read_mesh_file(const std::string& path, const ReadOptions& o) {
     }
     if (!(x_hi > x_lo && y_hi > y_lo))
         throw InputError(path + ": the mesh has no horizontal extent (all vertices on a vertical line or plane)");
-    // Default spacing: about one node per mesh vertex over the bounding box.
+    // Default spacing: about one node per mesh vertex over the bounding box. The grid
+    // spans the box exactly (the spacing shrunk to fit it): a floor'd node count had
+    // cropped the far edges, and with them a mesh's highest ground.
     const double spacing = o.resample_spacing > 0.0
         ? o.resample_spacing
         : std::sqrt((x_hi - x_lo) * (y_hi - y_lo) / static_cast<double>(points.size()));
-    const std::size_t nx = detail::nodes_along(path, x_hi - x_lo, spacing, 0, o);
-    const std::size_t ny = detail::nodes_along(path, y_hi - y_lo, spacing, 0, o);
+    const std::size_t nx = detail::nodes_spanning(path, x_hi - x_lo, spacing, o);
+    const std::size_t ny = detail::nodes_spanning(path, y_hi - y_lo, spacing, o);
     detail::check_grid_size(path, nx, ny, o);
     ElevationGrid& g = out.grid;
     g.nx = nx;
     g.ny = ny;
     g.x0 = x_lo;
     g.y0 = y_lo;
-    g.dx = g.dy = spacing;
+    g.dx = (x_hi - x_lo) / static_cast<double>(nx - 1);
+    g.dy = (y_hi - y_lo) / static_cast<double>(ny - 1);
     g.z.assign(nx * ny, 0.0);
     std::vector<char> covered(nx * ny, 0);
     rasterise(m, g, covered);

@@ -9,6 +9,7 @@
 #include "libwave/errors.h"
 #include "libwave/export.h"
 #include "core/files.h"
+#include "core/json_input.h"
 
 #include <draco/compression/decode.h>
 #include <nlohmann/json.hpp>
@@ -197,12 +198,7 @@ void check_layout(const std::string& path, const std::string& bytes, bool binary
     } else {
         text = bytes;
     }
-    nlohmann::json doc;
-    try {
-        doc = nlohmann::json::parse(text);
-    } catch (const nlohmann::json::exception& e) {
-        fail(std::string("its JSON: ") + e.what());
-    }
+    const nlohmann::json doc = detail::parse_json_input(text, path);  // nesting bounded before tinygltf parses it
     const auto count = [](const nlohmann::json& o, const char* key) -> double {
         const auto it = o.find(key);
         return it == o.end() ? 0.0 : it->is_number() ? it->get<double>() : -1.0;
@@ -369,14 +365,11 @@ MorphAnimationView StoredAnimation::view() const {
 StoredAnimation read_animation(const std::string& path) {
     if (std::filesystem::path(path).extension() != ".json") return read_glb(path);
     // The files form: index.json lists the frame files.
-    std::ifstream in(path);
-    if (!in) throw InputError(path + ": file not found");
-    nlohmann::json index;
-    try {
-        index = nlohmann::json::parse(in);
-    } catch (const nlohmann::json::exception& e) {
-        throw InputError(path + ": not a frame index: " + e.what());
-    }
+    detail::require_input_file(path);
+    std::ifstream in(path, std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (in.bad()) throw InputError(path + ": cannot read the file");
+    const nlohmann::json index = detail::parse_json_input(text, path + " (a frame index)");
     if (!index.contains("frames") || !index["frames"].is_array() || index["frames"].empty())
         throw InputError(path + ": not a frame index (no \"frames\")");
     StoredAnimation a;

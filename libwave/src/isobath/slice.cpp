@@ -10,6 +10,7 @@
 #include <CGAL/Surface_mesh.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 
@@ -119,6 +120,16 @@ DepthContours smooth_isobaths(const DepthContours& c, int samples, double b1, do
     if (samples < 1) throw InputError("isobath smoothing: samples per span must be >= 1, got " + std::to_string(samples));
     if (!(b1 > 0.0) || !(b2 >= 0.0))
         throw InputError("isobath smoothing: need bias beta1 > 0 and tension beta2 >= 0, got " + fmt(b1) + ", " + fmt(b2));
+    // The basis at each sample depends on (β1, β2) only: computed once, and refused when
+    // it is not finite (a β1 near 1e100 overflows the basis's β1³ and every point became NaN).
+    std::vector<std::array<double, 4>> basis(static_cast<std::size_t>(samples) + 1);
+    for (int k = 0; k <= samples; ++k) {
+        beta_spline_basis(static_cast<double>(k) / samples, b1, b2, basis[static_cast<std::size_t>(k)].data());
+        for (double w : basis[static_cast<std::size_t>(k)])
+            if (!std::isfinite(w))
+                throw InputError("isobath smoothing: beta1 = " + fmt(b1) + ", beta2 = " + fmt(b2) +
+                                 " give no finite curve (scene keys /isobaths/smoothing/beta1, beta2)");
+    }
     DepthContours out;
     out.offsets.push_back(0);
     for (std::size_t p = 0; p < c.size(); ++p) {
@@ -141,8 +152,7 @@ DepthContours smooth_isobaths(const DepthContours& c, int samples, double b1, do
         for (std::size_t s = 0; s < spans; ++s) {
             const int last = (!closed && s + 1 == spans) ? samples : samples - 1;  // an open end gets its last point
             for (int k = 0; k <= last; ++k) {
-                double w[4];
-                beta_spline_basis(static_cast<double>(k) / samples, b1, b2, w);
+                const auto& w = basis[static_cast<std::size_t>(k)];
                 double x = 0, y = 0;
                 for (int r = 0; r < 4; ++r) {
                     x += w[r] * v[s + static_cast<std::size_t>(r)][0];

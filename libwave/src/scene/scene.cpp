@@ -6,6 +6,9 @@
 #include "libwave/errors.h"
 #include "libwave/shade.h"
 #include "core/files.h"
+#include "core/json_input.h"
+#include "core/limits.h"
+#include "scene_schema.h"
 
 #include <nlohmann/json.hpp>
 
@@ -26,59 +29,98 @@ using nlohmann::json;
 
 std::string fmt(double v) { return detail::format_number(v); }
 
-// A JSON value with its pointer, for reading with validation.
+// The schema node for a value of this JSON type: a "oneOf" (e.g. /outputs/draco: true
+// or an object) resolves to the branch of the value's type.
+const json* schema_branch(const json* schema, const json& v) {
+    if (!schema || !schema->contains("oneOf")) return schema;
+    for (const json& b : (*schema)["oneOf"]) {
+        const std::string type = b.value("type", std::string());
+        if ((type == "object" && v.is_object()) || (type == "boolean" && v.is_boolean()) ||
+            (type == "array" && v.is_array()) || (type == "string" && v.is_string()) ||
+            ((type == "number" || type == "integer") && v.is_number()) || (type.empty() && v.is_string()))
+            return &b;
+    }
+    return schema;
+}
+
+const json& scene_schema_doc() {
+    static const json doc = json::parse(detail::kSceneSchema);
+    return doc;
+}
+
+// A number's range from its schema node, e.g. "(0, 3600]"; checked by Node::number and
+// Node::count, the one place a scene number's range is enforced.
+struct Range {
+    double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
+    bool lo_open = false, hi_open = false;
+    bool contains(double v) const {
+        return (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
+    }
+    std::string text() const {
+        return std::string(lo_open ? "(" : "[") + fmt(lo) + ", " + fmt(hi) + (hi_open ? ")" : "]");
+    }
+};
+
+// A JSON value with its pointer and its schema node, for reading with validation.
 class Node {
 public:
-    Node(const json& v, std::string pointer, const std::string& origin) : v_(v), ptr_(std::move(pointer)), origin_(origin) {}
+    Node(const json& v, std::string pointer, const std::string& origin, const json* schema)
+        : v_(v), ptr_(std::move(pointer)), origin_(origin), schema_(schema_branch(schema, v)) {}
 
     [[noreturn]] void fail(const std::string& what) const {
         throw InputError(origin_ + ": " + (ptr_.empty() ? "/" : ptr_) + ": " + what);
     }
     const std::string& pointer() const { return ptr_; }
     const json& value() const { return v_; }
+    std::string shown() const { return detail::brief_json(v_); }
 
     void require_object(std::initializer_list<const char*> allowed) const {
-        if (!v_.is_object()) fail("expected an object, got " + v_.dump());
+        if (!v_.is_object()) fail("expected an object, got " + shown());
         const std::set<std::string> ok(allowed.begin(), allowed.end());
         for (const auto& [key, _] : v_.items())
             if (!ok.count(key)) {
                 std::string list;
                 for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
-                Node(v_[key], ptr_ + "/" + key, origin_).fail("unknown key; valid keys here: " + list);
+                const std::string shown_key = key.size() > 40 ? key.substr(0, 40) + "…" : key;
+                throw InputError(origin_ + ": " + ptr_ + "/" + shown_key + ": unknown key; valid keys here: " + list);
             }
     }
     bool has(const char* key) const { return v_.contains(key); }
-    Node operator[](const char* key) const { return {v_.at(key), ptr_ + "/" + key, origin_}; }
-    Node operator[](std::size_t i) const { return {v_.at(i), ptr_ + "/" + std::to_string(i), origin_}; }
+    Node operator[](const char* key) const {
+        const json* child = nullptr;
+        if (schema_ && schema_->contains("properties") && (*schema_)["properties"].contains(key))
+            child = &(*schema_)["properties"][key];
+        return {v_.at(key), ptr_ + "/" + key, origin_, child};
+    }
+    Node operator[](std::size_t i) const {
+        const json* child = schema_ && schema_->contains("items") ? &(*schema_)["items"] : nullptr;
+        return {v_.at(i), ptr_ + "/" + std::to_string(i), origin_, child};
+    }
     std::size_t size() const { return v_.size(); }
 
+    /// A finite number in the schema's range for this key.
     double number(const char* unit) const {
-        if (!v_.is_number()) fail(std::string("expected a number (") + unit + "), got " + v_.dump());
+        const std::string u = *unit ? std::string(" (") + unit + ")" : std::string();
+        if (!v_.is_number()) fail("expected a number" + u + ", got " + shown());
         const double d = v_.get<double>();
-        if (!std::isfinite(d)) fail("expected a finite number");
+        const Range r = range();
+        if (!std::isfinite(d) || !r.contains(d)) fail("expected a number in " + r.text() + u + ", got " + shown());
         return d;
     }
-    double positive(const char* unit) const {
-        const double d = number(unit);
-        if (!(d > 0.0)) fail(std::string("expected a number > 0 (") + unit + "), got " + v_.dump());
-        return d;
-    }
-    double non_negative(const char* unit) const {
-        const double d = number(unit);
-        if (d < 0.0) fail(std::string("expected a number >= 0 (") + unit + "), got " + v_.dump());
-        return d;
-    }
-    std::size_t count(std::size_t min) const {
-        if (!v_.is_number_integer() || v_.get<long long>() < static_cast<long long>(min))
-            fail("expected a whole number >= " + std::to_string(min) + ", got " + v_.dump());
+    /// A whole number in the schema's range for this key.
+    std::size_t count() const {
+        const Range r = range();
+        const bool whole = v_.is_number_unsigned() || (v_.is_number_integer() && v_.get<long long>() >= 0);
+        if (!whole || !r.contains(static_cast<double>(v_.get<std::uint64_t>())))
+            fail("expected a whole number in " + r.text() + ", got " + shown());
         return v_.get<std::size_t>();
     }
     bool boolean() const {
-        if (!v_.is_boolean()) fail("expected true or false, got " + v_.dump());
+        if (!v_.is_boolean()) fail("expected true or false, got " + shown());
         return v_.get<bool>();
     }
     std::string string() const {
-        if (!v_.is_string()) fail("expected a string, got " + v_.dump());
+        if (!v_.is_string()) fail("expected a string, got " + shown());
         return v_.get<std::string>();
     }
     template <class T>
@@ -88,14 +130,14 @@ public:
         if (it == options.end()) {
             std::string list;
             for (const auto& [k, _] : options) list += (list.empty() ? "" : ", ") + k;
-            fail("expected one of " + list + ", got \"" + s + "\"");
+            fail("expected one of " + list + ", got " + shown());
         }
         return it->second;
     }
-    /// [a, b] of whole numbers >= min (an image size, a grid's node counts).
-    std::array<std::size_t, 2> count_pair(std::size_t min, const char* what) const {
-        if (!v_.is_array() || v_.size() != 2) fail(std::string("expected ") + what);
-        return {(*this)[std::size_t{0}].count(min), (*this)[1].count(min)};
+    /// [a, b] of whole numbers (an image size, a grid's node counts).
+    std::array<std::size_t, 2> count_pair(const char* what) const {
+        if (!v_.is_array() || v_.size() != 2) fail(std::string("expected ") + what + ", got " + shown());
+        return {(*this)[std::size_t{0}].count(), (*this)[1].count()};
     }
     /// [x, y, z] in metres.
     std::array<double, 3> point3() const {
@@ -104,17 +146,41 @@ public:
     }
     std::vector<double> numbers(std::size_t exact, const char* unit) const {
         if (!v_.is_array() || (exact && v_.size() != exact))
-            fail(exact ? "expected an array of " + std::to_string(exact) + " numbers" : std::string("expected an array of numbers"));
+            fail((exact ? "expected an array of " + std::to_string(exact) + " numbers" : std::string("expected an array of numbers")) +
+                 ", got " + shown());
         std::vector<double> out;
         for (std::size_t i = 0; i < v_.size(); ++i) out.push_back((*this)[i].number(unit));
         return out;
     }
 
 private:
+    Range range() const {
+        // Every number the parser reads has its range in the schema; a key missing there
+        // is a fault of libwave's (tests/test_cli.py checks the schema bounds every number).
+        if (!schema_) throw std::logic_error("scene schema: no entry for " + ptr_);
+        Range r;
+        const json& s = *schema_;
+        if (s.contains("minimum")) r.lo = s["minimum"].get<double>();
+        if (s.contains("exclusiveMinimum")) r.lo = s["exclusiveMinimum"].get<double>(), r.lo_open = true;
+        if (s.contains("maximum")) r.hi = s["maximum"].get<double>();
+        if (s.contains("exclusiveMaximum")) r.hi = s["exclusiveMaximum"].get<double>(), r.hi_open = true;
+        return r;
+    }
+
     const json& v_;
     std::string ptr_;
     const std::string& origin_;
+    const json* schema_;
 };
+
+// An image (the preview's, the camera grid's) is limited to 10⁸ pixels, the product
+// taken without wrap-around.
+void image_limit(const Node& n, std::size_t width, std::size_t height) {
+    constexpr std::size_t kMaxPixels = 100'000'000;
+    const std::size_t pixels = detail::mul_sat(width, height);
+    if (pixels > kMaxPixels)
+        n.fail(detail::format_count(pixels) + " pixels; at most " + detail::format_count(kMaxPixels));
+}
 
 void read_seafloor_spec(const Node& n, SeafloorSource& s, const std::string& base_dir) {
     n.require_object({"source", "sign", "vertical_scale", "vertical_offset", "horizontal_scale", "nodata",
@@ -133,13 +199,13 @@ void read_seafloor_spec(const Node& n, SeafloorSource& s, const std::string& bas
     if (n.has("sign")) r.sign = n["sign"].choice<ValueSign>({{"elevation", ValueSign::elevation}, {"depth", ValueSign::depth}});
     if (n.has("vertical_scale")) r.vertical_scale = n["vertical_scale"].number("scale");
     if (n.has("vertical_offset")) r.vertical_offset = n["vertical_offset"].number("m");
-    if (n.has("horizontal_scale")) r.horizontal_scale = n["horizontal_scale"].positive("scale");
+    if (n.has("horizontal_scale")) r.horizontal_scale = n["horizontal_scale"].number("scale");
     if (n.has("nodata")) r.nodata_value = n["nodata"].number("value");
     if (n.has("nodata_policy"))
         r.nodata_policy = n["nodata_policy"].choice<NodataPolicy>({{"land", NodataPolicy::land}, {"error", NodataPolicy::error}});
     if (n.has("nodata_elevation")) r.nodata_elevation = n["nodata_elevation"].number("m");
     if (n.has("swan_grid")) {
-        const auto g = n["swan_grid"].count_pair(2, "[nx, ny]");
+        const auto g = n["swan_grid"].count_pair("[nx, ny]");
         r.swan_nx = g[0];
         r.swan_ny = g[1];
     }
@@ -154,8 +220,8 @@ void read_seafloor_spec(const Node& n, SeafloorSource& s, const std::string& bas
         r.swan_x0 = d[0];
         r.swan_y0 = d[1];
     }
-    if (n.has("spacing")) r.resample_spacing = n["spacing"].non_negative("m");
-    if (n.has("max_nodes")) r.max_nodes = n["max_nodes"].count(4);
+    if (n.has("spacing")) r.resample_spacing = n["spacing"].number("m");
+    if (n.has("max_nodes")) r.max_nodes = n["max_nodes"].count();
 }
 
 void read_isobaths(const Node& n, IsobathOptions& o) {
@@ -164,23 +230,23 @@ void read_isobaths(const Node& n, IsobathOptions& o) {
         o.levels = n["levels"].numbers(0, "m");
         if (o.levels.empty()) n["levels"].fail("expected at least one depth level");
     }
-    if (n.has("spacing")) o.spacing = n["spacing"].positive("m");
+    if (n.has("spacing")) o.spacing = n["spacing"].number("m");
     if (n.has("levels") && n.has("spacing")) n.fail("give either levels or spacing, not both");
     if (n.has("shoreline")) o.include_shoreline = n["shoreline"].boolean();
     if (n.has("smoothing")) {
         const Node s = n["smoothing"];
         s.require_object({"samples", "beta1", "beta2"});
-        if (s.has("samples")) o.smoothing_samples = static_cast<int>(s["samples"].count(0));
-        if (s.has("beta1")) o.smoothing_beta1 = s["beta1"].positive("bias");
-        if (s.has("beta2")) o.smoothing_beta2 = s["beta2"].non_negative("tension");
+        if (s.has("samples")) o.smoothing_samples = static_cast<int>(s["samples"].count());
+        if (s.has("beta1")) o.smoothing_beta1 = s["beta1"].number("bias");
+        if (s.has("beta2")) o.smoothing_beta2 = s["beta2"].number("tension");
     }
 }
 
 WaveTrain read_wave(const Node& n) {
     n.require_object({"period", "amplitude", "direction"});
     WaveTrain w;
-    if (n.has("period")) w.period = n["period"].positive("s");
-    if (n.has("amplitude")) w.amplitude = n["amplitude"].positive("m");
+    if (n.has("period")) w.period = n["period"].number("s");
+    if (n.has("amplitude")) w.amplitude = n["amplitude"].number("m");
     if (n.has("direction")) {
         const auto d = n["direction"].numbers(2, "direction");
         if (d[0] == 0.0 && d[1] == 0.0) n["direction"].fail("expected a non-zero direction [x, y]");
@@ -192,12 +258,12 @@ WaveTrain read_wave(const Node& n) {
 
 void read_trace(const Node& n, Scene& s) {
     n.require_object({"ray_spacing", "orthogonals_per_grid_line", "max_rays", "max_crossings", "breaker_index"});
-    if (n.has("ray_spacing")) s.trace.ray_spacing = n["ray_spacing"].positive("m");
-    if (n.has("orthogonals_per_grid_line")) s.orthogonals_per_grid_line = n["orthogonals_per_grid_line"].positive("rays per grid line");
+    if (n.has("ray_spacing")) s.trace.ray_spacing = n["ray_spacing"].number("m");
+    if (n.has("orthogonals_per_grid_line")) s.orthogonals_per_grid_line = n["orthogonals_per_grid_line"].number("rays per grid line");
     if (n.has("ray_spacing") && n.has("orthogonals_per_grid_line")) n.fail("give either ray_spacing or orthogonals_per_grid_line, not both");
-    if (n.has("max_rays")) s.trace.max_rays = n["max_rays"].count(1);
-    if (n.has("max_crossings")) s.trace.max_crossings = n["max_crossings"].count(1);
-    if (n.has("breaker_index")) s.trace.breaker_index = n["breaker_index"].positive("H/h");
+    if (n.has("max_rays")) s.trace.max_rays = n["max_rays"].count();
+    if (n.has("max_crossings")) s.trace.max_crossings = n["max_crossings"].count();
+    if (n.has("breaker_index")) s.trace.breaker_index = n["breaker_index"].number("H/h");
 }
 
 void read_surface(const Node& n, Scene& s) {
@@ -214,14 +280,15 @@ void read_surface(const Node& n, Scene& s) {
         c.require_object({"look_at", "vertical_fov_degrees", "image", "pixel_step", "max_distance"});
         GridCamera g;
         if (c.has("look_at")) g.look_at = c["look_at"].point3();
-        if (c.has("vertical_fov_degrees")) g.vertical_fov_degrees = c["vertical_fov_degrees"].positive("degrees");
+        if (c.has("vertical_fov_degrees")) g.vertical_fov_degrees = c["vertical_fov_degrees"].number("degrees");
         if (c.has("image")) {
-            const auto im = c["image"].count_pair(2, "[width, height] in pixels");
+            const auto im = c["image"].count_pair("[width, height] in pixels");
             g.image_width = im[0];
             g.image_height = im[1];
+            image_limit(c["image"], g.image_width, g.image_height);
         }
-        if (c.has("pixel_step")) g.pixel_step = c["pixel_step"].count(1);
-        if (c.has("max_distance")) g.max_distance = c["max_distance"].positive("m");
+        if (c.has("pixel_step")) g.pixel_step = c["pixel_step"].count();
+        if (c.has("max_distance")) g.max_distance = c["max_distance"].number("m");
         s.camera_grid = g;
     }
     if (s.surface_kind != SurfaceKind::height_field)
@@ -233,43 +300,44 @@ void read_surface(const Node& n, Scene& s) {
     if (n.has("grid")) {
         const Node g = n["grid"];
         if (!g.value().is_array() || g.size() != 2) g.fail("expected [m, n] control vertices");
-        o.nx = g[std::size_t{0}].count(2);
-        o.ny = g[1].count(2);
+        o.nx = g[std::size_t{0}].count();
+        o.ny = g[1].count();
     }
-    if (n.has("samples_per_span")) o.samples_per_span = static_cast<int>(n["samples_per_span"].count(1));
+    if (n.has("samples_per_span")) o.samples_per_span = static_cast<int>(n["samples_per_span"].count());
     if (n.has("footprint"))
         o.footprint = n["footprint"].choice<Footprint>({{"bresenham", Footprint::bresenham}, {"smooth", Footprint::smooth}});
-    if (n.has("footprint_radius")) o.footprint_radius = n["footprint_radius"].positive("grid cells");
-    if (n.has("tension_per_metre")) o.tension_per_metre = n["tension_per_metre"].non_negative("1/m");
-    if (n.has("max_tension")) o.max_tension = n["max_tension"].non_negative("tension");
-    if (n.has("repeat_time")) o.repeat_time = n["repeat_time"].non_negative("s");
-    if (n.has("max_vertices")) o.max_vertices = n["max_vertices"].count(4);
+    if (n.has("footprint_radius")) o.footprint_radius = n["footprint_radius"].number("grid cells");
+    if (n.has("tension_per_metre")) o.tension_per_metre = n["tension_per_metre"].number("1/m");
+    if (n.has("max_tension")) o.max_tension = n["max_tension"].number("tension");
+    if (n.has("repeat_time")) o.repeat_time = n["repeat_time"].number("s");
+    if (n.has("max_vertices")) o.max_vertices = n["max_vertices"].count();
 }
 
 void read_fronts(const Node& n, FrontOptions& o) {
-    n.require_object({"refraction", "step", "split_distance", "flat_amplitude", "max_turn_degrees", "max_steps"});
-    if (n.has("max_turn_degrees")) o.max_turn = n["max_turn_degrees"].positive("degrees") * std::numbers::pi / 180.0;
+    n.require_object({"refraction", "step", "split_distance", "flat_amplitude", "max_turn_degrees", "max_steps", "max_points"});
+    if (n.has("max_turn_degrees")) o.max_turn = n["max_turn_degrees"].number("degrees") * std::numbers::pi / 180.0;
     if (n.has("refraction"))
         o.refraction = n["refraction"].choice<FrontRefraction>({{"gradient", FrontRefraction::gradient},
                                                                 {"isobath", FrontRefraction::isobath}});
-    if (n.has("step")) o.step = n["step"].positive("m");
-    if (n.has("split_distance")) o.split_distance = n["split_distance"].positive("m");
-    if (n.has("flat_amplitude")) o.flat_amplitude = n["flat_amplitude"].non_negative("m");
-    if (n.has("max_steps")) o.max_steps = n["max_steps"].count(1);
+    if (n.has("step")) o.step = n["step"].number("m");
+    if (n.has("split_distance")) o.split_distance = n["split_distance"].number("m");
+    if (n.has("flat_amplitude")) o.flat_amplitude = n["flat_amplitude"].number("m");
+    if (n.has("max_steps")) o.max_steps = n["max_steps"].count();
+    if (n.has("max_points")) o.max_points = n["max_points"].count();
 }
 
 void read_profile(const Node& n, GonzatoProfileOptions& o) {
     n.require_object({"profile", "stretch_max", "stretch_depth_factor", "displacement_depth_factor", "limit_to_disc",
                       "k0", "kx", "kz"});
     if (n.has("profile")) n["profile"].choice<int>({{"gonzato", 0}});
-    if (n.has("stretch_max")) o.stretch_max = n["stretch_max"].non_negative("wave heights");
-    if (n.has("stretch_depth_factor")) o.stretch_depth_factor = n["stretch_depth_factor"].non_negative("1/m");
+    if (n.has("stretch_max")) o.stretch_max = n["stretch_max"].number("wave heights");
+    if (n.has("stretch_depth_factor")) o.stretch_depth_factor = n["stretch_depth_factor"].number("1/m");
     if (n.has("displacement_depth_factor"))
-        o.displacement_depth_factor = n["displacement_depth_factor"].non_negative("1/m");
+        o.displacement_depth_factor = n["displacement_depth_factor"].number("1/m");
     if (n.has("limit_to_disc")) o.limit_to_disc = n["limit_to_disc"].boolean();
-    if (n.has("k0")) o.k0 = n["k0"].non_negative("1/m");
-    if (n.has("kx")) o.kx = n["kx"].positive("1/m");
-    if (n.has("kz")) o.kz = n["kz"].positive("1/m");
+    if (n.has("k0")) o.k0 = n["k0"].number("1/m");
+    if (n.has("kx")) o.kx = n["kx"].number("1/m");
+    if (n.has("kz")) o.kz = n["kz"].number("1/m");
 }
 
 // "breakers": "jeschke", or {"model": "jeschke", …options}.
@@ -283,27 +351,21 @@ JeschkeBreakerOptions read_breakers(const Node& n) {
                       "foam_onset", "curl_spilling", "curl_plunging", "curl_collapsing", "curl_surging", "wave_variation",
                       "varied_waves", "variation_seed"});
     if (n.has("model")) n["model"].choice<int>({{"jeschke", 0}});
-    const auto share = [&](const char* key, double& v, double lo, double hi, const char* unit) {
-        if (!n.has(key)) return;
-        v = n[key].number(unit);
-        if (!(v >= lo && v <= hi)) n[key].fail("expected a number in [" + fmt(lo) + ", " + fmt(hi) + "], got " + fmt(v));
+    const auto share = [&](const char* key, double& v, const char* unit) {
+        if (n.has(key)) v = n[key].number(unit);
     };
-    share("breaking_share", o.breaking_share, 0.01, 0.99, "share of the surf zone");
-    share("max_breaking_wavelengths", o.max_breaking_wavelengths, 0.05, 100.0, "wavelengths");
-    share("rise_wavelengths", o.rise_wavelengths, 0.0, 100.0, "wavelengths");
-    share("foam_fade_time", o.foam_fade_time, 1e-3, 1e6, "s");
-    share("foam_onset", o.foam_onset, 0.0, 1.0, "share of the breaking phase");
-    share("curl_spilling", o.curl_spilling, 0.0, 2.0, "share of the paper's rotation");
-    share("curl_plunging", o.curl_plunging, 0.0, 2.0, "share of the paper's rotation");
-    share("curl_collapsing", o.curl_collapsing, 0.0, 2.0, "share of the paper's rotation");
-    share("curl_surging", o.curl_surging, 0.0, 2.0, "share of the paper's rotation");
-    share("wave_variation", o.wave_variation, 0.0, 0.5, "local wavelengths / share of the collapse zone");
-    if (n.has("varied_waves")) {
-        const std::size_t m = n["varied_waves"].count(1);
-        if (m > 16) n["varied_waves"].fail("expected a whole number in [1, 16], got " + std::to_string(m));
-        o.varied_waves = static_cast<std::uint32_t>(m);
-    }
-    if (n.has("variation_seed")) o.variation_seed = n["variation_seed"].count(0);
+    share("breaking_share", o.breaking_share, "share of the surf zone");
+    share("max_breaking_wavelengths", o.max_breaking_wavelengths, "wavelengths");
+    share("rise_wavelengths", o.rise_wavelengths, "wavelengths");
+    share("foam_fade_time", o.foam_fade_time, "s");
+    share("foam_onset", o.foam_onset, "share of the breaking phase");
+    share("curl_spilling", o.curl_spilling, "share of the paper's rotation");
+    share("curl_plunging", o.curl_plunging, "share of the paper's rotation");
+    share("curl_collapsing", o.curl_collapsing, "share of the paper's rotation");
+    share("curl_surging", o.curl_surging, "share of the paper's rotation");
+    share("wave_variation", o.wave_variation, "local wavelengths / share of the collapse zone");
+    if (n.has("varied_waves")) o.varied_waves = static_cast<std::uint32_t>(n["varied_waves"].count());
+    if (n.has("variation_seed")) o.variation_seed = n["variation_seed"].count();
     return o;
 }
 
@@ -316,15 +378,12 @@ void read_preview(const Node& n, Scene& s) {
         o.look_at = n["look_at"].point3();
         s.preview_look_at_set = true;
     }
-    if (n.has("vertical_fov_degrees")) {
-        o.vertical_fov_degrees = n["vertical_fov_degrees"].positive("degrees");
-        if (o.vertical_fov_degrees >= 170.0) n["vertical_fov_degrees"].fail("expected less than 170 degrees");
-    }
+    if (n.has("vertical_fov_degrees")) o.vertical_fov_degrees = n["vertical_fov_degrees"].number("degrees");
     if (n.has("image")) {
-        const auto im = n["image"].count_pair(1, "[width, height] in pixels");
+        const auto im = n["image"].count_pair("[width, height] in pixels");
         o.width = im[0];
         o.height = im[1];
-        if (o.width * o.height > 100'000'000) n["image"].fail("more than 10⁸ pixels");
+        image_limit(n["image"], o.width, o.height);
     }
     if (n.has("sun")) {
         const Node sun = n["sun"];
@@ -332,7 +391,7 @@ void read_preview(const Node& n, Scene& s) {
         if (sun.has("azimuth_degrees")) o.sun_azimuth_degrees = sun["azimuth_degrees"].number("degrees");
         if (sun.has("elevation_degrees")) o.sun_elevation_degrees = sun["elevation_degrees"].number("degrees");
     }
-    if (n.has("glitter_exponent")) o.glitter_exponent = n["glitter_exponent"].positive("exponent");
+    if (n.has("glitter_exponent")) o.glitter_exponent = n["glitter_exponent"].number("exponent");
     if (n.has("fresnel")) o.fresnel = n["fresnel"].boolean();
     if (n.has("sea_to_horizon")) o.sea_to_horizon = n["sea_to_horizon"].boolean();
     if (n.has("bump_reference")) {
@@ -346,14 +405,14 @@ void read_preview(const Node& n, Scene& s) {
             const Node w = b[i];
             w.require_object({"amplitude", "direction", "wavelength", "phase"});
             BumpWave bw;
-            if (w.has("amplitude")) bw.amplitude = w["amplitude"].non_negative("tan of the tilt");
+            if (w.has("amplitude")) bw.amplitude = w["amplitude"].number("tan of the tilt");
             if (w.has("direction")) {
                 const auto d = w["direction"].numbers(2, "");
                 if (d[0] == 0.0 && d[1] == 0.0) w["direction"].fail("the direction must not be zero");
                 bw.direction_x = d[0];
                 bw.direction_y = d[1];
             }
-            if (w.has("wavelength")) bw.wavelength = w["wavelength"].positive("m");
+            if (w.has("wavelength")) bw.wavelength = w["wavelength"].number("m");
             if (w.has("phase")) bw.phase = w["phase"].number("rad");
             o.bump.push_back(bw);
         }
@@ -364,20 +423,14 @@ RefineOptions read_refine(const Node& n) {
     n.require_object({"scheme", "level", "adaptive", "max_angle_degrees", "near_distance", "crest_sharpness_per_metre",
                       "max_crest_sharpness"});
     RefineOptions o;
-    if (n.has("crest_sharpness_per_metre")) o.crest_sharpness_per_metre = n["crest_sharpness_per_metre"].non_negative("1/m");
-    if (n.has("max_crest_sharpness")) {
-        o.max_crest_sharpness = n["max_crest_sharpness"].non_negative("sharpness");
-        if (o.max_crest_sharpness > 10.0) n["max_crest_sharpness"].fail("expected at most 10 (OpenSubdiv: infinitely sharp)");
-    }
+    if (n.has("crest_sharpness_per_metre")) o.crest_sharpness_per_metre = n["crest_sharpness_per_metre"].number("1/m");
+    if (n.has("max_crest_sharpness")) o.max_crest_sharpness = n["max_crest_sharpness"].number("sharpness (10: infinitely sharp)");
     if (n.has("adaptive")) o.adaptive = n["adaptive"].boolean();
-    if (n.has("max_angle_degrees")) o.max_angle_degrees = n["max_angle_degrees"].positive("degrees");
-    if (n.has("near_distance")) o.near_distance = n["near_distance"].non_negative("m");
+    if (n.has("max_angle_degrees")) o.max_angle_degrees = n["max_angle_degrees"].number("degrees");
+    if (n.has("near_distance")) o.near_distance = n["near_distance"].number("m");
     if (n.has("scheme"))
         o.scheme = n["scheme"].choice<RefineScheme>({{"loop", RefineScheme::loop}, {"catmull-clark", RefineScheme::catmull_clark}});
-    if (n.has("level")) {
-        o.level = static_cast<int>(n["level"].count(1));
-        if (o.level > 6) n["level"].fail("expected 1 … 6 levels (each multiplies the triangles by 4), got " + std::to_string(o.level));
-    }
+    if (n.has("level")) o.level = static_cast<int>(n["level"].count());
     if (o.adaptive && o.scheme != RefineScheme::loop) n["scheme"].fail("adaptive refinement tessellates triangles: use \"loop\"");
     if (o.adaptive && o.crest_sharpness_per_metre > 0.0)
         n["crest_sharpness_per_metre"].fail("crest sharpness needs uniform refinement (not adaptive)");
@@ -389,38 +442,38 @@ void read_ocean(const Node& n, OceanOptions& o, const std::string& origin) {
                       "against_wind", "phillips_constant", "small_wave_cutoff", "fetch", "peak_enhancement", "depth",
                       "capillary_length", "choppiness", "repeat_time", "seed"});
     OceanSpectrum& s = o.spectrum;
-    if (n.has("resolution")) o.resolution = n["resolution"].count(1);
-    if (n.has("size")) o.size = n["size"].positive("m");
+    if (n.has("resolution")) o.resolution = n["resolution"].count();
+    if (n.has("size")) o.size = n["size"].number("m");
     if (n.has("spectrum"))
         s.model = n["spectrum"].choice<OceanSpectrumModel>({{"phillips", OceanSpectrumModel::phillips},
                                                             {"pierson-moskowitz", OceanSpectrumModel::pierson_moskowitz},
                                                             {"jonswap", OceanSpectrumModel::jonswap},
                                                             {"tma", OceanSpectrumModel::tma}});
-    if (n.has("wind_speed")) s.wind_speed = n["wind_speed"].positive("m/s");
+    if (n.has("wind_speed")) s.wind_speed = n["wind_speed"].number("m/s");
     if (n.has("wind_direction")) {
         const auto d = n["wind_direction"].numbers(2, "direction");
         if (std::hypot(d[0], d[1]) == 0.0) n["wind_direction"].fail("expected a non-zero direction [x, y]");
         s.wind_direction = {d[0], d[1]};
     }
-    if (n.has("directional_exponent")) s.directional_exponent = n["directional_exponent"].non_negative("exponent");
-    if (n.has("against_wind")) s.against_wind = n["against_wind"].non_negative("factor in [0, 1]");
-    if (n.has("phillips_constant")) s.phillips_constant = n["phillips_constant"].positive("A");
-    if (n.has("small_wave_cutoff")) s.small_wave_cutoff = n["small_wave_cutoff"].non_negative("m");
-    if (n.has("fetch")) s.fetch = n["fetch"].positive("m");
-    if (n.has("peak_enhancement")) s.peak_enhancement = n["peak_enhancement"].positive("γ");
-    if (n.has("depth")) s.depth = n["depth"].positive("m");
-    if (n.has("capillary_length")) s.capillary_length = n["capillary_length"].non_negative("m");
-    if (n.has("choppiness")) o.choppiness = n["choppiness"].non_negative("λ");
-    if (n.has("repeat_time")) o.repeat_time = n["repeat_time"].positive("s");
-    if (n.has("seed")) o.seed = n["seed"].count(0);
+    if (n.has("directional_exponent")) s.directional_exponent = n["directional_exponent"].number("exponent");
+    if (n.has("against_wind")) s.against_wind = n["against_wind"].number("factor in [0, 1]");
+    if (n.has("phillips_constant")) s.phillips_constant = n["phillips_constant"].number("A");
+    if (n.has("small_wave_cutoff")) s.small_wave_cutoff = n["small_wave_cutoff"].number("m");
+    if (n.has("fetch")) s.fetch = n["fetch"].number("m");
+    if (n.has("peak_enhancement")) s.peak_enhancement = n["peak_enhancement"].number("γ");
+    if (n.has("depth")) s.depth = n["depth"].number("m");
+    if (n.has("capillary_length")) s.capillary_length = n["capillary_length"].number("m");
+    if (n.has("choppiness")) o.choppiness = n["choppiness"].number("λ");
+    if (n.has("repeat_time")) o.repeat_time = n["repeat_time"].number("s");
+    if (n.has("seed")) o.seed = n["seed"].count();
     validate_ocean_options(o, origin + ": /ocean");
 }
 
 GerstnerSpec read_gerstner(const Node& n) {
     n.require_object({"wavelength", "amplitude", "direction", "phase"});
     GerstnerSpec g;
-    if (n.has("wavelength")) g.wavelength = n["wavelength"].positive("m");
-    if (n.has("amplitude")) g.amplitude = n["amplitude"].non_negative("m");
+    if (n.has("wavelength")) g.wavelength = n["wavelength"].number("m");
+    if (n.has("amplitude")) g.amplitude = n["amplitude"].number("m");
     if (n.has("direction")) {
         const auto d = n["direction"].numbers(2, "direction");
         if (std::hypot(d[0], d[1]) == 0.0) n["direction"].fail("expected a non-zero direction [x, y]");
@@ -453,15 +506,8 @@ Scene default_scene() {
 }
 
 Scene parse_scene(std::string_view text, const std::string& origin, const std::string& base_dir) {
-    json doc;
-    try {
-        doc = json::parse(text);
-    } catch (const json::parse_error& e) {
-        throw InputError(origin + ": not valid JSON (byte " + std::to_string(e.byte) + "): " + e.what());
-    } catch (const json::exception& e) {  // out_of_range: a number too large for a double (tests/fuzz)
-        throw InputError(origin + ": not valid JSON: " + e.what());
-    }
-    const Node root(doc, "", origin);
+    const json doc = detail::parse_json_input(text, origin);
+    const Node root(doc, "", origin, &scene_schema_doc());
     root.require_object({"name", "seafloor", "isobaths", "waves", "trace", "surface", "fronts", "motion", "camera",
                          "shade", "outputs", "animation", "ocean", "gerstner", "breakers", "refine", "preview"});
     Scene s;
@@ -531,15 +577,12 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
         sh.require_object({"fresnel", "foam_fade_time", "foam_onset", "fold_threshold", "fold_softness", "fold_window",
                            "fold_lattice_step"});
         if (sh.has("fold_threshold")) s.fold_foam.threshold = sh["fold_threshold"].number("J₋");
-        if (sh.has("fold_softness")) s.fold_foam.softness = sh["fold_softness"].positive("J₋");
-        if (sh.has("fold_window")) s.fold_foam.window = sh["fold_window"].positive("s");
-        if (sh.has("fold_lattice_step")) s.fold_foam.lattice_step = sh["fold_lattice_step"].positive("s");
+        if (sh.has("fold_softness")) s.fold_foam.softness = sh["fold_softness"].number("J₋");
+        if (sh.has("fold_window")) s.fold_foam.window = sh["fold_window"].number("s");
+        if (sh.has("fold_lattice_step")) s.fold_foam.lattice_step = sh["fold_lattice_step"].number("s");
         if (sh.has("fresnel")) s.fresnel = sh["fresnel"].choice<FresnelModel>({{"exact", FresnelModel::exact}, {"tso", FresnelModel::tso}});
-        if (sh.has("foam_fade_time")) s.foam.fade_time = sh["foam_fade_time"].positive("s");
-        if (sh.has("foam_onset")) {
-            s.foam.onset = sh["foam_onset"].positive("share of the breaking height");
-            if (s.foam.onset >= 1.0) sh["foam_onset"].fail("expected a number in (0, 1), got " + sh["foam_onset"].value().dump());
-        }
+        if (sh.has("foam_fade_time")) s.foam.fade_time = sh["foam_fade_time"].number("s");
+        if (sh.has("foam_onset")) s.foam.onset = sh["foam_onset"].number("share of the breaking height");
     }
     if (root.has("outputs")) {
         const Node o = root["outputs"];
@@ -562,20 +605,14 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
                 DracoOptions dr;
                 const auto bits = [&](const char* key, int& field) {
                     if (!d.has(key)) return;
-                    const std::size_t b = d[key].count(1);
-                    if (b > 30) d[key].fail("expected 1 … 30 bits, got " + std::to_string(b));
-                    field = static_cast<int>(b);
+                    field = static_cast<int>(d[key].count());
                 };
                 bits("position_bits", dr.position_bits);
                 bits("normal_bits", dr.normal_bits);
                 bits("texcoord_bits", dr.texcoord_bits);
                 bits("color_bits", dr.color_bits);
                 bits("generic_bits", dr.generic_bits);
-                if (d.has("encode_speed")) {
-                    const std::size_t sp = d["encode_speed"].count(0);
-                    if (sp > 10) d["encode_speed"].fail("expected 0 … 10, got " + std::to_string(sp));
-                    dr.encode_speed = static_cast<int>(sp);
-                }
+                if (d.has("encode_speed")) dr.encode_speed = static_cast<int>(d["encode_speed"].count());
                 s.draco = dr;
             }
             if (s.draco && s.quantize) d.fail("choose Draco or /outputs/quantize, not both (Draco quantises itself)");
@@ -588,11 +625,13 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     if (root.has("animation")) {
         const Node a = root["animation"];
         a.require_object({"fps", "max_frames"});
-        if (a.has("fps")) s.fps = a["fps"].positive("frames per second");
-        if (a.has("max_frames")) s.max_frames = a["max_frames"].count(1);
+        if (a.has("fps")) s.fps = a["fps"].number("frames per second");
+        if (a.has("max_frames")) s.max_frames = a["max_frames"].count();
     }
     return s;
 }
+
+std::string_view scene_schema() { return detail::kSceneSchema; }
 
 Scene read_scene(const std::string& path) {
     detail::require_input_file(path);
@@ -748,29 +787,6 @@ void plan_components(const Scene& scene, ScenePlan& p) {
     if (gerstner_steepness(p.gerstner) >= 1.0)
         p.warnings.push_back("the Gerstner waves' Σ k A = " + fmt(gerstner_steepness(p.gerstner)) +
                              " >= 1: crests may loop over themselves (Tessendorf §3.1); lower the amplitudes");
-    // Subdivision: the surface's topology refined once; frames apply the stencils.
-    if (scene.refine) {
-        const std::vector<std::uint32_t>& coarse = surface_triangles(scene, p);
-        if (!scene.refine->adaptive) {
-            p.refinement = plan_refinement(p.rest_x.size(), coarse, *scene.refine, scene.max_refined_vertices);
-        } else {
-            // Where the surface bends: its normals at 8 times spread over the loop (the
-            // crests move, so one frame would not do), and the camera for nearness.
-            Scene probe = scene;
-            probe.refine.reset();
-            probe.attributes = Scene::Attributes::none;
-            probe.color = false;
-            const auto loop_frames = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(p.loop_period * scene.fps)));
-            std::vector<float> normals;
-            for (std::size_t k = 0; k < 8; ++k) {
-                const std::size_t f = k * loop_frames / 8;
-                const SceneAnimation a = animate_scene(probe, p, 2e9, FrameRange{f, f + 1});
-                normals.insert(normals.end(), a.normals.begin(), a.normals.end());
-            }
-            const AdaptiveCriteria criteria{normals, p.rest_x, p.rest_y, scene_camera(scene, p.seafloor)};
-            p.refinement = plan_refinement(p.rest_x.size(), coarse, *scene.refine, scene.max_refined_vertices, &criteria);
-        }
-    }
 }
 
 }  // namespace
@@ -780,7 +796,8 @@ ScenePlan plan_scene(const Scene& scene, PlanStages stages) {
     p.seafloor = scene_seafloor(scene);
     scene_camera(scene, p.seafloor);  // a camera inside the seafloor is an input error, found before the work
     if (scene.surface_kind == SurfaceKind::ocean) {
-        if (stages == PlanStages::all) plan_components(scene, p);
+        if (stages != PlanStages::trace) plan_components(scene, p);
+        if (stages == PlanStages::all) refine_scene_plan(scene, p);
         return p;
     }
     if (scene.surface_kind == SurfaceKind::ray_strips) {
@@ -794,7 +811,7 @@ ScenePlan plan_scene(const Scene& scene, PlanStages stages) {
         p.fronts = trace_fronts(p.seafloor, scene.waves[0], fronts, &p.isobaths);
         p.strips = build_ray_strips(p.fronts);
         p.loop_period = scene.waves[0].period;
-        if (stages == PlanStages::all) {
+        if (stages != PlanStages::trace) {
             p.motion = plan_gonzato_motion(p.strips, scene.profile);
             if (scene.breakers) {
                 JeschkeBreakerOptions o = *scene.breakers;
@@ -811,6 +828,7 @@ ScenePlan plan_scene(const Scene& scene, PlanStages stages) {
                 p.loop_period *= static_cast<double>(p.breakers.loop_periods());
             }
             plan_components(scene, p);
+            if (stages == PlanStages::all) refine_scene_plan(scene, p);
         }
         return p;
     }
@@ -839,7 +857,40 @@ ScenePlan plan_scene(const Scene& scene, PlanStages stages) {
     p.surface = plan_height_field(p.seafloor, p.rays, scene.waves, scene.surface);
     p.loop_period = p.surface.loop_period;
     plan_components(scene, p);
+    if (stages == PlanStages::all) refine_scene_plan(scene, p);
     return p;
+}
+
+std::size_t scene_loop_frames(const Scene& scene, const ScenePlan& plan) {
+    const double frames = std::round(plan.loop_period * scene.fps);
+    if (!(frames < 1e18)) return std::numeric_limits<std::size_t>::max();  // refused by max_frames, never cast
+    return std::max<std::size_t>(1, static_cast<std::size_t>(frames));
+}
+
+void refine_scene_plan(const Scene& scene, ScenePlan& p) {
+    // Subdivision: the surface's topology refined once; frames apply the stencils.
+    if (scene.refine) {
+        const std::vector<std::uint32_t>& coarse = surface_triangles(scene, p);
+        if (!scene.refine->adaptive) {
+            p.refinement = plan_refinement(p.rest_x.size(), coarse, *scene.refine, scene.max_refined_vertices);
+        } else {
+            // Where the surface bends: its normals at 8 times spread over the loop (the
+            // crests move, so one frame would not do), and the camera for nearness.
+            Scene probe = scene;
+            probe.refine.reset();
+            probe.attributes = Scene::Attributes::none;
+            probe.color = false;
+            const std::size_t loop_frames = scene_loop_frames(scene, p);
+            std::vector<float> normals;
+            for (std::size_t k = 0; k < 8; ++k) {
+                const std::size_t f = k * loop_frames / 8;
+                const SceneAnimation a = animate_scene(probe, p, 2e9, FrameRange{f, f + 1});
+                normals.insert(normals.end(), a.normals.begin(), a.normals.end());
+            }
+            const AdaptiveCriteria criteria{normals, p.rest_x, p.rest_y, scene_camera(scene, p.seafloor)};
+            p.refinement = plan_refinement(p.rest_x.size(), coarse, *scene.refine, scene.max_refined_vertices, &criteria);
+        }
+    }
 }
 
 MorphAnimationView SceneAnimation::view() const {
@@ -852,9 +903,20 @@ MorphAnimationView SceneAnimation::view() const {
 RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan) {
     RunEstimate e;
     const Refinement* refined = plan.refinement.fine_vertices > 0 ? &plan.refinement : nullptr;
-    e.vertices = refined ? refined->fine_vertices : plan.rest_x.size();
-    e.triangles = (refined ? refined->triangles.size() : surface_triangles(scene, plan).size()) / 3;
-    e.frames = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(plan.loop_period * scene.fps)));
+    const std::size_t coarse_triangles = surface_triangles(scene, plan).size() / 3;
+    if (refined) {
+        e.vertices = refined->fine_vertices;
+        e.triangles = refined->triangles.size() / 3;
+    } else if (scene.refine) {  // not planned yet (PlanStages::surface): predicted
+        const double t = refined_triangle_estimate(coarse_triangles, *scene.refine);
+        e.triangles = t < 1e18 ? static_cast<std::size_t>(t) : std::numeric_limits<std::size_t>::max();
+        e.vertices = e.triangles / 2;
+    } else {
+        e.vertices = plan.rest_x.size();
+        e.triangles = coarse_triangles;
+    }
+    const bool fine = scene.refine.has_value();
+    e.frames = scene_loop_frames(scene, plan);
     const double n = static_cast<double>(e.vertices), frames = static_cast<double>(e.frames);
     const bool shaded = scene.attributes != Scene::Attributes::none;
     // animate_scene: positions + normals, reflect/refract/foam, colour (floats).
@@ -883,7 +945,7 @@ RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan) {
     // OpenMesh strips, motion fields), refinement stencils ~12 weights per fine vertex;
     // a single-file form holds its bytes three times at the end (tinygltf's buffer, the
     // serialised stream, the file's string), the files form one chunk of frames.
-    const double plan_bytes = 30e6 + 1500.0 * static_cast<double>(plan.rest_x.size()) + (refined ? 96.0 * n : 0.0);
+    const double plan_bytes = 30e6 + 1500.0 * static_cast<double>(plan.rest_x.size()) + (fine ? 96.0 * n : 0.0);
     if (scene.form == Scene::Form::files) {  // one chunk of frames at a time, each encoded once
         const double chunk = static_cast<double>(files_form_chunk(e));
         e.peak_memory_bytes = plan_bytes + (e.frame_array_bytes + e.output_bytes) * chunk / frames;
@@ -891,6 +953,25 @@ RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan) {
         e.peak_memory_bytes = plan_bytes + e.frame_array_bytes + 3.0 * e.output_bytes;
     }
     return e;
+}
+
+void check_run_limits(const Scene& scene, const RunEstimate& e, std::size_t frames, double max_bytes) {
+    if (e.frames > scene.max_frames)
+        throw LimitError("scene: the loop holds " + detail::format_count(e.frames) + " frames (at " + fmt(scene.fps) +
+                         " fps), more than the limit of " + detail::format_count(scene.max_frames) +
+                         "; lower /animation/fps, or raise /animation/max_frames");
+    const bool shaded = scene.attributes != Scene::Attributes::none;
+    const double bytes_per_vertex = 24.0 + (shaded ? 12.0 : 0.0) + (scene.color ? 12.0 : 0.0);
+    if (!(static_cast<double>(frames) * static_cast<double>(e.vertices) * bytes_per_vertex > max_bytes)) return;
+    const bool ocean_kind = scene.surface_kind == SurfaceKind::ocean, strips = scene.surface_kind == SurfaceKind::ray_strips;
+    throw LimitError("scene: the animation would hold " + detail::format_count(frames) + " frames of " +
+                     detail::format_count(e.vertices) + " vertices (over " + fmt(max_bytes / 1e9) +
+                     " GB of per-frame arrays); " +
+                     (scene.refine ? std::string("lower /refine/level, or ") : std::string()) +
+                     (ocean_kind ? "lower /ocean/resolution, /ocean/repeat_time or /animation/fps"
+                      : strips   ? "raise /trace/ray_spacing or /fronts/step, or lower /animation/fps"
+                                 : "lower /surface/samples_per_span, /surface/grid or /animation/fps") +
+                     ", or raise the limit (wave run --max-memory-gb)");
 }
 
 std::size_t files_form_chunk(const RunEstimate& e, double max_bytes) {
@@ -915,16 +996,12 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
     const std::size_t nc = plan.rest_x.size();
     const Refinement* refined = plan.refinement.fine_vertices > 0 ? &plan.refinement : nullptr;
     a.vertex_count = refined ? refined->fine_vertices : nc;
-    a.loop_frames = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(plan.loop_period * scene.fps)));
+    a.loop_frames = scene_loop_frames(scene, plan);
     const std::size_t end = std::min(range.end, a.loop_frames);
     if (range.first >= end)
         throw InputError("scene: the frame range " + std::to_string(range.first) + ":" +
                          (range.end == static_cast<std::size_t>(-1) ? std::string() : std::to_string(range.end)) +
                          " holds no frame of the loop's 0:" + std::to_string(a.loop_frames));
-    if (a.loop_frames > scene.max_frames)
-        throw LimitError("scene: the loop holds " + std::to_string(a.loop_frames) + " frames (" + fmt(plan.loop_period) + " s at " +
-                         fmt(scene.fps) + " fps), more than the limit of " + std::to_string(scene.max_frames) +
-                         "; lower /animation/fps, or raise /animation/max_frames");
     a.first_frame = range.first;
     a.frame_count = end - range.first;
     const std::vector<std::uint32_t>& coarse_triangles = surface_triangles(scene, plan);
@@ -934,14 +1011,7 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
     Refinement frame_refinement;
     const std::size_t n = a.vertex_count;
     const bool shaded = scene.attributes != Scene::Attributes::none;
-    const double bytes_per_vertex = 24.0 + (shaded ? 12.0 : 0.0) + (scene.color ? 12.0 : 0.0);
-    if (static_cast<double>(a.frame_count) * static_cast<double>(n) * bytes_per_vertex > max_bytes)
-        throw LimitError("scene: the animation would hold " + std::to_string(a.frame_count) + " frames of " +
-                         std::to_string(n) + " vertices (over " + fmt(max_bytes / 1e9) + " GB of per-frame arrays); " +
-                         (ocean_kind ? "lower /ocean/resolution, /ocean/repeat_time or /animation/fps"
-                          : strips   ? "raise /trace/ray_spacing or /fronts/step, or lower /animation/fps"
-                                     : "lower /surface/samples_per_span, /surface/grid or /animation/fps") +
-                         ", or raise the limit (wave run --max-memory-gb)");
+    check_run_limits(scene, RunEstimate{.vertices = n, .frames = a.loop_frames}, a.frame_count, max_bytes);
     a.positions.resize(3 * n * a.frame_count);
     a.normals.resize(3 * n * a.frame_count);
     a.layout = scene.attributes == Scene::Attributes::named ? ScalarLayout::custom : ScalarLayout::blender34;

@@ -73,6 +73,11 @@ void validate_fold_foam(const FoldFoamOptions& o, const std::string& where) {
     if (!(o.window > 0.0) || !std::isfinite(o.window)) fail("fold_window", "expected a time > 0 s, got " + f(o.window));
     if (!(o.lattice_step > 0.0) || o.lattice_step > o.window)
         fail("fold_lattice_step", "expected a time in (0, window], got " + f(o.lattice_step));
+    // Each frame looks back at window / lattice_step past times per vertex: bounded, so
+    // a tiny step is refused here rather than computed for hours.
+    if (o.window / o.lattice_step > kMaxFoldLatticeTimes)
+        fail("fold_lattice_step", "window / lattice_step = " + f(o.window / o.lattice_step) + " past times per frame; at most " +
+                                      std::to_string(kMaxFoldLatticeTimes) + " (raise fold_lattice_step or lower fold_window)");
 }
 
 }  // namespace wave

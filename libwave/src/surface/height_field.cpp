@@ -2,6 +2,7 @@
 // a Beta2-spline surface whose tension rises with height (§3.3).
 #include "libwave/beta_spline.h"
 #include "core/format.h"
+#include "core/limits.h"
 #include "libwave/errors.h"
 #include "libwave/surface.h"
 
@@ -93,13 +94,19 @@ HeightFieldPlan plan_height_field(const Seafloor& seafloor, const RaySet& rays, 
     plan.samples_per_span = o.samples_per_span;
     plan.tension_per_metre = o.tension_per_metre;
     plan.max_tension = o.max_tension;
+    // Sizes saturate (core/limits.h): control vertices near 2^62 must not wrap round
+    // to a small vertex count that passes the limit.
     const auto S = static_cast<std::size_t>(o.samples_per_span);
-    plan.vertex_nx = S * (o.nx - 1) + 1;
-    plan.vertex_ny = S * (o.ny - 1) + 1;
-    if (plan.vertex_nx > o.max_vertices / plan.vertex_ny)
-        throw LimitError("surface: " + std::to_string(plan.vertex_nx) + " x " + std::to_string(plan.vertex_ny) +
-                         " vertices exceed max_vertices = " + std::to_string(o.max_vertices) +
-                         " (HeightFieldOptions::max_vertices; or lower samples_per_span)");
+    const std::size_t vnx = detail::add_sat(detail::mul_sat(S, o.nx - 1), 1);
+    const std::size_t vny = detail::add_sat(detail::mul_sat(S, o.ny - 1), 1);
+    const std::size_t vertices = detail::mul_sat(vnx, vny);
+    if (vertices > o.max_vertices)
+        throw LimitError("surface: " + detail::format_count(vnx) + " x " + detail::format_count(vny) +
+                         " vertices exceed max_vertices = " + detail::format_count(o.max_vertices) +
+                         " (HeightFieldOptions::max_vertices, scene key /surface/max_vertices; or lower /surface/grid or "
+                         "/surface/samples_per_span)");
+    plan.vertex_nx = vnx;
+    plan.vertex_ny = vny;
 
     // Frequencies, and the loop they repeat after.
     std::vector<double> periods, omega(trains.size());
@@ -158,10 +165,15 @@ HeightFieldPlan plan_height_field(const Seafloor& seafloor, const RaySet& rays, 
                     if (e2 <= di) err += di, j += sj;
                 }
             } else {
-                const auto lo_i = static_cast<std::ptrdiff_t>(std::floor(std::min(fx0, fx1) - radius / plan.dx));
-                const auto hi_i = static_cast<std::ptrdiff_t>(std::ceil(std::max(fx0, fx1) + radius / plan.dx));
-                const auto lo_j = static_cast<std::ptrdiff_t>(std::floor(std::min(fy0, fy1) - radius / plan.dy));
-                const auto hi_j = static_cast<std::ptrdiff_t>(std::ceil(std::max(fy0, fy1) + radius / plan.dy));
+                // The footprint's box, clipped to the grid before it becomes an index:
+                // a radius larger than the grid visits the grid's nodes, no more.
+                const auto node_index = [](double f, std::size_t count) {
+                    return static_cast<std::ptrdiff_t>(std::clamp(f, -1.0, static_cast<double>(count)));
+                };
+                const auto lo_i = node_index(std::floor(std::min(fx0, fx1) - radius / plan.dx), o.nx);
+                const auto hi_i = node_index(std::ceil(std::max(fx0, fx1) + radius / plan.dx), o.nx);
+                const auto lo_j = node_index(std::floor(std::min(fy0, fy1) - radius / plan.dy), o.ny);
+                const auto hi_j = node_index(std::ceil(std::max(fy0, fy1) + radius / plan.dy), o.ny);
                 for (std::ptrdiff_t j = lo_j; j <= hi_j; ++j)
                     for (std::ptrdiff_t i = lo_i; i <= hi_i; ++i) {
                         if (!inside(i, j)) continue;

@@ -208,6 +208,10 @@ Creases crest_creases(std::span<const float> p, std::span<const std::uint32_t> t
     return c;
 }
 
+double refined_triangle_estimate(std::size_t coarse_triangles, const RefineOptions& options) noexcept {
+    return refined_triangles(coarse_triangles, options.scheme, options.level);
+}
+
 Refinement plan_refinement(std::size_t vertex_count, std::span<const std::uint32_t> triangles, const RefineOptions& o,
                            std::size_t max_vertices, const AdaptiveCriteria* adaptive, const Creases* creases) {
     if (o.level < 1 || o.level > 6) throw InputError("refine: level must be 1 … 6, got " + std::to_string(o.level));

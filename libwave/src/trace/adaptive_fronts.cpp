@@ -221,6 +221,10 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
     // Records the front: amplitudes from the neighbours' spacing, flags.
     const auto record = [&]() {
         const std::size_t n = front.size();
+        if (out.ray.size() + n > o.max_points)
+            throw LimitError("fronts: more than " + std::to_string(o.max_points) +
+                             " front points (FrontOptions::max_points, scene key /fronts/max_points; lengthen the step, "
+                             "raise split_distance or lower max_turn)");
         for (std::size_t i = 0; i < n; ++i) {
             Ray& r = front[i];
             const DepthSample& s = r.here;
