@@ -355,7 +355,7 @@ int run_job(const RunArgs& a) {
     const std::size_t first_frame = anim.first_frame;
     const std::size_t frames = files_form ? std::min(range.end, loop_frames) - first_frame : anim.frame_count;
     const bool whole = first_frame == 0 && frames == loop_frames;
-    const IndexInfo index_info{scene.name, scene.fps, plan.loop_period, loop_frames, files_form ? run_key(a, scene, plan) : ""};
+    const IndexInfo index_info{scene.name, scene.fps, plan.loop_period, loop_frames, run_key(a, scene, plan)};
     const std::string index_path = (std::filesystem::path(out_dir) / "index.json").string();
     std::optional<FilesFormRun> files_run;
     Files files;
@@ -363,7 +363,7 @@ int run_job(const RunArgs& a) {
     std::size_t animation_bytes = 0;
     float z_min = anim.z_min, z_max = anim.z_max;
     if (files_form) {
-        merged_index(index_path, index_info, {}, whole);  // refuses a foreign index before any frame is written
+        merged_index(index_path, index_info, {}, whole, a.resume);  // refuses a foreign index before any frame is written
         files_run.emplace(write_files_form(scene, plan, out_dir, index_info, range, a.resume, max_bytes, progress));
         for (const json& e : files_run->entries)
             for (const json& c : e["content"]) {
@@ -425,6 +425,7 @@ int run_job(const RunArgs& a) {
                              {"coarse_vertices", plan.rest_x.size()}};
     json report{{"libwave", version()},
                 {"scene", scene.name},
+                {"run_key", index_info.run_key},
                 {"seafloor", {{"source", plan.seafloor.source}, {"nodes", {st.nx, st.ny}}, {"depth_range_m", {st.depth_min, st.depth_max}}}},
                 {"isobaths", plan.isobaths.size()},
                 {"trace", trace_summary(scene, plan)},
@@ -449,7 +450,7 @@ int run_job(const RunArgs& a) {
     std::optional<FolderLock> index_lock;
     if (files_form) {
         index_lock.emplace(out_dir, true, "");
-        files.emplace_back("index.json", merged_index(index_path, index_info, files_run->entries, whole).dump(2) + "\n");
+        files.emplace_back("index.json", merged_index(index_path, index_info, files_run->entries, whole, a.resume).dump(2) + "\n");
     }
     if (!ocean_kind) files.emplace_back("isobaths.json", contours_to_json(plan.isobaths));
     if (!strips && !ocean_kind) files.emplace_back(trace_file, rays_to_csv(plan.rays));
@@ -675,7 +676,8 @@ json frame_metadata(const std::string& path) {
         throw InputError(path + ": not a frame written by libwave (no asset.extras.libwave)");
     }
     if (!extras.is_object() || !extras.value("scene", json()).is_string() || !extras.value("fps", json()).is_number() ||
-        !extras.value("loop_frames", json()).is_number_unsigned() || !extras.value("first_frame", json()).is_number_unsigned())
+        !extras.value("loop_frames", json()).is_number_unsigned() || !extras.value("first_frame", json()).is_number_unsigned() ||
+        !extras.value("run_key", json("")).is_string())
         throw InputError(path + ": asset.extras.libwave lacks scene, fps, loop_frames or first_frame of the types libwave writes");
     return extras;
 }
@@ -773,6 +775,9 @@ int run_merge(const MergeArgs& a) {
         if (m.value("scene", "") != meta.value("scene", "") || m.at("fps") != meta.at("fps") ||
             m.at("loop_frames") != meta.at("loop_frames"))
             throw InputError(file + ": belongs to another animation than " + files.begin()->second + " (name, fps or loop differ)");
+        if (m.value("run_key", "") != meta.value("run_key", ""))
+            throw InputError(file + ": computed from another version of the scene, its seafloor or libwave than " +
+                             files.begin()->second + " (their run keys differ); run its slice again with the scene of the others");
         if (m.at("first_frame").get<std::size_t>() != frame) throw InputError(file + ": holds frame " + m.at("first_frame").dump());
     }
     const auto loop_frames = meta.at("loop_frames").get<std::size_t>();
@@ -789,8 +794,10 @@ int run_merge(const MergeArgs& a) {
     if (old.contains("frames"))
         for (const json& e : old["frames"])
             if (e.is_object() && e.contains("frame") && e["frame"].is_number_unsigned()) old_entries[e["frame"].get<std::size_t>()] = e;
+    // The frames' own run key (frames written before frames carried one: the old index's).
+    const std::string frames_key = meta.value("run_key", "");
     const IndexInfo info{meta.value("scene", ""), fps, static_cast<double>(loop_frames) / fps, loop_frames,
-                         old.value("run_key", "")};
+                         frames_key.empty() ? old.value("run_key", "") : frames_key};
     bool all_listed = true;  // every frame's files are those the old index listed with the run key
     std::vector<json> entries;
     for (const auto& [frame, file] : files) {
@@ -810,7 +817,7 @@ int run_merge(const MergeArgs& a) {
             all_listed = false;
         entries.push_back(std::move(entry));
     }
-    const json index = frame_index(all_listed ? info : IndexInfo{info.name, info.fps, info.loop_period, info.loop_frames, ""},
+    const json index = frame_index(all_listed || !frames_key.empty() ? info : IndexInfo{info.name, info.fps, info.loop_period, info.loop_frames, ""},
                                    std::move(entries));
     if (!missing.empty() && !a.partial)
         throw InputError(a.out_dir + ": " + std::to_string(missing.size()) + " of " + std::to_string(loop_frames) +

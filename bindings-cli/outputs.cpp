@@ -144,10 +144,12 @@ json frame_index(const IndexInfo& info, std::vector<json> entries) {
     return index;
 }
 
-json merged_index(const std::string& path, const IndexInfo& info, const std::vector<json>& entries, bool whole_loop) {
+json merged_index(const std::string& path, const IndexInfo& info, const std::vector<json>& entries, bool whole_loop,
+                  bool rebuild_unreadable) {
     std::map<std::size_t, json> frames;
-    if (fs::exists(path)) {
-        const auto old = read_index(path);
+    std::error_code ec;
+    const auto old = fs::exists(path, ec) ? read_index(path) : std::nullopt;
+    if (fs::exists(path, ec) && (old || !rebuild_unreadable)) {
         if (!old) throw InputError(path + ": not a frame index of libwave (invalid JSON, or fields of other types); use another output folder");
         if (!same_animation(*old, info))
             throw InputError(path + ": the index there belongs to another animation (scene, fps or loop differ); "
@@ -309,7 +311,8 @@ FilesFormRun write_files_form(const Scene& scene, const ScenePlan& plan, const s
             const SceneAnimation anim = animate_scene(scene, plan, max_bytes, FrameRange{a, b}, [&](std::size_t done, std::size_t) {
                 if (progress) progress(done_before + done, total);
             });
-            const MorphAnimationView view = anim.view();
+            MorphAnimationView view = anim.view();
+            view.run_key = info.run_key;
             const Files files = encode_animation(view, Scene::Form::files, scene.container, false);
             const std::size_t per_frame = files.size() / anim.frame_count;  // .glb, or .gltf + .bin
             const std::size_t n = anim.vertex_count;
@@ -333,6 +336,14 @@ FilesFormRun write_files_form(const Scene& scene, const ScenePlan& plan, const s
             run.lock.release();
             fs::remove_all(run.partial, ignored);
             if (created) fs::remove_all(root, ignored);
+        } else {
+            // The frames of the failed chunk that are whole on disk (a full disk fails a
+            // frame, not the ones before it): listed for --resume, which had found frames
+            // and no index. A small index still fits where a frame's temporary file was.
+            try {
+                write_partial_index();
+            } catch (...) {
+            }
         }
         throw;
     }

@@ -65,9 +65,12 @@ nlohmann::json frame_index(const IndexInfo& info, std::vector<nlohmann::json> en
 /// index.json for `entries` (frames of this run, in order), merged with the index a
 /// previous slice of the same animation left at `path`. Throws InputError when that
 /// index belongs to another animation (scene name, fps, loop), or — unless this run
-/// covers the whole loop and so replaces every entry — to another run key.
+/// covers the whole loop and so replaces every entry — to another run key. An index
+/// that cannot be read (truncated, empty, fields of other types) is refused too, unless
+/// `rebuild_unreadable` (`--resume`: the frames' own files are checked instead), when
+/// it is rebuilt from this run's entries.
 nlohmann::json merged_index(const std::string& path, const IndexInfo& info, const std::vector<nlohmann::json>& entries,
-                            bool whole_loop);
+                            bool whole_loop, bool rebuild_unreadable = false);
 
 /// Writes `files` into a staging folder inside `out_dir` and then renames them into
 /// place: a failing run leaves neither partial files nor a half-replaced set of

@@ -59,6 +59,9 @@ struct MorphAnimationView {
     std::size_t loop_frames = 0;
     std::string name = "water";  ///< mesh and node names
     std::string scene;           ///< the scene's name, recorded in the file for readers
+    /// The run's key (what decided its bytes), recorded in the file when not empty: the
+    /// files form's frames carry it, so that frames of two versions are never merged.
+    std::string run_key;
     /// Compress with Draco. In the morph form only the base mesh is compressed (with
     /// Draco's order-keeping sequential method); the targets stay float.
     std::optional<DracoOptions> draco;

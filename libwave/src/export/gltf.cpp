@@ -216,6 +216,7 @@ struct ModelWriter {
         info["loop_frames"] = tinygltf::Value(static_cast<int>(a.loop_frames));
         info["name"] = tinygltf::Value(a.name);
         info["scene"] = tinygltf::Value(a.scene);
+        if (!a.run_key.empty()) info["run_key"] = tinygltf::Value(a.run_key);
         tinygltf::Value::Object extras;
         extras["libwave"] = tinygltf::Value(info);
         model.asset.extras = tinygltf::Value(extras);

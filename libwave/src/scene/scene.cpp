@@ -533,9 +533,8 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     }
     if (root.has("seafloor")) read_seafloor_spec(root["seafloor"], s.seafloor, base_dir);
     if (root.has("isobaths")) {
-        s.isobaths.spacing = 0.0;
         read_isobaths(root["isobaths"], s.isobaths);
-        if (s.isobaths.levels.empty() && s.isobaths.spacing == 0.0) root["isobaths"].fail("give levels or a spacing");
+        if (!s.isobaths.levels.empty()) s.isobaths.spacing = 0.0;  // explicit levels replace the default spacing
     }
     if (s.surface_kind != SurfaceKind::ocean) {
         if (!root.has("waves")) root.fail("missing \"waves\": at least one wave train {period, amplitude, direction}");
@@ -789,6 +788,29 @@ void plan_components(const Scene& scene, ScenePlan& p) {
                              " >= 1: crests may loop over themselves (Tessendorf §3.1); lower the amplitudes");
 }
 
+// The ray strips came out empty: say why, naming the seafloor and the scene key, rather
+// than let the exporter find "nothing to export".
+[[noreturn]] void refuse_empty_strips(const Scene& scene, const ScenePlan& p) {
+    const SeafloorStats st = seafloor_stats(p.seafloor);
+    const std::string where = "scene: no water surface to animate over " + p.seafloor.source + ": ";
+    if (!(st.depth_max > 0.0))
+        throw InputError(where + "the seafloor has no water (every node is land" +
+                         (st.nodata_count > 0 ? std::string(" or NODATA read as land: /seafloor/nodata_policy") : std::string()) +
+                         "); check /seafloor/sign and /seafloor/vertical_offset");
+    const WaveTrain& w = scene.waves[0];
+    // The seafloor's width across the swell, where its rays enter.
+    const double len = std::hypot(w.direction_x, w.direction_y);
+    const double across = (std::abs(w.direction_y) * (st.x_max - st.x_min) + std::abs(w.direction_x) * (st.y_max - st.y_min)) / len;
+    if (across / scene.trace.ray_spacing < 2.0)
+        throw InputError(where + "/trace/ray_spacing " + fmt(scene.trace.ray_spacing) + " m leaves fewer than two rays across the " +
+                         fmt(across) + " m the swell enters over; a front needs two: lower /trace/ray_spacing");
+    throw InputError(where + "no front formed: the swell travels towards [" + fmt(w.direction_x) + ", " +
+                     fmt(w.direction_y) + "] (/waves/0/direction), so its rays start on the seafloor's upwave side, and " +
+                     (p.fronts.initial_rays == 0 ? "none started in water there"
+                                                 : std::to_string(p.fronts.initial_rays) + " ray(s) that started there made no strip") +
+                     "; a direction points where the waves go, from the open sea towards the shore");
+}
+
 }  // namespace
 
 ScenePlan plan_scene(const Scene& scene, PlanStages stages) {
@@ -810,6 +832,7 @@ ScenePlan plan_scene(const Scene& scene, PlanStages stages) {
         p.isobaths = extract_isobaths(p.seafloor, scene.isobaths);
         p.fronts = trace_fronts(p.seafloor, scene.waves[0], fronts, &p.isobaths);
         p.strips = build_ray_strips(p.fronts);
+        if (p.strips.triangle_count() == 0) refuse_empty_strips(scene, p);
         p.loop_period = scene.waves[0].period;
         if (stages != PlanStages::trace) {
             p.motion = plan_gonzato_motion(p.strips, scene.profile);

@@ -55,9 +55,24 @@ bool inside(const detail::Box& b, double x, double y) { return x >= b.x0 && x <=
 // the component along the contour over C constant (Gonzato eq. 8).
 void advance(Ray& r, const ElevationGrid& g, const detail::WaveTable& waves, const FrontOptions& o) {
     const DepthSample& here = r.here;
-    const double ahead = depth_at(g, r.x + o.step * r.dx, r.y + o.step * r.dy);
     const double slope = std::hypot(here.dh_dx, here.dh_dy);
     const detail::WaveTable::Entry w1 = waves.at(here.depth);
+    // The ray's direction at mid-step from the ray equation dθ/ds = −(1/C) ∂C/∂m (m the
+    // ray's left normal): Snell is applied between here and the point the ray reaches
+    // along it. A ray running exactly along a contour is at its turning point, where the
+    // depth straight ahead equals the depth here and Snell alone never turns it, while a
+    // ray a hair off the contour turns shorewards within steps: a swell grazing a straight
+    // shore made thousands of spurious caustics that [1, 1e-9] did not. With the midpoint
+    // direction both turn towards the slower, shallower side: continuous in the angle.
+    double pdx = r.dx, pdy = r.dy;
+    if (slope > 1e-12 && here.depth > 0.0) {
+        const double eps = std::max(1e-6, 1e-3 * here.depth);
+        const double dlnc_dh = (waves.at(here.depth + eps).celerity / w1.celerity - 1.0) / eps;
+        const double half_turn = -0.5 * o.step * dlnc_dh * (here.dh_dy * r.dx - here.dh_dx * r.dy);
+        pdx = r.dx * std::cos(half_turn) - r.dy * std::sin(half_turn);
+        pdy = r.dx * std::sin(half_turn) + r.dy * std::cos(half_turn);
+    }
+    const double ahead = depth_at(g, r.x + o.step * pdx, r.y + o.step * pdy);
     if (slope > 1e-12 && here.depth > 0.0 && ahead > 0.0) {
         const double nx = here.dh_dx / slope, ny = here.dh_dy / slope;  // towards deeper water
         const double tx = -ny, ty = nx;
@@ -66,7 +81,9 @@ void advance(Ray& r, const ElevationGrid& g, const detail::WaveTable& waves, con
         if (std::abs(b2) > 1.0) {
             a = -a;  // total reflection at the depth change
         } else {
-            a = std::copysign(std::sqrt(1.0 - b2 * b2), a);
+            // Across the contours the ray heads where its mid-step direction does (past
+            // its turning point, if it reached one within the step).
+            a = std::copysign(std::sqrt(1.0 - b2 * b2), pdx * nx + pdy * ny);
             b = b2;
         }
         const double len = std::hypot(a, b);
