@@ -3,6 +3,7 @@
 #include "commands.h"
 #include "libwave/errors.h"
 #include "libwave/io.h"
+#include "outputs.h"
 
 #include <nlohmann/json.hpp>
 
@@ -13,6 +14,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -90,7 +93,16 @@ int run_batch(const BatchArgs& a) {
             throw InputError("batch: " + it->second + " and " + s + " would both write " + (fs::path(a.out_dir) / stem).string() +
                              "; rename one");
     }
+    check_out_dir(a.out_dir);
     fs::create_directories(a.out_dir);
+    {  // each scene's messages go to a file in the output folder: it must take one
+        const fs::path probe = fs::path(a.out_dir) / (".batch-" + std::to_string(getpid()) + "-probe");
+        const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (fd < 0) throw RuntimeError("batch: cannot write in the output folder " + a.out_dir + " (" + std::strerror(errno) + ")");
+        ::close(fd);
+        std::error_code ignored;
+        fs::remove(probe, ignored);
+    }
     const std::string self = fs::read_symlink("/proc/self/exe").string();
     std::vector<Job> jobs;
     for (const std::string& s : scenes) {
@@ -114,7 +126,9 @@ int run_batch(const BatchArgs& a) {
         j.start = Clock::now();
         const int rc = posix_spawn(&j.pid, self.c_str(), &actions, nullptr, argv.data(), environ);
         posix_spawn_file_actions_destroy(&actions);
-        if (rc != 0) throw RuntimeError("batch: cannot start " + self + " (" + std::to_string(rc) + ")");
+        if (rc != 0)
+            throw RuntimeError("batch: cannot start " + self + " for " + j.scene + " (" + std::strerror(rc) +
+                               "; its messages go to " + j.err_file + ")");
     };
 
     std::size_t next = 0, running = 0, done = 0;

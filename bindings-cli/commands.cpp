@@ -315,6 +315,7 @@ int run_job(const RunArgs& a) {
     if (!a.frames.empty() && !a.slice.empty()) throw InputError("choose --frames or --slice, not both");
     FrameRange range = parse_frames(a.frames);
     const std::string out_dir = run_out_dir(a);
+    check_out_dir(out_dir);
     const bool strips = scene.surface_kind == SurfaceKind::ray_strips;
 
     const auto t0 = Clock::now();
@@ -612,6 +613,7 @@ int run_validate(const std::string& path, bool as_json, double max_memory_gb) {
 
 int run_convert(const ConvertArgs& a) {
     if (a.draco && a.quantize) throw InputError("convert: choose --draco or --quantize, not both (Draco quantises itself)");
+    check_out_dir(a.out_dir);
     StoredAnimation stored = read_animation(a.input);
     MorphAnimationView view = stored.view();
     if (a.draco) view.draco = DracoOptions{};
@@ -653,6 +655,7 @@ int run_convert(const ConvertArgs& a) {
 
 // asset.extras.libwave of a .glb or .gltf, from its JSON alone (the binary is not read).
 json frame_metadata(const std::string& path) {
+    if (std::filesystem::is_directory(path)) throw InputError(path + ": a directory, not a file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(path + ": cannot open the file");
     std::string text;
@@ -802,11 +805,7 @@ int run_merge(const MergeArgs& a) {
     std::vector<json> entries;
     for (const auto& [frame, file] : files) {
         Files content;
-        const auto add = [&](const std::string& name) {
-            std::ifstream in(fs::path(a.out_dir) / name, std::ios::binary);
-            if (!in) throw InputError((fs::path(a.out_dir) / name).string() + ": cannot open the file");
-            content.emplace_back(name, std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()));
-        };
+        const auto add = [&](const std::string& name) { content.emplace_back(name, read_input_bytes(fs::path(a.out_dir) / name)); };
         add(file);
         if (file.ends_with(".gltf")) add(file.substr(0, file.size() - 5) + ".bin");
         json entry = frame_entry(frame, fps, content);

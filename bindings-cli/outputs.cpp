@@ -85,16 +85,44 @@ json frame_entry(std::size_t frame, double fps, const Files& frame_files, std::s
 
 namespace {
 
-// The file's bytes, or nothing when it cannot be read.
+// The file's bytes, or nothing when it cannot be read (a directory included: reading
+// one through a stream throws basic_filebuf's own error).
 std::optional<std::string> read_bytes(const fs::path& path) {
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) return std::nullopt;
     std::ifstream in(path, std::ios::binary);
     if (!in) return std::nullopt;
-    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (in.bad()) return std::nullopt;
-    return bytes;
+    try {
+        std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        if (in.bad()) return std::nullopt;
+        return bytes;
+    } catch (const std::exception&) {
+        return std::nullopt;
+    }
 }
 
 }  // namespace
+
+std::string read_input_bytes(const fs::path& path) {
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) throw InputError(path.string() + ": a directory, not a file");
+    auto bytes = read_bytes(path);
+    if (!bytes) throw InputError(path.string() + ": cannot read the file (" + (fs::exists(path, ec) ? "not a regular file or unreadable" : "file not found") + ")");
+    return std::move(*bytes);
+}
+
+void check_out_dir(const std::string& out_dir) {
+    std::error_code ec;
+    for (fs::path p = fs::path(out_dir).lexically_normal(); !p.empty(); p = p.parent_path()) {
+        if (fs::exists(p, ec)) {
+            if (!fs::is_directory(p, ec))
+                throw InputError(out_dir + ": " + (p == fs::path(out_dir).lexically_normal() ? std::string("a file") : p.string() + " is a file") +
+                                 ", not a folder; -o names the output folder");
+            return;
+        }
+        if (p == p.parent_path()) return;
+    }
+}
 
 // An index that cannot be read is a reason to recompute, not to stop a resumed run.
 std::optional<json> read_index(const fs::path& path) {

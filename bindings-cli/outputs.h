@@ -59,6 +59,14 @@ bool entry_intact(const nlohmann::json& entry, const std::filesystem::path& root
 /// hands: a wrong type is "not an index", never an exception from deep inside).
 std::optional<nlohmann::json> read_index(const std::filesystem::path& path);
 
+/// The bytes of a file the user's folder holds (a frame, a scene): InputError naming the
+/// path for a directory or a file that cannot be read (never the stream's own error).
+std::string read_input_bytes(const std::filesystem::path& path);
+
+/// Refuses (InputError, before any work) an output folder that is a file, or lies
+/// below one: `-o` names a folder.
+void check_out_dir(const std::string& out_dir);
+
 /// index.json of an animation holding `entries` (frames in order).
 nlohmann::json frame_index(const IndexInfo& info, std::vector<nlohmann::json> entries);
 

@@ -131,7 +131,7 @@ void check_grid_size(const std::string& path, std::size_t nx, std::size_t ny,
         throw LimitError(path + ": the grid has " + std::to_string(nx) + " x " +
                          std::to_string(ny) + " nodes, more than the limit of " +
                          std::to_string(options.max_nodes) +
-                         " (ReadOptions::max_nodes, CLI --max-nodes)");
+                         " (ReadOptions::max_nodes, scene key /seafloor/max_nodes, CLI --max-nodes)");
 }
 
 namespace {
@@ -139,7 +139,7 @@ std::size_t checked_nodes(const std::string& path, double n, double extent, doub
     if (!(n <= static_cast<double>(options.max_nodes)))  // also NaN and infinity
         throw LimitError(path + ": a grid spacing of " + format_number(spacing) + " m over " + format_number(extent) +
                          " m needs more nodes than the limit of " + std::to_string(options.max_nodes) +
-                         " (ReadOptions::max_nodes, CLI --max-nodes; or a coarser --spacing)");
+                         " (ReadOptions::max_nodes, scene key /seafloor/max_nodes, CLI --max-nodes; or a coarser --spacing)");
     return static_cast<std::size_t>(n);
 }
 }  // namespace

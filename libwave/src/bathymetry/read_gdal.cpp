@@ -20,6 +20,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <numbers>
@@ -86,10 +87,12 @@ void check_ascii_grid_tokens(const std::string& path, std::size_t nx, std::size_
         char* end = nullptr;
         errno = 0;
         const double v = std::strtod(token.c_str(), &end);
+        const std::string where = path + ": row " + std::to_string(row) + ", column " + std::to_string(column) + " holds '" +
+                                  (token.size() > 24 ? token.substr(0, 24) + "…" : token) + "'";
         if (end != token.c_str() + token.size() || !std::isfinite(v) || errno == ERANGE)
-            throw InputError(path + ": row " + std::to_string(row) + ", column " + std::to_string(column) + " holds '" +
-                             (token.size() > 24 ? token.substr(0, 24) + "…" : token) +
-                             "', not a finite number; mark missing values with the NODATA_value");
+            throw InputError(where + ", not a finite number; mark missing values with the NODATA_value");
+        if (std::abs(v) > std::numeric_limits<float>::max())  // GDAL would store the float's largest value
+            throw InputError(where + ", beyond the 32-bit floats GDAL reads ESRI grids as; mark missing values with the NODATA_value");
     }
 }
 

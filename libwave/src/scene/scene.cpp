@@ -57,7 +57,10 @@ struct Range {
         return (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
     }
     std::string text() const {
-        return std::string(lo_open ? "(" : "[") + fmt(lo) + ", " + fmt(hi) + (hi_open ? ")" : "]");
+        const auto shown = [](double v) {  // whole bounds in full (2^53 − 1, not 9.00719925474099e+15)
+            return std::abs(v) < 1e17 && v == std::floor(v) ? std::to_string(static_cast<long long>(v)) : fmt(v);
+        };
+        return std::string(lo_open ? "(" : "[") + shown(lo) + ", " + shown(hi) + (hi_open ? ")" : "]");
     }
 };
 
@@ -738,7 +741,11 @@ void plan_components(const Scene& scene, ScenePlan& p) {
     }
     if (!(p.loop_period * scene.fps >= 1.0))
         throw InputError("scene: the loop (" + fmt(p.loop_period) + " s) is shorter than one frame at " + fmt(scene.fps) +
-                         " fps; lengthen /ocean/repeat_time or raise /animation/fps");
+                         " fps; " +
+                         (scene.ocean ? std::string("lengthen /ocean/repeat_time")
+                          : scene.surface_kind == SurfaceKind::height_field ? std::string("lengthen /surface/repeat_time or the periods in /waves")
+                                                                            : std::string("lengthen /waves/0/period")) +
+                         " or raise /animation/fps");
 
     // Rest positions and depths of the surface's vertices.
     const ElevationGrid& g = p.seafloor.grid;

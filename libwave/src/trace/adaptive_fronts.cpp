@@ -121,7 +121,7 @@ void advance_isobath(Ray& r, const IsobathMode& m, const ElevationGrid& g, const
     detail::WaveTable::Entry w = waves.at(r.band);
     for (int crossings = 0; left > 0.0; ++crossings) {
         if (crossings > 10'000)
-            throw LimitError("fronts: a ray crossed more than 10000 isobaths in one step (shorten FrontOptions::step "
+            throw LimitError("fronts: a ray crossed more than 10000 isobaths in one step (shorten FrontOptions::step, scene key /fronts/step, "
                              "or coarsen the isobaths)");
         const auto hit = detail::next_crossing(*m.index, r.x, r.y, r.dx, r.dy, left, m.scale, r.skip);
         const double run = hit ? hit->distance : left;
@@ -211,6 +211,22 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
     const detail::WaveTable waves(omega, 1.05 * seafloor_stats(seafloor).depth_max, o.dispersion);
     double phase_origin = 0.0;
     const auto entries = detail::entry_points(box, dx, dy, o.ray_spacing, o.max_rays, phase_origin);
+    // Refused up front when even a straight crossing of the domain along the swell needs
+    // more fronts, or more points, than the guard rails allow: a tiny step would otherwise
+    // run all max_steps fronts before the limit was found.
+    const double crossing = std::abs(dx) * (box.x1 - box.x0) + std::abs(dy) * (box.y1 - box.y0);
+    const double fronts_needed = crossing / o.step;
+    if (fronts_needed > static_cast<double>(o.max_steps))
+        throw LimitError("fronts: crossing the " + detail::format_number(crossing) + " m domain at a step of " +
+                         detail::format_number(o.step) + " m takes " + detail::format_number(std::ceil(fronts_needed)) +
+                         " fronts, more than " + std::to_string(o.max_steps) +
+                         " (FrontOptions::max_steps, scene key /fronts/max_steps; lengthen /fronts/step)");
+    if (fronts_needed * static_cast<double>(entries.size()) > static_cast<double>(o.max_points))
+        throw LimitError("fronts: " + std::to_string(entries.size()) + " rays crossing the domain in " +
+                         detail::format_number(std::ceil(fronts_needed)) + " fronts make more than " +
+                         std::to_string(o.max_points) +
+                         " points (FrontOptions::max_points, scene key /fronts/max_points; lengthen /fronts/step or "
+                         "raise /trace/ray_spacing)");
 
     FrontSet out;
     out.omega = omega;
@@ -290,7 +306,7 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
         if (!moving) break;
         if (step >= o.max_steps)
             throw LimitError("fronts: more than " + std::to_string(o.max_steps) +
-                             " steps (FrontOptions::max_steps; raise it or lengthen the step)");
+                             " steps (FrontOptions::max_steps, scene key /fronts/max_steps; raise it or lengthen the step)");
         for (Ray& r : front) {
             if (r.flag == RayFlag::aground) {
                 follow_shore(r, g, o);
@@ -347,7 +363,7 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
             if (!both_flat && !both_aground && !crossed && std::hypot(b.x - a.x, b.y - a.y) > o.split_distance) {
                 if (out.initial_rays + out.inserted_rays >= o.max_rays)
                     throw LimitError("fronts: more than " + std::to_string(o.max_rays) +
-                                     " rays (FrontOptions::max_rays; raise it or raise split_distance)");
+                                     " rays (FrontOptions::max_rays, scene key /trace/max_rays; raise it or raise split_distance)");
                 Ray m{next_id++, 0.5 * (a.x + b.x), 0.5 * (a.y + b.y), a.dx + b.dx, a.dy + b.dy,
                       0.5 * (a.phase + b.phase), RayFlag::alive, 0.5 * (a.turn + b.turn)};
                 m.band = a.band;  // isobath mode: the new ray starts in its neighbour's band

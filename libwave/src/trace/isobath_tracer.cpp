@@ -72,7 +72,7 @@ bool trace_one(const IsobathIndex& index, const Box& box, const ElevationGrid& g
     for (std::size_t crossings = 0;; ++crossings) {
         if (crossings >= o.max_crossings)
             throw LimitError("trace: a ray crossed isobaths more than " + std::to_string(o.max_crossings) +
-                             " times (TraceOptions::max_crossings; raise it, or coarsen the isobaths)");
+                             " times (TraceOptions::max_crossings, scene key /trace/max_crossings; raise it, or coarsen the isobaths)");
         double t0 = 0.0, t1 = 0.0;
         clip(box, px, py, dx, dy, t0, t1);
         const double to_exit = std::max(t1, 0.0);
@@ -184,7 +184,7 @@ RaySet trace_rays(const Seafloor& seafloor, const DepthContours& isobaths, std::
             detail::entry_points(box, dx, dy, o.ray_spacing, o.max_rays - rays.ray_count(), phase_origin);
         if (rays.ray_count() + entries.size() > o.max_rays)
             throw LimitError("trace: " + std::to_string(rays.ray_count() + entries.size()) + " rays exceed the limit of " +
-                             std::to_string(o.max_rays) + " (TraceOptions::max_rays; raise it or widen ray_spacing)");
+                             std::to_string(o.max_rays) + " (TraceOptions::max_rays, scene key /trace/max_rays; raise it or widen /trace/ray_spacing)");
         const std::size_t first_ray = rays.ray_count();
         const double omega = 2.0 * std::numbers::pi / t.period;
         for (const detail::EntryPoint& e : entries) {
