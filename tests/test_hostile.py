@@ -401,6 +401,20 @@ def schema_numbers(node, pointer, out):
     return out
 
 
+class RangeTable(unittest.TestCase):
+    def test_the_range_table_in_the_docs_is_the_schemas(self):
+        root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+        schema = subprocess.run([WAVE, "schema"], capture_output=True, text=True, check=True).stdout
+        table = subprocess.run([sys.executable, os.path.join(root, "scripts", "schema-ranges.py"), "-"], input=schema,
+                               capture_output=True, text=True, check=True).stdout
+        self.assertIn(table, pathlib.Path(root, "docs", "hardening.md").read_text(),
+                      "docs/hardening.md's range table differs from the schema: run scripts/schema-ranges.py")
+        # Every number of the schema has both ends.
+        for pointer, spec in schema_numbers(json.loads(schema), "", []):
+            self.assertTrue({"minimum", "exclusiveMinimum"} & spec.keys(), pointer)
+            self.assertTrue({"maximum", "exclusiveMaximum"} & spec.keys(), pointer)
+
+
 class ExtremeValues(unittest.TestCase):
     """Scene files with numeric keys at extreme values — 0, ±tiny, ±huge, their range's
     ends, 2^63, text that looks like a number — run as a user would: `wave validate`,

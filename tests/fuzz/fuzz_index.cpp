@@ -15,7 +15,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     wave::fuzz::expect_input_error_only([&] {
         if (const auto index = wave::cli::read_index(file.path))
             for (const auto& entry : (*index)["frames"]) wave::cli::entry_intact(entry, "/nonexistent/libwave-fuzz");
-        for (const bool whole_loop : {false, true}) wave::cli::merged_index(file.path, info, {}, whole_loop);
+        for (const bool whole_loop : {false, true})
+            for (const bool rebuild : {false, true}) wave::cli::merged_index(file.path, info, {}, whole_loop, rebuild);
     });
     return 0;
 }

@@ -52,9 +52,11 @@ seed fuzz_index tests/fuzz/seeds/index/*
 
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:allocator_may_return_null=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-summary=()
-for t in "${targets[@]}"; do
-  bin="$build/tests/fuzz/$t"
+# One target: its regression inputs, (CI) its seeds, then the bounded run. Prints its
+# summary line last; exits non-zero on any finding.
+fuzz_target() {
+  local t=$1
+  local bin="$build/tests/fuzz/$t"
   # Inputs that once failed stay fixed (tests/fuzz/regressions/<target>/).
   if compgen -G "tests/fuzz/regressions/$t/*" >/dev/null; then
     echo "== $t: regression inputs" >&2
@@ -64,7 +66,7 @@ for t in "${targets[@]}"; do
       exit 1
     fi
   fi
-  budget=(-max_total_time="$seconds")
+  local budget=(-max_total_time="$seconds") log executed cov secs
   ((runs)) && budget=(-runs="$runs")
   log="$build/$t.log"
   if ((ci)); then  # each seed once, then the bounded exploration
@@ -76,6 +78,11 @@ for t in "${targets[@]}"; do
     fi
     budget+=(-seed=1)
   fi
+  # Dictionaries: deep nesting and extreme numbers for the JSON readers, bad cells for the grids.
+  case $t in
+    fuzz_scene | fuzz_contours | fuzz_gltf | fuzz_index) budget+=(-dict=tests/fuzz/dicts/json.dict) ;;
+    fuzz_raster | fuzz_swan_bot) budget+=(-dict=tests/fuzz/dicts/grid.dict) ;;
+  esac
   echo "== $t: ${budget[*]}" >&2
   if ! "$bin" "${budget[@]}" -timeout=20 -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 \
       -artifact_prefix="$build/artifacts/$t-" "$corpus_root/$t" >"$log" 2>&1; then
@@ -90,6 +97,24 @@ for t in "${targets[@]}"; do
   executed=$(grep -o 'stat::number_of_executed_units: [0-9]*' "$log" | grep -o '[0-9]*$' || echo '?')
   cov=$(grep -o 'cov: [0-9]*' "$log" | tail -n 1 | grep -o '[0-9]*$' || echo '?')
   secs=$(grep -o 'Done [0-9]* runs in [0-9]* second' "$log" | grep -o 'in [0-9]*' | grep -o '[0-9]*' || echo '?')
-  summary+=("$t: $executed executions in $secs s, coverage $cov edges, corpus $(ls "$corpus_root/$t" | wc -l) inputs")
+  echo "fuzz: $t: $executed executions in $secs s, coverage $cov edges, corpus $(ls "$corpus_root/$t" | wc -l) inputs"
+}
+
+# The targets run side by side, one per core (each for its own time budget), their
+# logs kept apart and printed in order.
+jobs=$(nproc)
+failed=0
+for ((i = 0; i < ${#targets[@]}; i += jobs)); do
+  pids=()
+  for t in "${targets[@]:i:jobs}"; do
+    fuzz_target "$t" >"$build/$t.summary" 2>"$build/$t.stderr" &
+    pids+=($!)
+  done
+  for k in "${!pids[@]}"; do
+    t=${targets[i + k]}
+    wait "${pids[$k]}" || failed=1
+    cat "$build/$t.stderr" >&2
+  done
 done
-printf 'fuzz: %s\n' "${summary[@]}"
+for t in "${targets[@]}"; do cat "$build/$t.summary"; done
+exit "$failed"
