@@ -1,5 +1,5 @@
 # OpenSubdiv (Debian's libosd-dev): its CMake config names a libosdCPU.a that is not
-# shipped (BUILD-NOTES), so the header and the shared library are found directly and
+# shipped (docs/build-notes.md), so the header and the shared library are found directly and
 # wrapped in an imported target. Included by the build and by libwaveConfig.cmake.
 if(NOT TARGET libwave::opensubdiv)
   find_path(LIBWAVE_OSD_INCLUDE_DIR opensubdiv/far/topologyRefiner.h REQUIRED)

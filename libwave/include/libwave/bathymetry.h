@@ -1,6 +1,6 @@
 // libwave — bathymetry: the seafloor every later stage reads.
 //
-// Conventions (DESIGN.md): SI metres, right-handed, z up. The seafloor is an
+// Conventions (docs/conventions.md): SI metres, right-handed, z up. The seafloor is an
 // *elevation* z_b(x, y), negative under water; still water is z = 0; depth
 // h = −z_b; land is h <= 0. Grids are node-registered: node (i, j) sits at
 // (x0 + i·dx, y0 + j·dy), row-major with j = 0 the southernmost row (smallest y).
@@ -220,7 +220,7 @@ struct TsoContoursParams {
 };
 Seafloor make_tso_contours(const TsoContoursParams& p = {});
 
-/// Berkhoff, Booy & Radder (1982) elliptic shoal (DESIGN.md validation cases): origin
+/// Berkhoff, Booy & Radder (1982) elliptic shoal (docs/conventions.md, validation cases): origin
 /// at the shoal centre, x along the incident waves, wavemaker at x = −10, walls at
 /// y = ±10, domain x ∈ [−10, 12]. Rotated coordinates x' = x cos20° − y sin20°,
 /// y' = x sin20° + y cos20°; h = 0.45 for x' < −5.82, else 0.45 − 0.02 (5.82 + x');

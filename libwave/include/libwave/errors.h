@@ -1,4 +1,4 @@
-// libwave — the one header of exception types (DESIGN.md, Style 5).
+// libwave — the one header of exception types (docs/conventions.md, errors).
 //
 // Three layers of errors: asserts for internal invariants; these exceptions for bad
 // input at the API boundary (files, scene values, out-of-range parameters); result

@@ -1,7 +1,7 @@
 // libwave — export: meshes and animations to files for DCC tools.
 //
 // glTF 2.0 binary (.glb) with the animation as one morph target per frame and a STEP
-// `weights` channel (DESIGN.md, "Export conventions"; Blender turns it into shape
+// `weights` channel (docs/conventions.md, "Export conventions"; Blender turns it into shape
 // keys, three.js plays it); Wavefront OBJ of one frame. libwave is z up; glTF is y up:
 // the glTF writer maps (x, y, z) → (x, z, −y), nothing else converts.
 #pragma once
@@ -22,7 +22,7 @@ namespace wave {
 std::string mesh_to_obj(std::span<const float> positions, std::span<const std::uint32_t> triangles,
                         std::string_view comment);
 
-/// Where the per-vertex shading scalars go (DESIGN.md, "Export conventions").
+/// Where the per-vertex shading scalars go (docs/conventions.md, "Export conventions").
 enum class ScalarLayout {
     custom,     ///< FLOAT attributes `_REFLECT`, `_REFRACT`, `_FOAM` (glTF's custom-attribute rule; Blender >= 3.5, three.js `_foam`)
     blender34,  ///< TEXCOORD_1 = (R, T), TEXCOORD_2 = (foam, 0): Blender 3.4 keeps UV maps (it stores 1 − v)
@@ -95,7 +95,7 @@ MorphAnimationView animation_view(const Frames& a) {
 }
 
 /// The largest float32 <= k / fps: nearest rounding lands some keys just after frame k
-/// and Blender then shows the previous frame there (DESIGN.md).
+/// and Blender then shows the previous frame there (docs/conventions.md, key times).
 float key_time(std::size_t k, double fps) noexcept;
 
 /// A .glb holding the animation: the mesh with frame 0 as its base (POSITION, NORMAL,

@@ -1,4 +1,4 @@
-// libwave — crash-safe output files (DESIGN.md conventions).
+// libwave — crash-safe output files (docs/conventions.md).
 #pragma once
 
 #include <string>

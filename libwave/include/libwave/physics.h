@@ -13,7 +13,7 @@
 
 namespace wave {
 
-/// Gravitational acceleration (m/s²), DESIGN.md conventions.
+/// Gravitational acceleration (m/s²), docs/conventions.md.
 inline constexpr double kGravity = 9.81;
 /// Refractive index of sea water used by Ts'o–Barsky (§4.2.2) and by default here.
 inline constexpr double kWaterRefractiveIndex = 1.33;

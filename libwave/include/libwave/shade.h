@@ -65,7 +65,7 @@ struct FresnelOptions {
 void fresnel_weights(std::span<const float> positions, std::span<const float> normals, const FresnelOptions& options,
                      std::span<float> reflect, std::span<float> refract);
 
-/// Depth-limited breaking foam (DESIGN.md shade (c)).
+/// Depth-limited breaking foam (docs/shade.md).
 struct FoamOptions {
     double breaker_index = kBreakerIndex;  ///< γ
     /// Foam starts where H reaches this share of γh (the tracer caps H at γh), full at γh.
@@ -90,7 +90,7 @@ void breaking_foam(const RayStrips& strips, const GonzatoMotionPlan& motion, dou
 void height_field_foam(const HeightFieldPlan& plan, std::span<const float> node_depth, double t,
                        const FoamOptions& options, std::span<float> node_foam, std::span<float> foam);
 
-/// Foam from folding (Tessendorf §3.7, DESIGN.md shade (b)): the choppy map folds
+/// Foam from folding (Tessendorf §3.7, docs/shade.md): the choppy map folds
 /// where its minimum eigenvalue J₋ (eq. 32) drops below 0. Foam appears below
 /// `threshold`, is full at threshold − softness, and fades over time without history:
 /// foam(t) = max over τ of coverage(J₋(τ)) · fade(t − τ), τ being t itself and the

@@ -38,7 +38,7 @@ DracoOutput draco_encode(std::span<const std::uint32_t> triangles, std::size_t n
             pa->SetAttributeValue(draco::AttributeValueIndex(static_cast<std::uint32_t>(v)),
                                   &in.values[static_cast<std::size_t>(in.components) * v]);
         if (type == T::GENERIC) {
-            // Custom attributes are named through metadata (BUILD-NOTES).
+            // Custom attributes are named through metadata (docs/build-notes.md).
             auto metadata = std::make_unique<draco::AttributeMetadata>();
             metadata->AddEntryString("name", in.name);
             mesh.AddAttributeMetadata(id, std::move(metadata));

@@ -1,6 +1,6 @@
 // glTF 2.0 (.glb) through tinygltf: a morph-target animation with a one-hot STEP
-// weights channel, as Blender and three.js read it (DESIGN.md, "Export conventions").
-// tinygltf is compiled here and nowhere else (BUILD-NOTES: never link Debian's
+// weights channel, as Blender and three.js read it (docs/conventions.md, "Export conventions").
+// tinygltf is compiled here and nowhere else (docs/build-notes.md: never link Debian's
 // libtinygltf.so, whose symbols clash with the copy inside libdraco).
 #define TINYGLTF_IMPLEMENTATION
 #define TINYGLTF_NO_STB_IMAGE

@@ -1,4 +1,4 @@
-// Gonzato & Le Saëc's wave profile (§2.3–2.5, eq. 7) with the misprints of DESIGN.md
+// Gonzato & Le Saëc's wave profile (§2.3–2.5, eq. 7) with the misprints read as in docs/conventions.md
 // corrected: τ'_β = √(1 − τ_β²), and Orientation / Displacement as piecewise-linear
 // functions of the phase over the descending front, the trough and the ascending back.
 #include "libwave/motion.h"

@@ -5,7 +5,7 @@
 #include "libwave/io.h"
 #include "libwave/surface.h"
 
-// MeshIO before the mesh headers (BUILD-NOTES).
+// MeshIO before the mesh headers (docs/build-notes.md).
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 

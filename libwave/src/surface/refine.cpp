@@ -1,5 +1,5 @@
 // Uniform subdivision of any libwave surface with OpenSubdiv (Ts'o–Barsky §5: refine
-// the surface; DESIGN.md: topology refined once, stencils applied per frame). The only
+// the surface; OpenSubdiv Far's way: topology refined once, stencils applied per frame). The only
 // translation unit that includes OpenSubdiv.
 #include "libwave/errors.h"
 #include "libwave/surface.h"
