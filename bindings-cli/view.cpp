@@ -12,6 +12,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -41,6 +44,45 @@ fs::path viewer_dir() {
     std::error_code ec;
     const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
     return ec ? fs::path("share/libwave/viewer") : exe.parent_path().parent_path() / "share" / "libwave" / "viewer";
+}
+
+// The file a request for /out/<relative> names, if it is a regular file whose real
+// path (every symlink resolved) lies inside the served folder's real path; nothing
+// otherwise. Output folders are shared (farm storage, downloads), so their links are
+// not trusted: a link that stays inside the folder is served, one that leaves it is not.
+std::optional<fs::path> served_file(const fs::path& root_real, const std::string& relative) {
+    if (relative.empty() || relative.find('\0') != std::string::npos) return std::nullopt;
+    const fs::path rel(relative);
+    if (rel.is_absolute()) return std::nullopt;
+    for (const auto& part : rel)
+        if (part == "..") return std::nullopt;
+    std::error_code ec;
+    const fs::path real = fs::canonical(root_real / rel, ec);
+    if (ec || !fs::is_regular_file(real, ec)) return std::nullopt;
+    auto p = real.begin();
+    for (auto r = root_real.begin(); r != root_real.end(); ++r, ++p)
+        if (p == real.end() || *p != *r) return std::nullopt;
+    return real;
+}
+
+// Host headers a page of this machine sends: 127.0.0.1, localhost or [::1] with our
+// port. A page of another site that rebinds its name to 127.0.0.1 sends its own name.
+bool local_host(const std::string& host, int port) {
+    const std::size_t colon = host.rfind(':');
+    if (colon == std::string::npos || host.substr(colon + 1) != std::to_string(port)) return false;
+    const std::string name = host.substr(0, colon);
+    return name == "127.0.0.1" || name == "localhost" || name == "[::1]";
+}
+
+// 128 random bits as hex: the token of this `wave view` (docs/viewer.md).
+std::string random_token() {
+    unsigned char bytes[16] = {};
+    std::ifstream urandom("/dev/urandom", std::ios::binary);
+    if (!urandom.read(reinterpret_cast<char*>(bytes), sizeof bytes)) throw std::runtime_error("view: cannot read /dev/urandom");
+    static const char* hex = "0123456789abcdef";
+    std::string token;
+    for (unsigned char b : bytes) token += {hex[b >> 4], hex[b & 15]};
+    return token;
 }
 
 bool is_animation_file(const fs::path& p) {
@@ -88,11 +130,12 @@ int run_view(const ViewArgs& a) {
     if (a.port < 0 || a.port > 65535) throw InputError("view: --port must be in [0, 65535], got " + std::to_string(a.port));
 
     httplib::Server server;
-    for (const auto& [ext, type] : std::vector<std::pair<const char*, const char*>>{
-             {"html", "text/html; charset=utf-8"}, {"js", "text/javascript"}, {"wasm", "application/wasm"},
-             {"json", "application/json"}, {"glb", "model/gltf-binary"}, {"gltf", "model/gltf+json"},
-             {"bin", "application/octet-stream"}, {"png", "image/png"}})
-        server.set_file_extension_and_mimetype_mapping(ext, type);
+    const std::map<std::string, std::string> types{
+        {".html", "text/html; charset=utf-8"}, {".js", "text/javascript"}, {".wasm", "application/wasm"},
+        {".json", "application/json"}, {".glb", "model/gltf-binary"}, {".gltf", "model/gltf+json"},
+        {".bin", "application/octet-stream"}, {".png", "image/png"}};
+    for (const auto& [ext, type] : types) server.set_file_extension_and_mimetype_mapping(ext.substr(1), type);
+    server.set_default_headers({{"X-Content-Type-Options", "nosniff"}, {"Referrer-Policy", "no-referrer"}});
     // SO_REUSEADDR only: cpp-httplib's default also sets SO_REUSEPORT, with which a
     // second `wave view` would silently share a port already serving another folder.
     server.set_socket_options([](socket_t sock) {
@@ -106,11 +149,60 @@ int run_view(const ViewArgs& a) {
         res.set_header("Cache-Control", "no-store");
         res.set_content(body, "application/json");
     });
-    // cpp-httplib refuses paths that climb out of a mount point ("..").
-    if (!server.set_mount_point("/out", outputs.root.string()) || !server.set_mount_point("/", assets.string()))
-        throw std::runtime_error("view: cannot serve " + outputs.root.string());
+    // The output folder: only files whose real path lies inside its real path.
+    std::error_code ec;
+    const fs::path root_real = fs::canonical(outputs.root, ec);
+    if (ec) throw InputError("view: cannot resolve " + outputs.root.string() + " (" + ec.message() + ")");
+    bool warned = false;
+    server.Get(R"(/out/(.+))", [&, root_real](const httplib::Request& req, httplib::Response& res) {
+        const auto file = served_file(root_real, req.matches[1].str());
+        if (!file) {
+            if (!warned) std::cerr << "wave view: refused " << req.path << " (outside " << root_real.string()
+                                   << ", a link leaving it, or no such file); further refusals are not reported" << std::endl;
+            warned = true;
+            res.status = 404;
+            return;
+        }
+        const auto size = static_cast<std::size_t>(fs::file_size(*file, ec));
+        const auto type = types.find(file->extension().string());
+        auto in = std::make_shared<std::ifstream>(*file, std::ios::binary);
+        res.set_content_provider(size, type == types.end() ? "application/octet-stream" : type->second,
+                                 [in](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
+                                     std::vector<char> buffer(std::min<std::size_t>(length, 1 << 20));
+                                     in->seekg(static_cast<std::streamoff>(offset));
+                                     if (!in->read(buffer.data(), static_cast<std::streamsize>(buffer.size()))) return false;
+                                     sink.write(buffer.data(), buffer.size());
+                                     return true;
+                                 });
+    });
+    // The page itself: the viewer's installed files (libwave's own).
+    if (!server.set_mount_point("/", assets.string())) throw std::runtime_error("view: cannot serve " + assets.string());
 
+    // Every request: GET or HEAD, from a page of this machine (the Host it names), with
+    // this run's token — in the printed URL's query, then in a cookie the page keeps.
+    const std::string token = random_token();
     int port = a.port;
+    server.set_pre_routing_handler([&](const httplib::Request& req, httplib::Response& res) {
+        if (req.method != "GET" && req.method != "HEAD") {
+            res.status = 405;
+            return httplib::Server::HandlerResponse::Handled;
+        }
+        if (!local_host(req.get_header_value("Host"), port)) {
+            res.status = 403;
+            res.set_content("wave view answers pages of this machine only (Host 127.0.0.1, localhost or [::1])\n", "text/plain");
+            return httplib::Server::HandlerResponse::Handled;
+        }
+        const std::string cookie = "wave_view=" + token;
+        if (req.get_param_value("token") == token) {
+            res.set_header("Set-Cookie", cookie + "; Path=/; HttpOnly; SameSite=Strict");
+        } else if (req.get_header_value("Cookie").find(cookie) == std::string::npos) {
+            res.status = 403;
+            res.set_content("wave view: open the URL it printed (it carries this run's token)\n", "text/plain");
+            return httplib::Server::HandlerResponse::Handled;
+        }
+        return httplib::Server::HandlerResponse::Unhandled;
+    });
+
     if (port == 0) {
         port = server.bind_to_any_port(a.host);
     } else if (!server.bind_to_port(a.host, port)) {
@@ -119,7 +211,7 @@ int run_view(const ViewArgs& a) {
     }
     if (port <= 0) throw std::runtime_error("view: cannot listen on " + a.host);
 
-    const std::string url = "http://" + a.host + ":" + std::to_string(port) + "/";
+    const std::string url = "http://" + a.host + ":" + std::to_string(port) + "/?token=" + token;
     std::cout << "wave view: " << outputs.root.string() << " (" << outputs.outputs.size() << " output"
               << (outputs.outputs.size() == 1 ? "" : "s") << ") at " << url << "  — Ctrl-C stops" << std::endl;
     const char* display = std::getenv("DISPLAY");

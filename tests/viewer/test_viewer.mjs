@@ -9,6 +9,7 @@
 // Exit 77 (skipped) when Chromium is not installed.
 import { spawn, spawnSync } from 'node:child_process';
 import fs from 'node:fs';
+import http from 'node:http';
 import path from 'node:path';
 import { pathToFileURL } from 'node:url';
 import assert from 'node:assert/strict';
@@ -57,15 +58,19 @@ for (const [name, args] of Object.entries(forms)) {
   assert.match(run(['view', path.join(work, 'files', 'strips.ply')], 2).stderr, /not a libwave output/);
 }
 
-// Starts `wave ARGS` (a view); resolves with the URL it prints.
+// Starts `wave ARGS` (a view); resolves with the URL it prints (with this run's token),
+// its base and a fetch of a path that carries the token.
 function serve(dir, args = ['view', dir, '--port', '0', '--no-open'], env = process.env) {
   const child = spawn(wave, args, { stdio: ['ignore', 'pipe', 'pipe'], env });
   return new Promise((resolve, reject) => {
     let out = '';
     child.stdout.on('data', (d) => {
       out += d;
-      const m = out.match(/(http:\/\/127\.0\.0\.1:\d+\/)/);
-      if (m) resolve({ url: m[1], child });
+      const m = out.match(/(http:\/\/127\.0\.0\.1:\d+\/)\?token=([0-9a-f]{32})/);
+      if (m) {
+        const get = (p, init) => fetch(m[1] + p + (p.includes('?') ? '&' : '?') + 'token=' + m[2], init);
+        resolve({ url: m[0], base: m[1], token: m[2], get, child });
+      }
     });
     child.on('exit', (code) => reject(new Error(`wave view exited ${code}: ${out}`)));
   });
@@ -78,14 +83,39 @@ function serve(dir, args = ['view', dir, '--port', '0', '--no-open'], env = proc
   delete env.DISPLAY;
   delete env.WAYLAND_DISPLAY;
   const out = path.join(work, 'viewed');
-  const { url, child } = await serve(out, ['run', '--frames', '0:2', '-q', '-o', out, '--view'], env);
-  const list = await (await fetch(url + 'api/outputs')).json();
+  const { url, base, get, child } = await serve(out, ['run', '--frames', '0:2', '-q', '-o', out, '--view'], env);
+  const list = await (await get('api/outputs')).json();
   assert.deepEqual(list.outputs.map((o) => o.name), ['animation-frames-0-2.glb']);
-  assert.match(await (await fetch(url)).text(), /<title>wave view<\/title>/);
-  const glb = await (await fetch(url + 'out/animation-frames-0-2.glb')).arrayBuffer();
+  assert.match(await (await get('')).text(), /<title>wave view<\/title>/);
+  const glb = await (await get('out/animation-frames-0-2.glb')).arrayBuffer();
   assert.equal(glb.byteLength, fs.statSync(path.join(out, 'animation-frames-0-2.glb')).size);
-  for (const escape of ['out/../report-frames-0-2.json', 'out/%2e%2e/%2e%2e/etc/passwd', '../etc/passwd'])
-    assert.ok((await fetch(url + escape)).status >= 400, `${escape} must not be served`);
+  // Only inside the folder: traversals in every encoding, and links leaving it, are 404;
+  // a link that stays inside is served.
+  fs.symlinkSync('/etc', path.join(out, 'etcdir'));
+  fs.symlinkSync('/etc/passwd', path.join(out, 'passwd.glb'));
+  fs.symlinkSync('animation-frames-0-2.glb', path.join(out, 'inside.glb'));
+  for (const escape of ['out/../report-frames-0-2.json', 'out/%2e%2e/%2e%2e/etc/passwd', 'out/..%2f..%2fetc%2fpasswd',
+    'out/%2E%2e/report-frames-0-2.json', 'out/.%2E/.%2e/etc/passwd', 'out/%2f%2e%2e%2fetc/passwd', '../etc/passwd',
+    'out/etcdir/passwd', 'out/passwd.glb', 'out/', 'out/nonexistent.glb'])
+    assert.equal((await get(escape)).status, 404, `${escape} must not be served`);
+  assert.equal((await get('out/inside.glb')).status, 200);
+  // Without the token, or from a page of another site (DNS rebinding: its own Host), or
+  // with another method: refused.
+  assert.equal((await fetch(base + 'out/animation-frames-0-2.glb')).status, 403);
+  assert.equal((await fetch(base + 'out/animation-frames-0-2.glb?token=' + '0'.repeat(32))).status, 403);
+  const withHost = (host) => new Promise((resolve, reject) => {  // fetch() cannot set Host; node's http can
+    const u = new URL(url);
+    http.get({ host: '127.0.0.1', port: u.port, path: '/out/animation-frames-0-2.glb' + u.search, headers: { Host: host } },
+      (res) => { res.resume(); resolve(res.statusCode); }).on('error', reject);
+  });
+  assert.equal(await withHost('attacker.example:' + new URL(url).port), 403);
+  assert.equal(await withHost('127.0.0.1.attacker.example:' + new URL(url).port), 403);
+  assert.equal(await withHost('localhost:' + new URL(url).port), 200);
+  assert.equal((await get('out/animation-frames-0-2.glb', { method: 'POST' })).status, 405);
+  const head = await get('out/animation-frames-0-2.glb', { method: 'HEAD' });
+  assert.equal(head.status, 200);
+  assert.equal(head.headers.get('x-content-type-options'), 'nosniff');
+  assert.equal(head.headers.get('access-control-allow-origin'), null);
   // A port in use is an error when asked for, naming it.
   const port = new URL(url).port;
   const busy = spawnSync(wave, ['view', out, '--port', port, '--no-open'], { encoding: 'utf8' });

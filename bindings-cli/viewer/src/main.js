@@ -360,7 +360,7 @@ function tick(now) {
 
 function setPlaying(on) {
   state.playing = on;
-  $('play').textContent = on ? '⏸' : '▶';
+  $('play').classList.toggle('playing', on);  // pause bars while playing, a triangle when paused
 }
 
 $('play').addEventListener('click', () => setPlaying(!state.playing));
