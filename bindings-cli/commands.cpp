@@ -42,7 +42,7 @@ int run_dispersion(const DispersionArgs& a) {
     opt.capillary_length = a.capillary_length;
     const double omega = 2.0 * std::numbers::pi / a.period;
     const LinearWave w = linear_wave(omega, a.depth, opt);
-    const double deep_wavelength = kGravity * a.period * a.period / (2.0 * std::numbers::pi);
+    const double deep_wavelength = deep_water_wavelength(a.period);
     json j{{"period_s", a.period},
            {"depth_m", a.depth},
            {"dry", w.dry},

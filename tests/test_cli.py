@@ -1068,22 +1068,30 @@ class Resume(unittest.TestCase):
         with open(index_path) as f:
             index = json.load(f)
         for key, value in [("fps", "120"), ("run_key", 5), ("loop_frames", -600), ("scene", ["resume"])]:
+            # A run that is not resuming refuses to replace an index it cannot read.
             with open(index_path, "w") as f:
                 json.dump({**index, key: value}, f)
             before = CrashSafety.final_files(out)
-            r = wave("run", self.scene, "--form", "files", "-o", out, "--resume")
+            r = wave("run", self.scene, "--form", "files", "-o", out, "--frames", "0:2")
             self.assertEqual(r.returncode, 2, f"{key}: {r.stderr}")
             self.assertIn(index_path + ": not a frame index of libwave", r.stderr)
             self.assertEqual(CrashSafety.final_files(out), before)
             self.assertEqual([n for n in os.listdir(out) if n.startswith(".wave-")], [])
-            # merge indexes what is there: the frames' own files, without the unreadable run key.
+            # merge indexes what is there: the frames' own files, with the run key the frames carry.
             r = wave("merge", out)
             self.assertEqual(r.returncode, 0, f"{key}: {r.stderr}")
             with open(index_path) as f:
                 merged = json.load(f)
             self.assertEqual(len(merged["frames"]), self.FRAMES)
-            self.assertNotIn("run_key", merged)
+            self.assertEqual(merged["run_key"], index["run_key"])
             self.assertEqual([e["content"] for e in merged["frames"]], [e["content"] for e in index["frames"]], key)
+            # --resume rebuilds it (docs/hardening.md): it checks the frames' files instead.
+            with open(index_path, "w") as f:
+                json.dump({**index, key: value}, f)
+            r = wave("run", self.scene, "--form", "files", "-o", out, "--resume")
+            self.assertEqual(r.returncode, 0, f"{key}: {r.stderr}")
+            self.assertEqual(json.loads(pathlib.Path(index_path).read_text()), index, key)
+            self.assertEqual([n for n in os.listdir(out) if n.startswith(".wave-")], [])
         # A frame whose asset extras have a string for the fps (same length: the GLB stays whole).
         frame = os.path.join(out, "frames", "frame-0007.glb")
         data = pathlib.Path(frame).read_bytes()

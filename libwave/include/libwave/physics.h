@@ -44,6 +44,9 @@ struct DispersionSolution {
 /// Deep-water wavenumber k∞ = ω²/g (rad/m), gravity waves.
 double deep_water_wavenumber(double omega) noexcept;
 
+/// Deep-water wavelength L∞ = g T² / (2π) of a period T (s), in metres.
+double deep_water_wavelength(double period) noexcept;
+
 /// Solves ω² = g k (1 + k²L²) tanh(k h) for k by Newton's method (safeguarded by a
 /// bracket) from the Fenton–McKee (1990) explicit approximation, which is within 2 %
 /// everywhere, so 2–4 steps reach 1e-14. Deep water (k∞ h > 20) with L = 0 returns

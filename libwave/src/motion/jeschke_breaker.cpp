@@ -1,6 +1,7 @@
 // Jeschke, Birkholz & Schumann (WSCG 2003): a procedural breaker whose shape (§4,
 // table 1) and foam (§3.1) are pure functions of space and time, parametrised here from
 // the traced rays instead of by hand (the paper's stated future work).
+#include "core/splitmix.h"
 #include "libwave/errors.h"
 #include "libwave/motion.h"
 
@@ -136,13 +137,8 @@ double foam_yield(const BreakerLife& life, double onset) noexcept {
     }
 }
 
-// SplitMix64 (Steele, Lea & Flood 2014): a fixed, platform-independent draw per wave.
-std::uint64_t splitmix64(std::uint64_t x) noexcept {
-    x += 0x9E3779B97F4A7C15ull;
-    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-    return x ^ (x >> 31);
-}
+// A fixed, platform-independent draw per wave (core/splitmix.h).
+using detail::splitmix64;
 
 double unit_draw(std::uint64_t x) noexcept {  // in [−1, 1)
     return static_cast<double>(splitmix64(x) >> 11) * 0x1.0p-52 - 1.0;

@@ -1,6 +1,7 @@
 // Tessendorf §3.3–3.4: the directional wavenumber spectrum and the random Fourier
 // amplitudes h̃0 of one ocean realisation (static, once per scene).
 #include "core/format.h"
+#include "core/splitmix.h"
 #include "libwave/errors.h"
 #include "libwave/motion.h"
 #include "libwave/physics.h"
@@ -73,14 +74,10 @@ double angular_integral(const OceanSpectrum& s) noexcept {
     return 0.5 * (1.0 + s.against_wind) * cos_power_integral(s.directional_exponent);
 }
 
-// Counter-based random numbers: h̃0 at wave index (n, m) depends on (seed, n, m) only,
-// so it is the same whatever the traversal order, the thread count or the grid size.
-std::uint64_t splitmix64(std::uint64_t x) noexcept {
-    x += 0x9E3779B97F4A7C15ull;
-    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-    return x ^ (x >> 31);
-}
+// Counter-based random numbers (core/splitmix.h): h̃0 at wave index (n, m) depends on
+// (seed, n, m) only, so it is the same whatever the traversal order, the thread count or
+// the grid size.
+using detail::splitmix64;
 
 std::complex<double> gaussian_pair(std::uint64_t seed, long n, long m) noexcept {
     const std::uint64_t key = splitmix64(seed) ^ ((static_cast<std::uint64_t>(static_cast<std::uint32_t>(n)) << 32) |

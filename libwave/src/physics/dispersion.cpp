@@ -35,6 +35,8 @@ std::string describe(double v) { return detail::format_number(v); }
 
 double deep_water_wavenumber(double omega) noexcept { return omega * omega / kGravity; }
 
+double deep_water_wavelength(double period) noexcept { return kGravity * period * period / (2.0 * std::numbers::pi); }
+
 DispersionSolution solve_dispersion(double omega, double depth, const DispersionOptions& options) {
     if (!std::isfinite(omega) || omega <= 0.0)
         throw InputError("dispersion: angular frequency must be finite and > 0 rad/s, got " +

@@ -847,7 +847,7 @@ ScenePlan plan_scene(const Scene& scene, PlanStages stages) {
                 JeschkeBreakerOptions o = *scene.breakers;
                 o.breaker_index = scene.trace.breaker_index;
                 const WaveTrain& w = scene.waves[0];
-                p.breakers = plan_jeschke_breakers(p.strips, 2.0 * w.amplitude, kGravity * w.period * w.period / (2.0 * std::numbers::pi), o);
+                p.breakers = plan_jeschke_breakers(p.strips, 2.0 * w.amplitude, deep_water_wavelength(w.period), o);
                 if (scene.camera_grid) {
                     GridCamera c = *scene.camera_grid;
                     c.position = scene_camera(scene, p.seafloor);

@@ -57,20 +57,27 @@ void advance(Ray& r, const ElevationGrid& g, const detail::WaveTable& waves, con
     const DepthSample& here = r.here;
     const double slope = std::hypot(here.dh_dx, here.dh_dy);
     const detail::WaveTable::Entry w1 = waves.at(here.depth);
-    // The ray's direction at mid-step from the ray equation dθ/ds = −(1/C) ∂C/∂m (m the
-    // ray's left normal): Snell is applied between here and the point the ray reaches
-    // along it. A ray running exactly along a contour is at its turning point, where the
-    // depth straight ahead equals the depth here and Snell alone never turns it, while a
-    // ray a hair off the contour turns shorewards within steps: a swell grazing a straight
-    // shore made thousands of spurious caustics that [1, 1e-9] did not. With the midpoint
-    // direction both turn towards the slower, shallower side: continuous in the angle.
+    // Near grazing incidence, the direction at mid-step from the ray equation
+    // dθ/ds = −(1/C) ∂C/∂m (m the ray's left normal) decides where Snell's "ahead" is. A
+    // ray running exactly along a contour is at its turning point, where the depth
+    // straight ahead equals the depth here and Snell alone never turns it, while a ray a
+    // hair off the contour turns shorewards within steps: a swell grazing a straight shore
+    // made thousands of spurious caustics that [1, 1e-9] did not. With the midpoint
+    // direction both turn towards the slower, shallower side. The correction fades out
+    // linearly by kGrazing (|cos| of the angle to the contour normal), so it is continuous
+    // in the angle and leaves every ray beyond ~3° of grazing as plain Snell had it.
+    constexpr double kGrazing = 0.05, kMaxHalfTurn = 0.1;
     double pdx = r.dx, pdy = r.dy;
     if (slope > 1e-12 && here.depth > 0.0) {
-        const double eps = std::max(1e-6, 1e-3 * here.depth);
-        const double dlnc_dh = (waves.at(here.depth + eps).celerity / w1.celerity - 1.0) / eps;
-        const double half_turn = -0.5 * o.step * dlnc_dh * (here.dh_dy * r.dx - here.dh_dx * r.dy);
-        pdx = r.dx * std::cos(half_turn) - r.dy * std::sin(half_turn);
-        pdy = r.dx * std::sin(half_turn) + r.dy * std::cos(half_turn);
+        const double grazing = std::max(0.0, 1.0 - std::abs(r.dx * here.dh_dx + r.dy * here.dh_dy) / slope / kGrazing);
+        if (grazing > 0.0) {
+            const double eps = std::max(1e-6, 1e-3 * here.depth);
+            const double dlnc_dh = (waves.at(here.depth + eps).celerity / w1.celerity - 1.0) / eps;
+            const double half_turn = grazing * std::clamp(-0.5 * o.step * dlnc_dh * (here.dh_dy * r.dx - here.dh_dx * r.dy),
+                                                          -kMaxHalfTurn, kMaxHalfTurn);
+            pdx = r.dx * std::cos(half_turn) - r.dy * std::sin(half_turn);
+            pdy = r.dx * std::sin(half_turn) + r.dy * std::cos(half_turn);
+        }
     }
     const double ahead = depth_at(g, r.x + o.step * pdx, r.y + o.step * pdy);
     if (slope > 1e-12 && here.depth > 0.0 && ahead > 0.0) {
