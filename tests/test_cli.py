@@ -675,14 +675,16 @@ class MainJob(unittest.TestCase):
             self.assertEqual(r.returncode, 2)
             self.assertIn("not found", r.stderr)
 
-    def test_unwritable_output_is_a_runtime_failure_without_partial_files(self):
+    def test_an_output_folder_below_a_file_is_refused_without_partial_files(self):
+        # The -o value is the user's input: refused before any work (exit 2), naming it.
+        # (A full disk, a runtime failure, exits 1: tests/test_hostile.py, Recovery.)
         with tempfile.TemporaryDirectory() as d:
             blocker = os.path.join(d, "file")
             with open(blocker, "w") as f:
                 f.write("x")
             r = wave("run", "-o", os.path.join(blocker, "sub"))
-            self.assertEqual(r.returncode, 1, r.stderr)
-            self.assertTrue(r.stderr.startswith("error: "))
+            self.assertEqual(r.returncode, 2, r.stderr)
+            self.assertIn(blocker + " is a file, not a folder", r.stderr)
             self.assertEqual(os.listdir(d), ["file"])
 
 
