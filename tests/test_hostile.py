@@ -156,6 +156,13 @@ class Refusals(unittest.TestCase):
             self.refused({"waves": WAVE_TRAIN, "trace": {"ray_spacing": 500}},
                          "/trace/ray_spacing 500 m leaves fewer than two rays", command=command)
 
+    def test_huge_values_are_echoed_cut(self):
+        big = "a" * 1000000
+        self.refused({"waves": big}, "/waves: expected a non-empty array of wave trains")
+        self.refused({"waves": [{"period": big}]}, '/waves/0/period: expected a number (s), got "aaaa', "…")
+        self.refused({"waves": WAVE_TRAIN, big: 1}, "unknown key")
+        self.refused({"waves": [{"period": list(range(100000))}]}, "/waves/0/period: expected a number (s), got [0,1,2,3,4,5,6,7]…")
+
     def test_hints_name_keys_the_scene_has(self):
         err = self.refused({"waves": [{"period": 0.01, "amplitude": 0.01}], "animation": {"fps": 24}},
                            "shorter than one frame", "lengthen /waves/0/period")
