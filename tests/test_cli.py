@@ -1238,7 +1238,7 @@ class Limits(unittest.TestCase):
         wave_train = [{"period": 5, "amplitude": 0.3}]
         # 10^9 rays: a ray spacing of 0.1 µm over the 100 m bay.
         err = self.run_limited({"waves": wave_train, "trace": {"ray_spacing": 1e-7}})
-        self.assertIn("more than the limit of 1000000 (max_rays", err)
+        self.assertIn("more than the limit of 1000000 (TraceOptions::max_rays, scene key /trace/max_rays", err)
         # 200 000 fps: out of the schema's range.
         err = self.run_limited({"waves": wave_train, "animation": {"fps": 200000}})
         self.assertIn("/animation/fps: expected a number in (0, 1000] (frames per second), got 200000", err)

@@ -17,6 +17,9 @@
 namespace wave {
 
 /// Which depths to contour.
+/// Most depth levels extract_isobaths slices (each is a pass over the seafloor).
+inline constexpr double kMaxIsobathLevels = 10'000;
+
 struct IsobathOptions {
     /// Explicit depth levels (m, positive down). When empty, the levels are the
     /// positive multiples of `spacing` strictly inside the seafloor's depth range.

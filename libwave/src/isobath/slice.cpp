@@ -59,8 +59,12 @@ std::vector<double> chosen_levels(const IsobathOptions& o, double depth_min, dou
             throw InputError("isobaths: give depth levels or a level spacing > 0 m");
         // Positive multiples of the spacing strictly inside the depth range.
         const double first = std::max(1.0, std::floor(depth_min / o.spacing) + 1.0);
-        if ((depth_max - first * o.spacing) / o.spacing > 1e6)
-            throw LimitError("isobaths: a spacing of " + fmt(o.spacing) + " m gives more than a million levels");
+        // Each level is a slice of the whole seafloor: bounded before any is made (a
+        // seafloor scaled to 50 km of depth gave 200 000 levels at the default spacing).
+        if ((depth_max - first * o.spacing) / o.spacing > kMaxIsobathLevels)
+            throw LimitError("isobaths: a spacing of " + fmt(o.spacing) + " m over depths up to " + fmt(depth_max) +
+                             " m gives more than " + fmt(kMaxIsobathLevels) +
+                             " levels; raise /isobaths/spacing (IsobathOptions::spacing) or give /isobaths/levels");
         for (double n = first; n * o.spacing < depth_max; n += 1.0) levels.push_back(n * o.spacing);
     }
     for (double h : levels) {

@@ -468,8 +468,12 @@ void jeschke_foam(const JeschkeMotionPlan& p, double t, std::span<float> foam) {
             }
             const long long latest = static_cast<long long>(std::floor((wt - p.phase[v]) / two_pi));
             const double period = two_pi / p.omega;
+            // The crests repeat after loop_periods(): an older copy of a crest has faded
+            // more than the newer one, so the newest loop_periods() crests hold the
+            // maximum (a fade time of 10⁶ s otherwise looked at 200 000 crests per vertex).
+            const auto crests = static_cast<long long>(p.loop_periods());
             double best = 0.0;
-            for (long long j = 0; tau + static_cast<double>(j) * period < p.foam_fade_time; ++j) {
+            for (long long j = 0; j < crests && tau + static_cast<double>(j) * period < p.foam_fade_time; ++j) {
                 const CrestPhases c = crest_phases(p, v, latest - j, p.phase[v]);
                 const BreakerLife life = jeschke_life(p.phase[v], p.rise[v], c.break_phase, c.breaking_length, c.end_phase);
                 best = std::max(best, foam_yield(life, p.foam_onset) * (1.0 - (tau + static_cast<double>(j) * period) / p.foam_fade_time));

@@ -49,7 +49,7 @@ std::vector<EntryPoint> entry_points(const Box& box, double dx, double dy, doubl
     const double n = std::floor((s_max - s_min) / spacing);
     if (n > static_cast<double>(max_rays))
         throw LimitError("trace: " + format_number(n) + " rays would enter, more than the limit of " +
-                         std::to_string(max_rays) + " (max_rays; raise it or widen ray_spacing)");
+                         std::to_string(max_rays) + " (TraceOptions::max_rays, scene key /trace/max_rays; raise it or widen /trace/ray_spacing)");
     const auto count = static_cast<std::size_t>(n);
     for (std::size_t i = 0; i < count; ++i) {
         const double s = s_min + (static_cast<double>(i) + 0.5) * spacing;
