@@ -3,6 +3,7 @@
 // handling and calls into libwave only; the GIL is released during long work.
 #include "libwave/errors.h"
 #include "libwave/export.h"
+#include "libwave/io.h"
 #include "libwave/physics.h"
 #include "libwave/scene.h"
 #include "libwave/shade.h"
@@ -12,7 +13,6 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include <fstream>
 #include <memory>
 #include <string>
 
@@ -45,11 +45,6 @@ std::string mesh_form_bytes(const SceneAnimation& a, const std::string& form) {
     throw wave::InputError("export: form must be \"morph\" or \"nodes\" (one file per frame: frame_glb), got \"" + form + "\"");
 }
 
-void write_bytes(const std::string& path, const std::string& bytes) {
-    std::ofstream out(path, std::ios::binary);
-    if (!out || !out.write(bytes.data(), static_cast<std::streamsize>(bytes.size())))
-        throw wave::RuntimeError(path + ": cannot write the file");
-}
 
 }  // namespace
 
@@ -176,7 +171,7 @@ PYBIND11_MODULE(libwave, m) {
             "write_glb",
             [](const SceneAnimation& a, const std::string& path, const std::string& form) {
                 py::gil_scoped_release release;
-                write_bytes(path, mesh_form_bytes(a, form));
+                wave::write_file_atomic(path, mesh_form_bytes(a, form));  // never a half-written file under `path`
             },
             py::arg("path"), py::arg("form") = "morph");
     m.def(
