@@ -21,16 +21,13 @@
 
 namespace wave::cli {
 
-/// (name under the output folder, bytes) pairs.
-using Files = std::vector<std::pair<std::string, std::string>>;
+/// (name under the output folder, bytes) pairs (libwave's encode_animation makes them).
+using Files = EncodedFiles;
 
 /// SHA-256 of `bytes` in lowercase hex (OpenSSL): what the index records per file, and
 /// what `sha256sum` prints for it.
 std::string sha256_hex(std::string_view bytes);
 
-/// The animation in a form: animation.glb (or animation-frames-A-B.glb for a slice), or
-/// frames/frame-NNNN.glb; with the gltf container each .glb becomes name.gltf + name.bin.
-Files encode_animation(const MorphAnimationView& view, Scene::Form form, Scene::Container container, bool whole);
 
 /// What a frame index describes: one animation (name, fps, loop) and the run that
 /// computed its frames.

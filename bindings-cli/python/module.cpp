@@ -40,9 +40,10 @@ py::array view(const std::vector<T>& data, std::vector<py::ssize_t> shape, const
 }
 
 std::string mesh_form_bytes(const SceneAnimation& a, const std::string& form) {
-    if (form == "morph") return wave::gltf_morph_glb(a.view());
-    if (form == "nodes") return wave::gltf_nodes_glb(a.view());
-    throw wave::InputError("export: form must be \"morph\" or \"nodes\" (one file per frame: frame_glb), got \"" + form + "\"");
+    if (form != "morph" && form != "nodes")
+        throw wave::InputError("export: form must be \"morph\" or \"nodes\" (one file per frame: frame_glb), got \"" + form + "\"");
+    const auto f = form == "morph" ? wave::Scene::Form::morph : wave::Scene::Form::nodes;
+    return std::move(wave::encode_animation(a.view(), f, wave::Scene::Container::glb, true).front().second);
 }
 
 

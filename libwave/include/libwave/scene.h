@@ -17,6 +17,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace wave {
@@ -250,6 +251,15 @@ void check_run_limits(const Scene& scene, const RunEstimate& estimate, std::size
 /// per-frame arrays, at least one frame, and at most ~64 chunks per loop so that the
 /// index is rewritten a bounded number of times.
 std::size_t files_form_chunk(const RunEstimate& e, double max_bytes = 2e9);
+
+/// (name under the output folder, bytes) pairs of an encoded animation.
+using EncodedFiles = std::vector<std::pair<std::string, std::string>>;
+
+/// The one place an animation becomes files in an export form: animation.glb (or
+/// animation-frames-A-B.glb for a slice, `whole` = false) for morph and nodes, or
+/// frames/frame-NNNN.glb for files; with the gltf container each .glb becomes
+/// name.gltf + name.bin. Used by `wave run`, `wave convert` and the Python module.
+EncodedFiles encode_animation(const MorphAnimationView& view, Scene::Form form, Scene::Container container, bool whole);
 
 SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double max_bytes = 2e9,
                              FrameRange range = {},

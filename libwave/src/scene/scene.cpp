@@ -923,6 +923,34 @@ void refine_scene_plan(const Scene& scene, ScenePlan& p) {
     }
 }
 
+EncodedFiles encode_animation(const MorphAnimationView& view, Scene::Form form, Scene::Container container, bool whole) {
+    EncodedFiles files;
+    char slice_name[64];
+    std::snprintf(slice_name, sizeof slice_name, "animation-frames-%zu-%zu.glb", view.first_frame, view.first_frame + view.frame_count);
+    const std::string animation_name = whole ? "animation.glb" : slice_name;
+    if (form == Scene::Form::morph) files.emplace_back(animation_name, gltf_morph_glb(view));
+    if (form == Scene::Form::nodes) files.emplace_back(animation_name, gltf_nodes_glb(view));
+    if (form == Scene::Form::files)
+        for (std::size_t k = 0; k < view.frame_count; ++k) {
+            char name[48];
+            std::snprintf(name, sizeof name, "frames/frame-%04zu.glb", view.first_frame + k);
+            files.emplace_back(name, gltf_frame_glb(view, k));
+        }
+    if (container == Scene::Container::gltf) {
+        // Each .glb becomes name.gltf + name.bin (the .bin named relative to the .gltf).
+        EncodedFiles split;
+        for (auto& [name, bytes] : files) {
+            const std::string base = name.substr(0, name.size() - 4);  // without ".glb"
+            const std::string bin = base + ".bin";
+            GltfFiles g = glb_to_gltf(bytes, std::filesystem::path(bin).filename().string());
+            split.emplace_back(base + ".gltf", std::move(g.json));
+            split.emplace_back(bin, std::move(g.bin));
+        }
+        files.swap(split);
+    }
+    return files;
+}
+
 MorphAnimationView SceneAnimation::view() const {
     MorphAnimationView v = animation_view(*this);
     v.draco = draco;
