@@ -159,8 +159,9 @@ json breakers_summary(const JeschkeMotionPlan& b) {
 }
 
 json trace_summary(const Scene& scene, const ScenePlan& plan) {
-    if (scene.surface_kind == SurfaceKind::ocean) return json::object();  // nothing traced
-    if (scene.surface_kind == SurfaceKind::ray_strips) {
+    const Traced traced = surface_kind_traces(scene.surface_kind);
+    if (traced == Traced::nothing) return json::object();
+    if (traced == Traced::fronts) {
         const FrontSet& f = plan.fronts;
         return {{"mode", scene.fronts.refraction == FrontRefraction::gradient ? "gonzato-fronts (gradient refraction)"
                                                                              : "gonzato-fronts (exact isobath crossings)"},
@@ -195,11 +196,14 @@ int run_trace(const TraceArgs& a) {
     if (a.output.empty() && a.mesh_out.empty() && !a.json)
         throw InputError("trace: nothing to do; give -o CSV, --mesh-out PLY and/or --json");
     const Scene scene = read_scene(a.scene);
-    const bool strips = scene.surface_kind == SurfaceKind::ray_strips;
-    if (scene.surface_kind == SurfaceKind::ocean)
-        throw InputError(a.scene + ": the open-ocean patch (/surface/kind \"ocean\") traces no rays; use wave run");
+    const Traced traced = surface_kind_traces(scene.surface_kind);
+    const bool strips = traced == Traced::fronts;
+    if (traced == Traced::nothing)
+        throw InputError(a.scene + ": the " + std::string(surface_kind_name(scene.surface_kind)) +
+                         " surface (/surface/kind) traces no rays; use wave run");
     if (!a.mesh_out.empty() && !strips)
-        throw InputError(a.scene + ": --mesh-out needs the ray-strips surface (this scene's /surface/kind is height-field)");
+        throw InputError(a.scene + ": --mesh-out needs the ray-strips surface (this scene's /surface/kind is " +
+                         std::string(surface_kind_name(scene.surface_kind)) + ")");
     const ScenePlan plan = plan_scene(scene, PlanStages::trace);  // no surface or motion plan
     if (!a.output.empty()) write_file_atomic(a.output, strips ? fronts_to_csv(plan.fronts) : rays_to_csv(plan.rays));
     if (!a.mesh_out.empty()) write_ray_strips_ply(plan.strips, a.mesh_out);
@@ -298,113 +302,68 @@ std::string run_out_dir(const RunArgs& a) {
     return "wave-out/" + (a.scene.empty() ? std::string("default") : std::filesystem::path(a.scene).stem().string());
 }
 
-int run_job(const RunArgs& a) {
-    using Clock = std::chrono::steady_clock;
-    // Limits libwave's parallel loops (TBB) for this run; each vertex is computed alone,
-    // so the files do not depend on the count.
-    std::optional<tbb::global_control> threads;
-    if (a.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(a.threads));
+namespace {
+
+// The scene of a run: the file's (or the built-in one) with the command line's overrides.
+Scene run_scene(const RunArgs& a) {
     Scene scene = a.scene.empty() ? default_scene() : read_scene(a.scene);
     if (a.fps > 0.0) scene.fps = a.fps;
-    if (!a.form.empty())
-        scene.form = a.form == "nodes" ? Scene::Form::nodes : a.form == "files" ? Scene::Form::files : Scene::Form::morph;
+    if (!a.form.empty()) scene.form = form_from_name(a.form);
     if (a.draco && !scene.draco) scene.draco = DracoOptions{};
     if (a.quantize) scene.quantize = true;
     if (scene.draco && scene.quantize) throw InputError("choose --draco or --quantize, not both (Draco quantises itself)");
-    if (!a.container.empty()) scene.container = a.container == "gltf" ? Scene::Container::gltf : Scene::Container::glb;
+    if (!a.container.empty()) scene.container = container_from_name(a.container);
     if (!a.frames.empty() && !a.slice.empty()) throw InputError("choose --frames or --slice, not both");
-    FrameRange range = parse_frames(a.frames);
-    const std::string out_dir = run_out_dir(a);
-    check_out_dir(out_dir);
-    const bool strips = scene.surface_kind == SurfaceKind::ray_strips;
+    if (a.resume && scene.form != Scene::Form::files)
+        throw InputError("--resume continues a run of the files form (one file per frame); this run's form is " +
+                         std::string(form_name(scene.form)));
+    return scene;
+}
 
-    const auto t0 = Clock::now();
-    ScenePlan plan = plan_scene(scene, PlanStages::surface);
-    const double max_bytes = a.max_memory_gb * 1e9;
-    const bool files_form = scene.form == Scene::Form::files;
-    const std::size_t loop_frames = scene_loop_frames(scene, plan);
-    if (!a.slice.empty()) range = slice_frames(a.slice, loop_frames);
-    {  // the run's limits, before /refine's subdivision (which alone can take gigabytes)
-        const RunEstimate e = estimate_run(scene, plan);
-        const std::size_t in_range = range.first < std::min(range.end, loop_frames) ? std::min(range.end, loop_frames) - range.first : 0;
-        check_run_limits(scene, e, files_form ? std::min(files_form_chunk(e, max_bytes), in_range) : in_range, max_bytes);
-    }
-    refine_scene_plan(scene, plan);
-    const auto t1 = Clock::now();
-
-    // A progress bar on stderr when it is a terminal.
-    const bool bar = !a.quiet && !a.json && isatty(STDERR_FILENO);
-    const auto progress = [&](std::size_t done, std::size_t total) {
-        if (!bar) return;
+// A progress bar on stderr when it is a terminal.
+std::function<void(std::size_t, std::size_t)> progress_bar(const RunArgs& a) {
+    if (a.quiet || a.json || !isatty(STDERR_FILENO)) return {};
+    return [](std::size_t done, std::size_t total) {
         const int width = 40, filled = static_cast<int>(width * done / total);
         std::cerr << "\rframes [" << std::string(static_cast<std::size_t>(filled), '#')
                   << std::string(static_cast<std::size_t>(width - filled), ' ') << "] " << done << "/" << total
                   << (done == total ? "\n" : "") << std::flush;
     };
-    if (a.resume && !files_form)
-        throw InputError("--resume continues a run of the files form (one file per frame); this run's form is " +
-                         std::string(scene.form == Scene::Form::nodes ? "nodes" : "morph"));
-    // The files form computes and writes a chunk of frames at a time (a killed run can
-    // resume); `anim` then holds the range's first frame only (sizes, the OBJ). The
-    // single-file forms hold every frame of the range.
-    // (An empty range passes whole to animate_scene, which names it.)
-    const bool empty_range = range.first >= std::min(range.end, loop_frames);
-    const SceneAnimation anim = animate_scene(scene, plan, max_bytes,
-                                              files_form && !empty_range ? FrameRange{range.first, range.first + 1} : range,
-                                              files_form ? std::function<void(std::size_t, std::size_t)>{} : progress);
-    auto t2 = Clock::now();
-    const std::size_t first_frame = anim.first_frame;
-    const std::size_t frames = files_form ? std::min(range.end, loop_frames) - first_frame : anim.frame_count;
-    const bool whole = first_frame == 0 && frames == loop_frames;
-    const IndexInfo index_info{scene.name, scene.fps, plan.loop_period, loop_frames, run_key(a, scene, plan)};
-    const std::string index_path = (std::filesystem::path(out_dir) / "index.json").string();
-    std::optional<FilesFormRun> files_run;
-    Files files;
-    std::vector<std::string> animation_names;
-    std::size_t animation_bytes = 0;
-    float z_min = anim.z_min, z_max = anim.z_max;
-    if (files_form) {
-        merged_index(index_path, index_info, {}, whole, a.resume);  // refuses a foreign index before any frame is written
-        files_run.emplace(write_files_form(scene, plan, out_dir, index_info, range, a.resume, max_bytes, progress));
-        for (const json& e : files_run->entries)
-            for (const json& c : e["content"]) {
-                animation_names.push_back(c["file"].get<std::string>());
-                animation_bytes += c["bytes"].get<std::size_t>();
-            }
-        z_min = files_run->z_min;
-        z_max = files_run->z_max;
-        t2 = Clock::now();  // frames and their files were computed and written together
-    } else {
-        files = encode_animation(anim.view(), scene.form, scene.container, whole);
-        for (const auto& f : files) {
-            animation_names.push_back(f.first);
-            animation_bytes += f.second.size();
-        }
-    }
-    const std::size_t animation_files = animation_names.size();
-    const std::string shown_name = animation_names.empty() ? "" : animation_names.front();
-    const auto t3 = Clock::now();
-    const std::span<const float> first(anim.positions.data(), 3 * anim.vertex_count);
+}
 
-    const auto ms = [](auto d) { return std::chrono::duration<double, std::milli>(d).count(); };
-    const SeafloorStats st = seafloor_stats(plan.seafloor);
-    const bool ocean_kind = scene.surface_kind == SurfaceKind::ocean;
-    const char* trace_file = strips ? "strips.ply" : "rays.csv";
-    json surface{{"kind", ocean_kind ? "ocean" : strips ? "ray-strips" : "height-field"},
-                 {"vertices", anim.vertex_count},
-                 {"triangles", anim.triangles.size() / 3},
+// Everything a run did and wrote: printed as report.json, as JSON on stdout, or as text.
+struct RunSummary {
+    const Scene& scene;
+    const ScenePlan& plan;
+    std::string out_dir, run_key, report_name;
+    std::size_t vertices = 0, triangles = 0, frames = 0, first_frame = 0, loop_frames = 0;
+    float z_min = 0.0f, z_max = 0.0f;
+    std::vector<std::string> animation_names{};  ///< the animation's files (and the files form's index)
+    std::size_t animation_bytes = 0;
+    std::vector<std::string> side_files{};        ///< isobaths, the trace, frame 0's OBJ, the report
+    double plan_ms = 0.0, frames_ms = 0.0, export_ms = 0.0;
+    const FilesFormRun* files_run = nullptr;
+    bool resumed = false;  ///< --resume: say what was kept
+};
+
+json surface_summary(const RunSummary& r) {
+    const Scene& scene = r.scene;
+    const ScenePlan& plan = r.plan;
+    json surface{{"kind", surface_kind_name(scene.surface_kind)},
+                 {"vertices", r.vertices},
+                 {"triangles", r.triangles},
                  {"loop_period_s", plan.loop_period},
                  {"fps", scene.fps},
-                 {"frames", frames},
-                 {"first_frame", first_frame},
-                 {"loop_frames", loop_frames},
-                 {"form", scene.form == Scene::Form::morph ? "morph" : scene.form == Scene::Form::nodes ? "nodes" : "files"},
+                 {"frames", r.frames},
+                 {"first_frame", r.first_frame},
+                 {"loop_frames", r.loop_frames},
+                 {"form", form_name(scene.form)},
                  {"draco", scene.draco.has_value()},
                  {"quantized", scene.quantize},
                  {"shading", scene.attributes == Scene::Attributes::none ? "none"
                              : scene.attributes == Scene::Attributes::named ? "named" : "uv-maps"},
-                 {"height_range_m", {z_min, z_max}}};
-    if (scene.surface_kind == SurfaceKind::height_field) surface["control_grid"] = {plan.surface.nx, plan.surface.ny};
+                 {"height_range_m", {r.z_min, r.z_max}}};
+    if (plan.surface.nx > 0) surface["control_grid"] = {plan.surface.nx, plan.surface.ny};
     if (plan.ocean.n > 0) {
         const OceanOptions& o = *scene.ocean;
         surface["wind_sea"] = {{"resolution", plan.ocean.n},
@@ -415,7 +374,7 @@ int run_job(const RunArgs& a) {
                                {"significant_height_m", 4.0 * std::sqrt(plan.ocean.expected_variance)}};
     }
     if (!plan.gerstner.empty()) surface["gerstner_waves"] = plan.gerstner.size();
-    if (strips && scene.breakers) surface["breakers"] = breakers_summary(plan.breakers);
+    if (scene.breakers) surface["breakers"] = breakers_summary(plan.breakers);
     if (plan.camera_grid.vertex_count() > 0)
         surface["camera_grid"] = {{"columns", plan.camera_grid.columns}, {"rows", plan.camera_grid.rows}};
     if (scene.refine)
@@ -424,119 +383,51 @@ int run_job(const RunArgs& a) {
                              {"adaptive", scene.refine->adaptive},
                              {"crest_sharpness_per_metre", scene.refine->crest_sharpness_per_metre},
                              {"coarse_vertices", plan.rest_x.size()}};
+    return surface;
+}
+
+// report.json: byte-identical from run to run (no timings).
+json run_report(const RunSummary& r) {
+    const SeafloorStats st = seafloor_stats(r.plan.seafloor);
     json report{{"libwave", version()},
-                {"scene", scene.name},
-                {"run_key", index_info.run_key},
-                {"seafloor", {{"source", plan.seafloor.source}, {"nodes", {st.nx, st.ny}}, {"depth_range_m", {st.depth_min, st.depth_max}}}},
-                {"isobaths", plan.isobaths.size()},
-                {"trace", trace_summary(scene, plan)},
-                {"surface", surface},
-                {"warnings", plan.warnings},
+                {"scene", r.scene.name},
+                {"run_key", r.run_key},
+                {"seafloor", {{"source", r.plan.seafloor.source}, {"nodes", {st.nx, st.ny}}, {"depth_range_m", {st.depth_min, st.depth_max}}}},
+                {"isobaths", r.plan.isobaths.size()},
+                {"trace", trace_summary(r.scene, r.plan)},
+                {"surface", surface_summary(r)},
+                {"warnings", r.plan.warnings},
                 {"outputs", json::array()}};
-    for (const std::string& f : animation_names) report["outputs"].push_back(f);
-    if (files_form) report["outputs"].push_back("index.json");
-    // What the static stages leave beside the animation (the open ocean traces nothing).
-    // A slice reports in its own file (slices may run at once into one folder; `wave
-    // merge` joins their reports) and only the slice holding frame 0 writes its OBJ.
-    const bool has_frame0 = first_frame == 0;
-    const std::string report_name = whole ? "report.json" : slice_report_name(first_frame, frames);
-    std::vector<std::string> side_files;
-    if (!ocean_kind) side_files.insert(side_files.end(), {"isobaths.json", trace_file});
-    if (has_frame0) side_files.emplace_back("surface-frame-0000.obj");
-    side_files.push_back(report_name);
-    for (const std::string& f : side_files) report["outputs"].push_back(f);
+    for (const std::string& f : r.animation_names) report["outputs"].push_back(f);
+    for (const std::string& f : r.side_files) report["outputs"].push_back(f);
+    return report;
+}
 
-    // Slices writing into one folder at once take turns to merge and publish the index
-    // (a lock on the folder), so no slice's entries are lost.
-    std::optional<FolderLock> index_lock;
-    if (files_form) {
-        index_lock.emplace(out_dir, true, "");
-        files.emplace_back("index.json", merged_index(index_path, index_info, files_run->entries, whole, a.resume).dump(2) + "\n");
-    }
-    if (!ocean_kind) files.emplace_back("isobaths.json", contours_to_json(plan.isobaths));
-    if (!strips && !ocean_kind) files.emplace_back(trace_file, rays_to_csv(plan.rays));
-    if (has_frame0)
-        files.emplace_back("surface-frame-0000.obj",
-                           mesh_to_obj(first, anim.triangles, "libwave " + std::string(version()) + ": " + scene.name + ", frame 0, z up"));
-    if (a.preview) {
-        // Four frames spread over the evaluated range, side by side (half-size each).
-        PreviewOptions o = scene_preview(scene, plan.seafloor);
-        o.width = std::max<std::size_t>(1, o.width / 2);
-        o.height = std::max<std::size_t>(1, o.height / 2);
-        std::vector<Image> shots;
-        const std::size_t n = anim.vertex_count;
-        for (std::size_t k = 0; k < 4; ++k) {
-            const std::size_t f = k * frames / 4;
-            if (k > 0 && f == (k - 1) * frames / 4) continue;  // fewer than four frames
-            if (!files_form) {
-                shots.push_back(render_preview(std::span<const float>(&anim.positions[3 * n * f], 3 * n),
-                                               std::span<const float>(&anim.normals[3 * n * f], 3 * n), anim.triangles, o));
-                continue;
-            }
-            // The files form keeps no frame in memory: each shown frame is evaluated again.
-            const SceneAnimation shown = animate_scene(scene, plan, max_bytes, {first_frame + f, first_frame + f + 1});
-            shots.push_back(render_preview(shown.positions, shown.normals, shown.triangles, o));
-        }
-        files.emplace_back("preview.png", png_bytes(contact_sheet(shots, 2)));
-        report["outputs"].push_back("preview.png");
-    }
-    files.emplace_back(report_name, report.dump(2) + "\n");
-    publish(out_dir, files, [&](const std::filesystem::path& staging) {
-        std::vector<std::string> names = files_run ? files_run->stage(staging) : std::vector<std::string>{};
-        if (strips) {
-            write_ray_strips_ply(plan.strips, (staging / trace_file).string());  // OpenMesh writes the file itself
-            names.emplace_back(trace_file);
-        }
-        return names;
-    });
-    if (files_run) {
-        index_lock.reset();
-        std::error_code ignored;
-        std::filesystem::remove_all(files_run->partial, ignored);  // every frame in it is published
-        // Frames an interrupted run of another version of the scene left can no longer be
-        // resumed into this folder's animation; a partial folder still locked is in use.
-        const std::string ours = ".wave-partial-" + index_info.run_key.substr(0, 16) + "-";
-        for (const auto& e : std::filesystem::directory_iterator(out_dir, ignored)) {
-            const std::string name = e.path().filename().string();
-            if (!name.starts_with(".wave-partial-") || name.starts_with(ours)) continue;
-            try {
-                const FolderLock unused(e.path(), false, "");
-                std::filesystem::remove_all(e.path(), ignored);
-            } catch (const std::exception&) {  // in use, or not ours to open: left alone
-            }
-        }
-    }
-
-    if (a.quiet) return 0;
-    if (a.json) {
-        // Timings only on stdout: report.json is byte-identical from run to run.
-        report["timings_ms"] = {{"plan", ms(t1 - t0)}, {"frames", ms(t2 - t1)}, {"export", ms(t3 - t2)}};
-        if (files_run) report["resume"] = {{"kept_frames", files_run->verified}, {"computed_frames", files_run->computed}};
-        std::cout << report.dump(2) << '\n';
-        return 0;
-    }
-    std::cout << std::setprecision(4)
-              << "scene      " << scene.name << '\n'
-              << "seafloor   " << plan.seafloor.source << ", " << st.nx << " x " << st.ny << " nodes, depth "
-              << st.depth_min << " .. " << st.depth_max << " m\n";
-    if (!ocean_kind) std::cout << "isobaths   " << plan.isobaths.size() << " polylines (CGAL slicer)\n";
+void print_surface_text(const RunSummary& r) {
+    const Scene& scene = r.scene;
+    const ScenePlan& plan = r.plan;
     const std::size_t coarse_vertices = plan.rest_x.size();
-    if (ocean_kind)
-        std::cout << "surface    ocean patch: " << plan.ocean.n << "² FFT (Tessendorf) over " << plan.ocean.size << " m -> "
-                  << coarse_vertices << " vertices, Hs " << 4.0 * std::sqrt(plan.ocean.expected_variance) << " m\n";
-    else if (strips)
-        std::cout << "fronts     " << plan.fronts.initial_rays << " rays + " << plan.fronts.inserted_rays << " inserted, "
-                  << plan.fronts.front_count() - 1 << " steps, " << plan.fronts.rays_aground << " aground (Gonzato)\n"
-                  << "surface    ray strips: " << plan.strips.vertex_count() << " vertices, " << plan.strips.triangle_count()
-                  << " triangles; " << (scene.breakers ? "Jeschke's breakers" : "Gonzato's plunging profile") << '\n';
-    else
-        std::cout << "rays       " << plan.rays.ray_count() << " traced (Ts'o-Barsky, exact isobath crossings)\n"
-                  << "surface    " << plan.surface.nx << " x " << plan.surface.ny << " Beta2-spline control grid -> "
-                  << coarse_vertices << " vertices\n";
+    switch (surface_kind_traces(scene.surface_kind)) {
+        case Traced::nothing:
+            std::cout << "surface    ocean patch: " << plan.ocean.n << "² FFT (Tessendorf) over " << plan.ocean.size << " m -> "
+                      << coarse_vertices << " vertices, Hs " << 4.0 * std::sqrt(plan.ocean.expected_variance) << " m\n";
+            break;
+        case Traced::fronts:
+            std::cout << "fronts     " << plan.fronts.initial_rays << " rays + " << plan.fronts.inserted_rays << " inserted, "
+                      << plan.fronts.front_count() - 1 << " steps, " << plan.fronts.rays_aground << " aground (Gonzato)\n"
+                      << "surface    ray strips: " << plan.strips.vertex_count() << " vertices, " << plan.strips.triangle_count()
+                      << " triangles; " << (scene.breakers ? "Jeschke's breakers" : "Gonzato's plunging profile") << '\n';
+            break;
+        case Traced::rays:
+            std::cout << "rays       " << plan.rays.ray_count() << " traced (Ts'o-Barsky, exact isobath crossings)\n"
+                      << "surface    " << plan.surface.nx << " x " << plan.surface.ny << " Beta2-spline control grid -> "
+                      << coarse_vertices << " vertices\n";
+            break;
+    }
     if (plan.camera_grid.vertex_count() > 0)
         std::cout << "sampled    camera grid (Hinsinger): " << plan.camera_grid.columns << " x " << plan.camera_grid.rows
                   << " points seeing the water, " << plan.camera_grid.triangles.size() / 3 << " triangles\n";
-    if (strips && scene.breakers) {
+    if (scene.breakers) {
         const json b = breakers_summary(plan.breakers);
         std::cout << "breakers   " << b["breaking_rays"].get<std::size_t>() << " of " << b["rays"].get<std::size_t>()
                   << " rays break";
@@ -547,32 +438,217 @@ int run_job(const RunArgs& a) {
     }
     if (scene.refine)
         std::cout << "refined    OpenSubdiv " << (scene.refine->scheme == RefineScheme::loop ? "Loop" : "Catmull-Clark")
-                  << (scene.refine->adaptive ? ", adaptive up to level " : ", level ") << scene.refine->level << ": " << coarse_vertices << " -> " << anim.vertex_count
-                  << " vertices, " << anim.triangles.size() / 3 << " triangles ("
+                  << (scene.refine->adaptive ? ", adaptive up to level " : ", level ") << scene.refine->level << ": "
+                  << coarse_vertices << " -> " << r.vertices << " vertices, " << r.triangles << " triangles ("
                   << (scene.refine->crest_sharpness_per_metre > 0.0 ? "crest creases: refined again each frame"
                                                                     : "stencils applied per frame")
                   << ")\n";
     else
-        std::cout << "mesh       " << anim.vertex_count << " vertices, " << anim.triangles.size() / 3 << " triangles\n";
-    std::cout << "animation  " << frames << " frames at " << scene.fps << " fps, loop " << plan.loop_period
-              << " s, heights " << z_min << " .. " << z_max << " m\n"
-              << "time       plan " << ms(t1 - t0) << " ms, frames " << ms(t2 - t1) / static_cast<double>(std::max<std::size_t>(frames, 1))
-              << " ms each, export " << ms(t3 - t2) << " ms\n"
-              << "wrote      " << out_dir << "/"
+        std::cout << "mesh       " << r.vertices << " vertices, " << r.triangles << " triangles\n";
+}
+
+void print_run_text(const RunSummary& r) {
+    const Scene& scene = r.scene;
+    const ScenePlan& plan = r.plan;
+    const SeafloorStats st = seafloor_stats(plan.seafloor);
+    const bool traced = surface_kind_traces(scene.surface_kind) != Traced::nothing;
+    std::cout << std::setprecision(4)
+              << "scene      " << scene.name << '\n'
+              << "seafloor   " << plan.seafloor.source << ", " << st.nx << " x " << st.ny << " nodes, depth "
+              << st.depth_min << " .. " << st.depth_max << " m\n";
+    if (traced) std::cout << "isobaths   " << plan.isobaths.size() << " polylines (CGAL slicer)\n";
+    print_surface_text(r);
+    const std::string shown_name = r.animation_names.empty() ? "" : r.animation_names.front();
+    const std::size_t animation_files = r.animation_names.size() - (scene.form == Scene::Form::files ? 1 : 0);
+    std::string side;
+    for (const std::string& f : r.side_files) side += (side.empty() ? "" : ", ") + f;
+    std::cout << "animation  " << r.frames << " frames at " << scene.fps << " fps, loop " << plan.loop_period
+              << " s, heights " << r.z_min << " .. " << r.z_max << " m\n"
+              << "time       plan " << r.plan_ms << " ms, frames " << r.frames_ms / static_cast<double>(std::max<std::size_t>(r.frames, 1))
+              << " ms each, export " << r.export_ms << " ms\n"
+              << "wrote      " << r.out_dir << "/"
               << (scene.form == Scene::Form::files ? "frames/ + index.json (" + std::to_string(animation_files) + " files"
-                  : scene.form == Scene::Form::nodes ? shown_name + " (" + std::to_string(frames) + " scale-switched nodes"
-                                                     : shown_name + " (" + std::to_string(frames) + " morph targets, STEP weights")
-              << "; " << static_cast<double>(animation_bytes) / 1e6 << " MB; set the scene fps to " << scene.fps
+                  : scene.form == Scene::Form::nodes ? shown_name + " (" + std::to_string(r.frames) + " scale-switched nodes"
+                                                     : shown_name + " (" + std::to_string(r.frames) + " morph targets, STEP weights")
+              << "; " << static_cast<double>(r.animation_bytes) / 1e6 << " MB; set the scene fps to " << scene.fps
               << " before importing)\n"
-              << "           " << out_dir << "/{" << (ocean_kind ? "" : "isobaths.json, " + std::string(trace_file) + ", ")
-              << (has_frame0 ? "surface-frame-0000.obj, " : "") << report_name << "}\n";
-    if (a.resume)
-        std::cout << "resumed    " << files_run->verified << " of " << frames
-                  << " frames kept (their files match the index's sizes and SHA-256), " << files_run->computed << " computed\n";
-    if (plan.ocean.n > 0 && !ocean_kind)
+              << "           " << r.out_dir << "/{" << side << "}\n";
+    if (r.resumed)
+        std::cout << "resumed    " << r.files_run->verified << " of " << r.frames
+                  << " frames kept (their files match the index's sizes and SHA-256), " << r.files_run->computed << " computed\n";
+    if (!plan.wind_sea_scale.empty())
         std::cout << "wind sea   " << plan.ocean.n << "² FFT patch of " << plan.ocean.size << " m superposed, Hs "
                   << 4.0 * std::sqrt(plan.ocean.expected_variance) << " m offshore, loop " << plan.ocean.repeat_time << " s\n";
     for (const std::string& w : plan.warnings) std::cout << "warning    " << w << '\n';
+}
+
+// preview.png: four frames spread over the evaluated range, side by side (half-size each).
+std::string preview_sheet(const Scene& scene, const ScenePlan& plan, const SceneAnimation& anim, std::size_t frames,
+                          bool files_form, double max_bytes) {
+    PreviewOptions o = scene_preview(scene, plan.seafloor);
+    o.width = std::max<std::size_t>(1, o.width / 2);
+    o.height = std::max<std::size_t>(1, o.height / 2);
+    std::vector<Image> shots;
+    const std::size_t n = anim.vertex_count;
+    for (std::size_t k = 0; k < 4; ++k) {
+        const std::size_t f = k * frames / 4;
+        if (k > 0 && f == (k - 1) * frames / 4) continue;  // fewer than four frames
+        if (!files_form) {
+            shots.push_back(render_preview(std::span<const float>(&anim.positions[3 * n * f], 3 * n),
+                                           std::span<const float>(&anim.normals[3 * n * f], 3 * n), anim.triangles, o));
+            continue;
+        }
+        // The files form keeps no frame in memory: each shown frame is evaluated again.
+        const SceneAnimation shown = animate_scene(scene, plan, max_bytes, {anim.first_frame + f, anim.first_frame + f + 1});
+        shots.push_back(render_preview(shown.positions, shown.normals, shown.triangles, o));
+    }
+    return png_bytes(contact_sheet(shots, 2));
+}
+
+// Partial folders an interrupted run of another version of the scene left can no longer
+// be resumed into this folder's animation; a partial folder still locked is in use.
+void remove_stale_partials(const std::string& out_dir, const FilesFormRun& run, const std::string& run_key) {
+    std::error_code ignored;
+    std::filesystem::remove_all(run.partial, ignored);  // every frame in it is published
+    const std::string ours = ".wave-partial-" + run_key.substr(0, 16) + "-";
+    for (const auto& e : std::filesystem::directory_iterator(out_dir, ignored)) {
+        const std::string name = e.path().filename().string();
+        if (!name.starts_with(".wave-partial-") || name.starts_with(ours)) continue;
+        try {
+            const FolderLock unused(e.path(), false, "");
+            std::filesystem::remove_all(e.path(), ignored);
+        } catch (const std::exception&) {  // in use, or not ours to open: left alone
+        }
+    }
+}
+
+// What the static stages leave beside the animation (the open ocean traces nothing). A
+// slice reports in its own file (slices may run at once into one folder; `wave merge`
+// joins their reports) and only the slice holding frame 0 writes its OBJ.
+void add_side_files(RunSummary& r, const SceneAnimation& anim, Files& files) {
+    const Traced traced = surface_kind_traces(r.scene.surface_kind);
+    const char* trace_file = traced == Traced::fronts ? "strips.ply" : "rays.csv";
+    if (traced != Traced::nothing) {
+        r.side_files.insert(r.side_files.end(), {"isobaths.json", trace_file});
+        files.emplace_back("isobaths.json", contours_to_json(r.plan.isobaths));
+    }
+    if (traced == Traced::rays) files.emplace_back(trace_file, rays_to_csv(r.plan.rays));
+    if (r.first_frame == 0) {
+        r.side_files.emplace_back("surface-frame-0000.obj");
+        const std::span<const float> first(anim.positions.data(), 3 * anim.vertex_count);
+        files.emplace_back("surface-frame-0000.obj", mesh_to_obj(first, anim.triangles, "libwave " + std::string(version()) +
+                                                                                           ": " + r.scene.name + ", frame 0, z up"));
+    }
+    r.side_files.push_back(r.report_name);
+}
+
+double ms_since(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+}
+
+}  // namespace
+
+int run_job(const RunArgs& a) {
+    // Limits libwave's parallel loops (TBB) for this run; each vertex is computed alone,
+    // so the files do not depend on the count.
+    std::optional<tbb::global_control> threads;
+    if (a.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(a.threads));
+    const Scene scene = run_scene(a);
+    FrameRange range = parse_frames(a.frames);
+    const std::string out_dir = run_out_dir(a);
+    check_out_dir(out_dir);
+
+    auto clock = std::chrono::steady_clock::now();
+    ScenePlan plan = plan_scene(scene, PlanStages::surface);
+    const double max_bytes = a.max_memory_gb * 1e9;
+    const bool files_form = scene.form == Scene::Form::files;
+    const std::size_t loop_frames = scene_loop_frames(scene, plan);
+    if (!a.slice.empty()) range = slice_frames(a.slice, loop_frames);
+    const std::size_t range_end = std::min(range.end, loop_frames), in_range = range.first < range_end ? range_end - range.first : 0;
+    {  // the run's limits, before /refine's subdivision (which alone can take gigabytes)
+        const RunEstimate e = estimate_run(scene, plan);
+        check_run_limits(scene, e, files_form ? std::min(files_form_chunk(e, max_bytes), in_range) : in_range, max_bytes);
+    }
+    refine_scene_plan(scene, plan);
+    const double plan_ms = ms_since(clock);
+
+    // The files form computes and writes a chunk of frames at a time (a killed run can
+    // resume); `anim` then holds the range's first frame only (sizes, the OBJ). The
+    // single-file forms hold every frame of the range. (An empty range passes whole to
+    // animate_scene, which names it.)
+    clock = std::chrono::steady_clock::now();
+    const auto progress = progress_bar(a);
+    const SceneAnimation anim = animate_scene(scene, plan, max_bytes, files_form && in_range > 0 ? FrameRange{range.first, range.first + 1} : range,
+                                              files_form ? std::function<void(std::size_t, std::size_t)>{} : progress);
+    RunSummary r{.scene = scene, .plan = plan, .out_dir = out_dir, .run_key = run_key(a, scene, plan), .report_name = "",
+                 .vertices = anim.vertex_count, .triangles = anim.triangles.size() / 3,
+                 .frames = files_form ? range_end - anim.first_frame : anim.frame_count, .first_frame = anim.first_frame,
+                 .loop_frames = loop_frames, .z_min = anim.z_min, .z_max = anim.z_max, .plan_ms = plan_ms};
+    const bool whole = r.first_frame == 0 && r.frames == loop_frames;
+    r.report_name = whole ? "report.json" : slice_report_name(r.first_frame, r.frames);
+    const IndexInfo index_info{scene.name, scene.fps, plan.loop_period, loop_frames, r.run_key};
+    const std::string index_path = (std::filesystem::path(out_dir) / "index.json").string();
+    std::optional<FilesFormRun> files_run;
+    Files files;
+    if (files_form) {
+        merged_index(index_path, index_info, {}, whole, a.resume);  // refuses a foreign index before any frame is written
+        files_run.emplace(write_files_form(scene, plan, out_dir, index_info, range, a.resume, max_bytes, progress));
+        for (const json& e : files_run->entries)
+            for (const json& c : e["content"]) {
+                r.animation_names.push_back(c["file"].get<std::string>());
+                r.animation_bytes += c["bytes"].get<std::size_t>();
+            }
+        r.z_min = files_run->z_min;
+        r.z_max = files_run->z_max;
+        r.files_run = &*files_run;
+        r.resumed = a.resume;
+        r.animation_names.emplace_back("index.json");
+    }
+    r.frames_ms = ms_since(clock);  // the files form computed and wrote its frames together
+    clock = std::chrono::steady_clock::now();
+    if (!files_form) {
+        files = encode_animation(anim.view(), scene.form, scene.container, whole);
+        for (const auto& f : files) {
+            r.animation_names.push_back(f.first);
+            r.animation_bytes += f.second.size();
+        }
+    }
+    r.export_ms = ms_since(clock);
+    add_side_files(r, anim, files);
+    json report = run_report(r);
+    // Slices writing into one folder at once take turns to merge and publish the index
+    // (a lock on the folder), so no slice's entries are lost.
+    std::optional<FolderLock> index_lock;
+    if (files_form) {
+        index_lock.emplace(out_dir, true, "");
+        files.emplace_back("index.json", merged_index(index_path, index_info, files_run->entries, whole, a.resume).dump(2) + "\n");
+    }
+    if (a.preview) {
+        files.emplace_back("preview.png", preview_sheet(scene, plan, anim, r.frames, files_form, max_bytes));
+        report["outputs"].push_back("preview.png");
+    }
+    files.emplace_back(r.report_name, report.dump(2) + "\n");
+    publish(out_dir, files, [&](const std::filesystem::path& staging) {
+        std::vector<std::string> names = files_run ? files_run->stage(staging) : std::vector<std::string>{};
+        if (surface_kind_traces(scene.surface_kind) == Traced::fronts) {
+            write_ray_strips_ply(plan.strips, (staging / "strips.ply").string());  // OpenMesh writes the file itself
+            names.emplace_back("strips.ply");
+        }
+        return names;
+    });
+    if (files_run) {
+        index_lock.reset();
+        remove_stale_partials(out_dir, *files_run, r.run_key);
+    }
+    if (a.quiet) return 0;
+    if (!a.json) {
+        print_run_text(r);
+        return 0;
+    }
+    // Timings only on stdout: report.json is byte-identical from run to run.
+    report["timings_ms"] = {{"plan", r.plan_ms}, {"frames", r.frames_ms}, {"export", r.export_ms}};
+    if (files_run) report["resume"] = {{"kept_frames", files_run->verified}, {"computed_frames", files_run->computed}};
+    std::cout << report.dump(2) << '\n';
     return 0;
 }
 
@@ -581,9 +657,7 @@ int run_validate(const std::string& path, bool as_json, double max_memory_gb) {
     const Seafloor sea = scene_seafloor(scene);
     const auto camera = scene_camera(scene, sea);
     const SeafloorStats st = seafloor_stats(sea);
-    const char* kind = scene.surface_kind == SurfaceKind::ray_strips ? "ray-strips"
-                       : scene.surface_kind == SurfaceKind::ocean    ? "ocean"
-                                                                     : "height-field";
+    const std::string_view kind = surface_kind_name(scene.surface_kind);
     // The plan (tracing, surfaces; every limit is checked here, before the frames) gives
     // what a run would hold and write; /refine's subdivision is predicted, not built, and
     // the run's own limits are checked as `wave run` checks them.
@@ -591,7 +665,7 @@ int run_validate(const std::string& path, bool as_json, double max_memory_gb) {
     const RunEstimate e = estimate_run(scene, plan);
     const double max_bytes = max_memory_gb * 1e9;
     check_run_limits(scene, e, scene.form == Scene::Form::files ? files_form_chunk(e, max_bytes) : e.frames, max_bytes);
-    const char* form = scene.form == Scene::Form::files ? "files" : scene.form == Scene::Form::nodes ? "nodes" : "morph";
+    const std::string_view form = form_name(scene.form);
     if (as_json) {
         std::cout << json{{"scene", scene.name}, {"valid", true}, {"surface", kind}, {"waves", scene.waves.size()},
                           {"seafloor", sea.source}, {"camera", camera}, {"fps", scene.fps},
@@ -618,8 +692,8 @@ int run_convert(const ConvertArgs& a) {
     MorphAnimationView view = stored.view();
     if (a.draco) view.draco = DracoOptions{};
     view.quantize = a.quantize;
-    const Scene::Form form = a.form == "nodes" ? Scene::Form::nodes : a.form == "files" ? Scene::Form::files : Scene::Form::morph;
-    const Scene::Container container = a.container == "gltf" ? Scene::Container::gltf : Scene::Container::glb;
+    const Scene::Form form = form_from_name(a.form.empty() ? "morph" : a.form);
+    const Scene::Container container = container_from_name(a.container.empty() ? "glb" : a.container);
     const bool whole = stored.first_frame == 0 && stored.frame_count == stored.loop_frames;
     auto files = encode_animation(view, form, container, whole);
     std::size_t bytes = 0;

@@ -42,7 +42,7 @@ py::array view(const std::vector<T>& data, std::vector<py::ssize_t> shape, const
 std::string mesh_form_bytes(const SceneAnimation& a, const std::string& form) {
     if (form != "morph" && form != "nodes")
         throw wave::InputError("export: form must be \"morph\" or \"nodes\" (one file per frame: frame_glb), got \"" + form + "\"");
-    const auto f = form == "morph" ? wave::Scene::Form::morph : wave::Scene::Form::nodes;
+    const wave::Scene::Form f = wave::form_from_name(form);
     return std::move(wave::encode_animation(a.view(), f, wave::Scene::Container::glb, true).front().second);
 }
 
@@ -73,9 +73,7 @@ PYBIND11_MODULE(libwave, m) {
         .def_readonly("name", &wave::Scene::name)
         .def_readonly("fps", &wave::Scene::fps)
         .def_property_readonly("surface_kind", [](const wave::Scene& s) {
-            return s.surface_kind == wave::SurfaceKind::ray_strips ? "ray-strips"
-                   : s.surface_kind == wave::SurfaceKind::ocean    ? "ocean"
-                                                                   : "height-field";
+            return std::string(wave::surface_kind_name(s.surface_kind));
         });
     m.def("default_scene", &wave::default_scene, "The built-in default scene (Gonzato's bay with a swell)");
     m.def("read_scene", &wave::read_scene, py::arg("path"), py::call_guard<py::gil_scoped_release>(),

@@ -41,6 +41,16 @@ enum class SurfaceKind {
     ocean,         ///< Tessendorf: a tileable open-ocean FFT patch (no seafloor, no traced swell)
 };
 
+/// What a surface kind's plan traces over the seafloor: nothing (the open-ocean patch),
+/// Ts'o's rays (ScenePlan::rays) or Gonzato's fronts and strips (ScenePlan::fronts, strips).
+enum class Traced { nothing, rays, fronts };
+
+/// The kind's name in scene files (/surface/kind), e.g. "ray-strips".
+std::string_view surface_kind_name(SurfaceKind kind);
+
+/// What the kind's plan traces.
+Traced surface_kind_traces(SurfaceKind kind);
+
 /// A Gerstner wave as a scene gives it (Tessendorf §3.1); its ω comes from the
 /// dispersion relation, quantised to the scene's loop (eq. 18).
 struct GerstnerSpec {
@@ -110,6 +120,14 @@ struct Scene {
 /// The built-in default scene: Gonzato's bay with a 5 s swell, ray strips animated by
 /// the plunging profile (what `wave run` does with no argument).
 Scene default_scene();
+
+/// The export forms and containers as scene files (/outputs) and the command line spell
+/// them: "morph", "nodes", "files"; "glb", "gltf". The *_from_name functions throw
+/// InputError naming the valid names.
+std::string_view form_name(Scene::Form form);
+Scene::Form form_from_name(std::string_view name);
+std::string_view container_name(Scene::Container container);
+Scene::Container container_from_name(std::string_view name);
 
 /// Parses a scene from JSON text. `origin` names the file in messages; `base_dir` is
 /// where relative seafloor paths are resolved. Unknown keys are errors (typos); every
@@ -222,7 +240,7 @@ struct FrameRange {
 /// the per-frame float arrays animate_scene keeps (positions, normals, shading,
 /// colour), the files of the scene's form, and the peak memory of `wave run` (the plan,
 /// those arrays, and the encoded files, held until they are published; the constants
-/// were measured on the default scene, scene.cpp).
+/// were measured on the default scene, pipeline.cpp).
 /// Uncompressed sizes follow the writer's layout exactly (docs/export.md); Draco
 /// frames are estimated at 4.8 bytes per vertex (measured on the default scene with
 /// the default 14-bit positions), quantised morph targets at 0.7 of plain.

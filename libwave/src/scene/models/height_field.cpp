@@ -1,0 +1,106 @@
+// Ts'o and Barsky's height field: rays traced through exact isobath crossings, their
+// wave trains summed on a Beta2-spline control grid (any number of trains).
+#include "../surface_model.h"
+
+#include "libwave/physics.h"
+
+#include <numbers>
+
+namespace wave::detail {
+namespace {
+
+void read_before(const Node& root, Scene&) {
+    if (root.has("fronts")) root["fronts"].fail("only for the ray-strips surface");
+    if (root.has("motion")) root["motion"].fail("only for the ray-strips surface (the height field moves as Ts'o's sinusoids)");
+    refuse_ray_strip_keys(root);
+}
+
+// The grid's cell against the rays' spacing and the trains' wavelengths (Ts'o §3.2.3).
+void check_grid(const Scene& scene, const TraceOptions& trace, ScenePlan& p) {
+    const ElevationGrid& g = p.seafloor.grid;
+    if (scene.surface.nx < 2 || scene.surface.ny < 2) return;
+    const double cell = std::min((g.x_max() - g.x0) / static_cast<double>(scene.surface.nx - 1),
+                                 (g.y_max() - g.y0) / static_cast<double>(scene.surface.ny - 1));
+    if (scene.surface.footprint == Footprint::bresenham && trace.ray_spacing > cell)
+        throw InputError("scene: the Bresenham footprint needs at least one orthogonal per grid line (Ts'o): "
+                         "ray spacing " + fmt(trace.ray_spacing) + " m exceeds the grid cell " +
+                         fmt(cell) + " m; lower /trace/ray_spacing, raise "
+                         "/trace/orthogonals_per_grid_line, or use the smooth footprint");
+    for (std::size_t n = 0; n < scene.waves.size(); ++n) {
+        const double shortest = linear_wave(2.0 * std::numbers::pi / scene.waves[n].period,
+                                            std::max(0.05, seafloor_stats(p.seafloor).depth_max)).wavelength;
+        if (2.0 * cell > shortest)
+            p.warnings.push_back("wave train " + std::to_string(n) + " (T = " + fmt(scene.waves[n].period) +
+                                 " s, L <= " + fmt(shortest) + " m) is shorter than two surface cells (" +
+                                 fmt(cell) + " m): it aliases on this grid");
+    }
+}
+
+void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
+    const TraceOptions trace = scene_trace_options(scene, p.seafloor);
+    check_grid(scene, trace, p);
+    p.isobaths = extract_isobaths(p.seafloor, scene.isobaths);
+    p.rays = trace_rays(p.seafloor, p.isobaths, scene.waves, trace);
+    if (stages == PlanStages::trace) return;
+    p.surface = plan_height_field(p.seafloor, p.rays, scene.waves, scene.surface);
+    p.loop_period = p.surface.loop_period;
+    // The evaluated vertices span the seafloor's rectangle evenly.
+    const ElevationGrid& g = p.seafloor.grid;
+    const HeightFieldPlan& sp = p.surface;
+    for (std::size_t v = 0; v < sp.vertex_count(); ++v) {
+        const std::size_t row = v / sp.vertex_nx, col = v % sp.vertex_nx;
+        p.rest_x.push_back(g.x0 + (g.x_max() - g.x0) * static_cast<double>(col) / static_cast<double>(sp.vertex_nx - 1));
+        p.rest_y.push_back(g.y0 + (g.y_max() - g.y0) * static_cast<double>(row) / static_cast<double>(sp.vertex_ny - 1));
+    }
+}
+
+struct State : ModelState {
+    std::vector<float> heights;                // the control nodes' heights of a frame
+    std::vector<float> node_depth, node_foam;  // foam is computed at the control nodes
+};
+
+std::unique_ptr<ModelState> start(const Scene&, const ScenePlan& p, bool shaded) {
+    auto s = std::make_unique<State>();
+    const HeightFieldPlan& sp = p.surface;
+    s->heights.resize(sp.control_count());
+    if (shaded) {
+        const ElevationGrid& g = p.seafloor.grid;
+        s->node_depth.resize(sp.control_count());
+        s->node_foam.resize(sp.control_count());
+        for (std::size_t j = 0; j < sp.ny; ++j)
+            for (std::size_t i = 0; i < sp.nx; ++i)
+                s->node_depth[j * sp.nx + i] = static_cast<float>(std::max(
+                    0.0, depth_at(g, sp.x0 + static_cast<double>(i) * sp.dx, sp.y0 + static_cast<double>(j) * sp.dy)));
+    }
+    return s;
+}
+
+bool move(const Scene&, const ScenePlan& p, double t, ModelState* state, ModelFrame& frame) {
+    evaluate_height_field(p.surface, t, static_cast<State*>(state)->heights, frame.positions);
+    return false;
+}
+
+void foam(const Scene& scene, const ScenePlan& p, double t, ModelState* state, std::span<float> out) {
+    State& s = *static_cast<State*>(state);
+    height_field_foam(p.surface, s.node_depth, t, scene.foam, s.node_foam, out);
+}
+
+}  // namespace
+
+extern const SurfaceModel kHeightFieldModel{
+    .kind = SurfaceKind::height_field,
+    .name = "height-field",
+    .traced = Traced::rays,
+    .loop_keys = "/surface/repeat_time or the periods in /waves",
+    .size_keys = "lower /surface/samples_per_span, /surface/grid or /animation/fps",
+    .read_before = read_before,
+    .read_after = [](const Node&, Scene&) {},
+    .seafloor = [](const Scene& s) { return load_seafloor(s.seafloor); },
+    .plan = plan,
+    .triangles = [](const ScenePlan& p) -> const std::vector<std::uint32_t>& { return p.surface.triangles; },
+    .start = start,
+    .move = move,
+    .foam = foam,
+};
+
+}  // namespace wave::detail

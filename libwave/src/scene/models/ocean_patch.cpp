@@ -1,0 +1,72 @@
+// Tessendorf's open ocean: a tileable FFT patch, no seafloor and no traced swell; its
+// surface is the FFT's own lattice and its normals the FFT's exact ones.
+#include "../surface_model.h"
+
+namespace wave::detail {
+namespace {
+
+void read_before(const Node& root, Scene& s) {
+    // The open-ocean patch: no seafloor to trace over, no swell to trace.
+    for (const char* key : {"seafloor", "isobaths", "waves", "trace", "fronts", "motion"})
+        if (root.has(key))
+            root[key].fail("not for the open-ocean patch (/surface/kind \"ocean\"): it has no seafloor and no traced "
+                           "swell; superpose /gerstner waves, or use a coastal surface with /ocean");
+    refuse_height_field_options(root, "ocean\" (set /ocean instead)");
+    refuse_ray_strip_keys(root);
+    s.ocean = OceanOptions{};
+    s.ocean->repeat_time = 20.0;  // Tessendorf's figure 5
+}
+
+Seafloor flat_bottom(const Scene& scene) {
+    const OceanOptions o = scene.ocean.value_or(OceanOptions{});
+    const double depth = std::isinf(o.spectrum.depth) ? 1e4 : o.spectrum.depth;
+    Seafloor sea;
+    sea.grid.nx = sea.grid.ny = 2;
+    sea.grid.dx = sea.grid.dy = o.size;
+    sea.grid.z.assign(4, -depth);
+    sea.source = "open ocean: flat bottom " + fmt(depth) + " m under a " + fmt(o.size) + " m patch";
+    sea.frame = "local metres";
+    return sea;
+}
+
+void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
+    if (stages == PlanStages::trace) return;  // nothing to trace
+    OceanOptions o = scene.ocean.value_or(OceanOptions{});
+    if (o.repeat_time == 0.0) o.repeat_time = 20.0;
+    plan_wind_sea(o, p);
+    p.loop_period = o.repeat_time;
+    // The patch's (N+1)² vertices: the lattice and a repeat of its first row and column.
+    const std::size_t side = p.ocean.n + 1;
+    p.patch_triangles = grid_triangles(side, side);
+    for (std::size_t row = 0; row < side; ++row)
+        for (std::size_t col = 0; col < side; ++col) {
+            p.rest_x.push_back(p.ocean.spacing() * static_cast<double>(col));
+            p.rest_y.push_back(p.ocean.spacing() * static_cast<double>(row));
+        }
+}
+
+bool move(const Scene&, const ScenePlan& p, double t, ModelState*, ModelFrame& frame) {
+    const OceanFields fields = evaluate_ocean(p.ocean, t, *frame.wind_sea.workspace);
+    ocean_patch_frame(p.ocean, fields, frame.positions, frame.normals, frame.wind_sea.vertex_j);  // exact normals
+    return true;
+}
+
+}  // namespace
+
+extern const SurfaceModel kOceanPatchModel{
+    .kind = SurfaceKind::ocean,
+    .name = "ocean",
+    .traced = Traced::nothing,
+    .loop_keys = "/ocean/repeat_time",
+    .size_keys = "lower /ocean/resolution, /ocean/repeat_time or /animation/fps",
+    .read_before = read_before,
+    .read_after = [](const Node&, Scene&) {},
+    .seafloor = flat_bottom,
+    .plan = plan,
+    .triangles = [](const ScenePlan& p) -> const std::vector<std::uint32_t>& { return p.patch_triangles; },
+    .start = [](const Scene&, const ScenePlan&, bool) { return std::unique_ptr<ModelState>(); },
+    .move = move,
+    .foam = nullptr,  // its foam is the fold foam every wind sea carries
+};
+
+}  // namespace wave::detail

@@ -1,0 +1,113 @@
+// Gonzato's ray strips: adaptive fronts traced over the seafloor, tessellated into strips
+// and moved by the plunging profile, or by Jeschke's breakers (optionally resampled on
+// Hinsinger's camera grid). One wave train.
+#include "../surface_model.h"
+
+#include "libwave/physics.h"
+
+namespace wave::detail {
+namespace {
+
+void read_before(const Node& root, Scene&) {
+    refuse_height_field_options(root, "ray-strips\"");
+    if (root.has("trace") && root["trace"].has("orthogonals_per_grid_line"))
+        root["trace"]["orthogonals_per_grid_line"].fail("only for the height-field surface");
+}
+
+void read_after(const Node& root, Scene& s) {
+    if (!root.has("waves")) return;  // refused by the waves' own reading
+    if (s.waves.size() != 1)
+        root["waves"].fail("the ray-strips surface traces one wave train, got " + std::to_string(s.waves.size()) +
+                           " (use \"surface\": {\"kind\": \"height-field\"} to superpose trains)");
+}
+
+// The ray strips came out empty: say why, naming the seafloor and the scene key, rather
+// than let the exporter find "nothing to export".
+[[noreturn]] void refuse_empty_strips(const Scene& scene, const ScenePlan& p) {
+    const SeafloorStats st = seafloor_stats(p.seafloor);
+    const std::string where = "scene: no water surface to animate over " + p.seafloor.source + ": ";
+    if (!(st.depth_max > 0.0))
+        throw InputError(where + "the seafloor has no water (every node is land" +
+                         (st.nodata_count > 0 ? std::string(" or NODATA read as land: /seafloor/nodata_policy") : std::string()) +
+                         "); check /seafloor/sign and /seafloor/vertical_offset");
+    const WaveTrain& w = scene.waves[0];
+    // The seafloor's width across the swell, where its rays enter.
+    const double len = std::hypot(w.direction_x, w.direction_y);
+    const double across = (std::abs(w.direction_y) * (st.x_max - st.x_min) + std::abs(w.direction_x) * (st.y_max - st.y_min)) / len;
+    if (across / scene.trace.ray_spacing < 2.0)
+        throw InputError(where + "/trace/ray_spacing " + fmt(scene.trace.ray_spacing) + " m leaves fewer than two rays across the " +
+                         fmt(across) + " m the swell enters over; a front needs two: lower /trace/ray_spacing");
+    throw InputError(where + "no front formed: the swell travels towards [" + fmt(w.direction_x) + ", " +
+                     fmt(w.direction_y) + "] (/waves/0/direction), so its rays start on the seafloor's upwave side, and " +
+                     (p.fronts.initial_rays == 0 ? "none started in water there"
+                                                 : std::to_string(p.fronts.initial_rays) + " ray(s) that started there made no strip") +
+                     "; a direction points where the waves go, from the open sea towards the shore");
+}
+
+void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
+    if (scene.waves.size() != 1)
+        throw InputError("scene: the ray-strips surface traces one wave train, got " + std::to_string(scene.waves.size()));
+    FrontOptions fronts = scene.fronts;
+    fronts.ray_spacing = scene.trace.ray_spacing;
+    fronts.breaker_index = scene.trace.breaker_index;
+    fronts.max_rays = scene.trace.max_rays;
+    p.isobaths = extract_isobaths(p.seafloor, scene.isobaths);
+    p.fronts = trace_fronts(p.seafloor, scene.waves[0], fronts, &p.isobaths);
+    p.strips = build_ray_strips(p.fronts);
+    if (p.strips.triangle_count() == 0) refuse_empty_strips(scene, p);
+    p.loop_period = scene.waves[0].period;
+    if (stages == PlanStages::trace) return;
+    p.motion = plan_gonzato_motion(p.strips, scene.profile);
+    if (scene.breakers) {
+        JeschkeBreakerOptions o = *scene.breakers;
+        o.breaker_index = scene.trace.breaker_index;
+        const WaveTrain& w = scene.waves[0];
+        p.breakers = plan_jeschke_breakers(p.strips, 2.0 * w.amplitude, deep_water_wavelength(w.period), o);
+        if (scene.camera_grid) {
+            GridCamera c = *scene.camera_grid;
+            c.position = scene_camera(scene, p.seafloor);
+            p.camera_grid = camera_grid(c);
+            p.breakers = resample_jeschke_breakers(p.breakers, p.strips.triangles, p.camera_grid.x, p.camera_grid.y);
+        }
+        // Varied crests repeat after m of them: the loop holds m periods.
+        p.loop_period *= static_cast<double>(p.breakers.loop_periods());
+    }
+    const bool on_grid = p.camera_grid.vertex_count() > 0;
+    p.rest_x = on_grid ? p.camera_grid.x : p.motion.x;
+    p.rest_y = on_grid ? p.camera_grid.y : p.motion.y;
+}
+
+const std::vector<std::uint32_t>& triangles(const ScenePlan& p) {
+    return p.camera_grid.vertex_count() > 0 ? p.camera_grid.triangles : p.strips.triangles;
+}
+
+bool move(const Scene& scene, const ScenePlan& p, double t, ModelState*, ModelFrame& frame) {
+    if (scene.breakers) evaluate_jeschke_breakers(p.breakers, t, frame.positions);
+    else evaluate_gonzato_motion(p.motion, t, frame.positions);
+    return false;
+}
+
+void foam(const Scene& scene, const ScenePlan& p, double t, ModelState*, std::span<float> out) {
+    if (scene.breakers) jeschke_foam(p.breakers, t, out);
+    else breaking_foam(p.strips, p.motion, t, scene.foam, out);
+}
+
+}  // namespace
+
+extern const SurfaceModel kRayStripsModel{
+    .kind = SurfaceKind::ray_strips,
+    .name = "ray-strips",
+    .traced = Traced::fronts,
+    .loop_keys = "/waves/0/period",
+    .size_keys = "raise /trace/ray_spacing or /fronts/step, or lower /animation/fps",
+    .read_before = read_before,
+    .read_after = read_after,
+    .seafloor = [](const Scene& s) { return load_seafloor(s.seafloor); },
+    .plan = plan,
+    .triangles = triangles,
+    .start = [](const Scene&, const ScenePlan&, bool) { return std::unique_ptr<ModelState>(); },
+    .move = move,
+    .foam = foam,
+};
+
+}  // namespace wave::detail

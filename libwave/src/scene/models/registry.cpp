@@ -1,0 +1,35 @@
+// The wave models, one line each, in the order of SurfaceKind.
+#include "../surface_model.h"
+
+#include <array>
+#include <stdexcept>
+
+namespace wave::detail {
+
+extern const SurfaceModel kRayStripsModel, kHeightFieldModel, kOceanPatchModel;
+
+namespace {
+const std::array<const SurfaceModel*, 3> kModels{
+    &kRayStripsModel,
+    &kHeightFieldModel,
+    &kOceanPatchModel,
+};
+}  // namespace
+
+std::span<const SurfaceModel* const> surface_models() { return kModels; }
+
+const SurfaceModel& surface_model(SurfaceKind kind) {
+    for (const SurfaceModel* m : kModels)
+        if (m->kind == kind) return *m;
+    throw std::logic_error("libwave: no model registered for this surface kind");
+}
+
+}  // namespace wave::detail
+
+namespace wave {
+
+std::string_view surface_kind_name(SurfaceKind kind) { return detail::surface_model(kind).name; }
+
+Traced surface_kind_traces(SurfaceKind kind) { return detail::surface_model(kind).traced; }
+
+}  // namespace wave

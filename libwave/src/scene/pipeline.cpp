@@ -1,0 +1,504 @@
+// Scene files: JSON → validated Scene, with JSON-pointer error messages; and the
+// wiring of the static stages.
+#include "libwave/scene.h"
+
+#include "core/format.h"
+#include "libwave/errors.h"
+#include "libwave/shade.h"
+#include "core/files.h"
+#include "core/json_input.h"
+#include "core/limits.h"
+#include "surface_model.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <numbers>
+#include <set>
+#include <sstream>
+
+namespace wave {
+
+using detail::fmt;
+
+PreviewOptions scene_preview(const Scene& scene, const Seafloor& seafloor) {
+    PreviewOptions o = scene.preview;
+    o.camera = scene_camera(scene, seafloor);
+    if (!scene.preview_look_at_set) {
+        const ElevationGrid& g = seafloor.grid;
+        o.look_at = {0.5 * (g.x0 + g.x_max()), 0.5 * (g.y0 + g.y_max()), 0.0};
+    }
+    return o;
+}
+
+std::array<double, 3> scene_camera(const Scene& scene, const Seafloor& seafloor) {
+    const ElevationGrid& g = seafloor.grid;
+    if (scene.camera) {
+        const auto& c = *scene.camera;
+        if (c[0] >= g.x0 && c[0] <= g.x_max() && c[1] >= g.y0 && c[1] <= g.y_max() &&
+            c[2] <= -depth_at(g, c[0], c[1]))
+            throw InputError("scene: /camera/position [" + fmt(c[0]) + ", " + fmt(c[1]) + ", " + fmt(c[2]) +
+                             "] is inside the seafloor (its elevation there is " + fmt(-depth_at(g, c[0], c[1])) + " m)");
+        return c;
+    }
+    const double w = g.x_max() - g.x0, h = g.y_max() - g.y0, size = std::max(w, h);
+    double dx = 0.0, dy = 1.0;
+    if (!scene.waves.empty()) {
+        const double len = std::hypot(scene.waves[0].direction_x, scene.waves[0].direction_y);
+        dx = scene.waves[0].direction_x / len;
+        dy = scene.waves[0].direction_y / len;
+    }
+    // From the open sea towards the shore, as a viewer on a boat would see the waves arrive.
+    const double cx = g.x0 + 0.5 * w, cy = g.y0 + 0.5 * h;
+    return {cx - dx * 1.1 * size, cy - dy * 1.1 * size, 0.4 * size};
+}
+
+TraceOptions scene_trace_options(const Scene& scene, const Seafloor& seafloor) {
+    TraceOptions trace = scene.trace;
+    if (scene.orthogonals_per_grid_line > 0.0 && scene.surface.nx >= 2 && scene.surface.ny >= 2) {
+        const ElevationGrid& g = seafloor.grid;
+        const double cell = std::min((g.x_max() - g.x0) / static_cast<double>(scene.surface.nx - 1),
+                                     (g.y_max() - g.y0) / static_cast<double>(scene.surface.ny - 1));
+        trace.ray_spacing = cell / scene.orthogonals_per_grid_line;  // Ts'o §3.2.3
+    }
+    return trace;
+}
+
+Seafloor scene_seafloor(const Scene& scene) { return detail::surface_model(scene.surface_kind).seafloor(scene); }
+
+namespace detail {
+
+void plan_wind_sea(const OceanOptions& o, ScenePlan& p) {
+    p.ocean = plan_ocean(o);
+    if (o.spectrum.wind_speed * o.spectrum.wind_speed / kGravity < 2.0 * p.ocean.spacing())
+        p.warnings.push_back("the ocean's largest waves (V²/g = " +
+                             fmt(o.spectrum.wind_speed * o.spectrum.wind_speed / kGravity) +
+                             " m) are shorter than two cells (" + fmt(p.ocean.spacing()) +
+                             " m): raise /ocean/resolution or lower /ocean/size (Tessendorf §3.4)");
+}
+
+}  // namespace detail
+
+namespace {
+
+// The triangles of the surface's own vertices (before any refinement).
+const std::vector<std::uint32_t>& surface_triangles(const Scene& scene, const ScenePlan& p) {
+    return detail::surface_model(scene.surface_kind).triangles(p);
+}
+
+// A wind sea superposed on a coastal surface: its loop a whole multiple of the swell's.
+void plan_superposed_wind_sea(const OceanOptions& options, ScenePlan& p) {
+    OceanOptions o = options;
+    const double base = p.loop_period;
+    if (o.repeat_time == 0.0) {
+        o.repeat_time = base * std::max(1.0, std::round(20.0 / base));  // the multiple nearest 20 s
+    } else {
+        const double r = o.repeat_time / base;
+        if (std::round(r) < 1.0 || std::abs(r - std::round(r)) > 1e-6 * r)
+            throw InputError("scene: /ocean/repeat_time " + fmt(o.repeat_time) +
+                             " s is not a whole multiple of the swell's loop (" + fmt(base) +
+                             " s), so the animation could not loop; use e.g. " +
+                             fmt(base * std::max(1.0, std::round(r))) + " s");
+    }
+    detail::plan_wind_sea(o, p);
+    p.loop_period = o.repeat_time;
+}
+
+// The components every surface kind can carry, after the model planned its surface: a
+// superposed FFT wind sea, Gerstner waves, and the depths of the rest vertices.
+void plan_components(const Scene& scene, ScenePlan& p) {
+    const bool own_ocean = p.ocean.n > 0;  // the surface is the FFT patch itself
+    if (scene.ocean && !own_ocean) plan_superposed_wind_sea(*scene.ocean, p);
+    if (!(p.loop_period * scene.fps >= 1.0))
+        throw InputError("scene: the loop (" + fmt(p.loop_period) + " s) is shorter than one frame at " + fmt(scene.fps) +
+                         " fps; lengthen " +
+                         std::string(scene.ocean ? "/ocean/repeat_time" : detail::surface_model(scene.surface_kind).loop_keys) +
+                         " or raise /animation/fps");
+    const ElevationGrid& g = p.seafloor.grid;
+    p.rest_depth.resize(p.rest_x.size());
+    for (std::size_t v = 0; v < p.rest_x.size(); ++v)
+        p.rest_depth[v] = static_cast<float>(std::max(0.0, depth_at(g, p.rest_x[v], p.rest_y[v])));
+    if (scene.ocean && !own_ocean) {
+        // Wind waves calm down over the shelf (Kitaigorodskii's depth function at the peak).
+        p.wind_sea_scale.resize(p.rest_x.size());
+        for (std::size_t v = 0; v < p.rest_x.size(); ++v)
+            p.wind_sea_scale[v] = static_cast<float>(wind_sea_depth_factor(p.ocean.peak_omega, p.rest_depth[v]));
+    }
+    // Gerstner waves disperse in the open ocean's depth over its patch, else in deep water.
+    const double depth = own_ocean ? scene.ocean.value_or(OceanOptions{}).spectrum.depth : std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < scene.gerstner.size(); ++i) {
+        const GerstnerSpec& s = scene.gerstner[i];
+        const double k = 2.0 * std::numbers::pi / s.wavelength, len = std::hypot(s.direction_x, s.direction_y);
+        GerstnerWave w{.kx = k * s.direction_x / len, .ky = k * s.direction_y / len, .amplitude = s.amplitude,
+                       .omega = quantize_frequency(dispersion_omega(k, depth), p.loop_period), .phase = s.phase};
+        p.gerstner.push_back(w);
+    }
+    if (gerstner_steepness(p.gerstner) >= 1.0)
+        p.warnings.push_back("the Gerstner waves' Σ k A = " + fmt(gerstner_steepness(p.gerstner)) +
+                             " >= 1: crests may loop over themselves (Tessendorf §3.1); lower the amplitudes");
+}
+
+}  // namespace
+
+ScenePlan plan_scene(const Scene& scene, PlanStages stages) {
+    ScenePlan p;
+    p.seafloor = scene_seafloor(scene);
+    scene_camera(scene, p.seafloor);  // a camera inside the seafloor is an input error, found before the work
+    detail::surface_model(scene.surface_kind).plan(scene, p, stages);
+    if (stages == PlanStages::trace) return p;
+    plan_components(scene, p);
+    if (stages == PlanStages::all) refine_scene_plan(scene, p);
+    return p;
+}
+
+std::size_t scene_loop_frames(const Scene& scene, const ScenePlan& plan) {
+    const double frames = std::round(plan.loop_period * scene.fps);
+    if (!(frames < 1e18)) return std::numeric_limits<std::size_t>::max();  // refused by max_frames, never cast
+    return std::max<std::size_t>(1, static_cast<std::size_t>(frames));
+}
+
+void refine_scene_plan(const Scene& scene, ScenePlan& p) {
+    // Subdivision: the surface's topology refined once; frames apply the stencils.
+    if (scene.refine) {
+        const std::vector<std::uint32_t>& coarse = surface_triangles(scene, p);
+        if (!scene.refine->adaptive) {
+            p.refinement = plan_refinement(p.rest_x.size(), coarse, *scene.refine, scene.max_refined_vertices);
+        } else {
+            // Where the surface bends: its normals at 8 times spread over the loop (the
+            // crests move, so one frame would not do), and the camera for nearness.
+            Scene probe = scene;
+            probe.refine.reset();
+            probe.attributes = Scene::Attributes::none;
+            probe.color = false;
+            const std::size_t loop_frames = scene_loop_frames(scene, p);
+            std::vector<float> normals;
+            for (std::size_t k = 0; k < 8; ++k) {
+                const std::size_t f = k * loop_frames / 8;
+                const SceneAnimation a = animate_scene(probe, p, 2e9, FrameRange{f, f + 1});
+                normals.insert(normals.end(), a.normals.begin(), a.normals.end());
+            }
+            const AdaptiveCriteria criteria{normals, p.rest_x, p.rest_y, scene_camera(scene, p.seafloor)};
+            p.refinement = plan_refinement(p.rest_x.size(), coarse, *scene.refine, scene.max_refined_vertices, &criteria);
+        }
+    }
+}
+
+EncodedFiles encode_animation(const MorphAnimationView& view, Scene::Form form, Scene::Container container, bool whole) {
+    EncodedFiles files;
+    char slice_name[64];
+    std::snprintf(slice_name, sizeof slice_name, "animation-frames-%zu-%zu.glb", view.first_frame, view.first_frame + view.frame_count);
+    const std::string animation_name = whole ? "animation.glb" : slice_name;
+    if (form == Scene::Form::morph) files.emplace_back(animation_name, gltf_morph_glb(view));
+    if (form == Scene::Form::nodes) files.emplace_back(animation_name, gltf_nodes_glb(view));
+    if (form == Scene::Form::files)
+        for (std::size_t k = 0; k < view.frame_count; ++k) {
+            char name[48];
+            std::snprintf(name, sizeof name, "frames/frame-%04zu.glb", view.first_frame + k);
+            files.emplace_back(name, gltf_frame_glb(view, k));
+        }
+    if (container == Scene::Container::gltf) {
+        // Each .glb becomes name.gltf + name.bin (the .bin named relative to the .gltf).
+        EncodedFiles split;
+        for (auto& [name, bytes] : files) {
+            const std::string base = name.substr(0, name.size() - 4);  // without ".glb"
+            const std::string bin = base + ".bin";
+            GltfFiles g = glb_to_gltf(bytes, std::filesystem::path(bin).filename().string());
+            split.emplace_back(base + ".gltf", std::move(g.json));
+            split.emplace_back(bin, std::move(g.bin));
+        }
+        files.swap(split);
+    }
+    return files;
+}
+
+MorphAnimationView SceneAnimation::view() const {
+    MorphAnimationView v = animation_view(*this);
+    v.draco = draco;
+    v.quantize = quantize;
+    return v;
+}
+
+RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan) {
+    RunEstimate e;
+    const Refinement* refined = plan.refinement.fine_vertices > 0 ? &plan.refinement : nullptr;
+    const std::size_t coarse_triangles = surface_triangles(scene, plan).size() / 3;
+    if (refined) {
+        e.vertices = refined->fine_vertices;
+        e.triangles = refined->triangles.size() / 3;
+    } else if (scene.refine) {  // not planned yet (PlanStages::surface): predicted
+        const double t = refined_triangle_estimate(coarse_triangles, *scene.refine);
+        e.triangles = t < 1e18 ? static_cast<std::size_t>(t) : std::numeric_limits<std::size_t>::max();
+        e.vertices = e.triangles / 2;
+    } else {
+        e.vertices = plan.rest_x.size();
+        e.triangles = coarse_triangles;
+    }
+    const bool fine = scene.refine.has_value();
+    e.frames = scene_loop_frames(scene, plan);
+    const double n = static_cast<double>(e.vertices), frames = static_cast<double>(e.frames);
+    const bool shaded = scene.attributes != Scene::Attributes::none;
+    // animate_scene: positions + normals, reflect/refract/foam, colour (floats).
+    const double arrays_per_vertex = 24.0 + (shaded ? 12.0 : 0.0) + (scene.color ? 12.0 : 0.0);
+    e.frame_array_bytes = frames * n * arrays_per_vertex;
+    // The writer: POSITION + NORMAL, TEXCOORD_0, shading (UV maps 2 × vec2, or 3 floats), COLOR_0.
+    const double shading = scene.attributes == Scene::Attributes::uv_maps ? 16.0 : scene.attributes == Scene::Attributes::named ? 12.0 : 0.0;
+    const double per_frame_vertex = 24.0 + shading + (scene.color ? 12.0 : 0.0);
+    const double indices = 12.0 * static_cast<double>(e.triangles), uv0 = 8.0 * n;
+    const double draco_frame = 4.8 * n;  // measured: default scene, 14-bit positions (see RunEstimate)
+    switch (scene.form) {
+        case Scene::Form::morph:
+            e.output_bytes = (scene.draco ? draco_frame : n * per_frame_vertex + uv0 + indices) +
+                             frames * n * per_frame_vertex * (scene.quantize ? 0.7 : 1.0);
+            break;
+        case Scene::Form::nodes:  // meshes share the indices and TEXCOORD_0
+            e.output_bytes = scene.draco ? frames * draco_frame
+                                         : indices + uv0 + frames * n * per_frame_vertex * (scene.quantize ? 0.7 : 1.0);
+            break;
+        case Scene::Form::files:
+            e.output_bytes = frames * (scene.draco ? draco_frame : indices + uv0 + n * per_frame_vertex * (scene.quantize ? 0.7 : 1.0));
+            break;
+    }
+    // Measured on the default scene (peak RSS of wave run, each form): ~30 MB of
+    // process and libraries, ~1.5 kB per surface vertex of plan (isobaths, fronts, the
+    // OpenMesh strips, motion fields), refinement stencils ~12 weights per fine vertex;
+    // a single-file form holds its bytes three times at the end (tinygltf's buffer, the
+    // serialised stream, the file's string), the files form one chunk of frames.
+    const double plan_bytes = 30e6 + 1500.0 * static_cast<double>(plan.rest_x.size()) + (fine ? 96.0 * n : 0.0);
+    if (scene.form == Scene::Form::files) {  // one chunk of frames at a time, each encoded once
+        const double chunk = static_cast<double>(files_form_chunk(e));
+        e.peak_memory_bytes = plan_bytes + (e.frame_array_bytes + e.output_bytes) * chunk / frames;
+    } else {
+        e.peak_memory_bytes = plan_bytes + e.frame_array_bytes + 3.0 * e.output_bytes;
+    }
+    return e;
+}
+
+void check_run_limits(const Scene& scene, const RunEstimate& e, std::size_t frames, double max_bytes) {
+    if (e.frames > scene.max_frames)
+        throw LimitError("scene: the loop holds " + detail::format_count(e.frames) + " frames (at " + fmt(scene.fps) +
+                         " fps), more than the limit of " + detail::format_count(scene.max_frames) +
+                         "; lower /animation/fps, or raise /animation/max_frames");
+    const bool shaded = scene.attributes != Scene::Attributes::none;
+    const double bytes_per_vertex = 24.0 + (shaded ? 12.0 : 0.0) + (scene.color ? 12.0 : 0.0);
+    if (!(static_cast<double>(frames) * static_cast<double>(e.vertices) * bytes_per_vertex > max_bytes)) return;
+    throw LimitError("scene: the animation would hold " + detail::format_count(frames) + " frames of " +
+                     detail::format_count(e.vertices) + " vertices (over " + fmt(max_bytes / 1e9) +
+                     " GB of per-frame arrays); " +
+                     (scene.refine ? std::string("lower /refine/level, or ") : std::string()) +
+                     std::string(detail::surface_model(scene.surface_kind).size_keys) +
+                     ", or raise the limit (wave run --max-memory-gb)");
+}
+
+std::size_t files_form_chunk(const RunEstimate& e, double max_bytes) {
+    if (e.frames == 0) return 1;
+    const double per_frame = e.frame_array_bytes / static_cast<double>(e.frames);
+    const double by_memory = per_frame > 0.0 ? std::floor(std::min(max_bytes, 256e6) / per_frame) : static_cast<double>(e.frames);
+    const std::size_t spread = std::max<std::size_t>(8, (e.frames + 63) / 64);
+    const std::size_t chunk = by_memory < static_cast<double>(spread) ? static_cast<std::size_t>(std::max(1.0, by_memory)) : spread;
+    return std::min(chunk, e.frames);
+}
+
+namespace {
+
+// What a run of frames reuses: the model's buffers, the wind sea's, the fold foam's past
+// samples, and with /refine the coarse frame the stencils carry to the refined surface.
+struct FrameRun {
+    const Scene& scene;
+    const ScenePlan& plan;
+    const detail::SurfaceModel& model;
+    const Refinement* refined;  // nullptr without /refine
+    bool shaded, creased;
+    std::unique_ptr<detail::ModelState> state{};
+    detail::WindSeaState wind_sea{};
+    // J₋ at the vertices for past lattice times of the fold-foam fade (FoldFoamOptions),
+    // kept while they are inside the window: each is computed once for a run of frames,
+    // and equals what a frame computed alone would compute.
+    std::map<long long, FoldSample> fold_past{};
+    Refinement frame_refinement{};  // crest sharpness: creases follow each frame's heights
+    std::vector<float> coarse_p{}, coarse_nr{}, coarse_foam{}, fine_depth{};
+    VertexFaces adjacency{};
+    FresnelOptions fresnel{};
+};
+
+void start_run(FrameRun& r, const std::vector<std::uint32_t>& triangles, std::size_t n) {
+    const ScenePlan& plan = r.plan;
+    const std::size_t nc = plan.rest_x.size();
+    r.state = r.model.start(r.scene, plan, r.shaded);
+    if (plan.ocean.n > 0) {
+        r.wind_sea.workspace.emplace(plan.ocean.n);
+        r.wind_sea.lattice_j.resize(plan.ocean.n * plan.ocean.n);
+        r.wind_sea.vertex_j.resize(nc);
+    }
+    if (r.refined) {
+        r.coarse_p.resize(3 * nc);
+        r.coarse_nr.resize(3 * nc);
+        r.coarse_foam.resize(nc);
+        r.fine_depth.resize(n);
+        apply_refinement(*r.refined, std::span<const float>(plan.rest_depth), 1, r.fine_depth);
+    }
+    r.adjacency = vertex_faces(n, triangles);  // normals gathered in parallel
+    r.fresnel.camera = scene_camera(r.scene, plan.seafloor);
+    r.fresnel.model = r.scene.fresnel;
+}
+
+// lattice J₋ → J₋ per coarse vertex.
+void fold_at_vertices(const ScenePlan& plan, std::span<const float> lattice_j, std::span<float> out) {
+    if (plan.wind_sea_scale.empty()) {  // the surface is the patch: (N+1)² vertices repeat the first row and column
+        const std::size_t N = plan.ocean.n, side = N + 1;
+        for (std::size_t row = 0; row < side; ++row) {
+            const float* src = &lattice_j[(row == N ? 0 : row) * N];
+            std::copy(src, src + N, &out[row * side]);
+            out[row * side + N] = src[0];
+        }
+    } else {
+        sample_ocean_field(plan.ocean, lattice_j, plan.rest_x, plan.rest_y, plan.wind_sea_scale, out);
+    }
+}
+
+// The surface's coarse vertices at time t (and their normals when they are exact);
+// returns whether the normals are done.
+bool move_coarse(FrameRun& r, double t, std::span<float> pc, std::span<float> nrc) {
+    const ScenePlan& plan = r.plan;
+    detail::ModelFrame frame{.positions = pc, .normals = nrc, .wind_sea = r.wind_sea};
+    const bool exact_normals = r.model.move(r.scene, plan, t, r.state.get(), frame);
+    if (!plan.wind_sea_scale.empty()) {  // a wind sea superposed on the model's surface
+        const OceanFields fields = evaluate_ocean(plan.ocean, t, *r.wind_sea.workspace);
+        add_ocean_samples(plan.ocean, fields, plan.rest_x, plan.rest_y, plan.wind_sea_scale, pc);
+        if (r.shaded) {
+            ocean_jacobian_field(plan.ocean, fields, r.wind_sea.lattice_j);
+            fold_at_vertices(plan, r.wind_sea.lattice_j, r.wind_sea.vertex_j);
+        }
+    }
+    if (!plan.gerstner.empty()) add_gerstner_waves(plan.gerstner, plan.rest_x, plan.rest_y, plan.rest_depth, t, pc);
+    return exact_normals && plan.gerstner.empty() && !r.refined;
+}
+
+// Foam at the coarse vertices: the model's, then the wind sea's folds fading out.
+void coarse_foam(FrameRun& r, double t, std::span<float> fc) {
+    const ScenePlan& plan = r.plan;
+    if (r.model.foam) r.model.foam(r.scene, plan, t, r.state.get(), fc);
+    if (plan.ocean.n == 0) return;
+    const FoldFoamOptions& fold = r.scene.fold_foam;
+    accumulate_fold_foam(r.wind_sea.vertex_j, 0.0, fold, fc);
+    double step = 0.0;
+    const auto lattice = fold_lattice(t, fold, plan.loop_period, step);
+    for (long long j : lattice) {
+        auto it = r.fold_past.find(j);
+        if (it == r.fold_past.end()) {
+            evaluate_ocean_jacobian(plan.ocean, static_cast<double>(j) * step, *r.wind_sea.workspace, r.wind_sea.lattice_j);
+            std::vector<float> past(plan.rest_x.size());
+            fold_at_vertices(plan, r.wind_sea.lattice_j, past);
+            it = r.fold_past.emplace(j, fold_sample(past, fold)).first;
+        }
+        accumulate_fold_foam(it->second, t - static_cast<double>(j) * step, fold, fc);
+    }
+    if (!lattice.empty()) r.fold_past.erase(r.fold_past.begin(), r.fold_past.lower_bound(lattice.back()));
+}
+
+// Frame f of the animation `a`: positions, normals and, shaded, the Fresnel weights,
+// foam and colour.
+void evaluate_frame(FrameRun& r, const std::vector<std::uint32_t>& coarse_triangles, std::size_t f, SceneAnimation& a) {
+    const std::size_t n = a.vertex_count;
+    const std::span<float> p(&a.positions[3 * n * f], 3 * n), nr(&a.normals[3 * n * f], 3 * n);
+    const std::span<float> pc = r.refined ? std::span<float>(r.coarse_p) : p, nrc = r.refined ? std::span<float>(r.coarse_nr) : nr;
+    const double t = static_cast<double>(a.first_frame + f) / r.scene.fps;
+    const bool normals_done = move_coarse(r, t, pc, nrc);
+    const Refinement* fr = r.refined;
+    if (r.creased) {
+        const RefineOptions& o = *r.scene.refine;
+        const Creases c = crest_creases(pc, coarse_triangles, o.crest_sharpness_per_metre, o.max_crest_sharpness);
+        r.frame_refinement = plan_refinement(r.plan.rest_x.size(), coarse_triangles, o, r.scene.max_refined_vertices, nullptr, &c);
+        fr = &r.frame_refinement;
+    }
+    if (r.refined) apply_refinement(*fr, pc, 3, p);
+    if (!normals_done) vertex_normals(p, a.triangles, r.adjacency, nr);
+    for (std::size_t v = 0; v < n; ++v) {
+        a.z_min = std::min(a.z_min, p[3 * v + 2]);
+        a.z_max = std::max(a.z_max, p[3 * v + 2]);
+    }
+    if (!r.shaded) return;
+    const std::span<float> refl(&a.reflect[n * f], n), refr(&a.refract[n * f], n), foam(&a.foam[n * f], n);
+    const std::span<float> fc = r.refined ? std::span<float>(r.coarse_foam) : foam;
+    if (r.refined) std::fill(fc.begin(), fc.end(), 0.0f);
+    fresnel_weights(p, nr, r.fresnel, refl, refr);
+    coarse_foam(r, t, fc);
+    if (r.refined) apply_refinement(*fr, std::span<const float>(fc), 1, foam);
+    const std::span<const float> depth = r.refined ? std::span<const float>(r.fine_depth) : std::span<const float>(r.plan.rest_depth);
+    if (r.scene.color) water_colour(refl, depth, foam, WaterColours{}, std::span<float>(&a.colors[3 * n * f], 3 * n));
+}
+
+// TEXCOORD_0: the rest position over the seafloor's rectangle (the patch for the
+// ocean: it tiles), u along +x, v down (glTF's image origin is top-left).
+void rest_texcoords(const ScenePlan& plan, const Refinement* refined, SceneAnimation& a) {
+    const std::size_t n = a.vertex_count;
+    std::vector<double> fine_x, fine_y;
+    if (refined) {
+        fine_x.resize(n);
+        fine_y.resize(n);
+        apply_refinement(*refined, std::span<const double>(plan.rest_x), 1, fine_x);
+        apply_refinement(*refined, std::span<const double>(plan.rest_y), 1, fine_y);
+    }
+    const std::vector<double>& rx = refined ? fine_x : plan.rest_x;
+    const std::vector<double>& ry = refined ? fine_y : plan.rest_y;
+    const ElevationGrid& g = plan.seafloor.grid;
+    const double width = g.x_max() - g.x0, height = g.y_max() - g.y0;
+    a.texcoords.resize(2 * n);
+    for (std::size_t v = 0; v < n; ++v) {
+        a.texcoords[2 * v] = static_cast<float>((rx[v] - g.x0) / width);
+        a.texcoords[2 * v + 1] = static_cast<float>(1.0 - (ry[v] - g.y0) / height);
+    }
+}
+
+}  // namespace
+
+SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double max_bytes, FrameRange range,
+                             const std::function<void(std::size_t, std::size_t)>& progress) {
+    SceneAnimation a;
+    a.fps = scene.fps;
+    a.scene = scene.name;
+    // The surface's own vertices (coarse), and with /refine the subdivided ones.
+    const Refinement* refined = plan.refinement.fine_vertices > 0 ? &plan.refinement : nullptr;
+    a.vertex_count = refined ? refined->fine_vertices : plan.rest_x.size();
+    a.loop_frames = scene_loop_frames(scene, plan);
+    const std::size_t end = std::min(range.end, a.loop_frames);
+    if (range.first >= end)
+        throw InputError("scene: the frame range " + std::to_string(range.first) + ":" +
+                         (range.end == static_cast<std::size_t>(-1) ? std::string() : std::to_string(range.end)) +
+                         " holds no frame of the loop's 0:" + std::to_string(a.loop_frames));
+    a.first_frame = range.first;
+    a.frame_count = end - range.first;
+    const std::vector<std::uint32_t>& coarse_triangles = surface_triangles(scene, plan);
+    a.triangles = refined ? refined->triangles : coarse_triangles;
+    const std::size_t n = a.vertex_count;
+    const bool shaded = scene.attributes != Scene::Attributes::none;
+    check_run_limits(scene, RunEstimate{.vertices = n, .frames = a.loop_frames}, a.frame_count, max_bytes);
+    a.positions.resize(3 * n * a.frame_count);
+    a.normals.resize(3 * n * a.frame_count);
+    a.layout = scene.attributes == Scene::Attributes::named ? ScalarLayout::custom : ScalarLayout::blender34;
+    a.draco = scene.draco;
+    a.quantize = scene.quantize;
+    if (shaded) {
+        a.reflect.resize(n * a.frame_count);
+        a.refract.resize(n * a.frame_count);
+        a.foam.assign(n * a.frame_count, 0.0f);
+    }
+    if (scene.color) a.colors.resize(3 * n * a.frame_count);
+    FrameRun run{.scene = scene, .plan = plan, .model = detail::surface_model(scene.surface_kind), .refined = refined,
+                 .shaded = shaded, .creased = refined && scene.refine->crest_sharpness_per_metre > 0.0};
+    start_run(run, a.triangles, n);
+    a.z_min = std::numeric_limits<float>::infinity();
+    a.z_max = -std::numeric_limits<float>::infinity();
+    for (std::size_t f = 0; f < a.frame_count; ++f) {
+        evaluate_frame(run, coarse_triangles, f, a);
+        if (progress) progress(f + 1, a.frame_count);
+    }
+    rest_texcoords(plan, refined, a);
+    return a;
+}
+
+}  // namespace wave

@@ -1,0 +1,533 @@
+// Scene files: JSON → validated Scene, with JSON-pointer error messages; and the
+// wiring of the static stages.
+#include "libwave/scene.h"
+
+#include "core/format.h"
+#include "libwave/errors.h"
+#include "libwave/shade.h"
+#include "core/files.h"
+#include "core/json_input.h"
+#include "core/limits.h"
+#include "scene_schema.h"
+#include "surface_model.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <numbers>
+#include <set>
+#include <sstream>
+
+namespace wave {
+namespace {
+
+using detail::fmt;
+using detail::json;
+using detail::Node;
+
+// An image (the preview's, the camera grid's) is limited to 10⁸ pixels, the product
+// taken without wrap-around.
+void image_limit(const Node& n, std::size_t width, std::size_t height) {
+    constexpr std::size_t kMaxPixels = 100'000'000;
+    const std::size_t pixels = detail::mul_sat(width, height);
+    if (pixels > kMaxPixels)
+        n.fail(detail::format_count(pixels) + " pixels; at most " + detail::format_count(kMaxPixels));
+}
+
+void read_seafloor_spec(const Node& n, SeafloorSource& s, const std::string& base_dir) {
+    n.require_object({"source", "sign", "vertical_scale", "vertical_offset", "horizontal_scale", "nodata",
+                      "nodata_policy", "nodata_elevation", "swan_grid", "swan_spacing", "swan_origin", "spacing",
+                      "max_nodes"});
+    if (n.has("source")) {
+        s.source = n["source"].string();
+        const auto& names = procedural_seafloor_names();
+        const bool procedural = std::find(names.begin(), names.end(), s.source) != names.end();
+        const std::filesystem::path p(s.source);
+        if (!procedural && p.is_relative()) s.source = (std::filesystem::path(base_dir) / p).string();
+        if (!procedural && !detail::path_exists(s.source))
+            n["source"].fail("no such file '" + s.source + "' and not a procedural seafloor");
+    }
+    ReadOptions& r = s.read;
+    if (n.has("sign")) r.sign = n["sign"].choice<ValueSign>({{"elevation", ValueSign::elevation}, {"depth", ValueSign::depth}});
+    if (n.has("vertical_scale")) r.vertical_scale = n["vertical_scale"].number("scale");
+    if (n.has("vertical_offset")) r.vertical_offset = n["vertical_offset"].number("m");
+    if (n.has("horizontal_scale")) r.horizontal_scale = n["horizontal_scale"].number("scale");
+    if (n.has("nodata")) r.nodata_value = n["nodata"].number("value");
+    if (n.has("nodata_policy"))
+        r.nodata_policy = n["nodata_policy"].choice<NodataPolicy>({{"land", NodataPolicy::land}, {"error", NodataPolicy::error}});
+    if (n.has("nodata_elevation")) r.nodata_elevation = n["nodata_elevation"].number("m");
+    if (n.has("swan_grid")) {
+        const auto g = n["swan_grid"].count_pair("[nx, ny]");
+        r.swan_nx = g[0];
+        r.swan_ny = g[1];
+    }
+    if (n.has("swan_spacing")) {
+        const auto d = n["swan_spacing"].numbers(0, "m");
+        if (d.empty() || d.size() > 2 || !(d[0] > 0.0)) n["swan_spacing"].fail("expected [dx] or [dx, dy] with dx > 0 m");
+        r.swan_dx = d[0];
+        r.swan_dy = d.size() > 1 ? d[1] : 0.0;
+    }
+    if (n.has("swan_origin")) {
+        const auto d = n["swan_origin"].numbers(2, "m");
+        r.swan_x0 = d[0];
+        r.swan_y0 = d[1];
+    }
+    if (n.has("spacing")) r.resample_spacing = n["spacing"].number("m");
+    if (n.has("max_nodes")) r.max_nodes = n["max_nodes"].count();
+}
+
+void read_isobaths(const Node& n, IsobathOptions& o) {
+    n.require_object({"levels", "spacing", "shoreline", "smoothing"});
+    if (n.has("levels")) {
+        o.levels = n["levels"].numbers(0, "m");
+        if (o.levels.empty()) n["levels"].fail("expected at least one depth level");
+    }
+    if (n.has("spacing")) o.spacing = n["spacing"].number("m");
+    if (n.has("levels") && n.has("spacing")) n.fail("give either levels or spacing, not both");
+    if (n.has("shoreline")) o.include_shoreline = n["shoreline"].boolean();
+    if (n.has("smoothing")) {
+        const Node s = n["smoothing"];
+        s.require_object({"samples", "beta1", "beta2"});
+        if (s.has("samples")) o.smoothing_samples = static_cast<int>(s["samples"].count());
+        if (s.has("beta1")) o.smoothing_beta1 = s["beta1"].number("bias");
+        if (s.has("beta2")) o.smoothing_beta2 = s["beta2"].number("tension");
+    }
+}
+
+WaveTrain read_wave(const Node& n) {
+    n.require_object({"period", "amplitude", "direction"});
+    WaveTrain w;
+    if (n.has("period")) w.period = n["period"].number("s");
+    if (n.has("amplitude")) w.amplitude = n["amplitude"].number("m");
+    if (n.has("direction")) {
+        const auto d = n["direction"].numbers(2, "direction");
+        if (d[0] == 0.0 && d[1] == 0.0) n["direction"].fail("expected a non-zero direction [x, y]");
+        w.direction_x = d[0];
+        w.direction_y = d[1];
+    }
+    return w;
+}
+
+void read_trace(const Node& n, Scene& s) {
+    n.require_object({"ray_spacing", "orthogonals_per_grid_line", "max_rays", "max_crossings", "breaker_index"});
+    if (n.has("ray_spacing")) s.trace.ray_spacing = n["ray_spacing"].number("m");
+    if (n.has("orthogonals_per_grid_line")) s.orthogonals_per_grid_line = n["orthogonals_per_grid_line"].number("rays per grid line");
+    if (n.has("ray_spacing") && n.has("orthogonals_per_grid_line")) n.fail("give either ray_spacing or orthogonals_per_grid_line, not both");
+    if (n.has("max_rays")) s.trace.max_rays = n["max_rays"].count();
+    if (n.has("max_crossings")) s.trace.max_crossings = n["max_crossings"].count();
+    if (n.has("breaker_index")) s.trace.breaker_index = n["breaker_index"].number("H/h");
+}
+
+// The export forms and containers by name (form_name, form_from_name, …).
+constexpr std::array<std::pair<std::string_view, Scene::Form>, 3> kForms{
+    {{"morph", Scene::Form::morph}, {"nodes", Scene::Form::nodes}, {"files", Scene::Form::files}}};
+constexpr std::array<std::pair<std::string_view, Scene::Container>, 2> kContainers{
+    {{"glb", Scene::Container::glb}, {"gltf", Scene::Container::gltf}}};
+
+template <class T, std::size_t N>
+std::map<std::string, T> named_values(const std::array<std::pair<std::string_view, T>, N>& table) {
+    std::map<std::string, T> out;
+    for (const auto& [name, value] : table) out.emplace(std::string(name), value);
+    return out;
+}
+
+template <class T, std::size_t N>
+std::string_view name_of(const std::array<std::pair<std::string_view, T>, N>& table, T value) {
+    for (const auto& [name, v] : table)
+        if (v == value) return name;
+    throw std::logic_error("libwave: an unnamed export setting");
+}
+
+template <class T, std::size_t N>
+T value_named(const std::array<std::pair<std::string_view, T>, N>& table, std::string_view name, const char* what) {
+    std::string list;
+    for (const auto& [n, v] : table) {
+        if (n == name) return v;
+        list += (list.empty() ? "" : ", ") + std::string(n);
+    }
+    throw InputError(std::string(what) + ": expected one of " + list + ", got " + detail::brief_json(json(std::string(name))));
+}
+
+// /surface/kind: one of the registered models' names.
+SurfaceKind read_kind(const Node& n) {
+    std::map<std::string, SurfaceKind> kinds;
+    for (const detail::SurfaceModel* m : detail::surface_models()) kinds.emplace(std::string(m->name), m->kind);
+    return n.choice(kinds);
+}
+
+void read_surface(const Node& n, Scene& s) {
+    n.require_object({"kind", "grid", "samples_per_span", "footprint", "footprint_radius", "tension_per_metre",
+                      "max_tension", "repeat_time", "max_vertices", "camera_grid"});
+    if (n.has("camera_grid")) {
+        // Hinsinger's screen-space sampling (Jeschke §5); the camera stands at /camera/position.
+        const Node c = n["camera_grid"];
+        c.require_object({"look_at", "vertical_fov_degrees", "image", "pixel_step", "max_distance"});
+        GridCamera g;
+        if (c.has("look_at")) g.look_at = c["look_at"].point3();
+        if (c.has("vertical_fov_degrees")) g.vertical_fov_degrees = c["vertical_fov_degrees"].number("degrees");
+        if (c.has("image")) {
+            const auto im = c["image"].count_pair("[width, height] in pixels");
+            g.image_width = im[0];
+            g.image_height = im[1];
+            image_limit(c["image"], g.image_width, g.image_height);
+        }
+        if (c.has("pixel_step")) g.pixel_step = c["pixel_step"].count();
+        if (c.has("max_distance")) g.max_distance = c["max_distance"].number("m");
+        s.camera_grid = g;
+    }
+    HeightFieldOptions& o = s.surface;
+    if (n.has("grid")) {
+        const Node g = n["grid"];
+        if (!g.value().is_array() || g.size() != 2) g.fail("expected [m, n] control vertices");
+        o.nx = g[std::size_t{0}].count();
+        o.ny = g[1].count();
+    }
+    if (n.has("samples_per_span")) o.samples_per_span = static_cast<int>(n["samples_per_span"].count());
+    if (n.has("footprint"))
+        o.footprint = n["footprint"].choice<Footprint>({{"bresenham", Footprint::bresenham}, {"smooth", Footprint::smooth}});
+    if (n.has("footprint_radius")) o.footprint_radius = n["footprint_radius"].number("grid cells");
+    if (n.has("tension_per_metre")) o.tension_per_metre = n["tension_per_metre"].number("1/m");
+    if (n.has("max_tension")) o.max_tension = n["max_tension"].number("tension");
+    if (n.has("repeat_time")) o.repeat_time = n["repeat_time"].number("s");
+    if (n.has("max_vertices")) o.max_vertices = n["max_vertices"].count();
+}
+
+void read_fronts(const Node& n, FrontOptions& o) {
+    n.require_object({"refraction", "step", "split_distance", "flat_amplitude", "max_turn_degrees", "max_steps", "max_points"});
+    if (n.has("max_turn_degrees")) o.max_turn = n["max_turn_degrees"].number("degrees") * std::numbers::pi / 180.0;
+    if (n.has("refraction"))
+        o.refraction = n["refraction"].choice<FrontRefraction>({{"gradient", FrontRefraction::gradient},
+                                                                {"isobath", FrontRefraction::isobath}});
+    if (n.has("step")) o.step = n["step"].number("m");
+    if (n.has("split_distance")) o.split_distance = n["split_distance"].number("m");
+    if (n.has("flat_amplitude")) o.flat_amplitude = n["flat_amplitude"].number("m");
+    if (n.has("max_steps")) o.max_steps = n["max_steps"].count();
+    if (n.has("max_points")) o.max_points = n["max_points"].count();
+}
+
+void read_profile(const Node& n, GonzatoProfileOptions& o) {
+    n.require_object({"profile", "stretch_max", "stretch_depth_factor", "displacement_depth_factor", "limit_to_disc",
+                      "k0", "kx", "kz"});
+    if (n.has("profile")) n["profile"].choice<int>({{"gonzato", 0}});
+    if (n.has("stretch_max")) o.stretch_max = n["stretch_max"].number("wave heights");
+    if (n.has("stretch_depth_factor")) o.stretch_depth_factor = n["stretch_depth_factor"].number("1/m");
+    if (n.has("displacement_depth_factor"))
+        o.displacement_depth_factor = n["displacement_depth_factor"].number("1/m");
+    if (n.has("limit_to_disc")) o.limit_to_disc = n["limit_to_disc"].boolean();
+    if (n.has("k0")) o.k0 = n["k0"].number("1/m");
+    if (n.has("kx")) o.kx = n["kx"].number("1/m");
+    if (n.has("kz")) o.kz = n["kz"].number("1/m");
+}
+
+// "breakers": "jeschke", or {"model": "jeschke", …options}.
+JeschkeBreakerOptions read_breakers(const Node& n) {
+    JeschkeBreakerOptions o;
+    if (n.value().is_string()) {
+        n.choice<int>({{"jeschke", 0}});
+        return o;
+    }
+    n.require_object({"model", "breaking_share", "max_breaking_wavelengths", "rise_wavelengths", "foam_fade_time",
+                      "foam_onset", "curl_spilling", "curl_plunging", "curl_collapsing", "curl_surging", "wave_variation",
+                      "varied_waves", "variation_seed"});
+    if (n.has("model")) n["model"].choice<int>({{"jeschke", 0}});
+    const auto share = [&](const char* key, double& v, const char* unit) {
+        if (n.has(key)) v = n[key].number(unit);
+    };
+    share("breaking_share", o.breaking_share, "share of the surf zone");
+    share("max_breaking_wavelengths", o.max_breaking_wavelengths, "wavelengths");
+    share("rise_wavelengths", o.rise_wavelengths, "wavelengths");
+    share("foam_fade_time", o.foam_fade_time, "s");
+    share("foam_onset", o.foam_onset, "share of the breaking phase");
+    share("curl_spilling", o.curl_spilling, "share of the paper's rotation");
+    share("curl_plunging", o.curl_plunging, "share of the paper's rotation");
+    share("curl_collapsing", o.curl_collapsing, "share of the paper's rotation");
+    share("curl_surging", o.curl_surging, "share of the paper's rotation");
+    share("wave_variation", o.wave_variation, "local wavelengths / share of the collapse zone");
+    if (n.has("varied_waves")) o.varied_waves = static_cast<std::uint32_t>(n["varied_waves"].count());
+    if (n.has("variation_seed")) o.variation_seed = n["variation_seed"].count();
+    return o;
+}
+
+// "preview": the sunset ray caster's view, sun and bump waves.
+void read_preview(const Node& n, Scene& s) {
+    n.require_object({"look_at", "vertical_fov_degrees", "image", "sun", "glitter_exponent", "fresnel", "bump_waves",
+                      "bump_reference", "sea_to_horizon"});
+    PreviewOptions& o = s.preview;
+    if (n.has("look_at")) {
+        o.look_at = n["look_at"].point3();
+        s.preview_look_at_set = true;
+    }
+    if (n.has("vertical_fov_degrees")) o.vertical_fov_degrees = n["vertical_fov_degrees"].number("degrees");
+    if (n.has("image")) {
+        const auto im = n["image"].count_pair("[width, height] in pixels");
+        o.width = im[0];
+        o.height = im[1];
+        image_limit(n["image"], o.width, o.height);
+    }
+    if (n.has("sun")) {
+        const Node sun = n["sun"];
+        sun.require_object({"azimuth_degrees", "elevation_degrees"});
+        if (sun.has("azimuth_degrees")) o.sun_azimuth_degrees = sun["azimuth_degrees"].number("degrees");
+        if (sun.has("elevation_degrees")) o.sun_elevation_degrees = sun["elevation_degrees"].number("degrees");
+    }
+    if (n.has("glitter_exponent")) o.glitter_exponent = n["glitter_exponent"].number("exponent");
+    if (n.has("fresnel")) o.fresnel = n["fresnel"].boolean();
+    if (n.has("sea_to_horizon")) o.sea_to_horizon = n["sea_to_horizon"].boolean();
+    if (n.has("bump_reference")) {
+        const auto v = n["bump_reference"].numbers(2, "m");
+        o.bump_reference = {v[0], v[1]};
+    }
+    if (n.has("bump_waves")) {
+        const Node b = n["bump_waves"];
+        if (!b.value().is_array()) b.fail("expected an array of {amplitude, direction, wavelength, phase}");
+        for (std::size_t i = 0; i < b.size(); ++i) {
+            const Node w = b[i];
+            w.require_object({"amplitude", "direction", "wavelength", "phase"});
+            BumpWave bw;
+            if (w.has("amplitude")) bw.amplitude = w["amplitude"].number("tan of the tilt");
+            if (w.has("direction")) {
+                const auto d = w["direction"].numbers(2, "");
+                if (d[0] == 0.0 && d[1] == 0.0) w["direction"].fail("the direction must not be zero");
+                bw.direction_x = d[0];
+                bw.direction_y = d[1];
+            }
+            if (w.has("wavelength")) bw.wavelength = w["wavelength"].number("m");
+            if (w.has("phase")) bw.phase = w["phase"].number("rad");
+            o.bump.push_back(bw);
+        }
+    }
+}
+
+RefineOptions read_refine(const Node& n) {
+    n.require_object({"scheme", "level", "adaptive", "max_angle_degrees", "near_distance", "crest_sharpness_per_metre",
+                      "max_crest_sharpness"});
+    RefineOptions o;
+    if (n.has("crest_sharpness_per_metre")) o.crest_sharpness_per_metre = n["crest_sharpness_per_metre"].number("1/m");
+    if (n.has("max_crest_sharpness")) o.max_crest_sharpness = n["max_crest_sharpness"].number("sharpness (10: infinitely sharp)");
+    if (n.has("adaptive")) o.adaptive = n["adaptive"].boolean();
+    if (n.has("max_angle_degrees")) o.max_angle_degrees = n["max_angle_degrees"].number("degrees");
+    if (n.has("near_distance")) o.near_distance = n["near_distance"].number("m");
+    if (n.has("scheme"))
+        o.scheme = n["scheme"].choice<RefineScheme>({{"loop", RefineScheme::loop}, {"catmull-clark", RefineScheme::catmull_clark}});
+    if (n.has("level")) o.level = static_cast<int>(n["level"].count());
+    if (o.adaptive && o.scheme != RefineScheme::loop) n["scheme"].fail("adaptive refinement tessellates triangles: use \"loop\"");
+    if (o.adaptive && o.crest_sharpness_per_metre > 0.0)
+        n["crest_sharpness_per_metre"].fail("crest sharpness needs uniform refinement (not adaptive)");
+    return o;
+}
+
+void read_ocean(const Node& n, OceanOptions& o, const std::string& origin) {
+    n.require_object({"resolution", "size", "spectrum", "wind_speed", "wind_direction", "directional_exponent",
+                      "against_wind", "phillips_constant", "small_wave_cutoff", "fetch", "peak_enhancement", "depth",
+                      "capillary_length", "choppiness", "repeat_time", "seed"});
+    OceanSpectrum& s = o.spectrum;
+    if (n.has("resolution")) o.resolution = n["resolution"].count();
+    if (n.has("size")) o.size = n["size"].number("m");
+    if (n.has("spectrum"))
+        s.model = n["spectrum"].choice<OceanSpectrumModel>({{"phillips", OceanSpectrumModel::phillips},
+                                                            {"pierson-moskowitz", OceanSpectrumModel::pierson_moskowitz},
+                                                            {"jonswap", OceanSpectrumModel::jonswap},
+                                                            {"tma", OceanSpectrumModel::tma}});
+    if (n.has("wind_speed")) s.wind_speed = n["wind_speed"].number("m/s");
+    if (n.has("wind_direction")) {
+        const auto d = n["wind_direction"].numbers(2, "direction");
+        if (std::hypot(d[0], d[1]) == 0.0) n["wind_direction"].fail("expected a non-zero direction [x, y]");
+        s.wind_direction = {d[0], d[1]};
+    }
+    if (n.has("directional_exponent")) s.directional_exponent = n["directional_exponent"].number("exponent");
+    if (n.has("against_wind")) s.against_wind = n["against_wind"].number("factor in [0, 1]");
+    if (n.has("phillips_constant")) s.phillips_constant = n["phillips_constant"].number("A");
+    if (n.has("small_wave_cutoff")) s.small_wave_cutoff = n["small_wave_cutoff"].number("m");
+    if (n.has("fetch")) s.fetch = n["fetch"].number("m");
+    if (n.has("peak_enhancement")) s.peak_enhancement = n["peak_enhancement"].number("γ");
+    if (n.has("depth")) s.depth = n["depth"].number("m");
+    if (n.has("capillary_length")) s.capillary_length = n["capillary_length"].number("m");
+    if (n.has("choppiness")) o.choppiness = n["choppiness"].number("λ");
+    if (n.has("repeat_time")) o.repeat_time = n["repeat_time"].number("s");
+    if (n.has("seed")) o.seed = n["seed"].count();
+    validate_ocean_options(o, origin + ": /ocean");
+}
+
+GerstnerSpec read_gerstner(const Node& n) {
+    n.require_object({"wavelength", "amplitude", "direction", "phase"});
+    GerstnerSpec g;
+    if (n.has("wavelength")) g.wavelength = n["wavelength"].number("m");
+    if (n.has("amplitude")) g.amplitude = n["amplitude"].number("m");
+    if (n.has("direction")) {
+        const auto d = n["direction"].numbers(2, "direction");
+        if (std::hypot(d[0], d[1]) == 0.0) n["direction"].fail("expected a non-zero direction [x, y]");
+        g.direction_x = d[0];
+        g.direction_y = d[1];
+    }
+    if (n.has("phase")) g.phase = n["phase"].number("rad");
+    return g;
+}
+
+}  // namespace
+
+std::string_view form_name(Scene::Form form) { return name_of(kForms, form); }
+Scene::Form form_from_name(std::string_view name) { return value_named(kForms, name, "form"); }
+std::string_view container_name(Scene::Container container) { return name_of(kContainers, container); }
+Scene::Container container_from_name(std::string_view name) { return value_named(kContainers, name, "container"); }
+
+namespace detail {
+
+void refuse_height_field_options(const Node& root, std::string_view kind_hint) {
+    if (!root.has("surface") || !root["surface"].value().is_object()) return;
+    const Node n = root["surface"];
+    for (const auto& [key, _] : n.value().items())
+        if (key != "kind" && key != "camera_grid")
+            n[key.c_str()].fail("a height-field option; this scene's surface kind is \"" + std::string(kind_hint));
+}
+
+void refuse_ray_strip_keys(const Node& root) {
+    if (root.has("surface") && root["surface"].value().is_object() && root["surface"].has("camera_grid"))
+        root["surface"]["camera_grid"].fail("only for the ray-strips surface with /breakers");
+    if (root.has("breakers"))
+        root["breakers"].fail("only for the ray-strips surface (Jeschke's breakers move the traced fronts)");
+}
+
+}  // namespace detail
+
+Seafloor load_seafloor(const SeafloorSource& s) {
+    const auto& names = procedural_seafloor_names();
+    if (!detail::path_exists(s.source) && std::find(names.begin(), names.end(), s.source) != names.end())
+        return make_named_seafloor(s.source);
+    return read_seafloor(s.source, s.read);
+}
+
+Scene default_scene() {
+    Scene s;
+    s.name = "default: Gonzato's bay with a swell";
+    s.surface_kind = SurfaceKind::ray_strips;
+    s.seafloor.source = "gonzato-bay";
+    s.waves = {{.period = 5.0, .amplitude = 0.3, .direction_x = 0.0, .direction_y = 1.0}};
+    s.trace.ray_spacing = 1.0;  // Gonzato: one ray per metre, step 0.4 m, split at 1.2 m
+    s.fronts.step = 0.4;
+    s.fronts.split_distance = 1.2;
+    return s;
+}
+
+Scene parse_scene(std::string_view text, const std::string& origin, const std::string& base_dir) {
+    const json doc = detail::parse_json_input(text, origin);
+    const Node root(doc, "", origin, &detail::scene_schema_doc());
+    root.require_object({"name", "seafloor", "isobaths", "waves", "trace", "surface", "fronts", "motion", "camera",
+                         "shade", "outputs", "animation", "ocean", "gerstner", "breakers", "refine", "preview"});
+    Scene s;
+    if (root.has("name")) s.name = root["name"].string();
+    if (root.has("surface") && root["surface"].value().is_object() && root["surface"].has("kind"))
+        s.surface_kind = read_kind(root["surface"]["kind"]);
+    const detail::SurfaceModel& model = detail::surface_model(s.surface_kind);
+    model.read_before(root, s);
+    if (root.has("surface")) read_surface(root["surface"], s);
+    if (root.has("ocean")) {
+        if (!s.ocean) s.ocean = OceanOptions{};
+        read_ocean(root["ocean"], *s.ocean, origin);
+    }
+    if (root.has("gerstner")) {
+        const Node g = root["gerstner"];
+        if (!g.value().is_array()) g.fail("expected an array of Gerstner waves {wavelength, amplitude, direction, phase}");
+        for (std::size_t i = 0; i < g.size(); ++i) s.gerstner.push_back(read_gerstner(g[i]));
+    }
+    if (root.has("seafloor")) read_seafloor_spec(root["seafloor"], s.seafloor, base_dir);
+    if (root.has("isobaths")) {
+        read_isobaths(root["isobaths"], s.isobaths);
+        if (!s.isobaths.levels.empty()) s.isobaths.spacing = 0.0;  // explicit levels replace the default spacing
+    }
+    if (model.traced != Traced::nothing) {
+        if (!root.has("waves")) root.fail("missing \"waves\": at least one wave train {period, amplitude, direction}");
+        const Node waves = root["waves"];
+        if (!waves.value().is_array() || waves.size() == 0) waves.fail("expected a non-empty array of wave trains");
+        for (std::size_t i = 0; i < waves.size(); ++i) s.waves.push_back(read_wave(waves[i]));
+    }
+    if (root.has("trace")) read_trace(root["trace"], s);
+    if (root.has("breakers")) {
+        if (root.has("motion")) root["motion"].fail("not with /breakers: the breakers replace Gonzato's profile");
+        s.breakers = read_breakers(root["breakers"]);
+    }
+    if (s.camera_grid && !s.breakers)
+        root["surface"]["camera_grid"].fail("needs /breakers (the camera grid samples Jeschke's breakers)");
+    if (root.has("refine")) s.refine = read_refine(root["refine"]);
+    if (root.has("preview")) read_preview(root["preview"], s);
+    if (root.has("fronts")) read_fronts(root["fronts"], s.fronts);
+    if (root.has("motion")) read_profile(root["motion"], s.profile);
+    if (root.has("camera")) {
+        const Node c = root["camera"];
+        c.require_object({"position"});
+        if (c.has("position")) s.camera = c["position"].point3();
+    }
+    if (root.has("shade")) {
+        const Node sh = root["shade"];
+        sh.require_object({"fresnel", "foam_fade_time", "foam_onset", "fold_threshold", "fold_softness", "fold_window",
+                           "fold_lattice_step"});
+        if (sh.has("fold_threshold")) s.fold_foam.threshold = sh["fold_threshold"].number("J₋");
+        if (sh.has("fold_softness")) s.fold_foam.softness = sh["fold_softness"].number("J₋");
+        if (sh.has("fold_window")) s.fold_foam.window = sh["fold_window"].number("s");
+        if (sh.has("fold_lattice_step")) s.fold_foam.lattice_step = sh["fold_lattice_step"].number("s");
+        if (sh.has("fresnel")) s.fresnel = sh["fresnel"].choice<FresnelModel>({{"exact", FresnelModel::exact}, {"tso", FresnelModel::tso}});
+        if (sh.has("foam_fade_time")) s.foam.fade_time = sh["foam_fade_time"].number("s");
+        if (sh.has("foam_onset")) s.foam.onset = sh["foam_onset"].number("share of the breaking height");
+    }
+    if (root.has("outputs")) {
+        const Node o = root["outputs"];
+        o.require_object({"attributes", "color", "form", "draco", "container", "quantize"});
+        if (o.has("quantize")) s.quantize = o["quantize"].boolean();
+        if (o.has("container")) s.container = o["container"].choice(named_values(kContainers));
+        if (o.has("form")) s.form = o["form"].choice(named_values(kForms));
+        if (o.has("attributes"))
+            s.attributes = o["attributes"].choice<Scene::Attributes>(
+                {{"none", Scene::Attributes::none}, {"uv-maps", Scene::Attributes::uv_maps}, {"named", Scene::Attributes::named}});
+        if (o.has("color")) s.color = o["color"].boolean();
+        if (o.has("draco")) {
+            const Node d = o["draco"];
+            if (d.value().is_boolean()) {
+                if (d.boolean()) s.draco = DracoOptions{};
+            } else {
+                d.require_object({"position_bits", "normal_bits", "texcoord_bits", "color_bits", "generic_bits", "encode_speed"});
+                DracoOptions dr;
+                const auto bits = [&](const char* key, int& field) {
+                    if (!d.has(key)) return;
+                    field = static_cast<int>(d[key].count());
+                };
+                bits("position_bits", dr.position_bits);
+                bits("normal_bits", dr.normal_bits);
+                bits("texcoord_bits", dr.texcoord_bits);
+                bits("color_bits", dr.color_bits);
+                bits("generic_bits", dr.generic_bits);
+                if (d.has("encode_speed")) dr.encode_speed = static_cast<int>(d["encode_speed"].count());
+                s.draco = dr;
+            }
+            if (s.draco && s.quantize) d.fail("choose Draco or /outputs/quantize, not both (Draco quantises itself)");
+        }
+        if (s.color && s.attributes == Scene::Attributes::none) o["color"].fail("a baked colour needs the shading: set attributes to uv-maps or named");
+    }
+    s.foam.breaker_index = s.trace.breaker_index;
+    s.fold_foam.fade_time = s.foam.fade_time;
+    validate_fold_foam(s.fold_foam, origin + ": /shade");
+    if (root.has("animation")) {
+        const Node a = root["animation"];
+        a.require_object({"fps", "max_frames"});
+        if (a.has("fps")) s.fps = a["fps"].number("frames per second");
+        if (a.has("max_frames")) s.max_frames = a["max_frames"].count();
+    }
+    model.read_after(root, s);
+    return s;
+}
+
+std::string_view scene_schema() { return detail::kSceneSchema; }
+
+Scene read_scene(const std::string& path) {
+    detail::require_input_file(path);
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path + ": cannot open the file");
+    std::ostringstream text;
+    text << in.rdbuf();
+    return parse_scene(text.str(), path, std::filesystem::path(path).parent_path().string());
+}
+
+}  // namespace wave

@@ -1,0 +1,95 @@
+// The wave models a scene's /surface/kind names, behind one interface: the pipeline
+// (pipeline.cpp) and scene reading (read_scene.cpp) ask the model, never the kind.
+//
+// Adding a model: its file in scene/models/ (a SurfaceModel constant), one line in
+// models/registry.cpp, its SurfaceKind value (libwave/scene.h) and its name in the
+// schema's /surface/kind enum (docs/scene.schema.json).
+#pragma once
+
+#include "libwave/scene.h"
+#include "scene_node.h"
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string_view>
+#include <vector>
+
+namespace wave::detail {
+
+/// A model's own buffers for a run of frames (e.g. the height field's control heights),
+/// made once by SurfaceModel::start and reused by every frame.
+struct ModelState {
+    virtual ~ModelState() = default;
+};
+
+/// The FFT ocean's per-run buffers, shared by the ocean patch (its surface) and any
+/// surface with a superposed wind sea.
+struct WindSeaState {
+    std::optional<OceanWorkspace> workspace;
+    std::vector<float> lattice_j;  ///< J₋ on the FFT lattice
+    std::vector<float> vertex_j;   ///< J₋ at the surface's (coarse) vertices
+};
+
+/// One frame of the surface's own (coarse) vertices, written by SurfaceModel::move.
+struct ModelFrame {
+    std::span<float> positions;  ///< 3 per vertex
+    std::span<float> normals;    ///< 3 per vertex; written only by a model with exact normals
+    WindSeaState& wind_sea;
+};
+
+struct SurfaceModel {
+    SurfaceKind kind;
+    std::string_view name;       ///< the value of /surface/kind
+    Traced traced;               ///< what its plan traces (reports, `wave trace`)
+    std::string_view loop_keys;  ///< keys that lengthen its loop ("lengthen …")
+    std::string_view size_keys;  ///< keys that lower its vertex count ("lower …")
+
+    /// Scene reading, the model's rules between keys, given every key of the file
+    /// (`root`) and the scene read so far: keys it does not take, defaults it sets.
+    /// `before` runs right after /surface is read, `after` once every key is read.
+    void (*read_before)(const Node& root, Scene& s);
+    void (*read_after)(const Node& root, Scene& s);
+
+    /// The seafloor under the surface (the ocean patch: a flat bottom of its depth).
+    Seafloor (*seafloor)(const Scene& s);
+
+    /// Plans the model's surface: what it traces (all stages), then with
+    /// PlanStages::surface or ::all its rest vertices (plan.rest_x, rest_y), its loop
+    /// (plan.loop_period) and, for a model with its own FFT ocean, plan.ocean.
+    void (*plan)(const Scene& s, ScenePlan& plan, PlanStages stages);
+
+    /// The triangles of the surface's own vertices, before any refinement.
+    const std::vector<std::uint32_t>& (*triangles)(const ScenePlan& plan);
+
+    /// Its buffers for a run of frames (nullptr: none); `shaded` when foam is asked for.
+    std::unique_ptr<ModelState> (*start)(const Scene& s, const ScenePlan& plan, bool shaded);
+
+    /// The surface at time t: positions of the coarse vertices; returns true when it
+    /// also wrote exact normals (and then, with a wind sea of its own, frame.wind_sea's
+    /// vertex_j).
+    bool (*move)(const Scene& s, const ScenePlan& plan, double t, ModelState* state, ModelFrame& frame);
+
+    /// Its foam at time t at the coarse vertices (zeros on entry), or nullptr: none.
+    void (*foam)(const Scene& s, const ScenePlan& plan, double t, ModelState* state, std::span<float> foam);
+};
+
+/// The model of a kind (the one place a kind is looked up).
+const SurfaceModel& surface_model(SurfaceKind kind);
+
+/// Every model, in the order of SurfaceKind.
+std::span<const SurfaceModel* const> surface_models();
+
+// Shared by the models.
+
+/// Plans the FFT ocean of `o` into plan.ocean (with its warning on too coarse a patch).
+void plan_wind_sea(const OceanOptions& o, ScenePlan& plan);
+
+/// Refuses every /surface key but `kind` and `camera_grid` for a model without the
+/// height field's options (`kind_hint`: what to say about this model).
+void refuse_height_field_options(const Node& root, std::string_view kind_hint);
+
+/// Refuses the keys only the ray strips take: /breakers and /surface/camera_grid.
+void refuse_ray_strip_keys(const Node& root);
+
+}  // namespace wave::detail
