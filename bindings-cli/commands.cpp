@@ -542,6 +542,20 @@ void add_side_files(RunSummary& r, const SceneAnimation& anim, Files& files) {
     r.side_files.push_back(r.report_name);
 }
 
+// The files form's frames (and its index) in the summary.
+void summarise_files_form(const FilesFormRun& run, bool resumed, RunSummary& r) {
+    for (const json& e : run.entries)
+        for (const json& c : e["content"]) {
+            r.animation_names.push_back(c["file"].get<std::string>());
+            r.animation_bytes += c["bytes"].get<std::size_t>();
+        }
+    r.animation_names.emplace_back("index.json");
+    r.z_min = run.z_min;
+    r.z_max = run.z_max;
+    r.files_run = &run;
+    r.resumed = resumed;
+}
+
 double ms_since(std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
 }
@@ -593,16 +607,7 @@ int run_job(const RunArgs& a) {
     if (files_form) {
         merged_index(index_path, index_info, {}, whole, a.resume);  // refuses a foreign index before any frame is written
         files_run.emplace(write_files_form(scene, plan, out_dir, index_info, range, a.resume, max_bytes, progress));
-        for (const json& e : files_run->entries)
-            for (const json& c : e["content"]) {
-                r.animation_names.push_back(c["file"].get<std::string>());
-                r.animation_bytes += c["bytes"].get<std::size_t>();
-            }
-        r.z_min = files_run->z_min;
-        r.z_max = files_run->z_max;
-        r.files_run = &*files_run;
-        r.resumed = a.resume;
-        r.animation_names.emplace_back("index.json");
+        summarise_files_form(*files_run, a.resume, r);
     }
     r.frames_ms = ms_since(clock);  // the files form computed and wrote its frames together
     clock = std::chrono::steady_clock::now();
