@@ -409,8 +409,11 @@ void print_surface_text(const RunSummary& r) {
     const std::size_t coarse_vertices = plan.rest_x.size();
     switch (surface_kind_traces(scene.surface_kind)) {
         case Traced::nothing:
-            std::cout << "surface    ocean patch: " << plan.ocean.n << "² FFT (Tessendorf) over " << plan.ocean.size << " m -> "
-                      << coarse_vertices << " vertices, Hs " << 4.0 * std::sqrt(plan.ocean.expected_variance) << " m\n";
+            if (plan.ocean.n > 0 && plan.wind_sea_scale.empty())  // the surface is the FFT patch itself
+                std::cout << "surface    ocean patch: " << plan.ocean.n << "² FFT (Tessendorf) over " << plan.ocean.size << " m -> "
+                          << coarse_vertices << " vertices, Hs " << 4.0 * std::sqrt(plan.ocean.expected_variance) << " m\n";
+            else
+                std::cout << "surface    " << surface_kind_name(scene.surface_kind) << ": " << coarse_vertices << " vertices\n";
             break;
         case Traced::fronts:
             std::cout << "fronts     " << plan.fronts.initial_rays << " rays + " << plan.fronts.inserted_rays << " inserted, "
