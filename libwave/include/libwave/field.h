@@ -1,0 +1,76 @@
+// libwave — the refraction–diffraction wave field: the complex amplitude η̂(x, y) of a
+// time-harmonic wave train over the seafloor (η = Re(η̂ e^{−iωt})), from the mild-slope
+// equation in its wide-angle parabolic form, marched along the swell (docs/wave-field.md).
+//
+// Rays give a swell's direction and phase well, but their amplitude comes from the
+// spacing of neighbours and goes to infinity where rays cross (caustics behind shoals,
+// islands and headlands). The field diffracts energy across rays and stays finite.
+#pragma once
+
+#include "libwave/bathymetry.h"
+#include "libwave/trace.h"
+
+#include <complex>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace wave {
+
+/// Options of solve_wave_field, with their defaults.
+struct FieldOptions {
+    /// Grid nodes per wavelength at the resolved depth (the shallowest depth the incident
+    /// wave reaches before it breaks: H∞/γ, or min_resolved_depth when larger).
+    double nodes_per_wavelength = 12.0;
+    double breaker_index = 0.78;  ///< γ: the height is limited to H = γh (saturated breaking)
+    double min_resolved_depth = 0.0;  ///< m; shallower water is computed on the same grid
+    /// The lateral edges of the marching grid: absorbing (a sponge two wavelengths wide,
+    /// open sea beside the domain) or reflecting (walls, as in a wave basin).
+    bool reflecting_edges = false;
+    std::size_t max_nodes = 20'000'000;  ///< guard rail: LimitError above this
+};
+
+/// Node flags.
+enum : std::uint8_t {
+    kFieldWet = 1,     ///< water (depth > 0)
+    kFieldBroken = 2,  ///< the height was limited to γh here (breaking)
+};
+
+/// One train's field on a grid aligned with the swell: node (i, j) lies at
+/// (x0, y0) + i·dx·(ux, uy) + j·dy·(−uy, ux), i along the swell (the marching direction)
+/// and j across it. η̂ = envelope · e^{i·phase_ref[i]}: the envelope varies slowly (it is
+/// interpolated), the reference phase is Σ k̄ dx along the march.
+struct WaveField {
+    double x0 = 0.0, y0 = 0.0;   ///< node (0, 0) in seafloor coordinates (m)
+    double ux = 1.0, uy = 0.0;   ///< the swell's direction (unit)
+    double dx = 0.0, dy = 0.0;   ///< node spacing along and across the swell (m)
+    std::size_t nx = 0, ny = 0;  ///< nodes along and across
+    std::vector<std::complex<float>> envelope;  ///< ny · nx, row j then column i (m)
+    std::vector<double> phase_ref;               ///< nx: reference phase at column i (rad)
+    std::vector<std::uint8_t> flags;             ///< ny · nx
+    double omega = 0.0;              ///< rad/s
+    double incident_amplitude = 0.0; ///< A∞ (m)
+    std::size_t broken_nodes = 0;
+};
+
+/// Solves the field of `train` over `seafloor` (Kirby's wide-angle parabolic mild-slope
+/// model in Padé (1,1) form, marched with Crank–Nicolson; each row a tridiagonal solve
+/// by LAPACK). The grid covers the seafloor's rectangle; outside it the edge depths
+/// extend, so the incident wave enters from every upwave side. Land damps the wave
+/// (no reflection); heights above γh are limited to γh and flagged. Throws InputError
+/// for bad options or a dry seafloor, LimitError above max_nodes.
+WaveField solve_wave_field(const Seafloor& seafloor, const WaveTrain& train, const FieldOptions& options = {});
+
+/// The field at a point of the seafloor's plane.
+struct FieldSample {
+    std::complex<double> eta;   ///< η̂ (m): |η̂| the amplitude, arg η̂ the phase
+    double dir_x = 0.0, dir_y = 0.0;  ///< the local direction of travel (unit; ∇ arg η̂)
+    bool wet = false;           ///< inside the grid and in water
+    bool broken = false;        ///< limited by breaking at the nearest node
+};
+
+/// Samples the field: the envelope bilinearly, the reference phase linearly (exact for
+/// a plane wave along the swell). Outside the grid: wet = false, η̂ = 0.
+FieldSample sample_wave_field(const WaveField& field, double x, double y) noexcept;
+
+}  // namespace wave

@@ -1,0 +1,243 @@
+// The wide-angle parabolic mild-slope model (docs/wave-field.md).
+//
+// With p = C·C_g, the mild-slope equation ∇·(p∇φ) + k²pφ = 0 becomes, for the
+// energy-flux amplitude u = √(ω C_g)·η̂ (|u|² ∝ the flux), the one-way equation
+// u_x = i·k̄·√(1 + X)·u,  X = ((k² − k̄²) + ∂_yy) / k̄²,
+// marched along the swell (x). With u = B·e^{i∫k̄dx} and √(1+X) ≈ (1 + ¾X)/(1 + ¼X)
+// (Padé (1,1), Booij 1981; Kirby 1986's wide-angle form):
+// (1 + ¼X)·B_x = i·k̄·(½X)·B, stepped with Crank–Nicolson: one tridiagonal system per
+// column, solved by LAPACK's zgtsv.
+#include "libwave/field.h"
+
+#include "core/format.h"
+#include "libwave/errors.h"
+#include "libwave/physics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <span>
+
+extern "C" {
+// LAPACK: solves a complex tridiagonal system (dl, d, du) x = b in place (Gaussian
+// elimination with partial pivoting).
+void zgtsv_(const int* n, const int* nrhs, std::complex<double>* dl, std::complex<double>* d, std::complex<double>* du,
+            std::complex<double>* b, const int* ldb, int* info);
+}
+
+namespace wave {
+namespace {
+
+using cd = std::complex<double>;
+// √(1+X) ≈ 1 + ½X/(1 + bX), b = ¼: Padé (1,1). With b = ¼(1 − iδ) the pole at X = −4
+// leaves the real axis: evanescent modes (X < −1), which the real form turns into
+// spurious waves at steep angles (near a breakwater's tip), decay instead.
+// δ = 0.1 acts on the transverse derivative only (the medium's k² − k̄² is exact):
+// a plane wave at 30° to the march loses < 0.1 % per wavelength, a mode at the pole
+// decays within a wavelength.
+constexpr double kDamping = 0.1;
+
+// The depth at a point, the seafloor's edge depths extended outside its rectangle.
+double depth_clamped(const ElevationGrid& g, double x, double y) {
+    return depth_at(g, std::clamp(x, g.x0, g.x_max()), std::clamp(y, g.y0, g.y_max()));
+}
+
+// The marching grid: the seafloor's rectangle seen along the swell.
+WaveField field_grid(const ElevationGrid& g, const WaveTrain& train, double spacing, std::size_t max_nodes) {
+    WaveField f;
+    const double len = std::hypot(train.direction_x, train.direction_y);
+    f.ux = train.direction_x / len;
+    f.uy = train.direction_y / len;
+    double s0 = 1e300, s1 = -1e300, t0 = 1e300, t1 = -1e300;
+    for (double cx : {g.x0, g.x_max()})
+        for (double cy : {g.y0, g.y_max()}) {
+            const double s = cx * f.ux + cy * f.uy, t = -cx * f.uy + cy * f.ux;
+            s0 = std::min(s0, s), s1 = std::max(s1, s), t0 = std::min(t0, t), t1 = std::max(t1, t);
+        }
+    const double nx = std::ceil((s1 - s0) / spacing) + 1.0, ny = std::ceil((t1 - t0) / spacing) + 1.0;
+    if (!(nx * ny <= static_cast<double>(max_nodes)))
+        throw LimitError("wave field: " + detail::format_number(nx) + " x " + detail::format_number(ny) +
+                         " nodes at a spacing of " + detail::format_number(spacing) + " m, more than the limit of " +
+                         std::to_string(max_nodes) + "; lower /field/nodes_per_wavelength or raise /field/max_nodes");
+    f.nx = static_cast<std::size_t>(nx);
+    f.ny = static_cast<std::size_t>(ny);
+    f.dx = f.dy = spacing;
+    f.x0 = s0 * f.ux - t0 * f.uy;
+    f.y0 = s0 * f.uy + t0 * f.ux;
+    return f;
+}
+
+// Per node of one column: the wavenumber and the flux factor √(ω C_g) (0 on land).
+struct Column {
+    std::vector<double> k, flux, depth;
+};
+
+Column column_at(const ElevationGrid& g, const WaveField& f, double s, double omega) {
+    Column c;
+    c.k.resize(f.ny), c.flux.resize(f.ny), c.depth.resize(f.ny);
+    for (std::size_t j = 0; j < f.ny; ++j) {
+        const double t = static_cast<double>(j) * f.dy;
+        const double x = f.x0 + s * f.ux - t * f.uy, y = f.y0 + s * f.uy + t * f.ux;
+        const double h = depth_clamped(g, x, y);
+        c.depth[j] = h;
+        if (h <= 0.0) continue;
+        const LinearWave w = linear_wave(omega, h);
+        c.k[j] = w.k;
+        c.flux[j] = std::sqrt(omega * w.group_velocity);
+    }
+    return c;
+}
+
+// The sponge's damping per metre at node j (absorbing edges): 0 inside, rising
+// quadratically to ~ k over the outer `width` metres.
+double sponge(const WaveField& f, std::size_t j, double width, double k) {
+    const double t = static_cast<double>(j) * f.dy, w = static_cast<double>(f.ny - 1) * f.dy;
+    const double d = std::min(t, w - t);
+    if (d >= width) return 0.0;
+    const double r = 1.0 - d / width;
+    return 0.5 * k * r * r;
+}
+
+// One Crank–Nicolson step of the envelope B from column i to i + 1 (mid-column
+// wavenumbers km, reference wavenumber kbar). Neighbours j and j + 1 are coupled when
+// both are water on both columns (link[j]); an uncoupled face is a wall (∂_y B = 0,
+// finite-volume form), as are the grid's edges.
+void step(const WaveField& f, std::span<const double> km, std::span<const std::uint8_t> link, double kbar,
+          std::vector<cd>& b, std::vector<cd>& dl, std::vector<cd>& d, std::vector<cd>& du, std::vector<cd>& rhs) {
+    const std::size_t n = f.ny;
+    const double inv = 1.0 / (kbar * kbar), ry = inv / (f.dy * f.dy);
+    const cd c(0.0, 0.5 * kbar * f.dx);  // i k̄ dx / 2
+    // X = X_k + X_t: X_k = (k² − k̄²)/k̄² (the medium), X_t = ∂_yy/k̄² (the transverse
+    // derivative, where the damping acts).
+    const cd bt(0.25, -0.25 * kDamping), h = 0.5 * c;
+    for (std::size_t j = 0; j < n; ++j) {
+        const double lo = j > 0 && link[j - 1] ? ry : 0.0, hi = j + 1 < n && link[j] ? ry : 0.0;
+        const double xk = (km[j] * km[j] - kbar * kbar) * inv, xt = -lo - hi;
+        const cd xb_k = xk * b[j];
+        const cd xb_t = xt * b[j] + (j > 0 ? lo * b[j - 1] : cd()) + (j + 1 < n ? hi * b[j + 1] : cd());
+        // [1 + ¼X_k + b_t X_t − ½c X] B⁺ = [1 + ¼X_k + b_t X_t + ½c X] B
+        d[j] = 1.0 + (0.25 - h) * xk + (bt - h) * xt;
+        rhs[j] = b[j] + (0.25 + h) * xb_k + (bt + h) * xb_t;
+        if (j > 0) dl[j - 1] = (bt - h) * lo;
+        if (j + 1 < n) du[j] = (bt - h) * hi;
+    }
+    const int nn = static_cast<int>(n), one = 1;
+    int info = 0;
+    zgtsv_(&nn, &one, dl.data(), d.data(), du.data(), rhs.data(), &nn, &info);
+    if (info != 0) throw Error("wave field: the tridiagonal system is singular (LAPACK zgtsv info " + std::to_string(info) + ")");
+    b.swap(rhs);
+}
+
+}  // namespace
+
+WaveField solve_wave_field(const Seafloor& seafloor, const WaveTrain& train, const FieldOptions& o) {
+    if (!(o.nodes_per_wavelength >= 4.0 && o.nodes_per_wavelength <= 200.0))
+        throw InputError("wave field: nodes_per_wavelength must be in [4, 200], got " + detail::format_number(o.nodes_per_wavelength));
+    if (!(o.breaker_index > 0.0 && o.breaker_index <= 2.0))
+        throw InputError("wave field: breaker_index must be in (0, 2], got " + detail::format_number(o.breaker_index));
+    if (!(train.period > 0.0 && train.amplitude > 0.0 && std::hypot(train.direction_x, train.direction_y) > 0.0))
+        throw InputError("wave field: a wave train needs a period > 0, an amplitude > 0 and a direction");
+    const ElevationGrid& g = seafloor.grid;
+    const SeafloorStats st = seafloor_stats(seafloor);
+    if (!(st.depth_max > 0.0)) throw InputError("wave field: " + seafloor.source + " has no water");
+    const double omega = 2.0 * std::numbers::pi / train.period;
+    // The resolved depth: where the incident wave breaks (H∞ = γh), or deeper.
+    const double resolved = std::min(st.depth_max, std::max({o.min_resolved_depth, 2.0 * train.amplitude / o.breaker_index,
+                                                             1e-3 * st.depth_max}));
+    const double spacing = linear_wave(omega, resolved).wavelength / o.nodes_per_wavelength;
+    WaveField f = field_grid(g, train, spacing, o.max_nodes);
+    f.omega = omega;
+    f.incident_amplitude = train.amplitude;
+    f.envelope.assign(f.nx * f.ny, {});
+    f.flags.assign(f.nx * f.ny, 0);
+    f.phase_ref.assign(f.nx, 0.0);
+
+    const double flux_deep = std::sqrt(omega * linear_wave(omega, 1e6).group_velocity);
+    const double sponge_width = 2.0 * linear_wave(omega, st.depth_max).wavelength;
+    std::vector<cd> b(f.ny, cd(train.amplitude * flux_deep)), dl(f.ny), d(f.ny), du(f.ny), rhs(f.ny);
+    std::vector<double> km(f.ny);
+    std::vector<std::uint8_t> link(f.ny, 0);
+    // The undisturbed wave at each row: shoaled along the march, neither refracted nor
+    // diffracted; the absorbing edges relax towards it.
+    std::vector<cd> reference = b;
+    Column here = column_at(g, f, 0.0, omega);
+    const auto store = [&](std::size_t i, const Column& c) {
+        for (std::size_t j = 0; j < f.ny; ++j) {
+            const std::size_t n = j * f.nx + i;
+            if (c.depth[j] <= 0.0) {  // land: the wave is absorbed
+                b[j] = 0.0;
+                continue;
+            }
+            f.flags[n] = kFieldWet;
+            cd a = b[j] / c.flux[j];
+            const double limit = 0.5 * o.breaker_index * c.depth[j];
+            if (std::abs(a) > limit) {  // saturated breaking: the energy above γh is lost
+                a *= limit / std::abs(a);
+                b[j] = a * c.flux[j];
+                f.flags[n] |= kFieldBroken;
+                ++f.broken_nodes;
+            }
+            f.envelope[n] = std::complex<float>(a);
+        }
+    };
+    store(0, here);
+    for (std::size_t i = 0; i + 1 < f.nx; ++i) {
+        const Column next = column_at(g, f, static_cast<double>(i + 1) * f.dx, omega);
+        double ksum = 0.0;
+        std::size_t wet = 0;
+        for (std::size_t j = 0; j < f.ny; ++j) {
+            const bool water = here.k[j] > 0.0 && next.k[j] > 0.0;
+            km[j] = water ? 0.5 * (here.k[j] + next.k[j]) : 0.0;
+            if (water) ksum += km[j], ++wet;
+        }
+        for (std::size_t j = 0; j + 1 < f.ny; ++j) link[j] = km[j] > 0.0 && km[j + 1] > 0.0;
+        const double kbar = wet > 0 ? ksum / static_cast<double>(wet) : 2.0 * std::numbers::pi / spacing;
+        for (std::size_t j = 0; j < f.ny; ++j) {
+            if (km[j] == 0.0) {  // land: its nodes are reset to zero after the step
+                km[j] = kbar;
+                reference[j] = 0.0;  // the undisturbed wave stops here too
+            }
+            reference[j] *= std::polar(1.0, (km[j] - kbar) * f.dx);
+            // Open edges: the disturbance (B − reference) is damped, the undisturbed wave kept.
+            if (!o.reflecting_edges) b[j] = reference[j] + (b[j] - reference[j]) * std::exp(-sponge(f, j, sponge_width, kbar) * f.dx);
+        }
+        step(f, km, link, kbar, b, dl, d, du, rhs);
+        f.phase_ref[i + 1] = f.phase_ref[i] + kbar * f.dx;
+        store(i + 1, next);
+        here = next;
+    }
+    return f;
+}
+
+FieldSample sample_wave_field(const WaveField& f, double x, double y) noexcept {
+    FieldSample out;
+    if (f.nx < 2 || f.ny < 2) return out;
+    const double rx = x - f.x0, ry = y - f.y0;
+    const double s = (rx * f.ux + ry * f.uy) / f.dx, t = (-rx * f.uy + ry * f.ux) / f.dy;
+    if (!(s >= 0.0 && t >= 0.0 && s <= static_cast<double>(f.nx - 1) && t <= static_cast<double>(f.ny - 1))) return out;
+    const std::size_t i = std::min(static_cast<std::size_t>(s), f.nx - 2), j = std::min(static_cast<std::size_t>(t), f.ny - 2);
+    const double fs = s - static_cast<double>(i), ft = t - static_cast<double>(j);
+    const auto at = [&](std::size_t ii, std::size_t jj) { return std::complex<double>(f.envelope[jj * f.nx + ii]); };
+    const cd a00 = at(i, j), a10 = at(i + 1, j), a01 = at(i, j + 1), a11 = at(i + 1, j + 1);
+    const cd a = (1 - fs) * (1 - ft) * a00 + fs * (1 - ft) * a10 + (1 - fs) * ft * a01 + fs * ft * a11;
+    const double phase = (1 - fs) * f.phase_ref[i] + fs * f.phase_ref[i + 1];
+    out.eta = a * std::polar(1.0, phase);
+    // Direction: ∇ arg η̂ = (k̄ + ∂_s arg A, ∂_t arg A) in the swell's frame.
+    const cd as = ((1 - ft) * (a10 - a00) + ft * (a11 - a01)) / f.dx, at_ = ((1 - fs) * (a01 - a00) + fs * (a11 - a10)) / f.dy;
+    const double mag2 = std::norm(a);
+    const double kbar = (f.phase_ref[i + 1] - f.phase_ref[i]) / f.dx;
+    const double gs = kbar + (mag2 > 0.0 ? std::imag(std::conj(a) * as) / mag2 : 0.0);
+    const double gt = mag2 > 0.0 ? std::imag(std::conj(a) * at_) / mag2 : 0.0;
+    const double len = std::hypot(gs, gt);
+    if (len > 0.0) {
+        out.dir_x = (gs * f.ux - gt * f.uy) / len;
+        out.dir_y = (gs * f.uy + gt * f.ux) / len;
+    }
+    const std::size_t ni = fs < 0.5 ? i : i + 1, nj = ft < 0.5 ? j : j + 1;
+    const std::uint8_t flag = f.flags[nj * f.nx + ni];
+    out.wet = (flag & kFieldWet) != 0;
+    out.broken = (flag & kFieldBroken) != 0;
+    return out;
+}
+
+}  // namespace wave
