@@ -161,6 +161,13 @@ json breakers_summary(const JeschkeMotionPlan& b) {
 json trace_summary(const Scene& scene, const ScenePlan& plan) {
     const Traced traced = surface_kind_traces(scene.surface_kind);
     if (traced == Traced::nothing) return json::object();
+    if (traced == Traced::field) {
+        json fields = json::array();
+        for (const WaveField& f : plan.wave_fields)
+            fields.push_back({{"nodes", {f.nx, f.ny}}, {"spacing_m", f.dx}, {"incident_height_m", f.incident_height},
+                              {"broken_nodes", f.broken_nodes}});
+        return {{"mode", "wave field (wide-angle parabolic mild-slope)"}, {"fields", fields}};
+    }
     if (traced == Traced::fronts) {
         const FrontSet& f = plan.fronts;
         return {{"mode", scene.fronts.refraction == FrontRefraction::gradient ? "gonzato-fronts (gradient refraction)"
@@ -198,9 +205,9 @@ int run_trace(const TraceArgs& a) {
     const Scene scene = read_scene(a.scene);
     const Traced traced = surface_kind_traces(scene.surface_kind);
     const bool strips = traced == Traced::fronts;
-    if (traced == Traced::nothing)
+    if (traced == Traced::nothing || traced == Traced::field)
         throw InputError(a.scene + ": the " + std::string(surface_kind_name(scene.surface_kind)) +
-                         " surface (/surface/kind) traces no rays; use wave run");
+                         " surface (/surface/kind) traces no rays; use wave run" + (traced == Traced::field ? " or wave field" : ""));
     if (!a.mesh_out.empty() && !strips)
         throw InputError(a.scene + ": --mesh-out needs the ray-strips surface (this scene's /surface/kind is " +
                          std::string(surface_kind_name(scene.surface_kind)) + ")");
@@ -421,6 +428,11 @@ void print_surface_text(const RunSummary& r) {
                       << "surface    ray strips: " << plan.strips.vertex_count() << " vertices, " << plan.strips.triangle_count()
                       << " triangles; " << (scene.breakers ? "Jeschke's breakers" : "Gonzato's plunging profile") << '\n';
             break;
+        case Traced::field:
+            std::cout << "field      " << plan.wave_fields.size() << " train(s), wide-angle parabolic mild-slope, "
+                      << plan.wave_fields[0].nx << " x " << plan.wave_fields[0].ny << " nodes -> " << coarse_vertices
+                      << " vertices\n";
+            break;
         case Traced::rays:
             std::cout << "rays       " << plan.rays.ray_count() << " traced (Ts'o-Barsky, exact isobath crossings)\n"
                       << "surface    " << plan.surface.nx << " x " << plan.surface.ny << " Beta2-spline control grid -> "
@@ -532,9 +544,10 @@ void add_side_files(RunSummary& r, const SceneAnimation& anim, Files& files) {
     const Traced traced = surface_kind_traces(r.scene.surface_kind);
     const char* trace_file = traced == Traced::fronts ? "strips.ply" : "rays.csv";
     if (traced != Traced::nothing) {
-        r.side_files.insert(r.side_files.end(), {"isobaths.json", trace_file});
+        r.side_files.emplace_back("isobaths.json");
         files.emplace_back("isobaths.json", contours_to_json(r.plan.isobaths));
     }
+    if (traced == Traced::fronts || traced == Traced::rays) r.side_files.emplace_back(trace_file);
     if (traced == Traced::rays) files.emplace_back(trace_file, rays_to_csv(r.plan.rays));
     if (r.first_frame == 0) {
         r.side_files.emplace_back("surface-frame-0000.obj");

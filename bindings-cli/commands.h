@@ -46,6 +46,16 @@ struct TraceArgs {
 };
 int run_trace(const TraceArgs& a);
 
+/// `wave field`: the refraction–diffraction field of a scene's wave train.
+struct FieldArgs {
+    std::string scene;      ///< scene file; empty = the built-in default scene
+    std::string output;     ///< GeoTIFF (bands H/H0, phase, direction); optional
+    std::string png;        ///< plot of H/H0 with the depth contours; optional
+    std::size_t train = 0;  ///< which of /waves
+    bool json = false;      ///< print a JSON summary
+};
+int run_field(const FieldArgs& a);
+
 struct RunArgs {
     std::string scene;   ///< scene file; empty = the built-in default scene
     std::string out_dir; ///< default: wave-out/<scene file stem or "default">

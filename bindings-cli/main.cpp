@@ -168,6 +168,14 @@ int main(int argc, char** argv) {
         ->check(positive)->capture_default_str();
     auto* schema_cmd = app.add_subcommand("schema", "Print the scene file's JSON Schema");
 
+    cli::FieldArgs field;
+    auto* field_cmd = app.add_subcommand("field", "Solve a scene's refraction-diffraction wave field (wave heights behind shoals, islands, breakwaters): a GeoTIFF and/or a plot");
+    field_cmd->add_option("scene", field.scene, "scene file (JSON); none = the built-in default scene");
+    field_cmd->add_option("-o,--output", field.output, "GeoTIFF: bands H/H0, phase (rad), direction (degrees from +x)");
+    field_cmd->add_option("--png", field.png, "PNG plot of H/H0 with the depth contours and a labelled colour scale");
+    field_cmd->add_option("--train", field.train, "which wave train of /waves (default 0)");
+    field_cmd->add_flag("--json", field.json, "print a JSON summary");
+
     cli::TraceArgs trace;
     auto* trace_cmd = app.add_subcommand("trace", "Trace a scene's wave trains: rays or fronts as CSV, ray strips as PLY, a summary");
     trace_cmd->add_option("scene", trace.scene, "scene file (JSON)")->required();
@@ -241,6 +249,7 @@ int main(int argc, char** argv) {
         if (*validate_cmd) return cli::run_validate(validate_scene, validate_json, validate_max_memory_gb);
         if (*schema_cmd) return cli::run_schema();
         if (*trace_cmd) return cli::run_trace(trace);
+        if (*field_cmd) return cli::run_field(field);
         if (*disp_cmd) return cli::run_dispersion(disp);
         if (*info_cmd) return cli::run_seafloor_info(sea);
         if (*cont_cmd) return cli::run_contours(cont);

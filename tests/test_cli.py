@@ -860,6 +860,78 @@ class WindWaves(unittest.TestCase):
             self.assertIn("traces no rays", r.stderr)
 
 
+class WaveField(unittest.TestCase):
+    """The refraction-diffraction field: `wave field`, the wave-field surface, and the
+    ray strips' amplitudes taken from it (docs/wave-field.md)."""
+
+    def test_berkhoff_shoal_as_a_surface_and_a_geotiff(self):
+        with tempfile.TemporaryDirectory() as d:
+            r = wave("run", os.path.join(EXAMPLES, "berkhoff-shoal.json"), "-o", d, "--json")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            report = json.loads(r.stdout)
+            MainJob.check_animation(self, d, report)  # the Khronos glTF validator included
+            self.assertEqual(report["surface"]["kind"], "wave-field")
+            self.assertEqual(report["surface"]["frames"], 24)
+            field = report["trace"]["fields"][0]
+            self.assertAlmostEqual(field["incident_height_m"], 0.0464, delta=2e-4)
+            lo, hi = report["surface"]["height_range_m"]
+            self.assertLess(hi, 3.0 * 0.0464 / 2)  # the focus, H/H0 < 3: finite where rays cross
+            tif, png = os.path.join(d, "f.tif"), os.path.join(d, "f.png")
+            r = wave("field", os.path.join(EXAMPLES, "berkhoff-shoal.json"), "-o", tif, "--png", png, "--json")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            summary = json.loads(r.stdout)
+            self.assertGreater(summary["height_ratio_max"], 2.0)
+            self.assertLess(summary["height_ratio_max"], 3.0)
+            info = json.loads(subprocess.run(["gdalinfo", "-json", "-stats", tif], capture_output=True, text=True,
+                                             check=True).stdout)
+            self.assertEqual([b["description"] for b in info["bands"]], ["H/H0", "phase (rad)", "direction (degrees from +x)"])
+            self.assertAlmostEqual(info["bands"][0]["maximum"], summary["height_ratio_max"], delta=1e-3)  # printed to 3 places
+            self.assertLessEqual(info["bands"][1]["maximum"], math.pi + 1e-6)
+            with open(png, "rb") as f:
+                self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
+
+    def test_ray_strips_take_finite_amplitudes_from_the_field(self):
+        # Gonzato's island: ray amplitudes spiked to +-2 m at the caustics and the edges
+        # (the interior reaches 0.8 m); from the field they stay under 0.6 m.
+        with tempfile.TemporaryDirectory() as d:
+            island = os.path.join(EXAMPLES, "gonzato-island.json")
+            r = wave("run", island, "-o", d, "--frames", "0:12", "--json")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            lo, hi = json.loads(r.stdout)["surface"]["height_range_m"]
+            self.assertLess(max(-lo, hi), 0.6)
+            with open(island) as f:
+                scene = json.load(f)
+            scene["field"] = {"amplitudes": "rays"}
+            path = os.path.join(d, "rays.json")
+            with open(path, "w") as f:
+                json.dump(scene, f)
+            r = wave("run", path, "-o", os.path.join(d, "rays"), "--frames", "0:12", "--json")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            lo, hi = json.loads(r.stdout)["surface"]["height_range_m"]
+            self.assertGreater(max(-lo, hi), 1.0)
+
+    def test_bad_field_requests_exit_2(self):
+        with tempfile.TemporaryDirectory() as d:
+            berkhoff = os.path.join(EXAMPLES, "berkhoff-shoal.json")
+            for args, part in [(["field", berkhoff], "nothing to do"),
+                               (["field", berkhoff, "--train", "1", "--json"], "--train 1"),
+                               (["field", os.path.join(EXAMPLES, "open-ocean.json"), "--json"], "no seafloor"),
+                               (["field", berkhoff, "-o", d], "a folder"),
+                               (["trace", berkhoff, "--json"], "wave field")]:
+                r = wave(*args)
+                self.assertEqual(r.returncode, 2, args)
+                self.assertIn(part, r.stderr)
+            with open(berkhoff) as f:
+                scene = json.load(f)
+            scene["field"]["max_nodes"] = 1000
+            path = os.path.join(d, "small.json")
+            with open(path, "w") as f:
+                json.dump(scene, f)
+            r = wave("field", path, "--json")
+            self.assertEqual(r.returncode, 2)
+            self.assertIn("/field/max_nodes", r.stderr)
+
+
 class CrashSafety(unittest.TestCase):
     """SIGKILL at random moments while `wave run` computes and writes: every file under
     its final name is complete (one of the two runs' versions, byte for byte), and the

@@ -217,4 +217,30 @@ PYBIND11_MODULE(libwave, m) {
             return d;
         },
         py::arg("period"), py::arg("depth"), "Linear wave quantities (SI) for a period (s) in depth h (m)");
+
+    m.def(
+        "wave_field",
+        [](const wave::Scene& scene, std::size_t train) {
+            if (train >= scene.waves.size())
+                throw wave::InputError("wave_field: train " + std::to_string(train) + " of " + std::to_string(scene.waves.size()));
+            wave::FieldRaster r;
+            {
+                py::gil_scoped_release release;
+                const wave::Seafloor sea = wave::scene_seafloor(scene);
+                r = wave::rasterize_wave_field(wave::solve_wave_field(sea, scene.waves[train], scene.field), sea);
+            }
+            const auto grid = [&](const std::vector<float>& v) {
+                py::array_t<float> a({static_cast<py::ssize_t>(r.ny), static_cast<py::ssize_t>(r.nx)});
+                std::copy(v.begin(), v.end(), a.mutable_data());
+                return a;
+            };
+            py::dict d;
+            d["height_ratio"] = grid(r.height_ratio), d["phase"] = grid(r.phase), d["direction_deg"] = grid(r.direction_deg);
+            d["x0"] = r.x0, d["y0"] = r.y0, d["spacing"] = r.spacing, d["incident_height"] = r.incident_height;
+            return d;
+        },
+        py::arg("scene"), py::arg("train") = 0,
+        "The refraction-diffraction field of one wave train (docs/wave-field.md) on a regular grid over the seafloor: "
+        "(ny, nx) float32 arrays height_ratio (H/H0), phase (rad) and direction_deg, row 0 at y0, NaN on land; "
+        "x0, y0, spacing (m) and incident_height H0 (m)");
 }

@@ -133,3 +133,19 @@ def test_preview_renders_a_frame_as_an_rgb_array():
     assert len(glitter_columns) > 0 and abs(glitter_columns.mean() - 100) < 15
     with pytest.raises(ValueError, match="frame 3 of 1"):
         libwave.preview(scene, plan, anim, 3)
+
+
+def test_wave_field_matches_wave_field_cli(tmp_path):
+    # The Berkhoff shoal: the field's arrays equal the GeoTIFF `wave field` writes.
+    path = os.path.join(os.path.dirname(__file__), "..", "..", "examples", "berkhoff-shoal.json")
+    f = libwave.wave_field(libwave.read_scene(path))
+    ratio = f["height_ratio"]
+    assert ratio.dtype == np.float32 and ratio.ndim == 2 and ratio.shape == f["phase"].shape
+    assert abs(f["incident_height"] - 0.0464) < 2e-4  # the scene's H0 at the wavemaker
+    assert 2.0 < np.nanmax(ratio) < 3.0  # the focus behind the shoal
+    assert abs(np.nanmedian(ratio[:, : ratio.shape[1] // 8]) - 1.0) < 0.02  # undisturbed before the shoal
+    with pytest.raises(libwave.InputError):
+        libwave.wave_field(libwave.read_scene(path), train=3)
+    summary = json.loads(subprocess.run([os.environ["WAVE_EXE"], "field", path, "--json"], capture_output=True,
+                                        text=True, check=True).stdout)
+    assert abs(summary["height_ratio_max"] - float(np.nanmax(ratio))) < 1e-6

@@ -13,6 +13,7 @@
 #include <complex>
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace wave {
@@ -50,6 +51,9 @@ struct WaveField {
     std::vector<std::uint8_t> flags;             ///< ny · nx
     double omega = 0.0;              ///< rad/s
     double incident_amplitude = 0.0; ///< A∞ (m)
+    /// H0: the incident height where the wave enters the grid (the deepest node of the
+    /// first column: 2 A∞ K_s there), the reference of H/H0.
+    double incident_height = 0.0;
     std::size_t broken_nodes = 0;
 };
 
@@ -72,5 +76,32 @@ struct FieldSample {
 /// Samples the field: the envelope bilinearly, the reference phase linearly (exact for
 /// a plane wave along the swell). Outside the grid: wet = false, η̂ = 0.
 FieldSample sample_wave_field(const WaveField& field, double x, double y) noexcept;
+
+/// Gives the fronts' points their amplitude from the field (|η̂| where the field has
+/// water): the rays keep their direction and phase. Where the field broke, the larger
+/// of the field's and the ray's own amplitude (the ray's says how far past breaking
+/// the wave is, which breaker models read). Returns how many points took the field's.
+std::size_t take_field_amplitudes(const WaveField& field, FrontSet& fronts) noexcept;
+
+/// The field resampled on a regular grid over the seafloor's rectangle (row 0 at y0,
+/// the field's spacing): what `wave field` writes. NaN where there is no water.
+struct FieldRaster {
+    double x0 = 0.0, y0 = 0.0, spacing = 0.0;
+    std::size_t nx = 0, ny = 0;
+    std::vector<float> height_ratio;   ///< H/H0 (H = 2|η̂|, H0 = WaveField::incident_height)
+    std::vector<float> phase;          ///< arg η̂ (rad, in (−π, π])
+    std::vector<float> direction_deg;  ///< direction of travel, degrees from +x towards +y
+    double incident_height = 0.0;      ///< H0 (m)
+    float ratio_max = 0.0f;            ///< the largest H/H0
+};
+FieldRaster rasterize_wave_field(const WaveField& field, const Seafloor& seafloor);
+
+/// A GeoTIFF (GDAL) of the raster: bands H/H0, phase (rad), direction (degrees),
+/// float32, NaN as no-data, the seafloor's frame in the metadata. Returns the bytes.
+std::string field_geotiff(const FieldRaster& raster, const Seafloor& seafloor);
+
+/// A PNG plot of H/H0 over the seafloor's rectangle, the depth contours drawn over it,
+/// a labelled colour scale beside it (`title` above). Returns the bytes.
+std::string field_plot_png(const FieldRaster& raster, const DepthContours& isobaths, const std::string& title);
 
 }  // namespace wave

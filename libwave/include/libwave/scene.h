@@ -6,6 +6,7 @@
 
 #include "libwave/bathymetry.h"
 #include "libwave/export.h"
+#include "libwave/field.h"
 #include "libwave/isobath.h"
 #include "libwave/motion.h"
 #include "libwave/shade.h"
@@ -39,11 +40,13 @@ enum class SurfaceKind {
     ray_strips,    ///< Gonzato: adaptive fronts → ray strips, animated by the plunging profile (one train)
     height_field,  ///< Ts'o: rays at exact isobath crossings → Beta2-spline height field (any trains)
     ocean,         ///< Tessendorf: a tileable open-ocean FFT patch (no seafloor, no traced swell)
+    wave_field,    ///< the refraction–diffraction field η̂ e^{−iωt} of every train, on a grid (field.h)
 };
 
 /// What a surface kind's plan traces over the seafloor: nothing (the open-ocean patch),
-/// Ts'o's rays (ScenePlan::rays) or Gonzato's fronts and strips (ScenePlan::fronts, strips).
-enum class Traced { nothing, rays, fronts };
+/// Ts'o's rays (ScenePlan::rays), Gonzato's fronts and strips (ScenePlan::fronts, strips)
+/// or the trains' wave fields (ScenePlan::wave_fields).
+enum class Traced { nothing, rays, fronts, field };
 
 /// The kind's name in scene files (/surface/kind), e.g. "ray-strips".
 std::string_view surface_kind_name(SurfaceKind kind);
@@ -73,6 +76,10 @@ struct Scene {
     HeightFieldOptions surface{};
     /// Adaptive fronts (ray strips); ray_spacing and breaker_index come from `trace`.
     FrontOptions fronts{};
+    FieldOptions field{};  ///< the refraction–diffraction field (/field; breaker_index from /trace)
+    /// Ray strips: amplitudes from the field (finite where rays cross) rather than from
+    /// the rays' spacing (/field/amplitudes "field" or "rays").
+    bool amplitudes_from_field = true;
     GonzatoProfileOptions profile{};
     /// Jeschke's procedural breakers instead of Gonzato's profile (ray strips only),
     /// parametrised from the traced rays; their foam replaces the breaking foam.
@@ -166,6 +173,7 @@ struct ScenePlan {
     RaySet rays;              ///< height field: Ts'o's rays
     HeightFieldPlan surface;  ///< height field
     FrontSet fronts;          ///< ray strips: Gonzato's fronts
+    std::vector<WaveField> wave_fields;  ///< the trains' refraction–diffraction fields, where the model uses them
     RayStrips strips;         ///< ray strips: the tessellated surface
     GonzatoMotionPlan motion; ///< ray strips: the profile's per-vertex shapes
     JeschkeMotionPlan breakers; ///< ray strips with Scene::breakers: the breakers' plan (on the camera grid if any)
@@ -173,7 +181,7 @@ struct ScenePlan {
     Refinement refinement;      ///< Scene::refine: refined topology + stencils (fine_vertices = 0 when none)
     OceanPlan ocean;          ///< the FFT ocean (kind ocean, or superposed); n = 0 when none
     std::vector<GerstnerWave> gerstner;  ///< with ω quantised to the loop
-    std::vector<std::uint32_t> patch_triangles;  ///< kind ocean: the patch's (N+1)² grid
+    std::vector<std::uint32_t> patch_triangles;  ///< grid surfaces (ocean, wave-field): their triangles
     /// Per surface vertex, for the superposed components: rest position, depth there,
     /// and the wind-sea amplitude factor (1 in deep water, → 0 at the shore).
     std::vector<double> rest_x, rest_y;

@@ -181,6 +181,8 @@ WaveField solve_wave_field(const Seafloor& seafloor, const WaveTrain& train, con
         }
     };
     store(0, here);
+    for (std::size_t j = 0; j < f.ny; ++j)
+        f.incident_height = std::max(f.incident_height, 2.0 * static_cast<double>(std::abs(f.envelope[j * f.nx])));
     for (std::size_t i = 0; i + 1 < f.nx; ++i) {
         const Column next = column_at(g, f, static_cast<double>(i + 1) * f.dx, omega);
         double ksum = 0.0;
@@ -238,6 +240,19 @@ FieldSample sample_wave_field(const WaveField& f, double x, double y) noexcept {
     out.wet = (flag & kFieldWet) != 0;
     out.broken = (flag & kFieldBroken) != 0;
     return out;
+}
+
+std::size_t take_field_amplitudes(const WaveField& field, FrontSet& fronts) noexcept {
+    std::size_t taken = 0;
+    for (std::size_t i = 0; i < fronts.x.size(); ++i) {
+        const FieldSample s = sample_wave_field(field, fronts.x[i], fronts.y[i]);
+        if (!s.wet || fronts.depth[i] <= 0.0) continue;
+        // In the surf zone the field holds H at γh; the ray's own (shoaled, capped)
+        // amplitude says how far past breaking the wave is, which the breakers read.
+        fronts.amplitude[i] = s.broken ? std::max(std::abs(s.eta), fronts.amplitude[i]) : std::abs(s.eta);
+        ++taken;
+    }
+    return taken;
 }
 
 }  // namespace wave

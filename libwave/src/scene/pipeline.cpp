@@ -109,16 +109,21 @@ void plan_superposed_wind_sea(const OceanOptions& options, ScenePlan& p) {
     p.loop_period = o.repeat_time;
 }
 
+// A loop shorter than one frame cannot be animated.
+void refuse_short_loop(const Scene& scene, double loop_period) {
+    if (loop_period * scene.fps >= 1.0) return;
+    throw InputError("scene: the loop (" + fmt(loop_period) + " s) is shorter than one frame at " + fmt(scene.fps) +
+                     " fps; lengthen " +
+                     std::string(scene.ocean ? "/ocean/repeat_time" : detail::surface_model(scene.surface_kind).loop_keys) +
+                     " or raise /animation/fps");
+}
+
 // The components every surface kind can carry, after the model planned its surface: a
 // superposed FFT wind sea, Gerstner waves, and the depths of the rest vertices.
 void plan_components(const Scene& scene, ScenePlan& p) {
     const bool own_ocean = p.ocean.n > 0;  // the surface is the FFT patch itself
     if (scene.ocean && !own_ocean) plan_superposed_wind_sea(*scene.ocean, p);
-    if (!(p.loop_period * scene.fps >= 1.0))
-        throw InputError("scene: the loop (" + fmt(p.loop_period) + " s) is shorter than one frame at " + fmt(scene.fps) +
-                         " fps; lengthen " +
-                         std::string(scene.ocean ? "/ocean/repeat_time" : detail::surface_model(scene.surface_kind).loop_keys) +
-                         " or raise /animation/fps");
+    refuse_short_loop(scene, p.loop_period);
     const ElevationGrid& g = p.seafloor.grid;
     p.rest_depth.resize(p.rest_x.size());
     for (std::size_t v = 0; v < p.rest_x.size(); ++v)
@@ -149,6 +154,9 @@ ScenePlan plan_scene(const Scene& scene, PlanStages stages) {
     ScenePlan p;
     p.seafloor = scene_seafloor(scene);
     scene_camera(scene, p.seafloor);  // a camera inside the seafloor is an input error, found before the work
+    // Without a wind sea (whose loop is its own, ~20 s) every loop holds at least the
+    // first train's period: a too-short one is refused before the work.
+    if (!scene.waves.empty() && !scene.ocean && stages != PlanStages::trace) refuse_short_loop(scene, scene.waves[0].period);
     detail::surface_model(scene.surface_kind).plan(scene, p, stages);
     if (stages == PlanStages::trace) return p;
     plan_components(scene, p);

@@ -197,6 +197,16 @@ void read_surface(const Node& n, Scene& s) {
     if (n.has("max_vertices")) o.max_vertices = n["max_vertices"].count();
 }
 
+void read_field(const Node& n, Scene& s) {
+    FieldOptions& o = s.field;
+    n.require_object({"nodes_per_wavelength", "min_resolved_depth", "edges", "max_nodes", "amplitudes"});
+    if (n.has("amplitudes")) s.amplitudes_from_field = n["amplitudes"].choice<bool>({{"field", true}, {"rays", false}});
+    if (n.has("nodes_per_wavelength")) o.nodes_per_wavelength = n["nodes_per_wavelength"].number("nodes");
+    if (n.has("min_resolved_depth")) o.min_resolved_depth = n["min_resolved_depth"].number("m");
+    if (n.has("edges")) o.reflecting_edges = n["edges"].choice<bool>({{"open", false}, {"walls", true}});
+    if (n.has("max_nodes")) o.max_nodes = n["max_nodes"].count();
+}
+
 void read_fronts(const Node& n, FrontOptions& o) {
     n.require_object({"refraction", "step", "split_distance", "flat_amplitude", "max_turn_degrees", "max_steps", "max_points"});
     if (n.has("max_turn_degrees")) o.max_turn = n["max_turn_degrees"].number("degrees") * std::numbers::pi / 180.0;
@@ -417,7 +427,7 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     const json doc = detail::parse_json_input(text, origin);
     const Node root(doc, "", origin, &detail::scene_schema_doc());
     root.require_object({"name", "seafloor", "isobaths", "waves", "trace", "surface", "fronts", "motion", "camera",
-                         "shade", "outputs", "animation", "ocean", "gerstner", "breakers", "refine", "preview"});
+                         "shade", "outputs", "animation", "ocean", "gerstner", "breakers", "refine", "preview", "field"});
     Scene s;
     if (root.has("name")) s.name = root["name"].string();
     if (root.has("surface") && root["surface"].value().is_object() && root["surface"].has("kind"))
@@ -455,6 +465,7 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     if (root.has("refine")) s.refine = read_refine(root["refine"]);
     if (root.has("preview")) read_preview(root["preview"], s);
     if (root.has("fronts")) read_fronts(root["fronts"], s.fronts);
+    if (root.has("field")) read_field(root["field"], s);
     if (root.has("motion")) read_profile(root["motion"], s.profile);
     if (root.has("camera")) {
         const Node c = root["camera"];
@@ -507,6 +518,7 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
         if (s.color && s.attributes == Scene::Attributes::none) o["color"].fail("a baked colour needs the shading: set attributes to uv-maps or named");
     }
     s.foam.breaker_index = s.trace.breaker_index;
+    s.field.breaker_index = s.trace.breaker_index;
     s.fold_foam.fade_time = s.foam.fade_time;
     validate_fold_foam(s.fold_foam, origin + ": /shade");
     if (root.has("animation")) {

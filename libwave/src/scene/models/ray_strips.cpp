@@ -53,6 +53,11 @@ void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
     fronts.max_rays = scene.trace.max_rays;
     p.isobaths = extract_isobaths(p.seafloor, scene.isobaths);
     p.fronts = trace_fronts(p.seafloor, scene.waves[0], fronts, &p.isobaths);
+    if (p.fronts.x.empty() || !(seafloor_stats(p.seafloor).depth_max > 0.0)) refuse_empty_strips(scene, p);
+    if (scene.amplitudes_from_field) {  // rays keep direction and phase; the field gives the heights
+        p.wave_fields = {solve_wave_field(p.seafloor, scene.waves[0], scene.field)};
+        take_field_amplitudes(p.wave_fields[0], p.fronts);
+    }
     p.strips = build_ray_strips(p.fronts);
     if (p.strips.triangle_count() == 0) refuse_empty_strips(scene, p);
     p.loop_period = scene.waves[0].period;

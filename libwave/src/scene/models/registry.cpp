@@ -6,13 +6,14 @@
 
 namespace wave::detail {
 
-extern const SurfaceModel kRayStripsModel, kHeightFieldModel, kOceanPatchModel;
+extern const SurfaceModel kRayStripsModel, kHeightFieldModel, kOceanPatchModel, kWaveFieldModel;
 
 namespace {
-const std::array<const SurfaceModel*, 3> kModels{
+const std::array<const SurfaceModel*, 4> kModels{
     &kRayStripsModel,
     &kHeightFieldModel,
     &kOceanPatchModel,
+    &kWaveFieldModel,
 };
 }  // namespace
 

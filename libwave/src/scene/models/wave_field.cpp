@@ -1,0 +1,126 @@
+// The refraction–diffraction field itself as the surface: each train's complex
+// amplitude η̂ (a wide-angle parabolic mild-slope solution, field.h) on a regular grid
+// over the seafloor, animated as Σ Re(η̂ e^{−iωt}), every ω a whole multiple of the
+// loop's (the first train's period). Heights stay finite behind shoals and islands,
+// where rays cross; foam rides the crests where the field broke (H = γh).
+#include "../surface_model.h"
+
+#include "libwave/physics.h"
+
+#include <cmath>
+#include <complex>
+#include <numbers>
+
+namespace wave::detail {
+namespace {
+
+void read_before(const Node& root, Scene&) {
+    refuse_height_field_options(root, "wave-field\" (set /field instead)");
+    refuse_ray_strip_keys(root);
+    for (const char* key : {"fronts", "motion"})
+        if (root.has(key)) root[key].fail("only for the ray-strips surface (the wave field moves as its own η̂ e^{−iωt})");
+}
+
+// The vertices: a regular grid, eight per resolved wavelength of the finest field (the
+// field itself is solved finer), within /surface/max_vertices.
+void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
+    p.isobaths = extract_isobaths(p.seafloor, scene.isobaths);
+    for (const WaveTrain& w : scene.waves) p.wave_fields.push_back(solve_wave_field(p.seafloor, w, scene.field));
+    if (stages == PlanStages::trace) return;
+    // Eight vertices per resolved wavelength (the field's finest, at its nodes per wavelength).
+    double spacing = 0.0;
+    const double per_vertex = std::max(1.0, scene.field.nodes_per_wavelength / 8.0);
+    for (const WaveField& f : p.wave_fields) spacing = spacing == 0.0 ? f.dx * per_vertex : std::min(spacing, f.dx * per_vertex);
+    const ElevationGrid& g = p.seafloor.grid;
+    const double w = g.x_max() - g.x0, h = g.y_max() - g.y0;
+    const double nx = std::floor(w / spacing) + 1.0, ny = std::floor(h / spacing) + 1.0;
+    if (!(nx * ny <= static_cast<double>(scene.surface.max_vertices)))
+        throw LimitError("scene: the wave-field surface would have " + fmt(nx) + " x " + fmt(ny) + " vertices (" + fmt(spacing) +
+                         " m apart), more than the limit of " + std::to_string(scene.surface.max_vertices) +
+                         "; lower /field/nodes_per_wavelength or raise /field/min_resolved_depth");
+    const std::size_t cols = static_cast<std::size_t>(nx), rows = static_cast<std::size_t>(ny);
+    p.patch_triangles = grid_triangles(cols, rows);
+    for (std::size_t r = 0; r < rows; ++r)
+        for (std::size_t c = 0; c < cols; ++c) {
+            p.rest_x.push_back(g.x0 + w * static_cast<double>(c) / static_cast<double>(cols - 1));
+            p.rest_y.push_back(g.y0 + h * static_cast<double>(r) / static_cast<double>(rows - 1));
+        }
+    p.loop_period = scene.waves[0].period;
+}
+
+struct State : ModelState {
+    std::vector<std::complex<float>> eta;  // trains × vertices: η̂ at the rest vertices
+    std::vector<float> broken;             // 1 where a train broke at the vertex
+    std::vector<double> omega;             // per train, quantised to the loop
+};
+
+std::unique_ptr<ModelState> start(const Scene& scene, const ScenePlan& p, bool) {
+    auto s = std::make_unique<State>();
+    const std::size_t n = p.rest_x.size();
+    s->eta.resize(p.wave_fields.size() * n);
+    s->broken.assign(n, 0.0f);
+    for (std::size_t t = 0; t < p.wave_fields.size(); ++t) {
+        s->omega.push_back(quantize_frequency(2.0 * std::numbers::pi / scene.waves[t].period, p.loop_period));
+        for (std::size_t v = 0; v < n; ++v) {
+            const FieldSample f = sample_wave_field(p.wave_fields[t], p.rest_x[v], p.rest_y[v]);
+            if (!f.wet || p.rest_depth[v] <= 0.0f) continue;
+            s->eta[t * n + v] = std::complex<float>(f.eta);
+            if (f.broken) s->broken[v] = 1.0f;
+        }
+    }
+    return s;
+}
+
+bool move(const Scene&, const ScenePlan& p, double t, ModelState* state, ModelFrame& frame) {
+    const State& s = *static_cast<const State*>(state);
+    const std::size_t n = p.rest_x.size();
+    for (std::size_t v = 0; v < n; ++v) {
+        frame.positions[3 * v] = static_cast<float>(p.rest_x[v]);
+        frame.positions[3 * v + 1] = static_cast<float>(p.rest_y[v]);
+        frame.positions[3 * v + 2] = 0.0f;
+    }
+    for (std::size_t tr = 0; tr < s.omega.size(); ++tr) {
+        // Re(η̂ e^{−iωt}) = Re η̂ cos ωt + Im η̂ sin ωt
+        const float c = static_cast<float>(std::cos(s.omega[tr] * t)), sn = static_cast<float>(std::sin(s.omega[tr] * t));
+        const std::complex<float>* eta = &s.eta[tr * n];
+        for (std::size_t v = 0; v < n; ++v) frame.positions[3 * v + 2] += eta[v].real() * c + eta[v].imag() * sn;
+    }
+    return false;
+}
+
+// Foam where the field broke, on the crests: the share of the local amplitude the
+// surface stands above its mean.
+void foam(const Scene&, const ScenePlan& p, double t, ModelState* state, std::span<float> out) {
+    const State& s = *static_cast<const State*>(state);
+    const std::size_t n = p.rest_x.size();
+    for (std::size_t v = 0; v < n; ++v) {
+        if (s.broken[v] == 0.0f) continue;
+        float z = 0.0f, a = 0.0f;
+        for (std::size_t tr = 0; tr < s.omega.size(); ++tr) {
+            const std::complex<float> e = s.eta[tr * n + v];
+            z += e.real() * static_cast<float>(std::cos(s.omega[tr] * t)) + e.imag() * static_cast<float>(std::sin(s.omega[tr] * t));
+            a += std::abs(e);
+        }
+        out[v] = a > 0.0f ? std::clamp(0.5f + 0.5f * z / a, 0.0f, 1.0f) : 0.0f;
+    }
+}
+
+}  // namespace
+
+extern const SurfaceModel kWaveFieldModel{
+    .kind = SurfaceKind::wave_field,
+    .name = "wave-field",
+    .traced = Traced::field,
+    .loop_keys = "/waves/0/period",
+    .size_keys = "lower /field/nodes_per_wavelength or /animation/fps",
+    .read_before = read_before,
+    .read_after = [](const Node&, Scene&) {},
+    .seafloor = [](const Scene& s) { return load_seafloor(s.seafloor); },
+    .plan = plan,
+    .triangles = [](const ScenePlan& p) -> const std::vector<std::uint32_t>& { return p.patch_triangles; },
+    .start = start,
+    .move = move,
+    .foam = foam,
+};
+
+}  // namespace wave::detail
