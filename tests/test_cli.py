@@ -886,7 +886,7 @@ class WaveField(unittest.TestCase):
                                              check=True).stdout)
             self.assertEqual([b["description"] for b in info["bands"]], ["H/H0", "phase (rad)", "direction (degrees from +x)"])
             self.assertAlmostEqual(info["bands"][0]["maximum"], summary["height_ratio_max"], delta=1e-3)  # printed to 3 places
-            self.assertLessEqual(info["bands"][1]["maximum"], math.pi + 1e-6)
+            self.assertLessEqual(info["bands"][1]["maximum"], math.pi + 1e-3)  # printed to 3 places
             with open(png, "rb") as f:
                 self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
 
