@@ -14,6 +14,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <span>
 #include <vector>
 
 namespace wave {
@@ -82,6 +83,9 @@ FieldSample sample_wave_field(const WaveField& field, double x, double y) noexce
 /// of the field's and the ray's own amplitude (the ray's says how far past breaking
 /// the wave is, which breaker models read). Returns how many points took the field's.
 std::size_t take_field_amplitudes(const WaveField& field, FrontSet& fronts) noexcept;
+
+/// The same for Ts'o's rays: `fields[t]` is train t's field (RaySet::train).
+std::size_t take_field_amplitudes(std::span<const WaveField> fields, RaySet& rays) noexcept;
 
 /// The field resampled on a regular grid over the seafloor's rectangle (row 0 at y0,
 /// the field's spacing): what `wave field` writes. NaN where there is no water.

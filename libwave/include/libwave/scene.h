@@ -77,8 +77,8 @@ struct Scene {
     /// Adaptive fronts (ray strips); ray_spacing and breaker_index come from `trace`.
     FrontOptions fronts{};
     FieldOptions field{};  ///< the refraction–diffraction field (/field; breaker_index from /trace)
-    /// Ray strips: amplitudes from the field (finite where rays cross) rather than from
-    /// the rays' spacing (/field/amplitudes "field" or "rays").
+    /// Ray strips and the height field: amplitudes from the field (finite where rays
+    /// cross) rather than from the rays' spacing (/field/amplitudes "field" or "rays").
     bool amplitudes_from_field = true;
     GonzatoProfileOptions profile{};
     /// Jeschke's procedural breakers instead of Gonzato's profile (ray strips only),

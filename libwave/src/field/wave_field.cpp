@@ -143,7 +143,7 @@ WaveField solve_wave_field(const Seafloor& seafloor, const WaveTrain& train, con
     const double omega = 2.0 * std::numbers::pi / train.period;
     // The resolved depth: where the incident wave breaks (H∞ = γh), or deeper.
     const double resolved = std::min(st.depth_max, std::max({o.min_resolved_depth, 2.0 * train.amplitude / o.breaker_index,
-                                                             1e-3 * st.depth_max}));
+                                                             1e-2 * st.depth_max}));
     const double spacing = linear_wave(omega, resolved).wavelength / o.nodes_per_wavelength;
     WaveField f = field_grid(g, train, spacing, o.max_nodes);
     f.omega = omega;
@@ -251,6 +251,21 @@ std::size_t take_field_amplitudes(const WaveField& field, FrontSet& fronts) noex
         // amplitude says how far past breaking the wave is, which the breakers read.
         fronts.amplitude[i] = s.broken ? std::max(std::abs(s.eta), fronts.amplitude[i]) : std::abs(s.eta);
         ++taken;
+    }
+    return taken;
+}
+
+std::size_t take_field_amplitudes(std::span<const WaveField> fields, RaySet& rays) noexcept {
+    std::size_t taken = 0;
+    for (std::size_t r = 0; r < rays.ray_count(); ++r) {
+        if (rays.train[r] >= fields.size()) continue;
+        const WaveField& field = fields[rays.train[r]];
+        for (std::size_t i = rays.offsets[r]; i < rays.offsets[r + 1]; ++i) {
+            const FieldSample s = sample_wave_field(field, rays.x[i], rays.y[i]);
+            if (!s.wet || rays.depth[i] <= 0.0) continue;
+            rays.amplitude[i] = s.broken ? std::max(std::abs(s.eta), rays.amplitude[i]) : std::abs(s.eta);
+            ++taken;
+        }
     }
     return taken;
 }

@@ -41,6 +41,10 @@ void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
     check_grid(scene, trace, p);
     p.isobaths = extract_isobaths(p.seafloor, scene.isobaths);
     p.rays = trace_rays(p.seafloor, p.isobaths, scene.waves, trace);
+    if (scene.amplitudes_from_field) {  // rays keep direction and phase; the fields give the heights
+        for (const WaveTrain& w : scene.waves) p.wave_fields.push_back(solve_wave_field(p.seafloor, w, scene.field));
+        take_field_amplitudes(p.wave_fields, p.rays);
+    }
     if (stages == PlanStages::trace) return;
     p.surface = plan_height_field(p.seafloor, p.rays, scene.waves, scene.surface);
     p.loop_period = p.surface.loop_period;
