@@ -317,6 +317,7 @@ Scene run_scene(const RunArgs& a) {
     if (a.fps > 0.0) scene.fps = a.fps;
     if (!a.form.empty()) scene.form = form_from_name(a.form);
     if (a.draco && !scene.draco) scene.draco = DracoOptions{};
+    if (a.no_draco) scene.draco.reset();
     if (a.quantize) scene.quantize = true;
     if (scene.draco && scene.quantize) throw InputError("choose --draco or --quantize, not both (Draco quantises itself)");
     if (!a.container.empty()) scene.container = container_from_name(a.container);

@@ -64,7 +64,8 @@ struct RunArgs {
     std::string frames;  ///< "A:B" slice of the loop's frames; empty = all
     std::string slice;   ///< "I/N": slice I of N equal slices of the loop (farm array jobs)
     double fps = 0.0;    ///< > 0 overrides the scene's fps
-    bool draco = false;  ///< Draco-compress (nodes and files forms)
+    bool draco = false;     ///< Draco-compress (whatever the scene says)
+    bool no_draco = false;  ///< plain meshes (whatever the scene says)
     std::string container;  ///< glb | gltf; empty = the scene's
     bool quantize = false;  ///< KHR_mesh_quantization
     bool quiet = false;  ///< no progress bar and no text report

@@ -92,7 +92,9 @@ int main(int argc, char** argv) {
     run_cmd->add_option("--container", run.container, "glb (binary, default) or gltf (JSON + external .bin)")
         ->check(CLI::IsMember({"glb", "gltf"}));
     run_cmd->add_flag("--quantize", run.quantize, "KHR_mesh_quantization: int16 positions, int8 normals, uint16 UV maps (~30 % smaller morph files)");
-    run_cmd->add_flag("--draco", run.draco, "Draco-compress the meshes (morph: the base mesh only; default quantisation: positions 14 bits)");
+    auto* draco_opt = run_cmd->add_flag("--draco", run.draco, "Draco-compress the meshes (morph: the base mesh only; default quantisation: positions 14 bits)");
+    run_cmd->add_flag("--no-draco", run.no_draco, "plain meshes even where the scene asks for Draco (Blender's own glTF importer reads no Draco)")
+        ->excludes(draco_opt);
     run_cmd->add_option("--fps", run.fps, "frames per second (overrides the scene's)")->check(positive);
     run_cmd->add_flag("-q,--quiet", run.quiet, "no progress bar and no report on stdout");
     run_cmd->add_flag("--resume", run.resume, "files form: continue an interrupted run — keep the frames whose files match the index (size and SHA-256), compute the rest");
@@ -117,6 +119,8 @@ int main(int argc, char** argv) {
     batch_cmd->add_option("--container", batch_container, "as for run")->check(CLI::IsMember({"glb", "gltf"}));
     batch_cmd->add_option("--fps", batch_fps, "as for run")->check(positive);
     batch_cmd->add_flag("--draco", batch_draco, "as for run");
+    bool batch_no_draco = false;
+    batch_cmd->add_flag("--no-draco", batch_no_draco, "as for run");
     batch_cmd->add_flag("--quantize", batch_quantize, "as for run");
     batch_cmd->add_option("--threads", batch_threads, "worker threads of each scene's run")->check(positive);
     batch_cmd->add_flag("-q,--quiet", batch.quiet, "no line per scene");
@@ -243,6 +247,7 @@ int main(int argc, char** argv) {
             if (batch_fps > 0) pass("--fps", std::to_string(batch_fps));
             if (batch_threads > 0) pass("--threads", std::to_string(batch_threads));
             if (batch_draco) batch.run_args.push_back("--draco");
+            if (batch_no_draco) batch.run_args.push_back("--no-draco");
             if (batch_quantize) batch.run_args.push_back("--quantize");
             return cli::run_batch(batch);
         }

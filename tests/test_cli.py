@@ -932,6 +932,24 @@ class WaveField(unittest.TestCase):
             self.assertIn("/field/max_nodes", r.stderr)
 
 
+class BlenderDelivery(unittest.TestCase):
+    """What Debian's Blender 3.4 needs from a run: plain meshes on request (it has no Draco)."""
+
+    def test_no_draco_overrides_the_scene(self):
+        with tempfile.TemporaryDirectory() as d:
+            r = wave("run", os.path.join(EXAMPLES, "breaking-beach.json"), "-o", d, "--no-draco", "--frames", "0:2", "--json")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            report = json.loads(r.stdout)
+            self.assertFalse(report["surface"]["draco"])
+            frame = next(f for f in report["outputs"] if f.endswith(".glb"))
+            doc, _ = read_glb(os.path.join(d, frame))
+            self.assertNotIn("KHR_draco_mesh_compression", doc.get("extensionsUsed", []))
+            validate_gltf(self, os.path.join(d, frame))
+            r = wave("run", "-o", os.path.join(d, "x"), "--draco", "--no-draco")
+            self.assertEqual(r.returncode, 2)
+            self.assertIn("excludes", r.stderr)
+
+
 class CrashSafety(unittest.TestCase):
     """SIGKILL at random moments while `wave run` computes and writes: every file under
     its final name is complete (one of the two runs' versions, byte for byte), and the

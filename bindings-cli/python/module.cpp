@@ -243,4 +243,36 @@ PYBIND11_MODULE(libwave, m) {
         "The refraction-diffraction field of one wave train (docs/wave-field.md) on a regular grid over the seafloor: "
         "(ny, nx) float32 arrays height_ratio (H/H0), phase (rad) and direction_deg, row 0 at y0, NaN on land; "
         "x0, y0, spacing (m) and incident_height H0 (m)");
+
+    m.def(
+        "read_animation",
+        [](const std::string& path) {
+            wave::StoredAnimation a;
+            {
+                py::gil_scoped_release release;
+                a = wave::read_animation(path);
+            }
+            const auto frames = static_cast<py::ssize_t>(a.frame_count), n = static_cast<py::ssize_t>(a.vertex_count);
+            const auto copy = [](const auto& v, std::vector<py::ssize_t> shape) {
+                using T = typename std::decay_t<decltype(v)>::value_type;
+                if (v.empty()) shape[0] = 0;
+                py::array_t<T> out(shape);
+                std::copy(v.begin(), v.end(), out.mutable_data());
+                return out;
+            };
+            py::dict d;
+            d["positions"] = copy(a.positions, {frames, n, 3});
+            d["foam"] = copy(a.foam, {frames, n});
+            d["reflect"] = copy(a.reflect, {frames, n});
+            d["refract"] = copy(a.refract, {frames, n});
+            d["colors"] = copy(a.colors, {frames, n, 3});
+            d["triangles"] = copy(a.triangles, {static_cast<py::ssize_t>(a.triangles.size() / 3), 3});
+            d["vertex_count"] = a.vertex_count, d["frame_count"] = a.frame_count, d["first_frame"] = a.first_frame;
+            d["loop_frames"] = a.loop_frames, d["fps"] = a.fps, d["scene"] = a.scene;
+            return d;
+        },
+        py::arg("path"),
+        "Reads an output of wave run (.glb/.gltf of the morph or nodes form, a frame file, or the files form's "
+        "index.json; plain, quantised or a Draco morph base): positions (frames, n, 3) z up, foam/reflect/refract "
+        "(frames, n), colors, triangles, fps, frame_count, first_frame, loop_frames, scene");
 }

@@ -1,0 +1,168 @@
+"""libwave for Blender: File → Import → libwave animation (docs/blender.md).
+
+Imports what `wave run` writes — the morph, nodes and files forms, plain or quantised
+(Draco through libwave's Python module) — as one water object whose positions and
+per-vertex foam, reflect and refract are updated on every frame change (the files form
+streams its frames from disk), with the scene's fps and frame range set, the loop
+repeating past its end, and an editable water material that reads the foam. Works in
+Debian's Blender 3.4 (no numpy.bool patch needed: Blender's glTF importer is not used)
+and in Blender 4.x.
+"""
+import os
+
+import bpy
+import numpy as np
+from bpy.app.handlers import persistent
+from bpy.props import BoolProperty, StringProperty
+from bpy_extras.io_utils import ImportHelper
+
+from . import frames
+
+bl_info = {
+    "name": "libwave animation",
+    "author": "libwave",
+    "version": (0, 1, 0),
+    "blender": (3, 4, 0),
+    "location": "File > Import > libwave animation",
+    "description": "Coastal wave animations from libwave: positions, foam, reflect and refract per frame",
+    "category": "Import-Export",
+}
+
+_PROP = "libwave_source"  # custom property on the object: the file it plays
+_animations = {}  # source path → frames.Animation (reopened after a .blend is loaded)
+
+
+def _animation(path):
+    if path not in _animations:
+        _animations[path] = frames.Animation(path)
+    return _animations[path]
+
+
+def _attribute(mesh, name):
+    a = mesh.attributes.get(name)
+    if a is None:
+        a = mesh.attributes.new(name, "FLOAT", "POINT")
+    return a
+
+
+def apply_frame(obj, scene_frame):
+    """Shows loop frame (scene_frame − frame_start) mod frame_count of the object's animation."""
+    anim = _animation(obj[_PROP])
+    k = (scene_frame - obj.get("libwave_frame_start", 0)) % anim.frame_count
+    f = anim.frame(k)
+    mesh = obj.data
+    mesh.vertices.foreach_set("co", np.ascontiguousarray(f.positions, np.float32).ravel())
+    for name, values in (("foam", f.foam), ("reflect", f.reflect), ("refract", f.refract)):
+        if values is not None:
+            _attribute(mesh, name).data.foreach_set("value", np.ascontiguousarray(values, np.float32))
+    if f.color is not None:
+        colour = mesh.attributes.get("colour") or mesh.attributes.new("colour", "FLOAT_COLOR", "POINT")
+        rgba = np.ones((len(f.color), 4), np.float32)
+        rgba[:, :3] = f.color
+        colour.data.foreach_set("color", rgba.ravel())
+    mesh.update()
+    obj["libwave_frame"] = k
+
+
+@persistent
+def _on_frame_change(scene, depsgraph=None):
+    for obj in scene.objects:
+        if obj.type == "MESH" and _PROP in obj:
+            try:
+                apply_frame(obj, scene.frame_current)
+            except (OSError, frames.LibwaveFileError) as e:  # a moved file: say so once per frame, keep Blender usable
+                print(f"libwave: {obj.name}: {e}")
+
+
+def water_material(name="libwave water"):
+    """Principled water (transmission, IOR 1.333) mixed with white foam by the foam attribute."""
+    mat = bpy.data.materials.get(name)
+    if mat is not None:
+        return mat
+    mat = bpy.data.materials.new(name)
+    mat.use_nodes = True
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    nodes.clear()
+    out = nodes.new("ShaderNodeOutputMaterial")
+    water = nodes.new("ShaderNodeBsdfPrincipled")
+    water.inputs["Base Color"].default_value = (0.02, 0.12, 0.16, 1.0)
+    water.inputs["Roughness"].default_value = 0.04
+    water.inputs["IOR"].default_value = 1.333
+    for transmission in ("Transmission Weight", "Transmission"):  # Blender 4.x, 3.x
+        if transmission in water.inputs:
+            water.inputs[transmission].default_value = 1.0
+            break
+    foam_bsdf = nodes.new("ShaderNodeBsdfDiffuse")
+    foam_bsdf.inputs["Color"].default_value = (0.9, 0.92, 0.95, 1.0)
+    foam = nodes.new("ShaderNodeAttribute")
+    foam.attribute_name = "foam"
+    mix = nodes.new("ShaderNodeMixShader")
+    links.new(foam.outputs["Fac"], mix.inputs["Fac"])
+    links.new(water.outputs["BSDF"], mix.inputs[1])
+    links.new(foam_bsdf.outputs["BSDF"], mix.inputs[2])
+    links.new(mix.outputs["Shader"], out.inputs["Surface"])
+    for i, node in enumerate((foam, water, foam_bsdf, mix, out)):
+        node.location = (-600 + 250 * i, 0)
+    return mat
+
+
+def import_animation(context, path, set_scene=True):
+    """Creates the water object for `path` (a .glb/.gltf or index.json); with `set_scene`
+    the scene's fps and frame range become the animation's."""
+    anim = _animation(os.path.abspath(path))
+    first = anim.frame(0)
+    mesh = bpy.data.meshes.new("libwave water")
+    mesh.from_pydata(first.positions.tolist(), [], anim.triangles.tolist())
+    mesh.materials.append(water_material())
+    obj = bpy.data.objects.new(mesh.name, mesh)
+    context.collection.objects.link(obj)
+    obj[_PROP] = anim.path
+    obj["libwave_frame_start"] = 0
+    obj["libwave_form"] = anim.form
+    scene = context.scene
+    if set_scene:
+        scene.render.fps = max(1, round(anim.fps))
+        scene.render.fps_base = scene.render.fps / anim.fps
+        scene.frame_start = 0
+        scene.frame_end = anim.frame_count - 1  # the loop; frames past it repeat it (the handler wraps)
+    if _on_frame_change not in bpy.app.handlers.frame_change_post:
+        bpy.app.handlers.frame_change_post.append(_on_frame_change)
+    apply_frame(obj, scene.frame_current)
+    return obj
+
+
+class ImportLibwave(bpy.types.Operator, ImportHelper):
+    """Import a libwave animation: animation.glb/.gltf (morph or nodes form) or index.json (files form)"""
+
+    bl_idname = "import_scene.libwave"
+    bl_label = "Import libwave animation"
+    bl_options = {"REGISTER", "UNDO"}
+    filename_ext = ".glb"
+    filter_glob: StringProperty(default="*.glb;*.gltf;index.json", options={"HIDDEN"})
+    set_scene: BoolProperty(name="Set fps and frame range", default=True)
+
+    def execute(self, context):
+        try:
+            import_animation(context, self.filepath, self.set_scene)
+        except (OSError, KeyError, ValueError, frames.LibwaveFileError) as e:
+            self.report({"ERROR"}, f"libwave: {e}")
+            return {"CANCELLED"}
+        return {"FINISHED"}
+
+
+def _menu(self, context):
+    self.layout.operator(ImportLibwave.bl_idname, text="libwave animation (.glb, index.json)")
+
+
+def register():
+    bpy.utils.register_class(ImportLibwave)
+    bpy.types.TOPBAR_MT_file_import.append(_menu)
+    if _on_frame_change not in bpy.app.handlers.frame_change_post:
+        bpy.app.handlers.frame_change_post.append(_on_frame_change)
+
+
+def unregister():
+    if _on_frame_change in bpy.app.handlers.frame_change_post:
+        bpy.app.handlers.frame_change_post.remove(_on_frame_change)
+    bpy.types.TOPBAR_MT_file_import.remove(_menu)
+    bpy.utils.unregister_class(ImportLibwave)

@@ -1,0 +1,238 @@
+"""Reads libwave's animations (docs/export.md) frame by frame, without Blender's glTF importer.
+
+Every form `wave run` writes: `morph` (one mesh, a morph target per frame), `nodes` (a
+node per frame whose scale is switched), `files` (a .glb/.gltf per frame listed in
+index.json); plain float32 or KHR_mesh_quantization. Draco-compressed files need the
+libwave Python module (`libwave.read_frame`), which decodes them.
+
+Arrays come back in Blender's axes (z up): glTF's (x, y, z) is Blender's (x, −z, y).
+"""
+import base64
+import json
+import os
+import struct
+
+import numpy as np
+
+_COMPONENTS = {5120: np.int8, 5121: np.uint8, 5122: np.int16, 5123: np.uint16, 5125: np.uint32, 5126: np.float32}
+_WIDTH = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4}
+
+
+class LibwaveFileError(Exception):
+    """A file this reader cannot use; the message says which and why."""
+
+
+def read_gltf(path):
+    """(document, [buffer bytes]) of a .glb or .gltf (external or data-URI buffers)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    if data[:4] == b"glTF":
+        length = struct.unpack_from("<I", data, 12)[0]
+        doc = json.loads(data[20:20 + length])
+        offset = 20 + length
+        binary = b""
+        if offset + 8 <= len(data):
+            chunk = struct.unpack_from("<I", data, offset)[0]
+            binary = data[offset + 8:offset + 8 + chunk]
+        buffers = [binary]
+    else:
+        doc = json.loads(data)
+        buffers = []
+        for b in doc.get("buffers", []):
+            uri = b.get("uri", "")
+            if uri.startswith("data:"):
+                buffers.append(base64.b64decode(uri.split(",", 1)[1]))
+            else:
+                with open(os.path.join(os.path.dirname(path), uri), "rb") as f:
+                    buffers.append(f.read())
+    return doc, buffers
+
+
+def accessor(doc, buffers, index):
+    """An accessor as a (count, width) float32 array (normalised integers mapped to [−1, 1] / [0, 1])."""
+    a = doc["accessors"][index]
+    dtype = np.dtype(_COMPONENTS[a["componentType"]])
+    width = _WIDTH[a["type"]]
+    count = a["count"]
+    if "bufferView" not in a:
+        return np.zeros((count, width), np.float32)
+    view = doc["bufferViews"][a["bufferView"]]
+    raw = buffers[view.get("buffer", 0)]
+    start = view.get("byteOffset", 0) + a.get("byteOffset", 0)
+    stride = view.get("byteStride", dtype.itemsize * width)
+    if stride == dtype.itemsize * width:
+        values = np.frombuffer(raw, dtype, count * width, start).reshape(count, width)
+    else:
+        values = np.lib.stride_tricks.as_strided(np.frombuffer(raw, np.uint8, len(raw) - start, start).view(dtype),
+                                                 (count, width), (stride, dtype.itemsize))
+    values = values.astype(np.float32)
+    if a.get("normalized"):
+        if dtype.kind == "i":
+            values = np.maximum(values / float(np.iinfo(dtype).max), -1.0)
+        else:
+            values = values / float(np.iinfo(dtype).max)
+    return values
+
+
+def to_blender(xyz):
+    """glTF y-up → Blender z-up."""
+    return np.stack([xyz[:, 0], -xyz[:, 2], xyz[:, 1]], axis=1)
+
+
+class Frame:
+    """One frame: positions (n, 3), the shading (n,) each (None when absent), colour (n, 3) or None."""
+
+    def __init__(self, positions, foam=None, reflect=None, refract=None, color=None):
+        self.positions, self.foam, self.reflect, self.refract, self.color = positions, foam, reflect, refract, color
+
+
+def _shading(attrs, get):
+    """foam, reflect, refract from either layout: TEXCOORD_1/2 (Blender 3.4) or _FOAM/_REFLECT/_REFRACT."""
+    if "_FOAM" in attrs:
+        return get("_FOAM")[:, 0], get("_REFLECT")[:, 0], get("_REFRACT")[:, 0]
+    if "TEXCOORD_2" in attrs:
+        uv1, uv2 = get("TEXCOORD_1"), get("TEXCOORD_2")
+        return uv2[:, 0], uv1[:, 0], uv1[:, 1]
+    return None, None, None
+
+
+def _node_transform(doc, mesh_index):
+    """(translation, scale) of the node showing mesh `mesh_index` (quantised positions use it)."""
+    for n in doc.get("nodes", []):
+        if n.get("mesh") == mesh_index:
+            return np.array(n.get("translation", [0, 0, 0]), np.float32), np.array(n.get("scale", [1, 1, 1]), np.float32)
+    return np.zeros(3, np.float32), np.ones(3, np.float32)
+
+
+def _primitive_frame(doc, buffers, mesh_index, target=None):
+    """A frame from a mesh's first primitive (and, for the morph form, one of its targets)."""
+    prim = doc["meshes"][mesh_index]["primitives"][0]
+    if "KHR_draco_mesh_compression" in prim.get("extensions", {}):
+        raise LibwaveFileError("Draco-compressed")
+    attrs = prim["attributes"]
+    # Quantised positions (normalised int16) are undone by their mesh node's transform;
+    # float positions are final (a nodes-form frame node's scale only switches it on and off).
+    if doc["accessors"][attrs["POSITION"]].get("normalized"):
+        translation, scale = _node_transform(doc, mesh_index)
+    else:
+        translation, scale = np.zeros(3, np.float32), np.ones(3, np.float32)
+
+    def get(name):
+        values = accessor(doc, buffers, attrs[name])
+        if target is not None and name in prim["targets"][target]:
+            values = values + accessor(doc, buffers, prim["targets"][target][name])
+        return values
+
+    positions = to_blender(get("POSITION") * scale + translation)
+    foam, reflect, refract = _shading(attrs, get)
+    color = get("COLOR_0")[:, :3] if "COLOR_0" in attrs else None
+    return Frame(positions, foam, reflect, refract, color)
+
+
+def _triangles(doc, buffers, mesh_index):
+    prim = doc["meshes"][mesh_index]["primitives"][0]
+    if "indices" not in prim:
+        raise LibwaveFileError("a primitive without indices")
+    return accessor(doc, buffers, prim["indices"]).astype(np.int64).reshape(-1, 3)
+
+
+class Animation:
+    """A libwave animation: `frame(k)` gives loop frame k; `triangles`, `fps`, `frame_count`."""
+
+    def __init__(self, path):
+        self.path = os.path.abspath(path)
+        self.folder = os.path.dirname(self.path)
+        self._cache = {}
+        self._stored = None  # a Draco file, decoded whole by libwave's module
+        if os.path.basename(path) == "index.json" or path.endswith(".json"):
+            with open(path) as f:
+                index = json.load(f)
+            self.form = "files"
+            self.fps = float(index["fps"])
+            self.files = [next(c["file"] for c in e["content"] if c["file"].endswith((".glb", ".gltf")))
+                          for e in index["frames"]]
+            self.first_frame = int(index["frames"][0].get("frame", 0)) if index["frames"] else 0
+            self.frame_count = len(self.files)
+            self.loop_frames = int(index.get("loop_frames", self.frame_count))
+            self.scene = index.get("scene", "")
+            doc, buffers = self._frame_file(0)
+            self.triangles = _triangles(doc, buffers, 0)
+            return
+        self.doc, self.buffers = read_gltf(path)
+        doc = self.doc
+        if "KHR_draco_mesh_compression" in doc["meshes"][0]["primitives"][0].get("extensions", {}):
+            self._stored = _load_draco(path)
+            self.form = "morph"
+            self.fps = float(self._stored["fps"])
+            self.frame_count = int(self._stored["frame_count"])
+            self.loop_frames = int(self._stored["loop_frames"])
+            self.first_frame = int(self._stored["first_frame"])
+            self.scene = self._stored["scene"]
+            self.triangles = np.asarray(self._stored["triangles"]).astype(np.int64).reshape(-1, 3)
+            return
+        extras = doc.get("asset", {}).get("extras", {}).get("libwave", {})
+        if not extras and doc.get("asset", {}).get("generator") != "libwave":
+            raise LibwaveFileError(f"{path}: not written by libwave (no asset.extras.libwave)")
+        prim = doc["meshes"][0]["primitives"][0]
+        self.scene = extras.get("scene", "")
+        times = None
+        if doc.get("animations"):
+            sampler = doc["animations"][0]["samplers"][0]
+            times = accessor(doc, self.buffers, sampler["input"])[:, 0]
+        if "targets" in prim and prim["targets"]:
+            self.form = "morph"
+            self.frame_count = len(prim["targets"])
+        else:
+            self.form = "nodes"
+            self.frame_nodes = [n for n in doc.get("nodes", []) if "mesh" in n]
+            self.frame_count = len(self.frame_nodes)
+        self.fps = float(extras.get("fps", 0)) or (1.0 / float(times[1] - times[0]) if times is not None and len(times) > 1 else 24.0)
+        self.loop_frames = int(extras.get("loop_frames", self.frame_count))
+        self.first_frame = int(extras.get("first_frame", 0))
+        self.triangles = _triangles(doc, self.buffers, 0)
+
+    def _frame_file(self, k):
+        return read_gltf(os.path.join(self.folder, self.files[k]))
+
+    def frame(self, k):
+        """Frame k of the file (0 ≤ k < frame_count)."""
+        if k in self._cache:
+            return self._cache[k]
+        if self._stored is not None:
+            return self._stored_frame(k)
+        try:
+            if self.form == "files":
+                doc, buffers = self._frame_file(k)
+                f = _primitive_frame(doc, buffers, 0)
+            elif self.form == "morph":
+                f = _primitive_frame(self.doc, self.buffers, 0, k)
+            else:
+                f = _primitive_frame(self.doc, self.buffers, self.frame_nodes[k]["mesh"])
+        except LibwaveFileError as e:
+            raise LibwaveFileError(f"{self.path}: frame {k}: {e}; re-encode it plainly: wave convert FILE -o OUT") from None
+        self._cache = {k: f}  # one frame at a time: the files form streams from disk
+        return f
+
+    def _stored_frame(self, k):
+        s, n = self._stored, self._stored["vertex_count"]
+
+        def scalar(name):
+            a = s.get(name)
+            return None if a is None or len(a) == 0 else np.asarray(a[k])
+
+        positions = np.asarray(s["positions"][k]).reshape(n, 3)
+        colors = s.get("colors")
+        return Frame(positions, scalar("foam"), scalar("reflect"), scalar("refract"),
+                     None if colors is None or len(colors) == 0 else np.asarray(colors[k]).reshape(n, 3))
+
+
+def _load_draco(path):
+    """The whole animation through libwave's module (Draco decoding), or a message saying how to get it."""
+    try:
+        import libwave
+    except ImportError:
+        raise LibwaveFileError(
+            f"{path} is Draco-compressed, which Blender's Python cannot decode by itself: put libwave's Python module "
+            "on Blender's path (docs/blender.md), or re-encode the run without Draco (wave convert FILE -o OUT, "
+            "or wave run --no-draco)") from None
+    return libwave.read_animation(path)

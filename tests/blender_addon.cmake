@@ -1,0 +1,22 @@
+# Runs the default scene in the morph, quantised morph, nodes and files forms (6 fps to
+# keep it short), then plays each through the Blender add-on (tests/blender_addon.py).
+file(REMOVE_RECURSE ${OUT})
+foreach(form morph quant nodes files)
+  set(args --fps 6)
+  if(form STREQUAL "quant")
+    list(APPEND args --quantize)
+  elseif(NOT form STREQUAL "morph")
+    list(APPEND args --form ${form})
+  endif()
+  execute_process(COMMAND ${WAVE} run -o ${OUT}/${form} -q ${args} RESULT_VARIABLE rc ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "wave run (${form}) failed: ${err}")
+  endif()
+  list(APPEND runs ${OUT}/${form})
+endforeach()
+execute_process(COMMAND ${BLENDER} -b --factory-startup --python-exit-code 1 --python ${SCRIPT} -- ${ADDON} ${runs}
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+message(STATUS "${out}")
+if(NOT rc EQUAL 0 OR NOT out MATCHES "LIBWAVE-ADDON ok")
+  message(FATAL_ERROR "The Blender add-on test failed (${rc}):\n${out}\n${err}")
+endif()
