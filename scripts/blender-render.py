@@ -1,7 +1,7 @@
 # Renders an output of `wave run` through the libwave add-on with Cycles on the CPU:
 #   blender -b --factory-startup --python scripts/blender-render.py -- ADDON_ZIP RUN_DIR OUT.png [FRAME]
-# The add-on imports the water (positions, foam, reflect, refract per frame); this script
-# adds what the .glb does not carry yet: a camera from the open sea, a low sun and a sky.
+# The add-on imports the water (positions, foam, reflect, refract per frame) and the
+# seafloor, camera and sun the .glb carries; this script adds a sky and renders.
 import math
 import os
 import sys
@@ -17,38 +17,26 @@ addon_utils.enable("libwave_blender", default_set=True)
 source = os.path.join(run, "index.json") if os.path.exists(os.path.join(run, "index.json")) else os.path.join(run, "animation.glb")
 bpy.ops.import_scene.libwave(filepath=source)
 scene = bpy.context.scene
-water = next(o for o in scene.objects if o.type == "MESH")
-xs = [v.co.x for v in water.data.vertices]
-ys = [v.co.y for v in water.data.vertices]
-cx, cy, size = (min(xs) + max(xs)) / 2, (min(ys) + max(ys)) / 2, max(max(xs) - min(xs), max(ys) - min(ys))
-cam = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
-scene.collection.objects.link(cam)
-cam.location = (cx - 0.35 * size, cy - 0.75 * size, 0.28 * size)
-direction = (cx - cam.location.x, cy + 0.1 * size - cam.location.y, -cam.location.z)
-cam.rotation_euler = (math.atan2(math.hypot(direction[0], direction[1]), -direction[2]), 0.0,
-                      math.atan2(direction[1], direction[0]) - math.pi / 2)
-cam.data.lens = 28
-scene.camera = cam
-sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", "SUN"))
-sun.data.energy = 3.0
-sun.rotation_euler = (math.radians(60), 0.0, math.radians(160))
-scene.collection.objects.link(sun)
+if scene.camera is None:  # the files form carries no camera: one from the open sea
+    water = next(o for o in scene.objects if "libwave_source" in o)
+    xs = [v.co.x for v in water.data.vertices]
+    ys = [v.co.y for v in water.data.vertices]
+    cx, cy, size = (min(xs) + max(xs)) / 2, (min(ys) + max(ys)) / 2, max(max(xs) - min(xs), max(ys) - min(ys))
+    cam = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
+    scene.collection.objects.link(cam)
+    cam.location = (cx, cy - 1.1 * size, 0.4 * size)
+    cam.rotation_euler = (math.atan2(1.1, 0.4), 0.0, 0.0)
+    scene.camera = cam
 world = bpy.data.worlds.new("sky")
 world.use_nodes = True
 world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.45, 0.6, 0.8, 1.0)
 world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.8
 scene.world = world
-# A sandy bottom under the water, so the transmission has something to show.
-bpy.ops.mesh.primitive_plane_add(size=size * 1.4, location=(cx, cy, -2.0))
-sand = bpy.data.materials.new("sand")
-sand.use_nodes = True
-sand.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (0.55, 0.45, 0.3, 1.0)
-bpy.context.object.data.materials.append(sand)
 scene.render.engine = "CYCLES"
 scene.cycles.device = "CPU"
 scene.cycles.samples = 16
 scene.cycles.use_denoising = False
-scene.render.resolution_x, scene.render.resolution_y = 480, 270
+scene.render.resolution_x, scene.render.resolution_y = 640, 360
 scene.frame_set(frame)
 scene.render.filepath = out
 bpy.ops.render.render(write_still=True)

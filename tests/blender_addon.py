@@ -34,7 +34,7 @@ for folder in runs:
         errors.append(f"{path}: import {result}")
         continue
     scene = bpy.context.scene
-    water = [o for o in scene.objects if o.type == "MESH"]
+    water = [o for o in scene.objects if o.type == "MESH" and "libwave_source" in o]
     expected = libwave.read_animation(path)
     frames, n = expected["frame_count"], expected["vertex_count"]
     if len(water) != 1 or len(water[0].data.vertices) != n:
@@ -61,6 +61,41 @@ for folder in runs:
     mat = obj.data.materials[0]
     if not any(n.type == "ATTRIBUTE" and n.attribute_name == "foam" for n in mat.node_tree.nodes):
         errors.append(f"{path}: the material does not read the foam attribute")
+    if not path.endswith("index.json"):  # the single-file forms carry the seafloor, camera and sun
+        kinds = sorted(o.name for o in scene.objects if "libwave_source" not in o)
+        if kinds != ["libwave camera", "libwave seafloor", "libwave sun"]:
+            errors.append(f"{path}: beside the water: {kinds}")
+        elif scene.camera is None or scene.camera.name != "libwave camera":
+            errors.append(f"{path}: the file's camera is not the scene's")
+        if folder.endswith("morph"):  # a small Cycles render from the file's camera shows water, seafloor and sky
+            world = bpy.data.worlds.new("sky")
+            world.use_nodes = True
+            world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.3, 0.5, 0.9, 1.0)
+            scene.world = world
+            scene.render.engine = "CYCLES"
+            scene.cycles.samples = 4
+            scene.cycles.use_denoising = False
+            scene.render.resolution_x, scene.render.resolution_y = 160, 90
+            scene.render.filepath = os.path.join(folder, "render.png")
+            bpy.ops.render.render(write_still=True)
+            def render(name):
+                scene.render.filepath = os.path.join(folder, name)
+                bpy.ops.render.render(write_still=True)
+                return np.array(bpy.data.images.load(scene.render.filepath).pixels[:], np.float32).reshape(90, 160, 4)[:, :, :3]
+            seafloor = bpy.data.objects["libwave seafloor"]
+            full = render("render.png")
+            obj.hide_render = True
+            no_water = render("render-seafloor.png")
+            seafloor.hide_render = True
+            sky_only = render("render-sky.png")
+            obj.hide_render = seafloor.hide_render = False
+            differs = lambda a, b: np.abs(a - b).max(axis=2) > 0.05
+            water_share = float(differs(full, no_water).mean())
+            ground = float(differs(no_water, sky_only).mean())
+            sky = float((~differs(full, sky_only)).mean())
+            print(f"LIBWAVE-ADDON render: sky {sky:.2f}, water {water_share:.2f}, seafloor (under the water) {ground:.2f}")
+            if min(sky, water_share, ground) < 0.05:
+                errors.append(f"{path}: the render lacks sky, water or seafloor: {sky}, {water_share}, {ground}")
     print(f"LIBWAVE-ADDON checked {path}: {frames} frames of {n} vertices")
 
 print("\n".join(errors) if errors else "LIBWAVE-ADDON ok")

@@ -106,6 +106,62 @@ def water_material(name="libwave water"):
     return mat
 
 
+def _seafloor_material():
+    mat = bpy.data.materials.get("libwave seafloor")
+    if mat is not None:
+        return mat
+    mat = bpy.data.materials.new("libwave seafloor")
+    mat.use_nodes = True
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    bsdf = nodes.get("Principled BSDF")
+    bsdf.inputs["Roughness"].default_value = 0.9
+    colour = nodes.new("ShaderNodeAttribute")
+    colour.attribute_name = "depth colour"
+    links.new(colour.outputs["Color"], bsdf.inputs["Base Color"])
+    return mat
+
+
+def import_dressing(context, dressing):
+    """The seafloor, camera and sun a libwave .glb carries, as Blender objects (the camera
+    becomes the scene's)."""
+    from mathutils import Matrix
+    made = []
+    if dressing.seafloor is not None:
+        positions, triangles, colours = dressing.seafloor
+        mesh = bpy.data.meshes.new("libwave seafloor")
+        mesh.from_pydata(positions.tolist(), [], triangles.tolist())
+        if colours is not None:
+            rgba = np.ones((len(colours), 4), np.float32)
+            rgba[:, :3] = colours
+            mesh.attributes.new("depth colour", "FLOAT_COLOR", "POINT").data.foreach_set("color", rgba.ravel())
+        mesh.materials.append(_seafloor_material())
+        obj = bpy.data.objects.new("libwave seafloor", mesh)
+        context.collection.objects.link(obj)
+        made.append(obj)
+    if dressing.camera is not None:
+        matrix, yfov, aspect = dressing.camera
+        cam = bpy.data.cameras.new("libwave camera")
+        cam.sensor_fit = "VERTICAL"
+        cam.angle_y = yfov
+        obj = bpy.data.objects.new("libwave camera", cam)
+        obj.matrix_world = Matrix(matrix.tolist())
+        context.collection.objects.link(obj)
+        context.scene.camera = obj
+        render = context.scene.render
+        render.resolution_x = max(1, round(render.resolution_y * aspect))
+        made.append(obj)
+    if dressing.sun is not None:
+        matrix, intensity, colour = dressing.sun
+        light = bpy.data.lights.new("libwave sun", "SUN")
+        light.energy = intensity
+        light.color = colour[:3]
+        obj = bpy.data.objects.new("libwave sun", light)
+        obj.matrix_world = Matrix(matrix.tolist())
+        context.collection.objects.link(obj)
+        made.append(obj)
+    return made
+
+
 def import_animation(context, path, set_scene=True):
     """Creates the water object for `path` (a .glb/.gltf or index.json); with `set_scene`
     the scene's fps and frame range become the animation's."""
@@ -127,6 +183,8 @@ def import_animation(context, path, set_scene=True):
         scene.frame_end = anim.frame_count - 1  # the loop; frames past it repeat it (the handler wraps)
     if _on_frame_change not in bpy.app.handlers.frame_change_post:
         bpy.app.handlers.frame_change_post.append(_on_frame_change)
+    if anim.dressing is not None:
+        import_dressing(context, anim.dressing)
     apply_frame(obj, scene.frame_current)
     return obj
 

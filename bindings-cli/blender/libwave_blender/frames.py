@@ -129,6 +129,42 @@ def _primitive_frame(doc, buffers, mesh_index, target=None):
     return Frame(positions, foam, reflect, refract, color)
 
 
+_GLTF_TO_BLENDER = np.array([[1, 0, 0], [0, 0, -1], [0, 1, 0]], np.float64)
+
+
+def _node_matrix(node):
+    """A node's 4 × 4 world matrix in Blender's axes (its translation and rotation; libwave's
+    camera and sun nodes are roots)."""
+    x, y, z, w = node.get("rotation", [0.0, 0.0, 0.0, 1.0])
+    r = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                  [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                  [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+    m = np.eye(4)
+    m[:3, :3] = _GLTF_TO_BLENDER @ r
+    m[:3, 3] = _GLTF_TO_BLENDER @ np.array(node.get("translation", [0.0, 0.0, 0.0]))
+    return m
+
+
+class Dressing:
+    """What a libwave .glb carries beside the water: seafloor (positions, triangles, colours),
+    camera (matrix, vertical fov, aspect), sun (matrix, intensity); each None when absent."""
+
+    def __init__(self, doc, buffers):
+        self.seafloor = self.camera = self.sun = None
+        for node in doc.get("nodes", []):
+            if node.get("name") == "seafloor" and "mesh" in node:
+                prim = doc["meshes"][node["mesh"]]["primitives"][0]
+                positions = to_blender(accessor(doc, buffers, prim["attributes"]["POSITION"]))
+                colours = accessor(doc, buffers, prim["attributes"]["COLOR_0"])[:, :3] if "COLOR_0" in prim["attributes"] else None
+                self.seafloor = (positions, _triangles(doc, buffers, node["mesh"]), colours)
+            elif "camera" in node:
+                cam = doc["cameras"][node["camera"]].get("perspective", {})
+                self.camera = (_node_matrix(node), cam.get("yfov", 0.7), cam.get("aspectRatio", 16 / 9))
+            elif "KHR_lights_punctual" in node.get("extensions", {}):
+                light = doc["extensions"]["KHR_lights_punctual"]["lights"][node["extensions"]["KHR_lights_punctual"]["light"]]
+                self.sun = (_node_matrix(node), light.get("intensity", 1.0), light.get("color", [1, 1, 1]))
+
+
 def _triangles(doc, buffers, mesh_index):
     prim = doc["meshes"][mesh_index]["primitives"][0]
     if "indices" not in prim:
@@ -144,6 +180,7 @@ class Animation:
         self.folder = os.path.dirname(self.path)
         self._cache = {}
         self._stored = None  # a Draco file, decoded whole by libwave's module
+        self.dressing = None  # the seafloor, camera and sun a single-file form carries
         if os.path.basename(path) == "index.json" or path.endswith(".json"):
             with open(path) as f:
                 index = json.load(f)
@@ -184,12 +221,13 @@ class Animation:
             self.frame_count = len(prim["targets"])
         else:
             self.form = "nodes"
-            self.frame_nodes = [n for n in doc.get("nodes", []) if "mesh" in n]
+            self.frame_nodes = [n for n in doc.get("nodes", []) if "mesh" in n and n.get("name") != "seafloor"]
             self.frame_count = len(self.frame_nodes)
         self.fps = float(extras.get("fps", 0)) or (1.0 / float(times[1] - times[0]) if times is not None and len(times) > 1 else 24.0)
         self.loop_frames = int(extras.get("loop_frames", self.frame_count))
         self.first_frame = int(extras.get("first_frame", 0))
         self.triangles = _triangles(doc, self.buffers, 0)
+        self.dressing = Dressing(doc, self.buffers)
 
     def _frame_file(self, k):
         return read_gltf(os.path.join(self.folder, self.files[k]))

@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <array>
 #include <optional>
 #include <span>
 #include <string>
@@ -40,6 +41,20 @@ struct DracoOptions {
 };
 
 /// Frames of one mesh with fixed topology (views of caller-owned arrays, z up).
+/// What a single-file animation carries beside the water, so that a glTF client (Blender,
+/// three.js) opens a scene: the seafloor as a mesh coloured by depth, the camera, the sun
+/// (KHR_lights_punctual) and a water material (KHR_materials_transmission, _ior,
+/// _volume). Every part is optional; arrays are z up.
+struct SceneDressing {
+    std::span<const float> seafloor_positions;          ///< 3 per vertex (m)
+    std::span<const float> seafloor_colors;             ///< 3 per vertex, linear RGB
+    std::span<const std::uint32_t> seafloor_triangles;  ///< counter-clockwise seen from above
+    std::optional<std::array<double, 3>> camera_position, camera_look_at;
+    double camera_vertical_fov_degrees = 40.0, camera_aspect = 16.0 / 9.0;
+    std::optional<std::array<double, 3>> sun_direction;  ///< unit, from the scene towards the sun
+    bool water_material = false;
+};
+
 struct MorphAnimationView {
     std::span<const std::uint32_t> triangles;  ///< 3 indices per triangle, counter-clockwise
     std::size_t vertex_count = 0;
@@ -69,6 +84,8 @@ struct MorphAnimationView {
     /// node transform undoing it (error <= extent / 65534), normals int8, UV maps
     /// uint16 (morph deltas int16; normal deltas stay float).
     bool quantize = false;
+    /// The seafloor, camera, sun and water material (morph and nodes forms).
+    std::optional<SceneDressing> dressing;
 };
 
 /// A view of any struct holding an animation's arrays under MorphAnimationView's names

@@ -110,6 +110,9 @@ struct Scene {
     /// (default: every glTF client reads UV maps), or the named `_` attributes.
     enum class Attributes { none, uv_maps, named } attributes = Attributes::uv_maps;
     bool color = false;  ///< bake COLOR_0 (Ts'o eq. 4.1)
+    /// What the single-file forms carry beside the water (/outputs/seafloor, camera, sun,
+    /// material): the seafloor coloured by depth, the scene camera, the sun, a water material.
+    bool dress_seafloor = true, dress_camera = true, dress_sun = true, dress_material = true;
     /// How the animation is written: one .glb of morph targets, one .glb of
     /// scale-switched nodes, or one .glb per frame plus index.json.
     enum class Form { morph, nodes, files } form = Form::morph;
@@ -228,6 +231,11 @@ struct SceneAnimation {
     double fps = 24.0;
     std::vector<std::uint32_t> triangles;  ///< a copy of the plan's index list (the animation outlives the plan)
     std::string scene;  ///< the scene's name (recorded in the files)
+    /// The scene around the water (morph and nodes forms; SceneDressing): the seafloor mesh
+    /// (z up), its colours and triangles, and the camera, sun and material settings.
+    std::vector<float> seafloor_positions, seafloor_colors;
+    std::vector<std::uint32_t> seafloor_triangles;
+    std::optional<SceneDressing> dressing;  ///< its spans are set by view()
 
     MorphAnimationView view() const;
 };

@@ -22,6 +22,7 @@
 #include <optional>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <sstream>
 #include <tuple>
 
@@ -126,6 +127,37 @@ float key_time(std::size_t k, double fps) noexcept {
 
 namespace {
 
+// A node rotation (quaternion x, y, z, w, glTF axes) whose local +Z points along `z`
+// (z up in, converted to glTF's y up), its +Y as close to up as it can be.
+std::vector<double> rotation_with_z(std::array<double, 3> z_up) {
+    std::array<double, 3> z{z_up[0], z_up[2], -z_up[1]};
+    const double len = std::hypot(z[0], z[1], z[2]);
+    for (double& c : z) c /= len;
+    std::array<double, 3> up{0.0, 1.0, 0.0};
+    if (std::abs(z[1]) > 0.999) up = {0.0, 0.0, -1.0};
+    std::array<double, 3> x{up[1] * z[2] - up[2] * z[1], up[2] * z[0] - up[0] * z[2], up[0] * z[1] - up[1] * z[0]};
+    const double lx = std::hypot(x[0], x[1], x[2]);
+    for (double& c : x) c /= lx;
+    const std::array<double, 3> y{z[1] * x[2] - z[2] * x[1], z[2] * x[0] - z[0] * x[2], z[0] * x[1] - z[1] * x[0]};
+    // Rotation matrix with columns x, y, z → quaternion.
+    const double m00 = x[0], m11 = y[1], m22 = z[2], trace = m00 + m11 + m22;
+    double qw, qx, qy, qz;
+    if (trace > 0.0) {
+        const double s = 0.5 / std::sqrt(trace + 1.0);
+        qw = 0.25 / s, qx = (y[2] - z[1]) * s, qy = (z[0] - x[2]) * s, qz = (x[1] - y[0]) * s;
+    } else if (m00 > m11 && m00 > m22) {
+        const double s = 2.0 * std::sqrt(1.0 + m00 - m11 - m22);
+        qw = (y[2] - z[1]) / s, qx = 0.25 * s, qy = (y[0] + x[1]) / s, qz = (z[0] + x[2]) / s;
+    } else if (m11 > m22) {
+        const double s = 2.0 * std::sqrt(1.0 + m11 - m00 - m22);
+        qw = (z[0] - x[2]) / s, qx = (y[0] + x[1]) / s, qy = 0.25 * s, qz = (z[1] + y[2]) / s;
+    } else {
+        const double s = 2.0 * std::sqrt(1.0 + m22 - m00 - m11);
+        qw = (x[1] - y[0]) / s, qx = (z[0] + x[2]) / s, qy = (z[1] + y[2]) / s, qz = 0.25 * s;
+    }
+    return {qx, qy, qz, qw};
+}
+
 // Everything one frame contributes to a primitive, in glTF axes: (attribute, accessor
 // type, floats) for POSITION, NORMAL and the shading.
 struct FrameArrays {
@@ -200,10 +232,11 @@ struct ModelWriter {
     GlbBuilder b{model, model.buffers.emplace_back().data};
     int indices = -1, texcoord0 = -1;
     std::optional<Quantization> quant;
+    std::optional<SceneDressing> dressing;
 
     // `frames`: how many frames' attributes the buffer will hold (reserved up front:
     // growing a buffer of hundreds of MB by doubling was a third of the export time).
-    ModelWriter(const MorphAnimationView& a, std::size_t frames) {
+    ModelWriter(const MorphAnimationView& a, std::size_t frames) : dressing(a.dressing) {
         const std::size_t per_vertex = 4 * (3 + 3 + 2 + 4 + (a.colors.empty() ? 0 : 3));
         b.bytes.reserve(frames * a.vertex_count * per_vertex + a.triangles.size_bytes() + 8 * a.vertex_count +
                         4 * frames * frames + (1 << 16));
@@ -336,7 +369,92 @@ struct ModelWriter {
         model.nodes.push_back(n);
         return static_cast<int>(model.nodes.size() - 1);
     }
-    std::string finish(const std::vector<int>& roots) {
+    // The seafloor, camera, sun and water material beside the water (SceneDressing).
+    void dress(const SceneDressing& d, std::vector<int>& roots) {
+        if (d.water_material) {
+            tinygltf::Material water;
+            water.name = "water";
+            water.doubleSided = true;
+            water.pbrMetallicRoughness.baseColorFactor = {0.02, 0.12, 0.16, 1.0};
+            water.pbrMetallicRoughness.metallicFactor = 0.0;
+            water.pbrMetallicRoughness.roughnessFactor = 0.05;
+            tinygltf::Value::Object transmission, ior;
+            transmission["transmissionFactor"] = tinygltf::Value(1.0);
+            ior["ior"] = tinygltf::Value(1.333);
+            water.extensions["KHR_materials_transmission"] = tinygltf::Value(transmission);
+            water.extensions["KHR_materials_ior"] = tinygltf::Value(ior);
+            model.materials.push_back(water);
+            for (tinygltf::Mesh& m : model.meshes)
+                for (tinygltf::Primitive& prim : m.primitives) prim.material = static_cast<int>(model.materials.size() - 1);
+            model.extensionsUsed.push_back("KHR_materials_transmission");
+            model.extensionsUsed.push_back("KHR_materials_ior");
+        }
+        if (!d.seafloor_triangles.empty()) {
+            const std::size_t n = d.seafloor_positions.size() / 3;
+            std::vector<float> p(3 * n);
+            for (std::size_t v = 0; v < n; ++v) to_y_up(&d.seafloor_positions[3 * v], &p[3 * v]);
+            tinygltf::Primitive prim;
+            prim.mode = TINYGLTF_MODE_TRIANGLES;
+            prim.attributes["POSITION"] = b.vec3(p, TINYGLTF_TARGET_ARRAY_BUFFER, true);
+            std::vector<float> c(d.seafloor_colors.begin(), d.seafloor_colors.end());
+            prim.attributes["COLOR_0"] = b.vec3(c, TINYGLTF_TARGET_ARRAY_BUFFER, false);
+            prim.indices = b.accessor(b.view(d.seafloor_triangles.data(), d.seafloor_triangles.size_bytes(),
+                                             TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
+                                      TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, d.seafloor_triangles.size(), TINYGLTF_TYPE_SCALAR);
+            tinygltf::Material sand;
+            sand.name = "seafloor";
+            sand.pbrMetallicRoughness.metallicFactor = 0.0;
+            sand.pbrMetallicRoughness.roughnessFactor = 0.9;  // base colour white: COLOR_0 is the colour
+            model.materials.push_back(sand);
+            prim.material = static_cast<int>(model.materials.size() - 1);
+            tinygltf::Mesh mesh;
+            mesh.name = "seafloor";
+            mesh.primitives.push_back(prim);
+            model.meshes.push_back(mesh);
+            tinygltf::Node node;
+            node.name = "seafloor";
+            node.mesh = static_cast<int>(model.meshes.size() - 1);
+            model.nodes.push_back(node);
+            roots.push_back(static_cast<int>(model.nodes.size() - 1));
+        }
+        if (d.camera_position && d.camera_look_at) {
+            tinygltf::Camera cam;
+            cam.name = "camera";
+            cam.type = "perspective";
+            cam.perspective.yfov = d.camera_vertical_fov_degrees * std::numbers::pi / 180.0;
+            cam.perspective.aspectRatio = d.camera_aspect;
+            cam.perspective.znear = 0.05;
+            cam.perspective.zfar = 1e5;  // tinygltf writes zfar even when 0 (infinite), which the validator refuses
+            model.cameras.push_back(cam);
+            const std::array<double, 3> eye = *d.camera_position, at = *d.camera_look_at;
+            tinygltf::Node node;
+            node.name = "camera";
+            node.camera = static_cast<int>(model.cameras.size() - 1);
+            // glTF cameras look along their −Z: Z points from the target to the eye.
+            node.rotation = rotation_with_z({eye[0] - at[0], eye[1] - at[1], eye[2] - at[2]});
+            node.translation = {eye[0], eye[2], -eye[1]};
+            model.nodes.push_back(node);
+            roots.push_back(static_cast<int>(model.nodes.size() - 1));
+        }
+        if (d.sun_direction) {
+            tinygltf::Light sun;
+            sun.name = "sun";
+            sun.type = "directional";
+            sun.intensity = 3.0;
+            sun.color = {1.0, 0.96, 0.9};
+            model.lights.push_back(sun);
+            tinygltf::Node node;
+            node.name = "sun";
+            node.rotation = rotation_with_z(*d.sun_direction);  // a directional light shines along its −Z
+            tinygltf::Value::Object light;
+            light["light"] = tinygltf::Value(static_cast<int>(model.lights.size() - 1));
+            node.extensions["KHR_lights_punctual"] = tinygltf::Value(light);
+            model.nodes.push_back(node);
+            roots.push_back(static_cast<int>(model.nodes.size() - 1));
+        }
+    }
+    std::string finish(std::vector<int> roots) {
+        if (dressing) dress(*dressing, roots);
         tinygltf::Scene scene;
         scene.nodes = roots;
         model.scenes.push_back(scene);

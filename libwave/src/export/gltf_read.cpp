@@ -313,7 +313,11 @@ StoredAnimation read_glb(const std::string& path) {
     const std::string path_kind = m.animations.empty() || m.animations[0].channels.empty() ? "" : m.animations[0].channels[0].target_path;
     const tinygltf::Primitive& first = m.meshes[0].primitives[0];
     a.draco_frames = path_kind != "weights" && first.extensions.count("KHR_draco_mesh_compression") != 0;
-    if (a.draco_frames && m.meshes.size() > 1)
+    // The water's meshes: all but the seafloor a single-file form carries beside it.
+    std::vector<std::size_t> water;
+    for (std::size_t i = 0; i < m.meshes.size(); ++i)
+        if (m.meshes[i].name != "seafloor") water.push_back(i);
+    if (a.draco_frames && water.size() > 1)
         r.fail("its frames are Draco-compressed one by one (Draco reorders each frame's points, so frames no longer "
                "share a vertex order): convert from an uncompressed output, or run the scene again");
     a.triangles = r.indices(first.indices);
@@ -335,7 +339,7 @@ StoredAnimation read_glb(const std::string& path) {
             ++a.frame_count;
         }
     } else {  // nodes (a mesh per frame) or one frame file
-        for (std::size_t mesh = 0; mesh < m.meshes.size(); ++mesh) {
+        for (const std::size_t mesh : water) {
             if (m.meshes[mesh].primitives.empty()) r.fail("a frame's mesh has no primitive");
             const tinygltf::Primitive& p = m.meshes[mesh].primitives[0];
             if (r.indices(p.indices) != a.triangles) r.fail("frame " + std::to_string(mesh) + " has other triangles than frame 0");

@@ -228,6 +228,12 @@ MorphAnimationView SceneAnimation::view() const {
     MorphAnimationView v = animation_view(*this);
     v.draco = draco;
     v.quantize = quantize;
+    if (dressing) {
+        v.dressing = *dressing;
+        v.dressing->seafloor_positions = seafloor_positions;
+        v.dressing->seafloor_colors = seafloor_colors;
+        v.dressing->seafloor_triangles = seafloor_triangles;
+    }
     return v;
 }
 
@@ -462,6 +468,50 @@ void rest_texcoords(const ScenePlan& plan, const Refinement* refined, SceneAnima
     }
 }
 
+// A seafloor colour for an elevation z (m): pale sand at the waterline darkening with
+// depth (the water itself adds the blue), grass above it (linear RGB).
+std::array<float, 3> seafloor_colour(double z, double depth_max) {
+    if (z > 0.0) return {0.16f, 0.2f, 0.08f};
+    const double t = std::clamp(-z / std::max(1e-9, depth_max), 0.0, 1.0);
+    return {static_cast<float>(0.6 - 0.35 * t), static_cast<float>(0.5 - 0.3 * t), static_cast<float>(0.32 - 0.2 * t)};
+}
+
+// The seafloor mesh (at most 256 nodes a side), camera, sun and material settings the
+// single-file forms carry beside the water (/outputs/seafloor, camera, sun, material).
+void dress_animation(const Scene& scene, const ScenePlan& plan, SceneAnimation& a) {
+    SceneDressing d;
+    d.water_material = scene.dress_material;
+    const PreviewOptions view = scene_preview(scene, plan.seafloor);
+    if (scene.dress_camera) {
+        d.camera_position = view.camera;
+        d.camera_look_at = view.look_at;
+        d.camera_vertical_fov_degrees = view.vertical_fov_degrees;
+        d.camera_aspect = static_cast<double>(view.width) / static_cast<double>(view.height);
+    }
+    if (scene.dress_sun) {
+        const double az = view.sun_azimuth_degrees * std::numbers::pi / 180.0, el = view.sun_elevation_degrees * std::numbers::pi / 180.0;
+        d.sun_direction = std::array<double, 3>{std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
+    }
+    const ElevationGrid& g = plan.seafloor.grid;
+    if (scene.dress_seafloor && surface_kind_traces(scene.surface_kind) != Traced::nothing && g.nx >= 2 && g.ny >= 2) {
+        const std::size_t step = std::max<std::size_t>(1, (std::max(g.nx, g.ny) + 255) / 256);
+        const std::size_t cols = (g.nx - 1) / step + 1, rows = (g.ny - 1) / step + 1;
+        const double depth_max = std::max(1e-9, seafloor_stats(plan.seafloor).depth_max);
+        for (std::size_t r = 0; r < rows; ++r)
+            for (std::size_t c = 0; c < cols; ++c) {
+                const std::size_t i = std::min(g.nx - 1, c * step), j = std::min(g.ny - 1, r * step);
+                const double z = g.z[j * g.nx + i];
+                a.seafloor_positions.insert(a.seafloor_positions.end(),
+                                            {static_cast<float>(g.x0 + static_cast<double>(i) * g.dx),
+                                             static_cast<float>(g.y0 + static_cast<double>(j) * g.dy), static_cast<float>(z)});
+                const auto colour = seafloor_colour(z, depth_max);
+                a.seafloor_colors.insert(a.seafloor_colors.end(), colour.begin(), colour.end());
+            }
+        a.seafloor_triangles = grid_triangles(cols, rows);
+    }
+    a.dressing = d;
+}
+
 }  // namespace
 
 SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double max_bytes, FrameRange range,
@@ -506,6 +556,7 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
         if (progress) progress(f + 1, a.frame_count);
     }
     rest_texcoords(plan, refined, a);
+    if (scene.form != Scene::Form::files) dress_animation(scene, plan, a);
     return a;
 }
 

@@ -486,7 +486,11 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     }
     if (root.has("outputs")) {
         const Node o = root["outputs"];
-        o.require_object({"attributes", "color", "form", "draco", "container", "quantize"});
+        o.require_object({"attributes", "color", "form", "draco", "container", "quantize", "seafloor", "camera", "sun", "material"});
+        if (o.has("seafloor")) s.dress_seafloor = o["seafloor"].boolean();
+        if (o.has("camera")) s.dress_camera = o["camera"].boolean();
+        if (o.has("sun")) s.dress_sun = o["sun"].boolean();
+        if (o.has("material")) s.dress_material = o["material"].boolean();
         if (o.has("quantize")) s.quantize = o["quantize"].boolean();
         if (o.has("container")) s.container = o["container"].choice(named_values(kContainers));
         if (o.has("form")) s.form = o["form"].choice(named_values(kForms));
