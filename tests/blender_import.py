@@ -17,8 +17,12 @@ scene = bpy.context.scene
 scene.render.fps = round(fps)
 scene.render.fps_base = round(fps) / fps
 bpy.ops.import_scene.gltf(filepath=path)
-meshes = [o for o in scene.objects if o.type == "MESH"]
+# The water; the file also carries the seafloor, a camera and the sun.
+meshes = [o for o in scene.objects if o.type == "MESH" and o.name != "seafloor"]
 errors = []
+if sorted(o.name for o in scene.objects if o.type != "MESH" or o.name == "seafloor")[:3] != ["camera", "seafloor", "sun"]:
+    errors.append("expected the seafloor, camera and sun beside the water, got " +
+                  str(sorted(o.name for o in scene.objects if o.type != "MESH" or o.name == "seafloor")))
 if form == "nodes":
     # One object per frame, each shown (scale 1) only on its own frame.
     if len(meshes) != frames:

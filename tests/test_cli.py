@@ -438,8 +438,8 @@ class MainJob(unittest.TestCase):
     def test_draco_nodes_and_files_validate_and_shrink(self):
         with tempfile.TemporaryDirectory() as d:
             scene = os.path.join(d, "s.json")
-            with open(scene, "w") as f:
-                json.dump(self.SMALL, f)
+            with open(scene, "w") as f:  # the water alone: Draco compresses it, not the seafloor beside it
+                json.dump({**self.SMALL, "outputs": {**self.SMALL.get("outputs", {}), "seafloor": False}}, f)
             sizes = {}
             for draco in [False, True]:
                 out = os.path.join(d, "draco" if draco else "plain")
@@ -542,7 +542,11 @@ class MainJob(unittest.TestCase):
             doc, binary = read_glb(glb)
             frames = report["surface"]["frames"]
             self.assertEqual(frames, 30)
-            self.assertEqual(len(doc["meshes"]), frames)
+            # One mesh per frame, and the seafloor beside them (with the camera and the sun).
+            self.assertEqual([m["name"] for m in doc["meshes"]].count("seafloor"), 1)
+            self.assertEqual(len(doc["meshes"]) - 1, frames)
+            self.assertEqual(sorted(n["name"] for n in doc["nodes"] if n["name"] in ("seafloor", "camera", "sun")),
+                             ["camera", "seafloor", "sun"])
             channels = doc["animations"][0]["channels"]
             self.assertEqual(len(channels), frames)
             self.assertTrue(all(c["target"]["path"] == "scale" for c in channels))

@@ -41,9 +41,13 @@ const loader = new GLTFLoader().setDRACOLoader(dracoLoader);
 // Frame sources: every form answers the same questions.
 // ---------------------------------------------------------------------------------
 
+// The water's meshes: libwave's morph and nodes files also carry the seafloor (a mesh
+// named "seafloor"), which the page shows but does not animate.
+const isWater = (o) => o.isMesh && o.name !== 'seafloor';
+
 function firstMesh(root) {
   let mesh = null;
-  root.traverse((o) => { if (!mesh && o.isMesh) mesh = o; });
+  root.traverse((o) => { if (!mesh && isWater(o)) mesh = o; });
   return mesh;
 }
 
@@ -95,7 +99,7 @@ async function gltfSource(url) {
   const prim = json.meshes[0].primitives[0];
   const morph = Array.isArray(prim.targets) && prim.targets.length > 0;
   const meshes = [];
-  gltf.scene.traverse((o) => { if (o.isMesh) meshes.push(o); });
+  gltf.scene.traverse((o) => { if (isWater(o)) meshes.push(o); });
   const frames = morph ? prim.targets.length : meshes.length;
   const targetCache = new Map();  // target index → { gltf name → BufferAttribute }
   const targetAttribute = async (i, name) => {

@@ -49,11 +49,19 @@ struct SceneDressing {
     std::span<const float> seafloor_positions;          ///< 3 per vertex (m)
     std::span<const float> seafloor_colors;             ///< 3 per vertex, linear RGB
     std::span<const std::uint32_t> seafloor_triangles;  ///< counter-clockwise seen from above
-    std::optional<std::array<double, 3>> camera_position, camera_look_at;
-    double camera_vertical_fov_degrees = 40.0, camera_aspect = 16.0 / 9.0;
-    std::optional<std::array<double, 3>> sun_direction;  ///< unit, from the scene towards the sun
+    bool camera = false;  ///< write the camera: at camera_position (z up), turned by camera_rotation
+    std::array<double, 3> camera_position{};
+    std::array<double, 4> camera_rotation{0.0, 0.0, 0.0, 1.0};  ///< glTF node rotation (x, y, z, w; glTF axes)
+    double camera_yfov = 0.6981317007977318, camera_aspect = 16.0 / 9.0;  ///< vertical field of view (rad), width / height
+    bool sun = false;  ///< write a directional light turned by sun_rotation
+    std::array<double, 4> sun_rotation{0.0, 0.0, 0.0, 1.0};  ///< glTF node rotation (the light shines along its −Z)
     bool water_material = false;
 };
+
+/// The glTF node rotation (x, y, z, w in glTF's y-up axes) that turns a camera or a
+/// directional light at `from` to look (along its −Z) towards `to`, its +Y as close to
+/// up as it can be; points z up.
+std::array<double, 4> gltf_look_rotation(const std::array<double, 3>& from, const std::array<double, 3>& to);
 
 struct MorphAnimationView {
     std::span<const std::uint32_t> triangles;  ///< 3 indices per triangle, counter-clockwise
@@ -84,7 +92,8 @@ struct MorphAnimationView {
     /// node transform undoing it (error <= extent / 65534), normals int8, UV maps
     /// uint16 (morph deltas int16; normal deltas stay float).
     bool quantize = false;
-    /// The seafloor, camera, sun and water material (morph and nodes forms).
+    /// The seafloor, camera, sun and water material (morph and nodes forms; in the files
+    /// form the loop's frame 0 carries them).
     std::optional<SceneDressing> dressing;
 };
 
@@ -153,6 +162,11 @@ struct StoredAnimation {
     std::string name = "water", scene;
     std::vector<std::uint32_t> triangles;
     std::vector<float> positions, normals, texcoords, reflect, refract, foam, colors;  ///< z up, as written
+    /// What the file carried beside the water (morph and nodes forms), to write it again:
+    /// the seafloor's arrays (z up) and the camera, sun and material settings.
+    std::vector<float> seafloor_positions, seafloor_colors;
+    std::vector<std::uint32_t> seafloor_triangles;
+    std::optional<SceneDressing> dressing;  ///< its spans are set by view()
     ScalarLayout layout = ScalarLayout::custom;
     bool draco_frames = false;  ///< read from a Draco-compressed frame (its own point order)
 

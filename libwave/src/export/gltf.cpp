@@ -129,7 +129,7 @@ namespace {
 
 // A node rotation (quaternion x, y, z, w, glTF axes) whose local +Z points along `z`
 // (z up in, converted to glTF's y up), its +Y as close to up as it can be.
-std::vector<double> rotation_with_z(std::array<double, 3> z_up) {
+std::array<double, 4> rotation_with_z(std::array<double, 3> z_up) {
     std::array<double, 3> z{z_up[0], z_up[2], -z_up[1]};
     const double len = std::hypot(z[0], z[1], z[2]);
     for (double& c : z) c /= len;
@@ -417,26 +417,25 @@ struct ModelWriter {
             model.nodes.push_back(node);
             roots.push_back(static_cast<int>(model.nodes.size() - 1));
         }
-        if (d.camera_position && d.camera_look_at) {
+        if (d.camera) {
             tinygltf::Camera cam;
             cam.name = "camera";
             cam.type = "perspective";
-            cam.perspective.yfov = d.camera_vertical_fov_degrees * std::numbers::pi / 180.0;
+            cam.perspective.yfov = d.camera_yfov;
             cam.perspective.aspectRatio = d.camera_aspect;
             cam.perspective.znear = 0.05;
             cam.perspective.zfar = 1e5;  // tinygltf writes zfar even when 0 (infinite), which the validator refuses
             model.cameras.push_back(cam);
-            const std::array<double, 3> eye = *d.camera_position, at = *d.camera_look_at;
+            const std::array<double, 3> eye = d.camera_position;
             tinygltf::Node node;
             node.name = "camera";
             node.camera = static_cast<int>(model.cameras.size() - 1);
-            // glTF cameras look along their −Z: Z points from the target to the eye.
-            node.rotation = rotation_with_z({eye[0] - at[0], eye[1] - at[1], eye[2] - at[2]});
+            node.rotation.assign(d.camera_rotation.begin(), d.camera_rotation.end());
             node.translation = {eye[0], eye[2], -eye[1]};
             model.nodes.push_back(node);
             roots.push_back(static_cast<int>(model.nodes.size() - 1));
         }
-        if (d.sun_direction) {
+        if (d.sun) {
             tinygltf::Light sun;
             sun.name = "sun";
             sun.type = "directional";
@@ -445,7 +444,7 @@ struct ModelWriter {
             model.lights.push_back(sun);
             tinygltf::Node node;
             node.name = "sun";
-            node.rotation = rotation_with_z(*d.sun_direction);  // a directional light shines along its −Z
+            node.rotation.assign(d.sun_rotation.begin(), d.sun_rotation.end());  // a directional light shines along its −Z
             tinygltf::Value::Object light;
             light["light"] = tinygltf::Value(static_cast<int>(model.lights.size() - 1));
             node.extensions["KHR_lights_punctual"] = tinygltf::Value(light);
@@ -601,12 +600,17 @@ std::string gltf_frame_glb(const MorphAnimationView& a, std::size_t f) {
     // The file describes its own frame (so a slice's frame file is the whole run's, byte for byte).
     MorphAnimationView one = a;
     one.first_frame = a.first_frame + f;
+    if (one.first_frame != 0) one.dressing.reset();  // the loop's frame 0 carries the scene, the others the water only
     ModelWriter w(one, a.draco ? 0 : 1);
     tinygltf::Mesh mesh;
     mesh.name = a.name;
     mesh.primitives.push_back(w.frame_primitive(a, f));
     w.model.meshes.push_back(std::move(mesh));
     return w.finish({w.node(a.name, 0)});
+}
+
+std::array<double, 4> gltf_look_rotation(const std::array<double, 3>& from, const std::array<double, 3>& to) {
+    return rotation_with_z({from[0] - to[0], from[1] - to[1], from[2] - to[2]});  // +Z from the target back to the eye
 }
 
 }  // namespace wave

@@ -283,6 +283,43 @@ void check_layout(const std::string& path, const std::string& bytes, bool binary
         }
 }
 
+// What a morph or nodes file carries beside the water (SceneDressing), kept so that
+// `wave convert` writes it again byte for byte.
+void read_dressing(const Reader& r, const tinygltf::Model& m, StoredAnimation& a) {
+    SceneDressing d;
+    d.water_material = std::any_of(m.materials.begin(), m.materials.end(), [](const auto& mat) { return mat.name == "water"; });
+    bool any = d.water_material;
+    for (const tinygltf::Node& n : m.nodes) {
+        if (n.name == "seafloor" && n.mesh >= 0 && static_cast<std::size_t>(n.mesh) < m.meshes.size() &&
+            !m.meshes[static_cast<std::size_t>(n.mesh)].primitives.empty()) {
+            const tinygltf::Primitive& p = m.meshes[static_cast<std::size_t>(n.mesh)].primitives[0];
+            if (!p.attributes.count("POSITION")) r.fail("the seafloor mesh has no POSITION");
+            const std::vector<float> xyz = r.floats(p.attributes.at("POSITION"), 3);
+            a.seafloor_positions.resize(xyz.size());
+            for (std::size_t i = 0; i + 2 < xyz.size(); i += 3) {  // glTF y up → z up
+                a.seafloor_positions[i] = xyz[i];
+                a.seafloor_positions[i + 1] = -xyz[i + 2];
+                a.seafloor_positions[i + 2] = xyz[i + 1];
+            }
+            if (p.attributes.count("COLOR_0")) a.seafloor_colors = r.floats(p.attributes.at("COLOR_0"), 3);
+            a.seafloor_triangles = r.indices(p.indices);
+            any = true;
+        } else if (n.camera >= 0 && static_cast<std::size_t>(n.camera) < m.cameras.size() && n.translation.size() == 3 &&
+                   n.rotation.size() == 4) {
+            const tinygltf::PerspectiveCamera& c = m.cameras[static_cast<std::size_t>(n.camera)].perspective;
+            d.camera = any = true;
+            d.camera_position = {n.translation[0], -n.translation[2], n.translation[1]};
+            std::copy(n.rotation.begin(), n.rotation.end(), d.camera_rotation.begin());
+            d.camera_yfov = c.yfov;
+            d.camera_aspect = c.aspectRatio;
+        } else if (n.extensions.count("KHR_lights_punctual") && n.rotation.size() == 4) {
+            d.sun = any = true;
+            std::copy(n.rotation.begin(), n.rotation.end(), d.sun_rotation.begin());
+        }
+    }
+    if (any) a.dressing = d;
+}
+
 StoredAnimation read_glb(const std::string& path) {
     tinygltf::Model m;
     tinygltf::TinyGLTF loader;
@@ -347,6 +384,7 @@ StoredAnimation read_glb(const std::string& path) {
             ++a.frame_count;
         }
     }
+    read_dressing(r, m, a);
     if (a.positions.size() != 3 * a.vertex_count * a.frame_count) r.fail("frames of different sizes");
     // Every attribute covers every vertex of every frame (or is absent): the writers
     // index them by vertex.
@@ -363,6 +401,12 @@ StoredAnimation read_glb(const std::string& path) {
 MorphAnimationView StoredAnimation::view() const {
     MorphAnimationView v = animation_view(*this);
     v.name = name;
+    if (dressing) {
+        v.dressing = *dressing;
+        v.dressing->seafloor_positions = seafloor_positions;
+        v.dressing->seafloor_colors = seafloor_colors;
+        v.dressing->seafloor_triangles = seafloor_triangles;
+    }
     return v;
 }
 

@@ -483,14 +483,16 @@ void dress_animation(const Scene& scene, const ScenePlan& plan, SceneAnimation& 
     d.water_material = scene.dress_material;
     const PreviewOptions view = scene_preview(scene, plan.seafloor);
     if (scene.dress_camera) {
+        d.camera = true;
         d.camera_position = view.camera;
-        d.camera_look_at = view.look_at;
-        d.camera_vertical_fov_degrees = view.vertical_fov_degrees;
+        d.camera_rotation = gltf_look_rotation(view.camera, view.look_at);
+        d.camera_yfov = view.vertical_fov_degrees * std::numbers::pi / 180.0;
         d.camera_aspect = static_cast<double>(view.width) / static_cast<double>(view.height);
     }
     if (scene.dress_sun) {
         const double az = view.sun_azimuth_degrees * std::numbers::pi / 180.0, el = view.sun_elevation_degrees * std::numbers::pi / 180.0;
-        d.sun_direction = std::array<double, 3>{std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
+        d.sun = true;  // shining from the sun's direction towards the origin
+        d.sun_rotation = gltf_look_rotation({std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)}, {0.0, 0.0, 0.0});
     }
     const ElevationGrid& g = plan.seafloor.grid;
     if (scene.dress_seafloor && surface_kind_traces(scene.surface_kind) != Traced::nothing && g.nx >= 2 && g.ny >= 2) {
@@ -556,7 +558,7 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
         if (progress) progress(f + 1, a.frame_count);
     }
     rest_texcoords(plan, refined, a);
-    if (scene.form != Scene::Form::files) dress_animation(scene, plan, a);
+    dress_animation(scene, plan, a);
     return a;
 }
 
