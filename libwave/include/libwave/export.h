@@ -117,6 +117,12 @@ MorphAnimationView animation_view(const Frames& a) {
     v.first_frame = a.first_frame;
     v.loop_frames = a.loop_frames;
     v.scene = a.scene;
+    if (a.dressing) {
+        v.dressing = *a.dressing;
+        v.dressing->seafloor_positions = a.seafloor_positions;
+        v.dressing->seafloor_colors = a.seafloor_colors;
+        v.dressing->seafloor_triangles = a.seafloor_triangles;
+    }
     return v;
 }
 

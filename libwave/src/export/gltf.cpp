@@ -371,6 +371,10 @@ struct ModelWriter {
     }
     // The seafloor, camera, sun and water material beside the water (SceneDressing).
     void dress(const SceneDressing& d, std::vector<int>& roots) {
+        const auto add_root = [&](tinygltf::Node n) {
+            model.nodes.push_back(std::move(n));
+            roots.push_back(static_cast<int>(model.nodes.size() - 1));
+        };
         if (d.water_material) {
             tinygltf::Material water;
             water.name = "water";
@@ -414,8 +418,7 @@ struct ModelWriter {
             tinygltf::Node node;
             node.name = "seafloor";
             node.mesh = static_cast<int>(model.meshes.size() - 1);
-            model.nodes.push_back(node);
-            roots.push_back(static_cast<int>(model.nodes.size() - 1));
+            add_root(std::move(node));
         }
         if (d.camera) {
             tinygltf::Camera cam;
@@ -432,8 +435,7 @@ struct ModelWriter {
             node.camera = static_cast<int>(model.cameras.size() - 1);
             node.rotation.assign(d.camera_rotation.begin(), d.camera_rotation.end());
             node.translation = {eye[0], eye[2], -eye[1]};
-            model.nodes.push_back(node);
-            roots.push_back(static_cast<int>(model.nodes.size() - 1));
+            add_root(std::move(node));
         }
         if (d.sun) {
             tinygltf::Light sun;
@@ -448,8 +450,7 @@ struct ModelWriter {
             tinygltf::Value::Object light;
             light["light"] = tinygltf::Value(static_cast<int>(model.lights.size() - 1));
             node.extensions["KHR_lights_punctual"] = tinygltf::Value(light);
-            model.nodes.push_back(node);
-            roots.push_back(static_cast<int>(model.nodes.size() - 1));
+            add_root(std::move(node));
         }
     }
     std::string finish(std::vector<int> roots) {

@@ -401,12 +401,6 @@ StoredAnimation read_glb(const std::string& path) {
 MorphAnimationView StoredAnimation::view() const {
     MorphAnimationView v = animation_view(*this);
     v.name = name;
-    if (dressing) {
-        v.dressing = *dressing;
-        v.dressing->seafloor_positions = seafloor_positions;
-        v.dressing->seafloor_colors = seafloor_colors;
-        v.dressing->seafloor_triangles = seafloor_triangles;
-    }
     return v;
 }
 

@@ -228,12 +228,6 @@ MorphAnimationView SceneAnimation::view() const {
     MorphAnimationView v = animation_view(*this);
     v.draco = draco;
     v.quantize = quantize;
-    if (dressing) {
-        v.dressing = *dressing;
-        v.dressing->seafloor_positions = seafloor_positions;
-        v.dressing->seafloor_colors = seafloor_colors;
-        v.dressing->seafloor_triangles = seafloor_triangles;
-    }
     return v;
 }
 
@@ -276,6 +270,14 @@ RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan) {
         case Scene::Form::files:
             e.output_bytes = frames * (scene.draco ? draco_frame : indices + uv0 + n * per_frame_vertex * (scene.quantize ? 0.7 : 1.0));
             break;
+    }
+    // The seafloor beside the water (morph and nodes files; the files form's frame 0):
+    // float positions and colours and the triangles of a grid of at most 256 a side.
+    const ElevationGrid& g = plan.seafloor.grid;
+    if (scene.dress_seafloor && surface_kind_traces(scene.surface_kind) != Traced::nothing && g.nx >= 2 && g.ny >= 2) {
+        const double step = static_cast<double>(std::max<std::size_t>(1, (std::max(g.nx, g.ny) + 255) / 256));
+        const double cols = std::floor(static_cast<double>(g.nx - 1) / step) + 1.0, rows = std::floor(static_cast<double>(g.ny - 1) / step) + 1.0;
+        e.output_bytes += 24.0 * cols * rows + 24.0 * (cols - 1.0) * (rows - 1.0);
     }
     // Measured on the default scene (peak RSS of wave run, each form): ~30 MB of
     // process and libraries, ~1.5 kB per surface vertex of plan (isobaths, fronts, the

@@ -22,6 +22,7 @@
 #include <numbers>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 namespace wave {
 namespace {
@@ -99,17 +100,19 @@ void read_isobaths(const Node& n, IsobathOptions& o) {
     }
 }
 
+// A direction [x, y] of travel (need not be unit; not zero).
+std::pair<double, double> read_direction(const Node& n) {
+    const auto d = n.numbers(2, "direction");
+    if (d[0] == 0.0 && d[1] == 0.0) n.fail("expected a non-zero direction [x, y]");
+    return {d[0], d[1]};
+}
+
 WaveTrain read_wave(const Node& n) {
     n.require_object({"period", "amplitude", "direction"});
     WaveTrain w;
     if (n.has("period")) w.period = n["period"].number("s");
     if (n.has("amplitude")) w.amplitude = n["amplitude"].number("m");
-    if (n.has("direction")) {
-        const auto d = n["direction"].numbers(2, "direction");
-        if (d[0] == 0.0 && d[1] == 0.0) n["direction"].fail("expected a non-zero direction [x, y]");
-        w.direction_x = d[0];
-        w.direction_y = d[1];
-    }
+    if (n.has("direction")) std::tie(w.direction_x, w.direction_y) = read_direction(n["direction"]);
     return w;
 }
 
@@ -300,12 +303,7 @@ void read_preview(const Node& n, Scene& s) {
             w.require_object({"amplitude", "direction", "wavelength", "phase"});
             BumpWave bw;
             if (w.has("amplitude")) bw.amplitude = w["amplitude"].number("tan of the tilt");
-            if (w.has("direction")) {
-                const auto d = w["direction"].numbers(2, "");
-                if (d[0] == 0.0 && d[1] == 0.0) w["direction"].fail("the direction must not be zero");
-                bw.direction_x = d[0];
-                bw.direction_y = d[1];
-            }
+            if (w.has("direction")) std::tie(bw.direction_x, bw.direction_y) = read_direction(w["direction"]);
             if (w.has("wavelength")) bw.wavelength = w["wavelength"].number("m");
             if (w.has("phase")) bw.phase = w["phase"].number("rad");
             o.bump.push_back(bw);
@@ -368,12 +366,7 @@ GerstnerSpec read_gerstner(const Node& n) {
     GerstnerSpec g;
     if (n.has("wavelength")) g.wavelength = n["wavelength"].number("m");
     if (n.has("amplitude")) g.amplitude = n["amplitude"].number("m");
-    if (n.has("direction")) {
-        const auto d = n["direction"].numbers(2, "direction");
-        if (std::hypot(d[0], d[1]) == 0.0) n["direction"].fail("expected a non-zero direction [x, y]");
-        g.direction_x = d[0];
-        g.direction_y = d[1];
-    }
+    if (n.has("direction")) std::tie(g.direction_x, g.direction_y) = read_direction(n["direction"]);
     if (n.has("phase")) g.phase = n["phase"].number("rad");
     return g;
 }
