@@ -85,8 +85,8 @@ int main(int argc, char** argv) {
     run_cmd->add_option("scene", run.scene, "scene file (JSON); none = the built-in default scene");
     run_cmd->add_option("-o,--out", run.out_dir, "output folder (default: wave-out/<scene name>)");
     run_cmd->add_flag("--json", run.json, "print the report as JSON");
-    run_cmd->add_option("--form", run.form, "animation form: morph (one .glb of shape keys), nodes (one object per frame), files (one .glb per frame + index.json)")
-        ->check(CLI::IsMember({"morph", "nodes", "files"}));
+    run_cmd->add_option("--form", run.form, "animation form: morph (one .glb of shape keys), nodes (one object per frame), files (one .glb per frame + index.json), pc2 (a base .glb/.obj + PC2 point caches for Blender's Mesh Cache modifier, Maya, 3ds Max, Houdini)")
+        ->check(CLI::IsMember({"morph", "nodes", "files", "pc2"}));
     run_cmd->add_option("--frames", run.frames, "A:B: only frames A … B-1 of the loop (slices of one animation can run on different machines; the files form merges them in index.json)");
     run_cmd->add_option("--slice", run.slice, "I/N: slice I (0-based) of N equal slices of the loop, e.g. a Slurm array task's $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT");
     run_cmd->add_option("--container", run.container, "glb (binary, default) or gltf (JSON + external .bin)")
@@ -114,7 +114,7 @@ int main(int argc, char** argv) {
     batch_cmd->add_option("inputs", batch.inputs, "scene files, folders or patterns")->required();
     batch_cmd->add_option("-o,--out", batch.out_dir, "output folder (default: wave-out/batch)");
     batch_cmd->add_option("-j,--jobs", batch.jobs, "scenes run at the same time (default 1)")->check(positive);
-    batch_cmd->add_option("--form", batch_form, "as for run")->check(CLI::IsMember({"morph", "nodes", "files"}));
+    batch_cmd->add_option("--form", batch_form, "as for run")->check(CLI::IsMember({"morph", "nodes", "files", "pc2"}));
     batch_cmd->add_option("--frames", batch_frames, "as for run");
     batch_cmd->add_option("--container", batch_container, "as for run")->check(CLI::IsMember({"glb", "gltf"}));
     batch_cmd->add_option("--fps", batch_fps, "as for run")->check(positive);
@@ -130,7 +130,7 @@ int main(int argc, char** argv) {
     auto* convert_cmd = app.add_subcommand("convert", "Re-encode an output of wave run (a .glb/.gltf, or the files form's index.json) in another form or compression, without recomputing");
     convert_cmd->add_option("input", convert.input, "animation.glb / .gltf, a frame file, or index.json")->required();
     convert_cmd->add_option("-o,--out", convert.out_dir, "output folder")->required();
-    convert_cmd->add_option("--form", convert.form, "morph (default), nodes or files")->check(CLI::IsMember({"morph", "nodes", "files"}));
+    convert_cmd->add_option("--form", convert.form, "morph (default), nodes or files")->check(CLI::IsMember({"morph", "nodes", "files", "pc2"}));
     convert_cmd->add_option("--container", convert.container, "glb (default) or gltf")->check(CLI::IsMember({"glb", "gltf"}));
     convert_cmd->add_flag("--draco", convert.draco, "Draco-compress (morph: the base mesh)");
     convert_cmd->add_flag("--quantize", convert.quantize, "KHR_mesh_quantization");

@@ -1,10 +1,12 @@
 # Runs the default scene in the morph, quantised morph, nodes and files forms (6 fps to
 # keep it short), then plays each through the Blender add-on (tests/blender_addon.py).
 file(REMOVE_RECURSE ${OUT})
-foreach(form morph quant nodes files)
+foreach(form morph quant nodes files pc2)
   set(args --fps 6)
   if(form STREQUAL "quant")
     list(APPEND args --quantize)
+  elseif(form STREQUAL "pc2")
+    list(APPEND args --form pc2)
   elseif(NOT form STREQUAL "morph")
     list(APPEND args --form ${form})
   endif()

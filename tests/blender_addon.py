@@ -25,7 +25,36 @@ def source(folder):
         os.path.join(folder, "animation.glb")
 
 
+def check_point_cache(folder, reference):
+    """The pc2 form without the add-on: its .obj base mesh (axes kept: z up) with Blender's
+    Mesh Cache modifier reading animation.pc2 shows the morph run's frames."""
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
+    bpy.ops.wm.obj_import(filepath=os.path.join(folder, "animation.obj"), forward_axis="Y", up_axis="Z")
+    obj = bpy.context.selected_objects[0]
+    cache = obj.modifiers.new("libwave", "MESH_CACHE")
+    cache.cache_format = "PC2"
+    cache.filepath = os.path.join(folder, "animation.pc2")
+    expected = libwave.read_animation(reference)
+    n, scene = expected["vertex_count"], bpy.context.scene
+    if len(obj.data.vertices) != n:
+        errors.append(f"{folder}: the .obj has {len(obj.data.vertices)} vertices, expected {n}")
+        return
+    for f in [0, 1, expected["frame_count"] // 2]:
+        scene.frame_set(f)
+        mesh = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).to_mesh()
+        co = np.empty(3 * n, np.float32)
+        mesh.vertices.foreach_get("co", co)
+        gap = np.abs(co.reshape(n, 3) - expected["positions"][f]).max()
+        if gap > 1e-5:
+            errors.append(f"{folder}: Mesh Cache frame {f}: positions off by {gap}")
+    print(f"LIBWAVE-ADDON checked {folder}: the PC2 point cache through Blender's Mesh Cache modifier")
+
+
 for folder in runs:
+    if folder.endswith("pc2"):
+        check_point_cache(folder, os.path.join(os.path.dirname(folder), "morph", "animation.glb"))
+        continue
     for obj in list(bpy.data.objects):
         bpy.data.objects.remove(obj)
     path = source(folder)

@@ -953,6 +953,31 @@ class BlenderDelivery(unittest.TestCase):
             self.assertEqual(r.returncode, 2)
             self.assertIn("excludes", r.stderr)
 
+    def test_pc2_form_holds_every_frame(self):
+        # The point cache equals the morph form's frames; the shading cache holds (reflect, refract, foam).
+        with tempfile.TemporaryDirectory() as d:
+            for form in ["pc2", "morph"]:
+                r = wave("run", "-o", os.path.join(d, form), "--form", form, "--fps", "6", "-q")
+                self.assertEqual(r.returncode, 0, r.stderr)
+            data = pathlib.Path(d, "pc2", "animation.pc2").read_bytes()
+            self.assertEqual(data[:12], b"POINTCACHE2\0")
+            version, points, start, rate, samples = struct.unpack_from("<iiffi", data, 12)
+            self.assertEqual((version, start, rate, samples), (1, 0.0, 1.0, 30))
+            self.assertEqual(len(data), 32 + 12 * points * samples)
+            doc, binary = read_glb(os.path.join(d, "morph", "animation.glb"))
+            prim = doc["meshes"][0]["primitives"][0]
+            base = floats(doc, binary, prim["attributes"]["POSITION"])
+            delta = floats(doc, binary, prim["targets"][7]["POSITION"])
+            cache = struct.unpack_from(f"<{3 * points}f", data, 32 + 7 * 12 * points)
+            for v in range(0, points, 997):  # glTF y up → z up: (x, y, z) → (x, −z, y)
+                x, y, z = (base[3 * v + i] + delta[3 * v + i] for i in range(3))
+                for got, want in zip(cache[3 * v:3 * v + 3], (x, -z, y)):
+                    self.assertAlmostEqual(got, want, delta=1e-5)
+            shading = pathlib.Path(d, "pc2", "animation-shading.pc2").read_bytes()
+            self.assertEqual(len(shading), len(data))
+            self.assertTrue(all(0.0 <= f <= 1.0 for f in struct.unpack_from("<300f", shading, 32)))
+            validate_gltf(self, os.path.join(d, "pc2", "animation.glb"))
+
 
 class CrashSafety(unittest.TestCase):
     """SIGKILL at random moments while `wave run` computes and writes: every file under

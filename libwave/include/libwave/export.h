@@ -20,6 +20,12 @@ namespace wave {
 /// One triangle mesh as OBJ text: `v x y z` per vertex (3 floats each in `positions`),
 /// `f a b c` per triangle (0-based `triangles`, written 1-based), a comment line first.
 /// Precondition: every index < positions.size() / 3.
+/// A PC2 point cache (Blender's Mesh Cache modifier, 3ds Max, Maya, Cinema 4D, Houdini):
+/// the 12-byte signature "POINTCACHE2\0", version 1, the point count, the start frame and
+/// the sampling step (frames), the sample count, then every sample's points as float32
+/// x, y, z, little-endian. `points` holds sample_count · point_count · 3 values.
+std::string pc2_bytes(std::span<const float> points, std::size_t point_count, std::size_t sample_count, float start_frame);
+
 std::string mesh_to_obj(std::span<const float> positions, std::span<const std::uint32_t> triangles,
                         std::string_view comment);
 

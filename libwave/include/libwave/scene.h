@@ -115,7 +115,7 @@ struct Scene {
     bool dress_seafloor = true, dress_camera = true, dress_sun = true, dress_material = true;
     /// How the animation is written: one .glb of morph targets, one .glb of
     /// scale-switched nodes, or one .glb per frame plus index.json.
-    enum class Form { morph, nodes, files } form = Form::morph;
+    enum class Form { morph, nodes, files, pc2 } form = Form::morph;
     bool quantize = false;  ///< KHR_mesh_quantization (not with Draco)
     /// Binary .glb, or text .gltf with an external .bin.
     enum class Container { glb, gltf } container = Container::glb;

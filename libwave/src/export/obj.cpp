@@ -2,7 +2,11 @@
 // same float, so the file is exact and byte-identical for identical input.
 #include "libwave/export.h"
 
+#include "libwave/errors.h"
+
+#include <bit>
 #include <cassert>
+#include <cstdint>
 #include <charconv>
 
 namespace wave {
@@ -33,6 +37,23 @@ std::string mesh_to_obj(std::span<const float> positions, std::span<const std::u
         }
         out += '\n';
     }
+    return out;
+}
+
+std::string pc2_bytes(std::span<const float> points, std::size_t point_count, std::size_t sample_count, float start_frame) {
+    if (points.size() != 3 * point_count * sample_count)
+        throw InputError("PC2 export: " + std::to_string(points.size()) + " values for " + std::to_string(sample_count) +
+                         " samples of " + std::to_string(point_count) + " points");
+    if (point_count > 0x7fffffff || sample_count > 0x7fffffff) throw LimitError("PC2 export: more than 2³¹ points or samples");
+    static_assert(std::endian::native == std::endian::little, "PC2 is little-endian");
+    std::string out("POINTCACHE2", 12);  // the signature with its terminating zero
+    const auto put = [&](const auto value) { out.append(reinterpret_cast<const char*>(&value), sizeof value); };
+    put(std::int32_t{1});
+    put(static_cast<std::int32_t>(point_count));
+    put(start_frame);
+    put(1.0f);  // one sample per frame
+    put(static_cast<std::int32_t>(sample_count));
+    out.append(reinterpret_cast<const char*>(points.data()), points.size_bytes());
     return out;
 }
 

@@ -203,6 +203,26 @@ EncodedFiles encode_animation(const MorphAnimationView& view, Scene::Form form, 
     const std::string animation_name = whole ? "animation.glb" : slice_name;
     if (form == Scene::Form::morph) files.emplace_back(animation_name, gltf_morph_glb(view));
     if (form == Scene::Form::nodes) files.emplace_back(animation_name, gltf_nodes_glb(view));
+    if (form == Scene::Form::pc2) {
+        // Point caches beside a base mesh (frame 0 of the range) as .glb and .obj, z up as
+        // written; the shading as a second cache of (reflect, refract, foam) "points".
+        const std::string base = whole ? "animation" : animation_name.substr(0, animation_name.size() - 4);
+        const std::size_t n = view.vertex_count;
+        files.emplace_back(base + ".glb", gltf_frame_glb(view, 0));
+        files.emplace_back(base + ".obj", mesh_to_obj(view.positions.first(3 * n), view.triangles,
+                                                      "libwave: base mesh of " + base + ".pc2, z up"));
+        const auto start = static_cast<float>(view.first_frame);
+        files.emplace_back(base + ".pc2", pc2_bytes(view.positions, n, view.frame_count, start));
+        if (!view.foam.empty()) {
+            std::vector<float> shading(3 * n * view.frame_count);
+            for (std::size_t i = 0; i < n * view.frame_count; ++i) {
+                shading[3 * i] = view.reflect[i];
+                shading[3 * i + 1] = view.refract[i];
+                shading[3 * i + 2] = view.foam[i];
+            }
+            files.emplace_back(base + "-shading.pc2", pc2_bytes(shading, n, view.frame_count, start));
+        }
+    }
     if (form == Scene::Form::files)
         for (std::size_t k = 0; k < view.frame_count; ++k) {
             char name[48];
@@ -269,6 +289,9 @@ RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan) {
             break;
         case Scene::Form::files:
             e.output_bytes = frames * (scene.draco ? draco_frame : indices + uv0 + n * per_frame_vertex * (scene.quantize ? 0.7 : 1.0));
+            break;
+        case Scene::Form::pc2:  // positions and the shading as float triples per frame, the base mesh twice
+            e.output_bytes = frames * n * (12.0 + (shaded ? 12.0 : 0.0)) + 2.0 * (n * per_frame_vertex + uv0 + indices);
             break;
     }
     // The seafloor beside the water (morph and nodes files; the files form's frame 0):

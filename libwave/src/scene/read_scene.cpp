@@ -127,8 +127,8 @@ void read_trace(const Node& n, Scene& s) {
 }
 
 // The export forms and containers by name (form_name, form_from_name, …).
-constexpr std::array<std::pair<std::string_view, Scene::Form>, 3> kForms{
-    {{"morph", Scene::Form::morph}, {"nodes", Scene::Form::nodes}, {"files", Scene::Form::files}}};
+constexpr std::array<std::pair<std::string_view, Scene::Form>, 4> kForms{
+    {{"morph", Scene::Form::morph}, {"nodes", Scene::Form::nodes}, {"files", Scene::Form::files}, {"pc2", Scene::Form::pc2}}};
 constexpr std::array<std::pair<std::string_view, Scene::Container>, 2> kContainers{
     {{"glb", Scene::Container::glb}, {"gltf", Scene::Container::gltf}}};
 
