@@ -31,10 +31,13 @@ using detail::fmt;
 using detail::json;
 using detail::Node;
 
-// An image (the preview's, the camera grid's) is limited to 10⁸ pixels, the product
-// taken without wrap-around.
-void image_limit(const Node& n, std::size_t width, std::size_t height) {
+// An image size [width, height] (the preview's, the camera grid's), at most 10⁸ pixels, the
+// product taken without wrap-around.
+void read_image(const Node& n, std::size_t& width, std::size_t& height) {
     constexpr std::size_t kMaxPixels = 100'000'000;
+    const auto im = n.count_pair("[width, height] in pixels");
+    width = im[0];
+    height = im[1];
     const std::size_t pixels = detail::mul_sat(width, height);
     if (pixels > kMaxPixels)
         n.fail(detail::format_count(pixels) + " pixels; at most " + detail::format_count(kMaxPixels));
@@ -173,12 +176,7 @@ void read_surface(const Node& n, Scene& s) {
         GridCamera g;
         if (c.has("look_at")) g.look_at = c["look_at"].point3();
         if (c.has("vertical_fov_degrees")) g.vertical_fov_degrees = c["vertical_fov_degrees"].number("degrees");
-        if (c.has("image")) {
-            const auto im = c["image"].count_pair("[width, height] in pixels");
-            g.image_width = im[0];
-            g.image_height = im[1];
-            image_limit(c["image"], g.image_width, g.image_height);
-        }
+        if (c.has("image")) read_image(c["image"], g.image_width, g.image_height);
         if (c.has("pixel_step")) g.pixel_step = c["pixel_step"].count();
         if (c.has("max_distance")) g.max_distance = c["max_distance"].number("m");
         s.camera_grid = g;
@@ -276,12 +274,7 @@ void read_preview(const Node& n, Scene& s) {
         s.preview_look_at_set = true;
     }
     if (n.has("vertical_fov_degrees")) o.vertical_fov_degrees = n["vertical_fov_degrees"].number("degrees");
-    if (n.has("image")) {
-        const auto im = n["image"].count_pair("[width, height] in pixels");
-        o.width = im[0];
-        o.height = im[1];
-        image_limit(n["image"], o.width, o.height);
-    }
+    if (n.has("image")) read_image(n["image"], o.width, o.height);
     if (n.has("sun")) {
         const Node sun = n["sun"];
         sun.require_object({"azimuth_degrees", "elevation_degrees"});
