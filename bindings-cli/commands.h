@@ -2,6 +2,7 @@
 #pragma once
 
 #include "libwave/bathymetry.h"
+#include "libwave/inspect.h"
 
 #include <filesystem>
 #include <limits>
@@ -145,6 +146,15 @@ struct MergeArgs {
     bool partial = false, quiet = false;
 };
 int run_merge(const MergeArgs& a);
+
+/// `wave inspect`: folds, lips, slivers, boundary loops and vertex speeds of an output
+/// of `wave run` (a folder, a .glb/.gltf or the files form's index.json), every frame.
+struct InspectArgs {
+    std::string path;
+    InspectOptions options;
+    bool json = false;
+};
+int run_inspect(const InspectArgs& a);
 
 /// Checks a scene file (JSON, keys, values, the seafloor source, the camera) without
 /// running it; prints what it would do.

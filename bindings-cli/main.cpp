@@ -180,6 +180,17 @@ int main(int argc, char** argv) {
     field_cmd->add_option("--train", field.train, "which wave train of /waves (default 0)");
     field_cmd->add_flag("--json", field.json, "print a JSON summary");
 
+    cli::InspectArgs inspect;
+    auto* inspect_cmd = app.add_subcommand("inspect", "Check an output of wave run as a renderer meets it, every frame: folds and overturning lips, slivers, long edges, boundary loops, unreferenced vertices, vertex speeds");
+    inspect_cmd->add_option("path", inspect.path, "output folder, a .glb/.gltf, or index.json")->required();
+    inspect_cmd->add_option("--sliver-angle", inspect.options.sliver_angle_deg, "smallest angle (degrees) below which a triangle is a sliver")
+        ->capture_default_str()->check(CLI::Range(0.0, 60.0));
+    inspect_cmd->add_option("--lip-foam", inspect.options.lip_foam, "foam from which a triangle facing down is an overturning lip, not a fold")
+        ->capture_default_str()->check(CLI::Range(0.0, 1.0));
+    inspect_cmd->add_option("--long-edge", inspect.options.long_edge_ratio, "edge length over the local spacing counted as long")
+        ->capture_default_str()->check(CLI::Range(1.0, 1e6));
+    inspect_cmd->add_flag("--json", inspect.json, "print everything as JSON, every frame included");
+
     cli::TraceArgs trace;
     auto* trace_cmd = app.add_subcommand("trace", "Trace a scene's wave trains: rays or fronts as CSV, ray strips as PLY, a summary");
     trace_cmd->add_option("scene", trace.scene, "scene file (JSON)")->required();
@@ -255,6 +266,7 @@ int main(int argc, char** argv) {
         if (*schema_cmd) return cli::run_schema();
         if (*trace_cmd) return cli::run_trace(trace);
         if (*field_cmd) return cli::run_field(field);
+        if (*inspect_cmd) return cli::run_inspect(inspect);
         if (*disp_cmd) return cli::run_dispersion(disp);
         if (*info_cmd) return cli::run_seafloor_info(sea);
         if (*cont_cmd) return cli::run_contours(cont);

@@ -3,6 +3,7 @@
 // handling and calls into libwave only; the GIL is released during long work.
 #include "libwave/errors.h"
 #include "libwave/export.h"
+#include "libwave/inspect.h"
 #include "libwave/io.h"
 #include "libwave/physics.h"
 #include "libwave/scene.h"
@@ -53,19 +54,26 @@ PYBIND11_MODULE(libwave, m) {
     m.doc() = "libwave: coastal wave tracing and animated water meshes (scene → plan → frames → glTF)";
     m.attr("__version__") = wave::version();
 
-    // Errors keep libwave's messages (file, JSON pointer, value); InputError is a ValueError.
-    static py::exception<wave::Error> error(m, "Error", PyExc_RuntimeError);
-    static py::exception<wave::InputError> input_error(m, "InputError", PyExc_ValueError);
-    static py::exception<wave::LimitError> limit_error(m, "LimitError", input_error.ptr());
+    // Errors keep libwave's messages (file, JSON pointer, value). The hierarchy is C++'s:
+    // InputError and LimitError are libwave.Error (`except libwave.Error` catches every
+    // libwave failure); InputError is also a ValueError, Error a RuntimeError.
+    static PyObject* const error = PyErr_NewException("libwave.Error", PyExc_RuntimeError, nullptr);
+    static PyObject* const input_error =
+        PyErr_NewException("libwave.InputError", py::make_tuple(py::handle(error), py::handle(PyExc_ValueError)).ptr(), nullptr);
+    static PyObject* const limit_error = PyErr_NewException("libwave.LimitError", input_error, nullptr);
+    if (!error || !input_error || !limit_error) throw py::error_already_set();
+    m.attr("Error") = py::handle(error);
+    m.attr("InputError") = py::handle(input_error);
+    m.attr("LimitError") = py::handle(limit_error);
     py::register_exception_translator([](std::exception_ptr p) {
         try {
             if (p) std::rethrow_exception(p);
         } catch (const wave::LimitError& e) {
-            limit_error(e.what());
+            PyErr_SetString(limit_error, e.what());
         } catch (const wave::InputError& e) {
-            input_error(e.what());
+            PyErr_SetString(input_error, e.what());
         } catch (const wave::Error& e) {
-            error(e.what());
+            PyErr_SetString(error, e.what());
         }
     });
 
@@ -275,4 +283,28 @@ PYBIND11_MODULE(libwave, m) {
         "Reads an output of wave run (.glb/.gltf of the morph or nodes form, a frame file, or the files form's "
         "index.json; plain, quantised or a Draco morph base): positions (frames, n, 3) z up, foam/reflect/refract "
         "(frames, n), colors, triangles, fps, frame_count, first_frame, loop_frames, scene");
+
+    m.def(
+        "inspect",
+        [](py::object source, double sliver_angle, double lip_foam, double long_edge_ratio, bool per_frame) {
+            wave::InspectOptions o;
+            o.sliver_angle_deg = sliver_angle, o.lip_foam = lip_foam, o.long_edge_ratio = long_edge_ratio;
+            std::string text;
+            if (py::isinstance<SceneAnimation>(source)) {
+                const auto& a = source.cast<const SceneAnimation&>();
+                py::gil_scoped_release release;
+                text = wave::inspection_json(wave::inspect_animation(a.view(), o), o, per_frame);
+            } else {
+                const std::string path = py::str(source);
+                py::gil_scoped_release release;
+                text = wave::inspection_json(wave::inspect_animation(wave::read_animation(path).view(), o), o, per_frame);
+            }
+            return py::module_::import("json").attr("loads")(text);
+        },
+        py::arg("source"), py::arg("sliver_angle") = 15.0, py::arg("lip_foam") = 0.1, py::arg("long_edge_ratio") = 3.0,
+        py::arg("per_frame") = true,
+        "Checks an animation as a renderer meets it (docs/inspect.md): an Animation, or the path of an output of wave run "
+        "(.glb/.gltf or index.json). Returns a dict: topology (unreferenced_vertices, non_manifold_edges, boundary loops), "
+        "worst (folds, lips, slivers, smallest_angle_deg, longest_edge_m, worst_edge_ratio, max_speed_m_s, ...) and "
+        "per_frame, the same for every frame");
 }

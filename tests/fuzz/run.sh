@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets (the `fuzz` preset: clang, ASan + UBSan) and runs each
+# Builds the libFuzzer targets (the `asan` preset: clang, ASan + UBSan) and runs each
 # for a bounded time on its corpus, after replaying the regression inputs. Fails on
 # any crash, leak, sanitizer report, timeout or out-of-memory.
 #   tests/fuzz/run.sh [SECONDS_PER_TARGET=60] [TARGET...]   # long runs, corpora kept
 #   tests/fuzz/run.sh --runs N [TARGET...]                   # long runs of N executions each
 #   tests/fuzz/run.sh --ci [TARGET...]                       # CI: regressions, seeds, then
-#                                                            # FUZZ_CI_SECONDS (60) each
-# The corpora grow in build/fuzz/corpus/<target> (kept between runs); findings land in
-# build/fuzz/artifacts/. Seeds: examples/*.json, data/bathymetry, tests/fuzz/seeds.
+#                                                            # FUZZ_CI_SECONDS (30) each
+# The corpora grow in build/asan/corpus/<target> (kept between runs); findings land in
+# build/asan/artifacts/. Seeds: examples/*.json, data/bathymetry, tests/fuzz/seeds.
 # --ci starts from the seeds alone (a fresh corpus, -seed=1), executes every regression
 # input and every seed once, then explores each target for FUZZ_CI_SECONDS. The
 # exploration is bounded in time, so what it reaches depends on the machine's speed: a
@@ -17,17 +17,17 @@ set -euo pipefail
 cd "$(dirname "$0")/../.."
 ci=0
 runs=0
-if [[ ${1:-} == --ci ]]; then ci=1; seconds=${FUZZ_CI_SECONDS:-60}; shift
+if [[ ${1:-} == --ci ]]; then ci=1; seconds=${FUZZ_CI_SECONDS:-30}; shift
 elif [[ ${1:-} == --runs ]]; then runs=${2:?--runs needs a count}; seconds=0; shift 2
 else seconds=${1:-60}; shift || true; fi
 targets=("$@")
 ((${#targets[@]})) || targets=(fuzz_scene fuzz_swan_bot fuzz_contours fuzz_raster fuzz_mesh fuzz_mesh_off fuzz_gltf fuzz_index)
 
 scripts/install-deps.sh --tests >&2
-cmake --preset fuzz >/dev/null
-cmake --build --preset fuzz
+cmake --preset asan >/dev/null
+cmake --build --preset asan
 
-build=build/fuzz
+build=build/asan
 mkdir -p "$build/artifacts"
 corpus_root="$build/corpus"
 if ((ci)); then corpus_root="$build/ci-corpus"; rm -rf "$corpus_root"; fi

@@ -89,6 +89,11 @@ def test_errors_carry_libwave_messages():
         libwave.animate(huge, libwave.plan(huge))
     with pytest.raises(libwave.InputError, match="form"):
         libwave.animate(*small_pair(), 0, 1).glb("files")
+    # The hierarchy is C++'s: `except libwave.Error` catches bad input and limits too.
+    assert issubclass(libwave.InputError, libwave.Error) and issubclass(libwave.LimitError, libwave.InputError)
+    assert issubclass(libwave.Error, RuntimeError) and issubclass(libwave.InputError, ValueError)
+    with pytest.raises(libwave.Error, match="file not found"):
+        libwave.read_scene("/nonexistent/scene.json")
 
 
 def small_pair():
@@ -149,3 +154,23 @@ def test_wave_field_matches_wave_field_cli(tmp_path):
     summary = json.loads(subprocess.run([os.environ["WAVE_EXE"], "field", path, "--json"], capture_output=True,
                                         text=True, check=True).stdout)
     assert abs(summary["height_ratio_max"] - float(np.nanmax(ratio))) < 1e-6
+
+
+def test_inspect_an_animation_in_memory_and_on_disk(tmp_path):
+    # The same numbers for the Animation and for its .glb read back (positions within
+    # float32); a height field over the seafloor rectangle: no folds, one loop on it.
+    scene = libwave.parse_scene({"surface": {"kind": "height-field"}, "waves": [{"period": 5, "amplitude": 0.3}],
+                                 "animation": {"fps": 4}})
+    anim = libwave.animate(scene, libwave.plan(scene))
+    memory = libwave.inspect(anim)
+    path = tmp_path / "a.glb"
+    anim.write_glb(str(path))
+    disk = libwave.inspect(str(path), per_frame=False)
+    assert memory["frames"] == anim.frame_count and len(memory["per_frame"]) == anim.frame_count
+    assert "per_frame" not in disk
+    assert memory["worst"]["folds"] == disk["worst"]["folds"] == 0
+    assert memory["unreferenced_vertices"] == 0 and memory["non_manifold_edges"] == 0
+    assert len(memory["boundary"]["loops"]) == 1
+    assert abs(memory["worst"]["max_speed_m_s"] - disk["worst"]["max_speed_m_s"]) < 1e-3
+    with pytest.raises(libwave.InputError):
+        libwave.inspect(str(tmp_path / "missing.glb"))

@@ -16,6 +16,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -80,6 +81,44 @@ struct CameraGrid {
 /// looks nowhere, has a field of view outside (0, 170)°, an empty image or step, or
 /// when fewer than two pixel rows see the water.
 CameraGrid camera_grid(const GridCamera& camera);
+
+// ---------------------------------------------------------------------------------
+// Water mesh (CGAL): a graded triangulation of the water, bounded by the shoreline
+// ---------------------------------------------------------------------------------
+
+struct WaterMeshOptions {
+    /// Smallest angle the refinement aims at (degrees, at most 20.7: CGAL's bound for
+    /// which Ruppert–Shewchuk refinement terminates). Angles of the domain itself (a
+    /// contour meeting the border obliquely) can stay below it.
+    double min_angle_deg = 20.0;
+    /// Shoreline rings (islets, ponds) shorter than this are left out (m): features
+    /// below the mesh's resolution. 0 = twice the smallest target edge met on the grid.
+    double min_ring_length = 0.0;
+    std::size_t max_vertices = 20'000'000;  ///< refused (LimitError) before meshing when the estimate exceeds it
+};
+
+/// Vertices (m) and counter-clockwise triangles of the water mesh; `boundary` marks
+/// the vertices on the domain rectangle or the shoreline.
+struct WaterMesh {
+    std::vector<double> x, y;
+    std::vector<std::uint32_t> triangles;
+    std::vector<std::uint8_t> boundary;
+    std::size_t vertex_count() const noexcept { return x.size(); }
+};
+
+/// The target edge length (m, > 0, finite) at a wet point (x, y).
+using EdgeSize = std::function<double(double x, double y)>;
+
+/// Constrained Delaunay triangulation of the seafloor's rectangle with the shoreline
+/// (h = 0, sliced as extract_isobaths does) as constraints, refined (CGAL Mesh_2) until
+/// every wet triangle's longest edge is at most `size` at its centroid and its smallest
+/// angle at least min_angle_deg; the dry side is dropped (each region between
+/// constraints is wet or dry by the area-weighted depth at its triangles' centroids).
+/// The border is exactly the rectangle's straight sides; the shoreline vertices lie
+/// on the sliced h = 0 polylines. Deterministic. Throws LimitError when the estimated
+/// vertex count (the wet area over the target triangle areas) exceeds max_vertices,
+/// InputError when no water is left.
+WaterMesh mesh_water(const Seafloor& seafloor, const EdgeSize& size, const WaterMeshOptions& options = {});
 
 // ---------------------------------------------------------------------------------
 // Subdivision (OpenSubdiv): any triangle surface refined once per scene

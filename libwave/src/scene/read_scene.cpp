@@ -168,7 +168,12 @@ SurfaceKind read_kind(const Node& n) {
 
 void read_surface(const Node& n, Scene& s) {
     n.require_object({"kind", "grid", "samples_per_span", "footprint", "footprint_radius", "tension_per_metre",
-                      "max_tension", "repeat_time", "max_vertices", "camera_grid"});
+                      "max_tension", "repeat_time", "max_vertices", "camera_grid", "water_mesh"});
+    if (n.has("water_mesh")) {
+        const Node w = n["water_mesh"];
+        w.require_object({"vertices_per_wavelength"});
+        s.water_mesh_per_wavelength = w.has("vertices_per_wavelength") ? w["vertices_per_wavelength"].number("") : 8.0;
+    }
     if (n.has("camera_grid")) {
         // Hinsinger's screen-space sampling (Jeschke §5); the camera stands at /camera/position.
         const Node c = n["camera_grid"];
@@ -377,13 +382,14 @@ void refuse_height_field_options(const Node& root, std::string_view kind_hint) {
     if (!root.has("surface") || !root["surface"].value().is_object()) return;
     const Node n = root["surface"];
     for (const auto& [key, _] : n.value().items())
-        if (key != "kind" && key != "camera_grid")
+        if (key != "kind" && key != "camera_grid" && key != "water_mesh")
             n[key.c_str()].fail("a height-field option; this scene's surface kind is \"" + std::string(kind_hint));
 }
 
 void refuse_ray_strip_keys(const Node& root) {
-    if (root.has("surface") && root["surface"].value().is_object() && root["surface"].has("camera_grid"))
-        root["surface"]["camera_grid"].fail("only for the ray-strips surface with /breakers");
+    for (const char* key : {"camera_grid", "water_mesh"})
+        if (root.has("surface") && root["surface"].value().is_object() && root["surface"].has(key))
+            root["surface"][key].fail("only for the ray-strips surface with /breakers");
     if (root.has("breakers"))
         root["breakers"].fail("only for the ray-strips surface (Jeschke's breakers move the traced fronts)");
 }
@@ -448,6 +454,10 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     }
     if (s.camera_grid && !s.breakers)
         root["surface"]["camera_grid"].fail("needs /breakers (the camera grid samples Jeschke's breakers)");
+    if (s.water_mesh_per_wavelength && !s.breakers)
+        root["surface"]["water_mesh"].fail("needs /breakers (the water mesh samples Jeschke's breakers)");
+    if (s.water_mesh_per_wavelength && s.camera_grid)
+        root["surface"]["water_mesh"].fail("not with /surface/camera_grid: choose one surface to sample the breakers on");
     if (root.has("refine")) s.refine = read_refine(root["refine"]);
     if (root.has("preview")) read_preview(root["preview"], s);
     if (root.has("fronts")) read_fronts(root["fronts"], s.fronts);

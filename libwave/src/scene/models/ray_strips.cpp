@@ -5,6 +5,9 @@
 
 #include "libwave/physics.h"
 
+#include <algorithm>
+#include <numbers>
+
 namespace wave::detail {
 namespace {
 
@@ -44,6 +47,22 @@ void read_after(const Node& root, Scene& s) {
                      "; a direction points where the waves go, from the open sea towards the shore");
 }
 
+// The water mesh for the breakers: /surface/water_mesh vertices per local wavelength
+// of the train, the depth no shallower than where it breaks (H∞/γ): the surf zone
+// keeps the breaking depth's resolution up to the shore.
+WaterMesh plan_water_mesh(const Scene& scene, const ScenePlan& p) {
+    const WaveTrain& w = scene.waves[0];
+    const double omega = 2.0 * std::numbers::pi / w.period, per_wavelength = *scene.water_mesh_per_wavelength;
+    const double floor_depth = std::max(2.0 * w.amplitude / scene.trace.breaker_index, 1e-3);
+    const ElevationGrid& grid = p.seafloor.grid;
+    const EdgeSize size = [&](double x, double y) {
+        return linear_wave(omega, std::max(depth_at(grid, x, y), floor_depth)).wavelength / per_wavelength;
+    };
+    WaterMeshOptions o;
+    o.max_vertices = scene.surface.max_vertices;
+    return mesh_water(p.seafloor, size, o);
+}
+
 void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
     if (scene.waves.size() != 1)
         throw InputError("scene: the ray-strips surface traces one wave train, got " + std::to_string(scene.waves.size()));
@@ -74,16 +93,21 @@ void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
             p.camera_grid = camera_grid(c);
             p.breakers = resample_jeschke_breakers(p.breakers, p.strips.triangles, p.camera_grid.x, p.camera_grid.y);
         }
+        if (scene.water_mesh_per_wavelength) {
+            p.water_mesh = plan_water_mesh(scene, p);
+            p.breakers = resample_jeschke_breakers(p.breakers, p.strips.triangles, p.water_mesh.x, p.water_mesh.y);
+        }
         // Varied crests repeat after m of them: the loop holds m periods.
         p.loop_period *= static_cast<double>(p.breakers.loop_periods());
     }
-    const bool on_grid = p.camera_grid.vertex_count() > 0;
-    p.rest_x = on_grid ? p.camera_grid.x : p.motion.x;
-    p.rest_y = on_grid ? p.camera_grid.y : p.motion.y;
+    const bool on_grid = p.camera_grid.vertex_count() > 0, on_mesh = p.water_mesh.vertex_count() > 0;
+    p.rest_x = on_grid ? p.camera_grid.x : on_mesh ? p.water_mesh.x : p.motion.x;
+    p.rest_y = on_grid ? p.camera_grid.y : on_mesh ? p.water_mesh.y : p.motion.y;
 }
 
 const std::vector<std::uint32_t>& triangles(const ScenePlan& p) {
-    return p.camera_grid.vertex_count() > 0 ? p.camera_grid.triangles : p.strips.triangles;
+    if (p.camera_grid.vertex_count() > 0) return p.camera_grid.triangles;
+    return p.water_mesh.vertex_count() > 0 ? p.water_mesh.triangles : p.strips.triangles;
 }
 
 bool move(const Scene& scene, const ScenePlan& p, double t, ModelState*, ModelFrame& frame) {

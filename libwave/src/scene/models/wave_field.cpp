@@ -7,12 +7,18 @@
 
 #include "libwave/physics.h"
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
+#include <limits>
 #include <numbers>
 
 namespace wave::detail {
 namespace {
+
+// Vertices per local wavelength of the shortest train (a crest and a trough of four
+// edges each: the sine's shape within 8 % in height).
+constexpr double kVerticesPerWavelength = 8.0;
 
 void read_before(const Node& root, Scene&) {
     refuse_height_field_options(root, "wave-field\" (set /field instead)");
@@ -21,30 +27,34 @@ void read_before(const Node& root, Scene&) {
         if (root.has(key)) root[key].fail("only for the ray-strips surface (the wave field moves as its own η̂ e^{−iωt})");
 }
 
-// The vertices: a regular grid, eight per resolved wavelength of the finest field (the
-// field itself is solved finer), within /surface/max_vertices.
+// The vertices: the water mesh (surface.h), bounded by the domain rectangle and the
+// shoreline, its edges an eighth of the local wavelength of the shortest train, and no
+// shorter than the finest field's node spacing (what the field resolves).
 void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
     p.isobaths = extract_isobaths(p.seafloor, scene.isobaths);
     for (const WaveTrain& w : scene.waves) p.wave_fields.push_back(solve_wave_field(p.seafloor, w, scene.field));
     if (stages == PlanStages::trace) return;
-    // Eight vertices per resolved wavelength (the field's finest, at its nodes per wavelength).
-    double spacing = 0.0;
-    const double per_vertex = std::max(1.0, scene.field.nodes_per_wavelength / 8.0);
-    for (const WaveField& f : p.wave_fields) spacing = spacing == 0.0 ? f.dx * per_vertex : std::min(spacing, f.dx * per_vertex);
-    const ElevationGrid& g = p.seafloor.grid;
-    const double w = g.x_max() - g.x0, h = g.y_max() - g.y0;
-    const double nx = std::floor(w / spacing) + 1.0, ny = std::floor(h / spacing) + 1.0;
-    if (!(nx * ny <= static_cast<double>(scene.surface.max_vertices)))
-        throw LimitError("scene: the wave-field surface would have " + fmt(nx) + " x " + fmt(ny) + " vertices (" + fmt(spacing) +
-                         " m apart), more than the limit of " + std::to_string(scene.surface.max_vertices) +
-                         "; lower /field/nodes_per_wavelength or raise /field/min_resolved_depth");
-    const std::size_t cols = static_cast<std::size_t>(nx), rows = static_cast<std::size_t>(ny);
-    p.patch_triangles = grid_triangles(cols, rows);
-    for (std::size_t r = 0; r < rows; ++r)
-        for (std::size_t c = 0; c < cols; ++c) {
-            p.rest_x.push_back(g.x0 + w * static_cast<double>(c) / static_cast<double>(cols - 1));
-            p.rest_y.push_back(g.y0 + h * static_cast<double>(r) / static_cast<double>(rows - 1));
-        }
+    double shortest = scene.waves[0].period;
+    for (const WaveTrain& w : scene.waves) shortest = std::min(shortest, w.period);
+    double finest = std::numeric_limits<double>::infinity();
+    for (const WaveField& f : p.wave_fields) finest = std::min({finest, f.dx, f.dy});
+    const double omega = 2.0 * std::numbers::pi / shortest;
+    const ElevationGrid& grid = p.seafloor.grid;
+    const EdgeSize size = [&](double x, double y) {
+        return std::max(linear_wave(omega, depth_at(grid, x, y)).wavelength / kVerticesPerWavelength, finest);
+    };
+    WaterMeshOptions o;
+    o.max_vertices = scene.surface.max_vertices;
+    WaterMesh mesh;
+    try {
+        mesh = mesh_water(p.seafloor, size, o);
+    } catch (const LimitError& e) {
+        throw LimitError(std::string("scene: the wave-field surface: ") + e.what() +
+                         " (/surface/max_vertices); raise /field/min_resolved_depth or lower the resolution");
+    }
+    p.patch_triangles = std::move(mesh.triangles);
+    p.rest_x = std::move(mesh.x);
+    p.rest_y = std::move(mesh.y);
     p.loop_period = scene.waves[0].period;
 }
 

@@ -1,0 +1,263 @@
+// The water mesh (surface.h): CGAL's constrained Delaunay triangulation of the domain
+// rectangle and the shoreline, refined by Mesh_2 with a size field (docs/surface.md).
+#include "libwave/surface.h"
+
+#include "libwave/errors.h"
+#include "libwave/isobath.h"
+
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Delaunay_mesh_face_base_2.h>
+#include <CGAL/Delaunay_mesh_size_criteria_2.h>
+#include <CGAL/Delaunay_mesher_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <string>
+
+namespace wave {
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Vb = CGAL::Triangulation_vertex_base_2<K>;
+using Fb = CGAL::Delaunay_mesh_face_base_2<K>;
+using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
+// Exact predicates: a shoreline polyline ending on the rectangle, or touching it,
+// splits the border constraint at a constructed point.
+using CDT = CGAL::Constrained_Delaunay_triangulation_2<K, Tds, CGAL::Exact_predicates_tag>;
+using Point = CDT::Point;
+
+double centroid_size(const EdgeSize& size, const ElevationGrid& grid, double x, double y) {
+    if (depth_at(grid, x, y) <= 0.0) return std::numeric_limits<double>::infinity();  // land: shape only
+    return size(x, y);
+}
+
+// Mesh_2's size criterion with the size read at each triangle's centroid: a triangle
+// whose longest edge exceeds it is split first (imperatively bad), then the angle bound.
+class LocalSizeCriteria : public CGAL::Delaunay_mesh_size_criteria_2<CDT> {
+    using Base = CGAL::Delaunay_mesh_size_criteria_2<CDT>;
+    const EdgeSize* size_;
+    const ElevationGrid* grid_;
+
+public:
+    LocalSizeCriteria(double squared_sine_bound, const EdgeSize& size, const ElevationGrid& grid)
+        : Base(squared_sine_bound, 0.0), size_(&size), grid_(&grid) {}
+
+    class Is_bad : public Base::Is_bad {
+        const EdgeSize* size_;
+        const ElevationGrid* grid_;
+
+    public:
+        Is_bad(double bound, const Geom_traits& geom, const EdgeSize* size, const ElevationGrid* grid)
+            : Base::Is_bad(bound, 0.0, geom), size_(size), grid_(grid) {}
+
+        CGAL::Mesh_2::Face_badness operator()(const Quality q) const { return Base::Is_bad::operator()(q); }
+
+        CGAL::Mesh_2::Face_badness operator()(const CDT::Face_handle& fh, Quality& q) const {
+            const CGAL::Mesh_2::Face_badness shape = Base::Is_bad::operator()(fh, q);  // q: (sine², 0)
+            const Point &a = fh->vertex(0)->point(), &b = fh->vertex(1)->point(), &c = fh->vertex(2)->point();
+            const double s = centroid_size(*size_, *grid_, (a.x() + b.x() + c.x()) / 3.0, (a.y() + b.y() + c.y()) / 3.0);
+            const double longest = std::max({CGAL::squared_distance(a, b), CGAL::squared_distance(b, c),
+                                             CGAL::squared_distance(c, a)});
+            q.second = std::isfinite(s) ? longest / (s * s) : 0.0;
+            return q.size() > 1.0 ? CGAL::Mesh_2::IMPERATIVELY_BAD : shape;
+        }
+    };
+
+    Is_bad is_bad_object() const { return Is_bad(this->bound(), this->traits, size_, grid_); }
+};
+
+// The h = 0 polylines of the seafloor (none when it is all water or all land), rings
+// shorter than min_ring left out.
+DepthContours shoreline(const Seafloor& seafloor, double min_ring) {
+    const auto [lo, hi] = std::minmax_element(seafloor.grid.z.begin(), seafloor.grid.z.end());
+    if (!(*lo < 0.0 && *hi > 0.0)) return {};  // elevation z: land above 0
+    IsobathOptions o;
+    o.levels = {0.0};
+    o.include_shoreline = false;
+    const DepthContours all = extract_isobaths(seafloor, o);
+    DepthContours kept;
+    kept.offsets.push_back(0);
+    for (std::size_t p = 0; p < all.size(); ++p) {
+        double length = 0.0;
+        const std::size_t first = all.offsets[p], last = all.offsets[p + 1];
+        for (std::size_t i = first + 1; i < last; ++i)
+            length += std::hypot(all.xy[2 * i] - all.xy[2 * i - 2], all.xy[2 * i + 1] - all.xy[2 * i - 1]);
+        if (all.closed[p] && length < min_ring) continue;
+        kept.xy.insert(kept.xy.end(), all.xy.begin() + static_cast<std::ptrdiff_t>(2 * first),
+                       all.xy.begin() + static_cast<std::ptrdiff_t>(2 * last));
+        kept.offsets.push_back(kept.xy.size() / 2);
+        kept.depth.push_back(0.0);
+        kept.closed.push_back(all.closed[p]);
+    }
+    return kept;
+}
+
+// Expected vertex count: each wet grid cell holds area / (√3/4 · s²) triangles of edge
+// s, and a triangulation has about half as many vertices as triangles.
+double estimated_vertices(const ElevationGrid& g, const EdgeSize& size) {
+    double triangles = 0.0;
+    for (std::size_t j = 0; j + 1 < g.ny; ++j)
+        for (std::size_t i = 0; i + 1 < g.nx; ++i) {
+            const double x = g.x0 + (static_cast<double>(i) + 0.5) * g.dx, y = g.y0 + (static_cast<double>(j) + 0.5) * g.dy;
+            if (depth_at(g, x, y) <= 0.0) continue;
+            const double s = size(x, y);
+            triangles += g.dx * g.dy / (std::sqrt(3.0) / 4.0 * s * s);
+        }
+    return 0.5 * triangles;
+}
+
+// Position along the rectangle's perimeter (counter-clockwise from (x0, y0)) of a
+// point on it.
+double perimeter_position(const ElevationGrid& g, double x, double y) {
+    const double w = g.x_max() - g.x0, h = g.y_max() - g.y0;
+    if (y == g.y0) return x - g.x0;
+    if (x == g.x_max()) return w + (y - g.y0);
+    if (y == g.y_max()) return w + h + (g.x_max() - x);
+    return 2.0 * w + h + (g.y_max() - y);
+}
+
+// The point moved onto the nearest side of the rectangle when within `tolerance` of it.
+bool snap_to_border(const ElevationGrid& g, double& x, double& y, double tolerance) {
+    const double d[4] = {y - g.y0, g.x_max() - x, g.y_max() - y, x - g.x0};
+    const int side = static_cast<int>(std::min_element(d, d + 4) - d);
+    if (!(d[side] <= tolerance)) return false;
+    if (side == 0) y = g.y0;
+    else if (side == 1) x = g.x_max();
+    else if (side == 2) y = g.y_max();
+    else x = g.x0;
+    x = std::clamp(x, g.x0, g.x_max());
+    y = std::clamp(y, g.y0, g.y_max());
+    return true;
+}
+
+// The rectangle and the shoreline as constraints that meet only at shared vertices:
+// shoreline points closer than `min_gap` to the previous one are skipped (the slicer
+// leaves near-duplicates where a contour passes by a grid node), open polylines'
+// ends within `min_gap` of a side are put on it, and the border runs through them,
+// so no constraint crosses another (a crossing would construct a point off both and
+// refine without end around it).
+void insert_constraints(CDT& cdt, const ElevationGrid& g, const DepthContours& shore, double min_gap) {
+    std::vector<std::pair<double, Point>> border = {{0.0, Point(g.x0, g.y0)},
+                                                    {perimeter_position(g, g.x_max(), g.y0), Point(g.x_max(), g.y0)},
+                                                    {perimeter_position(g, g.x_max(), g.y_max()), Point(g.x_max(), g.y_max())},
+                                                    {perimeter_position(g, g.x0, g.y_max()), Point(g.x0, g.y_max())}};
+    std::vector<std::vector<Point>> lines;
+    for (std::size_t p = 0; p < shore.size(); ++p) {
+        std::vector<Point> line;
+        for (std::size_t i = shore.offsets[p]; i < shore.offsets[p + 1]; ++i) {
+            const double x = std::clamp(shore.xy[2 * i], g.x0, g.x_max()), y = std::clamp(shore.xy[2 * i + 1], g.y0, g.y_max());
+            if (!line.empty() && std::hypot(x - line.back().x(), y - line.back().y()) < min_gap) continue;
+            line.emplace_back(x, y);
+        }
+        if (shore.closed[p]) {
+            while (line.size() > 3 && std::hypot(line.back().x() - line.front().x(), line.back().y() - line.front().y()) < min_gap)
+                line.pop_back();
+            if (line.size() < 3) continue;
+            line.push_back(line.front());
+        } else {
+            if (line.size() < 2) continue;
+            for (Point* end : {&line.front(), &line.back()}) {
+                double x = end->x(), y = end->y();
+                if (snap_to_border(g, x, y, min_gap)) {
+                    *end = Point(x, y);
+                    border.emplace_back(perimeter_position(g, x, y), *end);
+                }
+            }
+        }
+        lines.push_back(std::move(line));
+    }
+    std::sort(border.begin(), border.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<Point> ring;
+    for (const auto& [_, q] : border)
+        if (ring.empty() || q != ring.back()) ring.push_back(q);
+    ring.push_back(ring.front());
+    cdt.insert_constraint(ring.begin(), ring.end());
+    for (const std::vector<Point>& line : lines) cdt.insert_constraint(line.begin(), line.end());
+}
+
+// Regions between constraints, each wet or dry by the area-weighted vote of its
+// triangles' centroid depths.
+std::map<CDT::Face_handle, bool> wet_faces(const CDT& cdt, const ElevationGrid& g) {
+    std::map<CDT::Face_handle, int> region;
+    std::vector<double> wet_area, dry_area;
+    for (CDT::Finite_faces_iterator f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+        if (region.count(f)) continue;
+        const int r = static_cast<int>(wet_area.size());
+        wet_area.push_back(0.0);
+        dry_area.push_back(0.0);
+        std::vector<CDT::Face_handle> stack{f};
+        region[f] = r;
+        while (!stack.empty()) {
+            const CDT::Face_handle h = stack.back();
+            stack.pop_back();
+            const Point &a = h->vertex(0)->point(), &b = h->vertex(1)->point(), &c = h->vertex(2)->point();
+            const double area = std::abs(CGAL::area(a, b, c));
+            (depth_at(g, (a.x() + b.x() + c.x()) / 3.0, (a.y() + b.y() + c.y()) / 3.0) > 0.0 ? wet_area : dry_area)[r] += area;
+            for (int e = 0; e < 3; ++e) {
+                const CDT::Face_handle n = h->neighbor(e);
+                if (cdt.is_infinite(n) || cdt.is_constrained({h, e}) || region.count(n)) continue;
+                region[n] = r;
+                stack.push_back(n);
+            }
+        }
+    }
+    std::map<CDT::Face_handle, bool> wet;
+    for (const auto& [f, r] : region) wet[f] = wet_area[r] > dry_area[r];
+    return wet;
+}
+
+}  // namespace
+
+WaterMesh mesh_water(const Seafloor& seafloor, const EdgeSize& size, const WaterMeshOptions& options) {
+    const ElevationGrid& g = seafloor.grid;
+    if (!(options.min_angle_deg > 0.0 && options.min_angle_deg <= 20.7))
+        throw InputError("water mesh: min_angle_deg " + std::to_string(options.min_angle_deg) + " outside (0, 20.7]");
+    const double estimate = estimated_vertices(g, size);
+    if (!(estimate <= static_cast<double>(options.max_vertices)))
+        throw LimitError("water mesh: about " + std::to_string(static_cast<long long>(estimate)) +
+                         " vertices for the target edge lengths, more than the limit of " +
+                         std::to_string(options.max_vertices));
+    double smallest = std::numeric_limits<double>::infinity();
+    for (std::size_t j = 0; j < g.ny; ++j)
+        for (std::size_t i = 0; i < g.nx; ++i) {
+            const double x = g.x0 + static_cast<double>(i) * g.dx, y = g.y0 + static_cast<double>(j) * g.dy;
+            if (g.at(i, j) < 0.0) smallest = std::min(smallest, size(x, y));
+        }
+    const double min_ring = options.min_ring_length > 0.0 ? options.min_ring_length : 2.0 * smallest;
+
+    CDT cdt;
+    const double min_gap = std::isfinite(smallest) ? 0.1 * smallest : 1e-9 * std::hypot(g.x_max() - g.x0, g.y_max() - g.y0);
+    insert_constraints(cdt, g, shoreline(seafloor, std::isfinite(min_ring) ? min_ring : 0.0), min_gap);
+    const double sine = std::sin(options.min_angle_deg * std::numbers::pi / 180.0);
+    CGAL::Delaunay_mesher_2<CDT, LocalSizeCriteria> mesher(cdt, LocalSizeCriteria(sine * sine, size, g));
+    mesher.refine_mesh();
+
+    const std::map<CDT::Face_handle, bool> wet = wet_faces(cdt, g);
+    WaterMesh mesh;
+    std::map<CDT::Vertex_handle, std::uint32_t> index;
+    for (CDT::Finite_faces_iterator f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+        if (!wet.at(f)) continue;
+        for (int k = 0; k < 3; ++k) {
+            const CDT::Vertex_handle v = f->vertex(k);
+            auto [it, added] = index.emplace(v, static_cast<std::uint32_t>(mesh.x.size()));
+            if (added) {
+                mesh.x.push_back(v->point().x());
+                mesh.y.push_back(v->point().y());
+                mesh.boundary.push_back(0);
+            }
+            mesh.triangles.push_back(it->second);
+        }
+        for (int e = 0; e < 3; ++e)
+            if (cdt.is_constrained({f, e})) {
+                mesh.boundary[index.at(f->vertex(CDT::ccw(e)))] = 1;
+                mesh.boundary[index.at(f->vertex(CDT::cw(e)))] = 1;
+            }
+    }
+    if (mesh.triangles.empty()) throw InputError("water mesh: the seafloor holds no water (depth > 0) to mesh");
+    return mesh;
+}
+
+}  // namespace wave
