@@ -866,6 +866,91 @@ class WindWaves(unittest.TestCase):
             self.assertIn("traces no rays", r.stderr)
 
 
+class Inspect(unittest.TestCase):
+    """`wave inspect` on outputs, and the water mesh it checks (docs/inspect.md)."""
+
+    def inspect(self, path, *extra):
+        r = wave("inspect", path, "--json", *extra)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        return json.loads(r.stdout)
+
+    def test_wave_field_surface_on_the_water_mesh_is_clean(self):
+        # The bay as a wave-field surface: one loop along the border and the shore, no
+        # fold, slivers or unreferenced vertex in any frame, vertices at most as fast as
+        # the wave (5 s swell in <= 10 m of water: C < 10 m/s; they only rise and fall).
+        with tempfile.TemporaryDirectory() as d:
+            scene = os.path.join(d, "s.json")
+            with open(scene, "w") as f:
+                json.dump({"seafloor": {"source": "gonzato-bay"}, "waves": [{"period": 5, "amplitude": 0.3}],
+                           "surface": {"kind": "wave-field"}, "animation": {"fps": 4}}, f)
+            out = os.path.join(d, "out")
+            self.assertEqual(wave("run", scene, "-q", "-o", out).returncode, 0)
+            m = self.inspect(out)
+            self.assertEqual(m["frames"], 20)
+            self.assertEqual(len(m["per_frame"]), 20)
+            self.assertEqual((m["unreferenced_vertices"], m["non_manifold_edges"]), (0, 0))
+            self.assertEqual(len(m["boundary"]["loops"]), 1)
+            self.assertEqual(m["boundary"]["border"], [0.0, 0.0, 100.0, 90.0])
+            worst = m["worst"]
+            self.assertEqual((worst["facing_down"], worst["folds"], worst["degenerate"]), (0, 0, 0))
+            self.assertGreaterEqual(worst["smallest_angle_deg"], 20.0)
+            self.assertLess(worst["max_speed_m_s"], 10.0)
+            # Text: the same numbers for a person.
+            r = wave("inspect", out)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertIn("0 folds", r.stdout)
+            self.assertIn("1 loop(s)", r.stdout)
+
+    def test_breakers_on_the_water_mesh_leave_no_vertex_unused(self):
+        # The breaking beach on the strips leaves vertices no triangle uses and a
+        # sawtoothed side; on the water mesh every vertex is used and the sides are straight.
+        with tempfile.TemporaryDirectory() as d:
+            with open(os.path.join(EXAMPLES, "breaking-beach.json")) as f:
+                doc = json.load(f)
+            doc["surface"] = {"water_mesh": {"vertices_per_wavelength": 8}}
+            doc["outputs"] = {"form": "morph"}
+            scene = os.path.join(d, "s.json")
+            with open(scene, "w") as f:
+                json.dump(doc, f)
+            out = os.path.join(d, "out")
+            r = wave("run", scene, "-q", "-o", out, "--fps", "2")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            validate_gltf(self, os.path.join(out, "animation.glb"))
+            m = self.inspect(os.path.join(out, "animation.glb"), "--sliver-angle", "10")
+            self.assertEqual(m["options"]["sliver_angle_deg"], 10)
+            self.assertEqual((m["unreferenced_vertices"], m["non_manifold_edges"]), (0, 0))
+            self.assertEqual(len(m["boundary"]["loops"]), 1)
+            loop = m["boundary"]["loops"][0]
+            x0, y0, x1, y1 = m["boundary"]["border"]
+            self.assertAlmostEqual(loop["length_m"], 2 * (x1 - x0 + y1 - y0), delta=1.0)  # the rectangle (shore at a side)
+            bad = dict(doc, surface={"water_mesh": {"vertices_per_wavelength": 2}})
+            with open(scene, "w") as f:
+                json.dump(bad, f)
+            r = wave("run", scene, "-q", "-o", out)
+            self.assertEqual(r.returncode, 2)
+            self.assertIn("/surface/water_mesh/vertices_per_wavelength", r.stderr)
+            no_breakers = {k: v for k, v in doc.items() if k != "breakers"}
+            with open(scene, "w") as f:
+                json.dump(no_breakers, f)
+            r = wave("run", scene, "-q", "-o", out)
+            self.assertEqual(r.returncode, 2)
+            self.assertIn("/surface/water_mesh: needs /breakers", r.stderr)
+
+    def test_bad_paths_exit_2_naming_them(self):
+        with tempfile.TemporaryDirectory() as d:
+            r = wave("inspect", os.path.join(d, "nowhere"))
+            self.assertEqual(r.returncode, 2)
+            self.assertIn("nowhere", r.stderr)
+            self.assertIn("no libwave output", wave("inspect", d).stderr)
+            junk = os.path.join(d, "junk.glb")
+            with open(junk, "wb") as f:
+                f.write(b"glTF\x02\x00\x00\x00garbage")
+            r = wave("inspect", junk)
+            self.assertEqual(r.returncode, 2)
+            self.assertIn("junk.glb", r.stderr)
+            self.assertEqual(r.stdout, "")
+
+
 class WaveField(unittest.TestCase):
     """The refraction-diffraction field: `wave field`, the wave-field surface, and the
     ray strips' amplitudes taken from it (docs/wave-field.md)."""
