@@ -209,7 +209,8 @@ class MainJob(unittest.TestCase):
             self.assertEqual(r.returncode, 0, r.stderr)
             self.assertIn("Gonzato's bay", r.stdout)
             self.assertEqual(sorted(os.listdir(out)), sorted(self.STRIP_OUTPUTS))  # no temporaries left
-            report = json.load(open(os.path.join(out, "report.json")))
+            with open(os.path.join(out, "report.json")) as f:
+                report = json.load(f)
             self.assertEqual(report["surface"]["kind"], "ray-strips")
             self.assertEqual(report["trace"]["initial_rays"], 100)  # Gonzato: one ray per metre over 100 m
             self.assertGreater(report["trace"]["inserted_rays"], 50)
@@ -217,6 +218,7 @@ class MainJob(unittest.TestCase):
             fmt, vertices, faces, props = read_ply_header(os.path.join(out, "strips.ply"))
             self.assertEqual(fmt, "binary_little_endian")
             self.assertEqual((vertices, faces), (report["surface"]["vertices"], report["surface"]["triangles"]))
+            self.assertEqual((vertices, faces), (report["trace"]["vertices"], report["trace"]["triangles"]))
             for name in ["ray", "step", "phase", "k", "omega", "amplitude", "depth", "slope", "rise", "flag", "caustic"]:
                 self.assertIn(name, props)
             self.check_animation(out, report)
@@ -929,12 +931,30 @@ class Inspect(unittest.TestCase):
             r = wave("run", scene, "-q", "-o", out)
             self.assertEqual(r.returncode, 2)
             self.assertIn("/surface/water_mesh/vertices_per_wavelength", r.stderr)
-            no_breakers = {k: v for k, v in doc.items() if k != "breakers"}
-            with open(scene, "w") as f:
-                json.dump(no_breakers, f)
-            r = wave("run", scene, "-q", "-o", out)
-            self.assertEqual(r.returncode, 2)
-            self.assertIn("/surface/water_mesh: needs /breakers", r.stderr)
+
+    def test_gonzato_profile_on_the_water_mesh_folds_less_than_on_the_strips(self):
+        # Gonzato's island: on the strips, rays crossing in the lee fold the surface by the
+        # thousand; on the water mesh the strips' fields are resampled, every vertex used.
+        with tempfile.TemporaryDirectory() as d:
+            with open(os.path.join(EXAMPLES, "gonzato-island.json")) as f:
+                doc = json.load(f)
+            worst = {}
+            for mesh in [False, {"vertices_per_wavelength": 8}]:
+                doc["surface"] = {"water_mesh": mesh}
+                scene, out = os.path.join(d, "s.json"), os.path.join(d, "out-%s" % bool(mesh))
+                with open(scene, "w") as f:
+                    json.dump(doc, f)
+                r = wave("run", scene, "-q", "-o", out, "--fps", "2")
+                self.assertEqual(r.returncode, 0, r.stderr)
+                m = self.inspect(out)
+                worst[bool(mesh)] = m["worst"]
+                if mesh:
+                    self.assertEqual((m["unreferenced_vertices"], m["non_manifold_edges"]), (0, 0))
+                    self.assertEqual(len(m["boundary"]["loops"]), 2)  # the border and the island's shore
+                    self.assertEqual(m["boundary"]["loops"][0]["vertices_on_border"], m["boundary"]["loops"][0]["edges"])
+            self.assertLess(worst[True]["folds"], worst[False]["folds"] / 10)
+            self.assertLess(worst[True]["longest_edge_m"], worst[False]["longest_edge_m"] / 5)
+            self.assertLessEqual(worst[True]["max_speed_m_s"], 1.05 * worst[False]["max_speed_m_s"])
 
     def test_bad_paths_exit_2_naming_them(self):
         with tempfile.TemporaryDirectory() as d:

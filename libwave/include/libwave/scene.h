@@ -87,9 +87,11 @@ struct Scene {
     /// Hinsinger's camera-projected grid as the surface (with breakers): sampled from
     /// the camera at /camera/position (or the default camera) instead of the strips.
     std::optional<GridCamera> camera_grid;
-    /// The water mesh as the surface (with breakers): a graded triangulation of the
-    /// water bounded by the domain and the shoreline (mesh_water), this many vertices
-    /// per local wavelength, the breakers resampled at its vertices. Empty = the strips.
+    /// The ray-strips surface that is exported: when set (/surface/water_mesh), the water
+    /// mesh — a graded triangulation of the water bounded by the domain and the
+    /// shoreline (mesh_water), this many vertices per local wavelength, the strips'
+    /// fields (or the breakers) resampled at its vertices; when empty, the strips
+    /// themselves. Not with the camera grid, which replaces both.
     std::optional<double> water_mesh_per_wavelength;
     /// The preview renderer's view, sun and bump waves (`wave preview`, `--preview`);
     /// its camera position is the scene's camera.
@@ -186,6 +188,7 @@ struct ScenePlan {
     JeschkeMotionPlan breakers; ///< ray strips with Scene::breakers: the breakers' plan (on the camera grid if any)
     CameraGrid camera_grid;     ///< Scene::camera_grid: the sampled points (empty otherwise)
     WaterMesh water_mesh;       ///< Scene::water_mesh_per_wavelength: the mesh (empty otherwise)
+    RayStrips water_strips;     ///< … the strips' fields resampled at its vertices (Gonzato's profile and foam move it)
     Refinement refinement;      ///< Scene::refine: refined topology + stencils (fine_vertices = 0 when none)
     OceanPlan ocean;          ///< the FFT ocean (kind ocean, or superposed); n = 0 when none
     std::vector<GerstnerWave> gerstner;  ///< with ω quantised to the loop

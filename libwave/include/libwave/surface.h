@@ -283,6 +283,17 @@ struct RayStrips {
 /// Throws RuntimeError if OpenMesh rejects a face (non-manifold topology — a bug).
 RayStrips build_ray_strips(const FrontSet& fronts);
 
+/// The strips' per-vertex fields at other points, e.g. the water mesh (mesh_water):
+/// each interpolated linearly in the strip triangle holding the point (the first by
+/// index where strips overlap at caustics) — phase, k and direction from its corners
+/// that carry a wave (k > 0), the direction renormalised; ray, step and
+/// flag from the triangle's vertex of largest weight, caustic if any of its three is.
+/// Points off the strips keep still water: amplitude and k 0, the seafloor's depth.
+/// The result's triangles are `triangles`; it has no TriMesh (`mesh` empty). Parallel;
+/// independent of the thread count.
+RayStrips resample_ray_strips(const RayStrips& strips, const Seafloor& seafloor, std::span<const double> x,
+                              std::span<const double> y, std::span<const std::uint32_t> triangles);
+
 /// Binary little-endian PLY of the strips at rest, written by OpenMesh with the
 /// per-vertex properties as PLY vertex properties: ray, step (int); phase, k, omega,
 /// amplitude, depth, slope, rise, dir_x, dir_y (double); flag (uchar: 0 alive, 1 flat,

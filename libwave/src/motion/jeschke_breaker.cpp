@@ -4,6 +4,7 @@
 #include "core/splitmix.h"
 #include "libwave/errors.h"
 #include "libwave/motion.h"
+#include "surface/triangle_locator.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -325,73 +326,28 @@ JeschkeMotionPlan resample_jeschke_breakers(const JeschkeMotionPlan& src, std::s
     p.end_phase.assign(n, never);
     if (nt == 0 || n == 0) return p;
 
-    // A bucket grid over the strips: each cell lists the triangles whose bounding box
-    // meets it, in index order (compressed rows).
-    double x0 = src.x[0], x1 = x0, y0 = src.y[0], y1 = y0;
-    for (std::size_t v = 0; v < src.vertex_count(); ++v) {
-        x0 = std::min(x0, src.x[v]);
-        x1 = std::max(x1, src.x[v]);
-        y0 = std::min(y0, src.y[v]);
-        y1 = std::max(y1, src.y[v]);
-    }
-    const double cell = std::max(2.0 * std::sqrt((x1 - x0) * (y1 - y0) / static_cast<double>(nt)),
-                                 std::max(x1 - x0, y1 - y0) / 2048.0) + 1e-12;
-    const std::size_t cx = static_cast<std::size_t>((x1 - x0) / cell) + 1, cy = static_cast<std::size_t>((y1 - y0) / cell) + 1;
-    const auto cell_of = [&](double v, double lo, std::size_t count) {
-        return static_cast<std::size_t>(std::clamp((v - lo) / cell, 0.0, static_cast<double>(count - 1)));
-    };
-    std::vector<std::uint32_t> start(cx * cy + 1, 0), items;
-    for (int pass = 0; pass < 2; ++pass) {
-        std::vector<std::uint32_t> fill(pass ? start.begin() : start.end(), start.end());
-        if (pass) items.resize(start.back());
-        for (std::size_t t = 0; t < nt; ++t) {
-            const std::uint32_t a = triangles[3 * t], b = triangles[3 * t + 1], c = triangles[3 * t + 2];
-            const std::size_t i0 = cell_of(std::min({src.x[a], src.x[b], src.x[c]}), x0, cx),
-                              i1 = cell_of(std::max({src.x[a], src.x[b], src.x[c]}), x0, cx),
-                              j0 = cell_of(std::min({src.y[a], src.y[b], src.y[c]}), y0, cy),
-                              j1 = cell_of(std::max({src.y[a], src.y[b], src.y[c]}), y0, cy);
-            for (std::size_t j = j0; j <= j1; ++j)
-                for (std::size_t i = i0; i <= i1; ++i) {
-                    if (pass == 0) ++start[j * cx + i + 1];
-                    else items[fill[j * cx + i]++] = static_cast<std::uint32_t>(t);
-                }
-        }
-        if (pass == 0)
-            for (std::size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
-    }
-
+    const detail::TriangleLocator locator(src.x, src.y, triangles);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t v = r.begin(); v != r.end(); ++v) {
-            const double px = x[v], py = y[v];
-            if (px < x0 || px > x1 || py < y0 || py > y1) continue;
-            const std::size_t k = cell_of(py, y0, cy) * cx + cell_of(px, x0, cx);
-            for (std::uint32_t i = start[k]; i < start[k + 1]; ++i) {
-                const std::size_t t = items[i];
-                const std::uint32_t a = triangles[3 * t], b = triangles[3 * t + 1], c = triangles[3 * t + 2];
-                const double ux = src.x[b] - src.x[a], uy = src.y[b] - src.y[a], wx = src.x[c] - src.x[a], wy = src.y[c] - src.y[a];
-                const double d = ux * wy - uy * wx;
-                if (d == 0.0) continue;
-                const double qx = px - src.x[a], qy = py - src.y[a];
-                const double wb = (qx * wy - qy * wx) / d, wc = (ux * qy - uy * qx) / d, wa = 1.0 - wb - wc;
-                constexpr double eps = -1e-9;
-                if (wa < eps || wb < eps || wc < eps) continue;
-                const auto mix = [&](const auto& f) { return wa * f[a] + wb * f[b] + wc * f[c]; };
-                const auto mixf = [&](const std::vector<float>& f) {
-                    // A ray that never breaks (+inf) keeps the point round.
-                    if (!std::isfinite(f[a]) || !std::isfinite(f[b]) || !std::isfinite(f[c])) return never;
-                    return static_cast<float>(mix(f));
-                };
-                p.phase[v] = mix(src.phase);
-                const double dx = mix(src.dir_x), dy = mix(src.dir_y), dl = std::hypot(dx, dy);
-                if (dl > 0.0) p.dir_x[v] = dx / dl, p.dir_y[v] = dy / dl;
-                for (auto [to, from] : {std::pair{&p.width, &src.width}, {&p.scale, &src.scale}, {&p.mean_level, &src.mean_level},
-                                        {&p.rise, &src.rise}, {&p.breaking_length, &src.breaking_length},
-                                        {&p.curl, &src.curl}, {&p.foam_yield, &src.foam_yield}})
-                    (*to)[v] = static_cast<float>(mix(*from));
-                p.break_phase[v] = mixf(src.break_phase);
-                p.end_phase[v] = mixf(src.end_phase);
-                break;
-            }
+            detail::TriangleLocator::Hit h;
+            if (!locator.locate(x[v], y[v], h)) continue;
+            const std::uint32_t a = h.a, b = h.b, c = h.c;
+            const double wa = h.wa, wb = h.wb, wc = h.wc;
+            const auto mix = [&](const auto& f) { return wa * f[a] + wb * f[b] + wc * f[c]; };
+            const auto mixf = [&](const std::vector<float>& f) {
+                // A ray that never breaks (+inf) keeps the point round.
+                if (!std::isfinite(f[a]) || !std::isfinite(f[b]) || !std::isfinite(f[c])) return never;
+                return static_cast<float>(mix(f));
+            };
+            p.phase[v] = mix(src.phase);
+            const double dx = mix(src.dir_x), dy = mix(src.dir_y), dl = std::hypot(dx, dy);
+            if (dl > 0.0) p.dir_x[v] = dx / dl, p.dir_y[v] = dy / dl;
+            for (auto [to, from] : {std::pair{&p.width, &src.width}, {&p.scale, &src.scale}, {&p.mean_level, &src.mean_level},
+                                    {&p.rise, &src.rise}, {&p.breaking_length, &src.breaking_length},
+                                    {&p.curl, &src.curl}, {&p.foam_yield, &src.foam_yield}})
+                (*to)[v] = static_cast<float>(mix(*from));
+            p.break_phase[v] = mixf(src.break_phase);
+            p.end_phase[v] = mixf(src.end_phase);
         }
     });
     return p;

@@ -171,8 +171,13 @@ void read_surface(const Node& n, Scene& s) {
                       "max_tension", "repeat_time", "max_vertices", "camera_grid", "water_mesh"});
     if (n.has("water_mesh")) {
         const Node w = n["water_mesh"];
-        w.require_object({"vertices_per_wavelength"});
-        s.water_mesh_per_wavelength = w.has("vertices_per_wavelength") ? w["vertices_per_wavelength"].number("") : 8.0;
+        if (w.value().is_boolean()) {
+            if (w.value().get<bool>()) w.fail("expected false (the strips themselves) or an object");
+            s.water_mesh_per_wavelength.reset();
+        } else {
+            w.require_object({"vertices_per_wavelength"});
+            s.water_mesh_per_wavelength = w.has("vertices_per_wavelength") ? w["vertices_per_wavelength"].number("") : 16.0;
+        }
     }
     if (n.has("camera_grid")) {
         // Hinsinger's screen-space sampling (Jeschke §5); the camera stands at /camera/position.
@@ -389,7 +394,7 @@ void refuse_height_field_options(const Node& root, std::string_view kind_hint) {
 void refuse_ray_strip_keys(const Node& root) {
     for (const char* key : {"camera_grid", "water_mesh"})
         if (root.has("surface") && root["surface"].value().is_object() && root["surface"].has(key))
-            root["surface"][key].fail("only for the ray-strips surface with /breakers");
+            root["surface"][key].fail(std::string("only for the ray-strips surface") + (key[0] == 'c' ? " with /breakers" : ""));
     if (root.has("breakers"))
         root["breakers"].fail("only for the ray-strips surface (Jeschke's breakers move the traced fronts)");
 }
@@ -454,9 +459,7 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     }
     if (s.camera_grid && !s.breakers)
         root["surface"]["camera_grid"].fail("needs /breakers (the camera grid samples Jeschke's breakers)");
-    if (s.water_mesh_per_wavelength && !s.breakers)
-        root["surface"]["water_mesh"].fail("needs /breakers (the water mesh samples Jeschke's breakers)");
-    if (s.water_mesh_per_wavelength && s.camera_grid)
+    if (s.camera_grid && s.water_mesh_per_wavelength)
         root["surface"]["water_mesh"].fail("not with /surface/camera_grid: choose one surface to sample the breakers on");
     if (root.has("refine")) s.refine = read_refine(root["refine"]);
     if (root.has("preview")) read_preview(root["preview"], s);

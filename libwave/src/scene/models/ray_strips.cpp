@@ -47,9 +47,9 @@ void read_after(const Node& root, Scene& s) {
                      "; a direction points where the waves go, from the open sea towards the shore");
 }
 
-// The water mesh for the breakers: /surface/water_mesh vertices per local wavelength
-// of the train, the depth no shallower than where it breaks (H∞/γ): the surf zone
-// keeps the breaking depth's resolution up to the shore.
+// The water mesh: /surface/water_mesh vertices per local wavelength of the train, the
+// depth no shallower than where it breaks (H∞/γ): the surf zone keeps the breaking
+// depth's resolution up to the shore.
 WaterMesh plan_water_mesh(const Scene& scene, const ScenePlan& p) {
     const WaveTrain& w = scene.waves[0];
     const double omega = 2.0 * std::numbers::pi / w.period, per_wavelength = *scene.water_mesh_per_wavelength;
@@ -81,7 +81,12 @@ void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
     if (p.strips.triangle_count() == 0) refuse_empty_strips(scene, p);
     p.loop_period = scene.waves[0].period;
     if (stages == PlanStages::trace) return;
-    p.motion = plan_gonzato_motion(p.strips, scene.profile);
+    if (scene.water_mesh_per_wavelength) {
+        p.water_mesh = plan_water_mesh(scene, p);
+        p.water_strips = resample_ray_strips(p.strips, p.seafloor, p.water_mesh.x, p.water_mesh.y, p.water_mesh.triangles);
+    }
+    const bool on_mesh = p.water_mesh.vertex_count() > 0;
+    p.motion = plan_gonzato_motion(on_mesh ? p.water_strips : p.strips, scene.profile);
     if (scene.breakers) {
         JeschkeBreakerOptions o = *scene.breakers;
         o.breaker_index = scene.trace.breaker_index;
@@ -93,16 +98,13 @@ void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
             p.camera_grid = camera_grid(c);
             p.breakers = resample_jeschke_breakers(p.breakers, p.strips.triangles, p.camera_grid.x, p.camera_grid.y);
         }
-        if (scene.water_mesh_per_wavelength) {
-            p.water_mesh = plan_water_mesh(scene, p);
-            p.breakers = resample_jeschke_breakers(p.breakers, p.strips.triangles, p.water_mesh.x, p.water_mesh.y);
-        }
+        if (on_mesh) p.breakers = resample_jeschke_breakers(p.breakers, p.strips.triangles, p.water_mesh.x, p.water_mesh.y);
         // Varied crests repeat after m of them: the loop holds m periods.
         p.loop_period *= static_cast<double>(p.breakers.loop_periods());
     }
-    const bool on_grid = p.camera_grid.vertex_count() > 0, on_mesh = p.water_mesh.vertex_count() > 0;
-    p.rest_x = on_grid ? p.camera_grid.x : on_mesh ? p.water_mesh.x : p.motion.x;
-    p.rest_y = on_grid ? p.camera_grid.y : on_mesh ? p.water_mesh.y : p.motion.y;
+    const bool on_grid = p.camera_grid.vertex_count() > 0;
+    p.rest_x = on_grid ? p.camera_grid.x : p.motion.x;
+    p.rest_y = on_grid ? p.camera_grid.y : p.motion.y;
 }
 
 const std::vector<std::uint32_t>& triangles(const ScenePlan& p) {
@@ -118,7 +120,7 @@ bool move(const Scene& scene, const ScenePlan& p, double t, ModelState*, ModelFr
 
 void foam(const Scene& scene, const ScenePlan& p, double t, ModelState*, std::span<float> out) {
     if (scene.breakers) jeschke_foam(p.breakers, t, out);
-    else breaking_foam(p.strips, p.motion, t, scene.foam, out);
+    else breaking_foam(p.water_strips.vertex_count() > 0 ? p.water_strips : p.strips, p.motion, t, scene.foam, out);
 }
 
 }  // namespace
