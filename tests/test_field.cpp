@@ -1,6 +1,7 @@
 // The refraction–diffraction field against analytic solutions: a plane wave on a flat
 // bottom, a planar beach (shoaling and refraction, and the rays' phase), diffraction
 // behind a semi-infinite breakwater (Sommerfeld's half-plane, Penney & Price 1952).
+#include "grid_seafloor.h"
 #include "libwave/errors.h"
 #include "libwave/field.h"
 #include "libwave/physics.h"
@@ -18,19 +19,7 @@ using namespace wave;
 using cd = std::complex<double>;
 constexpr double kPi = std::numbers::pi;
 
-Seafloor grid_seafloor(double width, double height, double spacing, const std::function<double(double, double)>& depth) {
-    Seafloor s;
-    ElevationGrid& g = s.grid;
-    g.nx = static_cast<std::size_t>(std::llround(width / spacing)) + 1;
-    g.ny = static_cast<std::size_t>(std::llround(height / spacing)) + 1;
-    g.dx = g.dy = spacing;
-    g.z.resize(g.nx * g.ny);
-    for (std::size_t j = 0; j < g.ny; ++j)
-        for (std::size_t i = 0; i < g.nx; ++i)
-            g.z[j * g.nx + i] = -depth(static_cast<double>(i) * spacing, static_cast<double>(j) * spacing);
-    s.source = "test grid";
-    return s;
-}
+using test::grid_seafloor;
 
 // The wrapped difference of two phases, in (−π, π].
 double phase_gap(double a, double b) { return std::remainder(a - b, 2.0 * kPi); }

@@ -1,5 +1,6 @@
 // The water mesh (surface.h, mesh_water): a graded constrained Delaunay triangulation
 // bounded exactly by the domain rectangle and the shoreline, checked with inspect.
+#include "grid_seafloor.h"
 #include "libwave/errors.h"
 #include "libwave/inspect.h"
 #include "libwave/surface.h"
@@ -14,19 +15,7 @@ namespace {
 
 using namespace wave;
 
-Seafloor grid_seafloor(double width, double height, double spacing, const std::function<double(double, double)>& depth) {
-    Seafloor s;
-    ElevationGrid& g = s.grid;
-    g.nx = static_cast<std::size_t>(std::llround(width / spacing)) + 1;
-    g.ny = static_cast<std::size_t>(std::llround(height / spacing)) + 1;
-    g.dx = g.dy = spacing;
-    g.z.resize(g.nx * g.ny);
-    for (std::size_t j = 0; j < g.ny; ++j)
-        for (std::size_t i = 0; i < g.nx; ++i)
-            g.z[j * g.nx + i] = -depth(static_cast<double>(i) * spacing, static_cast<double>(j) * spacing);
-    s.source = "test grid";
-    return s;
-}
+using test::grid_seafloor;
 
 MeshInspection inspect(const WaterMesh& m, std::vector<float>& positions) {
     positions.clear();
