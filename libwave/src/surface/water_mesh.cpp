@@ -10,10 +10,12 @@
 #include <CGAL/Delaunay_mesh_size_criteria_2.h>
 #include <CGAL/Delaunay_mesher_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_face_base_with_info_2.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
 #include <algorithm>
 #include <cmath>
-#include <map>
+#include <limits>
 #include <numbers>
 #include <string>
 
@@ -21,8 +23,12 @@ namespace wave {
 namespace {
 
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Vb = CGAL::Triangulation_vertex_base_2<K>;
-using Fb = CGAL::Delaunay_mesh_face_base_2<K>;
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+// Vertices carry their output index, faces their region (kNone until the vote).
+using Vb = CGAL::Triangulation_vertex_base_with_info_2<std::uint32_t, K>;
+using Fb = CGAL::Delaunay_mesh_face_base_2<
+    K, CGAL::Constrained_Delaunay_triangulation_face_base_2<
+           K, CGAL::Constrained_triangulation_face_base_2<K, CGAL::Triangulation_face_base_with_info_2<std::uint32_t, K>>>>;
 using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
 // Exact predicates: a shoreline polyline ending on the rectangle, or touching it,
 // splits the border constraint at a constructed point.
@@ -179,17 +185,19 @@ void insert_constraints(CDT& cdt, const ElevationGrid& g, const DepthContours& s
 }
 
 // Regions between constraints, each wet or dry by the area-weighted vote of its
-// triangles' centroid depths.
-std::map<CDT::Face_handle, bool> wet_faces(const CDT& cdt, const ElevationGrid& g) {
-    std::map<CDT::Face_handle, int> region;
+// triangles' centroid depths: every finite face's info becomes its region, and the
+// result says per region whether it is water.
+std::vector<bool> wet_regions(CDT& cdt, const ElevationGrid& g) {
+    for (CDT::Finite_faces_iterator f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) f->info() = kNone;
     std::vector<double> wet_area, dry_area;
+    std::vector<CDT::Face_handle> stack;
     for (CDT::Finite_faces_iterator f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
-        if (region.count(f)) continue;
-        const int r = static_cast<int>(wet_area.size());
+        if (f->info() != kNone) continue;
+        const auto r = static_cast<std::uint32_t>(wet_area.size());
         wet_area.push_back(0.0);
         dry_area.push_back(0.0);
-        std::vector<CDT::Face_handle> stack{f};
-        region[f] = r;
+        f->info() = r;
+        stack.assign(1, f);
         while (!stack.empty()) {
             const CDT::Face_handle h = stack.back();
             stack.pop_back();
@@ -198,14 +206,14 @@ std::map<CDT::Face_handle, bool> wet_faces(const CDT& cdt, const ElevationGrid& 
             (depth_at(g, (a.x() + b.x() + c.x()) / 3.0, (a.y() + b.y() + c.y()) / 3.0) > 0.0 ? wet_area : dry_area)[r] += area;
             for (int e = 0; e < 3; ++e) {
                 const CDT::Face_handle n = h->neighbor(e);
-                if (cdt.is_infinite(n) || cdt.is_constrained({h, e}) || region.count(n)) continue;
-                region[n] = r;
+                if (cdt.is_infinite(n) || cdt.is_constrained({h, e}) || n->info() != kNone) continue;
+                n->info() = r;
                 stack.push_back(n);
             }
         }
     }
-    std::map<CDT::Face_handle, bool> wet;
-    for (const auto& [f, r] : region) wet[f] = wet_area[r] > dry_area[r];
+    std::vector<bool> wet(wet_area.size());
+    for (std::size_t r = 0; r < wet.size(); ++r) wet[r] = wet_area[r] > dry_area[r];
     return wet;
 }
 
@@ -235,25 +243,25 @@ WaterMesh mesh_water(const Seafloor& seafloor, const EdgeSize& size, const Water
     CGAL::Delaunay_mesher_2<CDT, LocalSizeCriteria> mesher(cdt, LocalSizeCriteria(sine * sine, size, g));
     mesher.refine_mesh();
 
-    const std::map<CDT::Face_handle, bool> wet = wet_faces(cdt, g);
+    const std::vector<bool> wet = wet_regions(cdt, g);
+    for (CDT::Finite_vertices_iterator v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v) v->info() = kNone;
     WaterMesh mesh;
-    std::map<CDT::Vertex_handle, std::uint32_t> index;
     for (CDT::Finite_faces_iterator f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
-        if (!wet.at(f)) continue;
+        if (!wet[f->info()]) continue;
         for (int k = 0; k < 3; ++k) {
             const CDT::Vertex_handle v = f->vertex(k);
-            auto [it, added] = index.emplace(v, static_cast<std::uint32_t>(mesh.x.size()));
-            if (added) {
+            if (v->info() == kNone) {
+                v->info() = static_cast<std::uint32_t>(mesh.x.size());
                 mesh.x.push_back(v->point().x());
                 mesh.y.push_back(v->point().y());
                 mesh.boundary.push_back(0);
             }
-            mesh.triangles.push_back(it->second);
+            mesh.triangles.push_back(v->info());
         }
         for (int e = 0; e < 3; ++e)
             if (cdt.is_constrained({f, e})) {
-                mesh.boundary[index.at(f->vertex(CDT::ccw(e)))] = 1;
-                mesh.boundary[index.at(f->vertex(CDT::cw(e)))] = 1;
+                mesh.boundary[f->vertex(CDT::ccw(e))->info()] = 1;
+                mesh.boundary[f->vertex(CDT::cw(e))->info()] = 1;
             }
     }
     if (mesh.triangles.empty()) throw InputError("water mesh: the seafloor holds no water (depth > 0) to mesh");
