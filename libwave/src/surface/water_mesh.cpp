@@ -101,18 +101,29 @@ DepthContours shoreline(const Seafloor& seafloor, double min_ring) {
     return kept;
 }
 
-// Expected vertex count: each wet grid cell holds area / (√3/4 · s²) triangles of edge
-// s, and a triangulation has about half as many vertices as triangles.
-double estimated_vertices(const ElevationGrid& g, const EdgeSize& size) {
+// The size field over the grid, in one pass: the expected vertex count (each wet
+// cell holds area / (√3/4 · s²) triangles of edge s at its centre, and a triangulation
+// has about half as many vertices as triangles) and the smallest size at a wet node.
+struct SizeSurvey {
+    double vertices = 0.0;
+    double smallest = std::numeric_limits<double>::infinity();
+};
+
+SizeSurvey survey_sizes(const ElevationGrid& g, const EdgeSize& size) {
+    SizeSurvey out;
     double triangles = 0.0;
-    for (std::size_t j = 0; j + 1 < g.ny; ++j)
-        for (std::size_t i = 0; i + 1 < g.nx; ++i) {
-            const double x = g.x0 + (static_cast<double>(i) + 0.5) * g.dx, y = g.y0 + (static_cast<double>(j) + 0.5) * g.dy;
-            if (depth_at(g, x, y) <= 0.0) continue;
-            const double s = size(x, y);
+    for (std::size_t j = 0; j < g.ny; ++j)
+        for (std::size_t i = 0; i < g.nx; ++i) {
+            const double x = g.x0 + static_cast<double>(i) * g.dx, y = g.y0 + static_cast<double>(j) * g.dy;
+            if (g.at(i, j) < 0.0) out.smallest = std::min(out.smallest, size(x, y));
+            if (i + 1 == g.nx || j + 1 == g.ny) continue;
+            const double cx = x + 0.5 * g.dx, cy = y + 0.5 * g.dy;
+            if (depth_at(g, cx, cy) <= 0.0) continue;
+            const double s = size(cx, cy);
             triangles += g.dx * g.dy / (std::sqrt(3.0) / 4.0 * s * s);
         }
-    return 0.5 * triangles;
+    out.vertices = 0.5 * triangles;
+    return out;
 }
 
 // Position along the rectangle's perimeter (counter-clockwise from (x0, y0)) of a
@@ -223,17 +234,12 @@ WaterMesh mesh_water(const Seafloor& seafloor, const EdgeSize& size, const Water
     const ElevationGrid& g = seafloor.grid;
     if (!(options.min_angle_deg > 0.0 && options.min_angle_deg <= 20.7))
         throw InputError("water mesh: min_angle_deg " + std::to_string(options.min_angle_deg) + " outside (0, 20.7]");
-    const double estimate = estimated_vertices(g, size);
-    if (!(estimate <= static_cast<double>(options.max_vertices)))
-        throw LimitError("water mesh: about " + std::to_string(static_cast<long long>(estimate)) +
+    const SizeSurvey survey = survey_sizes(g, size);
+    if (!(survey.vertices <= static_cast<double>(options.max_vertices)))
+        throw LimitError("water mesh: about " + std::to_string(static_cast<long long>(survey.vertices)) +
                          " vertices for the target edge lengths, more than the limit of " +
                          std::to_string(options.max_vertices));
-    double smallest = std::numeric_limits<double>::infinity();
-    for (std::size_t j = 0; j < g.ny; ++j)
-        for (std::size_t i = 0; i < g.nx; ++i) {
-            const double x = g.x0 + static_cast<double>(i) * g.dx, y = g.y0 + static_cast<double>(j) * g.dy;
-            if (g.at(i, j) < 0.0) smallest = std::min(smallest, size(x, y));
-        }
+    const double smallest = survey.smallest;
     const double min_ring = options.min_ring_length > 0.0 ? options.min_ring_length : 2.0 * smallest;
 
     CDT cdt;
