@@ -383,6 +383,10 @@ json surface_summary(const RunSummary& r) {
     }
     if (!plan.gerstner.empty()) surface["gerstner_waves"] = plan.gerstner.size();
     if (scene.breakers) surface["breakers"] = breakers_summary(plan.breakers);
+    if (plan.water_mesh.vertex_count() > 0)
+        surface["water_mesh"] = {{"vertices_per_wavelength", scene.water_mesh_per_wavelength.value_or(0.0)},
+                                 {"vertices", plan.water_mesh.vertex_count()},
+                                 {"triangles", plan.water_mesh.triangles.size() / 3}};
     if (plan.camera_grid.vertex_count() > 0)
         surface["camera_grid"] = {{"columns", plan.camera_grid.columns}, {"rows", plan.camera_grid.rows}};
     if (scene.refine)

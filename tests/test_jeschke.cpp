@@ -31,7 +31,8 @@ BreakerShapePoint shape(BreakerPhase phase, double t, double s, double curl = 1.
 // The planar beach (slope 0.05, waves running +y at normal incidence), 8 s swell.
 const char* kBeach = R"({"name": "jeschke beach", "seafloor": {"source": "planar-beach"},
   "isobaths": {"spacing": 0.5}, "waves": [{"period": 8, "amplitude": 0.4, "direction": [0, 1]}],
-  "trace": {"ray_spacing": 4}, "breakers": "jeschke", "animation": {"fps": 8}})";
+  "trace": {"ray_spacing": 4}, "breakers": "jeschke", "animation": {"fps": 8},
+  "surface": {"water_mesh": false}})";  // the breakers on the traced strips themselves
 
 // The same beach with every crest alike (no per-wave variation): one period loops.
 std::string alike_beach() {

@@ -123,7 +123,8 @@ TEST(Refine, SceneRefinesTheExportedSurface) {
     const ScenePlan plan = plan_scene(scene);
     const SceneAnimation a = animate_scene(scene, plan, 2e9, {0, 2});
     EXPECT_EQ(a.vertex_count, plan.refinement.fine_vertices);
-    EXPECT_EQ(a.triangles.size(), 4 * plan.strips.triangles.size());
+    ASSERT_GT(plan.water_mesh.vertex_count(), 0u);  // the exported surface: the water mesh by default
+    EXPECT_EQ(a.triangles.size(), 4 * plan.water_mesh.triangles.size());
     EXPECT_EQ(a.foam.size(), 2 * a.vertex_count);
     // The coarse vertices' refined positions follow the coarse frame: stencils applied
     // to the unrefined frame give the refined one.

@@ -83,6 +83,60 @@ GonzatoMotionPlan plan_gonzato_motion(const RayStrips& strips, const GonzatoProf
 void evaluate_gonzato_motion(const GonzatoMotionPlan& plan, double t, std::span<float> positions);
 
 // ---------------------------------------------------------------------------------
+// Untangling: a moved mesh without folds
+// ---------------------------------------------------------------------------------
+
+/// A motion model moves vertices sideways (Gonzato's orbits, Jeschke's breakers, a
+/// choppy wind sea). Where neighbouring vertices carry different phases or amplitudes —
+/// crossing rays, a caustic, a steep shoal — their horizontal offsets can differ by
+/// more than the edge between them and a triangle turns over in plan: a fold. Only a
+/// breaking crest may overturn (its lip); everywhere else untangling scales the
+/// horizontal offsets down, vertex by vertex, just as far as the triangles need.
+struct UntangleOptions {
+    /// A triangle keeps at least this share of its rest area in plan (0 < r < 1): it
+    /// neither turns over nor collapses into a sliver.
+    double min_area_ratio = 0.1;
+    /// A triangle with a vertex this foamy is a breaking crest's lip: left to overturn
+    /// (the same threshold as InspectOptions::lip_foam).
+    float lip_foam = 0.1f;
+};
+
+/// Planned once per mesh: the rest positions in plan, the triangles' rest areas (twice
+/// the signed area; a triangle facing down at rest is left alone) and the triangles
+/// around each vertex.
+struct UntanglePlan {
+    std::vector<double> rest_x, rest_y;
+    std::vector<std::uint32_t> triangles;
+    std::vector<double> rest_area;
+    std::vector<std::uint32_t> face_offsets, faces;  ///< vertex v's triangles: faces[face_offsets[v] .. face_offsets[v + 1])
+    UntangleOptions options;
+
+    std::size_t vertex_count() const noexcept { return rest_x.size(); }
+};
+/// Throws InputError when the sizes disagree, an index is out of range or
+/// min_area_ratio is outside (0, 1).
+UntanglePlan plan_untangle(std::span<const double> rest_x, std::span<const double> rest_y,
+                           std::span<const std::uint32_t> triangles, const UntangleOptions& options = {});
+
+struct UntangleReport {
+    std::size_t damped_vertices = 0;  ///< vertices whose horizontal offset was scaled down
+    std::size_t passes = 0;           ///< passes over the triangles (1: nothing to do)
+};
+
+/// Untangles one frame in place: `positions` (3 floats per vertex, z up) are the moved
+/// vertices; `foam` (one per vertex, or empty: no lips) marks breaking crests. Each
+/// pass finds, for every triangle below min_area_ratio of its rest area, the largest
+/// factor s ∈ [0, 1] on its vertices' horizontal offsets that restores it (a quadratic
+/// in s), and scales every vertex by the smallest factor of its triangles; a triangle
+/// still too small after eight passes takes s = 0 (its vertices back over their rest
+/// position, where it faces up). The factors are continuous in the offsets, so a
+/// smooth motion stays smooth. Heights are not changed. Afterwards every triangle that
+/// faced up at rest and has no foamy vertex keeps ≥ min_area_ratio of its rest area.
+/// Parallel over triangles, then over vertices, each a function of the previous pass:
+/// the result does not depend on the thread count. Throws InputError on wrong sizes.
+UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> foam, std::span<float> positions);
+
+// ---------------------------------------------------------------------------------
 // Jeschke, Birkholz & Schumann's procedural breaker (§3–4, table 1)
 // ---------------------------------------------------------------------------------
 

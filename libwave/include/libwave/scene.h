@@ -87,12 +87,13 @@ struct Scene {
     /// Hinsinger's camera-projected grid as the surface (with breakers): sampled from
     /// the camera at /camera/position (or the default camera) instead of the strips.
     std::optional<GridCamera> camera_grid;
-    /// The ray-strips surface that is exported: when set (/surface/water_mesh), the water
-    /// mesh — a graded triangulation of the water bounded by the domain and the
-    /// shoreline (mesh_water), this many vertices per local wavelength, the strips'
-    /// fields (or the breakers) resampled at its vertices; when empty, the strips
-    /// themselves. Not with the camera grid, which replaces both.
-    std::optional<double> water_mesh_per_wavelength;
+    /// The ray-strips surface that is exported: when set (the default; /surface/water_mesh),
+    /// the water mesh — a graded triangulation of the water bounded by the domain and
+    /// the shoreline (mesh_water), this many vertices per local wavelength, the strips'
+    /// fields (or the breakers) resampled at its vertices; when empty
+    /// (`"water_mesh": false`), the strips themselves. A camera grid replaces both
+    /// (reading /surface/camera_grid empties it).
+    std::optional<double> water_mesh_per_wavelength = 16.0;
     /// The preview renderer's view, sun and bump waves (`wave preview`, `--preview`);
     /// its camera position is the scene's camera.
     PreviewOptions preview{};
@@ -266,7 +267,7 @@ struct FrameRange {
 /// those arrays, and the encoded files, held until they are published; the constants
 /// were measured on the default scene, pipeline.cpp).
 /// Uncompressed sizes follow the writer's layout exactly (docs/export.md); Draco
-/// frames are estimated at 4.8 bytes per vertex (measured on the default scene with
+/// frames are estimated at 9.2 bytes per vertex (measured on the default scene's water mesh with
 /// the default 14-bit positions), quantised morph targets at 0.7 of plain.
 struct RunEstimate {
     std::size_t vertices = 0, triangles = 0, frames = 0;

@@ -277,7 +277,7 @@ RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan) {
     const double shading = scene.attributes == Scene::Attributes::uv_maps ? 16.0 : scene.attributes == Scene::Attributes::named ? 12.0 : 0.0;
     const double per_frame_vertex = 24.0 + shading + (scene.color ? 12.0 : 0.0);
     const double indices = 12.0 * static_cast<double>(e.triangles), uv0 = 8.0 * n;
-    const double draco_frame = 4.8 * n;  // measured: default scene, 14-bit positions (see RunEstimate)
+    const double draco_frame = 9.2 * n;  // measured: default scene (the water mesh), 14-bit positions (see RunEstimate)
     switch (scene.form) {
         case Scene::Form::morph:
             e.output_bytes = (scene.draco ? draco_frame : n * per_frame_vertex + uv0 + indices) +
@@ -360,6 +360,7 @@ struct FrameRun {
     std::map<long long, FoldSample> fold_past{};
     Refinement frame_refinement{};  // crest sharpness: creases follow each frame's heights
     std::vector<float> coarse_p{}, coarse_nr{}, coarse_foam{}, fine_depth{};
+    std::optional<UntanglePlan> untangle{};  // when the coarse vertices move sideways
     VertexFaces adjacency{};
     FresnelOptions fresnel{};
 };
@@ -379,6 +380,12 @@ void start_run(FrameRun& r, const std::vector<std::uint32_t>& triangles, std::si
         r.coarse_foam.resize(nc);
         r.fine_depth.resize(n);
         apply_refinement(*r.refined, std::span<const float>(plan.rest_depth), 1, r.fine_depth);
+    }
+    // Sideways motion by the model, a superposed wind sea or Gerstner waves: untangled
+    // every frame against the coarse surface at rest (breaking crests' lips excepted).
+    if (r.model.untangle || !plan.wind_sea_scale.empty() || !plan.gerstner.empty()) {
+        r.untangle = plan_untangle(plan.rest_x, plan.rest_y, surface_triangles(r.scene, plan));
+        if (!r.shaded || r.refined) r.coarse_foam.resize(nc);
     }
     r.adjacency = vertex_faces(n, triangles);  // normals gathered in parallel
     r.fresnel.camera = scene_camera(r.scene, plan.seafloor);
@@ -446,7 +453,16 @@ void evaluate_frame(FrameRun& r, const std::vector<std::uint32_t>& coarse_triang
     const std::span<float> p(&a.positions[3 * n * f], 3 * n), nr(&a.normals[3 * n * f], 3 * n);
     const std::span<float> pc = r.refined ? std::span<float>(r.coarse_p) : p, nrc = r.refined ? std::span<float>(r.coarse_nr) : nr;
     const double t = static_cast<double>(a.first_frame + f) / r.scene.fps;
-    const bool normals_done = move_coarse(r, t, pc, nrc);
+    bool normals_done = move_coarse(r, t, pc, nrc);
+    // Foam before untangling, which leaves the breaking crests' lips to overturn; foam
+    // does not depend on the positions.
+    const std::span<float> foam = r.shaded ? std::span<float>(&a.foam[n * f], n) : std::span<float>();
+    const std::span<float> fc = (r.refined || !r.shaded) ? std::span<float>(r.coarse_foam) : foam;
+    if (r.shaded || r.untangle) {
+        std::fill(fc.begin(), fc.end(), 0.0f);
+        coarse_foam(r, t, fc);
+    }
+    if (r.untangle && untangle_motion(*r.untangle, fc, pc).damped_vertices > 0) normals_done = false;
     const Refinement* fr = r.refined;
     if (r.creased) {
         const RefineOptions& o = *r.scene.refine;
@@ -461,11 +477,8 @@ void evaluate_frame(FrameRun& r, const std::vector<std::uint32_t>& coarse_triang
         a.z_max = std::max(a.z_max, p[3 * v + 2]);
     }
     if (!r.shaded) return;
-    const std::span<float> refl(&a.reflect[n * f], n), refr(&a.refract[n * f], n), foam(&a.foam[n * f], n);
-    const std::span<float> fc = r.refined ? std::span<float>(r.coarse_foam) : foam;
-    if (r.refined) std::fill(fc.begin(), fc.end(), 0.0f);
+    const std::span<float> refl(&a.reflect[n * f], n), refr(&a.refract[n * f], n);
     fresnel_weights(p, nr, r.fresnel, refl, refr);
-    coarse_foam(r, t, fc);
     if (r.refined) apply_refinement(*fr, std::span<const float>(fc), 1, foam);
     const std::span<const float> depth = r.refined ? std::span<const float>(r.fine_depth) : std::span<const float>(r.plan.rest_depth);
     if (r.scene.color) water_colour(refl, depth, foam, WaterColours{}, std::span<float>(&a.colors[3 * n * f], 3 * n));

@@ -176,10 +176,11 @@ void read_surface(const Node& n, Scene& s) {
             s.water_mesh_per_wavelength.reset();
         } else {
             w.require_object({"vertices_per_wavelength"});
-            s.water_mesh_per_wavelength = w.has("vertices_per_wavelength") ? w["vertices_per_wavelength"].number("") : 16.0;
+            s.water_mesh_per_wavelength = w.has("vertices_per_wavelength") ? w["vertices_per_wavelength"].number("") : *Scene{}.water_mesh_per_wavelength;
         }
     }
     if (n.has("camera_grid")) {
+        if (!n.has("water_mesh")) s.water_mesh_per_wavelength.reset();  // the grid replaces it
         // Hinsinger's screen-space sampling (Jeschke §5); the camera stands at /camera/position.
         const Node c = n["camera_grid"];
         c.require_object({"look_at", "vertical_fov_degrees", "image", "pixel_step", "max_distance"});
@@ -459,7 +460,7 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     }
     if (s.camera_grid && !s.breakers)
         root["surface"]["camera_grid"].fail("needs /breakers (the camera grid samples Jeschke's breakers)");
-    if (s.camera_grid && s.water_mesh_per_wavelength)
+    if (s.camera_grid && root["surface"].has("water_mesh") && s.water_mesh_per_wavelength)
         root["surface"]["water_mesh"].fail("not with /surface/camera_grid: choose one surface to sample the breakers on");
     if (root.has("refine")) s.refine = read_refine(root["refine"]);
     if (root.has("preview")) read_preview(root["preview"], s);

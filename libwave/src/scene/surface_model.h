@@ -44,6 +44,9 @@ struct SurfaceModel {
     Traced traced;               ///< what its plan traces (reports, `wave trace`)
     std::string_view loop_keys;  ///< keys that lengthen its loop ("lengthen …")
     std::string_view size_keys;  ///< keys that lower its vertex count ("lower …")
+    /// Its motion moves vertices sideways by fields neighbours may disagree on (phases
+    /// of crossing rays, breakers): the pipeline untangles every frame (untangle_motion).
+    bool untangle;
 
     /// Scene reading, the model's rules between keys, given every key of the file
     /// (`root`) and the scene read so far: keys it does not take, defaults it sets.

@@ -97,6 +97,7 @@ extern const SurfaceModel kHeightFieldModel{
     .traced = Traced::rays,
     .loop_keys = "/surface/repeat_time or the periods in /waves",
     .size_keys = "lower /surface/samples_per_span, /surface/grid or /animation/fps",
+    .untangle = false,
     .read_before = read_before,
     .read_after = [](const Node&, Scene&) {},
     .seafloor = [](const Scene& s) { return load_seafloor(s.seafloor); },

@@ -59,6 +59,7 @@ extern const SurfaceModel kOceanPatchModel{
     .traced = Traced::nothing,
     .loop_keys = "/ocean/repeat_time",
     .size_keys = "lower /ocean/resolution, /ocean/repeat_time or /animation/fps",
+    .untangle = false,
     .read_before = read_before,
     .read_after = [](const Node&, Scene&) {},
     .seafloor = flat_bottom,

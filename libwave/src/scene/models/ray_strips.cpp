@@ -131,6 +131,7 @@ extern const SurfaceModel kRayStripsModel{
     .traced = Traced::fronts,
     .loop_keys = "/waves/0/period",
     .size_keys = "raise /trace/ray_spacing or /fronts/step, or lower /animation/fps",
+    .untangle = true,
     .read_before = read_before,
     .read_after = read_after,
     .seafloor = [](const Scene& s) { return load_seafloor(s.seafloor); },

@@ -123,6 +123,7 @@ extern const SurfaceModel kWaveFieldModel{
     .traced = Traced::field,
     .loop_keys = "/waves/0/period",
     .size_keys = "lower /field/nodes_per_wavelength or /animation/fps",
+    .untangle = false,
     .read_before = read_before,
     .read_after = [](const Node&, Scene&) {},
     .seafloor = [](const Scene& s) { return load_seafloor(s.seafloor); },

@@ -1,0 +1,145 @@
+// Untangling a moved mesh: horizontal offsets scaled down where triangles would turn
+// over in plan (libwave/motion.h).
+#include "libwave/motion.h"
+
+#include "libwave/errors.h"
+#include "libwave/shade.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <string>
+
+namespace wave {
+namespace {
+
+constexpr std::size_t kMaxScaledPasses = 8;  // then a triangle still too small takes s = 0
+
+// Twice the signed area of (a, b, c) in plan.
+double area2(double ax, double ay, double bx, double by, double cx, double cy) noexcept {
+    return (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
+}
+
+// The largest s ∈ [0, 1] with A(s) ≥ target, where A(s) = a0 + b·s + c·s² is twice the
+// area with every offset scaled by s, A(0) = a0 > target and A(1) < target: the first
+// root of A(s) − target above 0, a little inside it (float positions).
+double restoring_factor(double a0, double b, double c, double target) noexcept {
+    const double g0 = a0 - target;  // > 0
+    double root = 1.0;
+    if (std::abs(c) < 1e-12 * std::max(std::abs(a0), std::abs(b))) {
+        if (b < 0.0) root = g0 / -b;
+    } else {
+        const double disc = b * b - 4.0 * c * g0;
+        if (disc >= 0.0) {
+            // Roots (−b ± √disc) / 2c by the stable formula; the smallest positive one.
+            const double q = -0.5 * (b + std::copysign(std::sqrt(disc), b));
+            const double r1 = q / c, r2 = q != 0.0 ? g0 / q : 1.0;
+            root = 1.0;
+            for (double r : {r1, r2})
+                if (r > 0.0 && r < root) root = r;
+        }
+    }
+    return std::clamp(0.98 * root, 0.0, 1.0);
+}
+
+}  // namespace
+
+UntanglePlan plan_untangle(std::span<const double> rest_x, std::span<const double> rest_y,
+                           std::span<const std::uint32_t> triangles, const UntangleOptions& options) {
+    const std::size_t n = rest_x.size();
+    if (rest_y.size() != n)
+        throw InputError("untangle: " + std::to_string(rest_x.size()) + " rest x but " + std::to_string(rest_y.size()) + " rest y");
+    if (triangles.size() % 3 != 0) throw InputError("untangle: " + std::to_string(triangles.size()) + " indices is not whole triangles");
+    for (std::uint32_t v : triangles)
+        if (v >= n) throw InputError("untangle: triangle index " + std::to_string(v) + " out of " + std::to_string(n) + " vertices");
+    if (!(options.min_area_ratio > 0.0 && options.min_area_ratio < 1.0))
+        throw InputError("untangle: min_area_ratio " + std::to_string(options.min_area_ratio) + " is not in (0, 1)");
+    UntanglePlan p;
+    p.rest_x.assign(rest_x.begin(), rest_x.end());
+    p.rest_y.assign(rest_y.begin(), rest_y.end());
+    p.triangles.assign(triangles.begin(), triangles.end());
+    p.options = options;
+    const std::size_t m = triangles.size() / 3;
+    p.rest_area.resize(m);
+    for (std::size_t t = 0; t < m; ++t) {
+        const std::uint32_t a = triangles[3 * t], b = triangles[3 * t + 1], c = triangles[3 * t + 2];
+        p.rest_area[t] = area2(rest_x[a], rest_y[a], rest_x[b], rest_y[b], rest_x[c], rest_y[c]);
+    }
+    VertexFaces vf = vertex_faces(n, triangles);
+    p.face_offsets = std::move(vf.offsets);
+    p.faces = std::move(vf.faces);
+    return p;
+}
+
+UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> foam, std::span<float> positions) {
+    const std::size_t n = plan.vertex_count(), m = plan.rest_area.size();
+    if (positions.size() != 3 * n)
+        throw InputError("untangle: " + std::to_string(positions.size()) + " position floats for " + std::to_string(n) + " vertices");
+    if (!foam.empty() && foam.size() != n)
+        throw InputError("untangle: " + std::to_string(foam.size()) + " foam values for " + std::to_string(n) + " vertices");
+    const UntangleOptions& o = plan.options;
+    // The horizontal offsets as moved (double), the factor on each, each triangle's s.
+    std::vector<double> dx(n), dy(n), factor(n, 1.0), s(m, 1.0);
+    for (std::size_t v = 0; v < n; ++v) {
+        dx[v] = static_cast<double>(positions[3 * v]) - plan.rest_x[v];
+        dy[v] = static_cast<double>(positions[3 * v + 1]) - plan.rest_y[v];
+    }
+    const auto lip = [&](std::uint32_t v) { return !foam.empty() && foam[v] >= o.lip_foam; };
+    UntangleReport report;
+    for (std::size_t pass = 0;; ++pass) {
+        report.passes = pass + 1;
+        std::atomic<bool> tangled{false};
+        const bool last_resort = pass >= kMaxScaledPasses;
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
+            bool any = false;
+            for (std::size_t t = range.begin(); t != range.end(); ++t) {
+                s[t] = 1.0;
+                const double a0 = plan.rest_area[t];
+                if (!(a0 > 0.0)) continue;
+                const std::uint32_t i = plan.triangles[3 * t], j = plan.triangles[3 * t + 1], k = plan.triangles[3 * t + 2];
+                if (lip(i) || lip(j) || lip(k)) continue;
+                // Offsets e = factor · d; A(s) = area of rest + s·e, a quadratic in s.
+                const double rx[3] = {plan.rest_x[i], plan.rest_x[j], plan.rest_x[k]};
+                const double ry[3] = {plan.rest_y[i], plan.rest_y[j], plan.rest_y[k]};
+                const double ex[3] = {factor[i] * dx[i], factor[j] * dx[j], factor[k] * dx[k]};
+                const double ey[3] = {factor[i] * dy[i], factor[j] * dy[j], factor[k] * dy[k]};
+                const double target = o.min_area_ratio * a0;
+                const double a1 = area2(rx[0] + ex[0], ry[0] + ey[0], rx[1] + ex[1], ry[1] + ey[1], rx[2] + ex[2], ry[2] + ey[2]);
+                if (a1 >= target) continue;
+                any = true;
+                if (last_resort) {
+                    s[t] = 0.0;
+                    continue;
+                }
+                // A(s) = a0 + b s + c s², with u = rest edges, w = offset edges.
+                const double ux1 = rx[1] - rx[0], uy1 = ry[1] - ry[0], ux2 = rx[2] - rx[0], uy2 = ry[2] - ry[0];
+                const double wx1 = ex[1] - ex[0], wy1 = ey[1] - ey[0], wx2 = ex[2] - ex[0], wy2 = ey[2] - ey[0];
+                const double b = ux1 * wy2 + wx1 * uy2 - uy1 * wx2 - wy1 * ux2;
+                const double c = wx1 * wy2 - wy1 * wx2;
+                s[t] = restoring_factor(a0, b, c, target);
+            }
+            if (any) tangled.store(true, std::memory_order_relaxed);
+        });
+        if (!tangled.load()) break;
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
+            for (std::size_t v = range.begin(); v != range.end(); ++v) {
+                double lowest = 1.0;
+                for (std::uint32_t q = plan.face_offsets[v]; q < plan.face_offsets[v + 1]; ++q) lowest = std::min(lowest, s[plan.faces[q]]);
+                factor[v] *= lowest;
+            }
+        });
+        if (report.passes > kMaxScaledPasses + n) break;  // cannot happen: each last-resort pass zeroes a vertex
+    }
+    for (std::size_t v = 0; v < n; ++v) {
+        if (factor[v] == 1.0 || (dx[v] == 0.0 && dy[v] == 0.0)) continue;
+        ++report.damped_vertices;
+        positions[3 * v] = static_cast<float>(plan.rest_x[v] + factor[v] * dx[v]);
+        positions[3 * v + 1] = static_cast<float>(plan.rest_y[v] + factor[v] * dy[v]);
+    }
+    return report;
+}
+
+}  // namespace wave

@@ -1,0 +1,165 @@
+// Untangling a moved mesh (libwave/motion.h: plan_untangle, untangle_motion) on meshes
+// whose answers are known by construction, and on a wave whose offsets fold it.
+#include "libwave/errors.h"
+#include "libwave/inspect.h"
+#include "libwave/motion.h"
+#include "libwave/surface.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+namespace {
+
+using namespace wave;
+
+// A flat n × n grid of cells of side h, counter-clockwise from above.
+struct Grid {
+    std::size_t n;
+    std::vector<double> x, y;
+    std::vector<std::uint32_t> triangles;
+    Grid(std::size_t n_, double h) : n(n_), triangles(grid_triangles(n_, n_)) {
+        for (std::size_t j = 0; j < n; ++j)
+            for (std::size_t i = 0; i < n; ++i) {
+                x.push_back(h * double(i));
+                y.push_back(h * double(j));
+            }
+    }
+    std::vector<float> rest() const {
+        std::vector<float> p;
+        for (std::size_t v = 0; v < x.size(); ++v) p.insert(p.end(), {float(x[v]), float(y[v]), 0.0f});
+        return p;
+    }
+};
+
+// The smallest ratio of a triangle's area in plan to its rest area.
+double smallest_area_ratio(const Grid& g, const std::vector<float>& p) {
+    double lowest = 1e300;
+    for (std::size_t t = 0; t < g.triangles.size() / 3; ++t) {
+        const std::uint32_t a = g.triangles[3 * t], b = g.triangles[3 * t + 1], c = g.triangles[3 * t + 2];
+        const double rest = (g.x[b] - g.x[a]) * (g.y[c] - g.y[a]) - (g.y[b] - g.y[a]) * (g.x[c] - g.x[a]);
+        const double now = (double(p[3 * b]) - p[3 * a]) * (double(p[3 * c + 1]) - p[3 * a + 1]) -
+                           (double(p[3 * b + 1]) - p[3 * a + 1]) * (double(p[3 * c]) - p[3 * a]);
+        lowest = std::min(lowest, now / rest);
+    }
+    return lowest;
+}
+
+TEST(Untangle, OneTriangleTakesTheAnalyticFactor) {
+    // (0,0) (1,0) (0,1): twice the area 1. The top vertex pulled down by 2 m: A(s) = 1 − 2s,
+    // ≥ 0.1 up to s = 0.45; the kernel stays 2 % inside the root: 0.441.
+    const std::vector<double> x{0, 1, 0}, y{0, 0, 1};
+    const std::vector<std::uint32_t> tri{0, 1, 2};
+    const UntanglePlan plan = plan_untangle(x, y, tri);
+    std::vector<float> p{0, 0, 0, 1, 0, 0, 0, -1, 0.5f};
+    const UntangleReport r = untangle_motion(plan, {}, p);
+    EXPECT_EQ(r.damped_vertices, 1u);
+    EXPECT_NEAR(p[7], 1.0 - 2.0 * 0.98 * 0.45, 1e-6);
+    EXPECT_EQ(p[6], 0.0f);     // the offset keeps its direction
+    EXPECT_EQ(p[8], 0.5f);     // heights are not touched
+    EXPECT_EQ(p[0], 0.0f);     // vertices that did not move stay
+}
+
+TEST(Untangle, ARigidShiftAndAGentleWaveAreLeftAlone) {
+    const Grid g(12, 1.0);
+    const UntanglePlan plan = plan_untangle(g.x, g.y, g.triangles);
+    std::vector<float> p = g.rest();
+    for (std::size_t v = 0; v < g.x.size(); ++v) {
+        p[3 * v] += 3.0f + 0.3f * float(std::sin(g.x[v]));  // d(offset)/dx ≥ −0.3: no triangle shrinks below 0.7
+        p[3 * v + 1] -= 2.0f;
+        p[3 * v + 2] = float(std::cos(g.x[v]));
+    }
+    const std::vector<float> before = p;
+    const UntangleReport r = untangle_motion(plan, {}, p);
+    EXPECT_EQ(r.damped_vertices, 0u);
+    EXPECT_EQ(r.passes, 1u);
+    EXPECT_EQ(p, before);
+}
+
+// A steep Gerstner-like wave on a grid: the offset x + Q·sin(kx) folds where Q·k > 1.
+std::vector<float> folded_wave(const Grid& g, double qk) {
+    const double k = 2.0 * std::numbers::pi / 8.0, q = qk / k;
+    std::vector<float> p = g.rest();
+    for (std::size_t v = 0; v < g.x.size(); ++v) {
+        const double phase = k * g.x[v] + 0.3 * g.y[v];  // crests slanted across the grid
+        p[3 * v] = float(g.x[v] - q * std::sin(phase));
+        p[3 * v + 2] = float(0.5 * std::cos(phase));
+    }
+    return p;
+}
+
+TEST(Untangle, AFoldingWaveKeepsEveryTriangleUpAndTheCrestsWhereTheyWere) {
+    const Grid g(40, 0.5);
+    const UntanglePlan plan = plan_untangle(g.x, g.y, g.triangles);
+    std::vector<float> p = folded_wave(g, 1.6);
+    ASSERT_LT(smallest_area_ratio(g, p), 0.0);  // folded as moved
+    const std::vector<float> moved = p;
+    const UntangleReport r = untangle_motion(plan, {}, p);
+    EXPECT_GT(r.damped_vertices, 0u);
+    EXPECT_LT(r.damped_vertices, g.x.size());  // the troughs keep their offsets
+    EXPECT_GE(smallest_area_ratio(g, p), 0.1 - 1e-4);
+    std::size_t unchanged = 0;
+    for (std::size_t v = 0; v < g.x.size(); ++v) {
+        EXPECT_EQ(p[3 * v + 2], moved[3 * v + 2]);  // heights kept
+        const double d0 = double(moved[3 * v]) - g.x[v], d1 = double(p[3 * v]) - g.x[v];
+        EXPECT_LE(std::abs(d1), std::abs(d0) + 1e-5);  // only ever scaled down …
+        EXPECT_GE(d0 * d1, 0.0);                      // … never reversed
+        unchanged += moved[3 * v] == p[3 * v];
+    }
+    // Q·k = 1.6 squeezes a triangle below a tenth of its area where cos φ > 0.56 (31 % of
+    // the phases); their vertices and one ring round them are damped, the rest not.
+    EXPECT_GT(unchanged, g.x.size() / 8);
+    // And the inspection agrees: nothing facing down.
+    MorphAnimationView view;
+    view.positions = p;
+    view.triangles = g.triangles;
+    view.vertex_count = g.x.size();
+    view.frame_count = view.loop_frames = 1;
+    view.fps = 24.0;
+    EXPECT_EQ(inspect_animation(view).frames[0].facing_down, 0u);
+}
+
+TEST(Untangle, FoamyCrestsAreLipsLeftToOverturn) {
+    const Grid g(40, 0.5);
+    const UntanglePlan plan = plan_untangle(g.x, g.y, g.triangles);
+    std::vector<float> p = folded_wave(g, 1.6);
+    const std::vector<float> moved = p;
+    const std::vector<float> foam(g.x.size(), 0.5f);  // every vertex breaking
+    const UntangleReport r = untangle_motion(plan, foam, p);
+    EXPECT_EQ(r.damped_vertices, 0u);
+    EXPECT_EQ(p, moved);
+}
+
+TEST(Untangle, TheSameBitsOnOneThreadAndOnMany) {
+    const Grid g(120, 0.25);
+    const UntanglePlan plan = plan_untangle(g.x, g.y, g.triangles);
+    std::vector<float> one = folded_wave(g, 2.5), many = one;
+    {
+        tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+        untangle_motion(plan, {}, one);
+    }
+    {
+        tbb::global_control c(tbb::global_control::max_allowed_parallelism, 4);
+        untangle_motion(plan, {}, many);
+    }
+    EXPECT_EQ(one, many);
+    EXPECT_GE(smallest_area_ratio(g, one), 0.1 - 1e-4);
+}
+
+TEST(Untangle, WrongSizesAndOptionsAreRefused) {
+    const Grid g(3, 1.0);
+    EXPECT_THROW(plan_untangle(g.x, std::vector<double>(2), g.triangles), InputError);
+    EXPECT_THROW(plan_untangle(g.x, g.y, std::vector<std::uint32_t>{0, 1, 9}), InputError);
+    EXPECT_THROW(plan_untangle(g.x, g.y, std::vector<std::uint32_t>{0, 1}), InputError);
+    EXPECT_THROW(plan_untangle(g.x, g.y, g.triangles, UntangleOptions{.min_area_ratio = 1.0}), InputError);
+    const UntanglePlan plan = plan_untangle(g.x, g.y, g.triangles);
+    std::vector<float> p(3 * 9 - 1);
+    EXPECT_THROW(untangle_motion(plan, {}, p), InputError);
+    std::vector<float> ok = g.rest(), foam(4);
+    EXPECT_THROW(untangle_motion(plan, foam, ok), InputError);
+}
+
+}  // namespace
