@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The examples on the ray strips and on the water mesh, side by side: `wave run`
+"""The examples on their traced ray strips and on the water mesh (the default), side by side: `wave run`
 (2 fps, no Draco) then `wave inspect`, and the plan's time (best of 3) with and without
 the water mesh. Prints the tables of docs/inspect.md and bench/RESULTS.md.
 
@@ -16,14 +16,17 @@ WAVE = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build", "releas
 EXAMPLES = os.path.join(ROOT, "examples")
 
 # (label, example, surface variants: name -> what /surface becomes)
+STRIPS = {"water_mesh": False}
 CASES = [
     ("default bay (`gonzato-bay.json`)", "gonzato-bay.json",
-     [("ray strips", None), ("water mesh", {"water_mesh": {}}), ("wave-field, water mesh", {"kind": "wave-field"})]),
+     [("ray strips", STRIPS), ("water mesh (default)", None), ("wave-field, water mesh", {"kind": "wave-field"})]),
     ("`gonzato-island.json`", "gonzato-island.json",
-     [("ray strips", None), ("water mesh", {"water_mesh": {}}), ("wave-field, water mesh", {"kind": "wave-field"})]),
-    ("`breaking-beach.json`", "breaking-beach.json", [("strips + breakers", None), ("water mesh + breakers", {"water_mesh": {}})]),
+     [("ray strips", STRIPS), ("water mesh (default)", None), ("wave-field, water mesh", {"kind": "wave-field"})]),
+    ("`breaking-beach.json`", "breaking-beach.json", [("strips + breakers", STRIPS), ("water mesh + breakers (default)", None)]),
     ("`breaking-okushiri.json`", "breaking-okushiri.json",
-     [("strips + breakers", None), ("water mesh + breakers", {"water_mesh": {}})]),
+     [("strips + breakers", STRIPS), ("water mesh + breakers (default)", None)]),
+    ("`coast-with-wind-waves.json`", "coast-with-wind-waves.json",
+     [("strips + wind sea", STRIPS), ("water mesh + wind sea (default)", None)]),
 ]
 
 
@@ -34,7 +37,7 @@ def scene_file(example, surface):
         if surface.get("kind") == "wave-field":
             for key in ("fronts", "motion", "breakers"):
                 doc.pop(key, None)
-        doc["surface"] = surface
+        doc["surface"] = dict(doc.get("surface", {}), **surface) if "kind" not in surface else surface
     # Next to the example, so that its relative seafloor path still resolves.
     path = os.path.join(EXAMPLES, ".inspect-%d-%s" % (os.getpid(), example))
     with open(path, "w") as f:
@@ -60,11 +63,12 @@ def main():
             for k, (name, surface) in enumerate(variants):
                 scene = scene_file(example, surface)
                 try:
-                    plans = []
+                    plans, frames = [], []
                     for i in range(3):
                         out = os.path.join(d, "%s-%d-%d" % (example, k, i))
                         report = run(scene, out)
                         plans.append(report["timings_ms"]["plan"])
+                        frames.append(report["timings_ms"]["frames"] / report["surface"]["frames"])
                     m = json.loads(subprocess.run([WAVE, "inspect", out, "--json"], capture_output=True, text=True,
                                                   check=True).stdout)
                 finally:
@@ -77,14 +81,14 @@ def main():
                     label if k == 0 else "", name, n(m["vertices"]), m["unreferenced_vertices"], n(w["folds"]), n(w["lips"]),
                     n(w["slivers"]), w["smallest_angle_deg"], w["longest_edge_m"], w["median_edge_m"], n(w["long_edges"]),
                     w["max_speed_m_s"], where))
-                costs.append("| %s | %s | %s | %.0f |" % (label if k == 0 else "", name, n(m["vertices"]), min(plans)))
+                costs.append("| %s | %s | %s | %.0f | %.1f |" % (label if k == 0 else "", name, n(m["vertices"]), min(plans), min(frames)))
     print("| scene | surface | vertices | unreferenced | folds | lips | slivers < 15° | smallest angle | longest edge (median) "
           "| long edges | fastest vertex | boundary loops |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     print("\n".join(rows))
     print()
-    print("| scene | surface | vertices | plan (ms, best of 3) |")
-    print("|---|---|---|---|")
+    print("| scene | surface | vertices | plan (ms, best of 3) | frame (ms, best of 3; untangling included) |")
+    print("|---|---|---|---|---|")
     print("\n".join(costs))
 
 

@@ -923,6 +923,8 @@ class Inspect(unittest.TestCase):
                 self.assertEqual([f["folds"] for f in m["per_frame"] if f["folds"]], [], example)
                 self.assertGreater(sum(f["lips"] for f in m["per_frame"]), 0, example)  # the crests do overturn
                 self.assertEqual(len(m["boundary"]["loops"]), 1 if example != "gonzato-island.json" else 2, example)
+            # The sides stay on the domain's border (no lip hangs over it): the bay's 100 × 90 m.
+            self.assertEqual(self.inspect(os.path.join(d, "gonzato-bay.json"))["boundary"]["border"], [0.0, 0.0, 100.0, 90.0])
 
     def test_breakers_on_the_water_mesh_leave_no_vertex_unused(self):
         # The breaking beach on the strips leaves vertices no triangle uses and a

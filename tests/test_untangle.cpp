@@ -53,7 +53,7 @@ TEST(Untangle, OneTriangleTakesTheAnalyticFactor) {
     // ≥ 0.1 up to s = 0.45; the kernel stays 2 % inside the root: 0.441.
     const std::vector<double> x{0, 1, 0}, y{0, 0, 1};
     const std::vector<std::uint32_t> tri{0, 1, 2};
-    const UntanglePlan plan = plan_untangle(x, y, tri);
+    const UntanglePlan plan = plan_untangle(x, y, tri, {.pin_border = false});
     std::vector<float> p{0, 0, 0, 1, 0, 0, 0, -1, 0.5f};
     const UntangleReport r = untangle_motion(plan, {}, p);
     EXPECT_EQ(r.damped_vertices, 1u);
@@ -65,7 +65,7 @@ TEST(Untangle, OneTriangleTakesTheAnalyticFactor) {
 
 TEST(Untangle, ARigidShiftAndAGentleWaveAreLeftAlone) {
     const Grid g(12, 1.0);
-    const UntanglePlan plan = plan_untangle(g.x, g.y, g.triangles);
+    const UntanglePlan plan = plan_untangle(g.x, g.y, g.triangles, {.pin_border = false});
     std::vector<float> p = g.rest();
     for (std::size_t v = 0; v < g.x.size(); ++v) {
         p[3 * v] += 3.0f + 0.3f * float(std::sin(g.x[v]));  // d(offset)/dx ≥ −0.3: no triangle shrinks below 0.7
@@ -77,6 +77,26 @@ TEST(Untangle, ARigidShiftAndAGentleWaveAreLeftAlone) {
     EXPECT_EQ(r.damped_vertices, 0u);
     EXPECT_EQ(r.passes, 1u);
     EXPECT_EQ(p, before);
+}
+
+TEST(Untangle, BorderVerticesSlideAlongTheirSideOnly) {
+    // A rigid shift by (0.3, −0.2) m of an 8 × 8 grid of 1 m cells: the interior moves,
+    // side vertices keep x = 0 / 7 or y = 0 / 7 exactly, corners do not move sideways.
+    const Grid g(8, 1.0);
+    const UntanglePlan plan = plan_untangle(g.x, g.y, g.triangles);
+    std::vector<float> p = g.rest();
+    for (std::size_t v = 0; v < g.x.size(); ++v) {
+        p[3 * v] += 0.3f;
+        p[3 * v + 1] -= 0.2f;
+        p[3 * v + 2] = 0.25f;
+    }
+    untangle_motion(plan, {}, p);
+    for (std::size_t v = 0; v < g.x.size(); ++v) {
+        const bool side_x = g.x[v] == 0.0 || g.x[v] == 7.0, side_y = g.y[v] == 0.0 || g.y[v] == 7.0;
+        EXPECT_EQ(p[3 * v], side_x ? float(g.x[v]) : float(g.x[v]) + 0.3f) << v;
+        EXPECT_EQ(p[3 * v + 1], side_y ? float(g.y[v]) : float(g.y[v]) - 0.2f) << v;
+        EXPECT_EQ(p[3 * v + 2], 0.25f);
+    }
 }
 
 // A steep Gerstner-like wave on a grid: the offset x + Q·sin(kx) folds where Q·k > 1.
@@ -124,7 +144,7 @@ TEST(Untangle, AFoldingWaveKeepsEveryTriangleUpAndTheCrestsWhereTheyWere) {
 
 TEST(Untangle, FoamyCrestsAreLipsLeftToOverturn) {
     const Grid g(40, 0.5);
-    const UntanglePlan plan = plan_untangle(g.x, g.y, g.triangles);
+    const UntanglePlan plan = plan_untangle(g.x, g.y, g.triangles, {.pin_border = false});
     std::vector<float> p = folded_wave(g, 1.6);
     const std::vector<float> moved = p;
     const std::vector<float> foam(g.x.size(), 0.5f);  // every vertex breaking

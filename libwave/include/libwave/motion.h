@@ -99,6 +99,11 @@ struct UntangleOptions {
     /// A triangle with a vertex this foamy is a breaking crest's lip: left to overturn
     /// (the same threshold as InspectOptions::lip_foam).
     float lip_foam = 0.1f;
+    /// Vertices at rest on a side of the rest positions' bounding rectangle (the
+    /// domain's border, for the water mesh) move only along that side, corners not
+    /// sideways at all, and no vertex (a lip included) leaves the rectangle: the
+    /// surface's sides stay straight on the border in every frame.
+    bool pin_border = true;
 };
 
 /// Planned once per mesh: the rest positions in plan, the triangles' rest areas (twice
@@ -109,6 +114,8 @@ struct UntanglePlan {
     std::vector<std::uint32_t> triangles;
     std::vector<double> rest_area;
     std::vector<std::uint32_t> face_offsets, faces;  ///< vertex v's triangles: faces[face_offsets[v] .. face_offsets[v + 1])
+    std::vector<std::uint8_t> pinned;  ///< per vertex with pin_border: 1 on a side x = const, 2 on a side y = const
+    double x_min = 0.0, y_min = 0.0, x_max = 0.0, y_max = 0.0;  ///< the rest positions' bounding rectangle
     UntangleOptions options;
 
     std::size_t vertex_count() const noexcept { return rest_x.size(); }
@@ -124,7 +131,8 @@ struct UntangleReport {
 };
 
 /// Untangles one frame in place: `positions` (3 floats per vertex, z up) are the moved
-/// vertices; `foam` (one per vertex, or empty: no lips) marks breaking crests. Each
+/// vertices; `foam` (one per vertex, or empty: no lips) marks breaking crests. Pinned
+/// border vertices first lose their offset across their side (pin_border). Each
 /// pass finds, for every triangle below min_area_ratio of its rest area, the largest
 /// factor s ∈ [0, 1] on its vertices' horizontal offsets that restores it (a quadratic
 /// in s), and scales every vertex by the smallest factor of its triangles; a triangle

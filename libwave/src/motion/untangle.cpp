@@ -68,6 +68,18 @@ UntanglePlan plan_untangle(std::span<const double> rest_x, std::span<const doubl
         const std::uint32_t a = triangles[3 * t], b = triangles[3 * t + 1], c = triangles[3 * t + 2];
         p.rest_area[t] = area2(rest_x[a], rest_y[a], rest_x[b], rest_y[b], rest_x[c], rest_y[c]);
     }
+    if (options.pin_border && n > 0) {
+        const auto [x0, x1] = std::minmax_element(rest_x.begin(), rest_x.end());
+        const auto [y0, y1] = std::minmax_element(rest_y.begin(), rest_y.end());
+        p.x_min = *x0;
+        p.x_max = *x1;
+        p.y_min = *y0;
+        p.y_max = *y1;
+        p.pinned.resize(n);
+        for (std::size_t v = 0; v < n; ++v)
+            p.pinned[v] = static_cast<std::uint8_t>((rest_x[v] == *x0 || rest_x[v] == *x1 ? 1 : 0) |
+                                                    (rest_y[v] == *y0 || rest_y[v] == *y1 ? 2 : 0));
+    }
     VertexFaces vf = vertex_faces(n, triangles);
     p.face_offsets = std::move(vf.offsets);
     p.faces = std::move(vf.faces);
@@ -86,6 +98,9 @@ UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> 
     for (std::size_t v = 0; v < n; ++v) {
         dx[v] = static_cast<double>(positions[3 * v]) - plan.rest_x[v];
         dy[v] = static_cast<double>(positions[3 * v + 1]) - plan.rest_y[v];
+        if (plan.pinned.empty() || plan.pinned[v] == 0) continue;
+        if (plan.pinned[v] & 1) dx[v] = 0.0;
+        if (plan.pinned[v] & 2) dy[v] = 0.0;
     }
     const auto lip = [&](std::uint32_t v) { return !foam.empty() && foam[v] >= o.lip_foam; };
     UntangleReport report;
@@ -133,11 +148,18 @@ UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> 
         });
         if (report.passes > kMaxScaledPasses + n) break;  // cannot happen: each last-resort pass zeroes a vertex
     }
+    const bool clip = !plan.pinned.empty();
     for (std::size_t v = 0; v < n; ++v) {
-        if (factor[v] == 1.0 || (dx[v] == 0.0 && dy[v] == 0.0)) continue;
-        ++report.damped_vertices;
-        positions[3 * v] = static_cast<float>(plan.rest_x[v] + factor[v] * dx[v]);
-        positions[3 * v + 1] = static_cast<float>(plan.rest_y[v] + factor[v] * dy[v]);
+        const bool pinned = clip && plan.pinned[v] != 0;
+        double x = plan.rest_x[v] + factor[v] * dx[v], y = plan.rest_y[v] + factor[v] * dy[v];
+        if (clip) {  // a lip over a side stops at it
+            x = std::clamp(x, plan.x_min, plan.x_max);
+            y = std::clamp(y, plan.y_min, plan.y_max);
+        }
+        if (factor[v] < 1.0 && (dx[v] != 0.0 || dy[v] != 0.0)) ++report.damped_vertices;
+        if (factor[v] == 1.0 && !pinned && x == plan.rest_x[v] + dx[v] && y == plan.rest_y[v] + dy[v]) continue;
+        positions[3 * v] = static_cast<float>(x);
+        positions[3 * v + 1] = static_cast<float>(y);
     }
     return report;
 }

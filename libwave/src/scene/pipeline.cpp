@@ -462,7 +462,10 @@ void evaluate_frame(FrameRun& r, const std::vector<std::uint32_t>& coarse_triang
         std::fill(fc.begin(), fc.end(), 0.0f);
         coarse_foam(r, t, fc);
     }
-    if (r.untangle && untangle_motion(*r.untangle, fc, pc).damped_vertices > 0) normals_done = false;
+    if (r.untangle) {
+        untangle_motion(*r.untangle, fc, pc);
+        normals_done = false;
+    }
     const Refinement* fr = r.refined;
     if (r.creased) {
         const RefineOptions& o = *r.scene.refine;
