@@ -142,6 +142,29 @@ class BadInput(unittest.TestCase):
 
 
 class Contours(unittest.TestCase):
+    def test_isobath_refraction_traces_okushiri(self):
+        # Ts'o–Barsky's exact crossings on the real Monai cove at full scale: rays guided
+        # along the coast (their turns cancel, max_turn never fires) used to run to
+        # /fronts/max_steps or max_points; now they are removed as trapped after three
+        # crossings of the domain and the tracing ends.
+        with open(os.path.join(EXAMPLES, "breaking-okushiri.json")) as f:
+            scene = json.load(f)
+        scene["fronts"]["refraction"] = "isobath"
+        scene["seafloor"]["source"] = os.path.join(DATA, "bathymetry", "okushiri_monai_lab1to400_1p4cm.asc")
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "s.json")
+            with open(path, "w") as f:
+                json.dump(scene, f)
+            r = wave("trace", path, "-o", os.path.join(d, "out"), "--json")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            fronts = json.loads(r.stdout)
+            self.assertIn("exact isobath crossings", fronts["mode"])
+            self.assertGreater(fronts["rays_trapped"], 0)
+            self.assertGreater(fronts["rays_aground"], 1000)  # most of the swell reaches the shore
+            # One crossing along the swell (1, 0.15) of the 2 195 × 1 361 m domain:
+            # (2 195 + 0.15 · 1 361) / 1.011 = 2 373 m, 593 fronts of 4 m; at most three.
+            self.assertLessEqual(fronts["steps"], 3 * 593 + 1)
+
     def test_json_round_trip_and_obj(self):
         with tempfile.TemporaryDirectory() as d:
             out = os.path.join(d, "bay.json")
@@ -1378,8 +1401,10 @@ class RandomScenes(unittest.TestCase):
     """Property test through the whole pipeline: reproducible random seafloors (smooth
     grids written as ESRI ASCII: a sloping bottom with random bumps, depth, slope and
     extent) and random wave trains, surfaces, breakers, forms and compressions. Every
-    run succeeds, reports finite heights, and every file it exports passes the Khronos
-    validator (tests/test_properties.cpp checks the kernels' invariants on such draws)."""
+    run succeeds, reports finite heights, every file it exports passes the Khronos
+    validator, and a ray-strips surface (the water mesh) has no fold, unused vertex or
+    non-manifold edge in any frame (tests/test_properties.cpp checks the kernels'
+    invariants on such draws)."""
 
     DRAWS = 8
 
@@ -1437,6 +1462,7 @@ class RandomScenes(unittest.TestCase):
 
     def test_random_scenes_run_and_their_files_validate(self):
         rng = random.Random(20261201)
+        checked = 0
         with tempfile.TemporaryDirectory() as d:
             for k in range(self.DRAWS):
                 scene = self.random_scene(rng, d, k)
@@ -1457,6 +1483,16 @@ class RandomScenes(unittest.TestCase):
                     self.assertTrue(exported)
                     for f in exported:
                         validate_gltf(self, f)
+                    # The water mesh, untangled: no fold in any frame (Draco frames, compressed
+                    # one by one, share no vertex order to inspect).
+                    if scene["surface"]["kind"] == "ray-strips" and "draco" not in scene["outputs"]:
+                        r = wave("inspect", out, "--json")
+                        self.assertEqual(r.returncode, 0, r.stderr)
+                        m = json.loads(r.stdout)
+                        self.assertEqual((m["unreferenced_vertices"], m["non_manifold_edges"]), (0, 0))
+                        self.assertEqual([f["folds"] for f in m["per_frame"] if f["folds"]], [])
+                        checked += 1
+            self.assertGreaterEqual(checked, 3)
 
 
 class Limits(unittest.TestCase):

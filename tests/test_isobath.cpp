@@ -69,7 +69,12 @@ TEST(Isobath, BadLevelsNameTheRange) {
         EXPECT_NE(std::string(e.what()).find("12"), std::string::npos);
         EXPECT_NE(std::string(e.what()).find("-2 .. 5"), std::string::npos) << e.what();
     }
-    EXPECT_THROW(extract_isobaths(bay, IsobathOptions{}), InputError);  // neither levels nor spacing
+    EXPECT_THROW(extract_isobaths(bay, IsobathOptions{.levels = {}, .spacing = 0.0}), InputError);  // neither levels nor spacing
+    // The default options are a scene's: every 0.25 m, and the shoreline.
+    const DepthContours d = extract_isobaths(bay);
+    ASSERT_GT(d.size(), 0u);
+    for (std::size_t i = 0; i < d.size(); ++i)
+        EXPECT_NEAR(std::remainder(d.depth[i], 0.25), 0.0, 1e-12) << d.depth[i];
     o.levels = {NAN};
     EXPECT_THROW(extract_isobaths(bay, o), InputError);
     o.levels.clear();

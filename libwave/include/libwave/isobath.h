@@ -22,9 +22,10 @@ inline constexpr double kMaxIsobathLevels = 10'000;
 
 struct IsobathOptions {
     /// Explicit depth levels (m, positive down). When empty, the levels are the
-    /// positive multiples of `spacing` strictly inside the seafloor's depth range.
+    /// positive multiples of `spacing` strictly inside the seafloor's depth range
+    /// (0.25 m: the scenes' /isobaths/spacing default).
     std::vector<double> levels;
-    double spacing = 0.0;
+    double spacing = 0.25;
     /// Add the shoreline h = 0 as a level (if the seafloor reaches land).
     bool include_shoreline = true;
     /// Ts'o smooths digitised contours with a uniform cubic Beta-spline (bias β1,

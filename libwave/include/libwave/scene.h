@@ -67,7 +67,7 @@ struct Scene {
     std::string name = "default";
     SurfaceKind surface_kind = SurfaceKind::ray_strips;
     SeafloorSource seafloor{};
-    IsobathOptions isobaths{.levels = {}, .spacing = 0.25};
+    IsobathOptions isobaths;
     std::vector<WaveTrain> waves{};
     TraceOptions trace{};
     /// Ts'o's sampling rule: this many orthogonals per surface grid line (overrides
@@ -204,16 +204,20 @@ struct ScenePlan {
     std::vector<std::string> warnings;
 };
 
-/// Runs every static stage of a scene: seafloor → isobaths → trace → surface plan
-/// (height field), or seafloor → isobaths → fronts → ray strips → profile plan.
-/// Throws InputError when the Bresenham footprint is asked for with fewer than one
-/// orthogonal per grid line (Ts'o's minimum: the grid would have holes), or when ray
-/// strips are asked for with other than one wave train.
 /// How far plan_scene goes: through the tracing only (what `wave trace` needs); through
 /// the surface and motion plans (`surface`: enough for estimate_run, without /refine's
 /// subdivision, which can take gigabytes); or all of it (`all` = `surface`, then
 /// refine_scene_plan).
 enum class PlanStages { trace, surface, all };
+
+/// Runs every static stage of a scene through the model of /surface/kind: e.g.
+/// seafloor → isobaths → trace → surface plan (height field), or seafloor → isobaths
+/// → fronts → ray strips → water mesh → motion plan (ray strips). The scene's
+/// /trace/ray_spacing, breaker_index and max_rays are the fronts' too (FrontOptions'
+/// own fields are overwritten by them).
+/// Throws InputError when the Bresenham footprint is asked for with fewer than one
+/// orthogonal per grid line (Ts'o's minimum: the grid would have holes), or when ray
+/// strips are asked for with other than one wave train.
 ScenePlan plan_scene(const Scene& scene, PlanStages stages = PlanStages::all);
 
 /// The explicit last planning step: /refine's subdivision of the planned surface (a
@@ -256,11 +260,6 @@ struct FrameRange {
     std::size_t end = static_cast<std::size_t>(-1);
 };
 
-/// Evaluates frames of one loop (round(loop_period · fps) frames, t = k / fps): the
-/// height field, or Gonzato's profile on the ray strips, then normals and shading.
-/// `progress(done, total)` is called after each frame when given.
-/// Throws InputError for an empty frame range, LimitError when the frames would exceed
-/// `max_bytes` as float arrays (naming the scene values that lower it).
 /// What a run of the whole loop would hold and write (`wave validate`), from a plan:
 /// the per-frame float arrays animate_scene keeps (positions, normals, shading,
 /// colour), the files of the scene's form, and the peak memory of `wave run` (the plan,
@@ -304,6 +303,12 @@ using EncodedFiles = std::vector<std::pair<std::string, std::string>>;
 /// name.gltf + name.bin. Used by `wave run`, `wave convert` and the Python module.
 EncodedFiles encode_animation(const MorphAnimationView& view, Scene::Form form, Scene::Container container, bool whole);
 
+/// Evaluates frames of one loop (round(loop_period · fps) frames, t = k / fps): the
+/// model's motion (e.g. the height field, or Gonzato's profile on the water mesh),
+/// any superposed wind sea or Gerstner waves, untangling, then normals and shading.
+/// `progress(done, total)` is called after each frame when given.
+/// Throws InputError for an empty frame range, LimitError when the frames would exceed
+/// `max_bytes` as float arrays (naming the scene values that lower it).
 SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double max_bytes = 2e9,
                              FrameRange range = {},
                              const std::function<void(std::size_t, std::size_t)>& progress = {});

@@ -127,7 +127,7 @@ struct FrontOptions {
     /// refraction round an island's shelf sends rays into closed orbits (2π: a full
     /// circle; π: once it heads back out to sea).
     double max_turn = 2.0 * 3.141592653589793;
-    std::size_t max_rays = 200'000;   ///< guard rail on live + inserted rays
+    std::size_t max_rays = 1'000'000;  ///< guard rail on live + inserted rays (as /trace/max_rays)
     std::size_t max_steps = 100'000;  ///< guard rail on fronts
     /// Guard rail on the points of all fronts together (the strips' vertices): rays ×
     /// steps, which max_rays and max_steps bound only one at a time (~100 bytes each).
@@ -151,7 +151,7 @@ struct FrontSet {
     double omega = 0.0;
     std::size_t caustic_points = 0;
     std::size_t initial_rays = 0, inserted_rays = 0, rays_aground = 0;
-    std::size_t rays_trapped = 0;    ///< removed after turning a full circle (orbiting an island's shelf)
+    std::size_t rays_trapped = 0;    ///< removed after turning max_turn (orbiting an island's shelf) or three domain crossings
 
     std::size_t front_count() const noexcept { return front_offsets.size() - 1; }
 };
@@ -167,7 +167,9 @@ struct FrontSet {
 /// leaving the domain, is DEAD and removed; where neighbours are farther apart than
 /// split_distance (and not both FLAT) a ray is inserted, interpolated from them.
 /// A ray that has turned through more than max_turn (refraction can trap rays in
-/// orbit round an island) is removed and counted in rays_trapped; neighbours that have
+/// orbit round an island), or is still moving after three straight crossings of the
+/// domain along the swell (guided along a coast or round a cove, its turns cancel), is
+/// removed and counted in rays_trapped; neighbours that have
 /// crossed (a caustic) get no ray inserted between them.
 /// Amplitude A = A∞ K_s √(b0 / b): b the local spacing to the neighbours, b0 the
 /// deep-water width of the same ray tube (halved at each insertion), so energy flux is

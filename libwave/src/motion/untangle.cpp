@@ -103,6 +103,18 @@ UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> 
         if (plan.pinned[v] & 2) dy[v] = 0.0;
     }
     const auto lip = [&](std::uint32_t v) { return !foam.empty() && foam[v] >= o.lip_foam; };
+    // Pinned: every vertex but a lip's stays inside the rest rectangle by its factor
+    // (a lip is clamped at the end: its triangles are all lips).
+    if (!plan.pinned.empty())
+        for (std::size_t v = 0; v < n; ++v) {
+            if (lip(static_cast<std::uint32_t>(v))) continue;
+            const auto room = [](double offset, double to_low, double to_high) {
+                return offset > 0.0 ? to_high / offset : offset < 0.0 ? to_low / offset : 1.0;
+            };
+            factor[v] = std::clamp(std::min({1.0, room(dx[v], plan.x_min - plan.rest_x[v], plan.x_max - plan.rest_x[v]),
+                                              room(dy[v], plan.y_min - plan.rest_y[v], plan.y_max - plan.rest_y[v])}),
+                                   0.0, 1.0);
+        }
     UntangleReport report;
     for (std::size_t pass = 0;; ++pass) {
         report.passes = pass + 1;

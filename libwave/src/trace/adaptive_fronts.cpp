@@ -15,6 +15,10 @@
 namespace wave {
 namespace {
 
+// A ray still moving after this many straight crossings of the domain along the swell
+// is trapped (guided along a coast, round a cove: its turns cancel, so max_turn misses it).
+constexpr double kTrappedCrossings = 3.0;
+
 struct Ray {
     std::uint32_t id;
     double x, y, dx, dy, phase;
@@ -314,6 +318,7 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
         if (step >= o.max_steps)
             throw LimitError("fronts: more than " + std::to_string(o.max_steps) +
                              " steps (FrontOptions::max_steps, scene key /fronts/max_steps; raise it or lengthen the step)");
+        const bool trapped_by_path = static_cast<double>(step + 1) > kTrappedCrossings * fronts_needed;
         for (Ray& r : front) {
             if (r.flag == RayFlag::aground) {
                 follow_shore(r, g, o);
@@ -325,8 +330,10 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
                     ++out.rays_aground;
                 }
                 // Refraction can trap rays on closed orbits (round an island's shelf):
-                // a ray that has turned a full circle is not part of an advancing front.
-                if (std::abs(r.turn) > o.max_turn) {
+                // a ray that has turned a full circle is not part of an advancing front;
+                // nor is one still moving after three straight crossings of the domain
+                // (guided along a coast or round a cove, its turns cancel).
+                if (std::abs(r.turn) > o.max_turn || trapped_by_path) {
                     r.flag = RayFlag::dead;
                     ++out.rays_trapped;
                 }
