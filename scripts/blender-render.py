@@ -1,5 +1,6 @@
 # Renders an output of `wave run` through the libwave add-on with Cycles on the CPU:
-#   blender -b --factory-startup --python scripts/blender-render.py -- ADDON_ZIP RUN_DIR OUT.png [FRAME]
+#   blender -b --factory-startup --python scripts/blender-render.py -- ADDON_ZIP RUN_DIR OUT.png [FRAME [SEED]]
+# (SEED: Cycles' sampling seed, default 0; two seeds of one frame measure render noise.)
 # The add-on imports the water (positions, foam, reflect, refract per frame) and the
 # seafloor, camera and sun the .glb carries; this script adds a sky and renders.
 import math
@@ -11,6 +12,7 @@ import bpy
 
 addon_zip, run, out = sys.argv[sys.argv.index("--") + 1:][:3]
 frame = int((sys.argv[sys.argv.index("--") + 1:] + ["30"])[3])
+seed = int((sys.argv[sys.argv.index("--") + 1:] + ["30", "0"])[4])
 bpy.ops.wm.read_factory_settings(use_empty=True)
 bpy.ops.preferences.addon_install(filepath=addon_zip, overwrite=True)
 addon_utils.enable("libwave_blender", default_set=True)
@@ -36,6 +38,7 @@ scene.render.engine = "CYCLES"
 scene.cycles.device = "CPU"
 scene.cycles.samples = 16
 scene.cycles.use_denoising = False
+scene.cycles.seed = seed
 scene.render.resolution_x, scene.render.resolution_y = 640, 360
 scene.frame_set(frame)
 scene.render.filepath = out

@@ -143,6 +143,12 @@ def import_dressing(context, dressing):
         cam = bpy.data.cameras.new("libwave camera")
         cam.sensor_fit = "VERTICAL"
         cam.angle_y = yfov
+        if dressing.seafloor is not None:  # a km-scale coast lies beyond Blender's default 100 m clip
+            corners = dressing.seafloor[0]
+            eye = np.asarray(matrix)[:3, 3]
+            reach = float(np.max(np.linalg.norm(np.asarray(corners, np.float64) - eye, axis=1)))
+            cam.clip_end = max(cam.clip_end, 1.5 * reach)
+            cam.clip_start = max(cam.clip_start, cam.clip_end * 1e-5)
         obj = bpy.data.objects.new("libwave camera", cam)
         obj.matrix_world = Matrix(matrix.tolist())
         context.collection.objects.link(obj)

@@ -194,6 +194,7 @@ class Animation:
             self.scene = index.get("scene", "")
             doc, buffers = self._frame_file(0)
             self.triangles = _triangles(doc, buffers, 0)
+            self.dressing = Dressing(doc, buffers)  # the loop's frame 0 carries the seafloor, camera and sun
             return
         self.doc, self.buffers = read_gltf(path)
         doc = self.doc
