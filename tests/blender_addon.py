@@ -90,12 +90,19 @@ for folder in runs:
     mat = obj.data.materials[0]
     if not any(n.type == "ATTRIBUTE" and n.attribute_name == "foam" for n in mat.node_tree.nodes):
         errors.append(f"{path}: the material does not read the foam attribute")
-    if not path.endswith("index.json"):  # the single-file forms carry the seafloor, camera and sun
+    if True:  # every form carries the seafloor, camera and sun (the files form in its frame 0)
         kinds = sorted(o.name for o in scene.objects if "libwave_source" not in o)
         if kinds != ["libwave camera", "libwave seafloor", "libwave sun"]:
             errors.append(f"{path}: beside the water: {kinds}")
         elif scene.camera is None or scene.camera.name != "libwave camera":
             errors.append(f"{path}: the file's camera is not the scene's")
+        else:  # the camera's clip range holds the whole seafloor (a km-scale coast too)
+            floor = bpy.data.objects["libwave seafloor"]
+            eye = scene.camera.matrix_world.translation
+            reach = max((floor.matrix_world @ v.co - eye).length for v in floor.data.vertices)
+            if not scene.camera.data.clip_start < 1.0 < reach < scene.camera.data.clip_end:
+                errors.append(f"{path}: the camera clips at {scene.camera.data.clip_start} … {scene.camera.data.clip_end} m, "
+                              f"the seafloor reaches {reach} m")
         if folder.endswith("morph"):  # a small Cycles render from the file's camera shows water, seafloor and sky
             world = bpy.data.worlds.new("sky")
             world.use_nodes = True
