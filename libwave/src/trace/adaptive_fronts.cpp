@@ -333,7 +333,7 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
                 // a ray that has turned a full circle is not part of an advancing front;
                 // nor is one still moving after three straight crossings of the domain
                 // (guided along a coast or round a cove, its turns cancel).
-                if (std::abs(r.turn) > o.max_turn || trapped_by_path) {
+                if (std::abs(r.turn) > o.max_turn || (trapped_by_path && r.flag != RayFlag::aground)) {
                     r.flag = RayFlag::dead;
                     ++out.rays_trapped;
                 }
