@@ -130,6 +130,12 @@ struct UntangleReport {
     std::size_t passes = 0;           ///< passes over the triangles (1: nothing to do)
 };
 
+/// Scratch arrays of untangle_motion (offsets, factors, per-triangle factors), kept
+/// by a caller that untangles frame after frame so that no frame allocates.
+struct UntangleWorkspace {
+    std::vector<double> dx, dy, factor, s;
+};
+
 /// Untangles one frame in place: `positions` (3 floats per vertex, z up) are the moved
 /// vertices; `foam` (one per vertex, or empty: no lips) marks breaking crests. Pinned
 /// border vertices first lose their offset across their side (pin_border). Each
@@ -142,7 +148,9 @@ struct UntangleReport {
 /// faced up at rest and has no foamy vertex keeps ≥ min_area_ratio of its rest area.
 /// Parallel over triangles, then over vertices, each a function of the previous pass:
 /// the result does not depend on the thread count. Throws InputError on wrong sizes.
-UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> foam, std::span<float> positions);
+/// `workspace`: reused scratch (nullptr: allocated for this call).
+UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> foam, std::span<float> positions,
+                               UntangleWorkspace* workspace = nullptr);
 
 // ---------------------------------------------------------------------------------
 // Jeschke, Birkholz & Schumann's procedural breaker (§3–4, table 1)

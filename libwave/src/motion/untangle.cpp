@@ -86,7 +86,8 @@ UntanglePlan plan_untangle(std::span<const double> rest_x, std::span<const doubl
     return p;
 }
 
-UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> foam, std::span<float> positions) {
+UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> foam, std::span<float> positions,
+                               UntangleWorkspace* workspace) {
     const std::size_t n = plan.vertex_count(), m = plan.rest_area.size();
     if (positions.size() != 3 * n)
         throw InputError("untangle: " + std::to_string(positions.size()) + " position floats for " + std::to_string(n) + " vertices");
@@ -94,7 +95,16 @@ UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> 
         throw InputError("untangle: " + std::to_string(foam.size()) + " foam values for " + std::to_string(n) + " vertices");
     const UntangleOptions& o = plan.options;
     // The horizontal offsets as moved (double), the factor on each, each triangle's s.
-    std::vector<double> dx(n), dy(n), factor(n, 1.0), s(m, 1.0);
+    UntangleWorkspace local;
+    UntangleWorkspace& w = workspace ? *workspace : local;
+    w.dx.resize(n);
+    w.dy.resize(n);
+    w.factor.assign(n, 1.0);
+    w.s.assign(m, 1.0);
+    std::vector<double>& dx = w.dx;
+    std::vector<double>& dy = w.dy;
+    std::vector<double>& factor = w.factor;
+    std::vector<double>& s = w.s;
     for (std::size_t v = 0; v < n; ++v) {
         dx[v] = static_cast<double>(positions[3 * v]) - plan.rest_x[v];
         dy[v] = static_cast<double>(positions[3 * v + 1]) - plan.rest_y[v];

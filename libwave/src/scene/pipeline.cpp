@@ -361,6 +361,7 @@ struct FrameRun {
     Refinement frame_refinement{};  // crest sharpness: creases follow each frame's heights
     std::vector<float> coarse_p{}, coarse_nr{}, coarse_foam{}, fine_depth{};
     std::optional<UntanglePlan> untangle{};  // when the coarse vertices move sideways
+    UntangleWorkspace untangle_scratch{};
     VertexFaces adjacency{};
     FresnelOptions fresnel{};
 };
@@ -463,7 +464,7 @@ void evaluate_frame(FrameRun& r, const std::vector<std::uint32_t>& coarse_triang
         coarse_foam(r, t, fc);
     }
     if (r.untangle) {
-        untangle_motion(*r.untangle, fc, pc);
+        untangle_motion(*r.untangle, fc, pc, &r.untangle_scratch);
         normals_done = false;
     }
     const Refinement* fr = r.refined;
