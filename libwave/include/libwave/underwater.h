@@ -1,0 +1,92 @@
+// libwave — underwater light: the caustic pattern that a frame's surface focuses onto
+// the seafloor (Tessendorf 2001, §5.2), written into caller-owned maps.
+//
+// Sunlight is a parallel beam. Each surface triangle facing the sun intercepts the
+// flux I₀ / l_z · (its vector area · l) (l: unit vector towards the sun, I₀: the sun's
+// irradiance on a horizontal plane above the water). At each vertex the beam is
+// refracted (Snell, air → water) by the vertex normal, weighted by the Fresnel
+// transmissivity T and attenuated by e^{−c·s} over its path s to the seafloor. The
+// triangle's flux, times the mean of its vertices' weights, is spread uniformly over
+// the triangle its three refracted rays draw on the seafloor (its footprint) and
+// summed, with the exact overlap of footprint and pixel, into a map in plan. The flux
+// of every bundle is conserved: where footprints shrink the floor is bright (the
+// caustic lines), where they spread it is dim, and a footprint that collapses to a
+// line still carries its whole flux (docs/underwater.md).
+#pragma once
+
+#include "libwave/bathymetry.h"
+#include "libwave/physics.h"
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace wave {
+
+/// Named waters by how fast they dim sunlight with path length: broadband
+/// approximations (blue–green light, ~490 nm) of Jerlov's optical water types, from
+/// the clearest open ocean to turbid harbour water (docs/underwater.md gives the values).
+enum class WaterType { clear_ocean, ocean, coastal, turbid_coastal, harbour };
+
+/// c (1/m) of a named water (docs/underwater.md).
+double water_attenuation(WaterType type) noexcept;
+
+/// "clear-ocean", "ocean", "coastal", "turbid-coastal", "harbour"; and back
+/// (InputError naming the accepted names).
+const char* water_type_name(WaterType type) noexcept;
+WaterType parse_water_type(const std::string& name, const std::string& where);
+
+struct CausticOptions {
+    /// Towards the sun (any length > 0; z > 0: the sun above the horizon).
+    std::array<double, 3> sun{0.0, 0.0, 1.0};
+    double surface_irradiance = 1.0;  ///< I₀: on a horizontal plane above the water (any unit)
+    double water_index = kWaterRefractiveIndex;  ///< n of water (air is 1)
+    double attenuation = 0.15;  ///< c (1/m) along the refracted path (WaterType::coastal)
+    /// Map pixels along x and y: the map covers the seafloor grid's rectangle, row 0
+    /// at its largest y (an image's top: the same frame as the animation's TEXCOORD_0).
+    std::size_t width = 512, height = 512;
+};
+
+/// Once per seafloor and options: a copy of the seafloor grid, the map's frame, and a
+/// bound on the seafloor's slope for the ray–floor search. InputError for bad options
+/// (sun at or below the horizon, non-positive index, negative attenuation, a map side
+/// of 0 or above 16 384, a grid of fewer than 2 × 2 nodes).
+struct CausticPlan {
+    CausticOptions options;
+    ElevationGrid floor;
+    double x0 = 0.0, y_top = 0.0;          ///< the map's corner at pixel (0, 0)'s outer corner
+    double pixel_x = 1.0, pixel_y = 1.0;   ///< pixel size (m)
+    double max_slope = 0.0;                ///< |∇z| bound of the floor (for the search)
+    std::array<double, 3> sun{};           ///< unit, towards the sun
+};
+CausticPlan plan_caustics(const ElevationGrid& seafloor, const CausticOptions& options);
+
+/// Per-frame scratch (per-vertex hits and weights, each band's triangle list), kept by
+/// a caller that evaluates frame after frame so that frames after the first allocate
+/// nothing.
+struct CausticWorkspace {
+    std::vector<double> hit;             ///< 2 per vertex: the refracted ray's floor point, map pixels
+    std::vector<double> weight;          ///< per vertex: T · e^{−c·s}
+    std::vector<std::uint32_t> band_offsets, band_triangles;
+};
+
+/// The irradiance per unit plan area on the seafloor (same unit as I₀), width · height
+/// floats, row-major from the top row, for one frame of a surface: positions and unit
+/// normals 3 floats per vertex (m, z up, the still water at z = 0), counter-clockwise
+/// triangles seen from above. Flat water over a flat floor of depth h gives
+/// T(θᵢ) · I₀ · e^{−c·h / cos θₜ} everywhere its light reaches. Light enters only
+/// through the given surface (a map pixel whose light would come from beyond it stays
+/// dark), triangles facing away from the sun pass none, and the water's own shadow
+/// (a crest shading a trough) is not traced. The same bits for any thread count.
+/// InputError on mismatched sizes or indices out of range.
+void evaluate_caustics(const CausticPlan& plan, std::span<const float> positions, std::span<const float> normals,
+                       std::span<const std::uint32_t> triangles, std::span<float> irradiance,
+                       CausticWorkspace* workspace = nullptr);
+
+/// A map as a 16-bit greyscale PNG (linear: pixel value 65 535 · E / full_scale,
+/// clamped), what the caustic sequence beside an animation holds.
+std::string caustic_png(std::span<const float> irradiance, std::size_t width, std::size_t height, double full_scale);
+
+}  // namespace wave

@@ -1,0 +1,348 @@
+// Caustics on the seafloor: each surface triangle's refracted footprint carries its
+// flux (libwave/underwater.h, docs/underwater.md).
+#include "libwave/underwater.h"
+
+#include "core/format.h"
+#include "libwave/errors.h"
+
+#include <png.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace wave {
+
+using detail::format_number;
+const auto fmt = [](double v) { return format_number(v); };
+
+namespace {
+
+struct NamedWater {
+    WaterType type;
+    const char* name;
+    double attenuation;  // 1/m
+};
+// Broadband attenuation of blue–green sunlight, rounded from Jerlov's types
+// (docs/underwater.md): I, III, coastal 1, 5 and 9.
+constexpr NamedWater kWaters[] = {
+    {WaterType::clear_ocean, "clear-ocean", 0.03},  {WaterType::ocean, "ocean", 0.08},
+    {WaterType::coastal, "coastal", 0.15},          {WaterType::turbid_coastal, "turbid-coastal", 0.35},
+    {WaterType::harbour, "harbour", 0.7},
+};
+
+constexpr std::size_t kBandRows = 8;       // map rows a parallel task accumulates
+constexpr std::size_t kMaxMapSide = 16384;
+constexpr int kMaxSearchSteps = 200;       // ray–floor search (the bound makes it converge well before)
+
+struct Vec3 {
+    double x, y, z;
+};
+double dot(const Vec3& a, const Vec3& b) noexcept { return a.x * b.x + a.y * b.y + a.z * b.z; }
+
+// A polygon in map pixels (u right, v down): a triangle clipped by at most 4 lines.
+struct Polygon {
+    std::array<double, 14> p{};  // u, v pairs
+    int n = 0;
+};
+
+// The part of `in` with sign · (coordinate `axis` − value) ≥ 0 (Sutherland–Hodgman).
+Polygon clip(const Polygon& in, int axis, double value, double sign) noexcept {
+    Polygon out;
+    for (int k = 0; k < in.n; ++k) {
+        const int m = (k + 1) % in.n;
+        const double a = sign * (in.p[2 * k + axis] - value), b = sign * (in.p[2 * m + axis] - value);
+        if (a >= 0.0) {
+            out.p[2 * out.n] = in.p[2 * k];
+            out.p[2 * out.n + 1] = in.p[2 * k + 1];
+            ++out.n;
+        }
+        if ((a >= 0.0) != (b >= 0.0)) {
+            const double s = a / (a - b);
+            out.p[2 * out.n] = in.p[2 * k] + s * (in.p[2 * m] - in.p[2 * k]);
+            out.p[2 * out.n + 1] = in.p[2 * k + 1] + s * (in.p[2 * m + 1] - in.p[2 * k + 1]);
+            ++out.n;
+        }
+    }
+    return out;
+}
+
+double area(const Polygon& q) noexcept {
+    double a = 0.0;
+    for (int k = 0; k < q.n; ++k) {
+        const int m = (k + 1) % q.n;
+        a += q.p[2 * k] * q.p[2 * m + 1] - q.p[2 * m] * q.p[2 * k + 1];
+    }
+    return 0.5 * std::abs(a);
+}
+
+double min_coordinate(const Polygon& q, int axis) noexcept {
+    double lo = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < q.n; ++k) lo = std::min(lo, q.p[2 * k + axis]);
+    return lo;
+}
+double max_coordinate(const Polygon& q, int axis) noexcept {
+    double hi = -std::numeric_limits<double>::infinity();
+    for (int k = 0; k < q.n; ++k) hi = std::max(hi, q.p[2 * k + axis]);
+    return hi;
+}
+
+// Where a ray from p along unit t (t.z < 0) first meets the floor: its path length s.
+// Steps of f(s) / (−t_z + slope·|t_xy|), f being the height above the floor, never
+// pass the floor while the slope bound holds; a bicubic overshoot is bisected back.
+double path_to_floor(const CausticPlan& plan, const Vec3& p, const Vec3& t) noexcept {
+    const auto above = [&](double s) { return p.z + s * t.z + depth_at(plan.floor, p.x + s * t.x, p.y + s * t.y); };
+    double f = above(0.0);
+    if (f <= 0.0) return 0.0;  // the vertex is on or under the floor (a dry or run-up vertex)
+    const double rate = -t.z + plan.max_slope * std::hypot(t.x, t.y);
+    const double tolerance = 1e-6 * (1.0 + f);
+    double s = 0.0;
+    for (int k = 0; k < kMaxSearchSteps && f > tolerance; ++k) {
+        const double next = s + f / rate, fn = above(next);
+        if (fn < 0.0) {  // past the floor: bisect [s, next]
+            double lo = s, hi = next;
+            for (int b = 0; b < 40; ++b) {
+                const double mid = 0.5 * (lo + hi);
+                (above(mid) > 0.0 ? lo : hi) = mid;
+            }
+            return hi;
+        }
+        s = next;
+        f = fn;
+    }
+    return s;
+}
+
+// The floor point (map pixels) and weight T · e^{−c·s} of vertex v's refracted ray.
+void trace_vertex(const CausticPlan& plan, std::span<const float> positions, std::span<const float> normals, std::size_t v,
+                  double* hit, double& weight) noexcept {
+    const CausticOptions& o = plan.options;
+    const Vec3 p{positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]};
+    Vec3 n{normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]};
+    const double len = std::sqrt(dot(n, n));
+    n = len > 0.0 ? Vec3{n.x / len, n.y / len, n.z / len} : Vec3{0.0, 0.0, 1.0};
+    const Vec3 l{plan.sun[0], plan.sun[1], plan.sun[2]};
+    double cos_i = dot(n, l);
+    weight = 1.0;
+    if (cos_i <= 0.0) {  // the vertex faces away from the sun: no light, a flat surface's ray for the footprint
+        n = {0.0, 0.0, 1.0};
+        cos_i = l.z;
+        weight = 0.0;
+    }
+    // Snell, air → water: t = η(−l) + (η cos i − √(1 − η²(1 − cos² i))) n.
+    const double eta = 1.0 / o.water_index, root = std::sqrt(1.0 - eta * eta * (1.0 - cos_i * cos_i));
+    const double k = eta * cos_i - root;
+    Vec3 t{-eta * l.x + k * n.x, -eta * l.y + k * n.y, -eta * l.z + k * n.z};
+    double s = 0.0;
+    if (t.z < -1e-6) {
+        s = path_to_floor(plan, p, t);
+    } else {  // refracted level or upwards (a steep overturning face): it lights no floor
+        t = {0.0, 0.0, -1.0};
+        weight = 0.0;
+    }
+    weight *= fresnel_transmissivity(cos_i, 1.0, o.water_index) * std::exp(-o.attenuation * s);
+    hit[0] = (p.x + s * t.x - plan.x0) / plan.pixel_x;
+    hit[1] = (plan.y_top - (p.y + s * t.y)) / plan.pixel_y;
+}
+
+// The flux triangle k carries to the floor (0 when it faces away from the sun).
+double triangle_flux(const CausticPlan& plan, std::span<const float> positions, std::span<const std::uint32_t> triangles,
+                     std::span<const double> weight, std::size_t k) noexcept {
+    const std::uint32_t a = triangles[3 * k], b = triangles[3 * k + 1], c = triangles[3 * k + 2];
+    const Vec3 e1{double(positions[3 * b]) - positions[3 * a], double(positions[3 * b + 1]) - positions[3 * a + 1],
+                  double(positions[3 * b + 2]) - positions[3 * a + 2]};
+    const Vec3 e2{double(positions[3 * c]) - positions[3 * a], double(positions[3 * c + 1]) - positions[3 * a + 1],
+                  double(positions[3 * c + 2]) - positions[3 * a + 2]};
+    const Vec3 area2{e1.y * e2.z - e1.z * e2.y, e1.z * e2.x - e1.x * e2.z, e1.x * e2.y - e1.y * e2.x};
+    const double facing = 0.5 * dot(area2, Vec3{plan.sun[0], plan.sun[1], plan.sun[2]});
+    if (facing <= 0.0) return 0.0;
+    return plan.options.surface_irradiance / plan.sun[2] * facing * (weight[a] + weight[b] + weight[c]) / 3.0;
+}
+
+Polygon footprint(std::span<const double> hit, std::span<const std::uint32_t> triangles, std::size_t k) noexcept {
+    Polygon q;
+    q.n = 3;
+    for (int j = 0; j < 3; ++j) {
+        q.p[2 * j] = hit[2 * triangles[3 * k + j]];
+        q.p[2 * j + 1] = hit[2 * triangles[3 * k + j] + 1];
+    }
+    return q;
+}
+
+// Rows [first, last] of the map a footprint touches (empty: last < first).
+std::pair<long long, long long> footprint_rows(const Polygon& q, std::size_t height) noexcept {
+    const double lo = std::max(0.0, std::floor(min_coordinate(q, 1)));
+    const double hi = std::min(static_cast<double>(height) - 1.0, std::floor(max_coordinate(q, 1)));
+    if (!(lo <= hi)) return {0, -1};
+    return {static_cast<long long>(lo), static_cast<long long>(hi)};
+}
+
+// Adds footprint q's flux to rows [row0, row0 + rows) of `band` (row-major, width
+// columns): each pixel its share of the footprint's area.
+void deposit(const Polygon& q, double flux, std::size_t width, std::size_t row0, std::size_t rows, std::span<double> band) {
+    const double whole = area(q);
+    if (whole < 1e-12) {  // collapsed to a point or a line: the whole flux in the pixel of its centroid
+        const double u = (q.p[0] + q.p[2] + q.p[4]) / 3.0, v = (q.p[1] + q.p[3] + q.p[5]) / 3.0;
+        if (u >= 0.0 && v >= static_cast<double>(row0) && u < static_cast<double>(width) && v < static_cast<double>(row0 + rows))
+            band[(static_cast<std::size_t>(v) - row0) * width + static_cast<std::size_t>(u)] += flux;
+        return;
+    }
+    const double density = flux / whole;
+    const auto [first, last] = footprint_rows(q, row0 + rows);
+    for (long long j = std::max<long long>(first, static_cast<long long>(row0)); j <= last; ++j) {
+        const Polygon strip = clip(clip(q, 1, static_cast<double>(j), 1.0), 1, static_cast<double>(j + 1), -1.0);
+        if (strip.n < 3) continue;
+        const double lo = std::max(0.0, std::floor(min_coordinate(strip, 0)));
+        const double hi = std::min(static_cast<double>(width) - 1.0, std::floor(max_coordinate(strip, 0)));
+        double* row = &band[(static_cast<std::size_t>(j) - row0) * width];
+        for (double i = lo; i <= hi; i += 1.0) {
+            const Polygon cell = clip(clip(strip, 0, i, 1.0), 0, i + 1.0, -1.0);
+            if (cell.n >= 3) row[static_cast<std::size_t>(i)] += density * area(cell);
+        }
+    }
+}
+
+}  // namespace
+
+double water_attenuation(WaterType type) noexcept {
+    for (const NamedWater& w : kWaters)
+        if (w.type == type) return w.attenuation;
+    return kWaters[2].attenuation;
+}
+
+const char* water_type_name(WaterType type) noexcept {
+    for (const NamedWater& w : kWaters)
+        if (w.type == type) return w.name;
+    return kWaters[2].name;
+}
+
+WaterType parse_water_type(const std::string& name, const std::string& where) {
+    std::string names;
+    for (const NamedWater& w : kWaters) {
+        if (name == w.name) return w.type;
+        names += std::string(names.empty() ? "" : ", ") + "\"" + w.name + "\"";
+    }
+    throw InputError(where + ": unknown water type \"" + name + "\" (one of " + names + ")");
+}
+
+CausticPlan plan_caustics(const ElevationGrid& seafloor, const CausticOptions& options) {
+    const double sun_len = std::hypot(options.sun[0], options.sun[1], options.sun[2]);
+    if (!(sun_len > 0.0) || !std::isfinite(sun_len) || !(options.sun[2] / sun_len > 1e-3))
+        throw InputError("caustics: the sun [" + fmt(options.sun[0]) + ", " + fmt(options.sun[1]) + ", " + fmt(options.sun[2]) +
+                         "] is not above the horizon");
+    if (!(options.water_index > 1.0 && options.water_index < 3.0))
+        throw InputError("caustics: water_index " + fmt(options.water_index) + " is not in (1, 3)");
+    if (!(options.attenuation >= 0.0 && options.attenuation < 1e3))
+        throw InputError("caustics: attenuation " + fmt(options.attenuation) + " 1/m is not in [0, 1000)");
+    if (!(options.surface_irradiance >= 0.0 && std::isfinite(options.surface_irradiance)))
+        throw InputError("caustics: surface_irradiance " + fmt(options.surface_irradiance) + " is not finite and >= 0");
+    if (options.width == 0 || options.height == 0 || options.width > kMaxMapSide || options.height > kMaxMapSide)
+        throw InputError("caustics: the map " + std::to_string(options.width) + " × " + std::to_string(options.height) +
+                         " is not 1 … " + std::to_string(kMaxMapSide) + " pixels a side");
+    if (seafloor.nx < 2 || seafloor.ny < 2 || seafloor.z.size() != seafloor.nx * seafloor.ny)
+        throw InputError("caustics: the seafloor grid is not at least 2 × 2 nodes");
+    CausticPlan plan;
+    plan.options = options;
+    plan.floor = seafloor;
+    plan.x0 = seafloor.x0;
+    plan.y_top = seafloor.y_max();
+    plan.pixel_x = (seafloor.x_max() - seafloor.x0) / static_cast<double>(options.width);
+    plan.pixel_y = (seafloor.y_max() - seafloor.y0) / static_cast<double>(options.height);
+    plan.sun = {options.sun[0] / sun_len, options.sun[1] / sun_len, options.sun[2] / sun_len};
+    // The grid's steepest cell (forward differences along both axes), with room for
+    // the bicubic interpolant's overshoot between nodes.
+    double steepest = 0.0;
+    for (std::size_t j = 0; j + 1 < seafloor.ny; ++j)
+        for (std::size_t i = 0; i + 1 < seafloor.nx; ++i) {
+            const double gx = (seafloor.at(i + 1, j) - seafloor.at(i, j)) / seafloor.dx;
+            const double gy = (seafloor.at(i, j + 1) - seafloor.at(i, j)) / seafloor.dy;
+            steepest = std::max(steepest, std::hypot(gx, gy));
+        }
+    plan.max_slope = 1.5 * steepest + 1e-9;
+    return plan;
+}
+
+void evaluate_caustics(const CausticPlan& plan, std::span<const float> positions, std::span<const float> normals,
+                       std::span<const std::uint32_t> triangles, std::span<float> irradiance, CausticWorkspace* workspace) {
+    const std::size_t n = positions.size() / 3, width = plan.options.width, height = plan.options.height;
+    if (positions.size() % 3 != 0 || normals.size() != positions.size())
+        throw InputError("caustics: " + std::to_string(positions.size()) + " position floats and " +
+                         std::to_string(normals.size()) + " normal floats are not 3 per vertex each");
+    if (triangles.size() % 3 != 0) throw InputError("caustics: " + std::to_string(triangles.size()) + " indices is not whole triangles");
+    for (std::uint32_t v : triangles)
+        if (v >= n) throw InputError("caustics: triangle index " + std::to_string(v) + " out of " + std::to_string(n) + " vertices");
+    if (irradiance.size() != width * height)
+        throw InputError("caustics: the map holds " + std::to_string(irradiance.size()) + " floats, not " +
+                         std::to_string(width) + " × " + std::to_string(height));
+    CausticWorkspace local;
+    CausticWorkspace& w = workspace ? *workspace : local;
+    w.hit.resize(2 * n);
+    w.weight.resize(n);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t v = r.begin(); v != r.end(); ++v) trace_vertex(plan, positions, normals, v, &w.hit[2 * v], w.weight[v]);
+    });
+    // Each band of rows gathers the triangles whose footprints reach it, in triangle
+    // order (a counting sort), so that every pixel sums its shares in a fixed order.
+    const std::size_t nt = triangles.size() / 3, bands = (height + kBandRows - 1) / kBandRows;
+    w.band_offsets.assign(bands + 1, 0);
+    const auto band_range = [&](std::size_t k) {
+        const auto [first, last] = footprint_rows(footprint(w.hit, triangles, k), height);
+        return last < first ? std::pair<std::size_t, std::size_t>{1, 0}
+                            : std::pair<std::size_t, std::size_t>{static_cast<std::size_t>(first) / kBandRows,
+                                                                  static_cast<std::size_t>(last) / kBandRows};
+    };
+    for (std::size_t k = 0; k < nt; ++k) {
+        const auto [b0, b1] = band_range(k);
+        for (std::size_t b = b0; b <= b1 && b0 <= b1; ++b) ++w.band_offsets[b + 1];
+    }
+    for (std::size_t b = 0; b < bands; ++b) w.band_offsets[b + 1] += w.band_offsets[b];
+    w.band_triangles.resize(w.band_offsets[bands]);
+    {
+        std::vector<std::uint32_t> fill(w.band_offsets.begin(), w.band_offsets.end() - 1);
+        for (std::size_t k = 0; k < nt; ++k) {
+            const auto [b0, b1] = band_range(k);
+            for (std::size_t b = b0; b <= b1 && b0 <= b1; ++b) w.band_triangles[fill[b]++] = static_cast<std::uint32_t>(k);
+        }
+    }
+    const double per_area = 1.0 / (plan.pixel_x * plan.pixel_y);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, bands, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+        std::vector<double> band(kBandRows * width);
+        for (std::size_t b = r.begin(); b != r.end(); ++b) {
+            const std::size_t row0 = b * kBandRows, rows = std::min(kBandRows, height - row0);
+            std::fill(band.begin(), band.end(), 0.0);
+            for (std::size_t e = w.band_offsets[b]; e < w.band_offsets[b + 1]; ++e) {
+                const std::size_t k = w.band_triangles[e];
+                const double flux = triangle_flux(plan, positions, triangles, w.weight, k);
+                if (flux > 0.0) deposit(footprint(w.hit, triangles, k), flux, width, row0, rows, band);
+            }
+            for (std::size_t i = 0; i < rows * width; ++i) irradiance[row0 * width + i] = static_cast<float>(band[i] * per_area);
+        }
+    });
+}
+
+std::string caustic_png(std::span<const float> irradiance, std::size_t width, std::size_t height, double full_scale) {
+    if (irradiance.size() != width * height || width == 0 || height == 0)
+        throw InputError("caustic png: " + std::to_string(irradiance.size()) + " values for a " + std::to_string(width) + " × " +
+                         std::to_string(height) + " map");
+    if (!(full_scale > 0.0)) throw InputError("caustic png: full scale " + fmt(full_scale) + " is not > 0");
+    std::vector<std::uint16_t> grey(irradiance.size());
+    for (std::size_t i = 0; i < grey.size(); ++i)
+        grey[i] = static_cast<std::uint16_t>(std::lround(65535.0 * std::clamp(irradiance[i] / full_scale, 0.0, 1.0)));
+    png_image image{};
+    image.version = PNG_IMAGE_VERSION;
+    image.width = static_cast<png_uint_32>(width);
+    image.height = static_cast<png_uint_32>(height);
+    image.format = PNG_FORMAT_LINEAR_Y;  // 16-bit linear grey (gAMA 1.0)
+    png_alloc_size_t size = 0;
+    if (!png_image_write_get_memory_size(image, size, 0, grey.data(), 0, nullptr))
+        throw RuntimeError(std::string("caustic png: ") + image.message);
+    std::string bytes(size, '\0');
+    if (!png_image_write_to_memory(&image, bytes.data(), &size, 0, grey.data(), 0, nullptr))
+        throw RuntimeError(std::string("caustic png: ") + image.message);
+    bytes.resize(size);
+    return bytes;
+}
+
+}  // namespace wave

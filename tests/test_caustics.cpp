@@ -1,0 +1,239 @@
+// Caustics on the seafloor (libwave/underwater.h) against closed forms: flat water's
+// uniform transmitted irradiance, a sine crest's paraxial focus (lens-maker's law for
+// one refracting surface) and its magnification before the focus, flux conservation.
+#include "libwave/errors.h"
+#include "libwave/physics.h"
+#include "libwave/surface.h"
+#include "libwave/underwater.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <numeric>
+#include <vector>
+
+namespace {
+
+using namespace wave;
+
+constexpr double kPi = std::numbers::pi;
+
+// A flat seafloor grid of depth h over [0, w] × [0, d].
+ElevationGrid flat_floor(double w, double d, double h) {
+    ElevationGrid g;
+    g.nx = 9;
+    g.ny = 9;
+    g.dx = w / 8.0;
+    g.dy = d / 8.0;
+    g.z.assign(81, -h);
+    return g;
+}
+
+// A surface z = a sin(k x) over [0, w] × [0, d], nx × ny vertices, exact unit normals.
+struct Surface {
+    std::vector<float> positions, normals;
+    std::vector<std::uint32_t> triangles;
+};
+Surface sine_surface(double w, double d, std::size_t nx, std::size_t ny, double a, double k) {
+    Surface s;
+    for (std::size_t j = 0; j < ny; ++j)
+        for (std::size_t i = 0; i < nx; ++i) {
+            const double x = w * double(i) / double(nx - 1), y = d * double(j) / double(ny - 1);
+            const double slope = a * k * std::cos(k * x), len = std::hypot(slope, 1.0);
+            s.positions.insert(s.positions.end(), {float(x), float(y), float(a * std::sin(k * x))});
+            s.normals.insert(s.normals.end(), {float(-slope / len), 0.0f, float(1.0 / len)});
+        }
+    s.triangles = grid_triangles(nx, ny);
+    return s;
+}
+
+std::vector<float> caustics(const CausticPlan& plan, const Surface& s) {
+    std::vector<float> map(plan.options.width * plan.options.height);
+    evaluate_caustics(plan, s.positions, s.normals, s.triangles, map);
+    return map;
+}
+
+TEST(Caustics, FlatWaterLightsAFlatFloorUniformlyWithTheTransmittedAttenuatedIrradiance) {
+    const double h = 6.0, c = 0.12, elevation = 55.0 * kPi / 180.0, azimuth = 30.0 * kPi / 180.0;
+    CausticOptions o;
+    o.sun = {std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation)};
+    o.attenuation = c;
+    o.surface_irradiance = 2.5;
+    o.width = 100;
+    o.height = 80;
+    const CausticPlan plan = plan_caustics(flat_floor(100.0, 80.0, h), o);
+    const std::vector<float> map = caustics(plan, sine_surface(100.0, 80.0, 51, 41, 0.0, 1.0));
+    const double cos_i = std::sin(elevation), sin_t = std::sqrt(1.0 - cos_i * cos_i) / kWaterRefractiveIndex;
+    const double cos_t = std::sqrt(1.0 - sin_t * sin_t);
+    const double expected = fresnel_transmissivity(cos_i) * 2.5 * std::exp(-c * h / cos_t);
+    // The light is displaced by h·tan θ_t ≈ 2.6 m away from the sun: pixels 5 m inside
+    // the border receive it from the surface.
+    double worst = 0.0;
+    for (std::size_t j = 5; j < 75; ++j)
+        for (std::size_t i = 5; i < 95; ++i) worst = std::max(worst, std::abs(map[j * 100 + i] / expected - 1.0));
+    EXPECT_LT(worst, 0.01) << "expected " << expected;
+    EXPECT_LT(worst, 1e-5);  // exact up to float positions
+    // The up-sun border (x and y small, towards the sun's azimuth the other way) is
+    // dark where the light would have entered beyond the surface.
+    EXPECT_LT(map[40 * 100 + 99], 0.5 * expected);
+    EXPECT_NEAR(map[40 * 100 + 0], expected, 0.01 * expected);
+}
+
+// The sine crest z = a sin(kx) is a cylindrical lens: near it the surface slope is
+// −a k² ξ, a vertical ray refracts by (1 − 1/n) a k² ξ towards the crest's axis, and
+// the rays meet a distance D = n / ((n − 1) a k²) below the crest (at z = a − D).
+// Before the focus, at distance s below the crest, the beam under the crest is narrowed
+// by 1 − s/D: the irradiance there is that many times brighter than the mean.
+struct SineCase {
+    double a = 0.05, wavelength = 4.0, k = 2.0 * kPi / 4.0;
+    double focus() const { return kWaterRefractiveIndex / ((kWaterRefractiveIndex - 1.0) * a * k * k); }
+    // The map of the sine surface over a floor of depth h: 8 wavelengths, 200 pixels each.
+    std::vector<float> map(double h, double attenuation = 0.0) const {
+        CausticOptions o;
+        o.attenuation = attenuation;
+        o.width = 1600;
+        o.height = 4;
+        const CausticPlan plan = plan_caustics(flat_floor(8.0 * wavelength, 1.0, h), o);
+        return caustics(plan, sine_surface(8.0 * wavelength, 1.0, 3201, 3, a, k));
+    }
+    // The brightest pixel and the mean over the middle four wavelengths (row 1).
+    std::pair<double, double> peak_and_mean(const std::vector<float>& m) const {
+        const auto first = m.begin() + 1600 + 400, last = first + 800;
+        return {*std::max_element(first, last), std::accumulate(first, last, 0.0) / 800.0};
+    }
+};
+
+TEST(Caustics, ASineCrestMagnifiesTheLightBeforeItsFocusAsTheLensLawSays) {
+    const SineCase sine;
+    ASSERT_NEAR(sine.focus(), 32.67, 0.01);  // n = 1.33
+    for (double fraction : {0.25, 0.5, 0.75}) {
+        const double s = fraction * sine.focus(), h = s - sine.a;
+        const auto [peak, mean] = sine.peak_and_mean(sine.map(h));
+        EXPECT_NEAR(peak / mean, 1.0 / (1.0 - fraction), 0.05 / (1.0 - fraction)) << "at " << fraction << " of the focal depth";
+        // ... and the brightest pixel lies under a crest (x = λ/4 + j λ).
+        const std::vector<float> m = sine.map(h);
+        const auto first = m.begin() + 1600 + 400;
+        const double x = (double(std::max_element(first, first + 800) - (m.begin() + 1600)) + 0.5) * sine.wavelength / 200.0;
+        const double from_crest = std::remainder(x - 0.25 * sine.wavelength, sine.wavelength);
+        EXPECT_LT(std::abs(from_crest), 0.02) << x;
+    }
+}
+
+// Where the rays meet, measured from the maps alone: mean/peak = 1 − s/D before the
+// focus is a straight line in s whose root is the focal depth D. Beyond it the light
+// has folded into a line many times brighter than the mean (off-axis rays of a sine
+// crest focus a little deeper than the paraxial ones, so the brightest line lies
+// just past D).
+TEST(Caustics, ASineCrestFocusesIntoABrightLineAtThePredictedDepth) {
+    const SineCase sine;
+    double sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0, count = 0.0;
+    for (double fraction = 0.3; fraction < 0.71; fraction += 0.1) {
+        const double s = fraction * sine.focus();
+        const auto [peak, mean] = sine.peak_and_mean(sine.map(s - sine.a));
+        const double y = mean / peak;
+        sx += s, sy += y, sxx += s * s, sxy += s * y, count += 1.0;
+    }
+    const double slope = (count * sxy - sx * sy) / (count * sxx - sx * sx), intercept = (sy - slope * sx) / count;
+    const double measured = -intercept / slope;
+    EXPECT_NEAR(measured / sine.focus(), 1.0, 0.05) << "the rays meet " << measured << " m below the crest";
+    double brightest = 0.0, where = 0.0;
+    for (double fraction = 0.9; fraction < 1.301; fraction += 0.02) {
+        const auto [peak, mean] = sine.peak_and_mean(sine.map(fraction * sine.focus() - sine.a));
+        if (peak / mean > brightest) brightest = peak / mean, where = fraction;
+    }
+    EXPECT_GT(brightest, 20.0) << "at " << where << " of the focal depth";
+    EXPECT_GE(where, 1.0);
+    EXPECT_LE(where, 1.2);
+    const auto [peak, mean] = sine.peak_and_mean(sine.map(0.8 * sine.focus() - sine.a));
+    EXPECT_LT(peak / mean, 6.0);  // before the focus: no line yet
+}
+
+TEST(Caustics, TheMeanIrradianceIsTheFlatWatersWhereverTheLightFocuses) {
+    const SineCase sine;
+    SineCase flat;
+    flat.a = 0.0;
+    for (double h : {10.0, 32.4, 60.0}) {
+        const double flat_mean = flat.peak_and_mean(flat.map(h, 0.1)).second;
+        const double wavy_mean = sine.peak_and_mean(sine.map(h, 0.1)).second;
+        EXPECT_NEAR(wavy_mean / flat_mean, 1.0, 0.01) << "floor at " << h << " m";
+    }
+}
+
+TEST(Caustics, TheSameBitsOnOneThreadAndOnFour) {
+    const SineCase sine;
+    std::vector<float> one, four;
+    {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+        one = sine.map(40.0, 0.1);
+    }
+    {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 4);
+        four = sine.map(40.0, 0.1);
+    }
+    EXPECT_EQ(one, four);
+}
+
+TEST(Caustics, ASlopingFloorIsFoundWhereTheRayMeetsIt) {
+    // Floor z = −2 − 0.5 x rising towards x = 0; a flat surface under a zenith sun:
+    // every ray goes straight down, path h(x), so the map is I₀ T e^{−c h(x)}.
+    ElevationGrid g;
+    g.nx = 21;
+    g.ny = 3;
+    g.dx = 1.0;
+    g.dy = 5.0;
+    for (std::size_t j = 0; j < 3; ++j)
+        for (std::size_t i = 0; i < 21; ++i) g.z.push_back(-2.0 - 0.5 * double(i));
+    CausticOptions o;
+    o.attenuation = 0.2;
+    o.width = 20;
+    o.height = 2;
+    const CausticPlan plan = plan_caustics(g, o);
+    const std::vector<float> map = caustics(plan, sine_surface(20.0, 10.0, 81, 5, 0.0, 1.0));
+    const double t = fresnel_transmissivity(1.0);
+    for (std::size_t i = 0; i < 20; ++i) {
+        // The pixel's mean of e^{−c(2 + x/2)} over [i, i + 1].
+        const double mean = (std::exp(-0.2 * (2.0 + 0.5 * double(i))) - std::exp(-0.2 * (2.0 + 0.5 * double(i + 1)))) / (0.2 * 0.5);
+        EXPECT_NEAR(map[20 + i], t * mean, 2e-3 * t * mean) << i;
+    }
+}
+
+TEST(Caustics, BadOptionsAndSizesAreRefused) {
+    const ElevationGrid floor = flat_floor(10.0, 10.0, 2.0);
+    CausticOptions o;
+    o.sun = {1.0, 0.0, 0.0};
+    EXPECT_THROW(plan_caustics(floor, o), InputError);
+    o = {};
+    o.width = 0;
+    EXPECT_THROW(plan_caustics(floor, o), InputError);
+    o = {};
+    o.attenuation = -1.0;
+    EXPECT_THROW(plan_caustics(floor, o), InputError);
+    o = {};
+    o.water_index = 0.9;
+    EXPECT_THROW(plan_caustics(floor, o), InputError);
+    o = {};
+    o.width = 4;
+    o.height = 4;
+    const CausticPlan plan = plan_caustics(floor, o);
+    Surface s = sine_surface(10.0, 10.0, 3, 3, 0.0, 1.0);
+    std::vector<float> map(16), small(15);
+    EXPECT_THROW(evaluate_caustics(plan, s.positions, s.normals, s.triangles, small), InputError);
+    s.triangles[4] = 9;
+    EXPECT_THROW(evaluate_caustics(plan, s.positions, s.normals, s.triangles, map), InputError);
+    EXPECT_THROW(parse_water_type("murky", "/underwater/water_type"), InputError);
+    EXPECT_EQ(parse_water_type("harbour", "x"), WaterType::harbour);
+}
+
+TEST(Caustics, AMapBecomesASixteenBitGreyPng) {
+    const std::vector<float> map{0.0f, 1.0f, 2.0f, 8.0f};
+    const std::string png = caustic_png(map, 2, 2, 4.0);
+    ASSERT_GT(png.size(), 40u);
+    EXPECT_EQ(png.substr(1, 3), "PNG");
+    EXPECT_EQ(static_cast<unsigned char>(png[24]), 16u);  // IHDR bit depth
+    EXPECT_EQ(static_cast<unsigned char>(png[25]), 0u);   // colour type: grey
+}
+
+}  // namespace
