@@ -634,7 +634,7 @@ int run_job(const RunArgs& a) {
     r.frames_ms = ms_since(clock);  // the files form computed and wrote its frames together
     clock = std::chrono::steady_clock::now();
     if (!files_form) {
-        files = encode_animation(anim.view(), scene.form, scene.container, whole);
+        files = encode_animation(anim.view(), scene.form, scene.container, whole, anim.caustics);
         for (const auto& f : files) {
             r.animation_names.push_back(f.first);
             r.animation_bytes += f.second.size();

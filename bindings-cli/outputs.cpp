@@ -313,7 +313,7 @@ FilesFormRun write_files_form(const Scene& scene, const ScenePlan& plan, const s
             });
             MorphAnimationView view = anim.view();
             view.run_key = info.run_key;
-            const Files files = encode_animation(view, Scene::Form::files, scene.container, false);
+            const Files files = encode_animation(view, Scene::Form::files, scene.container, false, anim.caustics);
             const std::size_t per_frame = files.size() / anim.frame_count;  // .glb, or .gltf + .bin
             const std::size_t n = anim.vertex_count;
             for (std::size_t k = 0; k < anim.frame_count; ++k) {

@@ -390,7 +390,8 @@ class MainJob(unittest.TestCase):
                 r = wave("run", scene, "-o", out, "--form", "files", "--frames", frames, "--fps", "12", "-q")
                 self.assertEqual(r.returncode, 0, r.stderr)
                 self.assertEqual(r.stdout, "")  # --quiet
-            index = json.load(open(os.path.join(out, "index.json")))
+            with open(os.path.join(out, "index.json")) as f:
+                index = json.load(f)
             self.assertEqual(index["loop_frames"], 60)  # 5 s at 12 fps
             self.assertEqual([f["frame"] for f in index["frames"]], list(range(12)))
             for f in index["frames"]:
@@ -451,7 +452,8 @@ class MainJob(unittest.TestCase):
             self.assertFalse(os.path.exists(os.path.join(out, "index.json")))  # nothing written
             r = wave("merge", out, "--partial")
             self.assertEqual(r.returncode, 0, r.stderr)
-            index = json.load(open(os.path.join(out, "index.json")))
+            with open(os.path.join(out, "index.json")) as f:
+                index = json.load(f)
             self.assertEqual([f["frame"] for f in index["frames"]], list(range(5)) + list(range(10, 15)))
             # The slice reports stay as they are until the loop is complete.
             self.assertEqual(sorted(n for n in os.listdir(out) if n.startswith("report")),
@@ -554,7 +556,8 @@ class MainJob(unittest.TestCase):
             out = os.path.join(d, "files")
             r = wave("run", scene, "-o", out, "--container", "gltf", "--form", "files", "--frames", "0:2", "-q")
             self.assertEqual(r.returncode, 0, r.stderr)
-            index = json.load(open(os.path.join(out, "index.json")))
+            with open(os.path.join(out, "index.json")) as f:
+                index = json.load(f)
             self.assertEqual(index["frames"][1]["file"], "frames/frame-0001.gltf")
             validate_gltf(self, os.path.join(out, "frames", "frame-0001.gltf"))
             self.assertTrue(os.path.exists(os.path.join(out, "frames", "frame-0001.bin")))
@@ -893,6 +896,138 @@ class WindWaves(unittest.TestCase):
             r = wave("trace", self.write(d, self.SMALL_OCEAN), "--json")
             self.assertEqual(r.returncode, 2)
             self.assertIn("traces no rays", r.stderr)
+
+
+def read_png16(path):
+    """(width, height, rows of ints) of a 16-bit greyscale PNG, decoded by hand
+    (zlib and the five PNG filters): independent of the writer."""
+    import zlib
+    with open(path, "rb") as f:
+        data = f.read()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    pos, idat, header = 8, b"", None
+    while pos < len(data):
+        length, kind = struct.unpack_from(">I4s", data, pos)
+        body = data[pos + 8:pos + 8 + length]
+        if kind == b"IHDR":
+            header = struct.unpack(">IIBBBBB", body)
+        elif kind == b"IDAT":
+            idat += body
+        pos += 12 + length
+    width, height, depth, colour, _, _, interlace = header
+    assert (depth, colour, interlace) == (16, 0, 0), header
+    raw, stride, bpp = zlib.decompress(idat), 2 * width, 2
+    rows, previous = [], bytearray(stride)
+    for j in range(height):
+        kind, line = raw[j * (stride + 1)], bytearray(raw[j * (stride + 1) + 1:(j + 1) * (stride + 1)])
+        for i in range(stride):
+            a = line[i - bpp] if i >= bpp else 0
+            b = previous[i]
+            c = previous[i - bpp] if i >= bpp else 0
+            if kind == 1:
+                line[i] = (line[i] + a) & 255
+            elif kind == 2:
+                line[i] = (line[i] + b) & 255
+            elif kind == 3:
+                line[i] = (line[i] + (a + b) // 2) & 255
+            elif kind == 4:
+                p_ = a + b - c
+                pa, pb, pc = abs(p_ - a), abs(p_ - b), abs(p_ - c)
+                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
+        rows.append([line[2 * i] << 8 | line[2 * i + 1] for i in range(width)])
+        previous = line
+    return width, height, rows
+
+
+class Underwater(unittest.TestCase):
+    """/underwater: a caustic map per frame beside the animation (docs/underwater.md)."""
+    # A 10 m pool, 3 m deep at y = 0 to 6 m at y = 10, under 1 s waves 4 cm high: their
+    # crests (a k² = 0.64 /m) focus sunlight n / ((n − 1) a k²) ≈ 6 m down.
+    POOL = {"seafloor": {"source": "pool.asc"}, "waves": [{"period": 1.0, "amplitude": 0.04, "direction": [0, 1]}],
+            "trace": {"ray_spacing": 0.1}, "preview": {"sun": {"elevation_degrees": 60, "azimuth_degrees": 100}},
+            "underwater": {"map_size": 96, "water_type": "clear-ocean"}, "animation": {"fps": 10}}
+
+    def write(self, d, doc, name="s.json"):
+        with open(os.path.join(d, "pool.asc"), "w") as f:  # ESRI ASCII grid, first row at the top
+            f.write("ncols 21\nnrows 21\nxllcorner 0\nyllcorner 0\ncellsize 0.5\n")
+            for j in range(21):
+                f.write(" ".join(["%.2f" % (-3.0 - 0.15 * (20 - j))] * 21) + "\n")
+        path = os.path.join(d, name)
+        with open(path, "w") as f:
+            json.dump(doc, f)
+        return path
+
+    def test_a_map_per_frame_named_on_the_seafloor_and_looping(self):
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, "out")
+            r = wave("run", self.write(d, self.POOL), "-o", out, "--json")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            frames = json.loads(r.stdout)["surface"]["frames"]
+            self.assertEqual(frames, 10)
+            names = sorted(os.listdir(os.path.join(out, "caustics")))
+            self.assertEqual(names, ["caustics-%04d.png" % f for f in range(frames)])
+            glb = os.path.join(out, "animation.glb")
+            validate_gltf(self, glb)
+            doc, binary = read_glb(glb)
+            floor = next(m for m in doc["meshes"] if m["name"] == "seafloor")["primitives"][0]
+            extras = doc["materials"][floor["material"]]["extras"]["libwave_caustics"]
+            self.assertEqual(extras["images"], "caustics/caustics-%04d.png")
+            self.assertEqual((extras["frames"], extras["fps"], extras["texCoord"], extras["full_scale"]), (frames, 10.0, 0, 4.0))
+            uv = floats(doc, binary, floor["attributes"]["TEXCOORD_0"])
+            self.assertAlmostEqual(min(uv), 0.0, places=6)
+            self.assertAlmostEqual(max(uv), 1.0, places=6)
+            maps = []
+            for f in range(frames):
+                width, height, rows = read_png16(os.path.join(out, "caustics", names[f]))
+                self.assertEqual((width, height), (96, 96))
+                maps.append([v * 4.0 / 65535 for row in rows for v in row])
+            # Light reaches the floor (clear water, sun at 60°), is focused into lines by
+            # the crests and moves with them.
+            first = maps[0]
+            lit = [v for v in first if v > 0]
+            self.assertGreater(len(lit), 0.8 * len(first))
+            mean = sum(lit) / len(lit)
+            self.assertGreater(mean, 0.5)
+            self.assertGreater(max(first), 4.0 * mean)
+            change = lambda a, b: sum(abs(x - y) for x, y in zip(a, b)) / len(a)
+            step = change(maps[0], maps[1])
+            self.assertGreater(change(maps[0], maps[frames // 2]), 0.1 * mean)
+            # The loop closes: the last frame leads into the first as any frame into the next.
+            self.assertLess(change(maps[-1], maps[0]), 1.5 * step)
+            self.assertGreater(change(maps[-1], maps[0]), 0.5 * step)
+
+    def test_files_form_lists_each_frames_map_with_its_frame(self):
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, "out")
+            doc = dict(self.POOL, outputs={"form": "files"})
+            r = wave("run", self.write(d, doc), "-o", out, "--frames", "2:5")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            with open(os.path.join(out, "index.json")) as f:
+                index = json.load(f)
+            for entry in index["frames"]:
+                listed = json.dumps(entry)
+                self.assertIn("caustics/caustics-%04d.png" % entry["frame"], listed)
+            self.assertEqual(sorted(os.listdir(os.path.join(out, "caustics"))), ["caustics-%04d.png" % f for f in (2, 3, 4)])
+
+    def test_bad_underwater_scenes_exit_2_without_output(self):
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, "out")
+            bay = lambda **u: dict(self.POOL, underwater=u)
+            cases = [
+                (bay(water_type="murky"), "/underwater/water_type"),
+                (bay(water_type="ocean", attenuation=0.1), "/underwater/attenuation: give /underwater/water_type or"),
+                (bay(map_size=0), "/underwater/map_size"),
+                (bay(full_scale=-1), "/underwater/full_scale"),
+                (bay(colour=True), "/underwater"),
+                (dict(self.POOL, preview={"sun": {"elevation_degrees": -5}}), "/preview/sun: caustics need the sun above the horizon"),
+                ({"surface": {"kind": "ocean"}, "underwater": {}}, "/underwater: caustics fall on a seafloor: the ocean surface has none"),
+            ]
+            for doc, part in cases:
+                r = wave("run", self.write(d, doc, "bad.json"), "-o", out)
+                self.assertEqual(r.returncode, 2, f"{doc}: {r.stderr}")
+                self.assertTrue(r.stderr.startswith("error: "))
+                self.assertIn(part, r.stderr, doc)
+                self.assertFalse(os.path.exists(out), doc)
 
 
 class Inspect(unittest.TestCase):

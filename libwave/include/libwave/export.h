@@ -62,6 +62,14 @@ struct SceneDressing {
     bool sun = false;  ///< write a directional light turned by sun_rotation
     std::array<double, 4> sun_rotation{0.0, 0.0, 0.0, 1.0};  ///< glTF node rotation (the light shines along its −Z)
     bool water_material = false;
+    /// Caustic maps beside the file (docs/underwater.md): with texcoords (2 per seafloor
+    /// vertex, the maps' frame) the seafloor gets TEXCOORD_0, and with a pattern (e.g.
+    /// "caustics/caustics-%04d.png", numbered by loop frame) its material's extras
+    /// name the sequence: libwave_caustics {images, frames, fps, texCoord, full_scale}.
+    std::span<const float> seafloor_texcoords;
+    std::string caustic_images;
+    std::size_t caustic_frames = 0;
+    double caustic_fps = 24.0, caustic_full_scale = 1.0;
 };
 
 /// The glTF node rotation (x, y, z, w in glTF's y-up axes) that turns a camera or a
@@ -128,6 +136,7 @@ MorphAnimationView animation_view(const Frames& a) {
         v.dressing->seafloor_positions = a.seafloor_positions;
         v.dressing->seafloor_colors = a.seafloor_colors;
         v.dressing->seafloor_triangles = a.seafloor_triangles;
+        if constexpr (requires { a.seafloor_texcoords; }) v.dressing->seafloor_texcoords = a.seafloor_texcoords;
     }
     return v;
 }

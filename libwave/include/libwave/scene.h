@@ -12,6 +12,7 @@
 #include "libwave/shade.h"
 #include "libwave/surface.h"
 #include "libwave/trace.h"
+#include "libwave/underwater.h"
 
 #include <array>
 #include <functional>
@@ -61,6 +62,14 @@ struct GerstnerSpec {
     double amplitude = 0.1;    ///< A (m)
     double direction_x = 1.0, direction_y = 0.0;  ///< direction of travel
     double phase = 0.0;        ///< φ (rad)
+};
+
+/// /underwater: the caustic maps a run writes (CausticOptions for each frame).
+struct UnderwaterOptions {
+    bool caustics = true;
+    double attenuation = 0.15;  ///< c (1/m): /underwater/attenuation or /underwater/water_type's
+    std::size_t map_size = 512;  ///< pixels along the seafloor's longer side (the other in proportion)
+    double full_scale = 4.0;     ///< E / I₀ written as white (65 535) in the PNGs
 };
 
 struct Scene {
@@ -113,6 +122,10 @@ struct Scene {
     std::optional<std::array<double, 3>> camera;
     FresnelModel fresnel = FresnelModel::exact;
     FoamOptions foam{};
+    /// Light under the water (/underwater, docs/underwater.md): the caustics each frame's
+    /// surface focuses onto the seafloor under the scene's sun (/preview/sun), a 16-bit
+    /// PNG per frame beside the animation. Empty: none.
+    std::optional<UnderwaterOptions> underwater;
     /// Which shading attributes the export carries: none, the Blender 3.4 UV-map layout
     /// (default: every glTF client reads UV maps), or the named `_` attributes.
     enum class Attributes { none, uv_maps, named } attributes = Attributes::uv_maps;
@@ -170,6 +183,14 @@ std::array<double, 3> scene_camera(const Scene& scene, const Seafloor& seafloor)
 /// The preview options of a scene with its camera filled in: the scene's camera,
 /// looking at /preview/look_at or the centre of the domain at still water.
 PreviewOptions scene_preview(const Scene& scene, const Seafloor& seafloor);
+
+/// The caustic options of a scene with /underwater: its sun (/preview/sun), water, and
+/// a map over the seafloor grid's rectangle, map_size pixels along its longer side;
+/// I₀ = 1, so the maps hold irradiance relative to the sun's on flat water.
+CausticOptions scene_caustic_options(const Scene& scene, const Seafloor& seafloor);
+
+/// The caustic maps' names beside an animation, by loop frame (printf pattern).
+inline constexpr char kCausticImages[] = "caustics/caustics-%04d.png";
 
 /// The scene's trace options with Ts'o's rule applied: when orthogonals_per_grid_line
 /// > 0, ray_spacing = min(surface cell dx, dy) / orthogonals_per_grid_line.
@@ -249,6 +270,10 @@ struct SceneAnimation {
     std::vector<float> seafloor_positions, seafloor_colors;
     std::vector<std::uint32_t> seafloor_triangles;
     std::optional<SceneDressing> dressing;  ///< its spans are set by view()
+    /// /underwater's caustic maps, one 16-bit PNG per frame (empty without them), and
+    /// the seafloor's TEXCOORD_0 in the maps' frame (the dressing's seafloor vertices).
+    std::vector<std::string> caustics;
+    std::vector<float> seafloor_texcoords;
 
     MorphAnimationView view() const;
 };
@@ -300,8 +325,11 @@ using EncodedFiles = std::vector<std::pair<std::string, std::string>>;
 /// The one place an animation becomes files in an export form: animation.glb (or
 /// animation-frames-A-B.glb for a slice, `whole` = false) for morph and nodes, or
 /// frames/frame-NNNN.glb for files; with the gltf container each .glb becomes
-/// name.gltf + name.bin. Used by `wave run`, `wave convert` and the Python module.
-EncodedFiles encode_animation(const MorphAnimationView& view, Scene::Form form, Scene::Container container, bool whole);
+/// name.gltf + name.bin. With `caustics` (one PNG per frame of the view), the maps as
+/// kCausticImages beside them (in the files form, after each frame's own files). Used
+/// by `wave run`, `wave convert` and the Python module.
+EncodedFiles encode_animation(const MorphAnimationView& view, Scene::Form form, Scene::Container container, bool whole,
+                              std::span<const std::string> caustics = {});
 
 /// Evaluates frames of one loop (round(loop_period · fps) frames, t = k / fps): the
 /// model's motion (e.g. the height field, or Gonzato's profile on the water mesh),

@@ -402,6 +402,11 @@ struct ModelWriter {
             prim.attributes["POSITION"] = b.vec3(p, TINYGLTF_TARGET_ARRAY_BUFFER, true);
             std::vector<float> c(d.seafloor_colors.begin(), d.seafloor_colors.end());
             prim.attributes["COLOR_0"] = b.vec3(c, TINYGLTF_TARGET_ARRAY_BUFFER, false);
+            if (d.seafloor_texcoords.size() == 2 * n) {
+                std::vector<float> uv(d.seafloor_texcoords.begin(), d.seafloor_texcoords.end());
+                prim.attributes["TEXCOORD_0"] = b.accessor(b.view(uv.data(), uv.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER),
+                                                           TINYGLTF_COMPONENT_TYPE_FLOAT, n, TINYGLTF_TYPE_VEC2);
+            }
             prim.indices = b.accessor(b.view(d.seafloor_triangles.data(), d.seafloor_triangles.size_bytes(),
                                              TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
                                       TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, d.seafloor_triangles.size(), TINYGLTF_TYPE_SCALAR);
@@ -409,6 +414,16 @@ struct ModelWriter {
             sand.name = "seafloor";
             sand.pbrMetallicRoughness.metallicFactor = 0.0;
             sand.pbrMetallicRoughness.roughnessFactor = 0.9;  // base colour white: COLOR_0 is the colour
+            if (!d.caustic_images.empty()) {
+                tinygltf::Value::Object caustics, extras;
+                caustics["images"] = tinygltf::Value(d.caustic_images);
+                caustics["frames"] = tinygltf::Value(static_cast<int>(d.caustic_frames));
+                caustics["fps"] = tinygltf::Value(d.caustic_fps);
+                caustics["texCoord"] = tinygltf::Value(0);
+                caustics["full_scale"] = tinygltf::Value(d.caustic_full_scale);
+                extras["libwave_caustics"] = tinygltf::Value(caustics);
+                sand.extras = tinygltf::Value(extras);
+            }
             model.materials.push_back(sand);
             prim.material = static_cast<int>(model.materials.size() - 1);
             tinygltf::Mesh mesh;

@@ -58,6 +58,20 @@ std::array<double, 3> scene_camera(const Scene& scene, const Seafloor& seafloor)
     return {cx - dx * 1.1 * size, cy - dy * 1.1 * size, 0.4 * size};
 }
 
+CausticOptions scene_caustic_options(const Scene& scene, const Seafloor& seafloor) {
+    CausticOptions o;
+    const double az = scene.preview.sun_azimuth_degrees * std::numbers::pi / 180.0;
+    const double el = scene.preview.sun_elevation_degrees * std::numbers::pi / 180.0;
+    o.sun = {std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
+    const UnderwaterOptions u = scene.underwater.value_or(UnderwaterOptions{});
+    o.attenuation = u.attenuation;
+    const ElevationGrid& g = seafloor.grid;
+    const double w = g.x_max() - g.x0, h = g.y_max() - g.y0, side = static_cast<double>(u.map_size);
+    o.width = w >= h ? u.map_size : std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(side * w / h)));
+    o.height = h >= w ? u.map_size : std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(side * h / w)));
+    return o;
+}
+
 TraceOptions scene_trace_options(const Scene& scene, const Seafloor& seafloor) {
     TraceOptions trace = scene.trace;
     if (scene.orthogonals_per_grid_line > 0.0 && scene.surface.nx >= 2 && scene.surface.ny >= 2) {
@@ -196,7 +210,34 @@ void refine_scene_plan(const Scene& scene, ScenePlan& p) {
     }
 }
 
-EncodedFiles encode_animation(const MorphAnimationView& view, Scene::Form form, Scene::Container container, bool whole) {
+namespace {
+
+// The caustic maps beside the animation, caustics/caustics-NNNN.png by loop frame: in
+// the files form after each frame's own files (a frame's entry lists them together).
+void add_caustic_files(const MorphAnimationView& view, std::span<const std::string> caustics, Scene::Form form, EncodedFiles& files) {
+    if (caustics.empty()) return;
+    const auto name = [&](std::size_t k) {
+        char buffer[48];
+        std::snprintf(buffer, sizeof buffer, kCausticImages, static_cast<int>(view.first_frame + k));
+        return std::string(buffer);
+    };
+    if (form != Scene::Form::files) {
+        for (std::size_t k = 0; k < caustics.size(); ++k) files.emplace_back(name(k), caustics[k]);
+        return;
+    }
+    const std::size_t per_frame = files.size() / view.frame_count;
+    EncodedFiles grouped;
+    for (std::size_t k = 0; k < view.frame_count; ++k) {
+        for (std::size_t i = 0; i < per_frame; ++i) grouped.push_back(std::move(files[k * per_frame + i]));
+        grouped.emplace_back(name(k), caustics[k]);
+    }
+    files.swap(grouped);
+}
+
+}  // namespace
+
+EncodedFiles encode_animation(const MorphAnimationView& view, Scene::Form form, Scene::Container container, bool whole,
+                              std::span<const std::string> caustics) {
     EncodedFiles files;
     char slice_name[64];
     std::snprintf(slice_name, sizeof slice_name, "animation-frames-%zu-%zu.glb", view.first_frame, view.first_frame + view.frame_count);
@@ -241,6 +282,7 @@ EncodedFiles encode_animation(const MorphAnimationView& view, Scene::Form form, 
         }
         files.swap(split);
     }
+    add_caustic_files(view, caustics, form, files);
     return files;
 }
 
@@ -364,6 +406,9 @@ struct FrameRun {
     UntangleWorkspace untangle_scratch{};
     VertexFaces adjacency{};
     FresnelOptions fresnel{};
+    std::optional<CausticPlan> caustics{};  // /underwater: a map per frame
+    CausticWorkspace caustic_scratch{};
+    std::vector<float> caustic_map{};
 };
 
 void start_run(FrameRun& r, const std::vector<std::uint32_t>& triangles, std::size_t n) {
@@ -391,6 +436,10 @@ void start_run(FrameRun& r, const std::vector<std::uint32_t>& triangles, std::si
     r.adjacency = vertex_faces(n, triangles);  // normals gathered in parallel
     r.fresnel.camera = scene_camera(r.scene, plan.seafloor);
     r.fresnel.model = r.scene.fresnel;
+    if (r.scene.underwater && r.scene.underwater->caustics) {
+        r.caustics = plan_caustics(plan.seafloor.grid, scene_caustic_options(r.scene, plan.seafloor));
+        r.caustic_map.resize(r.caustics->options.width * r.caustics->options.height);
+    }
 }
 
 // lattice J₋ → J₋ per coarse vertex.
@@ -480,6 +529,11 @@ void evaluate_frame(FrameRun& r, const std::vector<std::uint32_t>& coarse_triang
         a.z_min = std::min(a.z_min, p[3 * v + 2]);
         a.z_max = std::max(a.z_max, p[3 * v + 2]);
     }
+    if (r.caustics) {
+        evaluate_caustics(*r.caustics, p, nr, a.triangles, r.caustic_map, &r.caustic_scratch);
+        a.caustics[f] = caustic_png(r.caustic_map, r.caustics->options.width, r.caustics->options.height,
+                                    r.scene.underwater->full_scale);
+    }
     if (!r.shaded) return;
     const std::span<float> refl(&a.reflect[n * f], n), refr(&a.refract[n * f], n);
     fresnel_weights(p, nr, r.fresnel, refl, refr);
@@ -552,6 +606,18 @@ void dress_animation(const Scene& scene, const ScenePlan& plan, SceneAnimation& 
                 a.seafloor_colors.insert(a.seafloor_colors.end(), colour.begin(), colour.end());
             }
         a.seafloor_triangles = grid_triangles(cols, rows);
+        if (!a.caustics.empty()) {  // the caustic maps' frame: the grid's rectangle, row 0 at its top
+            const std::size_t count = a.seafloor_positions.size() / 3;
+            a.seafloor_texcoords.resize(2 * count);
+            for (std::size_t v = 0; v < count; ++v) {
+                a.seafloor_texcoords[2 * v] = static_cast<float>((a.seafloor_positions[3 * v] - g.x0) / (g.x_max() - g.x0));
+                a.seafloor_texcoords[2 * v + 1] = static_cast<float>(1.0 - (a.seafloor_positions[3 * v + 1] - g.y0) / (g.y_max() - g.y0));
+            }
+            d.caustic_images = kCausticImages;
+            d.caustic_frames = a.loop_frames;
+            d.caustic_fps = scene.fps;
+            d.caustic_full_scale = scene.underwater->full_scale;
+        }
     }
     a.dressing = d;
 }
@@ -590,6 +656,7 @@ SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double m
         a.foam.assign(n * a.frame_count, 0.0f);
     }
     if (scene.color) a.colors.resize(3 * n * a.frame_count);
+    if (scene.underwater && scene.underwater->caustics) a.caustics.resize(a.frame_count);
     FrameRun run{.scene = scene, .plan = plan, .model = detail::surface_model(scene.surface_kind), .refined = refined,
                  .shaded = shaded, .creased = refined && scene.refine->crest_sharpness_per_metre > 0.0};
     start_run(run, a.triangles, n);

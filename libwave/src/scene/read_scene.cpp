@@ -315,6 +315,25 @@ void read_preview(const Node& n, Scene& s) {
     }
 }
 
+// "underwater": caustics on the seafloor under each frame's surface.
+UnderwaterOptions read_underwater(const Node& n) {
+    n.require_object({"caustics", "water_type", "attenuation", "map_size", "full_scale"});
+    UnderwaterOptions o;
+    if (n.has("caustics")) o.caustics = n["caustics"].boolean();
+    if (n.has("water_type") && n.has("attenuation"))
+        n["attenuation"].fail("give /underwater/water_type or /underwater/attenuation, not both");
+    if (n.has("water_type")) {
+        std::map<std::string, WaterType> waters;
+        for (WaterType t : {WaterType::clear_ocean, WaterType::ocean, WaterType::coastal, WaterType::turbid_coastal, WaterType::harbour})
+            waters[water_type_name(t)] = t;
+        o.attenuation = water_attenuation(n["water_type"].choice(waters));
+    }
+    if (n.has("attenuation")) o.attenuation = n["attenuation"].number("1/m");
+    if (n.has("map_size")) o.map_size = n["map_size"].count();
+    if (n.has("full_scale")) o.full_scale = n["full_scale"].number("E / I0");
+    return o;
+}
+
 RefineOptions read_refine(const Node& n) {
     n.require_object({"scheme", "level", "adaptive", "max_angle_degrees", "near_distance", "crest_sharpness_per_metre",
                       "max_crest_sharpness"});
@@ -425,7 +444,7 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     const json doc = detail::parse_json_input(text, origin);
     const Node root(doc, "", origin, &detail::scene_schema_doc());
     root.require_object({"name", "seafloor", "isobaths", "waves", "trace", "surface", "fronts", "motion", "camera",
-                         "shade", "outputs", "animation", "ocean", "gerstner", "breakers", "refine", "preview", "field"});
+                         "shade", "outputs", "animation", "ocean", "gerstner", "breakers", "refine", "preview", "field", "underwater"});
     Scene s;
     if (root.has("name")) s.name = root["name"].string();
     if (root.has("surface") && root["surface"].value().is_object() && root["surface"].has("kind"))
@@ -464,6 +483,17 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
         root["surface"]["water_mesh"].fail("not with /surface/camera_grid: choose one surface to sample the breakers on");
     if (root.has("refine")) s.refine = read_refine(root["refine"]);
     if (root.has("preview")) read_preview(root["preview"], s);
+    if (root.has("underwater")) {
+        s.underwater = read_underwater(root["underwater"]);
+        if (s.underwater->caustics && model.traced == Traced::nothing)
+            root["underwater"].fail("caustics fall on a seafloor: the " + std::string(surface_kind_name(s.surface_kind)) +
+                                    " surface has none");
+        if (s.underwater->caustics && !(s.preview.sun_elevation_degrees > 0.1)) {
+            const Node at = root.has("preview") && root["preview"].has("sun") ? root["preview"]["sun"] : root["underwater"];
+            at.fail("caustics need the sun above the horizon (/preview/sun/elevation_degrees is " +
+                    fmt(s.preview.sun_elevation_degrees) + ")");
+        }
+    }
     if (root.has("fronts")) read_fronts(root["fronts"], s.fronts);
     if (root.has("field")) read_field(root["field"], s);
     if (root.has("motion")) read_profile(root["motion"], s.profile);
