@@ -1,6 +1,7 @@
 # Renders an output of `wave run` through the libwave add-on with Cycles on the CPU:
 #   blender -b --factory-startup --python scripts/blender-render.py -- ADDON_ZIP RUN_DIR OUT.png [FRAME [SEED]]
-# (SEED: Cycles' sampling seed, default 0; two seeds of one frame measure render noise.)
+# (SEED: Cycles' sampling seed, default 0; two seeds of one frame measure render noise;
+# LIBWAVE_NO_CAUSTICS=1 imports without the caustic maps, to compare.)
 # The add-on imports the water (positions, foam, reflect, refract per frame) and the
 # seafloor, camera and sun the .glb carries; this script adds a sky and renders.
 import math
@@ -17,7 +18,7 @@ bpy.ops.wm.read_factory_settings(use_empty=True)
 bpy.ops.preferences.addon_install(filepath=addon_zip, overwrite=True)
 addon_utils.enable("libwave_blender", default_set=True)
 source = os.path.join(run, "index.json") if os.path.exists(os.path.join(run, "index.json")) else os.path.join(run, "animation.glb")
-bpy.ops.import_scene.libwave(filepath=source)
+bpy.ops.import_scene.libwave(filepath=source, caustics=os.environ.get("LIBWAVE_NO_CAUSTICS") != "1")
 scene = bpy.context.scene
 if scene.camera is None:  # the files form carries no camera: one from the open sea
     water = next(o for o in scene.objects if "libwave_source" in o)

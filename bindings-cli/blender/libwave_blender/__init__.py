@@ -121,9 +121,59 @@ def _seafloor_material():
     return mat
 
 
-def import_dressing(context, dressing):
+def _socket(node, *names):
+    """The first input of `node` among `names` (Blender 4 renamed some, e.g. "Emission"
+    became "Emission Color")."""
+    return next(node.inputs[n] for n in names if n in node.inputs)
+
+
+def _caustic_material(folder, caustics, sun_irradiance):
+    """The seafloor material with the caustic maps as an image sequence (docs/underwater.md):
+    the floor emits its depth colour × the map's irradiance, since Cycles' sun does not
+    reach the floor through the refracting water (caustics are the path a path tracer
+    finds last). Looping with the animation, frame 0 at scene frame 0."""
+    mat = bpy.data.materials.new("libwave seafloor with caustics")
+    mat.use_nodes = True
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    bsdf = nodes.get("Principled BSDF")
+    bsdf.inputs["Roughness"].default_value = 0.9
+    colour = nodes.new("ShaderNodeAttribute")
+    colour.attribute_name = "depth colour"
+    links.new(colour.outputs["Color"], bsdf.inputs["Base Color"])
+    links.new(colour.outputs["Color"], _socket(bsdf, "Emission Color", "Emission"))
+    uv = nodes.new("ShaderNodeUVMap")
+    uv.uv_map = "caustics"
+    image_node = nodes.new("ShaderNodeTexImage")
+    image_node.interpolation = "Linear"
+    image_node.extension = "EXTEND"
+    first = os.path.join(folder, caustics["images"] % 0)
+    image = bpy.data.images.load(first, check_existing=True)
+    image.source = "SEQUENCE"
+    image.colorspace_settings.name = "Non-Color"
+    image_node.image = image
+    user = image_node.image_user
+    user.frame_duration = int(caustics["frames"])
+    user.frame_start = 0
+    user.frame_offset = -1  # Blender counts the sequence from 1: file 0 at scene frame 0
+    user.use_cyclic = True
+    user.use_auto_refresh = True
+    links.new(uv.outputs["UV"], image_node.inputs["Vector"])
+    scale = nodes.new("ShaderNodeMath")
+    scale.operation = "MULTIPLY"
+    scale.label = "irradiance (W/m²): map × full scale × sun on flat water"
+    scale.inputs[1].default_value = float(caustics["full_scale"]) * sun_irradiance
+    links.new(image_node.outputs["Color"], scale.inputs[0])
+    links.new(scale.outputs["Value"], bsdf.inputs["Emission Strength"])
+    for i, node in enumerate((uv, image_node, scale)):
+        node.location = (-900 + 250 * i, -300)
+    colour.location = (-500, 200)
+    return mat
+
+
+def import_dressing(context, dressing, folder="", caustics=True):
     """The seafloor, camera and sun a libwave .glb carries, as Blender objects (the camera
-    becomes the scene's)."""
+    becomes the scene's); with `caustics`, the caustic maps beside the file (in `folder`)
+    light the seafloor."""
     from mathutils import Matrix
     made = []
     if dressing.seafloor is not None:
@@ -134,7 +184,22 @@ def import_dressing(context, dressing):
             rgba = np.ones((len(colours), 4), np.float32)
             rgba[:, :3] = colours
             mesh.attributes.new("depth colour", "FLOAT_COLOR", "POINT").data.foreach_set("color", rgba.ravel())
-        mesh.materials.append(_seafloor_material())
+        maps = dressing.caustics if caustics else None
+        if maps is not None and os.path.exists(os.path.join(folder, maps[1]["images"] % 0)):
+            uv, info = maps
+            layer = mesh.uv_layers.new(name="caustics")
+            loops = np.empty(len(mesh.loops), np.int64)
+            mesh.loops.foreach_get("vertex_index", loops)
+            corner_uv = np.asarray(uv, np.float32)[loops].copy()
+            corner_uv[:, 1] = 1.0 - corner_uv[:, 1]  # glTF's v runs down, Blender's up
+            layer.data.foreach_set("uv", corner_uv.ravel())
+            sun_irradiance = 1.0
+            if dressing.sun is not None:  # the sun's irradiance on a horizontal plane: energy × sin(elevation)
+                matrix, intensity, _ = dressing.sun
+                sun_irradiance = float(intensity) * max(0.0, float(np.asarray(matrix)[2, 2]))
+            mesh.materials.append(_caustic_material(folder, info, sun_irradiance))
+        else:
+            mesh.materials.append(_seafloor_material())
         obj = bpy.data.objects.new("libwave seafloor", mesh)
         context.collection.objects.link(obj)
         made.append(obj)
@@ -168,9 +233,10 @@ def import_dressing(context, dressing):
     return made
 
 
-def import_animation(context, path, set_scene=True):
+def import_animation(context, path, set_scene=True, caustics=True):
     """Creates the water object for `path` (a .glb/.gltf or index.json); with `set_scene`
-    the scene's fps and frame range become the animation's."""
+    the scene's fps and frame range become the animation's; with `caustics` the caustic
+    maps beside it (when the run wrote them) light the seafloor."""
     anim = _animation(os.path.abspath(path))
     first = anim.frame(0)
     mesh = bpy.data.meshes.new("libwave water")
@@ -190,7 +256,7 @@ def import_animation(context, path, set_scene=True):
     if _on_frame_change not in bpy.app.handlers.frame_change_post:
         bpy.app.handlers.frame_change_post.append(_on_frame_change)
     if anim.dressing is not None:
-        import_dressing(context, anim.dressing)
+        import_dressing(context, anim.dressing, anim.folder, caustics)
     apply_frame(obj, scene.frame_current)
     return obj
 
@@ -204,10 +270,12 @@ class ImportLibwave(bpy.types.Operator, ImportHelper):
     filename_ext = ".glb"
     filter_glob: StringProperty(default="*.glb;*.gltf;index.json", options={"HIDDEN"})
     set_scene: BoolProperty(name="Set fps and frame range", default=True)
+    caustics: BoolProperty(name="Caustics on the seafloor", default=True,
+                           description="Light the seafloor with the caustic maps beside the file (/underwater)")
 
     def execute(self, context):
         try:
-            import_animation(context, self.filepath, self.set_scene)
+            import_animation(context, self.filepath, self.set_scene, self.caustics)
         except (OSError, KeyError, ValueError, frames.LibwaveFileError) as e:
             self.report({"ERROR"}, f"libwave: {e}")
             return {"CANCELLED"}

@@ -151,12 +151,18 @@ class Dressing:
 
     def __init__(self, doc, buffers):
         self.seafloor = self.camera = self.sun = None
+        # The caustic maps beside the file (docs/underwater.md): (uv per seafloor vertex,
+        # libwave_caustics of the seafloor material's extras), or None.
+        self.caustics = None
         for node in doc.get("nodes", []):
             if node.get("name") == "seafloor" and "mesh" in node:
                 prim = doc["meshes"][node["mesh"]]["primitives"][0]
                 positions = to_blender(accessor(doc, buffers, prim["attributes"]["POSITION"]))
                 colours = accessor(doc, buffers, prim["attributes"]["COLOR_0"])[:, :3] if "COLOR_0" in prim["attributes"] else None
                 self.seafloor = (positions, _triangles(doc, buffers, node["mesh"]), colours)
+                extras = doc.get("materials", [{}])[prim["material"]].get("extras", {}) if "material" in prim else {}
+                if "libwave_caustics" in extras and "TEXCOORD_0" in prim["attributes"]:
+                    self.caustics = (accessor(doc, buffers, prim["attributes"]["TEXCOORD_0"]), extras["libwave_caustics"])
             elif "camera" in node:
                 cam = doc["cameras"][node["camera"]].get("perspective", {})
                 self.camera = (_node_matrix(node), cam.get("yfov", 0.7), cam.get("aspectRatio", 16 / 9))

@@ -69,7 +69,8 @@ CausticPlan plan_caustics(const ElevationGrid& seafloor, const CausticOptions& o
 struct CausticWorkspace {
     std::vector<double> hit;             ///< 2 per vertex: the refracted ray's floor point, map pixels
     std::vector<double> weight;          ///< per vertex: T · e^{−c·s}
-    std::vector<std::uint32_t> band_offsets, band_triangles;
+    std::vector<double> flux;            ///< per triangle
+    std::vector<std::uint32_t> first_band, last_band, band_offsets, band_fill, band_triangles;
 };
 
 /// The irradiance per unit plan area on the seafloor (same unit as I₀), width · height

@@ -42,53 +42,67 @@ struct Vec3 {
 };
 double dot(const Vec3& a, const Vec3& b) noexcept { return a.x * b.x + a.y * b.y + a.z * b.z; }
 
-// A polygon in map pixels (u right, v down): a triangle clipped by at most 4 lines.
-struct Polygon {
-    std::array<double, 14> p{};  // u, v pairs
-    int n = 0;
+// A footprint: the triangle three refracted rays draw on the floor, in map pixels
+// (u right, v down).
+struct Footprint {
+    std::array<double, 6> p{};  // u, v of its three corners
+    double signed_area() const noexcept {
+        return 0.5 * ((p[2] - p[0]) * (p[5] - p[1]) - (p[4] - p[0]) * (p[3] - p[1]));
+    }
+    double min(int axis) const noexcept { return std::min({p[axis], p[2 + axis], p[4 + axis]}); }
+    double max(int axis) const noexcept { return std::max({p[axis], p[2 + axis], p[4 + axis]}); }
 };
 
-// Cuts `in` by the line (coordinate `axis`) = value into the part below it and the
-// part above it (Sutherland–Hodgman, both sides in one pass).
-void split(const Polygon& in, int axis, double value, Polygon& below, Polygon& above) noexcept {
-    below.n = above.n = 0;
-    const auto put = [](Polygon& q, double u, double v) {
-        q.p[2 * q.n] = u;
-        q.p[2 * q.n + 1] = v;
-        ++q.n;
-    };
-    for (int k = 0; k < in.n; ++k) {
-        const int m = k + 1 == in.n ? 0 : k + 1;
-        const double a = in.p[2 * k + axis] - value, b = in.p[2 * m + axis] - value;
-        if (a <= 0.0) put(below, in.p[2 * k], in.p[2 * k + 1]);
-        if (a >= 0.0) put(above, in.p[2 * k], in.p[2 * k + 1]);
-        if ((a < 0.0 && b > 0.0) || (a > 0.0 && b < 0.0)) {
-            const double s = a / (a - b);
-            const double u = in.p[2 * k] + s * (in.p[2 * m] - in.p[2 * k]), v = in.p[2 * k + 1] + s * (in.p[2 * m + 1] - in.p[2 * k + 1]);
-            put(below, u, v);
-            put(above, u, v);
+// ∫ from −∞ to x of the ramp that rises from 0 at x0 to 1 at x1 (x0 <= x1): the area
+// left of x under an edge's share of a row, per unit of its height.
+double ramp_integral(double x, double x0, double x1) noexcept {
+    if (x <= x0) return 0.0;
+    const double length = x1 - x0;
+    if (x >= x1) return 0.5 * length + (x - x1);
+    return 0.5 * (x - x0) * (x - x0) / length;
+}
+
+// Exact coverage by signed edge areas (the scanline accumulation of font rasterisers):
+// a closed polygon covers, at abscissa x of a row, the sum over its edges of their
+// signed heights in the row left of x. Each edge adds the differences of that sum
+// from pixel to pixel to `acc` (a row of width + 1 per map row of the band); a prefix
+// sum along each row then gives every pixel's covered area times the weight. Work is
+// proportional to the edges' lengths in pixels, not to the area they enclose.
+void add_edge(double ua, double va, double ub, double vb, double weight, std::size_t width, std::size_t row0,
+              std::size_t rows, std::span<double> acc) noexcept {
+    if (va == vb) return;
+    const double dir = va < vb ? weight : -weight;
+    if (va > vb) std::swap(ua, ub), std::swap(va, vb);
+    const double dudv = (ub - ua) / (vb - va), end_row = static_cast<double>(row0 + rows);
+    const std::size_t stride = width + 1;
+    for (double j = std::max(std::floor(va), static_cast<double>(row0)); j < end_row && j < vb; j += 1.0) {
+        const double top = std::max(va, j), bottom = std::min(vb, j + 1.0);
+        if (bottom <= top) continue;
+        const double xa = ua + (top - va) * dudv, xb = ua + (bottom - va) * dudv;
+        const double x0 = std::min(xa, xb), x1 = std::max(xa, xb), d = dir * (bottom - top);
+        double* row = &acc[(static_cast<std::size_t>(j) - row0) * stride];
+        // c(i) = d · (F(i + 1) − F(i)): the edge's share of pixel i; 0 left of x0, d right of x1.
+        const double first = std::floor(x0), last = std::floor(x1), limit = static_cast<double>(width);
+        const auto at = [&](double i) -> double& { return row[static_cast<std::size_t>(std::max(i, 0.0))]; };  // left of the map: pixel 0's sum
+        if (first >= limit) continue;
+        if (first == last) {  // within one pixel column (the common case): d · (i + 1 − mid)
+            const double c = d * (first + 1.0 - 0.5 * (x0 + x1));
+            at(first) += c;
+            if (first + 1.0 < limit) at(first + 1.0) += d - c;
+            continue;
+        }
+        double previous = 0.0, f_left = 0.0;  // F(first) = 0
+        for (double i = first; i <= last + 1.0 && i < limit; i += 1.0) {
+            double c = d;
+            if (i <= last) {
+                const double f_right = ramp_integral(i + 1.0, x0, x1);
+                c = d * (f_right - f_left);
+                f_left = f_right;
+            }
+            at(i) += c - previous;
+            previous = c;
         }
     }
-}
-
-double area(const Polygon& q) noexcept {
-    double a = 0.0;
-    for (int k = 0; k < q.n; ++k) {
-        const int m = (k + 1) % q.n;
-        a += q.p[2 * k] * q.p[2 * m + 1] - q.p[2 * m] * q.p[2 * k + 1];
-    }
-    return 0.5 * std::abs(a);
-}
-
-double min_coordinate(const Polygon& q, int axis) noexcept {
-    double lo = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < q.n; ++k) lo = std::min(lo, q.p[2 * k + axis]);
-    return lo;
-}
-double max_coordinate(const Polygon& q, int axis) noexcept {
-    double hi = -std::numeric_limits<double>::infinity();
-    for (int k = 0; k < q.n; ++k) hi = std::max(hi, q.p[2 * k + axis]);
-    return hi;
 }
 
 // Where a ray from p along unit t (t.z < 0) first meets the floor: its path length s.
@@ -163,62 +177,37 @@ double triangle_flux(const CausticPlan& plan, std::span<const float> positions, 
     return plan.options.surface_irradiance / plan.sun[2] * facing * (weight[a] + weight[b] + weight[c]) / 3.0;
 }
 
-Polygon footprint(std::span<const double> hit, std::span<const std::uint32_t> triangles, std::size_t k) noexcept {
-    Polygon q;
-    q.n = 3;
-    for (int j = 0; j < 3; ++j) {
+Footprint footprint(std::span<const double> hit, std::span<const std::uint32_t> triangles, std::size_t k) noexcept {
+    Footprint q;
+    for (std::size_t j = 0; j < 3; ++j) {
         q.p[2 * j] = hit[2 * triangles[3 * k + j]];
         q.p[2 * j + 1] = hit[2 * triangles[3 * k + j] + 1];
     }
     return q;
 }
 
-// Rows [first, last] of the map a footprint touches (empty: last < first).
-std::pair<long long, long long> footprint_rows(const Polygon& q, std::size_t height) noexcept {
-    const double lo = std::max(0.0, std::floor(min_coordinate(q, 1)));
-    const double hi = std::min(static_cast<double>(height) - 1.0, std::floor(max_coordinate(q, 1)));
-    if (!(lo <= hi)) return {0, -1};
-    return {static_cast<long long>(lo), static_cast<long long>(hi)};
-}
-
-// Adds footprint q's flux to rows [row0, row0 + rows) of `band` (row-major, width
-// columns): each pixel its share of the footprint's area. The footprint is cut row by
-// row, and each row's piece column by column (one cut per pixel).
-void deposit(const Polygon& q, double flux, std::size_t width, std::size_t row0, std::size_t rows, std::span<double> band) {
-    const double whole = area(q);
-    const double u_lo = min_coordinate(q, 0), u_hi = max_coordinate(q, 0), v_lo = min_coordinate(q, 1), v_hi = max_coordinate(q, 1);
-    const double end_row = static_cast<double>(row0 + rows);
-    if (whole < 1e-12 || (std::floor(u_lo) == std::floor(u_hi) && std::floor(v_lo) == std::floor(v_hi))) {
+// Spreads a footprint's flux uniformly over it, into rows [row0, row0 + rows) of the
+// band's accumulation rows.
+void deposit(const Footprint& q, double flux, std::size_t width, std::size_t row0, std::size_t rows, std::span<double> acc) noexcept {
+    const double area = q.signed_area();
+    const std::size_t stride = width + 1;
+    if (std::abs(area) < 1e-12 || (std::floor(q.min(0)) == std::floor(q.max(0)) && std::floor(q.min(1)) == std::floor(q.max(1)))) {
         // In one pixel, or collapsed to a point or a line: the whole flux in its centroid's pixel.
         const double u = (q.p[0] + q.p[2] + q.p[4]) / 3.0, v = (q.p[1] + q.p[3] + q.p[5]) / 3.0;
-        if (u >= 0.0 && v >= static_cast<double>(row0) && u < static_cast<double>(width) && v < end_row)
-            band[(static_cast<std::size_t>(v) - row0) * width + static_cast<std::size_t>(u)] += flux;
+        if (u >= 0.0 && v >= static_cast<double>(row0) && u < static_cast<double>(width) && v < static_cast<double>(row0 + rows)) {
+            double* row = &acc[(static_cast<std::size_t>(v) - row0) * stride];
+            row[static_cast<std::size_t>(u)] += flux;
+            row[static_cast<std::size_t>(u) + 1] -= flux;
+        }
         return;
     }
-    const double density = flux / whole;
-    Polygon rest = q, strip, cell, right;
-    Polygon scratch;
-    double j = std::max(std::floor(v_lo), static_cast<double>(row0));
-    if (j > v_lo) {  // the part above the band is not this band's
-        split(rest, 1, j, scratch, strip);
-        rest = strip;
-    }
-    for (; j < end_row && j <= v_hi && rest.n >= 3; j += 1.0) {
-        split(rest, 1, j + 1.0, strip, scratch);
-        rest = scratch;
-        if (strip.n < 3) continue;
-        double* row = &band[(static_cast<std::size_t>(j) - row0) * width];
-        const double s_lo = min_coordinate(strip, 0), s_hi = max_coordinate(strip, 0);
-        double i = std::max(std::floor(s_lo), 0.0);
-        if (i > s_lo) {  // left of the map
-            split(strip, 0, i, scratch, right);
-            strip = right;
-        }
-        for (; i < static_cast<double>(width) && i <= s_hi && strip.n >= 3; i += 1.0) {
-            split(strip, 0, i + 1.0, cell, right);
-            strip = right;
-            if (cell.n >= 3) row[static_cast<std::size_t>(i)] += density * area(cell);
-        }
+    // With v down, a footprint of positive signed area has its left edges going up
+    // (they subtract): the weight's sign follows the area's, so a footprint turned
+    // over (past a focus) adds its flux too.
+    const double weight = -flux / area;
+    for (int e = 0; e < 3; ++e) {
+        const int f = (e + 1) % 3;
+        add_edge(q.p[2 * e], q.p[2 * e + 1], q.p[2 * f], q.p[2 * f + 1], weight, width, row0, rows, acc);
     }
 }
 
@@ -301,41 +290,50 @@ void evaluate_caustics(const CausticPlan& plan, std::span<const float> positions
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t v = r.begin(); v != r.end(); ++v) trace_vertex(plan, positions, normals, v, &w.hit[2 * v], w.weight[v]);
     });
-    // Each band of rows gathers the triangles whose footprints reach it, in triangle
-    // order (a counting sort), so that every pixel sums its shares in a fixed order.
+    // Each triangle's flux and the bands of rows its footprint reaches (first > last:
+    // none), in parallel; then each band lists its triangles in triangle order (a
+    // counting sort), so that every pixel sums its shares in a fixed order.
     const std::size_t nt = triangles.size() / 3, bands = (height + kBandRows - 1) / kBandRows;
+    w.flux.resize(nt);
+    w.first_band.resize(nt);
+    w.last_band.resize(nt);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nt, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t k = r.begin(); k != r.end(); ++k) {
+            const double flux = triangle_flux(plan, positions, triangles, w.weight, k);
+            const Footprint q = footprint(w.hit, triangles, k);
+            const double lo = std::max(0.0, std::floor(q.min(1))), hi = std::min(static_cast<double>(height) - 1.0, std::floor(q.max(1)));
+            const bool reaches = flux > 0.0 && lo <= hi && q.max(0) >= 0.0 && q.min(0) < static_cast<double>(width);
+            w.flux[k] = flux;
+            w.first_band[k] = reaches ? static_cast<std::uint32_t>(static_cast<std::size_t>(lo) / kBandRows) : 1;
+            w.last_band[k] = reaches ? static_cast<std::uint32_t>(static_cast<std::size_t>(hi) / kBandRows) : 0;
+        }
+    });
     w.band_offsets.assign(bands + 1, 0);
-    const auto band_range = [&](std::size_t k) {
-        const auto [first, last] = footprint_rows(footprint(w.hit, triangles, k), height);
-        return last < first ? std::pair<std::size_t, std::size_t>{1, 0}
-                            : std::pair<std::size_t, std::size_t>{static_cast<std::size_t>(first) / kBandRows,
-                                                                  static_cast<std::size_t>(last) / kBandRows};
-    };
-    for (std::size_t k = 0; k < nt; ++k) {
-        const auto [b0, b1] = band_range(k);
-        for (std::size_t b = b0; b <= b1 && b0 <= b1; ++b) ++w.band_offsets[b + 1];
-    }
+    for (std::size_t k = 0; k < nt; ++k)
+        for (std::uint32_t b = w.first_band[k]; b <= w.last_band[k]; ++b) ++w.band_offsets[b + 1];
     for (std::size_t b = 0; b < bands; ++b) w.band_offsets[b + 1] += w.band_offsets[b];
     w.band_triangles.resize(w.band_offsets[bands]);
-    {
-        std::vector<std::uint32_t> fill(w.band_offsets.begin(), w.band_offsets.end() - 1);
-        for (std::size_t k = 0; k < nt; ++k) {
-            const auto [b0, b1] = band_range(k);
-            for (std::size_t b = b0; b <= b1 && b0 <= b1; ++b) w.band_triangles[fill[b]++] = static_cast<std::uint32_t>(k);
-        }
-    }
+    w.band_fill.assign(w.band_offsets.begin(), w.band_offsets.end() - 1);
+    for (std::size_t k = 0; k < nt; ++k)
+        for (std::uint32_t b = w.first_band[k]; b <= w.last_band[k]; ++b) w.band_triangles[w.band_fill[b]++] = static_cast<std::uint32_t>(k);
     const double per_area = 1.0 / (plan.pixel_x * plan.pixel_y);
+    const std::size_t stride = width + 1;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, bands, 1), [&](const tbb::blocked_range<std::size_t>& r) {
-        std::vector<double> band(kBandRows * width);
+        std::vector<double> acc(kBandRows * stride);
         for (std::size_t b = r.begin(); b != r.end(); ++b) {
             const std::size_t row0 = b * kBandRows, rows = std::min(kBandRows, height - row0);
-            std::fill(band.begin(), band.end(), 0.0);
+            std::fill(acc.begin(), acc.end(), 0.0);
             for (std::size_t e = w.band_offsets[b]; e < w.band_offsets[b + 1]; ++e) {
                 const std::size_t k = w.band_triangles[e];
-                const double flux = triangle_flux(plan, positions, triangles, w.weight, k);
-                if (flux > 0.0) deposit(footprint(w.hit, triangles, k), flux, width, row0, rows, band);
+                deposit(footprint(w.hit, triangles, k), w.flux[k], width, row0, rows, acc);
             }
-            for (std::size_t i = 0; i < rows * width; ++i) irradiance[row0 * width + i] = static_cast<float>(band[i] * per_area);
+            for (std::size_t j = 0; j < rows; ++j) {
+                double sum = 0.0;
+                for (std::size_t i = 0; i < width; ++i) {
+                    sum += acc[j * stride + i];
+                    irradiance[(row0 + j) * width + i] = static_cast<float>(std::max(0.0, sum) * per_area);
+                }
+            }
         }
     });
 }

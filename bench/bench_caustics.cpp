@@ -1,0 +1,94 @@
+// Caustics per frame (libwave/underwater.h) beside the frame's own surface: a 512²
+// FFT sea (a 40 m patch in a 6 m/s breeze, the waves that net a shallow floor with
+// light) over a flat floor 4 m down, caustic maps of 512² and 1024². Range argument:
+// the map's side.
+#include "libwave/motion.h"
+#include "libwave/shade.h"
+#include "libwave/surface.h"
+#include "libwave/underwater.h"
+
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <vector>
+
+namespace {
+
+wave::OceanOptions breeze() {
+    wave::OceanOptions o;
+    o.resolution = 512;
+    o.size = 40.0;
+    o.spectrum.wind_speed = 6.0;
+    o.spectrum.small_wave_cutoff = 0.05;
+    o.choppiness = 1.0;
+    o.repeat_time = 20.0;
+    return o;
+}
+
+struct Sea {
+    wave::OceanPlan plan = wave::plan_ocean(breeze());
+    wave::OceanWorkspace workspace{plan.n};
+    std::size_t count = (plan.n + 1) * (plan.n + 1);
+    std::vector<float> positions = std::vector<float>(3 * count), normals = std::vector<float>(3 * count),
+                       j_minus = std::vector<float>(count);
+    std::vector<std::uint32_t> triangles = wave::grid_triangles(plan.n + 1, plan.n + 1);
+    void frame(double t) { wave::ocean_patch_frame(plan, wave::evaluate_ocean(plan, t, workspace), positions, normals, j_minus); }
+};
+
+wave::ElevationGrid floor_under(double size, double depth) {
+    wave::ElevationGrid g;
+    g.nx = g.ny = 65;
+    g.dx = g.dy = size / 64.0;
+    g.z.assign(65 * 65, -depth);
+    return g;
+}
+
+// The surface of one frame: the FFT fields, positions, exact normals and J₋.
+void BM_caustics_surface_frame(benchmark::State& state) {
+    Sea sea;
+    double t = 0.0;
+    for (auto _ : state) {
+        sea.frame(t);
+        benchmark::DoNotOptimize(sea.positions.data());
+        t += 1.0 / 24.0;
+    }
+    state.counters["vertices"] = static_cast<double>(sea.count);
+}
+BENCHMARK(BM_caustics_surface_frame)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The caustic map of one frame under that surface (its surface computed outside the timing).
+void BM_caustics_map(benchmark::State& state) {
+    Sea sea;
+    wave::CausticOptions o;
+    o.sun = {0.3, 0.2, 0.93};
+    o.attenuation = 0.08;
+    o.width = o.height = static_cast<std::size_t>(state.range(0));
+    const wave::CausticPlan plan = wave::plan_caustics(floor_under(breeze().size, 4.0), o);
+    wave::CausticWorkspace workspace;
+    std::vector<float> map(o.width * o.height);
+    double t = 0.0;
+    for (auto _ : state) {
+        state.PauseTiming();
+        sea.frame(t);
+        state.ResumeTiming();
+        wave::evaluate_caustics(plan, sea.positions, sea.normals, sea.triangles, map, &workspace);
+        benchmark::DoNotOptimize(map.data());
+        t += 1.0 / 24.0;
+    }
+}
+BENCHMARK(BM_caustics_map)->Arg(512)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The 16-bit PNG of a 1024² map.
+void BM_caustics_png(benchmark::State& state) {
+    Sea sea;
+    sea.frame(0.0);
+    wave::CausticOptions o;
+    o.width = o.height = 1024;
+    const wave::CausticPlan plan = wave::plan_caustics(floor_under(breeze().size, 4.0), o);
+    std::vector<float> map(o.width * o.height);
+    wave::evaluate_caustics(plan, sea.positions, sea.normals, sea.triangles, map);
+    for (auto _ : state) benchmark::DoNotOptimize(wave::caustic_png(map, 1024, 1024, 4.0).size());
+}
+BENCHMARK(BM_caustics_png)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
