@@ -76,10 +76,15 @@ TEST(Caustics, FlatWaterLightsAFlatFloorUniformlyWithTheTransmittedAttenuatedIrr
         for (std::size_t i = 5; i < 95; ++i) worst = std::max(worst, std::abs(map[j * 100 + i] / expected - 1.0));
     EXPECT_LT(worst, 0.01) << "expected " << expected;
     EXPECT_LT(worst, 1e-5);  // exact up to float positions
-    // The up-sun border (x and y small, towards the sun's azimuth the other way) is
-    // dark where the light would have entered beyond the surface.
-    EXPECT_LT(map[40 * 100 + 99], 0.5 * expected);
-    EXPECT_NEAR(map[40 * 100 + 0], expected, 0.01 * expected);
+    // The up-sun border (x large: the light travels towards −x) took its light from
+    // beyond the surface: flat water there gives the same irradiance ...
+    for (std::size_t i = 0; i < 100; ++i) EXPECT_NEAR(map[40 * 100 + i], expected, 0.01 * expected) << i;
+    for (std::size_t j = 0; j < 80; ++j) EXPECT_NEAR(map[j * 100 + 50], expected, 0.01 * expected) << j;
+    // ... and without the water beyond, it is dark.
+    o.flat_water_beyond = false;
+    const std::vector<float> alone = caustics(plan_caustics(flat_floor(100.0, 80.0, h), o), sine_surface(100.0, 80.0, 51, 41, 0.0, 1.0));
+    EXPECT_LT(alone[40 * 100 + 99], 0.01 * expected);
+    EXPECT_NEAR(alone[40 * 100 + 0], expected, 0.01 * expected);
 }
 
 // The sine crest z = a sin(kx) is a cylindrical lens: near it the surface slope is

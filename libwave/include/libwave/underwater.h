@@ -47,6 +47,10 @@ struct CausticOptions {
     /// Map pixels along x and y: the map covers the seafloor grid's rectangle, row 0
     /// at its largest y (an image's top: the same frame as the animation's TEXCOORD_0).
     std::size_t width = 512, height = 512;
+    /// Beyond the surface's rectangle the water is taken as flat: the floor near the
+    /// up-sun borders, whose light entered beyond them, gets flat water's irradiance
+    /// instead of none.
+    bool flat_water_beyond = true;
 };
 
 /// Once per seafloor and options: a copy of the seafloor grid, the map's frame, and a
@@ -59,6 +63,7 @@ struct CausticPlan {
     double x0 = 0.0, y_top = 0.0;          ///< the map's corner at pixel (0, 0)'s outer corner
     double pixel_x = 1.0, pixel_y = 1.0;   ///< pixel size (m)
     double max_slope = 0.0;                ///< |∇z| bound of the floor (for the search)
+    double max_depth = 0.0;                ///< the floor's greatest depth (m)
     std::array<double, 3> sun{};           ///< unit, towards the sun
 };
 CausticPlan plan_caustics(const ElevationGrid& seafloor, const CausticOptions& options);
@@ -79,7 +84,7 @@ struct CausticWorkspace {
 /// triangles seen from above. Flat water over a flat floor of depth h gives
 /// T(θᵢ) · I₀ · e^{−c·h / cos θₜ} everywhere its light reaches. Light enters only
 /// through the given surface (a map pixel whose light would come from beyond it stays
-/// dark), triangles facing away from the sun pass none, and the water's own shadow
+/// dark, unless flat_water_beyond), triangles facing away from the sun pass none, and the water's own shadow
 /// (a crest shading a trough) is not traced. The same bits for any thread count.
 /// InputError on mismatched sizes or indices out of range.
 void evaluate_caustics(const CausticPlan& plan, std::span<const float> positions, std::span<const float> normals,

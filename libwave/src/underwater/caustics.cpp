@@ -35,7 +35,7 @@ constexpr NamedWater kWaters[] = {
 
 constexpr std::size_t kBandRows = 8;       // map rows a parallel task accumulates
 constexpr std::size_t kMaxMapSide = 16384;
-constexpr int kMaxSearchSteps = 200;       // ray–floor search (the bound makes it converge well before)
+constexpr int kMaxSearchSteps = 60;        // regula falsi steps of the ray–floor search (it converges well before)
 
 struct Vec3 {
     double x, y, z;
@@ -105,30 +105,67 @@ void add_edge(double ua, double va, double ub, double vb, double weight, std::si
     }
 }
 
+// The floor's elevation by bilinear interpolation of the grid (clamped to its
+// rectangle like depth_at): the cheap surface the search marches on.
+double bilinear_elevation(const ElevationGrid& g, double x, double y) noexcept {
+    const double u = std::clamp((x - g.x0) / g.dx, 0.0, static_cast<double>(g.nx - 1));
+    const double v = std::clamp((y - g.y0) / g.dy, 0.0, static_cast<double>(g.ny - 1));
+    const std::size_t i = std::min(static_cast<std::size_t>(u), g.nx - 2), j = std::min(static_cast<std::size_t>(v), g.ny - 2);
+    const double a = u - static_cast<double>(i), b = v - static_cast<double>(j);
+    const double* row = &g.z[j * g.nx + i];
+    return (1.0 - b) * ((1.0 - a) * row[0] + a * row[1]) + b * ((1.0 - a) * row[g.nx] + a * row[g.nx + 1]);
+}
+
 // Where a ray from p along unit t (t.z < 0) first meets the floor: its path length s.
-// Steps of f(s) / (−t_z + slope·|t_xy|), f being the height above the floor, never
-// pass the floor while the slope bound holds; a bicubic overshoot is bisected back.
+// First a march over the bilinear floor: steps of f(s) / (−t_z + slope·|t_xy|), f the
+// height above it, which never pass it while the slope bound holds, and at least one
+// grid cell along the ray's plan direction (a ridge narrower than a cell may be
+// passed). Then the crossing of the floor itself (depth_at's bicubic surface) in the
+// bracket found, widened by a cell, by regula falsi (Illinois).
 double path_to_floor(const CausticPlan& plan, const Vec3& p, const Vec3& t) noexcept {
     const auto above = [&](double s) { return p.z + s * t.z + depth_at(plan.floor, p.x + s * t.x, p.y + s * t.y); };
-    double f = above(0.0);
-    if (f <= 0.0) return 0.0;  // the vertex is on or under the floor (a dry or run-up vertex)
-    const double rate = -t.z + plan.max_slope * std::hypot(t.x, t.y);
-    const double tolerance = 1e-6 * (1.0 + f);
-    double s = 0.0;
-    for (int k = 0; k < kMaxSearchSteps && f > tolerance; ++k) {
-        const double next = s + f / rate, fn = above(next);
-        if (fn < 0.0) {  // past the floor: bisect [s, next]
-            double lo = s, hi = next;
-            for (int b = 0; b < 40; ++b) {
-                const double mid = 0.5 * (lo + hi);
-                (above(mid) > 0.0 ? lo : hi) = mid;
-            }
-            return hi;
+    const auto above_linear = [&](double s) { return p.z + s * t.z - bilinear_elevation(plan.floor, p.x + s * t.x, p.y + s * t.y); };
+    const double f0 = above(0.0);
+    if (f0 <= 0.0) return 0.0;  // the vertex is on or under the floor (a dry or run-up vertex)
+    const double across = std::hypot(t.x, t.y), rate = -t.z + plan.max_slope * across;
+    const double cell = std::min(plan.floor.dx, plan.floor.dy);
+    const double cell_step = across > 0.0 ? cell / across : cell / -t.z;
+    const double longest = (p.z + plan.max_depth) / -t.z + cell_step;  // below the deepest point
+    double s = 0.0, f = above_linear(0.0), lo = 0.0, hi = longest;
+    while (s < longest) {
+        const double next = s + std::max(f / rate, cell_step), fn = above_linear(next);
+        if (fn <= 0.0) {
+            // Where the bilinear floor is crossed: often the floor itself (a plane, a
+            // flat bottom), so one look there may end the search.
+            const double guess = s + (next - s) * f / (f - fn);
+            if (std::abs(above(guess)) < 1e-7 * (1.0 + f0)) return guess;
+            lo = s;
+            hi = next;
+            break;
         }
         s = next;
         f = fn;
     }
-    return s;
+    lo = std::max(0.0, lo - cell_step);
+    hi += cell_step;
+    double flo = above(lo), fhi = above(hi);
+    if (flo <= 0.0) lo = 0.0, flo = f0;
+    if (fhi > 0.0) return hi;  // no floor below the bracket (not with a grid clamped at its border)
+    int side = 0;
+    for (int k = 0; k < kMaxSearchSteps; ++k) {
+        const double mid = (lo * fhi - hi * flo) / (fhi - flo), fm = above(mid);
+        if (std::abs(fm) < 1e-7 * (1.0 + f0) || hi - lo < 1e-9 * (1.0 + hi)) return mid;
+        if (fm > 0.0) {
+            lo = mid, flo = fm;
+            if (side == 1) fhi *= 0.5;
+            side = 1;
+        } else {
+            hi = mid, fhi = fm;
+            if (side == -1) flo *= 0.5;
+            side = -1;
+        }
+    }
+    return 0.5 * (lo + hi);
 }
 
 // The floor point (map pixels) and weight T · e^{−c·s} of vertex v's refracted ray.
@@ -211,6 +248,38 @@ void deposit(const Footprint& q, double flux, std::size_t width, std::size_t row
     }
 }
 
+// Flat water beyond the surface's rectangle: a pixel gets T · I₀ · e^{−c·s} times the
+// share of it whose flat-water light entered beyond the rectangle (the pixel moved
+// back along the ray, overlapped with the rectangle). A pixel whose source lies
+// inside both at no depth and at the greatest depth lies inside at every depth (the
+// rectangle is convex): only the up-sun borders look the depth up.
+void add_light_from_beyond(const CausticPlan& plan, std::span<float> irradiance) {
+    const CausticOptions& o = plan.options;
+    const double eta = 1.0 / o.water_index, lz = plan.sun[2];
+    const double tz = -std::sqrt(1.0 - eta * eta * (1.0 - lz * lz)), tx = -eta * plan.sun[0], ty = -eta * plan.sun[1];
+    const double transmitted = o.surface_irradiance * fresnel_transmissivity(lz, 1.0, o.water_index);
+    const double x1 = plan.x0 + plan.pixel_x * static_cast<double>(o.width), y0 = plan.y_top - plan.pixel_y * static_cast<double>(o.height);
+    // The share of a pixel (centre x, y) shifted by (dx, dy) that lies inside the rectangle.
+    const auto overlap = [](double lo, double hi, double a, double b) { return std::max(0.0, std::min(hi, b) - std::max(lo, a)); };
+    const auto inside = [&](double x, double y) {
+        return overlap(plan.x0, x1, x - 0.5 * plan.pixel_x, x + 0.5 * plan.pixel_x) *
+               overlap(y0, plan.y_top, y - 0.5 * plan.pixel_y, y + 0.5 * plan.pixel_y) / (plan.pixel_x * plan.pixel_y);
+    };
+    const double reach = plan.max_depth / -tz;  // the longest path
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, o.height, 16), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t j = r.begin(); j != r.end(); ++j)
+            for (std::size_t i = 0; i < o.width; ++i) {
+                const double x = plan.x0 + (static_cast<double>(i) + 0.5) * plan.pixel_x;
+                const double y = plan.y_top - (static_cast<double>(j) + 0.5) * plan.pixel_y;
+                if (inside(x - reach * tx, y - reach * ty) >= 1.0) continue;
+                const double h = depth_at(plan.floor, x, y);
+                if (h <= 0.0) continue;
+                const double s = h / -tz, beyond = 1.0 - inside(x - s * tx, y - s * ty);
+                if (beyond > 0.0) irradiance[j * o.width + i] += static_cast<float>(beyond * transmitted * std::exp(-o.attenuation * s));
+            }
+    });
+}
+
 }  // namespace
 
 double water_attenuation(WaterType type) noexcept {
@@ -268,6 +337,7 @@ CausticPlan plan_caustics(const ElevationGrid& seafloor, const CausticOptions& o
             steepest = std::max(steepest, std::hypot(gx, gy));
         }
     plan.max_slope = 1.5 * steepest + 1e-9;
+    for (double z : seafloor.z) plan.max_depth = std::max(plan.max_depth, -z);
     return plan;
 }
 
@@ -336,6 +406,7 @@ void evaluate_caustics(const CausticPlan& plan, std::span<const float> positions
             }
         }
     });
+    if (plan.options.flat_water_beyond) add_light_from_beyond(plan, irradiance);
 }
 
 std::string caustic_png(std::span<const float> irradiance, std::size_t width, std::size_t height, double full_scale) {
