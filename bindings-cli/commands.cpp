@@ -410,6 +410,12 @@ json run_report(const RunSummary& r) {
                 {"surface", surface_summary(r)},
                 {"warnings", r.plan.warnings},
                 {"outputs", json::array()}};
+    if (r.scene.underwater && r.scene.underwater->caustics) {
+        const CausticOptions o = scene_caustic_options(r.scene, r.plan.seafloor);
+        report["underwater"] = {{"caustic_maps", kCausticImages}, {"map_size", {o.width, o.height}},
+                                {"attenuation_per_m", o.attenuation}, {"full_scale", r.scene.underwater->full_scale},
+                                {"sun_towards", o.sun}};
+    }
     for (const std::string& f : r.animation_names) report["outputs"].push_back(f);
     for (const std::string& f : r.side_files) report["outputs"].push_back(f);
     return report;

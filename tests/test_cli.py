@@ -962,8 +962,11 @@ class Underwater(unittest.TestCase):
             out = os.path.join(d, "out")
             r = wave("run", self.write(d, self.POOL), "-o", out, "--json")
             self.assertEqual(r.returncode, 0, r.stderr)
-            frames = json.loads(r.stdout)["surface"]["frames"]
+            report = json.loads(r.stdout)
+            frames = report["surface"]["frames"]
             self.assertEqual(frames, 10)
+            self.assertEqual(report["underwater"]["map_size"], [96, 96])
+            self.assertEqual(report["underwater"]["attenuation_per_m"], 0.03)  # clear-ocean
             names = sorted(os.listdir(os.path.join(out, "caustics")))
             self.assertEqual(names, ["caustics-%04d.png" % f for f in range(frames)])
             glb = os.path.join(out, "animation.glb")

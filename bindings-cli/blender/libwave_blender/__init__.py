@@ -8,6 +8,7 @@ repeating past its end, and an editable water material that reads the foam. Work
 Debian's Blender 3.4 (no numpy.bool patch needed: Blender's glTF importer is not used)
 and in Blender 4.x.
 """
+import math
 import os
 
 import bpy
@@ -129,7 +130,8 @@ def _socket(node, *names):
 
 def _caustic_material(folder, caustics, sun_irradiance):
     """The seafloor material with the caustic maps as an image sequence (docs/underwater.md):
-    the floor emits its depth colour × the map's irradiance, since Cycles' sun does not
+    the floor emits its depth colour × the map's irradiance / π (what a diffuse floor
+    lit by it would send back), since Cycles' sun does not
     reach the floor through the refracting water (caustics are the path a path tracer
     finds last). Looping with the animation, frame 0 at scene frame 0."""
     mat = bpy.data.materials.new("libwave seafloor with caustics")
@@ -160,8 +162,10 @@ def _caustic_material(folder, caustics, sun_irradiance):
     links.new(uv.outputs["UV"], image_node.inputs["Vector"])
     scale = nodes.new("ShaderNodeMath")
     scale.operation = "MULTIPLY"
-    scale.label = "irradiance (W/m²): map × full scale × sun on flat water"
-    scale.inputs[1].default_value = float(caustics["full_scale"]) * sun_irradiance
+    # Irradiance E = map × full scale × the sun's on flat water; a diffuse floor of albedo
+    # ρ sends back ρ E / π, and Cycles' emission of strength S and colour ρ is ρ S.
+    scale.label = "E / π: map × full scale × sun irradiance / π"
+    scale.inputs[1].default_value = float(caustics["full_scale"]) * sun_irradiance / math.pi
     links.new(image_node.outputs["Color"], scale.inputs[0])
     links.new(scale.outputs["Value"], bsdf.inputs["Emission Strength"])
     for i, node in enumerate((uv, image_node, scale)):
