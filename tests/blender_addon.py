@@ -51,6 +51,65 @@ def check_point_cache(folder, reference):
     print(f"LIBWAVE-ADDON checked {folder}: the PC2 point cache through Blender's Mesh Cache modifier")
 
 
+def check_caustics(folder, scene, water, frames):
+    """The seafloor plays the caustic maps (caustics/caustics-NNNN.png) as an image
+    sequence in step with the water: seen from above with only its emission (no sun, no
+    sky, the water hidden from the camera), scene frames 0 and N (the loop's end) look
+    alike, frame 1 differs, and frame 0 follows map 0's pattern better than any other
+    map's (the floor's depth colour and the PNG's sRGB encoding blur the match)."""
+    floor = bpy.data.objects["libwave seafloor"]
+    mat = floor.data.materials[0]
+    images = [n for n in mat.node_tree.nodes if n.type == "TEX_IMAGE"]
+    if not images or images[0].image.source != "SEQUENCE" or images[0].image_user.frame_duration != frames:
+        errors.append(f"{folder}: the seafloor material does not play the {frames} caustic maps")
+        return
+    if "caustics" not in floor.data.uv_layers:
+        errors.append(f"{folder}: the seafloor has no caustics UV map")
+        return
+    bpy.data.objects["libwave sun"].hide_render = True
+    water.visible_camera = False
+    world = bpy.data.worlds.new("black")
+    world.use_nodes = True
+    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
+    scene.world = world
+    top = bpy.data.objects.new("top", bpy.data.cameras.new("top"))
+    top.data.type = "ORTHO"
+    xs = [v.co.x for v in floor.data.vertices]
+    ys = [v.co.y for v in floor.data.vertices]
+    top.data.ortho_scale = max(xs) - min(xs)  # the maps' rectangle (a square pool)
+    top.location = (0.5 * (min(xs) + max(xs)), 0.5 * (min(ys) + max(ys)), 20.0)
+    scene.collection.objects.link(top)
+    scene.camera = top
+    scene.render.engine = "CYCLES"
+    scene.cycles.samples = 1
+    scene.cycles.use_denoising = False
+    scene.cycles.filter_width = 0.01  # each pixel samples its centre: no jitter between frames
+    scene.render.resolution_x = scene.render.resolution_y = 64
+
+    def grey(frame):
+        scene.frame_set(frame)
+        scene.render.filepath = os.path.join(folder, f"floor-{frame}.png")
+        bpy.ops.render.render(write_still=True)
+        return np.array(bpy.data.images.load(scene.render.filepath).pixels[:], np.float32).reshape(64, 64, 4)[:, :, :3].mean(axis=2)
+
+    def map_file(k):  # the PNG itself, rows flipped to Blender's bottom-up order
+        image = bpy.data.images.load(os.path.join(folder, "caustics", "caustics-%04d.png" % k))
+        return np.array(image.pixels[:], np.float32).reshape(64, 64, 4)[:, :, 0]
+
+    first, second, wrapped = grey(0), grey(1), grey(frames)
+    step, loop = np.abs(first - second).mean(), np.abs(first - wrapped).mean()
+    # The pool's lines run along x, a pixel or two wide: compare the profiles across
+    # them (means along x), softened over three rows against sampling offsets.
+    profile = lambda a: np.convolve(a.mean(axis=1), np.ones(3) / 3.0, mode="same")
+    corr = lambda a, b: float(np.corrcoef(profile(a), profile(b))[0, 1])
+    against = [corr(first, map_file(k)) for k in range(frames)]
+    own, others = against[0], max(against[1:])
+    print(f"LIBWAVE-ADDON caustics: frame 0 vs 1 {step:.4f}, 0 vs {frames} {loop:.4f}; "
+          f"frame 0 against map 0 {own:.2f}, the best other map {others:.2f}")
+    if not (step > 0.01 and loop < 0.1 * step and own > 0.6 and own > others + 0.1):
+        errors.append(f"{folder}: the caustic sequence is out of step with the frames")
+
+
 for folder in runs:
     if folder.endswith("pc2"):
         check_point_cache(folder, os.path.join(os.path.dirname(folder), "morph", "animation.glb"))
@@ -132,6 +191,8 @@ for folder in runs:
             print(f"LIBWAVE-ADDON render: sky {sky:.2f}, water {water_share:.2f}, seafloor (under the water) {ground:.2f}")
             if min(sky, water_share, ground) < 0.05:
                 errors.append(f"{path}: the render lacks sky, water or seafloor: {sky}, {water_share}, {ground}")
+    if folder.endswith("caustics"):
+        check_caustics(folder, scene, obj, frames)
     print(f"LIBWAVE-ADDON checked {path}: {frames} frames of {n} vertices")
 
 print("\n".join(errors) if errors else "LIBWAVE-ADDON ok")
