@@ -8,6 +8,7 @@
 #include "libwave/physics.h"
 #include "libwave/scene.h"
 #include "libwave/shade.h"
+#include "libwave/underwater.h"
 #include "libwave/version.h"
 
 #include <pybind11/numpy.h>
@@ -214,6 +215,34 @@ PYBIND11_MODULE(libwave, m) {
         py::arg("scene"), py::arg("plan"), py::arg("animation"), py::arg("frame") = 0, py::arg("width") = 0,
         py::arg("height") = 0,
         "A frame (index within the animation) rendered by the sunset ray caster: (height, width, 3) uint8 RGB");
+
+    m.def(
+        "caustics",
+        [](const wave::Scene& scene, const ScenePlan& plan, const SceneAnimation& a, std::size_t frame, std::size_t map_size) {
+            if (frame >= a.frame_count)
+                throw wave::InputError("caustics: frame " + std::to_string(frame) + " of " + std::to_string(a.frame_count));
+            wave::Scene s = scene;
+            if (!s.underwater) s.underwater = wave::UnderwaterOptions{};
+            if (map_size > 0) s.underwater->map_size = map_size;
+            std::vector<float> map;
+            wave::CausticOptions o;
+            {
+                py::gil_scoped_release release;
+                o = wave::scene_caustic_options(s, plan.seafloor);
+                const wave::CausticPlan cp = wave::plan_caustics(plan.seafloor.grid, o);
+                map.resize(o.width * o.height);
+                const std::size_t n = a.vertex_count;
+                wave::evaluate_caustics(cp, std::span<const float>(&a.positions[3 * n * frame], 3 * n),
+                                        std::span<const float>(&a.normals[3 * n * frame], 3 * n), a.triangles, map);
+            }
+            py::array_t<float> out({static_cast<py::ssize_t>(o.height), static_cast<py::ssize_t>(o.width)});
+            std::copy(map.begin(), map.end(), out.mutable_data());
+            return out;
+        },
+        py::arg("scene"), py::arg("plan"), py::arg("animation"), py::arg("frame") = 0, py::arg("map_size") = 0,
+        "The caustics a frame (index within the animation) focuses onto the seafloor under the scene's sun "
+        "(docs/underwater.md): (height, width) float32 irradiance relative to the sun's on flat water, row 0 at the "
+        "seafloor's largest y; the scene's /underwater water, or coastal water; map_size 0 = the scene's (512)");
 
     m.def(
         "linear_wave",

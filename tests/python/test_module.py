@@ -140,6 +140,45 @@ def test_preview_renders_a_frame_as_an_rgb_array():
         libwave.preview(scene, plan, anim, 3)
 
 
+def test_caustics_of_a_frame_equal_the_maps_wave_run_writes(tmp_path):
+    # The breaking beach's frame 0: the array libwave.caustics gives, written as wave run
+    # writes it (16-bit, full scale 4), is the PNG wave run wrote, value for value.
+    path = os.path.join(os.path.dirname(__file__), "..", "..", "examples", "breaking-beach.json")
+    scene = libwave.read_scene(path)
+    plan = libwave.plan(scene)
+    anim = libwave.animate(scene, plan, 0, 1)
+    e = libwave.caustics(scene, plan, anim, 0)
+    assert e.shape == (256, 256) and e.dtype == np.float32
+    lit = e[e > 0]
+    assert lit.size > 0.5 * e.size and 0.05 < float(np.median(lit)) < 1.0  # coastal water, 0.5–8 m deep, sun at 50°
+    subprocess.run([os.environ["WAVE_EXE"], "run", path, "-o", str(tmp_path), "--frames", "0:1", "-q"], check=True)
+    import zlib
+    data = (tmp_path / "caustics" / "caustics-0000.png").read_bytes()
+    chunks, pos = {}, 8
+    while pos < len(data):
+        length, kind = int.from_bytes(data[pos:pos + 4], "big"), data[pos + 4:pos + 8]
+        chunks[kind] = chunks.get(kind, b"") + data[pos + 8:pos + 8 + length]
+        pos += 12 + length
+    raw = np.frombuffer(zlib.decompress(chunks[b"IDAT"]), np.uint8).reshape(256, 1 + 512)
+    rows = np.zeros((256, 512), np.int64)
+    for j in range(256):  # undo the Sub filter (type 1) or none (0), 2 bytes a pixel
+        line = raw[j, 1:].astype(np.int64)
+        if raw[j, 0] == 1:
+            for i in range(2, 512):
+                line[i] = (line[i] + line[i - 2]) & 255
+        else:
+            assert raw[j, 0] == 0
+        rows[j] = line
+    grey = rows[:, 0::2] * 256 + rows[:, 1::2]
+    expected = np.rint(65535 * np.clip(e / 4.0, 0, 1))
+    assert np.abs(grey - expected).max() <= 1
+    with pytest.raises(libwave.InputError):
+        libwave.caustics(scene, plan, anim, 5)
+    small = libwave.caustics(scene, plan, anim, 0, map_size=64)
+    assert small.shape == (64, 64)
+    assert abs(float(small.mean()) - float(e.mean())) < 0.02 * float(e.mean())  # flux kept at any resolution
+
+
 def test_wave_field_matches_wave_field_cli(tmp_path):
     # The Berkhoff shoal: the field's arrays equal the GeoTIFF `wave field` writes.
     path = os.path.join(os.path.dirname(__file__), "..", "..", "examples", "berkhoff-shoal.json")
