@@ -6,53 +6,14 @@ channel change exceeds a threshold (0.1 of full scale), for pairs of images.
 
 Prints one line per pair. Render noise is the same measure between one frame rendered
 with two Cycles seeds (scripts/blender-render.py … FRAME SEED); flicker from the mesh
-is what two consecutive frames change beyond it. Reads 8-bit, non-interlaced RGB/RGBA
-PNGs (what Blender writes) with the standard library alone.
+is what two consecutive frames change beyond it. Reads 8-bit RGB/RGBA PNGs (what
+Blender writes) with scripts/png_read.py (the standard library alone).
 """
-import struct
+import os
 import sys
-import zlib
 
-
-def read_png(path):
-    with open(path, "rb") as f:
-        data = f.read()
-    if data[:8] != b"\x89PNG\r\n\x1a\n":
-        raise SystemExit(f"{path}: not a PNG")
-    pos, idat, width = 8, b"", None
-    while pos < len(data):
-        length, kind = struct.unpack(">I4s", data[pos:pos + 8])
-        body = data[pos + 8:pos + 8 + length]
-        if kind == b"IHDR":
-            width, height, depth, colour, _, _, interlace = struct.unpack(">IIBBBBB", body)
-            if depth != 8 or colour not in (2, 6) or interlace:
-                raise SystemExit(f"{path}: only 8-bit RGB/RGBA, non-interlaced")
-            channels = 3 if colour == 2 else 4
-        elif kind == b"IDAT":
-            idat += body
-        pos += 12 + length
-    raw = zlib.decompress(idat)
-    stride = width * channels
-    rows, prev = [], bytearray(stride)
-    for y in range(height):
-        kind, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-        for i in range(stride):
-            a = line[i - channels] if i >= channels else 0
-            b = prev[i]
-            c = prev[i - channels] if i >= channels else 0
-            if kind == 1:
-                line[i] = (line[i] + a) & 255
-            elif kind == 2:
-                line[i] = (line[i] + b) & 255
-            elif kind == 3:
-                line[i] = (line[i] + (a + b) // 2) & 255
-            elif kind == 4:
-                p = a + b - c
-                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-        rows.append(line)
-        prev = line
-    return width, height, channels, rows
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scripts"))
+from png_read import read_png  # noqa: E402
 
 
 def flicker(a, b, threshold):

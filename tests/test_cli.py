@@ -899,43 +899,14 @@ class WindWaves(unittest.TestCase):
 
 
 def read_png16(path):
-    """(width, height, rows of ints) of a 16-bit greyscale PNG, decoded by hand
-    (zlib and the five PNG filters): independent of the writer."""
-    import zlib
+    """(width, height, rows of ints) of a 16-bit greyscale PNG (scripts/png_read.py:
+    zlib and the five filters by hand, independent of the writer)."""
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scripts"))
+    from png_read import read_png
     with open(path, "rb") as f:
-        data = f.read()
-    assert data[:8] == b"\x89PNG\r\n\x1a\n"
-    pos, idat, header = 8, b"", None
-    while pos < len(data):
-        length, kind = struct.unpack_from(">I4s", data, pos)
-        body = data[pos + 8:pos + 8 + length]
-        if kind == b"IHDR":
-            header = struct.unpack(">IIBBBBB", body)
-        elif kind == b"IDAT":
-            idat += body
-        pos += 12 + length
-    width, height, depth, colour, _, _, interlace = header
-    assert (depth, colour, interlace) == (16, 0, 0), header
-    raw, stride, bpp = zlib.decompress(idat), 2 * width, 2
-    rows, previous = [], bytearray(stride)
-    for j in range(height):
-        kind, line = raw[j * (stride + 1)], bytearray(raw[j * (stride + 1) + 1:(j + 1) * (stride + 1)])
-        for i in range(stride):
-            a = line[i - bpp] if i >= bpp else 0
-            b = previous[i]
-            c = previous[i - bpp] if i >= bpp else 0
-            if kind == 1:
-                line[i] = (line[i] + a) & 255
-            elif kind == 2:
-                line[i] = (line[i] + b) & 255
-            elif kind == 3:
-                line[i] = (line[i] + (a + b) // 2) & 255
-            elif kind == 4:
-                p_ = a + b - c
-                pa, pb, pc = abs(p_ - a), abs(p_ - b), abs(p_ - c)
-                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-        rows.append([line[2 * i] << 8 | line[2 * i + 1] for i in range(width)])
-        previous = line
+        assert f.read(25)[24] == 16  # IHDR's bit depth
+    width, height, channels, rows = read_png(path)
+    assert channels == 1
     return width, height, rows
 
 

@@ -107,19 +107,22 @@ def water_material(name="libwave water"):
     return mat
 
 
+def _new_seafloor_material(name):
+    """A rough Principled BSDF coloured by the seafloor's "depth colour" attribute:
+    (material, its BSDF node, the attribute node)."""
+    mat = bpy.data.materials.new(name)
+    mat.use_nodes = True
+    bsdf = mat.node_tree.nodes.get("Principled BSDF")
+    bsdf.inputs["Roughness"].default_value = 0.9
+    colour = mat.node_tree.nodes.new("ShaderNodeAttribute")
+    colour.attribute_name = "depth colour"
+    mat.node_tree.links.new(colour.outputs["Color"], bsdf.inputs["Base Color"])
+    return mat, bsdf, colour
+
+
 def _seafloor_material():
     mat = bpy.data.materials.get("libwave seafloor")
-    if mat is not None:
-        return mat
-    mat = bpy.data.materials.new("libwave seafloor")
-    mat.use_nodes = True
-    nodes, links = mat.node_tree.nodes, mat.node_tree.links
-    bsdf = nodes.get("Principled BSDF")
-    bsdf.inputs["Roughness"].default_value = 0.9
-    colour = nodes.new("ShaderNodeAttribute")
-    colour.attribute_name = "depth colour"
-    links.new(colour.outputs["Color"], bsdf.inputs["Base Color"])
-    return mat
+    return mat if mat is not None else _new_seafloor_material("libwave seafloor")[0]
 
 
 def _socket(node, *names):
@@ -134,14 +137,8 @@ def _caustic_material(folder, caustics, sun_irradiance):
     lit by it would send back), since Cycles' sun does not
     reach the floor through the refracting water (caustics are the path a path tracer
     finds last). Looping with the animation, frame 0 at scene frame 0."""
-    mat = bpy.data.materials.new("libwave seafloor with caustics")
-    mat.use_nodes = True
+    mat, bsdf, colour = _new_seafloor_material("libwave seafloor with caustics")
     nodes, links = mat.node_tree.nodes, mat.node_tree.links
-    bsdf = nodes.get("Principled BSDF")
-    bsdf.inputs["Roughness"].default_value = 0.9
-    colour = nodes.new("ShaderNodeAttribute")
-    colour.attribute_name = "depth colour"
-    links.new(colour.outputs["Color"], bsdf.inputs["Base Color"])
     links.new(colour.outputs["Color"], _socket(bsdf, "Emission Color", "Emission"))
     uv = nodes.new("ShaderNodeUVMap")
     uv.uv_map = "caustics"
