@@ -205,6 +205,30 @@ TEST(Caustics, ASlopingFloorIsFoundWhereTheRayMeetsIt) {
     }
 }
 
+TEST(Caustics, AFootprintFarBeyondTheMapEndsAtOnce) {
+    // A triangle reaching 10¹⁷ m left of the map beside a small one inside it: no walk of
+    // 10¹⁷ pixels towards the map (steps of 1 could never get there), and the part of
+    // the huge triangle over the map — x in [0, 5], y in [1, 9]: 40 m² — lights it as
+    // flat water does, exactly (no cancellation between huge numbers), with the small
+    // triangle's 2 m² on top.
+    ElevationGrid g = flat_floor(10.0, 10.0, 2.0);
+    CausticOptions o;
+    o.width = o.height = 10;
+    o.flat_water_beyond = false;
+    const CausticPlan plan = plan_caustics(g, o);
+    const std::vector<float> positions{-1e17f, 5.0f, 0.0f, 5.0f, 1.0f, 0.0f, 5.0f, 9.0f, 0.0f,
+                                       2.0f, 2.0f, 0.0f, 4.0f, 2.0f, 0.0f, 2.0f, 4.0f, 0.0f};
+    std::vector<float> normals(18, 0.0f);
+    for (std::size_t v = 0; v < 6; ++v) normals[3 * v + 2] = 1.0f;
+    const std::vector<std::uint32_t> triangles{0, 1, 2, 3, 4, 5};
+    std::vector<float> map(100);
+    evaluate_caustics(plan, positions, normals, triangles, map);
+    double total = 0.0;
+    for (float e : map) total += e;
+    const double expected = fresnel_transmissivity(1.0) * std::exp(-0.15 * 2.0) * 42.0;  // 1 m² pixels
+    EXPECT_NEAR(total, expected, 1e-3 * expected);
+}
+
 TEST(Caustics, BadOptionsAndSizesAreRefused) {
     const ElevationGrid floor = flat_floor(10.0, 10.0, 2.0);
     CausticOptions o;

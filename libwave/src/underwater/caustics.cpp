@@ -53,13 +53,14 @@ struct Footprint {
     double max(int axis) const noexcept { return std::max({p[axis], p[2 + axis], p[4 + axis]}); }
 };
 
-// ∫ from −∞ to x of the ramp that rises from 0 at x0 to 1 at x1 (x0 <= x1): the area
-// left of x under an edge's share of a row, per unit of its height.
-double ramp_integral(double x, double x0, double x1) noexcept {
-    if (x <= x0) return 0.0;
-    const double length = x1 - x0;
-    if (x >= x1) return 0.5 * length + (x - x1);
-    return 0.5 * (x - x0) * (x - x0) / length;
+// ∫ over pixel [i, i + 1] of the ramp that rises from 0 at x0 to 1 at x1 (x0 < x1): an
+// edge's share of the pixel per unit of its height in the row. Each piece is integrated
+// on its own (no difference of two large integrals: an edge reaching far off the map
+// stays exact).
+double ramp_share(double i, double x0, double x1) noexcept {
+    const double a = std::max(i, x0), b = std::min(i + 1.0, x1);
+    const double rising = b > a ? (b - a) * (0.5 * (a + b) - x0) / (x1 - x0) : 0.0;
+    return rising + std::max(0.0, i + 1.0 - std::max(i, x1));
 }
 
 // Exact coverage by signed edge areas (the scanline accumulation of font rasterisers):
@@ -81,7 +82,7 @@ void add_edge(double ua, double va, double ub, double vb, double weight, std::si
         const double xa = ua + (top - va) * dudv, xb = ua + (bottom - va) * dudv;
         const double x0 = std::min(xa, xb), x1 = std::max(xa, xb), d = dir * (bottom - top);
         double* row = &acc[(static_cast<std::size_t>(j) - row0) * stride];
-        // c(i) = d · (F(i + 1) − F(i)): the edge's share of pixel i; 0 left of x0, d right of x1.
+        // c(i) = d · ramp_share(i): the edge's share of pixel i; 0 left of x0, d right of x1.
         const double first = std::floor(x0), last = std::floor(x1), limit = static_cast<double>(width);
         const auto at = [&](double i) -> double& { return row[static_cast<std::size_t>(std::max(i, 0.0))]; };  // left of the map: pixel 0's sum
         if (first >= limit) continue;
@@ -91,14 +92,17 @@ void add_edge(double ua, double va, double ub, double vb, double weight, std::si
             if (first + 1.0 < limit) at(first + 1.0) += d - c;
             continue;
         }
-        double previous = 0.0, f_left = 0.0;  // F(first) = 0
-        for (double i = first; i <= last + 1.0 && i < limit; i += 1.0) {
-            double c = d;
-            if (i <= last) {
-                const double f_right = ramp_integral(i + 1.0, x0, x1);
-                c = d * (f_right - f_left);
-                f_left = f_right;
-            }
+        // Pixels left of the map all add to pixel 0's sum, which telescopes to c(−1):
+        // start at −1 at the earliest (a far-off footprint does not walk to the map);
+        // an edge wholly left of pixel −1 adds its whole height to every pixel.
+        if (last < -1.0) {
+            at(0.0) += d;
+            continue;
+        }
+        const double start = std::max(first, -1.0);
+        double previous = 0.0;
+        for (double i = start; i <= last + 1.0 && i < limit; i += 1.0) {
+            const double c = i > last ? d : d * ramp_share(i, x0, x1);
             at(i) += c - previous;
             previous = c;
         }
