@@ -511,7 +511,7 @@ void print_run_text(const RunSummary& r) {
 
 // preview.png: four frames spread over the evaluated range, side by side (half-size each).
 std::string preview_sheet(const Scene& scene, const ScenePlan& plan, const SceneAnimation& anim, std::size_t frames,
-                          bool files_form, double max_bytes) {
+                          bool first_frame_only, double max_bytes) {
     PreviewOptions o = scene_preview(scene, plan.seafloor);
     o.width = std::max<std::size_t>(1, o.width / 2);
     o.height = std::max<std::size_t>(1, o.height / 2);
@@ -520,12 +520,12 @@ std::string preview_sheet(const Scene& scene, const ScenePlan& plan, const Scene
     for (std::size_t k = 0; k < 4; ++k) {
         const std::size_t f = k * frames / 4;
         if (k > 0 && f == (k - 1) * frames / 4) continue;  // fewer than four frames
-        if (!files_form) {
+        if (!first_frame_only) {
             shots.push_back(render_preview(std::span<const float>(&anim.positions[3 * n * f], 3 * n),
                                            std::span<const float>(&anim.normals[3 * n * f], 3 * n), anim.triangles, o));
             continue;
         }
-        // The files form keeps no frame in memory: each shown frame is evaluated again.
+        // The files form and the streamed forms keep one frame: each shown frame is evaluated again.
         const SceneAnimation shown = animate_scene(scene, plan, max_bytes, {anim.first_frame + f, anim.first_frame + f + 1});
         shots.push_back(render_preview(shown.positions, shown.normals, shown.triangles, o));
     }
@@ -584,6 +584,25 @@ void summarise_files_form(const FilesFormRun& run, bool resumed, RunSummary& r) 
     r.resumed = resumed;
 }
 
+// A streamed form's files written into the staging folder as the frames come
+// (stream_animation), `chunk` frames at a time; on failure that folder goes, and the
+// output folder too when this run made it.
+StreamedAnimation stream_to_staging(const Scene& scene, const ScenePlan& plan, const std::string& out_dir, FrameRange range,
+                                    bool whole, std::size_t chunk, const std::function<void(std::size_t, std::size_t)>& progress) {
+    const bool created = !std::filesystem::exists(out_dir);
+    const std::filesystem::path staging = staging_folder(out_dir);
+    try {
+        AnimationStream stream(scene, plan, range);
+        std::filesystem::create_directories(staging);
+        return stream_animation(stream, scene, staging.string(), whole, chunk, progress);
+    } catch (...) {
+        std::error_code ignored;
+        std::filesystem::remove_all(staging, ignored);
+        if (created) std::filesystem::remove_all(out_dir, ignored);
+        throw;
+    }
+}
+
 double ms_since(std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
 }
@@ -607,26 +626,39 @@ int run_job(const RunArgs& a) {
     const std::size_t loop_frames = scene_loop_frames(scene, plan);
     if (!a.slice.empty()) range = slice_frames(a.slice, loop_frames);
     const std::size_t range_end = std::min(range.end, loop_frames), in_range = range.first < range_end ? range_end - range.first : 0;
+    // The files form and the streamed forms compute a chunk of frames at a time; the
+    // others (quantised single files) hold every frame of the range.
+    const bool streamed = streamed_form(scene), chunked = files_form || streamed;
+    std::size_t chunk = in_range;
     {  // the run's limits, before /refine's subdivision (which alone can take gigabytes)
         const RunEstimate e = estimate_run(scene, plan);
-        check_run_limits(scene, e, files_form ? std::min(files_form_chunk(e, max_bytes), in_range) : in_range, max_bytes);
+        if (chunked) chunk = std::min(files_form_chunk(e, max_bytes), in_range);
+        check_run_limits(scene, e, chunk, max_bytes);
     }
     refine_scene_plan(scene, plan);
     const double plan_ms = ms_since(clock);
 
-    // The files form computes and writes a chunk of frames at a time (a killed run can
-    // resume); `anim` then holds the range's first frame only (sizes, the OBJ). The
-    // single-file forms hold every frame of the range. (An empty range passes whole to
-    // animate_scene, which names it.)
+    // The files form writes its frames below (a killed run can resume); the streamed
+    // forms write theirs into the staging folder now, as they come. `anim` then holds
+    // the range's first frame only (sizes, the OBJ). (An empty range passes whole to
+    // animate_scene or the stream, which name it.)
     clock = std::chrono::steady_clock::now();
     const auto progress = progress_bar(a);
-    const SceneAnimation anim = animate_scene(scene, plan, max_bytes, files_form && in_range > 0 ? FrameRange{range.first, range.first + 1} : range,
-                                              files_form ? std::function<void(std::size_t, std::size_t)>{} : progress);
+    const bool whole = range.first == 0 && range_end == loop_frames;
+    std::optional<StreamedAnimation> stream_out;
+    SceneAnimation held;
+    if (streamed) {
+        stream_out = stream_to_staging(scene, plan, out_dir, range, whole, chunk, progress);
+    } else {
+        held = animate_scene(scene, plan, max_bytes, files_form && in_range > 0 ? FrameRange{range.first, range.first + 1} : range,
+                             files_form ? std::function<void(std::size_t, std::size_t)>{} : progress);
+    }
+    const SceneAnimation& anim = stream_out ? stream_out->first : held;
     RunSummary r{.scene = scene, .plan = plan, .out_dir = out_dir, .run_key = run_key(a, scene, plan), .report_name = "",
                  .vertices = anim.vertex_count, .triangles = anim.triangles.size() / 3,
-                 .frames = files_form ? range_end - anim.first_frame : anim.frame_count, .first_frame = anim.first_frame,
-                 .loop_frames = loop_frames, .z_min = anim.z_min, .z_max = anim.z_max, .plan_ms = plan_ms};
-    const bool whole = r.first_frame == 0 && r.frames == loop_frames;
+                 .frames = chunked ? range_end - anim.first_frame : anim.frame_count, .first_frame = anim.first_frame,
+                 .loop_frames = loop_frames, .z_min = stream_out ? stream_out->z_min : anim.z_min,
+                 .z_max = stream_out ? stream_out->z_max : anim.z_max, .plan_ms = plan_ms};
     r.report_name = whole ? "report.json" : slice_report_name(r.first_frame, r.frames);
     const IndexInfo index_info{scene.name, scene.fps, plan.loop_period, loop_frames, r.run_key};
     const std::string index_path = (std::filesystem::path(out_dir) / "index.json").string();
@@ -639,7 +671,12 @@ int run_job(const RunArgs& a) {
     }
     r.frames_ms = ms_since(clock);  // the files form computed and wrote its frames together
     clock = std::chrono::steady_clock::now();
-    if (!files_form) {
+    if (stream_out) {
+        for (const auto& [name, bytes] : stream_out->files) {
+            r.animation_names.push_back(name);
+            r.animation_bytes += bytes;
+        }
+    } else if (!files_form) {
         files = encode_animation(anim.view(), scene.form, scene.container, whole, anim.caustics);
         for (const auto& f : files) {
             r.animation_names.push_back(f.first);
@@ -657,12 +694,14 @@ int run_job(const RunArgs& a) {
         files.emplace_back("index.json", merged_index(index_path, index_info, files_run->entries, whole, a.resume).dump(2) + "\n");
     }
     if (a.preview) {
-        files.emplace_back("preview.png", preview_sheet(scene, plan, anim, r.frames, files_form, max_bytes));
+        files.emplace_back("preview.png", preview_sheet(scene, plan, anim, r.frames, chunked, max_bytes));
         report["outputs"].push_back("preview.png");
     }
     files.emplace_back(r.report_name, report.dump(2) + "\n");
     publish(out_dir, files, [&](const std::filesystem::path& staging) {
         std::vector<std::string> names = files_run ? files_run->stage(staging) : std::vector<std::string>{};
+        if (stream_out)  // written there as the frames came
+            for (const auto& f : stream_out->files) names.push_back(f.first);
         if (surface_kind_traces(scene.surface_kind) == Traced::fronts) {
             write_ray_strips_ply(plan.strips, (staging / "strips.ply").string());  // OpenMesh writes the file itself
             names.emplace_back("strips.ply");
@@ -697,7 +736,7 @@ int run_validate(const std::string& path, bool as_json, double max_memory_gb) {
     const ScenePlan plan = plan_scene(scene, PlanStages::surface);
     const RunEstimate e = estimate_run(scene, plan);
     const double max_bytes = max_memory_gb * 1e9;
-    check_run_limits(scene, e, scene.form == Scene::Form::files ? files_form_chunk(e, max_bytes) : e.frames, max_bytes);
+    check_run_limits(scene, e, scene.form == Scene::Form::files || streamed_form(scene) ? files_form_chunk(e, max_bytes) : e.frames, max_bytes);
     const std::string_view form = form_name(scene.form);
     if (as_json) {
         std::cout << json{{"scene", scene.name}, {"valid", true}, {"surface", kind}, {"waves", scene.waves.size()},

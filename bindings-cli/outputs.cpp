@@ -168,15 +168,27 @@ json merged_index(const std::string& path, const IndexInfo& info, const std::vec
     return frame_index(info, std::move(merged));
 }
 
+namespace {
+
+// Slices on several hosts may publish into one shared folder: host and pid name the staging.
+std::string staging_prefix() {
+    char host[256] = {};
+    if (gethostname(host, sizeof host - 1) != 0) host[0] = '\0';
+    return ".wave-staging-" + std::string(host) + "-";
+}
+
+}  // namespace
+
+fs::path staging_folder(const std::string& out_dir) {
+    return fs::path(out_dir) / (staging_prefix() + std::to_string(getpid()));
+}
+
 void publish(const std::string& out_dir, const Files& files,
              const std::function<std::vector<std::string>(const fs::path&)>& write_more) {
     const bool created = !fs::exists(out_dir);
     fs::create_directories(out_dir);
-    // Slices on several hosts may publish into one shared folder: host and pid name the staging.
-    char host[256] = {};
-    if (gethostname(host, sizeof host - 1) != 0) host[0] = '\0';
-    const std::string mine = ".wave-staging-" + std::string(host) + "-";
-    const fs::path staging = fs::path(out_dir) / (mine + std::to_string(getpid()));
+    const std::string mine = staging_prefix();
+    const fs::path staging = staging_folder(out_dir);
     // A run killed on this host (SIGKILL, power) left its staging folder: nothing in it
     // was published, so it goes.
     std::error_code scan_error;
@@ -302,33 +314,37 @@ FilesFormRun write_files_form(const Scene& scene, const ScenePlan& plan, const s
         const std::size_t chunk = files_form_chunk(estimate_run(scene, plan), max_bytes);
         const std::size_t total = end - first;
         if (progress && run.verified > 0) progress(run.verified, total);
+        SceneAnimation anim;
         for (std::size_t i = 0; i < missing.size();) {
-            // Runs of consecutive missing frames, at most `chunk` at a time.
+            // Runs of consecutive missing frames, each streamed `chunk` frames at a time.
             const std::size_t a = missing[i];
             std::size_t b = a + 1, j = i + 1;
-            while (j < missing.size() && missing[j] == b && b - a < chunk) ++b, ++j;
-            const std::size_t done_before = run.verified + run.computed;
-            const SceneAnimation anim = animate_scene(scene, plan, max_bytes, FrameRange{a, b}, [&](std::size_t done, std::size_t) {
-                if (progress) progress(done_before + done, total);
-            });
-            MorphAnimationView view = anim.view();
-            view.run_key = info.run_key;
-            const Files files = encode_animation(view, Scene::Form::files, scene.container, false, anim.caustics);
-            const std::size_t per_frame = files.size() / anim.frame_count;  // .glb, or .gltf + .bin
-            const std::size_t n = anim.vertex_count;
-            for (std::size_t k = 0; k < anim.frame_count; ++k) {
-                const Files frame_files(files.begin() + static_cast<std::ptrdiff_t>(k * per_frame),
-                                        files.begin() + static_cast<std::ptrdiff_t>((k + 1) * per_frame));
-                for (const auto& [name, bytes] : frame_files) {
-                    fs::create_directories((run.partial / name).parent_path());
-                    write_file_atomic((run.partial / name).string(), bytes);
-                }
-                kept_partial[a + k] = frame_entry(a + k, info.fps, frame_files, view.positions.subspan(3 * n * k, 3 * n));
-            }
-            // The index after its frames: it lists only files already whole on disk.
-            write_partial_index();
-            run.computed += anim.frame_count;
+            while (j < missing.size() && missing[j] == b) ++b, ++j;
             i = j;
+            AnimationStream stream(scene, plan, FrameRange{a, b});
+            const std::size_t done_before = run.verified + run.computed;
+            while (stream.next(anim, chunk, [&](std::size_t done, std::size_t) {
+                if (progress) progress(done_before + done, total);
+            }) > 0) {
+                MorphAnimationView view = anim.view();
+                view.run_key = info.run_key;
+                const Files files = encode_animation(view, Scene::Form::files, scene.container, false, anim.caustics);
+                const std::size_t per_frame = files.size() / anim.frame_count;  // .glb, or .gltf + .bin
+                const std::size_t n = anim.vertex_count;
+                for (std::size_t k = 0; k < anim.frame_count; ++k) {
+                    const Files frame_files(files.begin() + static_cast<std::ptrdiff_t>(k * per_frame),
+                                            files.begin() + static_cast<std::ptrdiff_t>((k + 1) * per_frame));
+                    for (const auto& [name, bytes] : frame_files) {
+                        fs::create_directories((run.partial / name).parent_path());
+                        write_file_atomic((run.partial / name).string(), bytes);
+                    }
+                    const std::size_t f = anim.first_frame + k;
+                    kept_partial[f] = frame_entry(f, info.fps, frame_files, view.positions.subspan(3 * n * k, 3 * n));
+                }
+                // The index after its frames: it lists only files already whole on disk.
+                write_partial_index();
+                run.computed += anim.frame_count;
+            }
         }
     } catch (...) {
         std::error_code ignored;

@@ -85,6 +85,11 @@ nlohmann::json merged_index(const std::string& path, const IndexInfo& info, cons
 void publish(const std::string& out_dir, const Files& files,
              const std::function<std::vector<std::string>(const std::filesystem::path&)>& write_more = {});
 
+/// The staging folder publish uses in `out_dir` for this process (hidden, named by host
+/// and pid: one that a killed run left is swept by the next publish on the host).
+/// Streamed animations are written there as their frames come, then published.
+std::filesystem::path staging_folder(const std::string& out_dir);
+
 /// An exclusive flock(2) on a folder, released when destroyed or when the process dies
 /// (a SIGKILLed run never leaves it held). `wait` blocks until the lock is free;
 /// otherwise a held lock throws InputError with `busy`.

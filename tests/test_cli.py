@@ -1648,10 +1648,12 @@ class Limits(unittest.TestCase):
         # 10^9 surface vertices (a 40 000² control grid).
         err = self.run_limited({"waves": wave_train, "surface": {"kind": "height-field", "grid": [40000, 40000]}})
         self.assertIn("exceed max_vertices", err)
-        # Frame arrays over the memory limit, and the option that raises it.
-        err = self.run_limited({"waves": wave_train, "animation": {"fps": 1000},
+        # Frame arrays over the memory limit, and the options that lower or raise it (a
+        # quantised file holds every frame; the others stream a chunk at a time).
+        err = self.run_limited({"waves": wave_train, "animation": {"fps": 1000}, "outputs": {"quantize": True},
                                 "surface": {"water_mesh": {"vertices_per_wavelength": 32}}})
         self.assertIn("GB of per-frame arrays", err)
+        self.assertIn("drop /outputs/quantize", err)
         self.assertIn("wave run --max-memory-gb", err)
         # A 10^9-cell ocean patch is refused by the schema's range.
         err = self.run_limited({"surface": {"kind": "ocean"}, "ocean": {"resolution": 32768}})

@@ -9,11 +9,13 @@
 #include <cstddef>
 #include <cstdint>
 #include <array>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
 #include <vector>
 #include <string_view>
+#include <utility>
 
 namespace wave {
 
@@ -25,6 +27,8 @@ namespace wave {
 /// the sampling step (frames), the sample count, then every sample's points as float32
 /// x, y, z, little-endian. `points` holds sample_count · point_count · 3 values.
 std::string pc2_bytes(std::span<const float> points, std::size_t point_count, std::size_t sample_count, float start_frame);
+/// The 32-byte header alone, for writers that append the samples as they come.
+std::string pc2_header(std::size_t point_count, std::size_t sample_count, float start_frame);
 
 std::string mesh_to_obj(std::span<const float> positions, std::span<const std::uint32_t> triangles,
                         std::string_view comment);
@@ -171,6 +175,36 @@ struct GltfFiles {
 /// Splits a .glb (from the functions above) into a .gltf and its .bin. Throws
 /// InputError for a malformed GLB.
 GltfFiles glb_to_gltf(std::string_view glb, const std::string& bin_uri);
+
+/// The morph or nodes form written to a file a chunk of frames at a time, so that
+/// memory holds one chunk and never the animation (docs/export.md, "Streamed output"):
+/// made with the range's first chunk (its first frame is the morph form's base; its
+/// settings and dressing are the file's) and the range's frame count; then `append`
+/// every chunk in order, the first one too; then `finish`. The buffer goes to
+/// `path` + ".bin-part" while the frames come and is copied behind the header at the
+/// end (with `gltf_container`: `path` is the .gltf and the buffer is its .bin). The
+/// bytes equal gltf_morph_glb / gltf_nodes_glb (and glb_to_gltf) of the whole range.
+/// Destroyed unfinished (an exception), it removes what it wrote.
+/// Throws InputError for a quantised view (KHR_mesh_quantization's range spans every
+/// frame: write those whole), chunks that differ in mesh or are out of range, and what
+/// gltf_morph_glb refuses; LimitError when a .glb would exceed its 4 GiB length field.
+class AnimationFileWriter {
+public:
+    enum class Form { morph, nodes };
+    AnimationFileWriter(std::string path, Form form, bool gltf_container, const MorphAnimationView& first,
+                        std::size_t frame_count);
+    ~AnimationFileWriter();
+    AnimationFileWriter(const AnimationFileWriter&) = delete;
+    AnimationFileWriter& operator=(const AnimationFileWriter&) = delete;
+    void append(const MorphAnimationView& chunk);
+    /// Writes the file(s) in place (atomically); returns each one's name (without the
+    /// folder) and size in bytes. Throws InputError unless every frame was appended.
+    std::vector<std::pair<std::string, std::size_t>> finish();
+
+private:
+    struct State;
+    std::unique_ptr<State> state_;
+};
 
 /// The `files` form: frame `frame` (0-based within the view) as a static .glb.
 std::string gltf_frame_glb(const MorphAnimationView& animation, std::size_t frame);

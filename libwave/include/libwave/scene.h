@@ -16,6 +16,7 @@
 
 #include <array>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -330,6 +331,55 @@ using EncodedFiles = std::vector<std::pair<std::string, std::string>>;
 /// by `wave run`, `wave convert` and the Python module.
 EncodedFiles encode_animation(const MorphAnimationView& view, Scene::Form form, Scene::Container container, bool whole,
                               std::span<const std::string> caustics = {});
+
+/// Frames of one loop evaluated a chunk at a time, for runs that must not hold every
+/// frame (the streamed export forms, docs/export.md): constructed once per range (the
+/// model's state, normals' adjacency, untangling and caustic plans, the fold foam's
+/// past samples carry from chunk to chunk), then `next` until it returns 0. Each chunk
+/// equals, bit for bit, what animate_scene returns for the same frames. The scene and
+/// plan must outlive the stream.
+class AnimationStream {
+public:
+    /// Throws InputError for an empty frame range (naming it).
+    AnimationStream(const Scene& scene, const ScenePlan& plan, FrameRange range = {});
+    ~AnimationStream();
+    AnimationStream(const AnimationStream&) = delete;
+    AnimationStream& operator=(const AnimationStream&) = delete;
+    std::size_t first_frame() const noexcept;   ///< of the loop
+    std::size_t frame_count() const noexcept;   ///< in the range
+    std::size_t frames_left() const noexcept;
+    /// The next min(count, frames_left()) frames into `out` (every array resized to them,
+    /// its first_frame, z range and caustics theirs; the static parts — triangles,
+    /// texcoords, dressing — set on every call). Returns how many (0 at the end).
+    /// `progress(done, total)` counts frames of the whole range.
+    std::size_t next(SceneAnimation& out, std::size_t count,
+                     const std::function<void(std::size_t, std::size_t)>& progress = {});
+
+private:
+    struct State;
+    std::unique_ptr<State> state_;
+};
+
+/// Whether wave run streams the scene's form (stream_animation): morph, nodes and pc2,
+/// not quantised (KHR_mesh_quantization's range spans every frame). The files form
+/// writes a chunk of frames at a time by its own index (`wave run --resume`).
+bool streamed_form(const Scene& scene);
+
+/// What stream_animation wrote and saw.
+struct StreamedAnimation {
+    std::vector<std::pair<std::string, std::size_t>> files;  ///< (name under the folder, bytes), as encode_animation orders them
+    float z_min = 0, z_max = 0;  ///< height range over every frame (m)
+    SceneAnimation first;        ///< the range's first frame alone (for an OBJ, a preview)
+};
+
+/// encode_animation for a form streamed_form accepts, a chunk of frames at a time:
+/// evaluates `stream` `chunk` frames at a time and writes each chunk into `folder` (it
+/// must exist) as it comes, so that memory holds one chunk of frames and the file's
+/// index, never the animation (docs/export.md, "Streamed output"). The files' names and
+/// bytes equal encode_animation's of the whole range (`whole` as there). Throws
+/// InputError for a form it does not stream; what it wrote is removed if it fails.
+StreamedAnimation stream_animation(AnimationStream& stream, const Scene& scene, const std::string& folder, bool whole,
+                                   std::size_t chunk, const std::function<void(std::size_t, std::size_t)>& progress = {});
 
 /// Evaluates frames of one loop (round(loop_period · fps) frames, t = k / fps): the
 /// model's motion (e.g. the height field, or Gonzato's profile on the water mesh),

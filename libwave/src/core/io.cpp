@@ -14,7 +14,7 @@
 
 namespace wave {
 
-void write_file_atomic(const std::string& path, std::string_view bytes) {
+void write_file_atomic(const std::string& path, std::string_view bytes, const std::string& then_file) {
     namespace fs = std::filesystem;
     const fs::path target(path);
     const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
@@ -41,6 +41,39 @@ void write_file_atomic(const std::string& path, std::string_view bytes) {
             fail("writing");
         }
         done += static_cast<std::size_t>(n);
+    }
+    if (!then_file.empty()) {
+        const int in = ::open(then_file.c_str(), O_RDONLY | O_CLOEXEC);
+        if (in < 0) fail(("opening " + then_file).c_str());
+        bool by_kernel = true;  // else (a file system or kernel without it) through a small buffer
+        std::string buffer;
+        for (;;) {
+            ssize_t n = -1;
+            if (by_kernel) {
+                n = ::copy_file_range(in, nullptr, fd, nullptr, std::size_t{1} << 30, 0);
+                if (n < 0 && (errno == ENOSYS || errno == EXDEV || errno == EINVAL || errno == EOPNOTSUPP)) {
+                    by_kernel = false;
+                    buffer.resize(std::size_t{1} << 20);
+                    continue;
+                }
+            } else if ((n = ::read(in, buffer.data(), buffer.size())) > 0) {
+                for (ssize_t at = 0; at < n;) {
+                    const ssize_t w = ::write(fd, buffer.data() + at, static_cast<std::size_t>(n - at));
+                    if (w < 0 && errno != EINTR) {
+                        ::close(in);
+                        fail("writing");
+                    }
+                    if (w > 0) at += w;
+                }
+            }
+            if (n == 0) break;
+            if (n > 0 || errno == EINTR) continue;
+            const int error = errno;
+            ::close(in);
+            errno = error;
+            fail(("copying " + then_file).c_str());
+        }
+        ::close(in);
     }
     if (::fchmod(fd, 0644) != 0) fail("setting permissions");
     if (::fsync(fd) != 0) fail("flushing to disk");

@@ -8,16 +8,21 @@
 #define TINYGLTF_NO_EXTERNAL_IMAGE
 #define TINYGLTF_ENABLE_DRACO  // the reader (gltf_read.cpp) decodes Draco bases
 #include <tiny_gltf.h>
+#include <nlohmann/json.hpp>
 
 #include "core/format.h"
 #include "libwave/errors.h"
 #include "libwave/export.h"
 #include "draco_encode.h"
+#include "libwave/io.h"
 
 #include <cmath>
 #include <algorithm>
 #include <array>
+#include <cerrno>
+#include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <functional>
 #include <optional>
 #include <limits>
@@ -29,22 +34,44 @@
 namespace wave {
 namespace {
 
+// Where the single buffer's bytes go: memory (the whole-file functions) or a file
+// written as the frames come (AnimationFileWriter), its size counted either way.
+struct BinSink {
+    std::vector<unsigned char>* memory = nullptr;
+    std::FILE* file = nullptr;
+    std::string path;  // the file's, for errors
+    std::size_t size = 0;
+
+    void append(const void* data, std::size_t n) {
+        if (memory) {
+            const auto* b = static_cast<const unsigned char*>(data);
+            memory->insert(memory->end(), b, b + n);
+        } else if (n > 0 && std::fwrite(data, 1, n, file) != n) {
+            throw RuntimeError(path + ": cannot write: " + std::strerror(errno));
+        }
+        size += n;
+    }
+    void pad4() {
+        static constexpr unsigned char zeros[4] = {};
+        if (size % 4) append(zeros, 4 - size % 4);
+    }
+};
+
 // Appends raw floats or ints to the single buffer, 4-byte aligned, as one bufferView,
 // and an accessor over it. Returns the accessor index.
 struct GlbBuilder {
     tinygltf::Model& model;
-    std::vector<unsigned char>& bytes;
+    BinSink& bytes;
 
     int view(const void* data, std::size_t size, int target, std::size_t stride = 0) {
-        while (bytes.size() % 4) bytes.push_back(0);
+        bytes.pad4();
         tinygltf::BufferView v;
         v.buffer = 0;
         v.byteStride = stride;
-        v.byteOffset = bytes.size();
+        v.byteOffset = bytes.size;
         v.byteLength = size;
         v.target = target;
-        const auto* b = static_cast<const unsigned char*>(data);
-        bytes.insert(bytes.end(), b, b + size);
+        bytes.append(data, size);
         model.bufferViews.push_back(v);
         return static_cast<int>(model.bufferViews.size() - 1);
     }
@@ -229,17 +256,28 @@ Quantization quantization_for(const MorphAnimationView& a) {
 // A model with one buffer, the shared index and TEXCOORD_0 accessors, and helpers.
 struct ModelWriter {
     tinygltf::Model model;
-    GlbBuilder b{model, model.buffers.emplace_back().data};
+    std::vector<unsigned char> memory;
+    BinSink sink;
+    GlbBuilder b{model, sink};
     int indices = -1, texcoord0 = -1;
     std::optional<Quantization> quant;
     std::optional<SceneDressing> dressing;
 
     // `frames`: how many frames' attributes the buffer will hold (reserved up front:
     // growing a buffer of hundreds of MB by doubling was a third of the export time).
-    ModelWriter(const MorphAnimationView& a, std::size_t frames) : dressing(a.dressing) {
-        const std::size_t per_vertex = 4 * (3 + 3 + 2 + 4 + (a.colors.empty() ? 0 : 3));
-        b.bytes.reserve(frames * a.vertex_count * per_vertex + a.triangles.size_bytes() + 8 * a.vertex_count +
-                        4 * frames * frames + (1 << 16));
+    // With `file`, the buffer's bytes go there instead (AnimationFileWriter).
+    ModelWriter(const MorphAnimationView& a, std::size_t frames, std::FILE* file = nullptr, std::string path = {})
+        : dressing(a.dressing) {
+        model.buffers.emplace_back();
+        if (file) {
+            sink.file = file;
+            sink.path = std::move(path);
+        } else {
+            sink.memory = &memory;
+            const std::size_t per_vertex = 4 * (3 + 3 + 2 + 4 + (a.colors.empty() ? 0 : 3));
+            memory.reserve(frames * a.vertex_count * per_vertex + a.triangles.size_bytes() + 8 * a.vertex_count +
+                           4 * frames * frames + (1 << 16));
+        }
         model.asset.version = "2.0";
         model.asset.generator = "libwave";
         // What a reader (read_animation, `wave convert`) needs that glTF has no field for.
@@ -468,6 +506,8 @@ struct ModelWriter {
             add_root(std::move(node));
         }
     }
+    // The glTF JSON of the model (its buffer 0 the sink's bytes): tinygltf serialises
+    // it without the bytes, the buffer's length is set from the sink.
     std::string finish(std::vector<int> roots) {
         if (dressing) dress(*dressing, roots);
         tinygltf::Scene scene;
@@ -478,9 +518,53 @@ struct ModelWriter {
         tinygltf::TinyGLTF writer;
         if (!writer.WriteGltfSceneToStream(&model, out, false, true))
             throw RuntimeError("glTF export: tinygltf could not serialise the model");
-        return out.str();
+        const std::string glb = out.str();  // a GLB of the JSON chunk alone (the buffer's data is not in the model)
+        std::uint32_t length = 0;
+        std::memcpy(&length, glb.data() + 12, 4);
+        nlohmann::json doc = nlohmann::json::parse(glb.substr(20, length));
+        doc["buffers"][0]["byteLength"] = sink.size;
+        return doc.dump();
     }
 };
+
+constexpr std::uint32_t kGlbJson = 0x4E4F534Au, kGlbBin = 0x004E4942u;
+
+// The 12-byte GLB header, the JSON chunk (padded with spaces) and the BIN chunk's
+// 8-byte header for `bin_bytes` of buffer: what precedes the buffer's bytes in a .glb.
+std::string glb_head(const std::string& json, std::size_t bin_bytes) {
+    const std::size_t json_chunk = (json.size() + 3) / 4 * 4, bin_chunk = (bin_bytes + 3) / 4 * 4;
+    const std::size_t total = 12 + 8 + json_chunk + (bin_bytes ? 8 + bin_chunk : 0);
+    if (total > 0xFFFFFFFFu)
+        throw LimitError("glTF export: the .glb would hold " + std::to_string(total) +
+                         " bytes, more than its 4 GiB length field allows; write the gltf container (.gltf + .bin, "
+                         "/outputs/container) or the files form");
+    std::string out;
+    const auto u32 = [&](std::size_t v) {
+        const auto x = static_cast<std::uint32_t>(v);
+        out.append(reinterpret_cast<const char*>(&x), 4);
+    };
+    out += "glTF";
+    u32(2);
+    u32(total);
+    u32(json_chunk);
+    u32(kGlbJson);
+    out += json;
+    out.append(json_chunk - json.size(), ' ');
+    if (bin_bytes) {
+        u32(bin_chunk);
+        u32(kGlbBin);
+    }
+    return out;
+}
+
+// A whole .glb in memory: the head, the buffer, the BIN chunk's zero padding.
+std::string glb_bytes(ModelWriter& w, std::vector<int> roots) {
+    const std::string json = w.finish(std::move(roots));
+    std::string out = glb_head(json, w.memory.size());
+    out.append(reinterpret_cast<const char*>(w.memory.data()), w.memory.size());
+    out.append((4 - w.memory.size() % 4) % 4, '\0');
+    return out;
+}
 
 std::string frame_name(std::size_t f) {
     char name[32];
@@ -488,125 +572,174 @@ std::string frame_name(std::size_t f) {
     return name;
 }
 
-// The STEP key times of every frame, as an accessor.
-int key_times(ModelWriter& w, const MorphAnimationView& a, std::vector<float>& times) {
-    times.resize(a.frame_count);
-    for (std::size_t f = 0; f < a.frame_count; ++f) times[f] = key_time(a.first_frame + f, a.fps);
+// What a single-file form knows of its whole range before the frames arrive.
+struct RangeInfo {
+    std::size_t first_frame = 0, frame_count = 0;
+    double fps = 24.0;
+    std::string name;
+};
+
+// The STEP key times of every frame of the range, as an accessor.
+int key_times(ModelWriter& w, const RangeInfo& r, std::vector<float>& times) {
+    times.resize(r.frame_count);
+    for (std::size_t f = 0; f < r.frame_count; ++f) times[f] = key_time(r.first_frame + f, r.fps);
     return w.b.accessor(w.b.view(times.data(), times.size() * sizeof(float), 0), TINYGLTF_COMPONENT_TYPE_FLOAT,
                         times.size(), TINYGLTF_TYPE_SCALAR, {double{times.front()}}, {double{times.back()}});
 }
+
+// The morph form a chunk of frames at a time: the base (the range's first frame) when
+// made, a target per frame as the frames come, the mesh, node and animation at the end.
+struct MorphBuilder {
+    ModelWriter& w;
+    RangeInfo range;
+    FrameArrays base;
+    tinygltf::Primitive prim;
+    std::vector<tinygltf::Value> names;
+    std::vector<double> weights;
+
+    MorphBuilder(ModelWriter& writer, const MorphAnimationView& first, std::size_t frame_count)
+        : w(writer), range{first.first_frame, frame_count, first.fps, first.name}, base(frame_arrays(first, 0)) {
+        // With Draco only the base is compressed (KHR_draco_mesh_compression covers a
+        // primitive's attributes); the targets stay float, in the decoded point order,
+        // which Draco's sequential method keeps equal to ours.
+        prim = first.draco ? w.draco_primitive(first, base, true) : w.primitive(base);
+    }
+    // The frames of `a`, the next ones of the range.
+    void add(const MorphAnimationView& a) {
+        for (std::size_t f = 0; f < a.frame_count; ++f) {
+            // A target holds the differences from the base (frame 0), in glTF axes.
+            FrameArrays frame = frame_arrays(a, f);
+            std::map<std::string, int> target;
+            for (std::size_t i = 0; i < frame.attributes.size(); ++i) {
+                auto& [name, type, values] = frame.attributes[i];
+                const auto& b = std::get<2>(base.attributes[i]);
+                for (std::size_t j = 0; j < values.size(); ++j) values[j] -= b[j];
+                target[name] = w.floats(name, type, values, true);
+            }
+            prim.targets.push_back(std::move(target));
+            weights.push_back(names.empty() ? 1.0 : 0.0);
+            names.emplace_back(frame_name(a.first_frame + f));
+        }
+    }
+    std::vector<int> finish() {
+        if (names.size() != range.frame_count)
+            throw InputError("glTF export: " + std::to_string(names.size()) + " frames written of " + std::to_string(range.frame_count));
+        const std::size_t frames = range.frame_count;
+        tinygltf::Mesh mesh;
+        mesh.name = range.name;
+        mesh.weights = std::move(weights);
+        mesh.primitives.push_back(std::move(prim));
+        tinygltf::Value::Object extras;
+        extras["targetNames"] = tinygltf::Value(std::move(names));
+        mesh.extras = tinygltf::Value(extras);
+        w.model.meshes.push_back(std::move(mesh));
+        const int node = w.node(range.name, static_cast<int>(w.model.meshes.size() - 1));
+
+        // One key per frame; weights one-hot (values stay in 0…1, as Blender clamps them).
+        std::vector<float> times, one_hot(frames * frames, 0.0f);
+        for (std::size_t f = 0; f < frames; ++f) one_hot[f * frames + f] = 1.0f;
+        tinygltf::AnimationSampler sampler;
+        sampler.input = key_times(w, range, times);
+        sampler.output = w.b.accessor(w.b.view(one_hot.data(), one_hot.size() * sizeof(float), 0),
+                                      TINYGLTF_COMPONENT_TYPE_FLOAT, one_hot.size(), TINYGLTF_TYPE_SCALAR);
+        sampler.interpolation = "STEP";
+        tinygltf::Animation anim;
+        anim.name = range.name + "_frames";
+        anim.samplers.push_back(sampler);
+        tinygltf::AnimationChannel channel;
+        channel.sampler = 0;
+        channel.target_node = node;
+        channel.target_path = "weights";
+        anim.channels.push_back(channel);
+        w.model.animations.push_back(anim);
+        return {node};
+    }
+};
+
+// The nodes form a chunk of frames at a time: a parent node holds one child per frame;
+// each child's scale is switched between 0 and 1 by STEP keys so that exactly one
+// frame shows at a time.
+struct NodesBuilder {
+    ModelWriter& w;
+    RangeInfo range;
+    std::vector<int> children;
+
+    NodesBuilder(ModelWriter& writer, const MorphAnimationView& first, std::size_t frame_count)
+        : w(writer), range{first.first_frame, frame_count, first.fps, first.name} {}
+    void add(const MorphAnimationView& a) {
+        for (std::size_t f = 0; f < a.frame_count; ++f) {
+            const std::string name = frame_name(a.first_frame + f);
+            tinygltf::Mesh mesh;
+            mesh.name = name;
+            mesh.primitives.push_back(w.frame_primitive(a, f));
+            w.model.meshes.push_back(std::move(mesh));
+            const int mesh_index = static_cast<int>(w.model.meshes.size() - 1);
+            if (w.quant) {
+                // The switched node holds the mesh node, whose transform undoes the quantisation.
+                const int inner = w.node(name + "_mesh", mesh_index);
+                tinygltf::Node outer;
+                outer.name = name;
+                outer.children = {inner};
+                w.model.nodes.push_back(outer);
+                children.push_back(static_cast<int>(w.model.nodes.size() - 1));
+            } else {
+                children.push_back(w.node(name, mesh_index));
+            }
+            if (children.size() > 1) w.model.nodes.back().scale = {0.0, 0.0, 0.0};
+        }
+    }
+    std::vector<int> finish() {
+        const std::size_t frames = range.frame_count;
+        if (children.size() != frames)
+            throw InputError("glTF export: " + std::to_string(children.size()) + " frames written of " + std::to_string(frames));
+        tinygltf::Node parent;
+        parent.name = range.name;
+        parent.children = children;
+        w.model.nodes.push_back(parent);
+        const int root = static_cast<int>(w.model.nodes.size() - 1);
+        std::vector<float> times;
+        const int input = key_times(w, range, times);
+        tinygltf::Animation anim;
+        anim.name = range.name + "_frames";
+        std::vector<float> scales(3 * frames);
+        for (std::size_t f = 0; f < frames; ++f) {
+            for (std::size_t k = 0; k < frames; ++k) {
+                const float on = k == f ? 1.0f : 0.0f;
+                scales[3 * k] = scales[3 * k + 1] = scales[3 * k + 2] = on;
+            }
+            tinygltf::AnimationSampler sampler;
+            sampler.input = input;
+            sampler.output = w.b.accessor(w.b.view(scales.data(), scales.size() * sizeof(float), 0),
+                                          TINYGLTF_COMPONENT_TYPE_FLOAT, frames, TINYGLTF_TYPE_VEC3);
+            sampler.interpolation = "STEP";
+            anim.samplers.push_back(sampler);
+            tinygltf::AnimationChannel channel;
+            channel.sampler = static_cast<int>(anim.samplers.size() - 1);
+            channel.target_node = children[f];
+            channel.target_path = "scale";
+            anim.channels.push_back(channel);
+        }
+        w.model.animations.push_back(anim);
+        return {root};
+    }
+};
 
 }  // namespace
 
 std::string gltf_morph_glb(const MorphAnimationView& a) {
     check(a);
-    const std::size_t frames = a.frame_count;
-    ModelWriter w(a, frames + 1);
-    const FrameArrays base = frame_arrays(a, 0);
-    // With Draco only the base is compressed (KHR_draco_mesh_compression covers a
-    // primitive's attributes); the targets stay float, in the decoded point order,
-    // which Draco's sequential method keeps equal to ours.
-    tinygltf::Primitive prim = a.draco ? w.draco_primitive(a, base, true) : w.primitive(base);
-    tinygltf::Mesh mesh;
-    mesh.name = a.name;
-    std::vector<tinygltf::Value> names;
-    for (std::size_t f = 0; f < frames; ++f) {
-        // A target holds the differences from the base (frame 0), in glTF axes.
-        FrameArrays frame = frame_arrays(a, f);
-        std::map<std::string, int> target;
-        for (std::size_t i = 0; i < frame.attributes.size(); ++i) {
-            auto& [name, type, values] = frame.attributes[i];
-            const auto& b = std::get<2>(base.attributes[i]);
-            for (std::size_t j = 0; j < values.size(); ++j) values[j] -= b[j];
-            target[name] = w.floats(name, type, values, true);
-        }
-        prim.targets.push_back(std::move(target));
-        mesh.weights.push_back(f == 0 ? 1.0 : 0.0);
-        names.emplace_back(frame_name(a.first_frame + f));
-    }
-    mesh.primitives.push_back(std::move(prim));
-    tinygltf::Value::Object extras;
-    extras["targetNames"] = tinygltf::Value(names);
-    mesh.extras = tinygltf::Value(extras);
-    w.model.meshes.push_back(std::move(mesh));
-    const int node = w.node(a.name, 0);
-
-    // One key per frame; weights one-hot (values stay in 0…1, as Blender clamps them).
-    std::vector<float> times, weights(frames * frames, 0.0f);
-    for (std::size_t f = 0; f < frames; ++f) weights[f * frames + f] = 1.0f;
-    tinygltf::AnimationSampler sampler;
-    sampler.input = key_times(w, a, times);
-    sampler.output = w.b.accessor(w.b.view(weights.data(), weights.size() * sizeof(float), 0),
-                                  TINYGLTF_COMPONENT_TYPE_FLOAT, weights.size(), TINYGLTF_TYPE_SCALAR);
-    sampler.interpolation = "STEP";
-    tinygltf::Animation anim;
-    anim.name = a.name + "_frames";
-    anim.samplers.push_back(sampler);
-    tinygltf::AnimationChannel channel;
-    channel.sampler = 0;
-    channel.target_node = node;
-    channel.target_path = "weights";
-    anim.channels.push_back(channel);
-    w.model.animations.push_back(anim);
-    return w.finish({node});
+    ModelWriter w(a, a.frame_count + 1);
+    MorphBuilder morph(w, a, a.frame_count);
+    morph.add(a);
+    return glb_bytes(w, morph.finish());
 }
 
 std::string gltf_nodes_glb(const MorphAnimationView& a) {
     check(a);
-    const std::size_t frames = a.frame_count;
-    ModelWriter w(a, a.draco ? 0 : frames);
-    // A parent node holds one child per frame; each child's scale is switched between
-    // 0 and 1 by STEP keys so that exactly one frame shows at a time.
-    std::vector<int> children;
-    for (std::size_t f = 0; f < frames; ++f) {
-        tinygltf::Mesh mesh;
-        mesh.name = frame_name(a.first_frame + f);
-        mesh.primitives.push_back(w.frame_primitive(a, f));
-        w.model.meshes.push_back(std::move(mesh));
-        const int mesh_index = static_cast<int>(w.model.meshes.size() - 1);
-        if (w.quant) {
-            // The switched node holds the mesh node, whose transform undoes the quantisation.
-            const int inner = w.node(frame_name(a.first_frame + f) + "_mesh", mesh_index);
-            tinygltf::Node outer;
-            outer.name = frame_name(a.first_frame + f);
-            outer.children = {inner};
-            w.model.nodes.push_back(outer);
-            children.push_back(static_cast<int>(w.model.nodes.size() - 1));
-        } else {
-            children.push_back(w.node(frame_name(a.first_frame + f), mesh_index));
-        }
-        if (f != 0) w.model.nodes.back().scale = {0.0, 0.0, 0.0};
-    }
-    tinygltf::Node parent;
-    parent.name = a.name;
-    parent.children = children;
-    w.model.nodes.push_back(parent);
-    const int root = static_cast<int>(w.model.nodes.size() - 1);
-
-    std::vector<float> times;
-    const int input = key_times(w, a, times);
-    tinygltf::Animation anim;
-    anim.name = a.name + "_frames";
-    std::vector<float> scales(3 * frames);
-    for (std::size_t f = 0; f < frames; ++f) {
-        for (std::size_t k = 0; k < frames; ++k) {
-            const float on = k == f ? 1.0f : 0.0f;
-            scales[3 * k] = scales[3 * k + 1] = scales[3 * k + 2] = on;
-        }
-        tinygltf::AnimationSampler sampler;
-        sampler.input = input;
-        sampler.output = w.b.accessor(w.b.view(scales.data(), scales.size() * sizeof(float), 0),
-                                      TINYGLTF_COMPONENT_TYPE_FLOAT, frames, TINYGLTF_TYPE_VEC3);
-        sampler.interpolation = "STEP";
-        anim.samplers.push_back(sampler);
-        tinygltf::AnimationChannel channel;
-        channel.sampler = static_cast<int>(anim.samplers.size() - 1);
-        channel.target_node = children[f];
-        channel.target_path = "scale";
-        anim.channels.push_back(channel);
-    }
-    w.model.animations.push_back(anim);
-    return w.finish({root});
+    ModelWriter w(a, a.draco ? 0 : a.frame_count);
+    NodesBuilder nodes(w, a, a.frame_count);
+    nodes.add(a);
+    return glb_bytes(w, nodes.finish());
 }
 
 std::string gltf_frame_glb(const MorphAnimationView& a, std::size_t f) {
@@ -622,7 +755,106 @@ std::string gltf_frame_glb(const MorphAnimationView& a, std::size_t f) {
     mesh.name = a.name;
     mesh.primitives.push_back(w.frame_primitive(a, f));
     w.model.meshes.push_back(std::move(mesh));
-    return w.finish({w.node(a.name, 0)});
+    return glb_bytes(w, {w.node(a.name, 0)});
+}
+
+struct AnimationFileWriter::State {
+    std::string path, bin_path, bin_uri;  // the file; its buffer while streaming (the .bin with the gltf container)
+    bool gltf_container = false, finished = false;
+    std::FILE* bin = nullptr;
+    MorphAnimationView header;  // the first chunk's settings; its spans are not kept
+    // The dressing's arrays, owned: the chunks' own are gone when the file is finished.
+    std::vector<float> seafloor_positions, seafloor_colors, seafloor_texcoords;
+    std::vector<std::uint32_t> seafloor_triangles;
+    std::optional<ModelWriter> writer;
+    std::optional<MorphBuilder> morph;
+    std::optional<NodesBuilder> nodes;
+
+    ~State() {
+        if (bin) std::fclose(bin);
+        if (!finished) {  // failed or abandoned: nothing half-written stays
+            std::remove(bin_path.c_str());
+            std::remove(path.c_str());
+        }
+    }
+};
+
+AnimationFileWriter::AnimationFileWriter(std::string path, Form form, bool gltf_container, const MorphAnimationView& first,
+                                         std::size_t frame_count)
+    : state_(std::make_unique<State>()) {
+    State& s = *state_;
+    check(first);
+    if (first.quantize)
+        throw InputError("glTF export: a streamed file cannot be quantised (KHR_mesh_quantization's range spans every "
+                         "frame); write it whole (gltf_morph_glb, gltf_nodes_glb)");
+    if (frame_count < first.frame_count) throw InputError("glTF export: the first chunk holds more frames than the range");
+    // Float positions and normals alone: refused at once rather than after every frame.
+    if (!gltf_container && !first.draco && 24.0 * static_cast<double>(frame_count) * static_cast<double>(first.vertex_count) > 4294967295.0)
+        glb_head({}, static_cast<std::size_t>(24.0 * static_cast<double>(frame_count) * static_cast<double>(first.vertex_count)));
+    s.path = std::move(path);
+    s.gltf_container = gltf_container;
+    const std::filesystem::path p(s.path);
+    s.bin_path = gltf_container ? (p.parent_path() / (p.stem().string() + ".bin")).string() : s.path + ".bin-part";
+    s.bin_uri = std::filesystem::path(s.bin_path).filename().string();
+    s.bin = std::fopen(s.bin_path.c_str(), "wb");
+    if (!s.bin) throw RuntimeError(s.bin_path + ": cannot create: " + std::strerror(errno));
+    s.header = first;
+    if (first.dressing) {
+        const SceneDressing& d = *first.dressing;
+        s.seafloor_positions.assign(d.seafloor_positions.begin(), d.seafloor_positions.end());
+        s.seafloor_colors.assign(d.seafloor_colors.begin(), d.seafloor_colors.end());
+        s.seafloor_texcoords.assign(d.seafloor_texcoords.begin(), d.seafloor_texcoords.end());
+        s.seafloor_triangles.assign(d.seafloor_triangles.begin(), d.seafloor_triangles.end());
+        SceneDressing& own = *s.header.dressing;
+        own.seafloor_positions = s.seafloor_positions;
+        own.seafloor_colors = s.seafloor_colors;
+        own.seafloor_texcoords = s.seafloor_texcoords;
+        own.seafloor_triangles = s.seafloor_triangles;
+    }
+    s.writer.emplace(s.header, 0, s.bin, s.bin_path);
+    s.writer->dressing = s.header.dressing;
+    if (form == Form::morph) s.morph.emplace(*s.writer, first, frame_count);
+    else s.nodes.emplace(*s.writer, first, frame_count);
+}
+
+AnimationFileWriter::~AnimationFileWriter() = default;
+
+void AnimationFileWriter::append(const MorphAnimationView& chunk) {
+    State& s = *state_;
+    check(chunk);
+    if (chunk.vertex_count != s.header.vertex_count || chunk.triangles.size() != s.header.triangles.size())
+        throw InputError("glTF export: a chunk of frames whose mesh differs from the first chunk's");
+    if (s.morph) s.morph->add(chunk);
+    else s.nodes->add(chunk);
+}
+
+std::vector<std::pair<std::string, std::size_t>> AnimationFileWriter::finish() {
+    State& s = *state_;
+    const std::vector<int> roots = s.morph ? s.morph->finish() : s.nodes->finish();
+    std::string json = s.writer->finish(roots);
+    const std::size_t bin_bytes = s.writer->sink.size;
+    const auto close_bin = [&] {
+        const int rc = std::fclose(std::exchange(s.bin, nullptr));
+        if (rc != 0) throw RuntimeError(s.bin_path + ": cannot write: " + std::strerror(errno));
+    };
+    std::vector<std::pair<std::string, std::size_t>> written;
+    if (s.gltf_container) {  // the buffer is already the .bin; the .gltf names it (as glb_to_gltf writes it)
+        close_bin();
+        nlohmann::json doc = nlohmann::json::parse(json);
+        doc["buffers"][0]["uri"] = s.bin_uri;
+        json = doc.dump(1) + "\n";
+        write_file_atomic(s.path, json);
+        written = {{std::filesystem::path(s.path).filename().string(), json.size()}, {s.bin_uri, bin_bytes}};
+    } else {  // the head, then the buffer copied in by the kernel, then the BIN chunk's padding
+        s.writer->sink.pad4();
+        close_bin();
+        const std::string head = glb_head(json, bin_bytes);
+        write_file_atomic(s.path, head, s.bin_path);
+        std::remove(s.bin_path.c_str());
+        written = {{std::filesystem::path(s.path).filename().string(), head.size() + (bin_bytes + 3) / 4 * 4}};
+    }
+    s.finished = true;
+    return written;
 }
 
 std::array<double, 4> gltf_look_rotation(const std::array<double, 3>& from, const std::array<double, 3>& to) {

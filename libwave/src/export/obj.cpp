@@ -40,10 +40,7 @@ std::string mesh_to_obj(std::span<const float> positions, std::span<const std::u
     return out;
 }
 
-std::string pc2_bytes(std::span<const float> points, std::size_t point_count, std::size_t sample_count, float start_frame) {
-    if (points.size() != 3 * point_count * sample_count)
-        throw InputError("PC2 export: " + std::to_string(points.size()) + " values for " + std::to_string(sample_count) +
-                         " samples of " + std::to_string(point_count) + " points");
+std::string pc2_header(std::size_t point_count, std::size_t sample_count, float start_frame) {
     if (point_count > 0x7fffffff || sample_count > 0x7fffffff) throw LimitError("PC2 export: more than 2³¹ points or samples");
     static_assert(std::endian::native == std::endian::little, "PC2 is little-endian");
     std::string out("POINTCACHE2", 12);  // the signature with its terminating zero
@@ -53,6 +50,14 @@ std::string pc2_bytes(std::span<const float> points, std::size_t point_count, st
     put(start_frame);
     put(1.0f);  // one sample per frame
     put(static_cast<std::int32_t>(sample_count));
+    return out;
+}
+
+std::string pc2_bytes(std::span<const float> points, std::size_t point_count, std::size_t sample_count, float start_frame) {
+    if (points.size() != 3 * point_count * sample_count)
+        throw InputError("PC2 export: " + std::to_string(points.size()) + " values for " + std::to_string(sample_count) +
+                         " samples of " + std::to_string(point_count) + " points");
+    std::string out = pc2_header(point_count, sample_count, start_frame);
     out.append(reinterpret_cast<const char*>(points.data()), points.size_bytes());
     return out;
 }

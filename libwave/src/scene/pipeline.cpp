@@ -4,6 +4,7 @@
 
 #include "core/format.h"
 #include "libwave/errors.h"
+#include "libwave/io.h"
 #include "libwave/shade.h"
 #include "core/files.h"
 #include "core/json_input.h"
@@ -13,6 +14,9 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -212,15 +216,17 @@ void refine_scene_plan(const Scene& scene, ScenePlan& p) {
 
 namespace {
 
+std::string caustic_file_name(std::size_t frame) {
+    char buffer[48];
+    std::snprintf(buffer, sizeof buffer, kCausticImages, static_cast<int>(frame));
+    return buffer;
+}
+
 // The caustic maps beside the animation, caustics/caustics-NNNN.png by loop frame: in
 // the files form after each frame's own files (a frame's entry lists them together).
 void add_caustic_files(const MorphAnimationView& view, std::span<const std::string> caustics, Scene::Form form, EncodedFiles& files) {
     if (caustics.empty()) return;
-    const auto name = [&](std::size_t k) {
-        char buffer[48];
-        std::snprintf(buffer, sizeof buffer, kCausticImages, static_cast<int>(view.first_frame + k));
-        return std::string(buffer);
-    };
+    const auto name = [&](std::size_t k) { return caustic_file_name(view.first_frame + k); };
     if (form != Scene::Form::files) {
         for (std::size_t k = 0; k < caustics.size(); ++k) files.emplace_back(name(k), caustics[k]);
         return;
@@ -234,14 +240,54 @@ void add_caustic_files(const MorphAnimationView& view, std::span<const std::stri
     files.swap(grouped);
 }
 
+// animation.glb, or animation-frames-A-B.glb for a slice.
+std::string animation_file_name(std::size_t first_frame, std::size_t frame_count, bool whole) {
+    char slice_name[64];
+    std::snprintf(slice_name, sizeof slice_name, "animation-frames-%zu-%zu.glb", first_frame, first_frame + frame_count);
+    return whole ? "animation.glb" : slice_name;
+}
+
+// The pc2 form's base mesh (frame 0 of the view) as .glb and .obj beside the caches.
+void add_pc2_base(const MorphAnimationView& view, const std::string& base, EncodedFiles& files) {
+    files.emplace_back(base + ".glb", gltf_frame_glb(view, 0));
+    files.emplace_back(base + ".obj", mesh_to_obj(view.positions.first(3 * view.vertex_count), view.triangles,
+                                                  "libwave: base mesh of " + base + ".pc2, z up"));
+}
+
+// The pc2 form's shading "points" of frames: (reflect, refract, foam) per vertex.
+std::vector<float> pc2_shading(const MorphAnimationView& view) {
+    std::vector<float> shading(3 * view.vertex_count * view.frame_count);
+    for (std::size_t i = 0; i < view.vertex_count * view.frame_count; ++i) {
+        shading[3 * i] = view.reflect[i];
+        shading[3 * i + 1] = view.refract[i];
+        shading[3 * i + 2] = view.foam[i];
+    }
+    return shading;
+}
+
+// Each .glb becomes name.gltf + name.bin (the .bin named relative to the .gltf).
+void split_gltf_container(EncodedFiles& files) {
+    EncodedFiles split;
+    for (auto& [name, bytes] : files) {
+        if (!name.ends_with(".glb")) {
+            split.emplace_back(std::move(name), std::move(bytes));
+            continue;
+        }
+        const std::string base = name.substr(0, name.size() - 4);  // without ".glb"
+        const std::string bin = base + ".bin";
+        GltfFiles g = glb_to_gltf(bytes, std::filesystem::path(bin).filename().string());
+        split.emplace_back(base + ".gltf", std::move(g.json));
+        split.emplace_back(bin, std::move(g.bin));
+    }
+    files.swap(split);
+}
+
 }  // namespace
 
 EncodedFiles encode_animation(const MorphAnimationView& view, Scene::Form form, Scene::Container container, bool whole,
                               std::span<const std::string> caustics) {
     EncodedFiles files;
-    char slice_name[64];
-    std::snprintf(slice_name, sizeof slice_name, "animation-frames-%zu-%zu.glb", view.first_frame, view.first_frame + view.frame_count);
-    const std::string animation_name = whole ? "animation.glb" : slice_name;
+    const std::string animation_name = animation_file_name(view.first_frame, view.frame_count, whole);
     if (form == Scene::Form::morph) files.emplace_back(animation_name, gltf_morph_glb(view));
     if (form == Scene::Form::nodes) files.emplace_back(animation_name, gltf_nodes_glb(view));
     if (form == Scene::Form::pc2) {
@@ -249,20 +295,10 @@ EncodedFiles encode_animation(const MorphAnimationView& view, Scene::Form form, 
         // written; the shading as a second cache of (reflect, refract, foam) "points".
         const std::string base = whole ? "animation" : animation_name.substr(0, animation_name.size() - 4);
         const std::size_t n = view.vertex_count;
-        files.emplace_back(base + ".glb", gltf_frame_glb(view, 0));
-        files.emplace_back(base + ".obj", mesh_to_obj(view.positions.first(3 * n), view.triangles,
-                                                      "libwave: base mesh of " + base + ".pc2, z up"));
+        add_pc2_base(view, base, files);
         const auto start = static_cast<float>(view.first_frame);
         files.emplace_back(base + ".pc2", pc2_bytes(view.positions, n, view.frame_count, start));
-        if (!view.foam.empty()) {
-            std::vector<float> shading(3 * n * view.frame_count);
-            for (std::size_t i = 0; i < n * view.frame_count; ++i) {
-                shading[3 * i] = view.reflect[i];
-                shading[3 * i + 1] = view.refract[i];
-                shading[3 * i + 2] = view.foam[i];
-            }
-            files.emplace_back(base + "-shading.pc2", pc2_bytes(shading, n, view.frame_count, start));
-        }
+        if (!view.foam.empty()) files.emplace_back(base + "-shading.pc2", pc2_bytes(pc2_shading(view), n, view.frame_count, start));
     }
     if (form == Scene::Form::files)
         for (std::size_t k = 0; k < view.frame_count; ++k) {
@@ -270,20 +306,162 @@ EncodedFiles encode_animation(const MorphAnimationView& view, Scene::Form form, 
             std::snprintf(name, sizeof name, "frames/frame-%04zu.glb", view.first_frame + k);
             files.emplace_back(name, gltf_frame_glb(view, k));
         }
-    if (container == Scene::Container::gltf) {
-        // Each .glb becomes name.gltf + name.bin (the .bin named relative to the .gltf).
-        EncodedFiles split;
-        for (auto& [name, bytes] : files) {
-            const std::string base = name.substr(0, name.size() - 4);  // without ".glb"
-            const std::string bin = base + ".bin";
-            GltfFiles g = glb_to_gltf(bytes, std::filesystem::path(bin).filename().string());
-            split.emplace_back(base + ".gltf", std::move(g.json));
-            split.emplace_back(bin, std::move(g.bin));
-        }
-        files.swap(split);
-    }
+    if (container == Scene::Container::gltf) split_gltf_container(files);
     add_caustic_files(view, caustics, form, files);
     return files;
+}
+
+bool streamed_form(const Scene& scene) {
+    return scene.form != Scene::Form::files && !scene.quantize;
+}
+
+namespace {
+
+// A file written as the frames come, removed unless it was finished.
+struct PartialFile {
+    std::string path;
+    std::FILE* file = nullptr;
+    explicit PartialFile(std::string p) : path(std::move(p)), file(std::fopen(path.c_str(), "wb")) {
+        if (!file) throw RuntimeError(path + ": cannot create: " + std::strerror(errno));
+    }
+    ~PartialFile() {
+        if (file) {
+            std::fclose(file);
+            std::remove(path.c_str());
+        }
+    }
+    void write(const void* data, std::size_t n) {
+        if (n > 0 && std::fwrite(data, 1, n, file) != n) throw RuntimeError(path + ": cannot write: " + std::strerror(errno));
+    }
+    void close() {
+        if (std::fclose(std::exchange(file, nullptr)) != 0) {
+            std::remove(path.c_str());
+            throw RuntimeError(path + ": cannot write: " + std::strerror(errno));
+        }
+    }
+};
+
+// The pc2 form streamed: the base mesh from the first chunk, then the caches' samples.
+struct Pc2Stream {
+    std::string folder, base;
+    std::optional<PartialFile> positions{}, shading{};
+
+    void start(const MorphAnimationView& first, std::size_t frames, Scene::Container container, EncodedFiles& files) {
+        add_pc2_base(first, base, files);
+        if (container == Scene::Container::gltf) split_gltf_container(files);
+        const std::string header = pc2_header(first.vertex_count, frames, static_cast<float>(first.first_frame));
+        positions.emplace(folder + "/" + base + ".pc2");
+        positions->write(header.data(), header.size());
+        if (first.foam.empty()) return;
+        shading.emplace(folder + "/" + base + "-shading.pc2");
+        shading->write(header.data(), header.size());
+    }
+    void add(const MorphAnimationView& chunk) {
+        positions->write(chunk.positions.data(), chunk.positions.size_bytes());
+        if (!shading) return;
+        const std::vector<float> s = pc2_shading(chunk);
+        shading->write(s.data(), s.size() * sizeof(float));
+    }
+    void finish(std::vector<std::pair<std::string, std::size_t>>& written) {
+        for (std::optional<PartialFile>* f : {&positions, &shading}) {
+            if (!*f) continue;
+            const auto bytes = static_cast<std::size_t>(std::ftell((*f)->file));
+            (*f)->close();
+            written.emplace_back(std::filesystem::path((*f)->path).filename().string(), bytes);
+        }
+    }
+};
+
+// Frame 0 of `a` alone (every per-frame array cut to it; the rest copied).
+SceneAnimation first_frame_of(const SceneAnimation& a) {
+    SceneAnimation one;
+    const std::size_t n = a.vertex_count;
+    const auto head = [](const std::vector<float>& v, std::size_t count) {
+        return std::vector<float>(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(std::min(count, v.size())));
+    };
+    one.vertex_count = n;
+    one.frame_count = 1;
+    one.first_frame = a.first_frame;
+    one.loop_frames = a.loop_frames;
+    one.positions = head(a.positions, 3 * n);
+    one.normals = head(a.normals, 3 * n);
+    one.texcoords = a.texcoords;
+    one.reflect = head(a.reflect, n);
+    one.refract = head(a.refract, n);
+    one.foam = head(a.foam, n);
+    one.colors = head(a.colors, 3 * n);
+    one.layout = a.layout;
+    one.draco = a.draco;
+    one.quantize = a.quantize;
+    one.z_min = a.z_min;
+    one.z_max = a.z_max;
+    one.fps = a.fps;
+    one.triangles = a.triangles;
+    one.scene = a.scene;
+    one.seafloor_positions = a.seafloor_positions;
+    one.seafloor_colors = a.seafloor_colors;
+    one.seafloor_triangles = a.seafloor_triangles;
+    one.dressing = a.dressing;
+    if (!a.caustics.empty()) one.caustics = {a.caustics.front()};
+    one.seafloor_texcoords = a.seafloor_texcoords;
+    return one;
+}
+
+}  // namespace
+
+StreamedAnimation stream_animation(AnimationStream& stream, const Scene& scene, const std::string& folder, bool whole,
+                                   std::size_t chunk, const std::function<void(std::size_t, std::size_t)>& progress) {
+    if (!streamed_form(scene))
+        throw InputError("scene: the files form and quantised files are not streamed by stream_animation");
+    StreamedAnimation out;
+    out.z_min = std::numeric_limits<float>::infinity();
+    out.z_max = -std::numeric_limits<float>::infinity();
+    const std::size_t frames = stream.frame_count();
+    const std::string name = animation_file_name(stream.first_frame(), frames, whole);
+    const bool gltf = scene.container == Scene::Container::gltf;
+    std::optional<AnimationFileWriter> glb;
+    Pc2Stream pc2{.folder = folder, .base = whole ? "animation" : name.substr(0, name.size() - 4)};
+    EncodedFiles small;     // the pc2 form's base mesh
+    std::vector<std::string> maps;  // caustic maps written, in order
+    SceneAnimation a;
+    try {
+        while (stream.next(a, std::max<std::size_t>(1, chunk), progress) > 0) {
+            const MorphAnimationView view = a.view();
+            if (a.first_frame == stream.first_frame()) {  // the first chunk: the file's settings, and frame 0 kept
+                if (scene.form == Scene::Form::pc2) {
+                    pc2.start(view, frames, scene.container, small);
+                } else {
+                    const std::string path = folder + "/" + (gltf ? name.substr(0, name.size() - 4) + ".gltf" : name);
+                    glb.emplace(path, scene.form == Scene::Form::morph ? AnimationFileWriter::Form::morph : AnimationFileWriter::Form::nodes,
+                                gltf, view, frames);
+                }
+                out.first = first_frame_of(a);
+            }
+            if (glb) glb->append(view);
+            else pc2.add(view);
+            for (std::size_t k = 0; k < a.caustics.size(); ++k) {
+                maps.push_back(caustic_file_name(a.first_frame + k));
+                std::filesystem::create_directories((std::filesystem::path(folder) / maps.back()).parent_path());
+                write_file_atomic(folder + "/" + maps.back(), a.caustics[k]);
+            }
+            out.z_min = std::min(out.z_min, a.z_min);
+            out.z_max = std::max(out.z_max, a.z_max);
+        }
+    } catch (...) {
+        for (const std::string& m : maps) std::remove((folder + "/" + m).c_str());
+        throw;
+    }
+    if (glb) {
+        out.files = glb->finish();
+    } else {
+        for (const auto& [file, bytes] : small) {
+            write_file_atomic(folder + "/" + file, bytes);
+            out.files.emplace_back(file, bytes.size());
+        }
+        pc2.finish(out.files);
+    }
+    for (const std::string& m : maps) out.files.emplace_back(m, std::filesystem::file_size(std::filesystem::path(folder) / m));
+    return out;
 }
 
 MorphAnimationView SceneAnimation::view() const {
@@ -363,6 +541,13 @@ RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan) {
     if (scene.form == Scene::Form::files) {  // one chunk of frames at a time, each encoded once
         const double chunk = static_cast<double>(files_form_chunk(e));
         e.peak_memory_bytes = plan_bytes + (e.frame_array_bytes + e.output_bytes) * chunk / frames;
+    } else if (streamed_form(scene)) {
+        // One chunk of frames, one frame's attributes being encoded (twice: glTF axes and
+        // deltas), the one-hot weights or scales (frames² floats) and the glTF JSON's
+        // model (~2 kB a frame, held by tinygltf and nlohmann at the end).
+        const double chunk = static_cast<double>(files_form_chunk(e));
+        const double frame_out = (e.output_bytes - (scene.form == Scene::Form::pc2 ? 2.0 * (n * per_frame_vertex + uv0 + indices) : 0.0)) / frames;
+        e.peak_memory_bytes = plan_bytes + e.frame_array_bytes * chunk / frames + 2.0 * frame_out + 4.0 * frames * frames + 6e3 * frames;
     } else {
         e.peak_memory_bytes = plan_bytes + e.frame_array_bytes + 3.0 * e.output_bytes;
     }
@@ -381,6 +566,7 @@ void check_run_limits(const Scene& scene, const RunEstimate& e, std::size_t fram
                      detail::format_count(e.vertices) + " vertices (over " + fmt(max_bytes / 1e9) +
                      " GB of per-frame arrays); " +
                      (scene.refine ? std::string("lower /refine/level, or ") : std::string()) +
+                     (scene.quantize ? std::string("drop /outputs/quantize (unquantised files are streamed), or ") : std::string()) +
                      std::string(detail::surface_model(scene.surface_kind).size_keys) +
                      ", or raise the limit (wave run --max-memory-gb)");
 }
@@ -634,50 +820,88 @@ void dress_animation(const Scene& scene, const ScenePlan& plan, SceneAnimation& 
 
 }  // namespace
 
-SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double max_bytes, FrameRange range,
-                             const std::function<void(std::size_t, std::size_t)>& progress) {
-    SceneAnimation a;
-    a.fps = scene.fps;
-    a.scene = scene.name;
+struct AnimationStream::State {
+    const Scene& scene;
+    const ScenePlan& plan;
+    const Refinement* refined;
+    const std::vector<std::uint32_t>& coarse_triangles;
+    const std::vector<std::uint32_t>& triangles;  // the exported surface's
+    std::size_t loop_frames = 0, first = 0, count = 0, done = 0;
+    FrameRun run;
+};
+
+AnimationStream::AnimationStream(const Scene& scene, const ScenePlan& plan, FrameRange range) {
     // The surface's own vertices (coarse), and with /refine the subdivided ones.
     const Refinement* refined = plan.refinement.fine_vertices > 0 ? &plan.refinement : nullptr;
-    a.vertex_count = refined ? refined->fine_vertices : plan.rest_x.size();
-    a.loop_frames = scene_loop_frames(scene, plan);
-    const std::size_t end = std::min(range.end, a.loop_frames);
+    const std::vector<std::uint32_t>& coarse = surface_triangles(scene, plan);
+    const std::size_t loop_frames = scene_loop_frames(scene, plan), end = std::min(range.end, loop_frames);
     if (range.first >= end)
         throw InputError("scene: the frame range " + std::to_string(range.first) + ":" +
                          (range.end == static_cast<std::size_t>(-1) ? std::string() : std::to_string(range.end)) +
-                         " holds no frame of the loop's 0:" + std::to_string(a.loop_frames));
-    a.first_frame = range.first;
-    a.frame_count = end - range.first;
-    const std::vector<std::uint32_t>& coarse_triangles = surface_triangles(scene, plan);
-    a.triangles = refined ? refined->triangles : coarse_triangles;
-    const std::size_t n = a.vertex_count;
+                         " holds no frame of the loop's 0:" + std::to_string(loop_frames));
     const bool shaded = scene.attributes != Scene::Attributes::none;
-    check_run_limits(scene, RunEstimate{.vertices = n, .frames = a.loop_frames}, a.frame_count, max_bytes);
-    a.positions.resize(3 * n * a.frame_count);
-    a.normals.resize(3 * n * a.frame_count);
+    state_.reset(new State{.scene = scene, .plan = plan, .refined = refined, .coarse_triangles = coarse,
+                           .triangles = refined ? refined->triangles : coarse, .loop_frames = loop_frames,
+                           .first = range.first, .count = end - range.first,
+                           .run = FrameRun{.scene = scene, .plan = plan, .model = detail::surface_model(scene.surface_kind),
+                                           .refined = refined, .shaded = shaded,
+                                           .creased = refined && scene.refine->crest_sharpness_per_metre > 0.0}});
+    start_run(state_->run, state_->triangles, refined ? refined->fine_vertices : plan.rest_x.size());
+}
+
+AnimationStream::~AnimationStream() = default;
+std::size_t AnimationStream::first_frame() const noexcept { return state_->first; }
+std::size_t AnimationStream::frame_count() const noexcept { return state_->count; }
+std::size_t AnimationStream::frames_left() const noexcept { return state_->count - state_->done; }
+
+std::size_t AnimationStream::next(SceneAnimation& a, std::size_t count, const std::function<void(std::size_t, std::size_t)>& progress) {
+    State& s = *state_;
+    const std::size_t k = std::min(count, frames_left());
+    if (k == 0) return 0;
+    const Scene& scene = s.scene;
+    a.fps = scene.fps;
+    a.scene = scene.name;
+    a.vertex_count = s.refined ? s.refined->fine_vertices : s.plan.rest_x.size();
+    a.loop_frames = s.loop_frames;
+    a.first_frame = s.first + s.done;
+    a.frame_count = k;
+    a.triangles = s.triangles;
+    const std::size_t n = a.vertex_count;
+    a.positions.resize(3 * n * k);
+    a.normals.resize(3 * n * k);
     a.layout = scene.attributes == Scene::Attributes::named ? ScalarLayout::custom : ScalarLayout::blender34;
     a.draco = scene.draco;
     a.quantize = scene.quantize;
-    if (shaded) {
-        a.reflect.resize(n * a.frame_count);
-        a.refract.resize(n * a.frame_count);
-        a.foam.assign(n * a.frame_count, 0.0f);
-    }
-    if (scene.color) a.colors.resize(3 * n * a.frame_count);
-    if (scene.underwater && scene.underwater->caustics) a.caustics.resize(a.frame_count);
-    FrameRun run{.scene = scene, .plan = plan, .model = detail::surface_model(scene.surface_kind), .refined = refined,
-                 .shaded = shaded, .creased = refined && scene.refine->crest_sharpness_per_metre > 0.0};
-    start_run(run, a.triangles, n);
+    const bool shaded = scene.attributes != Scene::Attributes::none;
+    a.reflect.resize(shaded ? n * k : 0);
+    a.refract.resize(shaded ? n * k : 0);
+    a.foam.assign(shaded ? n * k : 0, 0.0f);
+    a.colors.resize(scene.color ? 3 * n * k : 0);
+    a.caustics.assign(scene.underwater && scene.underwater->caustics ? k : 0, std::string());
     a.z_min = std::numeric_limits<float>::infinity();
     a.z_max = -std::numeric_limits<float>::infinity();
-    for (std::size_t f = 0; f < a.frame_count; ++f) {
-        evaluate_frame(run, coarse_triangles, f, a);
-        if (progress) progress(f + 1, a.frame_count);
+    for (std::size_t f = 0; f < k; ++f) {
+        evaluate_frame(s.run, s.coarse_triangles, f, a);
+        if (progress) progress(s.done + f + 1, s.count);
     }
-    rest_texcoords(plan, refined, a);
-    dress_animation(scene, plan, a);
+    s.done += k;
+    rest_texcoords(s.plan, s.refined, a);
+    a.seafloor_positions.clear();
+    a.seafloor_colors.clear();
+    a.seafloor_triangles.clear();
+    a.seafloor_texcoords.clear();
+    dress_animation(scene, s.plan, a);
+    return k;
+}
+
+SceneAnimation animate_scene(const Scene& scene, const ScenePlan& plan, double max_bytes, FrameRange range,
+                             const std::function<void(std::size_t, std::size_t)>& progress) {
+    AnimationStream stream(scene, plan, range);
+    const Refinement* refined = plan.refinement.fine_vertices > 0 ? &plan.refinement : nullptr;
+    check_run_limits(scene, RunEstimate{.vertices = refined ? refined->fine_vertices : plan.rest_x.size(), .frames = scene_loop_frames(scene, plan)},
+                     stream.frame_count(), max_bytes);
+    SceneAnimation a;
+    stream.next(a, stream.frame_count(), progress);
     return a;
 }
 

@@ -1,0 +1,137 @@
+// Streamed output (docs/export.md, "Streamed output"): frames evaluated a chunk at a
+// time equal the whole range's, and the files written as they come equal, byte for
+// byte, what encode_animation makes of the whole range in memory — every streamed form,
+// both containers, Draco, caustic maps, a slice that starts inside the loop.
+#include "libwave/errors.h"
+#include "libwave/export.h"
+#include "libwave/scene.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <unistd.h>
+
+namespace {
+
+using namespace wave;
+namespace fs = std::filesystem;
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+}
+
+struct TempDir {
+    fs::path path = fs::temp_directory_path() / ("libwave-test-stream-" + std::to_string(::getpid()));
+    TempDir() {
+        fs::remove_all(path);
+        fs::create_directories(path);
+    }
+    ~TempDir() { fs::remove_all(path); }
+    std::size_t entries() const { return static_cast<std::size_t>(std::distance(fs::directory_iterator(path), {})); }
+};
+
+// The default bay with a caustic map small enough to be quick.
+struct Bay {
+    Scene scene = default_scene();
+    ScenePlan plan;
+    Bay() {
+        scene.underwater = UnderwaterOptions{.map_size = 48};
+        plan = plan_scene(scene);
+    }
+};
+
+const Bay& bay() {
+    static const Bay b;
+    return b;
+}
+
+TEST(AnimationStream, ChunksEqualTheWholeRangeBitForBit) {
+    const Bay& b = bay();
+    const FrameRange range{5, 12};
+    const SceneAnimation whole = animate_scene(b.scene, b.plan, 2e9, range);
+    AnimationStream stream(b.scene, b.plan, range);
+    EXPECT_EQ(stream.frame_count(), 7u);
+    SceneAnimation chunk;
+    std::size_t at = 0;
+    const std::size_t n = whole.vertex_count;
+    while (std::size_t k = stream.next(chunk, 3)) {
+        ASSERT_EQ(chunk.first_frame, range.first + at);
+        for (std::size_t i = 0; i < 3 * n * k; ++i) {
+            ASSERT_EQ(chunk.positions[i], whole.positions[3 * n * at + i]) << i;
+            ASSERT_EQ(chunk.normals[i], whole.normals[3 * n * at + i]) << i;
+        }
+        for (std::size_t i = 0; i < n * k; ++i) ASSERT_EQ(chunk.foam[i], whole.foam[n * at + i]) << i;
+        for (std::size_t f = 0; f < k; ++f) ASSERT_EQ(chunk.caustics[f], whole.caustics[at + f]);
+        EXPECT_EQ(chunk.seafloor_positions, whole.seafloor_positions);  // the static parts, not appended twice
+        at += k;
+    }
+    EXPECT_EQ(at, 7u);
+    EXPECT_EQ(stream.frames_left(), 0u);
+    EXPECT_THROW(AnimationStream(b.scene, b.plan, FrameRange{500, 501}), InputError);
+}
+
+TEST(StreamAnimation, EveryStreamedFormEqualsTheWholeEncodingByteForByte) {
+    const Bay& b = bay();
+    const FrameRange range{3, 10};
+    for (Scene::Form form : {Scene::Form::morph, Scene::Form::nodes, Scene::Form::pc2})
+        for (Scene::Container container : {Scene::Container::glb, Scene::Container::gltf})
+            for (bool draco : {false, true}) {
+                if (draco && form == Scene::Form::pc2) continue;
+                Scene scene = b.scene;
+                scene.form = form;
+                scene.container = container;
+                if (draco) scene.draco = DracoOptions{};
+                SCOPED_TRACE(std::to_string(static_cast<int>(form)) + " container " + std::to_string(static_cast<int>(container)) +
+                             (draco ? " draco" : ""));
+                const SceneAnimation whole = animate_scene(scene, b.plan, 2e9, range);
+                const EncodedFiles expected = encode_animation(whole.view(), form, container, false, whole.caustics);
+                TempDir dir;
+                AnimationStream stream(scene, b.plan, range);
+                const StreamedAnimation out = stream_animation(stream, scene, dir.path.string(), false, 2);
+                ASSERT_EQ(out.files.size(), expected.size());
+                for (std::size_t i = 0; i < expected.size(); ++i) {
+                    EXPECT_EQ(out.files[i].first, expected[i].first);
+                    EXPECT_EQ(out.files[i].second, expected[i].second.size()) << expected[i].first;
+                    EXPECT_TRUE(slurp(dir.path / expected[i].first) == expected[i].second) << expected[i].first;
+                }
+                EXPECT_EQ(out.z_min, whole.z_min);
+                EXPECT_EQ(out.z_max, whole.z_max);
+                EXPECT_EQ(out.first.frame_count, 1u);
+                EXPECT_TRUE(std::equal(out.first.positions.begin(), out.first.positions.end(), whole.positions.begin()));
+                EXPECT_EQ(dir.entries(), expected.size() - whole.caustics.size() + 1);  // no temporary file left; the maps in caustics/
+            }
+}
+
+TEST(AnimationFileWriter, RefusesQuantisedAndUnfinishedFilesAndLeavesNothingBehind) {
+    const Bay& b = bay();
+    const SceneAnimation a = animate_scene(b.scene, b.plan, 2e9, FrameRange{0, 3});
+    TempDir dir;
+    const std::string path = (dir.path / "animation.glb").string();
+    MorphAnimationView quantised = a.view();
+    quantised.quantize = true;
+    EXPECT_THROW(AnimationFileWriter(path, AnimationFileWriter::Form::morph, false, quantised, 3), InputError);
+    {
+        AnimationFileWriter w(path, AnimationFileWriter::Form::morph, false, a.view(), 4);  // one frame never comes
+        w.append(a.view());
+        EXPECT_THROW(w.finish(), InputError);
+    }
+    EXPECT_EQ(dir.entries(), 0u);
+    {
+        AnimationFileWriter w(path, AnimationFileWriter::Form::nodes, false, a.view(), 3);
+        w.append(a.view());  // an exception here would leave it unfinished: the destructor cleans up
+    }
+    EXPECT_EQ(dir.entries(), 0u);
+    AnimationFileWriter w(path, AnimationFileWriter::Form::nodes, false, a.view(), 3);
+    w.append(a.view());
+    const auto files = w.finish();
+    ASSERT_EQ(files.size(), 1u);
+    EXPECT_EQ(files[0].second, fs::file_size(path));
+    EXPECT_EQ(slurp(path), gltf_nodes_glb(a.view()));
+    EXPECT_EQ(dir.entries(), 1u);
+}
+
+}  // namespace
