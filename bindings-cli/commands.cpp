@@ -603,6 +603,14 @@ StreamedAnimation stream_to_staging(const Scene& scene, const ScenePlan& plan, c
     }
 }
 
+// This process's resident memory (Linux /proc/self/statm; 0 when it cannot be read).
+double resident_bytes() {
+    std::ifstream statm("/proc/self/statm");
+    double pages = 0.0, resident = 0.0;
+    if (!(statm >> pages >> resident)) return 0.0;
+    return resident * static_cast<double>(::sysconf(_SC_PAGESIZE));
+}
+
 double ms_since(std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
 }
@@ -734,7 +742,7 @@ int run_validate(const std::string& path, bool as_json, double max_memory_gb) {
     // what a run would hold and write; /refine's subdivision is predicted, not built, and
     // the run's own limits are checked as `wave run` checks them.
     const ScenePlan plan = plan_scene(scene, PlanStages::surface);
-    const RunEstimate e = estimate_run(scene, plan);
+    const RunEstimate e = estimate_run(scene, plan, resident_bytes());  // this process now holds what wave run's plan holds
     const double max_bytes = max_memory_gb * 1e9;
     check_run_limits(scene, e, scene.form == Scene::Form::files || streamed_form(scene) ? files_form_chunk(e, max_bytes) : e.frames, max_bytes);
     const std::string_view form = form_name(scene.form);

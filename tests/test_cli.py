@@ -1688,6 +1688,59 @@ class Limits(unittest.TestCase):
             self.assertAlmostEqual(frames / 11 / per_frame_estimate, 1.0, delta=0.3)
 
 
+class Streaming(unittest.TestCase):
+    """A long animation is written a chunk of frames at a time (docs/export.md, "Streamed
+    output"): under an address-space cap several times below its output, every form
+    finishes with valid files; the quantised single file, which holds every frame, is
+    refused by the same cap."""
+
+    UNDER_ASAN = "ASAN_OPTIONS" in os.environ  # ASan reserves terabytes of address space
+    SCENE = {"name": "long ocean", "surface": {"kind": "ocean"},
+             "ocean": {"resolution": 128, "size": 200, "spectrum": "phillips", "wind_speed": 12, "repeat_time": 60,
+                       "seed": 3},
+             "animation": {"fps": 24}}
+    CAP = 320 << 20  # bytes of address space (libraries, two worker threads' stacks and arenas, the plan)
+
+    def run_capped(self, d, *extra):
+        path = os.path.join(d, "long.json")
+        with open(path, "w") as f:
+            json.dump(self.SCENE, f)
+
+        def cap():
+            resource.setrlimit(resource.RLIMIT_AS, (self.CAP, self.CAP))
+        out = os.path.join(d, "out-" + "-".join(a.strip("-") for a in extra))
+        r = subprocess.run([WAVE, "run", path, "-q", "--threads", "2", "-o", out, *extra], capture_output=True, text=True,
+                           timeout=600, preexec_fn=None if self.UNDER_ASAN else cap)
+        return r, out
+
+    def test_a_long_animation_streams_under_a_memory_cap_far_below_its_size(self):
+        if self.UNDER_ASAN:
+            self.skipTest("address-space caps do not apply under ASan")
+        with tempfile.TemporaryDirectory() as d:
+            for form in ("morph", "nodes", "pc2", "files"):
+                r, out = self.run_capped(d, "--form", form)
+                self.assertEqual(r.returncode, 0, form + ": " + r.stderr)
+                total = sum(p.stat().st_size for p in pathlib.Path(out).rglob("*") if p.is_file())
+                self.assertGreater(total, 1.7 * self.CAP, form)  # the cap is far below what was written (pc2: 1.8×, the others ≥ 2.7×)
+                self.assertEqual([p.name for p in pathlib.Path(out).iterdir() if p.name.startswith(".")], [], form)
+                with open(os.path.join(out, "report.json")) as f:
+                    self.assertEqual(json.load(f)["surface"]["frames"], 1440)
+                shutil.rmtree(out)
+            # The morph file: a valid glTF whose last frame's target is there (validated
+            # on a shorter loop of the same ocean: the validator itself holds the file).
+            self.SCENE = dict(self.SCENE, ocean=dict(self.SCENE["ocean"], repeat_time=5))
+            r, out = self.run_capped(d, "--form", "morph")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            validate_gltf(self, os.path.join(out, "animation.glb"))
+            doc, _ = read_glb(os.path.join(out, "animation.glb"))
+            self.assertEqual(len(doc["meshes"][0]["primitives"][0]["targets"]), 120)
+            self.SCENE = Streaming.SCENE
+            # Quantised, the single file holds every frame: the same cap refuses it.
+            r, out = self.run_capped(d, "--form", "morph", "--quantize")
+            self.assertNotEqual(r.returncode, 0)
+            self.assertFalse(os.path.exists(out), "no partial output")
+
+
 class Batch(unittest.TestCase):
     SCENES = {
         "bay.json": {"waves": [{"period": 5, "amplitude": 0.3}], "trace": {"ray_spacing": 2},

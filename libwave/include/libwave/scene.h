@@ -304,7 +304,10 @@ std::size_t scene_loop_frames(const Scene& scene, const ScenePlan& plan);
 
 /// Also for a plan of PlanStages::surface: /refine's vertex count is then predicted from
 /// the coarse triangles (uniform subdivision's count; an upper bound for adaptive).
-RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan);
+/// `planned_resident_bytes`: the resident memory of a process that has just planned the
+/// scene (`wave validate` measures its own: the process, its libraries and the plan as
+/// `wave run` will hold them); 0 = modelled from the surface's vertex count.
+RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double planned_resident_bytes = 0.0);
 
 /// The limits of a run, checked by `wave validate`, by `wave run` before the refinement
 /// is planned, and by animate_scene: the loop's estimate.frames within

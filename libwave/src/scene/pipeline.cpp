@@ -471,7 +471,7 @@ MorphAnimationView SceneAnimation::view() const {
     return v;
 }
 
-RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan) {
+RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double planned_resident_bytes) {
     RunEstimate e;
     const Refinement* refined = plan.refinement.fine_vertices > 0 ? &plan.refinement : nullptr;
     const std::size_t coarse_triangles = surface_triangles(scene, plan).size() / 3;
@@ -532,12 +532,16 @@ RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan) {
         e.output_bytes += frames * 1.2 * pixels;
         caustic_work = 6.0 * pixels;
     }
-    // Measured on the default scene (peak RSS of wave run, each form): ~30 MB of
-    // process and libraries, ~1.5 kB per surface vertex of plan (isobaths, fronts, the
-    // OpenMesh strips, motion fields), refinement stencils ~12 weights per fine vertex;
-    // a single-file form holds its bytes three times at the end (tinygltf's buffer, the
-    // serialised stream, the file's string), the files form one chunk of frames.
-    const double plan_bytes = 30e6 + 1500.0 * static_cast<double>(plan.rest_x.size()) + (fine ? 96.0 * n : 0.0) + caustic_work;
+    // Without a measured plan: ~30 MB of process and libraries, ~1.5 kB per surface
+    // vertex of plan (isobaths, fronts, the OpenMesh strips, motion fields), measured on
+    // the default scene. Refinement stencils ~12 weights per fine vertex; a quantised
+    // single file holds its bytes twice at the end (the buffer and the file's string),
+    // the files form one chunk of frames, a streamed form one chunk and one frame.
+    const double planned = planned_resident_bytes > 0.0 ? planned_resident_bytes : 30e6 + 1500.0 * static_cast<double>(plan.rest_x.size());
+    // While frames run, ~12 MB more than a process that has only planned: the export's
+    // and Draco's code and buffers, the worker threads' stacks (measured over the
+    // examples, bench/memory_estimate.py).
+    const double plan_bytes = planned + 12e6 + (fine ? 96.0 * n : 0.0) + caustic_work;
     if (scene.form == Scene::Form::files) {  // one chunk of frames at a time, each encoded once
         const double chunk = static_cast<double>(files_form_chunk(e));
         e.peak_memory_bytes = plan_bytes + (e.frame_array_bytes + e.output_bytes) * chunk / frames;
@@ -549,7 +553,7 @@ RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan) {
         const double frame_out = (e.output_bytes - (scene.form == Scene::Form::pc2 ? 2.0 * (n * per_frame_vertex + uv0 + indices) : 0.0)) / frames;
         e.peak_memory_bytes = plan_bytes + e.frame_array_bytes * chunk / frames + 2.0 * frame_out + 4.0 * frames * frames + 6e3 * frames;
     } else {
-        e.peak_memory_bytes = plan_bytes + e.frame_array_bytes + 3.0 * e.output_bytes;
+        e.peak_memory_bytes = plan_bytes + e.frame_array_bytes + 2.0 * e.output_bytes;
     }
     return e;
 }
