@@ -257,7 +257,9 @@ struct RayStripTriMesh;  // the OpenMesh TriMesh (surface/ray_strips.cpp)
 
 /// The ray-strip surface of one traced train: one vertex per ray per front at its rest
 /// position (z = 0), with the ray's state there, and triangles between consecutive
-/// fronts. Flat arrays extracted once from the OpenMesh TriMesh it was built in.
+/// fronts. Flat arrays (vertex i = the fronts' point i); the OpenMesh TriMesh with the
+/// same vertices, faces and per-vertex properties is built from them where it is asked
+/// for (write_ray_strips_ply), so that planning never pays for it (docs/architecture.md).
 struct RayStrips {
     std::vector<std::uint32_t> ray, step;   ///< ray id and front number of each vertex
     std::vector<double> x, y;               ///< rest position (m)
@@ -269,7 +271,6 @@ struct RayStrips {
     std::vector<std::uint32_t> triangles;   ///< 3 per triangle, counter-clockwise seen from above
     double omega = 0.0;                     ///< ω of the train (rad/s)
     std::size_t degenerate_skipped = 0;     ///< zero-area cells left out (rays meeting on the shore)
-    std::shared_ptr<const detail::RayStripTriMesh> mesh;  ///< the TriMesh (for PLY output)
 
     std::size_t vertex_count() const noexcept { return x.size(); }
     std::size_t triangle_count() const noexcept { return triangles.size() / 3; }
@@ -280,7 +281,6 @@ struct RayStrips {
 /// shorter diagonal, which gives 2 triangles per cell, 3 where a ray was inserted or
 /// removed inside it. Crossing rays (caustics) keep their triangles (folded, not cut).
 /// Cells of zero area (AGROUND rays meeting on the shore) are left out and counted.
-/// Throws RuntimeError if OpenMesh rejects a face (non-manifold topology — a bug).
 RayStrips build_ray_strips(const FrontSet& fronts);
 
 /// The strips' per-vertex fields at other points, e.g. the water mesh (mesh_water):
@@ -289,7 +289,7 @@ RayStrips build_ray_strips(const FrontSet& fronts);
 /// that carry a wave (k > 0), the direction renormalised; ray, step and
 /// flag from the triangle's vertex of largest weight, caustic if any of its three is.
 /// Points off the strips keep still water: amplitude and k 0, the seafloor's depth.
-/// The result's triangles are `triangles`; it has no TriMesh (`mesh` empty). Parallel;
+/// The result's triangles are `triangles`. Parallel;
 /// independent of the thread count.
 RayStrips resample_ray_strips(const RayStrips& strips, const Seafloor& seafloor, std::span<const double> x,
                               std::span<const double> y, std::span<const std::uint32_t> triangles);
@@ -297,8 +297,9 @@ RayStrips resample_ray_strips(const RayStrips& strips, const Seafloor& seafloor,
 /// Binary little-endian PLY of the strips at rest, written by OpenMesh with the
 /// per-vertex properties as PLY vertex properties: ray, step (int); phase, k, omega,
 /// amplitude, depth, slope, rise, dir_x, dir_y (double); flag (uchar: 0 alive, 1 flat,
-/// 2 aground), caustic (uchar). Atomic write; throws RuntimeError if the file cannot
-/// be written.
+/// 2 aground), caustic (uchar). The strips are built into an OpenMesh TriMesh for it.
+/// Atomic write; throws RuntimeError if the file cannot be written, or if OpenMesh
+/// rejects a face (non-manifold topology — a bug).
 void write_ray_strips_ply(const RayStrips& strips, const std::string& path);
 
 }  // namespace wave

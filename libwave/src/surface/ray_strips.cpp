@@ -1,6 +1,6 @@
 // Gonzato's ray-strip surface (§3.3, fig. 11): the fronts of the adaptive tracer
-// tessellated into an OpenMesh TriMesh with per-vertex properties, then flattened
-// into arrays for the per-frame evaluators.
+// tessellated into the flat arrays the per-frame evaluators read; the OpenMesh TriMesh
+// with the per-vertex properties is built from them where it is asked for (the PLY).
 #include "libwave/errors.h"
 #include "libwave/io.h"
 #include "libwave/surface.h"
@@ -67,33 +67,28 @@ double doubled_area(const FrontSet& f, std::size_t a, std::size_t b, std::size_t
 }  // namespace
 
 RayStrips build_ray_strips(const FrontSet& f) {
-    auto tri = std::make_shared<detail::RayStripTriMesh>();
-    auto& m = tri->mesh;
+    // The flat arrays the evaluators read: one vertex per front point, in order.
     const std::size_t n = f.x.size();
-    m.reserve(n, 3 * n, 2 * n);
-    std::vector<OpenMesh::VertexHandle> vh(n);
-    std::vector<std::uint32_t> step_of(n);
-    for (std::size_t fr = 0; fr < f.front_count(); ++fr)
-        for (std::size_t i = f.front_offsets[fr]; i < f.front_offsets[fr + 1]; ++i) step_of[i] = static_cast<std::uint32_t>(fr);
-    for (std::size_t i = 0; i < n; ++i) {
-        const auto v = m.add_vertex({f.x[i], f.y[i], 0.0});
-        vh[i] = v;
-        m.property(tri->ray, v) = static_cast<int>(f.ray[i]);
-        m.property(tri->step, v) = static_cast<int>(step_of[i]);
-        m.property(tri->phase, v) = f.phase[i];
-        m.property(tri->k, v) = f.k[i];
-        m.property(tri->omega, v) = f.omega;
-        m.property(tri->amplitude, v) = f.amplitude[i];
-        m.property(tri->depth, v) = f.depth[i];
-        m.property(tri->slope, v) = f.slope[i];
-        m.property(tri->rise, v) = f.rise[i];
-        m.property(tri->dir_x, v) = f.dir_x[i];
-        m.property(tri->dir_y, v) = f.dir_y[i];
-        m.property(tri->flag, v) = static_cast<unsigned char>(f.flag[i]);
-        m.property(tri->caustic, v) = f.caustic[i];
-    }
-
     RayStrips out;
+    out.omega = f.omega;
+    out.ray.assign(f.ray.begin(), f.ray.end());
+    out.step.resize(n);
+    for (std::size_t fr = 0; fr < f.front_count(); ++fr)
+        for (std::size_t i = f.front_offsets[fr]; i < f.front_offsets[fr + 1]; ++i) out.step[i] = static_cast<std::uint32_t>(fr);
+    out.x = f.x;
+    out.y = f.y;
+    out.dir_x = f.dir_x;
+    out.dir_y = f.dir_y;
+    out.phase = f.phase;
+    out.k = f.k;
+    out.amplitude = f.amplitude;
+    out.depth = f.depth;
+    out.slope = f.slope;
+    out.rise = f.rise;
+    out.flag = f.flag;
+    out.caustic = f.caustic;
+    out.triangles.reserve(6 * n);
+
     const auto add_face = [&](std::size_t a, std::size_t b, std::size_t c) {
         // Zero area at rest: rays that met (on the shore) — no surface there.
         const double area2 = doubled_area(f, a, b, c);
@@ -102,9 +97,8 @@ RayStrips build_ray_strips(const FrontSet& f) {
             ++out.degenerate_skipped;
             return;
         }
-        if (!m.add_face(vh[a], vh[b], vh[c]).is_valid())
-            throw RuntimeError("ray strips: OpenMesh rejected a face between fronts " + std::to_string(step_of[a]) +
-                               " and " + std::to_string(step_of[c]) + " (non-manifold strip; please report)");
+        out.triangles.insert(out.triangles.end(), {static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b),
+                                                   static_cast<std::uint32_t>(c)});
     };
 
     // Rays are ordered along e = (−d_y, d_x), left of the travel direction d, so for a
@@ -144,51 +138,52 @@ RayStrips build_ray_strips(const FrontSet& f) {
         zip(p, p_end - 1, c, c_end - 1);
         for (std::size_t i = p_begin; i < p_end; ++i) index_in_previous[f.ray[i]] = -1;
     }
-
-    // The flat arrays the evaluators read, extracted once from the TriMesh.
-    out.omega = f.omega;
-    const auto take = [&](auto& dst, const auto& handle) {
-        dst.resize(m.n_vertices());
-        for (const auto v : m.vertices()) dst[static_cast<std::size_t>(v.idx())] = m.property(handle, v);
-    };
-    std::vector<int> ray, step;
-    std::vector<unsigned char> flag;
-    take(ray, tri->ray);
-    take(step, tri->step);
-    take(flag, tri->flag);
-    take(out.caustic, tri->caustic);
-    out.ray.assign(ray.begin(), ray.end());
-    out.step.assign(step.begin(), step.end());
-    out.flag.resize(flag.size());
-    for (std::size_t i = 0; i < flag.size(); ++i) out.flag[i] = static_cast<RayFlag>(flag[i]);
-    take(out.phase, tri->phase);
-    take(out.k, tri->k);
-    take(out.amplitude, tri->amplitude);
-    take(out.depth, tri->depth);
-    take(out.slope, tri->slope);
-    take(out.rise, tri->rise);
-    take(out.dir_x, tri->dir_x);
-    take(out.dir_y, tri->dir_y);
-    out.x.resize(m.n_vertices());
-    out.y.resize(m.n_vertices());
-    for (const auto v : m.vertices()) {
-        const auto& pt = m.point(v);
-        out.x[static_cast<std::size_t>(v.idx())] = pt[0];
-        out.y[static_cast<std::size_t>(v.idx())] = pt[1];
-    }
-    out.triangles.reserve(3 * m.n_faces());
-    for (const auto fh : m.faces())
-        for (const auto v : fh.vertices()) out.triangles.push_back(static_cast<std::uint32_t>(v.idx()));
-    out.mesh = std::move(tri);
     return out;
 }
 
+namespace {
+
+// The strips as an OpenMesh TriMesh with the per-vertex properties (the PLY's):
+// vertices and faces in the arrays' order. RuntimeError if OpenMesh rejects a face.
+void fill_trimesh(const RayStrips& s, detail::RayStripTriMesh& tri) {
+    auto& m = tri.mesh;
+    const std::size_t n = s.vertex_count();
+    m.reserve(n, 3 * n, s.triangle_count());
+    std::vector<OpenMesh::VertexHandle> vh(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto v = m.add_vertex({s.x[i], s.y[i], 0.0});
+        vh[i] = v;
+        m.property(tri.ray, v) = static_cast<int>(s.ray[i]);
+        m.property(tri.step, v) = static_cast<int>(s.step[i]);
+        m.property(tri.phase, v) = s.phase[i];
+        m.property(tri.k, v) = s.k[i];
+        m.property(tri.omega, v) = s.omega;
+        m.property(tri.amplitude, v) = s.amplitude[i];
+        m.property(tri.depth, v) = s.depth[i];
+        m.property(tri.slope, v) = s.slope[i];
+        m.property(tri.rise, v) = s.rise[i];
+        m.property(tri.dir_x, v) = s.dir_x[i];
+        m.property(tri.dir_y, v) = s.dir_y[i];
+        m.property(tri.flag, v) = static_cast<unsigned char>(s.flag[i]);
+        m.property(tri.caustic, v) = s.caustic[i];
+    }
+    for (std::size_t t = 0; t + 2 < s.triangles.size(); t += 3) {
+        const std::uint32_t a = s.triangles[t], b = s.triangles[t + 1], c = s.triangles[t + 2];
+        if (!m.add_face(vh[a], vh[b], vh[c]).is_valid())
+            throw RuntimeError("ray strips: OpenMesh rejected a face between fronts " + std::to_string(s.step[a]) +
+                               " and " + std::to_string(s.step[c]) + " (non-manifold strip; please report)");
+    }
+}
+
+}  // namespace
+
 void write_ray_strips_ply(const RayStrips& strips, const std::string& path) {
-    if (!strips.mesh) throw InputError("ray strips: no mesh to write (build the strips with build_ray_strips)");
+    detail::RayStripTriMesh tri;
+    fill_trimesh(strips, tri);
     std::ostringstream bytes(std::ios::binary);
     const OpenMesh::IO::Options options = OpenMesh::IO::Options::Binary | OpenMesh::IO::Options::LSB |
                                           OpenMesh::IO::Options::Custom;
-    if (!OpenMesh::IO::write_mesh(strips.mesh->mesh, bytes, ".ply", options))
+    if (!OpenMesh::IO::write_mesh(tri.mesh, bytes, ".ply", options))
         throw RuntimeError(path + ": OpenMesh could not encode the ray strips as PLY");
     write_file_atomic(path, bytes.view());
 }
