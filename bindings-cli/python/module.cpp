@@ -16,6 +16,7 @@
 #include <pybind11/stl.h>
 
 #include <memory>
+#include <filesystem>
 #include <string>
 
 namespace py = pybind11;
@@ -191,6 +192,31 @@ PYBIND11_MODULE(libwave, m) {
         },
         py::arg("scene"), py::arg("plan"), py::arg("first") = 0, py::arg("end") = py::none(),
         "Evaluates frames [first, end) of the loop: positions, normals, shading");
+
+    m.def(
+        "write_animation",
+        [](const wave::Scene& scene, const ScenePlan& plan, const std::string& folder, std::size_t first, py::object end,
+           std::size_t chunk) {
+            wave::FrameRange range{first, end.is_none() ? static_cast<std::size_t>(-1) : end.cast<std::size_t>()};
+            std::vector<std::pair<std::string, std::size_t>> files;
+            {
+                py::gil_scoped_release release;
+                wave::AnimationStream stream(scene, plan, range);
+                const bool whole = stream.first_frame() == 0 && stream.frame_count() == wave::scene_loop_frames(scene, plan);
+                if (chunk == 0) chunk = wave::files_form_chunk(wave::estimate_run(scene, plan));
+                std::filesystem::create_directories(folder);
+                files = wave::stream_animation(stream, scene, folder, whole, chunk).files;
+            }
+            py::list out;
+            for (const auto& [name, bytes] : files) out.append(py::make_tuple(name, bytes));
+            return out;
+        },
+        py::arg("scene"), py::arg("plan"), py::arg("folder"), py::arg("first") = 0, py::arg("end") = py::none(),
+        py::arg("chunk") = 0,
+        "Evaluates frames [first, end) of the loop a chunk at a time and writes the scene's form (morph, nodes or pc2, "
+        "not quantised; caustic maps too) into `folder` as they come, so that memory holds one chunk "
+        "(docs/export.md, \"Streamed output\"): the same bytes as `wave run`. chunk 0 = wave run's. Returns "
+        "[(file name, bytes)]");
 
     m.def(
         "preview",

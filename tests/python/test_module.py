@@ -70,6 +70,23 @@ def test_the_glb_is_byte_identical_to_wave_run(small, tmp_path):
     assert anim.frame_glb(3)[:4] == b"glTF"
 
 
+def test_write_animation_streams_the_same_files_as_wave_run(small, tmp_path):
+    scene, plan = small
+    path = tmp_path / "s.json"
+    path.write_text(json.dumps(SMALL))
+    out = tmp_path / "out"
+    subprocess.run([os.environ["WAVE_EXE"], "run", str(path), "-o", str(out), "-q"], check=True)
+    files = libwave.write_animation(scene, plan, str(tmp_path / "py"), chunk=7)  # 120 frames, 7 at a time
+    assert files == [("animation.glb", (out / "animation.glb").stat().st_size)]
+    assert (tmp_path / "py" / "animation.glb").read_bytes() == (out / "animation.glb").read_bytes()
+    # A slice, and a form the stream does not write
+    files = libwave.write_animation(scene, plan, str(tmp_path / "slice"), first=10, end=14)
+    assert [f[0] for f in files] == ["animation-frames-10-14.glb"]
+    quantised = libwave.parse_scene(dict(SMALL, outputs={"quantize": True}))
+    with pytest.raises(libwave.InputError, match="not streamed"):
+        libwave.write_animation(quantised, plan, str(tmp_path / "q"))
+
+
 def test_dict_and_json_text_give_the_same_scene():
     a = libwave.plan(libwave.parse_scene(SMALL))
     b = libwave.plan(libwave.parse_scene(json.dumps(SMALL)))
