@@ -90,16 +90,39 @@ BENCHMARK(BM_ocean_surface_frame)->Arg(256)->Arg(512)->Arg(1024)->Unit(benchmark
 // normals, Fresnel, fold foam with its faded past, the per-frame arrays), over a run of
 // 1 and 25 (13) frames at 24 fps: the first frame also computes the 18 past lattice
 // times, so the steady cost per frame is the difference over 24 (12) frames.
-void BM_ocean_scene_frames(benchmark::State& state) {
+// The open-ocean scene of a gale on an N² patch, seen from the example's camera.
+wave::Scene gale_scene(std::int64_t n) {
     wave::Scene scene;
     scene.surface_kind = wave::SurfaceKind::ocean;
-    scene.ocean = gale(state.range(0));
+    scene.ocean = gale(n);
     scene.camera = std::array<double, 3>{500.0, -600.0, 250.0};
+    return scene;
+}
+
+void BM_ocean_scene_frames(benchmark::State& state) {
+    const wave::Scene scene = gale_scene(state.range(0));
     const wave::ScenePlan plan = wave::plan_scene(scene);
     const std::size_t frames = static_cast<std::size_t>(state.range(1));
     for (auto _ : state) benchmark::DoNotOptimize(wave::animate_scene(scene, plan, 4e9, {0, frames}).foam.data());
     state.counters["frames"] = static_cast<double>(frames);
 }
 BENCHMARK(BM_ocean_scene_frames)->Args({256, 1})->Args({256, 25})->Args({1024, 1})->Args({1024, 13})->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The same frames as `wave run` now evaluates them (AnimationStream, docs/export.md
+// "Streamed output"): 4 frames at a time into arrays reused from chunk to chunk, so
+// only the first chunk meets fresh pages. Steady cost per frame: the difference of
+// the runs of 25 (13) and 1 frames over 24 (12).
+void BM_ocean_stream_frames(benchmark::State& state) {
+    const wave::Scene scene = gale_scene(state.range(0));
+    const wave::ScenePlan plan = wave::plan_scene(scene);
+    const std::size_t frames = static_cast<std::size_t>(state.range(1));
+    wave::SceneAnimation chunk;
+    for (auto _ : state) {
+        wave::AnimationStream stream(scene, plan, {0, frames});
+        while (stream.next(chunk, 4) > 0) benchmark::DoNotOptimize(chunk.foam.data());
+    }
+    state.counters["frames"] = static_cast<double>(frames);
+}
+BENCHMARK(BM_ocean_stream_frames)->Args({256, 1})->Args({256, 25})->Args({1024, 1})->Args({1024, 13})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace

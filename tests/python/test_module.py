@@ -57,12 +57,17 @@ def test_a_frame_alone_equals_the_same_frame_of_a_run(small):
     assert np.array_equal(one.foam[0], whole.foam[7])
 
 
-def test_the_glb_is_byte_identical_to_wave_run(small, tmp_path):
-    scene, plan = small
+def wave_run_small(tmp_path):
+    """SMALL written to s.json and run by the CLI into out/: (scene path, output folder)."""
     path = tmp_path / "s.json"
     path.write_text(json.dumps(SMALL))
     out = tmp_path / "out"
     subprocess.run([os.environ["WAVE_EXE"], "run", str(path), "-o", str(out), "-q"], check=True)
+    return path, out
+
+
+def test_the_glb_is_byte_identical_to_wave_run(small, tmp_path):
+    path, out = wave_run_small(tmp_path)
     anim = libwave.animate(libwave.read_scene(str(path)), libwave.plan(libwave.read_scene(str(path))))
     assert anim.glb("morph") == (out / "animation.glb").read_bytes()
     anim.write_glb(str(tmp_path / "py.glb"), "nodes")
@@ -72,10 +77,7 @@ def test_the_glb_is_byte_identical_to_wave_run(small, tmp_path):
 
 def test_write_animation_streams_the_same_files_as_wave_run(small, tmp_path):
     scene, plan = small
-    path = tmp_path / "s.json"
-    path.write_text(json.dumps(SMALL))
-    out = tmp_path / "out"
-    subprocess.run([os.environ["WAVE_EXE"], "run", str(path), "-o", str(out), "-q"], check=True)
+    _, out = wave_run_small(tmp_path)
     files = libwave.write_animation(scene, plan, str(tmp_path / "py"), chunk=7)  # 120 frames, 7 at a time
     assert files == [("animation.glb", (out / "animation.glb").stat().st_size)]
     assert (tmp_path / "py" / "animation.glb").read_bytes() == (out / "animation.glb").read_bytes()
