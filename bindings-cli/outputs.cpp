@@ -328,12 +328,11 @@ FilesFormRun write_files_form(const Scene& scene, const ScenePlan& plan, const s
             }) > 0) {
                 MorphAnimationView view = anim.view();
                 view.run_key = info.run_key;
-                const Files files = encode_animation(view, Scene::Form::files, scene.container, false, anim.caustics);
-                const std::size_t per_frame = files.size() / anim.frame_count;  // .glb, or .gltf + .bin
                 const std::size_t n = anim.vertex_count;
-                for (std::size_t k = 0; k < anim.frame_count; ++k) {
-                    const Files frame_files(files.begin() + static_cast<std::ptrdiff_t>(k * per_frame),
-                                            files.begin() + static_cast<std::ptrdiff_t>((k + 1) * per_frame));
+                for (std::size_t k = 0; k < anim.frame_count; ++k) {  // each frame encoded and written before the next
+                    const std::span<const std::string> map = anim.caustics.empty() ? std::span<const std::string>()
+                                                                                   : std::span<const std::string>(anim.caustics).subspan(k, 1);
+                    const Files frame_files = encode_animation(frame_subview(view, k, 1), Scene::Form::files, scene.container, false, map);
                     for (const auto& [name, bytes] : frame_files) {
                         fs::create_directories((run.partial / name).parent_path());
                         write_file_atomic((run.partial / name).string(), bytes);

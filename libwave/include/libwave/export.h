@@ -145,6 +145,11 @@ MorphAnimationView animation_view(const Frames& a) {
     return v;
 }
 
+/// Frames [first, first + count) of a view as a view of their own (its first_frame
+/// advanced; the per-frame arrays cut, the rest shared): e.g. one frame of a chunk
+/// encoded and written before the next is. Precondition: first + count <= frame_count.
+MorphAnimationView frame_subview(const MorphAnimationView& v, std::size_t first, std::size_t count);
+
 /// The largest float32 <= k / fps: nearest rounding lands some keys just after frame k
 /// and Blender then shows the previous frame there (docs/conventions.md, key times).
 float key_time(std::size_t k, double fps) noexcept;

@@ -145,6 +145,23 @@ void check(const MorphAnimationView& a, std::size_t first = 0, std::size_t count
 
 }  // namespace
 
+MorphAnimationView frame_subview(const MorphAnimationView& v, std::size_t first, std::size_t count) {
+    MorphAnimationView out = v;
+    const std::size_t n = v.vertex_count;
+    const auto cut = [&](std::span<const float> a, std::size_t width) {
+        return a.empty() ? a : a.subspan(width * n * first, width * n * count);
+    };
+    out.positions = cut(v.positions, 3);
+    out.normals = cut(v.normals, 3);
+    out.reflect = cut(v.reflect, 1);
+    out.refract = cut(v.refract, 1);
+    out.foam = cut(v.foam, 1);
+    out.colors = cut(v.colors, 3);
+    out.first_frame = v.first_frame + first;
+    out.frame_count = count;
+    return out;
+}
+
 float key_time(std::size_t k, double fps) noexcept {
     const double exact = static_cast<double>(k) / fps;
     float t = static_cast<float>(exact);

@@ -544,9 +544,9 @@ RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double plann
     // Draco's encoder holds ~650 B a vertex while it compresses a frame (measured: the
     // open ocean, the Okushiri coast).
     const double plan_bytes = planned + 12e6 + (fine ? 96.0 * n : 0.0) + caustic_work + (scene.draco ? 650.0 * n : 0.0);
-    if (scene.form == Scene::Form::files) {  // one chunk of frames at a time, each encoded once
+    if (scene.form == Scene::Form::files) {  // one chunk of frames at a time, each frame encoded and written alone
         const double chunk = static_cast<double>(files_form_chunk(e));
-        e.peak_memory_bytes = plan_bytes + (e.frame_array_bytes + e.output_bytes) * chunk / frames;
+        e.peak_memory_bytes = plan_bytes + e.frame_array_bytes * chunk / frames + 2.0 * e.output_bytes / frames;
     } else if (streamed_form(scene)) {
         // One chunk of frames, one frame's attributes being encoded (twice: glTF axes and
         // deltas), the one-hot weights or scales (frames² floats) and the glTF JSON's
