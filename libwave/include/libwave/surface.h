@@ -259,7 +259,7 @@ struct RayStripTriMesh;  // the OpenMesh TriMesh (surface/ray_strips.cpp)
 /// position (z = 0), with the ray's state there, and triangles between consecutive
 /// fronts. Flat arrays (vertex i = the fronts' point i); the OpenMesh TriMesh with the
 /// same vertices, faces and per-vertex properties is built from them where it is asked
-/// for (write_ray_strips_ply), so that planning never pays for it (docs/architecture.md).
+/// for (write_ray_strips_ply), so that planning never pays for it.
 struct RayStrips {
     std::vector<std::uint32_t> ray, step;   ///< ray id and front number of each vertex
     std::vector<double> x, y;               ///< rest position (m)

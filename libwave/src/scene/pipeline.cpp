@@ -543,7 +543,12 @@ RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double plann
     // examples, bench/memory_estimate.py).
     // Draco's encoder holds ~650 B a vertex while it compresses a frame (measured: the
     // open ocean, the Okushiri coast).
-    const double plan_bytes = planned + 12e6 + (fine ? 96.0 * n : 0.0) + caustic_work + (scene.draco ? 650.0 * n : 0.0);
+    // A run's own state beside the plan: the normals' vertex–face adjacency (~32 B a
+    // vertex) and, with an FFT ocean, its transform buffers (8 spectra and fields,
+    // ~68 B a lattice cell).
+    const double lattice = static_cast<double>(plan.ocean.n) * static_cast<double>(plan.ocean.n);
+    const double run_state = 32.0 * n + 68.0 * lattice;
+    const double plan_bytes = planned + 12e6 + run_state + (fine ? 96.0 * n : 0.0) + caustic_work + (scene.draco ? 650.0 * n : 0.0);
     if (scene.form == Scene::Form::files) {  // one chunk of frames at a time, each frame encoded and written alone
         const double chunk = static_cast<double>(files_form_chunk(e));
         e.peak_memory_bytes = plan_bytes + e.frame_array_bytes * chunk / frames + 2.0 * e.output_bytes / frames;
