@@ -548,19 +548,21 @@ RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double plann
     // ~68 B a lattice cell).
     const double lattice = static_cast<double>(plan.ocean.n) * static_cast<double>(plan.ocean.n);
     const double run_state = 32.0 * n + 68.0 * lattice;
-    const double plan_bytes = planned + 12e6 + run_state + (fine ? 96.0 * n : 0.0) + caustic_work + (scene.draco ? 650.0 * n : 0.0);
+    const double base = planned + 12e6 + run_state + (fine ? 96.0 * n : 0.0) + caustic_work + (scene.draco ? 650.0 * n : 0.0);
+    // The ray strips' PLY, written when the frames are done: their OpenMesh TriMesh and
+    // the file's bytes (~400 B a strip vertex, measured on Gonzato's island).
+    const double ply = 400.0 * static_cast<double>(plan.strips.vertex_count());
+    const double chunk = static_cast<double>(files_form_chunk(e));
     if (scene.form == Scene::Form::files) {  // one chunk of frames at a time, each frame encoded and written alone
-        const double chunk = static_cast<double>(files_form_chunk(e));
-        e.peak_memory_bytes = plan_bytes + e.frame_array_bytes * chunk / frames + 2.0 * e.output_bytes / frames;
+        e.peak_memory_bytes = base + std::max(ply, e.frame_array_bytes * chunk / frames + 2.0 * e.output_bytes / frames);
     } else if (streamed_form(scene)) {
         // One chunk of frames, one frame's attributes being encoded (twice: glTF axes and
         // deltas), the one-hot weights or scales (frames² floats) and the glTF JSON's
-        // model (~2 kB a frame, held by tinygltf and nlohmann at the end).
-        const double chunk = static_cast<double>(files_form_chunk(e));
+        // model (~6 kB a frame while tinygltf and nlohmann serialise it at the end).
         const double frame_out = (e.output_bytes - (scene.form == Scene::Form::pc2 ? 2.0 * (n * per_frame_vertex + uv0 + indices) : 0.0)) / frames;
-        e.peak_memory_bytes = plan_bytes + e.frame_array_bytes * chunk / frames + 2.0 * frame_out + 4.0 * frames * frames + 6e3 * frames;
-    } else {
-        e.peak_memory_bytes = plan_bytes + e.frame_array_bytes + 2.0 * e.output_bytes;
+        e.peak_memory_bytes = base + std::max(ply, e.frame_array_bytes * chunk / frames + 2.0 * frame_out + 4.0 * frames * frames + 6e3 * frames);
+    } else {  // every frame's arrays, and the encoded files held until they are published
+        e.peak_memory_bytes = base + e.frame_array_bytes + 2.0 * e.output_bytes + ply;
     }
     return e;
 }
