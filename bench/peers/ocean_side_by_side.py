@@ -18,7 +18,7 @@ peer = {int(m.group(1)): float(m.group(2))
         for m in re.finditer(r"BLENDER-OCEAN grid=(\d+) vertices=\d+ ms_per_frame=([\d.]+)", blender.stdout)}
 if not peer:
     sys.exit("blender produced no measurement:\n" + blender.stdout[-2000:] + blender.stderr[-2000:])
-ours = subprocess.run([bench, "--benchmark_filter=BM_fftw_floor|BM_ocean_surface_frame|BM_ocean_scene_frames",
+ours = subprocess.run([bench, "--benchmark_filter=BM_fftw_floor|BM_ocean_surface_frame|BM_ocean_stream_frames",
                        "--benchmark_format=json"], capture_output=True, text=True, timeout=1800, check=True)
 times = {b["name"].replace("/real_time", ""): b["real_time"] for b in json.loads(ours.stdout)["benchmarks"]}
 for grid in sorted(peer):
@@ -26,8 +26,9 @@ for grid in sorted(peer):
     surface = times[f"BM_ocean_surface_frame/{grid}"]
     line = (f"grid {grid}²: Blender {peer[grid]:.1f} ms/frame; libwave surface frame {surface:.1f} ms "
             f"({peer[grid] / surface:.1f}x faster), FFTW floor {floor:.1f} ms ({surface / floor:.2f}x the floor)")
-    # `wave run`'s steady cost per frame: a run of F frames minus a run of 1, over F − 1.
-    runs = {int(k.split("/")[2]): v for k, v in times.items() if k.startswith(f"BM_ocean_scene_frames/{grid}/")}
+    # `wave run`'s steady cost per frame (its streamed path, arrays reused from chunk to
+    # chunk): a run of F frames minus a run of 1, over F − 1.
+    runs = {int(k.split("/")[2]): v for k, v in times.items() if k.startswith(f"BM_ocean_stream_frames/{grid}/")}
     if len(runs) == 2:
         many = max(runs)
         steady = (runs[many] - runs[1]) / (many - 1)
