@@ -311,9 +311,10 @@ RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double plann
 
 /// The limits of a run, checked by `wave validate`, by `wave run` before the refinement
 /// is planned, and by animate_scene: the loop's estimate.frames within
-/// /animation/max_frames, and the per-frame arrays of the `frames` held at once of the
-/// estimate's surface within `max_bytes`. LimitError naming the scene keys that shrink
-/// it and `wave run --max-memory-gb`.
+/// /animation/max_frames, the per-frame arrays of the `frames` held at once of the
+/// estimate's surface within `max_bytes`, and the estimate's peak_memory_bytes (0 = not
+/// estimated) within `max_bytes` too. LimitError naming the scene keys that shrink it
+/// and `wave run --max-memory-gb`.
 void check_run_limits(const Scene& scene, const RunEstimate& estimate, std::size_t frames, double max_bytes);
 
 /// How many frames the `files` form computes, writes and indexes at a time: it never

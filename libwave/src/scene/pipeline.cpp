@@ -567,6 +567,17 @@ RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double plann
     return e;
 }
 
+namespace {
+
+// What lowers a run's memory, or raises its limit: the end of both memory refusals.
+std::string memory_advice(const Scene& scene) {
+    return (scene.refine ? std::string("lower /refine/level, or ") : std::string()) +
+           (scene.quantize ? std::string("drop /outputs/quantize (unquantised files are streamed), or ") : std::string()) +
+           std::string(detail::surface_model(scene.surface_kind).size_keys) + ", or raise the limit (wave run --max-memory-gb)";
+}
+
+}  // namespace
+
 void check_run_limits(const Scene& scene, const RunEstimate& e, std::size_t frames, double max_bytes) {
     if (e.frames > scene.max_frames)
         throw LimitError("scene: the loop holds " + detail::format_count(e.frames) + " frames (at " + fmt(scene.fps) +
@@ -574,14 +585,17 @@ void check_run_limits(const Scene& scene, const RunEstimate& e, std::size_t fram
                          "; lower /animation/fps, or raise /animation/max_frames");
     const bool shaded = scene.attributes != Scene::Attributes::none;
     const double bytes_per_vertex = 24.0 + (shaded ? 12.0 : 0.0) + (scene.color ? 12.0 : 0.0);
-    if (!(static_cast<double>(frames) * static_cast<double>(e.vertices) * bytes_per_vertex > max_bytes)) return;
-    throw LimitError("scene: the animation would hold " + detail::format_count(frames) + " frames of " +
-                     detail::format_count(e.vertices) + " vertices (over " + fmt(max_bytes / 1e9) +
-                     " GB of per-frame arrays); " +
-                     (scene.refine ? std::string("lower /refine/level, or ") : std::string()) +
-                     (scene.quantize ? std::string("drop /outputs/quantize (unquantised files are streamed), or ") : std::string()) +
-                     std::string(detail::surface_model(scene.surface_kind).size_keys) +
-                     ", or raise the limit (wave run --max-memory-gb)");
+    if (static_cast<double>(frames) * static_cast<double>(e.vertices) * bytes_per_vertex > max_bytes)
+        throw LimitError("scene: the animation would hold " + detail::format_count(frames) + " frames of " +
+                         detail::format_count(e.vertices) + " vertices (over " + fmt(max_bytes / 1e9) +
+                         " GB of per-frame arrays); " + memory_advice(scene));
+    // The whole run's peak (a streamed run holds a chunk of frames, but its plan, e.g. a
+    // subdivision's stencils, can still outgrow the machine).
+    if (e.peak_memory_bytes > max_bytes)
+        throw LimitError("scene: a run would need about " + fmt(std::ceil(e.peak_memory_bytes / 1e7) / 100.0) +
+                         " GB of memory at its peak (" + detail::format_count(e.vertices) + " vertices: the plan, " +
+                         detail::format_count(frames) + (frames == 1 ? " frame" : " frames") +
+                         " at a time and the files), over the limit of " + fmt(max_bytes / 1e9) + " GB; " + memory_advice(scene));
 }
 
 std::size_t files_form_chunk(const RunEstimate& e, double max_bytes) {
