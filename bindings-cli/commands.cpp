@@ -491,7 +491,9 @@ void print_run_text(const RunSummary& r) {
     std::cout << "animation  " << r.frames << " frames at " << scene.fps << " fps, loop " << plan.loop_period
               << " s, heights " << r.z_min << " .. " << r.z_max << " m\n"
               << "time       plan " << r.plan_ms << " ms, frames " << r.frames_ms / static_cast<double>(std::max<std::size_t>(r.frames, 1))
-              << " ms each, export " << r.export_ms << " ms\n"
+              << (scene.form == Scene::Form::files || streamed_form(scene)
+                      ? std::string(" ms each, each chunk written as it came\n")  // the frames' time holds the export
+                      : " ms each, export " + std::to_string(static_cast<long long>(std::llround(r.export_ms))) + " ms\n")
               << "wrote      " << r.out_dir << "/"
               << (scene.form == Scene::Form::files ? "frames/ + index.json (" + std::to_string(animation_files) + " files"
                   : scene.form == Scene::Form::nodes ? shown_name + " (" + std::to_string(r.frames) + " scale-switched nodes"
