@@ -372,41 +372,6 @@ struct Pc2Stream {
     }
 };
 
-// Frame 0 of `a` alone (every per-frame array cut to it; the rest copied).
-SceneAnimation first_frame_of(const SceneAnimation& a) {
-    SceneAnimation one;
-    const std::size_t n = a.vertex_count;
-    const auto head = [](const std::vector<float>& v, std::size_t count) {
-        return std::vector<float>(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(std::min(count, v.size())));
-    };
-    one.vertex_count = n;
-    one.frame_count = 1;
-    one.first_frame = a.first_frame;
-    one.loop_frames = a.loop_frames;
-    one.positions = head(a.positions, 3 * n);
-    one.normals = head(a.normals, 3 * n);
-    one.texcoords = a.texcoords;
-    one.reflect = head(a.reflect, n);
-    one.refract = head(a.refract, n);
-    one.foam = head(a.foam, n);
-    one.colors = head(a.colors, 3 * n);
-    one.layout = a.layout;
-    one.draco = a.draco;
-    one.quantize = a.quantize;
-    one.z_min = a.z_min;
-    one.z_max = a.z_max;
-    one.fps = a.fps;
-    one.triangles = a.triangles;
-    one.scene = a.scene;
-    one.seafloor_positions = a.seafloor_positions;
-    one.seafloor_colors = a.seafloor_colors;
-    one.seafloor_triangles = a.seafloor_triangles;
-    one.dressing = a.dressing;
-    if (!a.caustics.empty()) one.caustics = {a.caustics.front()};
-    one.seafloor_texcoords = a.seafloor_texcoords;
-    return one;
-}
-
 }  // namespace
 
 StreamedAnimation stream_animation(AnimationStream& stream, const Scene& scene, const std::string& folder, bool whole,
@@ -425,9 +390,11 @@ StreamedAnimation stream_animation(AnimationStream& stream, const Scene& scene, 
     std::vector<std::string> maps;  // caustic maps written, in order
     SceneAnimation a;
     try {
-        while (stream.next(a, std::max<std::size_t>(1, chunk), progress) > 0) {
+        // The range's first frame alone first (the file's settings, and the frame kept
+        // for the caller), then `chunk` frames at a time.
+        while (stream.next(a, stream.frames_left() == frames ? 1 : std::max<std::size_t>(1, chunk), progress) > 0) {
             const MorphAnimationView view = a.view();
-            if (a.first_frame == stream.first_frame()) {  // the first chunk: the file's settings, and frame 0 kept
+            if (a.first_frame == stream.first_frame()) {
                 if (scene.form == Scene::Form::pc2) {
                     pc2.start(view, frames, scene.container, small);
                 } else {
@@ -435,7 +402,7 @@ StreamedAnimation stream_animation(AnimationStream& stream, const Scene& scene, 
                     glb.emplace(path, scene.form == Scene::Form::morph ? AnimationFileWriter::Form::morph : AnimationFileWriter::Form::nodes,
                                 gltf, view, frames);
                 }
-                out.first = first_frame_of(a);
+                out.first = a;
             }
             if (glb) glb->append(view);
             else pc2.add(view);
