@@ -13,13 +13,14 @@ packages=(
   libgdal-dev gdal-bin
   libgtest-dev libgmock-dev libbenchmark-dev
   pybind11-dev python3-pybind11 python3 python3-dev python3-numpy python3-pytest python3-jsonschema
+  python3-venv python3-pip doxygen
   nodejs
   slurm-wlm munge
   libcpp-httplib-dev libssl-dev
 )
 # `--tests`: also what only the tests need (Chromium for the viewer's browser test,
-# clang and its runtimes for the libFuzzer targets).
-if [[ ${1:-} == --tests ]]; then packages+=(chromium clang libclang-rt-14-dev); fi
+# clang and its runtimes for the libFuzzer targets, mypy for the Python stubs' check).
+if [[ ${1:-} == --tests ]]; then packages+=(chromium clang libclang-rt-14-dev python3-mypy); fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -17,6 +17,31 @@ if(NOT last_output MATCHES "0\\.7093")
   message(FATAL_ERROR "dispersion_table printed an unexpected table:\n${last_output}")
 endif()
 message(STATUS "installed libwave consumed by examples/:\n${last_output}")
+# A consumer of the core component alone links none of the other components' heavy
+# dependencies: no GDAL, Embree, Draco or OpenSubdiv in its ldd (a static build links
+# what core uses; a shared one loads libwave_core.so and what it needs).
+run(ldd ${CONSUMER_DIR}/dispersion_table)
+foreach(heavy gdal embree draco osd wave_io wave_export wave_preview wave_refine wave_scene)
+  if(last_output MATCHES "lib${heavy}")
+    message(FATAL_ERROR "dispersion_table (libwave::core only) loads lib${heavy}:\n${last_output}")
+  endif()
+endforeach()
+string(REGEX MATCHALL "\n" lines "${last_output}")
+list(LENGTH lines ldd_count)
+message(STATUS "libwave::core consumer: ${ldd_count} shared libraries, none of GDAL, Embree, Draco, OpenSubdiv")
+# examples/pipeline.cpp: the Okushiri grid through every stage to one frame, equal bit for
+# bit to the scene pipeline's (it exits 1 otherwise); the frame through the validator.
+run(${CONSUMER_DIR}/pipeline ${DATA_DIR}/bathymetry/okushiri_monai_lab1to400_1p4cm.asc ${CONSUMER_DIR}/frame3.glb 3)
+if(NOT last_output MATCHES "bit for bit")
+  message(FATAL_ERROR "pipeline did not compare its frame:\n${last_output}")
+endif()
+message(STATUS "examples/pipeline.cpp:\n${last_output}")
+if(GLTF_VALIDATOR)
+  run(node ${GLTF_VALIDATOR} ${CONSUMER_DIR}/frame3.glb)
+  if(NOT last_output MATCHES "\"numErrors\":0,\"numWarnings\":0")
+    message(FATAL_ERROR "frame3.glb is not valid glTF:\n${last_output}")
+  endif()
+endif()
 # The installed Python module imports from the prefix (Debian's dist-packages layout).
 if(PYTHON_MODULE_DIR)
   execute_process(COMMAND ${CMAKE_COMMAND} -E env PYTHONPATH=${PREFIX}/${PYTHON_MODULE_DIR}

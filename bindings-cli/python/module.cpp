@@ -11,6 +11,9 @@
 #include "libwave/underwater.h"
 #include "libwave/version.h"
 
+#include "arrays.h"
+
+#include <nlohmann/json.hpp>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -21,25 +24,32 @@
 
 namespace py = pybind11;
 
+namespace libwave_python {
+void bind_stages(py::module_& m);  // stages.cpp
+}
+
 namespace {
 
+using libwave_python::view;
 using wave::SceneAnimation;
 using wave::ScenePlan;
 
-// A NumPy view of a std::vector owned by the Python object `owner` (kept alive by the
-// array's base), shaped as given.
-template <class T>
-py::array view(const std::vector<T>& data, std::vector<py::ssize_t> shape, const py::object& owner) {
-    std::vector<py::ssize_t> strides(shape.size());
-    py::ssize_t step = sizeof(T);
-    for (std::size_t i = shape.size(); i-- > 0;) {
-        strides[i] = step;
-        step *= shape[i];
+// JSON text of a Python value (dict, list, str, number) by Python's json module.
+std::string json_text(const py::object& value) {
+    if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+    return py::module_::import("json").attr("dumps")(value).cast<std::string>();
+}
+
+// The scene with the value at a JSON pointer of its document replaced (or added), parsed
+// again: every rule of parse_scene applies, and an error names the key.
+wave::Scene scene_with(const wave::Scene& s, const std::string& pointer, const std::string& value_json) {
+    nlohmann::json doc = nlohmann::json::parse(s.document);
+    try {
+        doc[nlohmann::json::json_pointer(pointer)] = nlohmann::json::parse(value_json);
+    } catch (const nlohmann::json::exception& e) {
+        throw wave::InputError("Scene.set: " + pointer + ": " + e.what());
     }
-    if (data.empty()) return py::array_t<T>(shape);
-    py::array a(py::dtype::of<T>(), shape, strides, data.data(), owner);
-    py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;  // libwave's buffers
-    return a;
+    return wave::parse_scene(doc.dump(), "Scene.set(\"" + pointer + "\")", s.base_dir);
 }
 
 std::string mesh_form_bytes(const SceneAnimation& a, const std::string& form) {
@@ -52,7 +62,7 @@ std::string mesh_form_bytes(const SceneAnimation& a, const std::string& form) {
 
 }  // namespace
 
-PYBIND11_MODULE(libwave, m) {
+PYBIND11_MODULE(_libwave, m) {
     m.doc() = "libwave: coastal wave tracing and animated water meshes (scene → plan → frames → glTF)";
     m.attr("__version__") = wave::version();
 
@@ -79,12 +89,48 @@ PYBIND11_MODULE(libwave, m) {
         }
     });
 
-    py::class_<wave::Scene>(m, "Scene", "A validated scene (docs/scene.md)")
+    py::class_<wave::Scene>(m, "Scene",
+                            "A validated scene (docs/scene.md). Scene(dict or JSON text, base_dir) parses one; to_dict() "
+                            "gives its document back and set(pointer, value) changes a key, checked as in a file")
+        .def(py::init([](const py::object& document, const std::string& base_dir) {
+                 const std::string text = json_text(document);
+                 py::gil_scoped_release release;
+                 return wave::parse_scene(text, "<python>", base_dir);
+             }),
+             py::arg("document"), py::arg("base_dir") = ".")
         .def_readonly("name", &wave::Scene::name)
         .def_readonly("fps", &wave::Scene::fps)
+        .def_readonly("base_dir", &wave::Scene::base_dir, "the folder relative seafloor paths are resolved against")
         .def_property_readonly("surface_kind", [](const wave::Scene& s) {
             return std::string(wave::surface_kind_name(s.surface_kind));
-        });
+        })
+        .def("to_dict", [](const wave::Scene& s) { return py::module_::import("json").attr("loads")(s.document); },
+             "The scene's document as written (defaults not filled in): Scene(scene.to_dict(), scene.base_dir) is "
+             "the same scene")
+        .def(
+            "get",
+            [](const wave::Scene& s, const std::string& pointer) {
+                const nlohmann::json doc = nlohmann::json::parse(s.document);
+                std::string value;
+                try {
+                    const nlohmann::json::json_pointer ptr(pointer);
+                    if (!doc.contains(ptr)) throw wave::InputError("Scene.get: " + pointer + " is not set in the scene");
+                    value = doc[ptr].dump();
+                } catch (const nlohmann::json::exception& e) {
+                    throw wave::InputError("Scene.get: " + pointer + ": " + e.what());
+                }
+                return py::module_::import("json").attr("loads")(value);
+            },
+            py::arg("pointer"), "The value at a JSON pointer of the document (e.g. \"/waves/0/period\")")
+        .def(
+            "set",
+            [](wave::Scene& s, const std::string& pointer, const py::object& value) {
+                s = scene_with(s, pointer, json_text(value));
+            },
+            py::arg("pointer"), py::arg("value"),
+            "Sets the value at a JSON pointer (e.g. \"/waves/0/period\", \"/outputs/form\") and validates the "
+            "scene again; on an error (InputError naming the key) the scene is unchanged")
+        .def("__repr__", [](const wave::Scene& s) { return "libwave.Scene(" + s.document + ")"; });
     m.def("default_scene", &wave::default_scene, "The built-in default scene (Gonzato's bay with a swell)");
     m.def("read_scene", &wave::read_scene, py::arg("path"), py::call_guard<py::gil_scoped_release>(),
           "Reads and validates a scene file; raises InputError naming the file and JSON pointer");
@@ -92,8 +138,7 @@ PYBIND11_MODULE(libwave, m) {
         "parse_scene",
         [](py::object doc, const std::string& origin, const std::string& base_dir) {
             // A dict is serialised by Python's json module; a str is JSON text.
-            const std::string text = py::isinstance<py::str>(doc) ? doc.cast<std::string>()
-                                                                  : py::module_::import("json").attr("dumps")(doc).cast<std::string>();
+            const std::string text = json_text(doc);
             py::gil_scoped_release release;
             return wave::parse_scene(text, origin, base_dir);
         },
@@ -269,6 +314,8 @@ PYBIND11_MODULE(libwave, m) {
         "The caustics a frame (index within the animation) focuses onto the seafloor under the scene's sun "
         "(docs/underwater.md): (height, width) float32 irradiance relative to the sun's on flat water, row 0 at the "
         "seafloor's largest y; the scene's /underwater water, or coastal water; map_size 0 = the scene's (512)");
+
+    libwave_python::bind_stages(m);
 
     m.def(
         "linear_wave",

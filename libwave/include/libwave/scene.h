@@ -146,6 +146,12 @@ struct Scene {
     /// Refuse loops of more frames (LimitError before any frame is computed); the
     /// scene key /animation/max_frames raises it.
     std::size_t max_frames = 100'000;
+    /// The scene as it was written: the JSON document parse_scene read (compact, keys as
+    /// given, defaults not filled in) and the folder its relative paths are resolved
+    /// against. parse_scene(document, origin, base_dir) gives this scene again: the
+    /// Python module's Scene.to_dict() and Scene.set() edit it and parse it again.
+    std::string document = "{}";
+    std::string base_dir = ".";
 };
 
 /// The built-in default scene: Gonzato's bay with a 5 s swell, ray strips animated by

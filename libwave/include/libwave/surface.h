@@ -109,6 +109,15 @@ struct WaterMesh {
 /// The target edge length (m, > 0, finite) at a wet point (x, y).
 using EdgeSize = std::function<double(double x, double y)>;
 
+/// The water mesh's sizing for one wave train (the scenes' /surface/water_mesh): the
+/// local linear wavelength over `per_wavelength`, the depth taken no shallower than where
+/// the train breaks (H∞/γ = 2 A∞ / breaker_index, at least 1 mm), so that the surf zone
+/// keeps the breaking depth's resolution up to the shore. The function reads
+/// `seafloor`, which must outlive it. Throws InputError unless per_wavelength and
+/// breaker_index are > 0 and the train is valid.
+EdgeSize wavelength_edge_size(const Seafloor& seafloor, const WaveTrain& train, double per_wavelength,
+                              double breaker_index = kBreakerIndex);
+
 /// Constrained Delaunay triangulation of the seafloor's rectangle with the shoreline
 /// (h = 0, sliced as extract_isobaths does) as constraints, refined (CGAL Mesh_2) until
 /// every wet triangle's longest edge is at most `size` at its centroid and its smallest

@@ -123,10 +123,11 @@ struct FrontOptions {
     double step = 0.4;            ///< step length along every ray per front (m); bay: 0.4
     double split_distance = 1.2;  ///< insert a ray where neighbours are farther apart (m); bay: 1.2
     double flat_amplitude = 0.005;  ///< FLAT below this amplitude (m)
-    /// A ray that has turned through more than this (rad) is removed as trapped:
-    /// refraction round an island's shelf sends rays into closed orbits (2π: a full
-    /// circle; π: once it heads back out to sea).
-    double max_turn = 2.0 * 3.141592653589793;
+    /// A ray that has turned through more than this (degrees, as the scene key
+    /// /fronts/max_turn_degrees) is removed as trapped: refraction round an island's
+    /// shelf sends rays into closed orbits (360: a full circle; 180: once it heads back
+    /// out to sea). In (0, 720].
+    double max_turn_degrees = 360.0;
     std::size_t max_rays = 1'000'000;  ///< guard rail on live + inserted rays (as /trace/max_rays)
     std::size_t max_steps = 100'000;  ///< guard rail on fronts
     /// Guard rail on the points of all fronts together (the strips' vertices): rays ×

@@ -221,7 +221,7 @@ void read_field(const Node& n, Scene& s) {
 
 void read_fronts(const Node& n, FrontOptions& o) {
     n.require_object({"refraction", "step", "split_distance", "flat_amplitude", "max_turn_degrees", "max_steps", "max_points"});
-    if (n.has("max_turn_degrees")) o.max_turn = n["max_turn_degrees"].number("degrees") * std::numbers::pi / 180.0;
+    if (n.has("max_turn_degrees")) o.max_turn_degrees = n["max_turn_degrees"].number("degrees");
     if (n.has("refraction"))
         o.refraction = n["refraction"].choice<FrontRefraction>({{"gradient", FrontRefraction::gradient},
                                                                 {"isobath", FrontRefraction::isobath}});
@@ -429,15 +429,13 @@ Seafloor load_seafloor(const SeafloorSource& s) {
 }
 
 Scene default_scene() {
-    Scene s;
-    s.name = "default: Gonzato's bay with a swell";
-    s.surface_kind = SurfaceKind::ray_strips;
-    s.seafloor.source = "gonzato-bay";
-    s.waves = {{.period = 5.0, .amplitude = 0.3, .direction_x = 0.0, .direction_y = 1.0}};
-    s.trace.ray_spacing = 1.0;  // Gonzato: one ray per metre, step 0.4 m, split at 1.2 m
-    s.fronts.step = 0.4;
-    s.fronts.split_distance = 1.2;
-    return s;
+    // Gonzato: one ray per metre, step 0.4 m, a new ray where neighbours are 1.2 m apart.
+    static constexpr std::string_view kDefault = R"({"name": "default: Gonzato's bay with a swell",
+ "seafloor": {"source": "gonzato-bay"},
+ "waves": [{"period": 5, "amplitude": 0.3, "direction": [0, 1]}],
+ "trace": {"ray_spacing": 1},
+ "fronts": {"step": 0.4, "split_distance": 1.2}})";
+    return parse_scene(kDefault, "the default scene", ".");
 }
 
 Scene parse_scene(std::string_view text, const std::string& origin, const std::string& base_dir) {
@@ -562,6 +560,8 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
         if (a.has("max_frames")) s.max_frames = a["max_frames"].count();
     }
     model.read_after(root, s);
+    s.document = doc.dump();
+    s.base_dir = base_dir;
     return s;
 }
 

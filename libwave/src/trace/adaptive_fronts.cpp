@@ -49,7 +49,9 @@ void validate(const WaveTrain& t, const FrontOptions& o) {
     positive(o.split_distance, "split_distance", "m");
     if (!(o.flat_amplitude >= 0.0)) throw InputError("fronts: flat_amplitude must be >= 0 m");
     positive(o.breaker_index, "breaker_index", "");
-    positive(o.max_turn, "max_turn", "rad");
+    positive(o.max_turn_degrees, "max_turn_degrees", "degrees");
+    if (o.max_turn_degrees > 720.0)
+        throw InputError("fronts: max_turn_degrees must be in (0, 720] degrees, got " + detail::format_number(o.max_turn_degrees));
 }
 
 bool inside(const detail::Box& b, double x, double y) { return x >= b.x0 && x <= b.x1 && y >= b.y0 && y <= b.y1; }
@@ -218,6 +220,7 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
     const double len = std::hypot(t.direction_x, t.direction_y);
     const double dx = t.direction_x / len, dy = t.direction_y / len;
     const double omega = 2.0 * std::numbers::pi / t.period;
+    const double max_turn = o.max_turn_degrees * std::numbers::pi / 180.0;
     // Depths beyond the table (bicubic overshoot) fall back to the exact solver.
     const detail::WaveTable waves(omega, 1.05 * seafloor_stats(seafloor).depth_max, o.dispersion);
     double phase_origin = 0.0;
@@ -268,7 +271,7 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
         if (out.ray.size() + n > o.max_points)
             throw LimitError("fronts: more than " + std::to_string(o.max_points) +
                              " front points (FrontOptions::max_points, scene key /fronts/max_points; lengthen the step, "
-                             "raise split_distance or lower max_turn)");
+                             "raise split_distance or lower max_turn_degrees)");
         for (std::size_t i = 0; i < n; ++i) {
             Ray& r = front[i];
             const DepthSample& s = r.here;
@@ -333,7 +336,7 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
                 // a ray that has turned a full circle is not part of an advancing front;
                 // nor is one still moving after three straight crossings of the domain
                 // (guided along a coast or round a cove, its turns cancel).
-                if (std::abs(r.turn) > o.max_turn || (trapped_by_path && r.flag != RayFlag::aground)) {
+                if (std::abs(r.turn) > max_turn || (trapped_by_path && r.flag != RayFlag::aground)) {
                     r.flag = RayFlag::dead;
                     ++out.rays_trapped;
                 }

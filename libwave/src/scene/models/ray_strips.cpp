@@ -51,13 +51,8 @@ void read_after(const Node& root, Scene& s) {
 // depth no shallower than where it breaks (H∞/γ): the surf zone keeps the breaking
 // depth's resolution up to the shore.
 WaterMesh plan_water_mesh(const Scene& scene, const ScenePlan& p) {
-    const WaveTrain& w = scene.waves[0];
-    const double omega = 2.0 * std::numbers::pi / w.period, per_wavelength = *scene.water_mesh_per_wavelength;
-    const double floor_depth = std::max(2.0 * w.amplitude / scene.trace.breaker_index, 1e-3);
-    const ElevationGrid& grid = p.seafloor.grid;
-    const EdgeSize size = [&](double x, double y) {
-        return linear_wave(omega, std::max(depth_at(grid, x, y), floor_depth)).wavelength / per_wavelength;
-    };
+    const EdgeSize size =
+        wavelength_edge_size(p.seafloor, scene.waves[0], *scene.water_mesh_per_wavelength, scene.trace.breaker_index);
     WaterMeshOptions o;
     o.max_vertices = scene.surface.max_vertices;
     return mesh_water(p.seafloor, size, o);

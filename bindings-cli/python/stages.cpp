@@ -1,0 +1,436 @@
+// `import libwave`, stage by stage: the seafloor, isobaths, fronts, the wave field, ray
+// strips, the water mesh, Gonzato's motion, foam, untangling, normals, Fresnel and one
+// frame's .glb — each a call into libwave's public API with NumPy in and out, so that a
+// script can replace or inspect any stage and still get `wave run`'s frame bit for bit
+// (examples/pipeline.py). Arrays of libwave's results are read-only views of its
+// buffers; arrays passed in are converted (float64 positions in plan, float32 frames).
+#include "arrays.h"
+
+#include "libwave/bathymetry.h"
+#include "libwave/errors.h"
+#include "libwave/export.h"
+#include "libwave/field.h"
+#include "libwave/isobath.h"
+#include "libwave/motion.h"
+#include "libwave/scene.h"
+#include "libwave/shade.h"
+#include "libwave/surface.h"
+#include "libwave/trace.h"
+
+#include <pybind11/stl.h>
+
+#include <array>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace libwave_python {
+namespace {
+
+using Shared = py::object;  // a bound libwave object, the owner of the views it returns
+
+wave::WaveTrain train(double period, double amplitude, const std::array<double, 2>& direction) {
+    return {.period = period, .amplitude = amplitude, .direction_x = direction[0], .direction_y = direction[1]};
+}
+
+// A writable float32 C-order array of exactly `count` values (an in-place argument).
+py::array_t<float> writable_floats(const py::array& a, std::size_t count, const char* what) {
+    if (!py::isinstance<py::array_t<float>>(a) || !(a.flags() & py::array::c_style) || !a.writeable())
+        throw py::type_error(std::string(what) + ": expected a writable C-contiguous float32 array");
+    if (static_cast<std::size_t>(a.size()) != count)
+        throw py::value_error(std::string(what) + ": expected " + std::to_string(count) + " values, got " +
+                              std::to_string(a.size()));
+    return py::array_t<float>(a);
+}
+
+std::span<float> span_of(py::array_t<float>& a) { return {a.mutable_data(), static_cast<std::size_t>(a.size())}; }
+
+void bind_seafloor(py::module_& m) {
+    py::class_<wave::Seafloor, std::shared_ptr<wave::Seafloor>>(
+        m, "Seafloor", "A seafloor: an elevation grid (z up, m) and where it came from (read_seafloor, procedural_seafloor)")
+        .def_property_readonly("elevation", [](Shared self) {
+            const auto& s = self.cast<const wave::Seafloor&>();
+            return view(s.grid.z, {ssize(s.grid.ny), ssize(s.grid.nx)}, self);
+        }, "(ny, nx) float64 elevation (m, z up; negative under water), row j at y0 + j·dy")
+        .def_property_readonly("origin", [](const wave::Seafloor& s) { return std::make_pair(s.grid.x0, s.grid.y0); },
+                               "(x0, y0) of node (0, 0) (m)")
+        .def_property_readonly("spacing", [](const wave::Seafloor& s) { return std::make_pair(s.grid.dx, s.grid.dy); },
+                               "(dx, dy) node spacing (m)")
+        .def_readonly("source", &wave::Seafloor::source)
+        .def_readonly("frame", &wave::Seafloor::frame, "the coordinate frame (e.g. a projection GDAL reprojected to)")
+        .def(
+            "depth_at",
+            [](const wave::Seafloor& s, const py::array& x, const py::array& y) {
+                const auto xs = to_vector<double>(x, 1, "depth_at x"), ys = to_vector<double>(y, 1, "depth_at y");
+                if (xs.size() != ys.size()) throw wave::InputError("depth_at: x and y differ in length");
+                py::array_t<double> out(ssize(xs.size()));
+                for (std::size_t i = 0; i < xs.size(); ++i) out.mutable_data()[i] = wave::depth_at(s.grid, xs[i], ys[i]);
+                return out;
+            },
+            py::arg("x"), py::arg("y"), "Bicubic depth h (m, positive down) at points (arrays of equal length)")
+        .def("stats", [](const wave::Seafloor& s) {
+            const wave::SeafloorStats st = wave::seafloor_stats(s);
+            py::dict d;
+            d["nx"] = st.nx, d["ny"] = st.ny, d["x_min"] = st.x_min, d["x_max"] = st.x_max, d["y_min"] = st.y_min;
+            d["y_max"] = st.y_max, d["depth_min"] = st.depth_min, d["depth_max"] = st.depth_max;
+            d["land_fraction"] = st.land_fraction, d["nodata_count"] = st.nodata_count;
+            return d;
+        }, "Extent, depth range and land fraction");
+
+    m.def(
+        "read_seafloor",
+        [](const std::string& path, std::optional<std::string> sign, double vertical_scale, double vertical_offset,
+           double horizontal_scale, std::optional<double> nodata) {
+            wave::ReadOptions o;
+            if (sign) {
+                if (*sign != "elevation" && *sign != "depth")
+                    throw wave::InputError("read_seafloor: sign must be \"elevation\" or \"depth\", got \"" + *sign + "\"");
+                o.sign = *sign == "depth" ? wave::ValueSign::depth : wave::ValueSign::elevation;
+            }
+            o.vertical_scale = vertical_scale, o.vertical_offset = vertical_offset, o.horizontal_scale = horizontal_scale;
+            o.nodata_value = nodata;
+            py::gil_scoped_release release;
+            return std::make_shared<wave::Seafloor>(wave::read_seafloor(path, o));
+        },
+        py::arg("path"), py::arg("sign") = py::none(), py::arg("vertical_scale") = 1.0, py::arg("vertical_offset") = 0.0,
+        py::arg("horizontal_scale") = 1.0, py::arg("nodata") = py::none(),
+        "Reads a seafloor file (GDAL rasters, SWAN .bot needs the scene route, meshes, contour JSON; "
+        "docs/formats.md); raises InputError naming the file and what is wrong");
+    m.def(
+        "procedural_seafloor", [](const std::string& name) { return std::make_shared<wave::Seafloor>(wave::make_named_seafloor(name)); },
+        py::arg("name"), "A built-in seafloor by name: gonzato-bay, gonzato-island, planar-beach, ...");
+    m.def(
+        "scene_seafloor",
+        [](const wave::Scene& scene) {
+            py::gil_scoped_release release;
+            return std::make_shared<wave::Seafloor>(wave::scene_seafloor(scene));
+        },
+        py::arg("scene"), "The scene's seafloor, read and transformed as its /seafloor says");
+}
+
+void bind_isobaths(py::module_& m) {
+    py::class_<wave::DepthContours, std::shared_ptr<wave::DepthContours>>(m, "Isobaths", "Depth-tagged polylines")
+        .def("__len__", &wave::DepthContours::size)
+        .def_property_readonly("depths", [](Shared self) {
+            const auto& c = self.cast<const wave::DepthContours&>();
+            return view(c.depth, {ssize(c.size())}, self);
+        }, "depth h (m, positive down) of each polyline")
+        .def_property_readonly("closed", [](Shared self) {
+            const auto& c = self.cast<const wave::DepthContours&>();
+            return view(c.closed, {ssize(c.size())}, self);
+        })
+        .def(
+            "polyline",
+            [](Shared self, std::size_t i) {
+                const auto& c = self.cast<const wave::DepthContours&>();
+                if (i >= c.size()) throw py::index_error("isobath " + std::to_string(i) + " of " + std::to_string(c.size()));
+                const std::size_t a = c.offsets[i], b = c.offsets[i + 1];
+                return copy(std::vector<double>(c.xy.begin() + 2 * a, c.xy.begin() + 2 * b), {ssize(b - a), 2});
+            },
+            py::arg("index"), "(points, 2) float64 x, y (m) of polyline `index`");
+    m.def(
+        "extract_isobaths",
+        [](const wave::Seafloor& seafloor, double spacing, std::vector<double> levels, bool shoreline, int smoothing_samples,
+           double beta1, double beta2) {
+            wave::IsobathOptions o;
+            o.spacing = spacing, o.levels = std::move(levels), o.include_shoreline = shoreline;
+            o.smoothing_samples = smoothing_samples, o.smoothing_beta1 = beta1, o.smoothing_beta2 = beta2;
+            py::gil_scoped_release release;
+            return std::make_shared<wave::DepthContours>(wave::extract_isobaths(seafloor, o));
+        },
+        py::arg("seafloor"), py::arg("spacing") = 0.25, py::arg("levels") = std::vector<double>{},
+        py::arg("shoreline") = true, py::arg("smoothing_samples") = 0, py::arg("beta1") = 1.0, py::arg("beta2") = 0.0,
+        "Slices the seafloor at every multiple of `spacing` (or the given levels) with CGAL, the shoreline h = 0 "
+        "included; smoothing by Ts'o's Beta2-spline when smoothing_samples > 0 (as the scene's /isobaths)");
+}
+
+void bind_fronts(py::module_& m) {
+    py::class_<wave::FrontSet, std::shared_ptr<wave::FrontSet>> front_class(
+        m, "Fronts", "Gonzato's adaptive wave fronts: point arrays, front f at front_offsets[f] .. front_offsets[f+1]");
+    const auto front_field = [&](const char* name, std::vector<double> wave::FrontSet::*member, const char* doc) {
+        front_class.def_property_readonly(name, [member](Shared self) {
+            const auto& f = self.cast<const wave::FrontSet&>();
+            return view(f.*member, {ssize((f.*member).size())}, self);
+        }, doc);
+    };
+    front_field("x", &wave::FrontSet::x, "x (m) of every point");
+    front_field("y", &wave::FrontSet::y, "y (m)");
+    front_field("phase", &wave::FrontSet::phase, "Σ k Δs (rad)");
+    front_field("k", &wave::FrontSet::k, "wavenumber (rad/m)");
+    front_field("depth", &wave::FrontSet::depth, "h (m)");
+    front_field("amplitude", &wave::FrontSet::amplitude, "A (m): A∞ K_s K_r, or the field's after take_field_amplitudes");
+    front_class.def_property_readonly("ray", [](Shared self) {
+              const auto& f = self.cast<const wave::FrontSet&>();
+              return view(f.ray, {ssize(f.ray.size())}, self);
+          }, "ray id of every point")
+        .def_property_readonly("front_offsets", [](Shared self) {
+            const auto& f = self.cast<const wave::FrontSet&>();
+            return view(f.front_offsets, {ssize(f.front_offsets.size())}, self);
+        })
+        .def_property_readonly("front_count", &wave::FrontSet::front_count)
+        .def_readonly("initial_rays", &wave::FrontSet::initial_rays)
+        .def_readonly("inserted_rays", &wave::FrontSet::inserted_rays)
+        .def_readonly("rays_aground", &wave::FrontSet::rays_aground)
+        .def_readonly("rays_trapped", &wave::FrontSet::rays_trapped);
+    m.def(
+        "trace_fronts",
+        [](const wave::Seafloor& seafloor, double period, double amplitude, std::array<double, 2> direction,
+           const wave::DepthContours* isobaths, const std::string& refraction, double ray_spacing, double step,
+           double split_distance, double max_turn_degrees, double breaker_index, std::size_t max_rays) {
+            wave::FrontOptions o;
+            if (refraction != "gradient" && refraction != "isobath")
+                throw wave::InputError("trace_fronts: refraction must be \"gradient\" or \"isobath\", got \"" + refraction + "\"");
+            o.refraction = refraction == "isobath" ? wave::FrontRefraction::isobath : wave::FrontRefraction::gradient;
+            o.ray_spacing = ray_spacing, o.step = step, o.split_distance = split_distance;
+            o.max_turn_degrees = max_turn_degrees, o.breaker_index = breaker_index, o.max_rays = max_rays;
+            py::gil_scoped_release release;
+            return std::make_shared<wave::FrontSet>(wave::trace_fronts(seafloor, train(period, amplitude, direction), o, isobaths));
+        },
+        py::arg("seafloor"), py::arg("period"), py::arg("amplitude"), py::arg("direction"), py::arg("isobaths") = nullptr,
+        py::arg("refraction") = "gradient", py::arg("ray_spacing") = 1.0, py::arg("step") = 0.4,
+        py::arg("split_distance") = 1.2, py::arg("max_turn_degrees") = 360.0, py::arg("breaker_index") = wave::kBreakerIndex,
+        py::arg("max_rays") = 1'000'000,
+        "Traces one wave train (period s, deep-water amplitude m, direction of travel [x, y]) as Gonzato's adaptive "
+        "fronts; the defaults are the scene keys' (/trace, /fronts)");
+
+    py::class_<wave::WaveField, std::shared_ptr<wave::WaveField>>(
+        m, "WaveField", "The refraction–diffraction field of one train (docs/wave-field.md)");
+    m.def(
+        "solve_wave_field",
+        [](const wave::Seafloor& seafloor, double period, double amplitude, std::array<double, 2> direction,
+           double nodes_per_wavelength, double breaker_index, bool reflecting_edges) {
+            wave::FieldOptions o;
+            o.nodes_per_wavelength = nodes_per_wavelength, o.breaker_index = breaker_index, o.reflecting_edges = reflecting_edges;
+            py::gil_scoped_release release;
+            return std::make_shared<wave::WaveField>(wave::solve_wave_field(seafloor, train(period, amplitude, direction), o));
+        },
+        py::arg("seafloor"), py::arg("period"), py::arg("amplitude"), py::arg("direction"),
+        py::arg("nodes_per_wavelength") = 12.0, py::arg("breaker_index") = wave::kBreakerIndex,
+        py::arg("reflecting_edges") = false, "Solves the parabolic mild-slope field of one train (as the scene's /field)");
+    m.def(
+        "take_field_amplitudes",
+        [](const wave::WaveField& field, wave::FrontSet& fronts) { return wave::take_field_amplitudes(field, fronts); },
+        py::arg("field"), py::arg("fronts"),
+        "Gives the fronts' points the field's amplitudes (in place; rays keep direction and phase): what scenes do by "
+        "default (/field/amplitudes \"field\"). Returns the points changed");
+}
+
+void bind_surfaces(py::module_& m) {
+    py::class_<wave::RayStrips, std::shared_ptr<wave::RayStrips>> strip_class(
+        m, "RayStrips", "Triangles between consecutive fronts, one vertex per ray per front, with the rays' fields");
+    const auto strip_field = [&](const char* name, std::vector<double> wave::RayStrips::*member) {
+        strip_class.def_property_readonly(name, [member](Shared self) {
+            const auto& s = self.cast<const wave::RayStrips&>();
+            return view(s.*member, {ssize((s.*member).size())}, self);
+        });
+    };
+    strip_field("x", &wave::RayStrips::x);
+    strip_field("y", &wave::RayStrips::y);
+    strip_field("phase", &wave::RayStrips::phase);
+    strip_field("k", &wave::RayStrips::k);
+    strip_field("amplitude", &wave::RayStrips::amplitude);
+    strip_field("depth", &wave::RayStrips::depth);
+    strip_class.def_property_readonly("triangles", [](Shared self) {
+              const auto& s = self.cast<const wave::RayStrips&>();
+              return view(s.triangles, {ssize(s.triangle_count()), 3}, self);
+          }, "(triangles, 3) uint32, counter-clockwise seen from above")
+        .def_property_readonly("vertex_count", &wave::RayStrips::vertex_count)
+        .def("write_ply", [](const wave::RayStrips& s, const std::string& path) { wave::write_ray_strips_ply(s, path); },
+             py::arg("path"), "The strips as `wave run`'s strips.ply (OpenMesh, binary PLY with the rays' fields)");
+    m.def("build_ray_strips", [](const wave::FrontSet& f) {
+        py::gil_scoped_release release;
+        return std::make_shared<wave::RayStrips>(wave::build_ray_strips(f));
+    }, py::arg("fronts"), "Tessellates the fronts into ray strips (Gonzato fig. 11)");
+
+    py::class_<wave::WaterMesh, std::shared_ptr<wave::WaterMesh>>(
+        m, "WaterMesh", "The graded triangulation of the water, bounded by the domain's sides and the shoreline")
+        .def_property_readonly("x", [](Shared self) {
+            const auto& w = self.cast<const wave::WaterMesh&>();
+            return view(w.x, {ssize(w.vertex_count())}, self);
+        })
+        .def_property_readonly("y", [](Shared self) {
+            const auto& w = self.cast<const wave::WaterMesh&>();
+            return view(w.y, {ssize(w.vertex_count())}, self);
+        })
+        .def_property_readonly("triangles", [](Shared self) {
+            const auto& w = self.cast<const wave::WaterMesh&>();
+            return view(w.triangles, {ssize(w.triangles.size() / 3), 3}, self);
+        })
+        .def_property_readonly("boundary", [](Shared self) {
+            const auto& w = self.cast<const wave::WaterMesh&>();
+            return view(w.boundary, {ssize(w.vertex_count())}, self);
+        }, "1 on the domain's sides or the shoreline")
+        .def_property_readonly("vertex_count", &wave::WaterMesh::vertex_count);
+    m.def(
+        "mesh_water",
+        [](const wave::Seafloor& seafloor, double period, double amplitude, double per_wavelength, double breaker_index,
+           double min_angle_deg, std::size_t max_vertices) {
+            wave::WaterMeshOptions o;
+            o.min_angle_deg = min_angle_deg, o.max_vertices = max_vertices;
+            const wave::EdgeSize size = wave::wavelength_edge_size(seafloor, train(period, amplitude, {0.0, 1.0}),
+                                                                   per_wavelength, breaker_index);
+            py::gil_scoped_release release;
+            return std::make_shared<wave::WaterMesh>(wave::mesh_water(seafloor, size, o));
+        },
+        py::arg("seafloor"), py::arg("period"), py::arg("amplitude"), py::arg("per_wavelength") = 16.0,
+        py::arg("breaker_index") = wave::kBreakerIndex, py::arg("min_angle_deg") = 20.0,
+        py::arg("max_vertices") = 20'000'000,
+        "The water mesh sized by the train's local wavelength (per_wavelength vertices per wavelength, the depth no "
+        "shallower than where it breaks): the scenes' /surface/water_mesh");
+    m.def(
+        "resample_ray_strips",
+        [](const wave::RayStrips& strips, const wave::Seafloor& seafloor, const wave::WaterMesh& mesh) {
+            py::gil_scoped_release release;
+            return std::make_shared<wave::RayStrips>(
+                wave::resample_ray_strips(strips, seafloor, mesh.x, mesh.y, mesh.triangles));
+        },
+        py::arg("strips"), py::arg("seafloor"), py::arg("mesh"),
+        "The strips' fields at the water mesh's vertices (its triangles): the surface Gonzato's motion moves");
+}
+
+void bind_motion(py::module_& m) {
+    py::class_<wave::GonzatoMotionPlan, std::shared_ptr<wave::GonzatoMotionPlan>>(
+        m, "GonzatoMotion", "Gonzato's plunging profile planned for every vertex (plan_gonzato_motion)")
+        .def_property_readonly("vertex_count", &wave::GonzatoMotionPlan::vertex_count)
+        .def(
+            "evaluate",
+            [](const wave::GonzatoMotionPlan& p, double t, std::optional<py::array> out) {
+                py::array_t<float> a = out ? writable_floats(*out, 3 * p.vertex_count(), "evaluate out")
+                                           : py::array_t<float>({ssize(p.vertex_count()), py::ssize_t{3}});
+                std::span<float> s = span_of(a);
+                {
+                    py::gil_scoped_release release;
+                    wave::evaluate_gonzato_motion(p, t, s);
+                }
+                return a;
+            },
+            py::arg("t"), py::arg("out") = py::none(),
+            "Positions at time t (s): (vertices, 3) float32, z up; into `out` when given (no allocation)");
+    m.def(
+        "plan_gonzato_motion", [](const wave::RayStrips& s) { return std::make_shared<wave::GonzatoMotionPlan>(wave::plan_gonzato_motion(s)); },
+        py::arg("strips"), "Gonzato's profile for every vertex of the strips (or of the water mesh's resampled strips)");
+    m.def(
+        "breaking_foam",
+        [](const wave::RayStrips& strips, const wave::GonzatoMotionPlan& motion, double t, double breaker_index,
+           double onset, double fade_time) {
+            wave::FoamOptions o;
+            o.breaker_index = breaker_index, o.onset = onset, o.fade_time = fade_time;
+            py::array_t<float> out(ssize(strips.vertex_count()));
+            std::span<float> s = span_of(out);
+            py::gil_scoped_release release;
+            wave::breaking_foam(strips, motion, t, o, s);
+            return out;
+        },
+        py::arg("strips"), py::arg("motion"), py::arg("t"), py::arg("breaker_index") = wave::kBreakerIndex,
+        py::arg("onset") = 0.9, py::arg("fade_time") = 1.5,
+        "Depth-limited breaking foam in [0, 1] per vertex at time t (docs/shade.md)");
+
+    py::class_<wave::UntanglePlan, std::shared_ptr<wave::UntanglePlan>>(
+        m, "Untangle", "The rest triangles a frame is untangled against (plan_untangle)")
+        .def_property_readonly("vertex_count", &wave::UntanglePlan::vertex_count)
+        .def(
+            "apply",
+            [](const wave::UntanglePlan& p, py::array positions, std::optional<py::array> foam) {
+                py::array_t<float> a = writable_floats(positions, 3 * p.vertex_count(), "untangle positions");
+                const std::vector<float> f = foam ? to_vector<float>(*foam, 1, "untangle foam") : std::vector<float>{};
+                std::span<float> s = span_of(a);
+                py::gil_scoped_release release;
+                return wave::untangle_motion(p, f, s).damped_vertices;
+            },
+            py::arg("positions"), py::arg("foam") = py::none(),
+            "Untangles one frame in place (positions: writable (vertices, 3) float32); vertices with foam >= 0.1 are "
+            "breaking lips left to overturn. Returns how many vertices were damped");
+    m.def(
+        "plan_untangle",
+        [](const py::array& x, const py::array& y, const py::array& triangles) {
+            const auto xs = to_vector<double>(x, 1, "plan_untangle x"), ys = to_vector<double>(y, 1, "plan_untangle y");
+            const auto t = to_vector<std::uint32_t>(triangles, 3, "plan_untangle triangles");
+            return std::make_shared<wave::UntanglePlan>(wave::plan_untangle(xs, ys, t));
+        },
+        py::arg("x"), py::arg("y"), py::arg("triangles"), "Plans untangling against the rest positions (m) and triangles");
+}
+
+void bind_shading(py::module_& m) {
+    m.def(
+        "vertex_normals",
+        [](const py::array& positions, const py::array& triangles) {
+            const auto p = to_vector<float>(positions, 3, "vertex_normals positions");
+            const auto t = to_vector<std::uint32_t>(triangles, 3, "vertex_normals triangles");
+            py::array_t<float> out({ssize(p.size() / 3), py::ssize_t{3}});
+            std::span<float> s = span_of(out);
+            py::gil_scoped_release release;
+            wave::vertex_normals(p, t, wave::vertex_faces(p.size() / 3, t), s);
+            return out;
+        },
+        py::arg("positions"), py::arg("triangles"), "Unit area-weighted vertex normals: (vertices, 3) float32");
+    m.def(
+        "fresnel_weights",
+        [](const py::array& positions, const py::array& normals, std::array<double, 3> camera, const std::string& model) {
+            wave::FresnelOptions o;
+            o.camera = camera;
+            if (model != "exact" && model != "tso")
+                throw wave::InputError("fresnel_weights: model must be \"exact\" or \"tso\", got \"" + model + "\"");
+            o.model = model == "tso" ? wave::FresnelModel::tso : wave::FresnelModel::exact;
+            const auto p = to_vector<float>(positions, 3, "fresnel_weights positions");
+            const auto n = to_vector<float>(normals, 3, "fresnel_weights normals");
+            py::array_t<float> reflect(ssize(p.size() / 3)), refract(ssize(p.size() / 3));
+            std::span<float> r = span_of(reflect), t = span_of(refract);
+            {
+                py::gil_scoped_release release;
+                wave::fresnel_weights(p, n, o, r, t);
+            }
+            return py::make_tuple(reflect, refract);
+        },
+        py::arg("positions"), py::arg("normals"), py::arg("camera"), py::arg("model") = "exact",
+        "Fresnel reflect and refract weights per vertex for a viewer at `camera` (m, z up): (reflect, refract)");
+    m.def(
+        "scene_camera",
+        [](const wave::Scene& scene, const wave::Seafloor& seafloor) { return wave::scene_camera(scene, seafloor); },
+        py::arg("scene"), py::arg("seafloor"), "The scene's camera position (m, z up): /camera/position or its default");
+}
+
+void bind_export(py::module_& m) {
+    m.def(
+        "frame_glb",
+        [](const py::array& positions, const py::array& normals, const py::array& triangles, std::optional<py::array> texcoords,
+           std::optional<py::array> foam, std::optional<py::array> reflect, std::optional<py::array> refract, double fps,
+           std::size_t frame) {
+            const auto p = to_vector<float>(positions, 3, "frame_glb positions"), n = to_vector<float>(normals, 3, "frame_glb normals");
+            const auto t = to_vector<std::uint32_t>(triangles, 3, "frame_glb triangles");
+            const auto opt = [](const std::optional<py::array>& a, std::size_t per, const char* what) {
+                return a ? to_vector<float>(*a, per, what) : std::vector<float>{};
+            };
+            const auto uv = opt(texcoords, 2, "frame_glb texcoords"), f = opt(foam, 1, "frame_glb foam");
+            const auto r = opt(reflect, 1, "frame_glb reflect"), tr = opt(refract, 1, "frame_glb refract");
+            wave::MorphAnimationView v;
+            v.triangles = t, v.vertex_count = p.size() / 3, v.frame_count = 1, v.first_frame = frame, v.fps = fps;
+            v.positions = p, v.normals = n, v.texcoords = uv, v.foam = f, v.reflect = r, v.refract = tr;
+            std::string bytes;
+            {
+                py::gil_scoped_release release;
+                bytes = wave::gltf_frame_glb(v, 0);
+            }
+            return py::bytes(bytes);
+        },
+        py::arg("positions"), py::arg("normals"), py::arg("triangles"), py::arg("texcoords") = py::none(),
+        py::arg("foam") = py::none(), py::arg("reflect") = py::none(), py::arg("refract") = py::none(),
+        py::arg("fps") = 24.0, py::arg("frame") = 0,
+        "One frame as a static .glb (the files form's frame file): positions and normals (vertices, 3), triangles "
+        "(triangles, 3), optional TEXCOORD_0 (vertices, 2) and foam/reflect/refract (vertices,)");
+}
+
+}  // namespace
+
+void bind_stages(py::module_& m) {
+    bind_seafloor(m);
+    bind_isobaths(m);
+    bind_fronts(m);
+    bind_surfaces(m);
+    bind_motion(m);
+    bind_shading(m);
+    bind_export(m);
+}
+
+}  // namespace libwave_python

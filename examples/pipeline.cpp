@@ -1,0 +1,179 @@
+// libwave stage by stage: real bathymetry in, one animated frame out.
+//
+//   pipeline OKUSHIRI_ASC OUT.glb [FRAME]
+//
+// Reads the Okushiri (Monai valley, 1:400 laboratory model) elevation grid, slices its
+// isobaths, traces Gonzato's adaptive wave fronts of a 0.6 s swell over it, takes their
+// heights from the refraction–diffraction field, tessellates them into ray strips, meshes the water, carries the strips' fields onto the mesh,
+// moves it with Gonzato's plunging profile at frame FRAME (default 3, 25 frames/s),
+// adds the breaking foam, untangles it, computes normals and Fresnel weights, and
+// writes that one frame as a .glb.
+//
+// Then it asks the scene pipeline (plan_scene, animate_scene) for the same frame of the
+// same scene and checks that every array is equal bit for bit: the stages below are
+// exactly what `wave run` does. Exit 0 when they agree, 1 when not, 2 on bad input.
+//
+// Components: io (read_seafloor), core (every stage), export (gltf_frame_glb), and
+// scene for the comparison; a program without the comparison links
+// libwave::io and libwave::export only.
+#include <libwave/bathymetry.h>
+#include <libwave/errors.h>
+#include <libwave/export.h>
+#include <libwave/field.h>
+#include <libwave/io.h>
+#include <libwave/isobath.h>
+#include <libwave/motion.h>
+#include <libwave/physics.h>
+#include <libwave/scene.h>
+#include <libwave/shade.h>
+#include <libwave/surface.h>
+#include <libwave/trace.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <numbers>
+#include <string>
+#include <vector>
+
+namespace {
+
+// The scene the stages below spell out, for the comparison with the scene pipeline.
+std::string scene_json(const std::string& grid_path) {
+    return R"({
+  "name": "pipeline example",
+  "seafloor": {"source": ")" + grid_path + R"("},
+  "isobaths": {"spacing": 0.01},
+  "waves": [{"period": 0.6, "amplitude": 0.004, "direction": [1.0, 0.15]}],
+  "trace": {"ray_spacing": 0.02},
+  "fronts": {"step": 0.01, "split_distance": 0.03},
+  "camera": {"position": [2.5, -2.0, 1.2]},
+  "animation": {"fps": 25}
+})";
+}
+
+struct Frame {
+    std::vector<float> positions, normals, texcoords, foam, reflect, refract;
+    std::vector<std::uint32_t> triangles;
+};
+
+Frame frame_by_stages(const std::string& grid_path, std::size_t frame_number) {
+    // io: the elevation grid through GDAL (an ESRI ASCII grid; elevation, metres).
+    const wave::Seafloor seafloor = wave::read_seafloor(grid_path);
+
+    // core: isobaths every centimetre, the shoreline included.
+    wave::IsobathOptions iso;
+    iso.spacing = 0.01;
+    const wave::DepthContours isobaths = wave::extract_isobaths(seafloor, iso);
+
+    // Gonzato's adaptive fronts of one swell, tessellated into ray strips.
+    const wave::WaveTrain swell{.period = 0.6, .amplitude = 0.004, .direction_x = 1.0, .direction_y = 0.15};
+    wave::FrontOptions fronts;
+    fronts.ray_spacing = 0.02;
+    fronts.step = 0.01;
+    fronts.split_distance = 0.03;
+    wave::FrontSet traced = wave::trace_fronts(seafloor, swell, fronts, &isobaths);
+    // The rays keep their direction and phase; the refraction–diffraction field gives the
+    // heights (finite where rays cross behind the island).
+    const wave::WaveField field = wave::solve_wave_field(seafloor, swell);
+    wave::take_field_amplitudes(field, traced);
+    const wave::RayStrips strips = wave::build_ray_strips(traced);
+
+    // The water mesh: 16 vertices per local wavelength, the depth no shallower than
+    // where the swell breaks (H∞/γ), and the strips' fields at its vertices.
+    const wave::WaterMesh mesh = wave::mesh_water(seafloor, wave::wavelength_edge_size(seafloor, swell, 16.0));
+    const wave::RayStrips on_mesh = wave::resample_ray_strips(strips, seafloor, mesh.x, mesh.y, mesh.triangles);
+
+    // Motion and shading of one frame, into caller-owned buffers.
+    const wave::GonzatoMotionPlan motion = wave::plan_gonzato_motion(on_mesh);
+    const wave::UntanglePlan untangle = wave::plan_untangle(mesh.x, mesh.y, mesh.triangles);
+    const wave::VertexFaces adjacency = wave::vertex_faces(mesh.vertex_count(), mesh.triangles);
+    const std::size_t n = mesh.vertex_count();
+    Frame f;
+    f.triangles = mesh.triangles;
+    f.positions.resize(3 * n);
+    f.normals.resize(3 * n);
+    f.foam.resize(n);
+    f.reflect.resize(n);
+    f.refract.resize(n);
+    const double t = static_cast<double>(frame_number) / 25.0;
+    wave::evaluate_gonzato_motion(motion, t, f.positions);
+    wave::breaking_foam(on_mesh, motion, t, wave::FoamOptions{}, f.foam);
+    wave::untangle_motion(untangle, f.foam, f.positions);  // breaking lips (foam) may overturn
+    wave::vertex_normals(f.positions, f.triangles, adjacency, f.normals);
+    wave::FresnelOptions fresnel;
+    fresnel.camera = {2.5, -2.0, 1.2};
+    wave::fresnel_weights(f.positions, f.normals, fresnel, f.reflect, f.refract);
+    // TEXCOORD_0: the rest position over the seafloor's rectangle (v down).
+    const wave::ElevationGrid& g = seafloor.grid;
+    for (std::size_t v = 0; v < n; ++v) {
+        f.texcoords.push_back(static_cast<float>((mesh.x[v] - g.x0) / (g.x_max() - g.x0)));
+        f.texcoords.push_back(static_cast<float>(1.0 - (mesh.y[v] - g.y0) / (g.y_max() - g.y0)));
+    }
+    std::printf("stages: %zu isobaths, %zu rays, %zu strip triangles, water mesh %zu vertices, %zu triangles\n",
+                isobaths.size(), traced.initial_rays + traced.inserted_rays, strips.triangle_count(), n,
+                mesh.triangles.size() / 3);
+    return f;
+}
+
+// export: one frame as a .glb (the files form's frame file).
+void write_frame(const Frame& f, std::size_t frame_number, const std::string& path) {
+    wave::MorphAnimationView view;
+    view.triangles = f.triangles;
+    view.vertex_count = f.foam.size();
+    view.frame_count = 1;
+    view.first_frame = frame_number;
+    view.positions = f.positions;
+    view.normals = f.normals;
+    view.texcoords = f.texcoords;
+    view.foam = f.foam;
+    view.reflect = f.reflect;
+    view.refract = f.refract;
+    view.fps = 25.0;
+    wave::write_file_atomic(path, wave::gltf_frame_glb(view, 0));
+}
+
+bool same(const char* what, const std::vector<float>& a, const std::vector<float>& b) {
+    const bool ok = a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin());
+    if (!ok) std::printf("differs from the scene pipeline: %s (%zu vs %zu values)\n", what, a.size(), b.size());
+    return ok;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc < 3) {
+        std::fprintf(stderr, "usage: %s OKUSHIRI_ASC OUT.glb [FRAME]\n", argv[0]);
+        return 2;
+    }
+    const std::string grid_path = argv[1], out = argv[2];
+    const std::size_t frame_number = argc > 3 ? std::strtoul(argv[3], nullptr, 10) : 3;
+    try {
+        const Frame f = frame_by_stages(grid_path, frame_number);
+        write_frame(f, frame_number, out);
+        std::printf("wrote frame %zu to %s\n", frame_number, out.c_str());
+
+        // The same frame through the scene pipeline.
+        const wave::Scene scene = wave::parse_scene(scene_json(grid_path), "pipeline example", ".");
+        const wave::ScenePlan plan = wave::plan_scene(scene);
+        wave::AnimationStream stream(scene, plan, {.first = frame_number, .end = frame_number + 1});
+        wave::SceneAnimation a;
+        stream.next(a, 1);
+        bool ok = a.triangles == f.triangles;
+        if (!ok) std::printf("differs from the scene pipeline: triangles\n");
+        ok = same("positions", f.positions, a.positions) & ok;
+        ok = same("normals", f.normals, a.normals) & ok;
+        ok = same("texcoords", f.texcoords, a.texcoords) & ok;
+        ok = same("foam", f.foam, a.foam) & ok;
+        ok = same("reflect", f.reflect, a.reflect) & ok;
+        ok = same("refract", f.refract, a.refract) & ok;
+        std::printf(ok ? "equal to the scene pipeline's frame, bit for bit\n" : "NOT equal to the scene pipeline's frame\n");
+        return ok ? 0 : 1;
+    } catch (const wave::InputError& e) {
+        std::fprintf(stderr, "pipeline: %s\n", e.what());
+        return 2;
+    } catch (const wave::Error& e) {
+        std::fprintf(stderr, "pipeline: %s\n", e.what());
+        return 1;
+    }
+}

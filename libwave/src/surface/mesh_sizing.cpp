@@ -1,0 +1,29 @@
+// The water mesh's sizing by the local wavelength of a wave train (surface.h).
+#include "core/format.h"
+#include "libwave/errors.h"
+#include "libwave/physics.h"
+#include "libwave/surface.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace wave {
+
+EdgeSize wavelength_edge_size(const Seafloor& seafloor, const WaveTrain& train, double per_wavelength,
+                              double breaker_index) {
+    if (!(per_wavelength > 0.0) || !std::isfinite(per_wavelength))
+        throw InputError("water mesh: per_wavelength must be > 0, got " + detail::format_number(per_wavelength));
+    if (!(breaker_index > 0.0) || !std::isfinite(breaker_index))
+        throw InputError("water mesh: breaker_index must be > 0, got " + detail::format_number(breaker_index));
+    if (!(train.period > 0.0) || !(train.amplitude > 0.0) || !std::isfinite(train.period) || !std::isfinite(train.amplitude))
+        throw InputError("water mesh: the wave train needs a period and an amplitude > 0");
+    const double omega = 2.0 * std::numbers::pi / train.period;
+    const double floor_depth = std::max(2.0 * train.amplitude / breaker_index, 1e-3);
+    const ElevationGrid* grid = &seafloor.grid;
+    return [grid, omega, floor_depth, per_wavelength](double x, double y) {
+        return linear_wave(omega, std::max(depth_at(*grid, x, y), floor_depth)).wavelength / per_wavelength;
+    };
+}
+
+}  // namespace wave

@@ -1,0 +1,112 @@
+"""`import libwave` stage by stage: the stage functions give `wave run`'s frame bit for
+bit (examples/pipeline.py), the Scene round-trips through a dict and is edited key by key
+with the scene file's checks, every exception is a libwave.Error, and the stubs match the
+module (mypy's stubtest, Debian's python3-mypy)."""
+import json
+import os
+import pathlib
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import libwave
+
+REPO = pathlib.Path(__file__).resolve().parents[2]
+OKUSHIRI = REPO / "data" / "bathymetry" / "okushiri_monai_lab1to400_1p4cm.asc"
+
+
+def run_example(tmp_path, frame):
+    out = tmp_path / "frame.glb"
+    r = subprocess.run([sys.executable, str(REPO / "examples" / "pipeline.py"), str(OKUSHIRI), str(out), str(frame)],
+                       capture_output=True, text=True, env=os.environ)
+    return r, out
+
+
+def test_the_pipeline_example_equals_wave_run_frame_bit_for_bit(tmp_path):
+    r, out = run_example(tmp_path, 3)
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert "bit for bit" in r.stdout
+    # The same scene through `wave run`, frame 3 alone in the files form.
+    spec = {"name": "pipeline example", "seafloor": {"source": str(OKUSHIRI)}, "isobaths": {"spacing": 0.01},
+            "waves": [{"period": 0.6, "amplitude": 0.004, "direction": [1.0, 0.15]}], "trace": {"ray_spacing": 0.02},
+            "fronts": {"step": 0.01, "split_distance": 0.03}, "camera": {"position": [2.5, -2.0, 1.2]},
+            "animation": {"fps": 25}, "outputs": {"form": "files"}}
+    (tmp_path / "s.json").write_text(json.dumps(spec))
+    subprocess.run([os.environ["WAVE_EXE"], "run", str(tmp_path / "s.json"), "-o", str(tmp_path / "run"), "--frames", "3:4"],
+                   check=True, capture_output=True)
+    frames = sorted((tmp_path / "run").rglob("frame-*.glb"))
+    assert len(frames) == 1, frames
+    theirs, ours = libwave.read_animation(str(frames[0])), libwave.read_animation(str(out))
+    for key in ("positions", "foam", "reflect", "refract", "triangles"):
+        assert theirs[key].tobytes() == ours[key].tobytes(), key
+    assert ours["first_frame"] == 3 and theirs["first_frame"] == 3
+
+
+def test_stage_objects_expose_their_arrays():
+    sea = libwave.procedural_seafloor("gonzato-bay")
+    assert sea.elevation.ndim == 2 and sea.elevation.dtype == np.float64
+    st = sea.stats()
+    assert st["depth_max"] > 0 and 0 < st["land_fraction"] < 1
+    assert np.allclose(sea.depth_at(np.array([50.0]), np.array([10.0])), -sea.elevation[10, 50], atol=1e-9)
+    iso = libwave.extract_isobaths(sea, spacing=1.0)
+    assert len(iso) > 0 and iso.polyline(0).shape[1] == 2 and 0.0 in list(iso.depths)
+    fronts = libwave.trace_fronts(sea, 5.0, 0.3, (0, 1), ray_spacing=2, step=0.8, split_distance=2.4)
+    assert fronts.front_count > 10 and len(fronts.x) == fronts.front_offsets[-1]
+    strips = libwave.build_ray_strips(fronts)
+    assert strips.triangles.shape[1] == 3 and strips.triangles.max() < strips.vertex_count
+    motion = libwave.plan_gonzato_motion(strips)
+    out = np.zeros((strips.vertex_count, 3), np.float32)
+    assert motion.evaluate(1.0, out) is not None and np.abs(out).max() > 0
+    assert np.array_equal(out, motion.evaluate(1.0))  # into a caller's buffer, the same values
+    with pytest.raises(TypeError):
+        motion.evaluate(1.0, np.zeros((strips.vertex_count, 3)))  # float64: not a frame buffer
+    with pytest.raises(ValueError, match="expected"):
+        motion.evaluate(1.0, np.zeros((3, 3), np.float32))
+
+
+def test_scene_round_trips_through_a_dict_and_is_edited_with_the_files_checks():
+    doc = {"waves": [{"period": 5, "amplitude": 0.3}], "trace": {"ray_spacing": 2}}
+    s = libwave.Scene(doc)
+    assert s.to_dict() == doc
+    again = libwave.Scene(s.to_dict(), s.base_dir)
+    assert again.to_dict() == doc and again.name == s.name
+    s.set("/waves/0/period", 8.0)
+    assert s.get("/waves/0/period") == 8.0 and s.to_dict()["waves"][0]["period"] == 8.0
+    s.set("/animation", {"fps": 12})
+    assert s.fps == 12
+    with pytest.raises(libwave.InputError, match=r"/waves/0/period.*-1"):
+        s.set("/waves/0/period", -1)
+    assert s.get("/waves/0/period") == 8.0  # unchanged by the refused edit
+    with pytest.raises(libwave.InputError, match="not set"):
+        s.get("/refine")
+    # The default scene is a document too.
+    d = libwave.default_scene()
+    assert d.to_dict()["seafloor"]["source"] == "gonzato-bay"
+    assert libwave.Scene(d.to_dict()).name == d.name
+
+
+def test_every_failure_is_a_libwave_error():
+    assert issubclass(libwave.InputError, libwave.Error) and issubclass(libwave.LimitError, libwave.Error)
+    assert issubclass(libwave.InputError, ValueError)
+    with pytest.raises(libwave.Error):
+        libwave.read_seafloor("/nonexistent/seafloor.asc")
+    with pytest.raises(libwave.Error, match="refraction"):
+        libwave.trace_fronts(libwave.procedural_seafloor("gonzato-bay"), 5, 0.3, (0, 1), refraction="snell")
+    with pytest.raises(libwave.Error, match="max_turn_degrees"):
+        libwave.trace_fronts(libwave.procedural_seafloor("gonzato-bay"), 5, 0.3, (0, 1), max_turn_degrees=1000)
+
+
+@pytest.mark.skipif(shutil.which("stubgen") is None and subprocess.run([sys.executable, "-c", "import mypy"]).returncode,
+                    reason="mypy (python3-mypy) is not installed")
+def test_stubs_match_the_module_and_type_check_the_example():
+    env = dict(os.environ, MYPYPATH=os.environ["PYTHONPATH"])
+    stubtest = subprocess.run([sys.executable, "-m", "mypy.stubtest", "libwave._libwave", "--allowlist",
+                               str(pathlib.Path(__file__).with_name("stubtest-allowlist.txt"))],
+                              capture_output=True, text=True, env=env)
+    assert stubtest.returncode == 0, stubtest.stdout + stubtest.stderr
+    mypy = subprocess.run([sys.executable, "-m", "mypy", "--strict", "--no-incremental", "--cache-dir", "/dev/null",
+                           str(REPO / "examples" / "pipeline.py")], capture_output=True, text=True, env=env)
+    assert mypy.returncode == 0, mypy.stdout + mypy.stderr
