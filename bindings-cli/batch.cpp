@@ -33,8 +33,9 @@ using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
 // Folders give their *.json files, patterns their matches, files themselves; sorted,
-// without repeats.
-std::vector<std::string> expand_inputs(const std::vector<std::string>& inputs) {
+// without repeats. An input that names nothing goes to `missing`: that scene fails, the
+// others still run.
+std::vector<std::string> expand_inputs(const std::vector<std::string>& inputs, std::vector<std::string>& missing) {
     std::vector<std::string> scenes;
     for (const std::string& in : inputs) {
         if (fs::is_directory(in)) {
@@ -51,11 +52,11 @@ std::vector<std::string> expand_inputs(const std::vector<std::string>& inputs) {
         if (rc == 0)
             for (std::size_t i = 0; i < g.gl_pathc; ++i) scenes.emplace_back(g.gl_pathv[i]);
         globfree(&g);
-        if (rc != 0) throw InputError("batch: " + in + ": no such scene file, folder or matching pattern");
+        if (rc != 0) missing.push_back(in);
     }
     std::sort(scenes.begin(), scenes.end());
     scenes.erase(std::unique(scenes.begin(), scenes.end()), scenes.end());
-    if (scenes.empty()) throw InputError("batch: no scene files (*.json) in the inputs");
+    if (scenes.empty() && missing.empty()) throw InputError("batch: no scene files (*.json) in the inputs");
     return scenes;
 }
 
@@ -80,11 +81,36 @@ std::string tail_of(const std::string& path) {
     return line;
 }
 
+// What a scene's run left in its folder: every file (relative path, bytes), their total,
+// and the frames its report.json names (surface.frames; 0 when it has none).
+void describe_outputs(const std::string& folder, json& r) {
+    json files = json::array();
+    std::uintmax_t total = 0;
+    std::vector<fs::path> paths;
+    std::error_code ec;
+    for (auto it = fs::recursive_directory_iterator(folder, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
+        if (it->is_regular_file()) paths.push_back(it->path());
+    std::sort(paths.begin(), paths.end());
+    for (const fs::path& p : paths) {
+        const std::uintmax_t bytes = fs::file_size(p, ec);
+        total += ec ? 0 : bytes;
+        files.push_back({{"file", fs::relative(p, folder).string()}, {"bytes", ec ? 0 : bytes}});
+    }
+    r["outputs"] = std::move(files);
+    r["bytes"] = total;
+    r["frames"] = 0;
+    std::ifstream in(fs::path(folder) / "report.json");
+    const json report = json::parse(in, nullptr, false);
+    if (!report.is_discarded() && report.contains("surface") && report["surface"].contains("frames"))
+        r["frames"] = report["surface"]["frames"];
+}
+
 }  // namespace
 
 int run_batch(const BatchArgs& a) {
     if (a.jobs < 1) throw InputError("batch: --jobs must be >= 1");
-    const std::vector<std::string> scenes = expand_inputs(a.inputs);
+    std::vector<std::string> missing;
+    const std::vector<std::string> scenes = expand_inputs(a.inputs, missing);
     // Each scene's outputs go to OUT/<file stem>: two scenes with one stem would collide.
     std::map<std::string, std::string> by_stem;
     for (const std::string& s : scenes) {
@@ -105,6 +131,14 @@ int run_batch(const BatchArgs& a) {
     }
     const std::string self = fs::read_symlink("/proc/self/exe").string();
     std::vector<Job> jobs;
+    for (const std::string& s : missing) {  // failed before they start: bad input (2)
+        Job j;
+        j.scene = s;
+        j.exit_code = 2;
+        j.error = "batch: " + s + ": no such scene file, folder or matching pattern";
+        if (!a.quiet && !a.json) std::cout << "[" << jobs.size() + 1 << "/" << missing.size() + scenes.size() << "] FAILED " << s << ": " << j.error << '\n';
+        jobs.push_back(std::move(j));
+    }
     for (const std::string& s : scenes) {
         Job j;
         j.scene = s;
@@ -131,7 +165,7 @@ int run_batch(const BatchArgs& a) {
                                "; its messages go to " + j.err_file + ")");
     };
 
-    std::size_t next = 0, running = 0, done = 0;
+    std::size_t next = missing.size(), running = 0, done = missing.size();  // the missing ones have failed
     std::map<pid_t, std::size_t> by_pid;
     while (done < jobs.size()) {
         while (running < static_cast<std::size_t>(a.jobs) && next < jobs.size()) {
@@ -164,8 +198,12 @@ int run_batch(const BatchArgs& a) {
         const bool ok = j.exit_code == 0;
         summary[ok ? "ok" : "failed"] = summary[ok ? "ok" : "failed"].get<int>() + 1;
         json r{{"scene", j.scene}, {"status", ok ? "ok" : "failed"}, {"exit_code", j.exit_code}, {"seconds", j.seconds}};
-        if (ok) r["output"] = j.out;
-        else r["error"] = j.error;
+        if (ok) {
+            r["output"] = j.out;
+            describe_outputs(j.out, r);
+        } else {
+            r["error"] = j.error;
+        }
         summary["results"].push_back(r);
         // Bad input (2) outranks a runtime failure (1) and a crash counts as a runtime failure.
         const int code = ok ? 0 : j.exit_code == 2 ? 2 : 1;

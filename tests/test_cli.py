@@ -1797,9 +1797,22 @@ class Batch(unittest.TestCase):
             self.assertEqual(r.returncode, 2)
             self.assertIn("rename one", r.stderr)
             self.assertFalse(os.path.exists(os.path.join(d, "clash")))
-            r = wave("batch", os.path.join(d, "nothing-*.json"), "-o", os.path.join(d, "none"))
-            self.assertEqual(r.returncode, 2)
-            self.assertIn("no such scene file", r.stderr)
+            # A missing input is that scene's failure (bad input, exit 2); the others still run,
+            # and the summary lists each run's files, bytes and frames.
+            r = wave("batch", os.path.join(d, "nothing-*.json"), os.path.join(folder, "bay.json"), "-o", os.path.join(d, "some"))
+            self.assertEqual(r.returncode, 2, r.stdout + r.stderr)
+            self.assertIn("no such scene file", r.stdout)
+            summary = json.load(open(os.path.join(d, "some", "batch-summary.json")))
+            self.assertEqual((summary["scenes"], summary["ok"], summary["failed"]), (2, 1, 1))
+            failed = [x for x in summary["results"] if x["status"] == "failed"][0]
+            self.assertEqual(failed["exit_code"], 2)
+            self.assertIn("nothing-*.json", failed["error"])
+            ok = [x for x in summary["results"] if x["status"] == "ok"][0]
+            files = {o["file"]: o["bytes"] for o in ok["outputs"]}
+            self.assertIn("report.json", files)
+            self.assertEqual(ok["bytes"], sum(files.values()))
+            self.assertEqual(sum(files.values()), sum(os.path.getsize(os.path.join(ok["output"], f)) for f in files))
+            self.assertGreater(ok["frames"], 0)
 
 
 class Convert(unittest.TestCase):
