@@ -619,7 +619,44 @@ double ms_since(std::chrono::steady_clock::time_point t) {
 
 }  // namespace
 
+// `-o FILE.glb`: the run goes to a hidden folder beside FILE, its one animation file is
+// renamed to FILE and the rest (report, strips, OBJ) removed: one file, written whole
+// or not at all.
+int run_to_one_file(const RunArgs& a) {
+    const std::filesystem::path target(a.out_dir);
+    const Scene scene = run_scene(a);
+    if (scene.form != Scene::Form::morph && scene.form != Scene::Form::nodes)
+        throw InputError("-o " + a.out_dir + ": one .glb holds the morph or nodes form, not " + std::string(form_name(scene.form)) +
+                         " (give a folder for it)");
+    if (scene.container != Scene::Container::glb)
+        throw InputError("-o " + a.out_dir + ": the scene's /outputs/container is gltf (a .gltf and a .bin): give a folder");
+    if (a.preview) throw InputError("-o " + a.out_dir + ": --preview writes preview.png beside the animation: give a folder");
+    if (std::filesystem::is_directory(target)) throw InputError("-o " + a.out_dir + ": is a folder, not a .glb file");
+    const std::filesystem::path parent = target.has_parent_path() ? target.parent_path() : std::filesystem::path(".");
+    std::filesystem::create_directories(parent);
+    RunArgs work = a;
+    work.out_dir = (parent / (".wave-" + target.filename().string() + "-" + std::to_string(::getpid()))).string();
+    std::error_code ignored;
+    std::filesystem::remove_all(work.out_dir, ignored);
+    try {
+        const int rc = run_job(work);
+        std::string name;
+        for (const auto& e : std::filesystem::directory_iterator(work.out_dir)) {
+            const std::string n = e.path().filename().string();
+            if (n.starts_with("animation") && n.ends_with(".glb")) name = n;
+        }
+        if (name.empty()) throw RuntimeError("-o " + a.out_dir + ": the run wrote no .glb");
+        std::filesystem::rename(std::filesystem::path(work.out_dir) / name, target);
+        std::filesystem::remove_all(work.out_dir);
+        return rc;
+    } catch (...) {
+        std::filesystem::remove_all(work.out_dir, ignored);
+        throw;
+    }
+}
+
 int run_job(const RunArgs& a) {
+    if (a.out_dir.ends_with(".glb")) return run_to_one_file(a);
     // Limits libwave's parallel loops (TBB) for this run; each vertex is computed alone,
     // so the files do not depend on the count.
     std::optional<tbb::global_control> threads;
@@ -647,6 +684,9 @@ int run_job(const RunArgs& a) {
     }
     refine_scene_plan(scene, plan);
     const double plan_ms = ms_since(clock);
+    // --overwrite: what earlier runs left goes now that the scene and its limits passed,
+    // before any frame of this run is written.
+    if (a.overwrite && std::filesystem::is_directory(out_dir)) remove_stale_outputs(out_dir, every_recorded_output(out_dir), {});
 
     // The files form writes its frames below (a killed run can resume); the streamed
     // forms write theirs into the staging folder now, as they come. `anim` then holds
@@ -708,7 +748,9 @@ int run_job(const RunArgs& a) {
         report["outputs"].push_back("preview.png");
     }
     files.emplace_back(r.report_name, report.dump(2) + "\n");
-    publish(out_dir, files, [&](const std::filesystem::path& staging) {
+    // What an earlier run with the same report left: stale unless written again.
+    const std::vector<std::string> earlier = recorded_outputs(out_dir, r.report_name);
+    const std::vector<std::string> published = publish(out_dir, files, [&](const std::filesystem::path& staging) {
         std::vector<std::string> names = files_run ? files_run->stage(staging) : std::vector<std::string>{};
         if (stream_out)  // written there as the frames came
             for (const auto& f : stream_out->files) names.push_back(f.first);
@@ -718,6 +760,7 @@ int run_job(const RunArgs& a) {
         }
         return names;
     });
+    remove_stale_outputs(out_dir, earlier, published);
     if (files_run) {
         index_lock.reset();
         remove_stale_partials(out_dir, *files_run, r.run_key);

@@ -75,6 +75,10 @@ struct RunArgs {
     bool view = false;     ///< then serve the output in the viewer (wave view)
     double max_memory_gb = 2.0;  ///< refuse animations whose frame arrays exceed this
     bool resume = false;   ///< files form: keep the frames the index lists whose files still match it
+    /// Remove every output an earlier run recorded in the folder (all reports' outputs,
+    /// the index and frames/) before publishing; without it only the outputs the same
+    /// report listed and this run does not write again are removed (stale ones).
+    bool overwrite = false;
 };
 int run_job(const RunArgs& a);
 /// Where run_job writes: --out, else wave-out/<scene file stem or "default">.

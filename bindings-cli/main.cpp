@@ -83,7 +83,7 @@ int main(int argc, char** argv) {
     cli::RunArgs run;
     auto* run_cmd = app.add_subcommand("run", "Run the main job on a scene file, or on the built-in default scene (Gonzato's bay with a swell)");
     run_cmd->add_option("scene", run.scene, "scene file (JSON); none = the built-in default scene");
-    run_cmd->add_option("-o,--out", run.out_dir, "output folder (default: wave-out/<scene name>)");
+    run_cmd->add_option("-o,--out", run.out_dir, "output folder (default: wave-out/<scene name>), or FILE.glb: only the animation, as that one file (morph or nodes form)");
     run_cmd->add_flag("--json", run.json, "print the report as JSON");
     run_cmd->add_option("--form", run.form, "animation form: morph (one .glb of shape keys), nodes (one object per frame), files (one .glb per frame + index.json), pc2 (a base .glb/.obj + PC2 point caches for Blender's Mesh Cache modifier, Maya, 3ds Max, Houdini)")
         ->check(CLI::IsMember({"morph", "nodes", "files", "pc2"}));
@@ -97,7 +97,8 @@ int main(int argc, char** argv) {
         ->excludes(draco_opt);
     run_cmd->add_option("--fps", run.fps, "frames per second (overrides the scene's)")->check(positive);
     run_cmd->add_flag("-q,--quiet", run.quiet, "no progress bar and no report on stdout");
-    run_cmd->add_flag("--resume", run.resume, "files form: continue an interrupted run — keep the frames whose files match the index (size and SHA-256), compute the rest");
+    CLI::Option* resume_opt = run_cmd->add_flag("--resume", run.resume, "files form: continue an interrupted run — keep the frames whose files match the index (size and SHA-256), compute the rest");
+    run_cmd->add_flag("--overwrite", run.overwrite, "remove every output an earlier run left in the folder (all reports' files, index.json, frames/) before writing; without it a rerun still removes what its predecessor wrote and it does not write again (e.g. animation.bin after a switch to glb)")->excludes(resume_opt);
     run_cmd->add_flag("--preview", run.preview, "also write preview.png: four frames rendered by the preview ray caster");
     run_cmd->add_option("--max-memory-gb", run.max_memory_gb, "refuse animations whose per-frame arrays would exceed this (GB)")
         ->check(positive)->capture_default_str();

@@ -183,8 +183,8 @@ fs::path staging_folder(const std::string& out_dir) {
     return fs::path(out_dir) / (staging_prefix() + std::to_string(getpid()));
 }
 
-void publish(const std::string& out_dir, const Files& files,
-             const std::function<std::vector<std::string>(const fs::path&)>& write_more) {
+std::vector<std::string> publish(const std::string& out_dir, const Files& files,
+                                 const std::function<std::vector<std::string>(const fs::path&)>& write_more) {
     const bool created = !fs::exists(out_dir);
     fs::create_directories(out_dir);
     const std::string mine = staging_prefix();
@@ -217,12 +217,65 @@ void publish(const std::string& out_dir, const Files& files,
             fs::rename(staging / name, fs::path(out_dir) / name);
         }
         fs::remove_all(staging);
+        return names;
     } catch (...) {
         std::error_code ignored;
         fs::remove_all(staging, ignored);
         if (created) fs::remove_all(out_dir, ignored);  // it was ours and holds nothing finished
         throw;
     }
+}
+
+namespace {
+
+// A name a report may list: relative, inside the folder, not a frame file.
+bool own_output_name(const std::string& name) {
+    const fs::path p(name);
+    if (name.empty() || p.is_absolute() || name.starts_with("frames/")) return false;
+    for (const auto& part : p)
+        if (part == "..") return false;
+    return true;
+}
+
+}  // namespace
+
+std::vector<std::string> recorded_outputs(const std::string& out_dir, const std::string& report_name) {
+    std::ifstream in(fs::path(out_dir) / report_name);
+    if (!in) return {};
+    const json report = json::parse(in, nullptr, false);
+    if (report.is_discarded() || !report.is_object() || !report.contains("outputs") || !report["outputs"].is_array()) return {};
+    std::vector<std::string> names{report_name};
+    for (const json& n : report["outputs"])
+        if (n.is_string() && own_output_name(n.get<std::string>())) names.push_back(n.get<std::string>());
+    return names;
+}
+
+std::vector<std::string> every_recorded_output(const std::string& out_dir) {
+    std::vector<std::string> names;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(out_dir, ec)) {
+        const std::string name = e.path().filename().string();
+        if (e.is_regular_file() && name.starts_with("report") && name.ends_with(".json")) {
+            const std::vector<std::string> more = recorded_outputs(out_dir, name);
+            names.insert(names.end(), more.begin(), more.end());
+        }
+    }
+    names.emplace_back("index.json");
+    names.emplace_back("frames");
+    std::sort(names.begin(), names.end());
+    names.erase(std::unique(names.begin(), names.end()), names.end());
+    return names;
+}
+
+std::vector<std::string> remove_stale_outputs(const std::string& out_dir, const std::vector<std::string>& earlier,
+                                              const std::vector<std::string>& published) {
+    std::vector<std::string> removed;
+    for (const std::string& name : earlier) {
+        if (std::find(published.begin(), published.end(), name) != published.end()) continue;
+        std::error_code ec;
+        if (fs::remove_all(fs::path(out_dir) / name, ec) > 0 && !ec) removed.push_back(name);
+    }
+    return removed;
 }
 
 FolderLock::FolderLock(const fs::path& folder, bool wait, const std::string& busy) {

@@ -82,8 +82,24 @@ nlohmann::json merged_index(const std::string& path, const IndexInfo& info, cons
 /// outputs. `write_more` puts files that are not held as bytes into the staging folder
 /// (the strips PLY, the files form's frames) and returns their names; they are renamed
 /// first, so an index is never in place before the frames it lists.
-void publish(const std::string& out_dir, const Files& files,
-             const std::function<std::vector<std::string>(const std::filesystem::path&)>& write_more = {});
+/// Returns the names published (relative to out_dir).
+std::vector<std::string> publish(const std::string& out_dir, const Files& files,
+                                 const std::function<std::vector<std::string>(const std::filesystem::path&)>& write_more = {});
+
+/// The outputs an earlier run recorded in `out_dir/report_name` ("outputs" of its
+/// report; names inside the folder only, frame files excluded: the index owns those),
+/// plus the report itself; empty when there is none or it is unreadable.
+std::vector<std::string> recorded_outputs(const std::string& out_dir, const std::string& report_name);
+
+/// Every output a libwave run recorded in `out_dir` (each report*.json's outputs and
+/// the reports), and the files form's index.json and frames/ folder: what
+/// `wave run --overwrite` removes before it publishes.
+std::vector<std::string> every_recorded_output(const std::string& out_dir);
+
+/// Removes the files of `earlier` that are not in `published` (a rerun's stale outputs:
+/// another container, no preview this time); returns their names.
+std::vector<std::string> remove_stale_outputs(const std::string& out_dir, const std::vector<std::string>& earlier,
+                                              const std::vector<std::string>& published);
 
 /// The staging folder publish uses in `out_dir` for this process (hidden, named by host
 /// and pid: one that a killed run left is swept by the next publish on the host).

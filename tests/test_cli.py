@@ -1815,6 +1815,69 @@ class Batch(unittest.TestCase):
             self.assertGreater(ok["frames"], 0)
 
 
+class OutputFolders(unittest.TestCase):
+    """Reruns replace their predecessor's outputs (nothing stale), --overwrite clears what
+    earlier runs left, and -o FILE.glb writes that one file."""
+    SCENE = {"waves": [{"period": 5, "amplitude": 0.3}], "trace": {"ray_spacing": 2},
+             "fronts": {"step": 0.8, "split_distance": 2.4}, "animation": {"fps": 4}}
+
+    def test_a_rerun_leaves_nothing_stale_and_overwrite_clears_the_folder(self):
+        with tempfile.TemporaryDirectory() as d:
+            scene = os.path.join(d, "s.json")
+            with open(scene, "w") as f:
+                json.dump(self.SCENE, f)
+            out = os.path.join(d, "out")
+            run = lambda *args: self.assertEqual(wave("run", scene, "-o", out, "-q", *args).returncode, 0)
+            run("--container", "gltf", "--preview")
+            self.assertTrue({"animation.gltf", "animation.bin", "preview.png"} <= set(os.listdir(out)))
+            with open(os.path.join(out, "notes.txt"), "w") as f:
+                f.write("the artist's own file")
+            run()  # glb now, no preview: the .gltf, .bin and preview.png were this report's and are stale
+            names = set(os.listdir(out))
+            self.assertIn("animation.glb", names)
+            self.assertFalse({"animation.gltf", "animation.bin", "preview.png"} & names, names)
+            self.assertIn("notes.txt", names)  # not ours: kept
+            run("--frames", "0:2")  # a slice has its own report and files beside the loop's
+            self.assertTrue({"animation-frames-0-2.glb", "report-frames-0-2.json", "animation.glb"} <= set(os.listdir(out)))
+            r = wave("run", scene, "-o", out, "--overwrite", "--resume")
+            self.assertEqual(r.returncode, 2)
+            self.assertIn("excludes", r.stderr)
+            run("--overwrite", "--form", "files")
+            names = set(os.listdir(out))
+            self.assertFalse({"animation.glb", "animation-frames-0-2.glb", "report-frames-0-2.json"} & names, names)
+            self.assertTrue({"index.json", "frames", "report.json", "notes.txt"} <= names, names)
+            run("--overwrite")  # back to one file: the files form's index and frames go
+            names = set(os.listdir(out))
+            self.assertFalse({"index.json", "frames"} & names, names)
+            self.assertIn("animation.glb", names)
+            self.assertEqual([n for n in names if n.startswith(".")], [])
+
+    def test_o_file_glb_writes_that_one_file(self):
+        with tempfile.TemporaryDirectory() as d:
+            scene = os.path.join(d, "s.json")
+            with open(scene, "w") as f:
+                json.dump(self.SCENE, f)
+            target = os.path.join(d, "shots", "water.glb")
+            r = wave("run", scene, "-o", target, "-q")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertEqual(os.listdir(os.path.join(d, "shots")), ["water.glb"])
+            validate_gltf(self, target)
+            doc, _ = read_glb(target)
+            self.assertEqual(len(doc["meshes"][0]["primitives"][0]["targets"]), 20)  # the 5 s loop at 4 fps
+            # A slice keeps the name it was given; the range is in the file.
+            r = wave("run", scene, "-o", os.path.join(d, "shots", "part.glb"), "--frames", "2:5", "-q")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            doc, _ = read_glb(os.path.join(d, "shots", "part.glb"))
+            self.assertEqual(len(doc["meshes"][0]["primitives"][0]["targets"]), 3)
+            # Forms of many files are refused before anything is written.
+            for args, what in ((["--form", "files"], "files"), (["--form", "pc2"], "pc2"), (["--container", "gltf"], "gltf")):
+                r = wave("run", scene, "-o", os.path.join(d, "other", "x.glb"), *args)
+                self.assertEqual(r.returncode, 2, r.stdout)
+                self.assertIn(what, r.stderr)
+                self.assertFalse(os.path.exists(os.path.join(d, "other", "x.glb")))
+            self.assertEqual(sorted(os.listdir(os.path.join(d, "shots"))), ["part.glb", "water.glb"])
+
+
 class Convert(unittest.TestCase):
     SCENE = {"waves": [{"period": 5, "amplitude": 0.3}], "trace": {"ray_spacing": 2},
              "fronts": {"step": 0.8, "split_distance": 2.4}, "animation": {"fps": 6}}
