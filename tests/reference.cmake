@@ -1,25 +1,12 @@
-# The API reference builds with Doxygen without a warning (broken references, bad
-# commands: WARN_AS_ERROR), and the public symbols still without documentation stay at
-# or under CEILING (lower it as they are documented; docs/reference.md).
-function(run)
-  execute_process(COMMAND ${ARGN} WORKING_DIRECTORY ${DOCS_DIR} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "failed (${rc}): ${ARGN}\n${out}\n${err}")
-  endif()
-endfunction()
-run(${DOXYGEN} ${DOCS_DIR}/Doxyfile)
+# The API reference builds with Doxygen without a single warning: every public symbol
+# documented, no broken reference or bad command (docs/Doxyfile.in: WARN_AS_ERROR).
+execute_process(COMMAND ${DOXYGEN} ${DOCS_DIR}/Doxyfile WORKING_DIRECTORY ${DOCS_DIR}
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 file(READ ${DOCS_DIR}/doxygen-warnings.log warnings)
-if(NOT warnings STREQUAL "")
-  message(FATAL_ERROR "Doxygen warnings:\n${warnings}")
+if(NOT rc EQUAL 0 OR NOT warnings STREQUAL "")
+  message(FATAL_ERROR "doxygen failed (${rc}):\n${warnings}\n${out}\n${err}")
 endif()
 if(NOT EXISTS ${DOCS_DIR}/reference/html/index.html)
   message(FATAL_ERROR "no reference/html/index.html")
 endif()
-run(${DOXYGEN} ${DOCS_DIR}/Doxyfile.undocumented)
-file(STRINGS ${DOCS_DIR}/doxygen-undocumented.log undocumented REGEX "is not documented")
-list(LENGTH undocumented count)
-message(STATUS "API reference built; ${count} public symbols undocumented (ceiling ${CEILING})")
-if(count GREATER CEILING)
-  list(GET undocumented 0 first)
-  message(FATAL_ERROR "${count} undocumented public symbols, more than the ceiling ${CEILING}; e.g.\n${first}")
-endif()
+message(STATUS "API reference built without warnings: ${DOCS_DIR}/reference/html/index.html")

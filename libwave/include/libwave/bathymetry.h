@@ -16,15 +16,18 @@ namespace wave {
 
 /// A regular elevation grid (plain data).
 struct ElevationGrid {
-    std::size_t nx = 0, ny = 0;  ///< nodes along x and y (>= 2 each when valid)
-    double x0 = 0.0, y0 = 0.0;   ///< position of node (0, 0) (m)
-    double dx = 1.0, dy = 1.0;   ///< node spacing (m, > 0)
+    std::size_t nx = 0;  ///< nodes along x and y (>= 2 each when valid)
+    std::size_t ny = 0;  ///< nodes along x and y (>= 2 each when valid)
+    double x0 = 0.0;  ///< position of node (0, 0) (m)
+    double y0 = 0.0;  ///< position of node (0, 0) (m)
+    double dx = 1.0;  ///< node spacing (m, > 0)
+    double dy = 1.0;  ///< node spacing (m, > 0)
     std::vector<double> z;       ///< elevation (m, z up), size nx·ny, index j·nx + i
 
-    double x_max() const noexcept { return x0 + dx * static_cast<double>(nx - 1); }
-    double y_max() const noexcept { return y0 + dy * static_cast<double>(ny - 1); }
-    double& at(std::size_t i, std::size_t j) { return z[j * nx + i]; }
-    double at(std::size_t i, std::size_t j) const { return z[j * nx + i]; }
+    double x_max() const noexcept { return x0 + dx * static_cast<double>(nx - 1); }  ///< x of the last column (m)
+    double y_max() const noexcept { return y0 + dy * static_cast<double>(ny - 1); }  ///< y of the last row (m)
+    double& at(std::size_t i, std::size_t j) { return z[j * nx + i]; }  ///< node (i, j): column i, row j
+    double at(std::size_t i, std::size_t j) const { return z[j * nx + i]; }  ///< node (i, j): column i, row j
 };
 
 /// A triangle mesh of the seafloor (plain arrays), kept when the source was a mesh so
@@ -42,13 +45,13 @@ struct DepthContours {
     std::vector<double> depth;          ///< depth h of each polyline (m, positive down)
     std::vector<std::uint8_t> closed;   ///< 1 if the polyline is a closed ring
 
-    std::size_t size() const noexcept { return depth.size(); }
+    std::size_t size() const noexcept { return depth.size(); }  ///< number of polylines
 };
 
 /// A seafloor: always an elevation grid (what depth queries read), plus the source
 /// mesh or contours when the input was one, plus a record of where it came from.
 struct Seafloor {
-    ElevationGrid grid;
+    ElevationGrid grid;  ///< what depth queries read (a mesh or contours resampled to it)
     SeafloorMesh mesh;         ///< empty unless read from a mesh file
     DepthContours contours;    ///< empty unless read from contours / Ts'o generator
     std::string source;        ///< file path or generator name with parameters
@@ -82,14 +85,20 @@ double depth_at(const ElevationGrid& grid, double x, double y) noexcept;
 
 /// Summary statistics, as `wave seafloor info` prints them.
 struct SeafloorStats {
-    std::size_t nx = 0, ny = 0;
-    double x_min = 0, x_max = 0, y_min = 0, y_max = 0;
-    double dx = 0, dy = 0;
-    double depth_min = 0, depth_max = 0;  ///< h range over the grid nodes (m)
+    std::size_t nx = 0;  ///< grid nodes along x
+    std::size_t ny = 0;  ///< grid nodes along y
+    double x_min = 0;  ///< the grid's extent (m)
+    double x_max = 0;  ///< the grid's extent (m)
+    double y_min = 0;  ///< the grid's extent (m)
+    double y_max = 0;  ///< the grid's extent (m)
+    double dx = 0;  ///< node spacing along x (m)
+    double dy = 0;  ///< node spacing along y (m)
+    double depth_min = 0;  ///< h range over the grid nodes (m)
+    double depth_max = 0;  ///< h range over the grid nodes (m)
     double land_fraction = 0;             ///< fraction of nodes with h <= 0
-    std::size_t nodata_count = 0;
-    std::size_t mesh_triangles = 0;
-    std::size_t contour_lines = 0;
+    std::size_t nodata_count = 0;  ///< nodes that had no data
+    std::size_t mesh_triangles = 0;  ///< triangles of the source mesh (0 unless read from one)
+    std::size_t contour_lines = 0;  ///< polylines of the source contours (0 unless read from them)
 };
 SeafloorStats seafloor_stats(const Seafloor& seafloor);
 
@@ -121,19 +130,22 @@ struct ReadOptions {
     /// Values are converted as metres = value · vertical_scale + vertical_offset before
     /// the sign is applied (e.g. 0.01 for centimetres, or 400 for a 1:400 model).
     double vertical_scale = 1.0;
-    double vertical_offset = 0.0;
+    double vertical_offset = 0.0;  ///< added after vertical_scale (m)
     /// Horizontal scale applied to x and y (e.g. 400 to bring a 1:400 model to full size).
     double horizontal_scale = 1.0;
     /// Value that marks a missing node, overriding the file's own (GDAL NODATA).
     std::optional<double> nodata_value;
-    NodataPolicy nodata_policy = NodataPolicy::land;
+    NodataPolicy nodata_policy = NodataPolicy::land;  ///< what becomes of NODATA nodes
     /// Elevation (m) given to NODATA nodes under NodataPolicy::land.
     double nodata_elevation = 1.0;
 
     // SWAN .bot (a bare list of numbers): the grid is not in the file.
-    std::size_t swan_nx = 0, swan_ny = 0;  ///< nodes per row and rows (required for .bot)
-    double swan_dx = 0.0, swan_dy = 0.0;   ///< spacing (m, required; dy = dx if 0)
-    double swan_x0 = 0.0, swan_y0 = 0.0;   ///< position of the first value
+    std::size_t swan_nx = 0;  ///< nodes per row and rows (required for .bot)
+    std::size_t swan_ny = 0;  ///< nodes per row and rows (required for .bot)
+    double swan_dx = 0.0;  ///< spacing (m, required; dy = dx if 0)
+    double swan_dy = 0.0;  ///< spacing (m, required; dy = dx if 0)
+    double swan_x0 = 0.0;  ///< position of the first value
+    double swan_y0 = 0.0;  ///< position of the first value
 
     /// Node spacing (m) when a mesh or contour file is resampled to a grid; 0 = chosen
     /// from the data (mesh: mean vertex spacing; contours: extent / 256).
@@ -177,13 +189,14 @@ ElevationGrid grid_from_contours(const DepthContours& contours, double spacing,
 /// +x; −π/2 = sea to the south, waves travelling +y). Elevation is clamped to
 /// [−max_depth, land_height].
 struct PlanarBeachParams {
-    double size_x = 200.0, size_y = 200.0;  ///< domain [0, size_x] × [0, size_y]
+    double size_x = 200.0;  ///< domain [0, size_x] × [0, size_y]
+    double size_y = 200.0;  ///< domain [0, size_x] × [0, size_y]
     double spacing = 1.0;                   ///< node spacing
     double slope = 0.05;                    ///< tan β
-    double offshore_angle = -1.5707963267948966;
+    double offshore_angle = -1.5707963267948966;  ///< direction of the sea (rad from +x)
     double shore_distance = 60.0;  ///< shoreline distance from the domain centre, onshore
-    double max_depth = 10.0;
-    double land_height = 2.0;
+    double max_depth = 10.0;  ///< deepest water (m)
+    double land_height = 2.0;  ///< highest land (m)
 };
 Seafloor make_planar_beach(const PlanarBeachParams& p = {});
 
@@ -192,9 +205,13 @@ Seafloor make_planar_beach(const PlanarBeachParams& p = {});
 /// x = size) to the bay head at y = head_y (x = size/2); depth = slope · (y_shore − y)
 /// capped at max_depth.
 struct GonzatoBayParams {
-    double size = 100.0, spacing = 0.5;
-    double headland_y = 55.0, head_y = 90.0;
-    double slope = 0.1, max_depth = 5.0, land_height = 2.0;
+    double size = 100.0;     ///< side of the square domain (m)
+    double spacing = 0.5;    ///< node spacing (m)
+    double headland_y = 55.0;  ///< shoreline y at the headlands (m)
+    double head_y = 90.0;      ///< shoreline y at the bay head (m)
+    double slope = 0.1;        ///< tan β of the bottom
+    double max_depth = 5.0;    ///< deepest water (m)
+    double land_height = 2.0;  ///< highest land (m)
 };
 Seafloor make_gonzato_bay(const GonzatoBayParams& p = {});
 
@@ -202,10 +219,15 @@ Seafloor make_gonzato_bay(const GonzatoBayParams& p = {});
 /// shoreline) in a 100 m × 100 m sea of depth max_depth; the bottom rises with
 /// `slope` measured along the major axis.
 struct GonzatoIslandParams {
-    double size = 100.0, spacing = 0.5;
-    double center_x = 50.0, center_y = 55.0;
-    double semi_axis_x = 15.0, semi_axis_y = 10.0;
-    double slope = 0.15, max_depth = 6.0, top_height = 3.0;
+    double size = 100.0;   ///< side of the square domain (m)
+    double spacing = 0.5;  ///< node spacing (m)
+    double center_x = 50.0;  ///< the island's centre (m)
+    double center_y = 55.0;  ///< the island's centre (m)
+    double semi_axis_x = 15.0;  ///< semi-axis along x at the shoreline (m)
+    double semi_axis_y = 10.0;  ///< semi-axis along y at the shoreline (m)
+    double slope = 0.15;      ///< tan β along the major axis
+    double max_depth = 6.0;   ///< the sea's depth (m)
+    double top_height = 3.0;  ///< the island's top (m)
 };
 Seafloor make_gonzato_island(const GonzatoIslandParams& p = {});
 
@@ -214,8 +236,9 @@ Seafloor make_gonzato_island(const GonzatoIslandParams& p = {});
 /// exact shapes are not in the text; the lines here are our reconstruction (gentle
 /// sinusoids), only the depths are the paper's. Keeps the contours and grids them.
 struct TsoContoursParams {
-    double size = 50.0, spacing = 0.25;
-    std::vector<double> depths{2.0, 1.25, 0.75, 0.5, 0.3, 0.2, 0.1, -0.1, -0.1, 0.0};
+    double size = 50.0;     ///< side of the square domain (m)
+    double spacing = 0.25;  ///< node spacing of the grid (m)
+    std::vector<double> depths{2.0, 1.25, 0.75, 0.5, 0.3, 0.2, 0.1, -0.1, -0.1, 0.0};  ///< the ten contours' depths, top to bottom (m)
     double waviness = 2.0;  ///< amplitude of the contour undulation (m)
 };
 Seafloor make_tso_contours(const TsoContoursParams& p = {});
@@ -227,8 +250,11 @@ Seafloor make_tso_contours(const TsoContoursParams& p = {});
 /// inside (x'/3)² + (y'/4)² <= 1 the shoal −0.3 + 0.5 √(1 − (x'/3.75)² − (y'/5)²) is
 /// subtracted (crest depth ≈ 0.1336 m).
 struct BerkhoffShoalParams {
-    double spacing = 0.05;
-    double x_min = -10.0, x_max = 12.0, y_min = -10.0, y_max = 10.0;
+    double spacing = 0.05;  ///< node spacing (m)
+    double x_min = -10.0;  ///< the wavemaker (m)
+    double x_max = 12.0;   ///< the domain's end (m)
+    double y_min = -10.0;  ///< a wall (m)
+    double y_max = 10.0;   ///< a wall (m)
 };
 Seafloor make_berkhoff_shoal(const BerkhoffShoalParams& p = {});
 
@@ -236,9 +262,15 @@ Seafloor make_berkhoff_shoal(const BerkhoffShoalParams& p = {});
 /// cone (toe radius 3.6 m, crest radius 1.1 m, height 0.625 m, slope 1:4) in water
 /// 0.32 m deep, centred in a 25 m × 30 m basin.
 struct ConicalIslandParams {
-    double size_x = 25.0, size_y = 30.0, spacing = 0.05;
-    double center_x = 12.5, center_y = 15.0;
-    double toe_radius = 3.6, crest_radius = 1.1, height = 0.625, water_depth = 0.32;
+    double size_x = 25.0;   ///< basin length (m)
+    double size_y = 30.0;   ///< basin width (m)
+    double spacing = 0.05;  ///< node spacing (m)
+    double center_x = 12.5;  ///< the cone's centre (m)
+    double center_y = 15.0;  ///< the cone's centre (m)
+    double toe_radius = 3.6;     ///< radius at the toe (m)
+    double crest_radius = 1.1;   ///< radius at the crest (m)
+    double height = 0.625;       ///< cone height (m)
+    double water_depth = 0.32;   ///< basin depth (m)
 };
 Seafloor make_conical_island(const ConicalIslandParams& p = {});
 

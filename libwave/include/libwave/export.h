@@ -43,14 +43,13 @@ enum class ScalarLayout {
 /// quantisation bits per kind of attribute (more bits, smaller error, bigger files).
 struct DracoOptions {
     int position_bits = 14;  ///< error <= extent / 2^15 per axis
-    int normal_bits = 10;
+    int normal_bits = 10;    ///< octahedral normal bits
     int texcoord_bits = 12;  ///< also the UV-map shading layout
-    int color_bits = 8;
+    int color_bits = 8;      ///< COLOR_0
     int generic_bits = 12;   ///< the named `_` scalars
     int encode_speed = 5;    ///< Draco's 0 (smallest) … 10 (fastest)
 };
 
-/// Frames of one mesh with fixed topology (views of caller-owned arrays, z up).
 /// What a single-file animation carries beside the water, so that a glTF client (Blender,
 /// three.js) opens a scene: the seafloor as a mesh coloured by depth, the camera, the sun
 /// (KHR_lights_punctual) and a water material (KHR_materials_transmission, _ior,
@@ -60,20 +59,22 @@ struct SceneDressing {
     std::span<const float> seafloor_colors;             ///< 3 per vertex, linear RGB
     std::span<const std::uint32_t> seafloor_triangles;  ///< counter-clockwise seen from above
     bool camera = false;  ///< write the camera: at camera_position (z up), turned by camera_rotation
-    std::array<double, 3> camera_position{};
+    std::array<double, 3> camera_position{};  ///< m, z up
     std::array<double, 4> camera_rotation{0.0, 0.0, 0.0, 1.0};  ///< glTF node rotation (x, y, z, w; glTF axes)
-    double camera_yfov = 0.6981317007977318, camera_aspect = 16.0 / 9.0;  ///< vertical field of view (rad), width / height
+    double camera_yfov = 0.6981317007977318;  ///< vertical field of view (rad)
+    double camera_aspect = 16.0 / 9.0;        ///< width / height
     bool sun = false;  ///< write a directional light turned by sun_rotation
     std::array<double, 4> sun_rotation{0.0, 0.0, 0.0, 1.0};  ///< glTF node rotation (the light shines along its −Z)
-    bool water_material = false;
+    bool water_material = false;  ///< write the water material (transmission, IOR 1.333, volume)
     /// Caustic maps beside the file (docs/underwater.md): with texcoords (2 per seafloor
     /// vertex, the maps' frame) the seafloor gets TEXCOORD_0, and with a pattern (e.g.
     /// "caustics/caustics-%04d.png", numbered by loop frame) its material's extras
     /// name the sequence: libwave_caustics {images, frames, fps, texCoord, full_scale}.
     std::span<const float> seafloor_texcoords;
-    std::string caustic_images;
-    std::size_t caustic_frames = 0;
-    double caustic_fps = 24.0, caustic_full_scale = 1.0;
+    std::string caustic_images;  ///< printf pattern of the maps' names, by loop frame (empty: none)
+    std::size_t caustic_frames = 0;  ///< maps in the sequence
+    double caustic_fps = 24.0;  ///< the sequence's frames per second
+    double caustic_full_scale = 1.0;  ///< E / I₀ written as white
 };
 
 /// The glTF node rotation (x, y, z, w in glTF's y-up axes) that turns a camera or a
@@ -81,18 +82,23 @@ struct SceneDressing {
 /// up as it can be; points z up.
 std::array<double, 4> gltf_look_rotation(const std::array<double, 3>& from, const std::array<double, 3>& to);
 
+/// Frames of one mesh with fixed topology (views of caller-owned arrays, z up): what
+/// every exporter reads.
 struct MorphAnimationView {
     std::span<const std::uint32_t> triangles;  ///< 3 indices per triangle, counter-clockwise
-    std::size_t vertex_count = 0;
-    std::size_t frame_count = 0;
+    std::size_t vertex_count = 0;  ///< per frame
+    std::size_t frame_count = 0;   ///< frames viewed
     std::span<const float> positions;  ///< frame_count · vertex_count · 3
     std::span<const float> normals;    ///< same layout, unit length
     std::span<const float> texcoords;  ///< vertex_count · 2 (TEXCOORD_0)
     /// Optional shading per frame (frame_count · vertex_count each; empty = not written):
     /// Fresnel reflect and refract weights and foam, and a baked COLOR_0 (3 per vertex).
-    std::span<const float> reflect, refract, foam, colors;
-    ScalarLayout layout = ScalarLayout::custom;
-    double fps = 24.0;
+    std::span<const float> reflect;  ///< Fresnel R
+    std::span<const float> refract;  ///< T = 1 − R
+    std::span<const float> foam;     ///< in [0, 1]
+    std::span<const float> colors;   ///< COLOR_0, 3 per vertex
+    ScalarLayout layout = ScalarLayout::custom;  ///< how the scalars are laid out (ScalarLayout)
+    double fps = 24.0;  ///< frames per second
     /// Number of the first frame in the whole loop (a slice starts later): key times
     /// and frame names count from it.
     std::size_t first_frame = 0;
@@ -195,12 +201,19 @@ GltfFiles glb_to_gltf(std::string_view glb, const std::string& bin_uri);
 /// gltf_morph_glb refuses; LimitError when a .glb would exceed its 4 GiB length field.
 class AnimationFileWriter {
 public:
-    enum class Form { morph, nodes };
+    /// The single-file forms a writer streams.
+    enum class Form {
+        morph,  ///< morph targets
+        nodes,  ///< scale-switched nodes
+    };
+    /// A writer of `frame_count` frames to `path` (.glb, or .gltf + .bin with
+    /// gltf_container) whose static parts (triangles, texcoords, dressing) are `first`'s.
     AnimationFileWriter(std::string path, Form form, bool gltf_container, const MorphAnimationView& first,
                         std::size_t frame_count);
     ~AnimationFileWriter();
     AnimationFileWriter(const AnimationFileWriter&) = delete;
     AnimationFileWriter& operator=(const AnimationFileWriter&) = delete;
+    /// The next frames (the chunk's first_frame must follow the last appended).
     void append(const MorphAnimationView& chunk);
     /// Writes the file(s) in place (atomically); returns each one's name (without the
     /// folder) and size in bytes. Throws InputError unless every frame was appended.
@@ -217,20 +230,31 @@ std::string gltf_frame_glb(const MorphAnimationView& animation, std::size_t fram
 /// An animation read back from libwave's own output (`wave convert`): every frame's
 /// arrays, as MorphAnimationView describes them, owned.
 struct StoredAnimation {
-    std::size_t vertex_count = 0, frame_count = 0, first_frame = 0, loop_frames = 0;
-    double fps = 24.0;
-    std::string name = "water", scene;
-    std::vector<std::uint32_t> triangles;
-    std::vector<float> positions, normals, texcoords, reflect, refract, foam, colors;  ///< z up, as written
+    std::size_t vertex_count = 0;  ///< per frame
+    std::size_t frame_count = 0;   ///< frames read
+    std::size_t first_frame = 0;   ///< of the loop
+    std::size_t loop_frames = 0;   ///< frames in the loop (0 = not recorded)
+    double fps = 24.0;             ///< frames per second
+    std::string name = "water";    ///< the mesh's name
+    std::string scene;             ///< the scene's name recorded in the file
+    std::vector<std::uint32_t> triangles;  ///< 3 per triangle
+    std::vector<float> positions;  ///< z up, as written
+    std::vector<float> normals;    ///< z up, as written
+    std::vector<float> texcoords;  ///< TEXCOORD_0, as written
+    std::vector<float> reflect;    ///< as written (empty when the file has none)
+    std::vector<float> refract;    ///< as written (empty when the file has none)
+    std::vector<float> foam;       ///< as written (empty when the file has none)
+    std::vector<float> colors;     ///< as written (empty when the file has none)
     /// What the file carried beside the water (morph and nodes forms), to write it again:
     /// the seafloor's arrays (z up) and the camera, sun and material settings.
-    std::vector<float> seafloor_positions, seafloor_colors;
-    std::vector<std::uint32_t> seafloor_triangles;
+    std::vector<float> seafloor_positions;  ///< 3 per vertex (m, z up)
+    std::vector<float> seafloor_colors;     ///< 3 per vertex (linear RGB)
+    std::vector<std::uint32_t> seafloor_triangles;  ///< 3 per triangle
     std::optional<SceneDressing> dressing;  ///< its spans are set by view()
-    ScalarLayout layout = ScalarLayout::custom;
+    ScalarLayout layout = ScalarLayout::custom;  ///< the file's layout of the scalars
     bool draco_frames = false;  ///< read from a Draco-compressed frame (its own point order)
 
-    MorphAnimationView view() const;
+    MorphAnimationView view() const;  ///< a view for the exporters (spans into this)
 };
 
 /// Reads a libwave output: a .glb or .gltf of the morph or nodes form or one frame file,

@@ -43,10 +43,14 @@ enum : std::uint8_t {
 /// and j across it. η̂ = envelope · e^{i·phase_ref[i]}: the envelope varies slowly (it is
 /// interpolated), the reference phase is Σ k̄ dx along the march.
 struct WaveField {
-    double x0 = 0.0, y0 = 0.0;   ///< node (0, 0) in seafloor coordinates (m)
-    double ux = 1.0, uy = 0.0;   ///< the swell's direction (unit)
-    double dx = 0.0, dy = 0.0;   ///< node spacing along and across the swell (m)
-    std::size_t nx = 0, ny = 0;  ///< nodes along and across
+    double x0 = 0.0;  ///< node (0, 0) in seafloor coordinates (m)
+    double y0 = 0.0;  ///< node (0, 0) in seafloor coordinates (m)
+    double ux = 1.0;  ///< the swell's direction (unit)
+    double uy = 0.0;  ///< the swell's direction (unit)
+    double dx = 0.0;  ///< node spacing along and across the swell (m)
+    double dy = 0.0;  ///< node spacing along and across the swell (m)
+    std::size_t nx = 0;  ///< nodes along and across
+    std::size_t ny = 0;  ///< nodes along and across
     std::vector<std::complex<float>> envelope;  ///< ny · nx, row j then column i (m)
     std::vector<double> phase_ref;               ///< nx: reference phase at column i (rad)
     std::vector<std::uint8_t> flags;             ///< ny · nx
@@ -55,7 +59,7 @@ struct WaveField {
     /// H0: the incident height where the wave enters the grid (the deepest node of the
     /// first column: 2 A∞ K_s there), the reference of H/H0.
     double incident_height = 0.0;
-    std::size_t broken_nodes = 0;
+    std::size_t broken_nodes = 0;  ///< nodes where breaking limited the height
 };
 
 /// Solves the field of `train` over `seafloor` (Kirby's wide-angle parabolic mild-slope
@@ -69,7 +73,8 @@ WaveField solve_wave_field(const Seafloor& seafloor, const WaveTrain& train, con
 /// The field at a point of the seafloor's plane.
 struct FieldSample {
     std::complex<double> eta;   ///< η̂ (m): |η̂| the amplitude, arg η̂ the phase
-    double dir_x = 0.0, dir_y = 0.0;  ///< the local direction of travel (unit; ∇ arg η̂)
+    double dir_x = 0.0;  ///< the local direction of travel (unit; ∇ arg η̂)
+    double dir_y = 0.0;  ///< the local direction of travel (unit; ∇ arg η̂)
     bool wet = false;           ///< inside the grid and in water
     bool broken = false;        ///< limited by breaking at the nearest node
 };
@@ -90,8 +95,11 @@ std::size_t take_field_amplitudes(std::span<const WaveField> fields, RaySet& ray
 /// The field resampled on a regular grid over the seafloor's rectangle (row 0 at y0,
 /// the field's spacing): what `wave field` writes. NaN where there is no water.
 struct FieldRaster {
-    double x0 = 0.0, y0 = 0.0, spacing = 0.0;
-    std::size_t nx = 0, ny = 0;
+    double x0 = 0.0;       ///< pixel (0, 0) (m)
+    double y0 = 0.0;       ///< pixel (0, 0) (m)
+    double spacing = 0.0;  ///< m between pixels
+    std::size_t nx = 0;    ///< columns
+    std::size_t ny = 0;    ///< rows
     std::vector<float> height_ratio;   ///< H/H0 (H = 2|η̂|, H0 = WaveField::incident_height)
     std::vector<float> phase;          ///< arg η̂ (rad, in (−π, π])
     std::vector<float> direction_deg;  ///< direction of travel, degrees from +x towards +y

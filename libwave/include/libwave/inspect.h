@@ -20,6 +20,7 @@
 
 namespace wave {
 
+/// What inspect_animation counts as a defect (`wave inspect`'s options).
 struct InspectOptions {
     /// A triangle whose smallest angle is below this is a sliver (degrees).
     double sliver_angle_deg = 15.0;
@@ -51,12 +52,12 @@ struct FrameInspection {
     /// The fastest vertex from this frame to the next (m/s; the last frame of a whole
     /// loop is compared with the first; 0 for the last frame of a slice).
     double max_speed = 0.0;
-    std::size_t fastest_vertex = 0;
+    std::size_t fastest_vertex = 0;  ///< its index
 };
 
 /// A closed chain of boundary edges (edges used by one triangle).
 struct BoundaryLoop {
-    std::size_t edges = 0;
+    std::size_t edges = 0;         ///< edges in the loop
     double length = 0.0;           ///< m, in plan, at the first frame
     std::size_t on_border = 0;     ///< vertices within border_tolerance of the domain rectangle
     double farthest_inside = 0.0;  ///< the largest distance (m) of a vertex inside from the rectangle
@@ -64,16 +65,21 @@ struct BoundaryLoop {
 
 /// The whole animation: topology once, every frame's geometry, the worst values.
 struct MeshInspection {
-    std::size_t vertex_count = 0, triangle_count = 0, frame_count = 0;
-    std::size_t unreferenced_vertices = 0;
+    std::size_t vertex_count = 0;           ///< per frame
+    std::size_t triangle_count = 0;         ///< of the mesh
+    std::size_t frame_count = 0;            ///< frames inspected
+    std::size_t unreferenced_vertices = 0;  ///< vertices no triangle uses
     std::size_t non_manifold_edges = 0;  ///< edges used by more than two triangles
-    std::size_t boundary_edges = 0;
+    std::size_t boundary_edges = 0;      ///< edges used by one triangle
     /// Edges whose loop could not be closed (a boundary through a non-manifold vertex
     /// counts its loops greedily; a chain left open is counted here).
     std::size_t open_boundary_chains = 0;
     std::vector<BoundaryLoop> loops;  ///< longest first
-    double border_min_x = 0.0, border_min_y = 0.0, border_max_x = 0.0, border_max_y = 0.0;
-    std::vector<FrameInspection> frames;
+    double border_min_x = 0.0;  ///< the domain rectangle: the first frame's plan bounds (m)
+    double border_min_y = 0.0;  ///< the domain rectangle: the first frame's plan bounds (m)
+    double border_max_x = 0.0;  ///< the domain rectangle: the first frame's plan bounds (m)
+    double border_max_y = 0.0;  ///< the domain rectangle: the first frame's plan bounds (m)
+    std::vector<FrameInspection> frames;  ///< one per frame
     FrameInspection worst;  ///< per field the worst over the frames (frame: the one with most folds)
 };
 

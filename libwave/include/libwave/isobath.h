@@ -20,12 +20,13 @@ namespace wave {
 /// Most depth levels extract_isobaths slices (each is a pass over the seafloor).
 inline constexpr double kMaxIsobathLevels = 10'000;
 
+/// Options of extract_isobaths (the scenes' /isobaths).
 struct IsobathOptions {
     /// Explicit depth levels (m, positive down). When empty, the levels are the
     /// positive multiples of `spacing` strictly inside the seafloor's depth range
     /// (0.25 m: the scenes' /isobaths/spacing default).
     std::vector<double> levels;
-    double spacing = 0.25;
+    double spacing = 0.25;  ///< m between levels when `levels` is empty
     /// Add the shoreline h = 0 as a level (if the seafloor reaches land).
     bool include_shoreline = true;
     /// Ts'o smooths digitised contours with a uniform cubic Beta-spline (bias β1,
@@ -59,11 +60,13 @@ std::string contours_to_obj(const DepthContours& contours);
 
 /// Where a ray first meets an isobath.
 struct IsobathCrossing {
-    double x = 0.0, y = 0.0;     ///< crossing point (m), rounded from the exact point
+    double x = 0.0;  ///< crossing point (m), rounded from the exact point
+    double y = 0.0;  ///< crossing point (m), rounded from the exact point
     double distance = 0.0;       ///< along the ray from its origin (m)
     std::size_t contour = 0;     ///< polyline index in the DepthContours
     std::size_t segment = 0;     ///< segment index within all segments (see IsobathIndex)
-    double tangent_x = 0.0, tangent_y = 0.0;  ///< unit direction of the crossed segment
+    double tangent_x = 0.0;  ///< unit direction of the crossed segment
+    double tangent_y = 0.0;  ///< unit direction of the crossed segment
     double depth = 0.0;          ///< the isobath's depth (m)
     bool at_vertex = false;      ///< the ray passes exactly through a polyline vertex
     bool collinear = false;      ///< the ray runs along the segment (tangency / overlap)
@@ -73,12 +76,14 @@ struct IsobathCrossing {
 /// and what to ignore: a whole contour, or the segment the ray stands on after a
 /// crossing (the rounded crossing point may lie a hair off it).
 struct CrossingQuery {
-    double x = 0.0, y = 0.0;
-    double dx = 1.0, dy = 0.0;
-    double max_distance = std::numeric_limits<double>::infinity();
+    double x = 0.0;   ///< origin (m)
+    double y = 0.0;   ///< origin (m)
+    double dx = 1.0;  ///< direction
+    double dy = 0.0;  ///< direction
+    double max_distance = std::numeric_limits<double>::infinity();  ///< crossings farther are not reported (m)
     double min_distance = 0.0;  ///< crossings at distance <= this are ignored (m)
-    std::size_t skip_contour = std::numeric_limits<std::size_t>::max();
-    std::size_t skip_segment = std::numeric_limits<std::size_t>::max();
+    std::size_t skip_contour = std::numeric_limits<std::size_t>::max();  ///< a contour to ignore (max: none)
+    std::size_t skip_segment = std::numeric_limits<std::size_t>::max();  ///< a segment to ignore (max: none)
 };
 
 /// Spatial index (an AABB tree) over all contour segments, built once per scene and
@@ -87,10 +92,10 @@ struct CrossingQuery {
 /// a contour gets the true nearest crossing; only the reported point is rounded.
 class IsobathIndex {
 public:
-    explicit IsobathIndex(const DepthContours& contours);
+    explicit IsobathIndex(const DepthContours& contours);  ///< indexes every segment of `contours` (copied)
     ~IsobathIndex();
-    IsobathIndex(IsobathIndex&&) noexcept;
-    IsobathIndex& operator=(IsobathIndex&&) noexcept;
+    IsobathIndex(IsobathIndex&&) noexcept;             ///< moves the tree
+    IsobathIndex& operator=(IsobathIndex&&) noexcept;  ///< moves the tree
     IsobathIndex(const IsobathIndex&) = delete;
     IsobathIndex& operator=(const IsobathIndex&) = delete;
 
@@ -98,11 +103,11 @@ public:
     /// Thread-safe: queries do not modify the index.
     std::optional<IsobathCrossing> first_crossing(const CrossingQuery& query) const;
 
-    std::size_t segment_count() const noexcept;
+    std::size_t segment_count() const noexcept;  ///< segments indexed
     /// The segments adjacent to `segment` along its polyline (the same segment where
     /// there is none), for skipping both sides of a vertex crossing.
     std::size_t previous_segment(std::size_t segment) const noexcept;
-    std::size_t next_segment(std::size_t segment) const noexcept;
+    std::size_t next_segment(std::size_t segment) const noexcept;  ///< the segment after, along the polyline
 
 private:
     struct Impl;

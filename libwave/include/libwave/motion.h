@@ -44,8 +44,10 @@ struct GonzatoProfileOptions {
 
 /// The per-point constants of eq. 7 (everything that does not depend on φ).
 struct ProfileShape {
-    double major = 0.0, minor = 0.0;          ///< semi-axes R S_x (limited to 1/k) and R S_z (m)
-    double tilt_sin = 0.0, tilt_cos = 1.0;    ///< τ_β = sin α, τ'_β = cos α of the major axis
+    double major = 0.0;     ///< semi-axis R S_x along the ray (limited to 1/k) (m)
+    double minor = 0.0;     ///< semi-axis R S_z, vertical (m)
+    double tilt_sin = 0.0;  ///< τ_β = sin α of the major axis' tilt
+    double tilt_cos = 1.0;  ///< τ'_β = cos α
     double trough_phase = 0.0;                ///< Φ_min: the phase of the lowest point of the ellipse
     double stretch = 0.0;                     ///< St_max · H · e^{−K_s h} (m)
     double displacement = 0.0;                ///< A = H, times e^{−K_d h} (m)
@@ -61,18 +63,23 @@ ProfileShape gonzato_shape(double R, double k, double depth, double rise, const 
 /// Offset of a surface point from its rest position by eq. 7, at phase φ (any real;
 /// wrapped into [Φ_min − π, Φ_min + π)): `forward` along the ray, `up` vertically.
 struct ProfileOffset {
-    double forward = 0.0, up = 0.0;
+    double forward = 0.0;  ///< along the ray (m)
+    double up = 0.0;       ///< vertical (m)
 };
 ProfileOffset gonzato_offset(const ProfileShape& shape, double phi) noexcept;
 
 /// Gonzato's profile on a ray-strip surface, planned once per scene: a shape per
 /// vertex (flat arrays) so that a frame costs only the φ-dependent terms.
 struct GonzatoMotionPlan {
-    std::vector<ProfileShape> shape;
-    std::vector<double> x, y, dir_x, dir_y, phase;
-    double omega = 0.0;
+    std::vector<ProfileShape> shape;  ///< per vertex
+    std::vector<double> x;  ///< rest positions (m)
+    std::vector<double> y;  ///< rest positions (m)
+    std::vector<double> dir_x;  ///< unit ray directions: the profile's forward axis
+    std::vector<double> dir_y;  ///< unit ray directions: the profile's forward axis
+    std::vector<double> phase;         ///< Σ k Δs along the ray (rad)
+    double omega = 0.0;  ///< ω of the train (rad/s): φ = phase − ωt
 
-    std::size_t vertex_count() const noexcept { return x.size(); }
+    std::size_t vertex_count() const noexcept { return x.size(); }  ///< vertices planned
 };
 GonzatoMotionPlan plan_gonzato_motion(const RayStrips& strips, const GonzatoProfileOptions& options = {});
 
@@ -110,21 +117,27 @@ struct UntangleOptions {
 /// the signed area; a triangle facing down at rest is left alone) and the triangles
 /// around each vertex.
 struct UntanglePlan {
-    std::vector<double> rest_x, rest_y;
-    std::vector<std::uint32_t> triangles;
-    std::vector<double> rest_area;
-    std::vector<std::uint32_t> face_offsets, faces;  ///< vertex v's triangles: faces[face_offsets[v] .. face_offsets[v + 1])
+    std::vector<double> rest_x;  ///< rest positions in plan (m)
+    std::vector<double> rest_y;  ///< rest positions in plan (m)
+    std::vector<std::uint32_t> triangles;  ///< 3 per triangle
+    std::vector<double> rest_area;  ///< per triangle: twice its signed area at rest (m²)
+    std::vector<std::uint32_t> face_offsets;  ///< vertex v's triangles are faces[face_offsets[v] .. face_offsets[v + 1])
+    std::vector<std::uint32_t> faces;         ///< triangle indices, grouped by vertex
     std::vector<std::uint8_t> pinned;  ///< per vertex with pin_border: 1 on a side x = const, 2 on a side y = const
-    double x_min = 0.0, y_min = 0.0, x_max = 0.0, y_max = 0.0;  ///< the rest positions' bounding rectangle
-    UntangleOptions options;
+    double x_min = 0.0;  ///< the rest positions' bounding rectangle: lower corner (m)
+    double y_min = 0.0;  ///< the rest positions' bounding rectangle: lower corner (m)
+    double x_max = 0.0;  ///< upper corner (m)
+    double y_max = 0.0;  ///< upper corner (m)
+    UntangleOptions options;  ///< as planned
 
-    std::size_t vertex_count() const noexcept { return rest_x.size(); }
+    std::size_t vertex_count() const noexcept { return rest_x.size(); }  ///< vertices planned
 };
 /// Throws InputError when the sizes disagree, an index is out of range or
 /// min_area_ratio is outside (0, 1).
 UntanglePlan plan_untangle(std::span<const double> rest_x, std::span<const double> rest_y,
                            std::span<const std::uint32_t> triangles, const UntangleOptions& options = {});
 
+/// What untangle_motion did to a frame.
 struct UntangleReport {
     std::size_t damped_vertices = 0;  ///< vertices whose horizontal offset was scaled down
     std::size_t passes = 0;           ///< passes over the triangles (1: nothing to do)
@@ -133,7 +146,10 @@ struct UntangleReport {
 /// Scratch arrays of untangle_motion (offsets, factors, per-triangle factors), kept
 /// by a caller that untangles frame after frame so that no frame allocates.
 struct UntangleWorkspace {
-    std::vector<double> dx, dy, factor, s;
+    std::vector<double> dx;  ///< horizontal offsets per vertex (m)
+    std::vector<double> dy;  ///< horizontal offsets per vertex (m)
+    std::vector<double> factor;  ///< per vertex: the factor on its offset
+    std::vector<double> s;       ///< per triangle: the factor that restores it
 };
 
 /// Untangles one frame in place: `positions` (3 floats per vertex, z up) are the moved
@@ -167,7 +183,7 @@ enum class BreakerPhase { round, breaking, collapsing, dead };
 /// 3/t², is read as t^{3/2} (0 where the round phase ends, 1 as the collapsing phase
 /// holds it; docs/motion.md). `dead` gives the collapsing phase's end (k7 = 0: flat).
 struct BreakerConstants {
-    std::array<double, 8> k{};
+    std::array<double, 8> k{};  ///< k[1] … k[7] of table 1 (k[0] unused)
 };
 BreakerConstants jeschke_constants(BreakerPhase phase, double t, bool front) noexcept;
 
@@ -175,7 +191,8 @@ BreakerConstants jeschke_constants(BreakerPhase phase, double t, bool front) noe
 /// edge, s = 1) — the wave runs towards −y —, z up (the round phase's crest is at
 /// k7 / 4).
 struct BreakerShapePoint {
-    double y = 0.0, z = 0.0;
+    double y = 0.0;  ///< across the unit shape: 1 at the back edge, 0 at the front edge
+    double z = 0.0;  ///< up
 };
 
 /// §4: s ∈ [0, 1] from the back to the front (the lip at s = 0.5), split into s1, s2
@@ -190,7 +207,7 @@ BreakerShapePoint jeschke_shape(double s, const BreakerConstants& back, const Br
 /// first `rise` radians (coming up from still water), breaking from the break point
 /// for `breaking_length` radians, collapsing until the end, dead beyond.
 struct BreakerLife {
-    BreakerPhase phase = BreakerPhase::round;
+    BreakerPhase phase = BreakerPhase::round;  ///< the phase of the crest's life
     double t = 1.0;  ///< time parameter within the phase, 0 … 1
 };
 BreakerLife jeschke_life(double psi, double rise, double break_phase, double breaking_length, double end_phase) noexcept;
@@ -205,7 +222,7 @@ struct JeschkeBreakerOptions {
     /// The breaking phase takes this share of each ray's surf zone (break point → end
     /// of the ray), at most `max_breaking_wavelengths`; collapsing takes the rest.
     double breaking_share = 0.4;
-    double max_breaking_wavelengths = 1.0;
+    double max_breaking_wavelengths = 1.0;  ///< upper bound of the breaking phase (local wavelengths)
     /// Round phase: crests come up from still water over this many wavelengths from
     /// the offshore edge (the paper's birth); 0 = they enter fully grown.
     double rise_wavelengths = 1.0;
@@ -215,7 +232,10 @@ struct JeschkeBreakerOptions {
     double foam_onset = 0.25;
     /// Rotation (k5) per breaker type from the Iribarren number: the plunging tube of
     /// the paper is 1; spilling crests only tip forward.
-    double curl_spilling = 0.3, curl_plunging = 1.0, curl_collapsing = 0.6, curl_surging = 0.3;
+    double curl_spilling = 0.3;    ///< rotation k5 of a spilling breaker (0 … 1)
+    double curl_plunging = 1.0;    ///< of a plunging one (the paper's tube)
+    double curl_collapsing = 0.6;  ///< of a collapsing one
+    double curl_surging = 0.3;     ///< of a surging one
     /// Per-wave variation (§3: every wave its own r and y_end, so the set does not look
     /// cloned). The paper's r decides when in its run a wave reaches its break; here the
     /// traced phase is the run, so each crest breaks up to `wave_variation` local
@@ -225,19 +245,22 @@ struct JeschkeBreakerOptions {
     /// pseudo-random draw from `variation_seed`), then repeat: the loop is that many
     /// swell periods. 0 or 1 wave = every crest alike, the loop one period.
     double wave_variation = 0.25;
-    std::uint32_t varied_waves = 3;
-    std::uint64_t variation_seed = 1;
-    BreakerThresholds thresholds{};
+    std::uint32_t varied_waves = 3;  ///< crests that differ before the draws repeat (the loop's periods)
+    std::uint64_t variation_seed = 1;  ///< seed of the pseudo-random draws
+    BreakerThresholds thresholds{};  ///< Iribarren thresholds of the breaker types
 };
 
 /// One crest's break and end (rad along its ray) after the per-wave variation.
 struct CrestPhases {
-    double break_phase = 0.0, breaking_length = 0.0, end_phase = 0.0;
+    double break_phase = 0.0;      ///< where the crest breaks (rad along its ray)
+    double breaking_length = 0.0;  ///< how long it breaks (rad)
+    double end_phase = 0.0;        ///< where it dies (rad)
 };
 
 /// The variation draw: `break_shift` and `end_shift` in [−1, 1] per varied wave.
 struct CrestVariation {
-    double break_shift = 0.0, end_shift = 0.0;
+    double break_shift = 0.0;  ///< in [−1, 1]: earlier or later break, × wave_variation wavelengths
+    double end_shift = 0.0;    ///< in [−1, 1]: earlier end, × wave_variation of the collapse zone
 };
 
 /// Applies a crest's draw to a ray's phases (see JeschkeBreakerOptions::wave_variation):
@@ -248,33 +271,48 @@ CrestPhases vary_crest(double rise, double break_phase, double breaking_length, 
 
 /// Where one traced ray breaks (for reports and tests).
 struct RayBreak {
-    std::uint32_t ray = 0;
-    bool breaks = false;
-    double break_phase = 0.0, end_phase = 0.0;  ///< rad along the ray
-    double x = 0.0, y = 0.0;                    ///< break point (m)
-    double depth = 0.0, height = 0.0;           ///< h and H = 2A there (m)
-    double iribarren = 0.0;
-    BreakerType type = BreakerType::spilling;
+    std::uint32_t ray = 0;  ///< ray id
+    bool breaks = false;    ///< whether the ray reaches H >= γh
+    double break_phase = 0.0;  ///< rad along the ray
+    double end_phase = 0.0;    ///< rad along the ray (its end, aground or out)
+    double x = 0.0;  ///< break point (m)
+    double y = 0.0;  ///< break point (m)
+    double depth = 0.0;        ///< h at the break point (m)
+    double height = 0.0;       ///< H = 2A there (m)
+    double iribarren = 0.0;    ///< ξ of the break (bottom slope over √(H/L∞))
+    BreakerType type = BreakerType::spilling;  ///< the type ξ gives
 };
 
 /// The breakers on a ray-strip surface, planned once per scene (flat per-vertex arrays).
 struct JeschkeMotionPlan {
-    std::vector<double> x, y, dir_x, dir_y, phase;
+    std::vector<double> x;  ///< rest positions (m)
+    std::vector<double> y;  ///< rest positions (m)
+    std::vector<double> dir_x;  ///< unit ray directions
+    std::vector<double> dir_y;  ///< unit ray directions
+    std::vector<double> phase;         ///< Σ k Δs along the ray (rad)
     /// Per vertex: the unit shape's width W = local wavelength 2π/k (m), its vertical
     /// scale 5H (the round crest k7·k2 = 1/5 is the traced height H = 2A), the mean
     /// level removed (min(k7, 4/5)/8 of the scale: the offshore swell is centred on still water),
     /// and its ray's break/end phases, rise and breaking length (rad) and curl.
-    std::vector<float> width, scale, mean_level;
-    std::vector<float> break_phase, end_phase, rise, breaking_length, curl, foam_yield;
-    std::vector<RayBreak> rays;
-    double omega = 0.0;
-    double foam_fade_time = 6.0, foam_onset = 0.25;
+    std::vector<float> width;       ///< W = 2π/k (m)
+    std::vector<float> scale;       ///< 5H (m)
+    std::vector<float> mean_level;  ///< removed from z (m)
+    std::vector<float> break_phase;  ///< the ray's break and end (rad)
+    std::vector<float> end_phase;    ///< the ray's break and end (rad)
+    std::vector<float> rise;                    ///< round-phase growth (rad)
+    std::vector<float> breaking_length;         ///< breaking-phase length (rad)
+    std::vector<float> curl;                    ///< k5 scale of the ray's breaker type
+    std::vector<float> foam_yield;              ///< foam a passing broken crest leaves (0 … 1)
+    std::vector<RayBreak> rays;  ///< per traced ray
+    double omega = 0.0;  ///< ω of the train (rad/s)
+    double foam_fade_time = 6.0;  ///< s (JeschkeBreakerOptions)
+    double foam_onset = 0.25;     ///< share of the breaking phase
     /// Crest n (passing phase ψ at ωt = ψ + 2πn) takes draw n mod size; empty or
     /// `variation` 0 = every crest alike.
     std::vector<CrestVariation> crest_draws;
-    double variation = 0.0;
+    double variation = 0.0;  ///< JeschkeBreakerOptions::wave_variation
 
-    std::size_t vertex_count() const noexcept { return x.size(); }
+    std::size_t vertex_count() const noexcept { return x.size(); }  ///< vertices planned
     /// Swell periods after which the breakers repeat.
     std::size_t loop_periods() const noexcept { return variation > 0.0 && !crest_draws.empty() ? crest_draws.size() : 1; }
 };
@@ -323,7 +361,7 @@ enum class OceanSpectrumModel {
 /// L = V²/g. The frequency spectra become F = S(ω(k)) (dω/dk) / k · D(θ)/∫D, so their
 /// variance is the spectrum's. D(θ) = |k̂·ŵ|^p, times `against_wind` where k̂·ŵ < 0.
 struct OceanSpectrum {
-    OceanSpectrumModel model = OceanSpectrumModel::phillips;
+    OceanSpectrumModel model = OceanSpectrumModel::phillips;  ///< which spectrum
     /// V (m/s): Phillips' V, U at 19.5 m for Pierson–Moskowitz, U10 for JONSWAP/TMA.
     double wind_speed = 31.0;
     std::array<double, 2> wind_direction{1.0, 0.0};  ///< ŵ (normalised on use)
@@ -359,7 +397,7 @@ double ocean_peak_omega(const OceanSpectrum& spectrum) noexcept;
 struct OceanOptions {
     std::size_t resolution = 256;  ///< N: a power of two, 16 … 4096
     double size = 1000.0;          ///< L (m)
-    OceanSpectrum spectrum{};
+    OceanSpectrum spectrum{};  ///< the wind sea's spectrum
     /// λ of eq. 29 (>= 0). The surface point moves to x − λD: with eq. 29's D this is
     /// Gerstner's eq. 9 for one wave (crests sharpen); the printed x + λD would fold
     /// the troughs instead (see docs/motion.md).
@@ -379,18 +417,21 @@ void validate_ocean_options(const OceanOptions& options, const std::string& wher
 /// non-negative-kx half of the wavevector lattice, as FFTW's real transforms read it.
 /// Row j is k_y = 2π (j < N/2 ? j : j − N) / L, column i is k_x = 2π i / L.
 struct OceanPlan {
-    std::size_t n = 0;
-    double size = 0.0, choppiness = 0.0, repeat_time = 0.0;
+    std::size_t n = 0;  ///< N
+    double size = 0.0;         ///< L (m)
+    double choppiness = 0.0;   ///< λ
+    double repeat_time = 0.0;  ///< T (s; 0 = no loop)
     double peak_omega = 0.0;   ///< of the spectrum (for depth factors)
     double expected_variance = 0.0;  ///< Σ F Δk² over the lattice: the mean of the sample variance of h
     std::vector<std::complex<float>> h0;        ///< h̃0(k)
     std::vector<std::complex<float>> h0_minus;  ///< conj(h̃0(−k))
-    std::vector<float> kx, ky;                  ///< per column / per row (rad/m)
+    std::vector<float> kx;  ///< per column (rad/m)
+    std::vector<float> ky;  ///< per row (rad/m)
     std::vector<double> omega;                  ///< ω(k), or ω̄(k) when quantised
     std::vector<std::int32_t> omega_steps;      ///< ω̄ / ω0 when quantised (else empty)
 
-    std::size_t half() const noexcept { return n / 2 + 1; }
-    double spacing() const noexcept { return size / static_cast<double>(n); }
+    std::size_t half() const noexcept { return n / 2 + 1; }  ///< columns of the half lattice
+    double spacing() const noexcept { return size / static_cast<double>(n); }  ///< lattice spacing L/N (m)
 };
 
 /// Draws the amplitudes (eq. 25: h̃0 = (ξr + iξi) sqrt(F Δk² / 2)) and the frequencies.
@@ -403,8 +444,15 @@ OceanPlan plan_ocean(const OceanOptions& options);
 /// ∂Dx/∂x, ∂Dy/∂y, ∂Dx/∂y (for the Jacobian, eq. 30). Views into an OceanWorkspace,
 /// valid until its next evaluation.
 struct OceanFields {
-    std::size_t n = 0;
-    std::span<const float> height, slope_x, slope_y, disp_x, disp_y, disp_xx, disp_yy, disp_xy;
+    std::size_t n = 0;  ///< N
+    std::span<const float> height;            ///< h (m)
+    std::span<const float> slope_x;  ///< ∂h/∂x, ∂h/∂y
+    std::span<const float> slope_y;  ///< ∂h/∂x, ∂h/∂y
+    std::span<const float> disp_x;  ///< D (m)
+    std::span<const float> disp_y;  ///< D (m)
+    std::span<const float> disp_xx;  ///< ∂Dx/∂x, ∂Dy/∂y
+    std::span<const float> disp_yy;  ///< ∂Dx/∂x, ∂Dy/∂y
+    std::span<const float> disp_xy;           ///< ∂Dx/∂y
 };
 
 /// FFTW plans (made once, FFTW_ESTIMATE so the plan — and so every bit of the result —
@@ -412,14 +460,14 @@ struct OceanFields {
 /// thread-safe: one workspace per thread.
 class OceanWorkspace {
 public:
-    explicit OceanWorkspace(std::size_t n);
+    explicit OceanWorkspace(std::size_t n);  ///< plans and buffers for N = n
     ~OceanWorkspace();
-    OceanWorkspace(OceanWorkspace&&) noexcept;
-    OceanWorkspace& operator=(OceanWorkspace&&) noexcept;
+    OceanWorkspace(OceanWorkspace&&) noexcept;  ///< moves the plans
+    OceanWorkspace& operator=(OceanWorkspace&&) noexcept;  ///< moves the plans
     OceanWorkspace(const OceanWorkspace&) = delete;
     OceanWorkspace& operator=(const OceanWorkspace&) = delete;
     struct Impl;
-    Impl& impl() noexcept { return *impl_; }
+    Impl& impl() noexcept { return *impl_; }  ///< the FFTW plans and buffers (ocean_fft.cpp)
 
 private:
     std::unique_ptr<Impl> impl_;
@@ -438,8 +486,10 @@ void evaluate_ocean_jacobian(const OceanPlan& plan, double t, OceanWorkspace& wo
 /// The Jacobian of x → x − λD at one lattice point: J (eq. 30), its eigenvalues
 /// J₋ <= J₊ (eq. 32) and the unit eigenvector ê₋ (eqs. 33–34), the direction of folding.
 struct OceanJacobian {
-    double j = 1.0, j_minus = 1.0, j_plus = 1.0;
-    std::array<double, 2> e_minus{1.0, 0.0};
+    double j = 1.0;        ///< J (eq. 30)
+    double j_minus = 1.0;  ///< J₋ (eq. 32): < 0 where the surface folds
+    double j_plus = 1.0;   ///< J₊
+    std::array<double, 2> e_minus{1.0, 0.0};  ///< ê₋: the direction of folding
 };
 OceanJacobian ocean_jacobian(double dxx, double dyy, double dxy, double choppiness) noexcept;
 
@@ -473,7 +523,8 @@ double wind_sea_depth_factor(double peak_omega, double depth) noexcept;
 /// One Gerstner wave (eqs. 9–10): a point at rest x0 moves to
 /// x0 − k̂ A sin(k·x0 − ωt + φ), height A cos(k·x0 − ωt + φ).
 struct GerstnerWave {
-    double kx = 0.0, ky = 0.0;  ///< wavevector (rad/m), along the direction of travel
+    double kx = 0.0;  ///< wavevector (rad/m), along the direction of travel
+    double ky = 0.0;  ///< wavevector (rad/m), along the direction of travel
     double amplitude = 0.0;     ///< A (m)
     double omega = 0.0;         ///< ω (rad/s), from dispersion_omega (quantised for loops)
     double phase = 0.0;         ///< φ (rad)

@@ -70,7 +70,7 @@ struct LinearWave {
     double group_velocity = 0.0; ///< C_g = C/2 · (1 + 2kh / sinh 2kh) (m/s), with capillary
                                  ///< correction when L > 0 (dω/dk)
     double shoaling = 0.0;       ///< K_s = sqrt(C_g∞ / C_g) (Gonzato eq. 3); 0 when dry
-    bool dry = false;
+    bool dry = false;            ///< h <= 0: no wave
 };
 
 /// Linear wave quantities for (ω, h). Dry (h <= 0) gives all zeros and dry = true.
@@ -113,9 +113,9 @@ double pierson_moskowitz_spectrum(double omega, double wind_speed) noexcept;
 /// JONSWAP (Hasselmann et al. 1973) for a wind U10 blowing over a fetch F:
 /// α = 0.076 (U10² / (F g))^0.22, ω_p = 22 (g² / (U10 F))^{1/3}, peak enhancement γ.
 struct JonswapParameters {
-    double alpha = 0.0;
+    double alpha = 0.0;       ///< Phillips' constant α
     double peak_omega = 0.0;  ///< rad/s
-    double gamma = 3.3;
+    double gamma = 3.3;       ///< peak enhancement γ
 };
 JonswapParameters jonswap_parameters(double wind_speed, double fetch, double peak_enhancement = 3.3) noexcept;
 
@@ -148,9 +148,9 @@ enum class BreakerType { spilling, plunging, collapsing, surging };
 /// 3.3; the collapsing/surging split is usually put near 5 (Galvin's classification
 /// has no sharp value).
 struct BreakerThresholds {
-    double spilling_to_plunging = 0.5;
-    double plunging_to_collapsing = 3.3;
-    double collapsing_to_surging = 5.0;
+    double spilling_to_plunging = 0.5;   ///< ξ0 above which a breaker plunges
+    double plunging_to_collapsing = 3.3;  ///< ξ0 above which it collapses
+    double collapsing_to_surging = 5.0;   ///< ξ0 above which it surges
 };
 
 BreakerType classify_breaker(double iribarren, const BreakerThresholds& thresholds = {}) noexcept;
@@ -164,7 +164,7 @@ struct ShoalingProfile {
     double break_depth = 0.0;    ///< h at break_index (m)
     double break_height = 0.0;   ///< H at break_index (m)
     double iribarren = 0.0;      ///< ξ0 from the mean bottom slope over one local wavelength seaward of the break
-    BreakerType type = BreakerType::spilling;
+    BreakerType type = BreakerType::spilling;  ///< the type ξ0 gives
 };
 
 /// Shoals a wave of angular frequency ω and deep-water height H∞ (m, crest to
@@ -202,9 +202,10 @@ double fresnel_reflectivity_tso(double incidence_angle) noexcept;
 /// direction and normal are unit vectors, either side of the surface.
 Vec3 reflect(const Vec3& incident, const Vec3& normal) noexcept;
 
+/// A ray through a surface between two media (refract).
 struct Refraction {
     Vec3 direction{};                    ///< unit transmitted direction (valid if !total_internal_reflection)
-    bool total_internal_reflection = false;
+    bool total_internal_reflection = false;  ///< no transmitted ray
 };
 
 /// Transmitted direction for a unit incident direction through a surface with unit

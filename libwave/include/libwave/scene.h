@@ -29,8 +29,8 @@ namespace wave {
 /// file (relative paths are resolved against the scene file's folder), read with
 /// `read`.
 struct SeafloorSource {
-    std::string source = "gonzato-bay";
-    ReadOptions read{};
+    std::string source = "gonzato-bay";  ///< a procedural name or a file path
+    ReadOptions read{};  ///< how a file is read (sign, scales, NODATA, SWAN grid)
 };
 
 /// Loads a procedural seafloor when `source` names one and no file of that name exists,
@@ -61,36 +61,39 @@ Traced surface_kind_traces(SurfaceKind kind);
 struct GerstnerSpec {
     double wavelength = 10.0;  ///< λ = 2π/k (m)
     double amplitude = 0.1;    ///< A (m)
-    double direction_x = 1.0, direction_y = 0.0;  ///< direction of travel
+    double direction_x = 1.0;  ///< direction of travel
+    double direction_y = 0.0;  ///< direction of travel
     double phase = 0.0;        ///< φ (rad)
 };
 
 /// /underwater: the caustic maps a run writes (CausticOptions for each frame).
 struct UnderwaterOptions {
-    bool caustics = true;
+    bool caustics = true;  ///< write the caustic maps
     double attenuation = 0.15;  ///< c (1/m): /underwater/attenuation or /underwater/water_type's
     std::size_t map_size = 512;  ///< pixels along the seafloor's longer side (the other in proportion)
     double full_scale = 4.0;     ///< E / I₀ written as white (65 535) in the PNGs
 };
 
+/// A job: the seafloor, the wave trains, every stage's options and the outputs, as a
+/// scene file gives them (read_scene, parse_scene; docs/scene.md lists the keys).
 struct Scene {
-    std::string name = "default";
-    SurfaceKind surface_kind = SurfaceKind::ray_strips;
-    SeafloorSource seafloor{};
-    IsobathOptions isobaths;
-    std::vector<WaveTrain> waves{};
-    TraceOptions trace{};
+    std::string name = "default";  ///< recorded in the outputs
+    SurfaceKind surface_kind = SurfaceKind::ray_strips;  ///< the wave model (/surface/kind)
+    SeafloorSource seafloor{};  ///< /seafloor
+    IsobathOptions isobaths;  ///< /isobaths
+    std::vector<WaveTrain> waves{};  ///< /waves
+    TraceOptions trace{};  ///< /trace
     /// Ts'o's sampling rule: this many orthogonals per surface grid line (overrides
     /// trace.ray_spacing when > 0: spacing = min(cell dx, dy) / n).
     double orthogonals_per_grid_line = 0.0;
-    HeightFieldOptions surface{};
-    /// Adaptive fronts (ray strips); ray_spacing and breaker_index come from `trace`.
+    HeightFieldOptions surface{};  ///< /surface: the height field's options
+    /// Adaptive fronts (ray strips); ray_spacing, breaker_index and max_rays come from `trace`.
     FrontOptions fronts{};
     FieldOptions field{};  ///< the refraction–diffraction field (/field; breaker_index from /trace)
     /// Ray strips and the height field: amplitudes from the field (finite where rays
     /// cross) rather than from the rays' spacing (/field/amplitudes "field" or "rays").
     bool amplitudes_from_field = true;
-    GonzatoProfileOptions profile{};
+    GonzatoProfileOptions profile{};  ///< /motion: Gonzato's profile
     /// Jeschke's procedural breakers instead of Gonzato's profile (ray strips only),
     /// parametrised from the traced rays; their foam replaces the breaking foam.
     std::optional<JeschkeBreakerOptions> breakers;
@@ -121,25 +124,43 @@ struct Scene {
     /// Camera for the Fresnel weights (m, z up); empty = above the domain's up-wave
     /// side, looking across it (scene_camera).
     std::optional<std::array<double, 3>> camera;
-    FresnelModel fresnel = FresnelModel::exact;
-    FoamOptions foam{};
+    FresnelModel fresnel = FresnelModel::exact;  ///< /shade/fresnel
+    FoamOptions foam{};  ///< /shade: breaking foam
     /// Light under the water (/underwater, docs/underwater.md): the caustics each frame's
     /// surface focuses onto the seafloor under the scene's sun (/preview/sun), a 16-bit
     /// PNG per frame beside the animation. Empty: none.
     std::optional<UnderwaterOptions> underwater;
     /// Which shading attributes the export carries: none, the Blender 3.4 UV-map layout
     /// (default: every glTF client reads UV maps), or the named `_` attributes.
-    enum class Attributes { none, uv_maps, named } attributes = Attributes::uv_maps;
+    enum class Attributes {
+        none,     ///< positions and normals only
+        uv_maps,  ///< TEXCOORD_1 = (R, T), TEXCOORD_2 = (foam, 0): every glTF client, Blender 3.4 too
+        named,    ///< as `_REFLECT`, `_REFRACT`, `_FOAM` attributes
+    };
+    Attributes attributes = Attributes::uv_maps;  ///< /outputs/attributes
     bool color = false;  ///< bake COLOR_0 (Ts'o eq. 4.1)
     /// What the single-file forms carry beside the water (/outputs/seafloor, camera, sun,
     /// material): the seafloor coloured by depth, the scene camera, the sun, a water material.
-    bool dress_seafloor = true, dress_camera = true, dress_sun = true, dress_material = true;
+    bool dress_seafloor = true;  ///< /outputs/seafloor
+    bool dress_camera = true;    ///< /outputs/camera
+    bool dress_sun = true;       ///< /outputs/sun
+    bool dress_material = true;  ///< /outputs/material
     /// How the animation is written: one .glb of morph targets, one .glb of
     /// scale-switched nodes, or one .glb per frame plus index.json.
-    enum class Form { morph, nodes, files, pc2 } form = Form::morph;
+    enum class Form {
+        morph,  ///< one .glb of morph targets
+        nodes,  ///< one .glb of scale-switched nodes
+        files,  ///< frames/frame-NNNN.glb and index.json
+        pc2,    ///< a base mesh and PC2 point caches
+    };
+    Form form = Form::morph;  ///< /outputs/form
     bool quantize = false;  ///< KHR_mesh_quantization (not with Draco)
     /// Binary .glb, or text .gltf with an external .bin.
-    enum class Container { glb, gltf } container = Container::glb;
+    enum class Container {
+        glb,   ///< binary
+        gltf,  ///< JSON and an external .bin
+    };
+    Container container = Container::glb;  ///< /outputs/container
     /// Draco compression (empty = none); in the morph form, of the base mesh.
     std::optional<DracoOptions> draco;
     double fps = 24.0;  ///< frames per second of the animation (> 0)
@@ -151,7 +172,7 @@ struct Scene {
     /// against. parse_scene(document, origin, base_dir) gives this scene again: the
     /// Python module's Scene.to_dict() and Scene.set() edit it and parse it again.
     std::string document = "{}";
-    std::string base_dir = ".";
+    std::string base_dir = ".";  ///< relative seafloor paths are resolved against it
 };
 
 /// The built-in default scene: Gonzato's bay with a 5 s swell, ray strips animated by
@@ -206,8 +227,8 @@ TraceOptions scene_trace_options(const Scene& scene, const Seafloor& seafloor);
 /// The per-scene (static) products of the pipeline, computed once. Only the members
 /// of the scene's surface kind are filled.
 struct ScenePlan {
-    Seafloor seafloor;
-    DepthContours isobaths;
+    Seafloor seafloor;  ///< as read (or generated) and transformed
+    DepthContours isobaths;  ///< sliced at /isobaths
     RaySet rays;              ///< height field: Ts'o's rays
     HeightFieldPlan surface;  ///< height field
     FrontSet fronts;          ///< ray strips: Gonzato's fronts
@@ -224,8 +245,9 @@ struct ScenePlan {
     std::vector<std::uint32_t> patch_triangles;  ///< grid surfaces (ocean, wave-field): their triangles
     /// Per surface vertex, for the superposed components: rest position, depth there,
     /// and the wind-sea amplitude factor (1 in deep water, → 0 at the shore).
-    std::vector<double> rest_x, rest_y;
-    std::vector<float> rest_depth, wind_sea_scale;
+    std::vector<double> rest_x, rest_y;  ///< rest positions (m)
+    std::vector<float> rest_depth;      ///< depth there (m)
+    std::vector<float> wind_sea_scale;  ///< wind-sea amplitude factor
     double loop_period = 0.0; ///< the animation repeats after this (s)
     /// Doubts about the result that are not errors, e.g. a train whose wavelength the
     /// surface grid cannot resolve (aliasing).
@@ -255,7 +277,8 @@ void refine_scene_plan(const Scene& scene, ScenePlan& plan);
 
 /// Every frame of one animation loop of a planned scene, ready for an exporter.
 struct SceneAnimation {
-    std::size_t vertex_count = 0, frame_count = 0;
+    std::size_t vertex_count = 0;  ///< per frame
+    std::size_t frame_count = 0;   ///< frames held
     std::size_t first_frame = 0;  ///< of the loop: these are frames first_frame … first_frame + frame_count − 1
     std::size_t loop_frames = 0;  ///< frames in the whole loop
     std::vector<float> positions;  ///< frame_count · vertex_count · 3, z up
@@ -264,32 +287,37 @@ struct SceneAnimation {
     /// Shading per frame (frame_count · vertex_count each; empty when the scene's
     /// attributes are none): Fresnel weights, foam from depth-limited breaking, and
     /// COLOR_0 (3 per vertex) when asked.
-    std::vector<float> reflect, refract, foam, colors;
-    ScalarLayout layout = ScalarLayout::blender34;
-    std::optional<DracoOptions> draco;
-    bool quantize = false;
-    float z_min = 0, z_max = 0;    ///< height range over all frames (m)
-    double fps = 24.0;
+    std::vector<float> reflect;  ///< Fresnel R per frame and vertex
+    std::vector<float> refract;  ///< T = 1 − R
+    std::vector<float> foam;     ///< in [0, 1]
+    std::vector<float> colors;   ///< COLOR_0, 3 per vertex (/outputs/color)
+    ScalarLayout layout = ScalarLayout::blender34;  ///< how the exporters lay out the scalars
+    std::optional<DracoOptions> draco;  ///< the scene's Draco options
+    bool quantize = false;  ///< KHR_mesh_quantization
+    float z_min = 0;  ///< height range over all frames (m)
+    float z_max = 0;  ///< height range over all frames (m)
+    double fps = 24.0;  ///< frames per second
     std::vector<std::uint32_t> triangles;  ///< a copy of the plan's index list (the animation outlives the plan)
     std::string scene;  ///< the scene's name (recorded in the files)
     /// The scene around the water (morph and nodes forms; SceneDressing): the seafloor mesh
     /// (z up), its colours and triangles, and the camera, sun and material settings.
-    std::vector<float> seafloor_positions, seafloor_colors;
-    std::vector<std::uint32_t> seafloor_triangles;
+    std::vector<float> seafloor_positions;  ///< 3 per vertex (m, z up)
+    std::vector<float> seafloor_colors;     ///< 3 per vertex (linear RGB)
+    std::vector<std::uint32_t> seafloor_triangles;  ///< 3 per triangle
     std::optional<SceneDressing> dressing;  ///< its spans are set by view()
     /// /underwater's caustic maps, one 16-bit PNG per frame (empty without them), and
     /// the seafloor's TEXCOORD_0 in the maps' frame (the dressing's seafloor vertices).
     std::vector<std::string> caustics;
-    std::vector<float> seafloor_texcoords;
+    std::vector<float> seafloor_texcoords;  ///< 2 per seafloor vertex
 
-    MorphAnimationView view() const;
+    MorphAnimationView view() const;  ///< a view for the exporters (spans into this)
 };
 
 /// Which frames of the loop to evaluate: [first, end) clipped to the loop; the default
 /// is all of them. Slices let several machines share one animation (`files` form).
 struct FrameRange {
-    std::size_t first = 0;
-    std::size_t end = static_cast<std::size_t>(-1);
+    std::size_t first = 0;  ///< first frame of the loop
+    std::size_t end = static_cast<std::size_t>(-1);  ///< one past the last (clipped to the loop)
 };
 
 /// What a run of the whole loop would hold and write (`wave validate`), from a plan:
@@ -301,8 +329,12 @@ struct FrameRange {
 /// frames are estimated at 9.2 bytes per vertex (measured on the default scene's water mesh with
 /// the default 14-bit positions), quantised morph targets at 0.7 of plain.
 struct RunEstimate {
-    std::size_t vertices = 0, triangles = 0, frames = 0;
-    double frame_array_bytes = 0.0, output_bytes = 0.0, peak_memory_bytes = 0.0;
+    std::size_t vertices = 0;   ///< of the exported surface
+    std::size_t triangles = 0;  ///< of the exported surface
+    std::size_t frames = 0;     ///< in the loop
+    double frame_array_bytes = 0.0;  ///< the loop's per-frame arrays held at once
+    double output_bytes = 0.0;       ///< the files written
+    double peak_memory_bytes = 0.0;  ///< of `wave run`, streamed forms holding one chunk
 };
 /// Frames in one loop of the planned animation: round(loop period · fps), at least 1
 /// (SIZE_MAX when it does not fit; /animation/max_frames refuses it).
@@ -357,7 +389,7 @@ public:
     AnimationStream& operator=(const AnimationStream&) = delete;
     std::size_t first_frame() const noexcept;   ///< of the loop
     std::size_t frame_count() const noexcept;   ///< in the range
-    std::size_t frames_left() const noexcept;
+    std::size_t frames_left() const noexcept;  ///< frames not yet evaluated
     /// The next min(count, frames_left()) frames into `out` (every array resized to them,
     /// its first_frame, z range and caustics theirs; the static parts — triangles,
     /// texcoords, dressing — set on every call). Returns how many (0 at the end).
@@ -378,7 +410,8 @@ bool streamed_form(const Scene& scene);
 /// What stream_animation wrote and saw.
 struct StreamedAnimation {
     std::vector<std::pair<std::string, std::size_t>> files;  ///< (name under the folder, bytes), as encode_animation orders them
-    float z_min = 0, z_max = 0;  ///< height range over every frame (m)
+    float z_min = 0;  ///< height range over every frame (m)
+    float z_max = 0;  ///< height range over every frame (m)
     SceneAnimation first;        ///< the range's first frame alone (for an OBJ, a preview)
 };
 

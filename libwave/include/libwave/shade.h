@@ -33,7 +33,8 @@ void vertex_normals(std::span<const float> positions, std::span<const std::uint3
 /// The triangles touching each vertex, in increasing order (compressed rows: vertex v's
 /// are faces[offsets[v] .. offsets[v + 1])), built once per topology.
 struct VertexFaces {
-    std::vector<std::uint32_t> offsets, faces;
+    std::vector<std::uint32_t> offsets;  ///< vertex_count + 1
+    std::vector<std::uint32_t> faces;    ///< triangle indices, grouped by vertex
 };
 VertexFaces vertex_faces(std::size_t vertex_count, std::span<const std::uint32_t> triangles);
 
@@ -51,8 +52,8 @@ enum class FresnelModel {
 
 /// Where the viewer is (m, z up) and how reflectivity is computed.
 struct FresnelOptions {
-    std::array<double, 3> camera{50.0, -60.0, 40.0};
-    FresnelModel model = FresnelModel::exact;
+    std::array<double, 3> camera{50.0, -60.0, 40.0};  ///< the viewer (m, z up)
+    FresnelModel model = FresnelModel::exact;          ///< how R is computed
     double water_index = kWaterRefractiveIndex;  ///< n of water (air is 1)
 };
 
@@ -132,8 +133,8 @@ void accumulate_fold_foam(std::span<const float> j_minus, double age, const Fold
 /// The foam-bearing vertices of one lattice time, kept sparse (most of a sea has no
 /// foam): ascending vertex indices where J₋ < threshold, and their J₋.
 struct FoldSample {
-    std::vector<std::uint32_t> vertex;
-    std::vector<float> j_minus;
+    std::vector<std::uint32_t> vertex;  ///< ascending vertex indices
+    std::vector<float> j_minus;         ///< J₋ at each
 };
 FoldSample fold_sample(std::span<const float> j_minus, const FoldFoamOptions& options);
 
@@ -164,16 +165,19 @@ void water_colour(std::span<const float> reflect, std::span<const float> depth, 
 /// atan(A sin((POI − R)·D)), with D = k·direction (rad/m) and R the reference point.
 struct BumpWave {
     double amplitude = 0.1;                     ///< A: tangent of the largest tilt
-    double direction_x = 1.0, direction_y = 0.0;  ///< unit direction (normalised on use)
+    double direction_x = 1.0;  ///< unit direction (normalised on use)
+    double direction_y = 0.0;  ///< unit direction (normalised on use)
     double wavelength = 10.0;                   ///< m
     double phase = 0.0;                         ///< rad
 };
 
+/// The preview ray caster's view, sun and colouring (render_preview; the scenes' /preview).
 struct PreviewOptions {
     std::array<double, 3> camera{0.0, -50.0, 10.0};   ///< eye (m, z up)
-    std::array<double, 3> look_at{0.0, 0.0, 0.0};
-    double vertical_fov_degrees = 40.0;
-    std::size_t width = 960, height = 540;
+    std::array<double, 3> look_at{0.0, 0.0, 0.0};     ///< where it looks (m)
+    double vertical_fov_degrees = 40.0;               ///< vertical field of view
+    std::size_t width = 960;                          ///< pixels
+    std::size_t height = 540;                         ///< pixels
     double sun_azimuth_degrees = 90.0;    ///< from +x towards +y
     double sun_elevation_degrees = 10.0;  ///< above the horizon
     /// The paper's colouring: white where the reflected ray meets the sun (0°), dark
@@ -190,8 +194,10 @@ struct PreviewOptions {
     bool sea_to_horizon = true;
 };
 
+/// An 8-bit RGB image.
 struct Image {
-    std::size_t width = 0, height = 0;
+    std::size_t width = 0;   ///< pixels
+    std::size_t height = 0;  ///< pixels
     std::vector<std::uint8_t> rgb;  ///< row-major from the top, 3 bytes per pixel
 };
 

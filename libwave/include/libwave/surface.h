@@ -32,15 +32,18 @@ enum class Footprint {
     smooth,     ///< nodes within footprint_radius, Gaussian weight (Ts'o §3.2.4 suggests it)
 };
 
+/// Ts'o–Barsky's height field (plan_height_field): the control grid, how rays deposit
+/// their waves on it, the Beta2-spline sampling and its tension, and the loop.
 struct HeightFieldOptions {
-    std::size_t nx = 50, ny = 50;  ///< control vertices over the seafloor's rectangle (>= 2)
-    Footprint footprint = Footprint::smooth;
+    std::size_t nx = 50;  ///< control vertices over the seafloor's rectangle (>= 2)
+    std::size_t ny = 50;  ///< control vertices over the seafloor's rectangle (>= 2)
+    Footprint footprint = Footprint::smooth;  ///< how a ray leg deposits its wave
     double footprint_radius = 1.5;  ///< smooth footprint: radius in grid cells (σ = radius / 2)
     int samples_per_span = 8;       ///< spline samples per span and axis (Ts'o: 8)
     /// Tension β2 = tension_per_metre · η at a control vertex with η > 0, 0 in troughs,
     /// at most max_tension: sharper crests, smooth troughs (Ts'o §3.3, figure 9).
     double tension_per_metre = 20.0;
-    double max_tension = 30.0;
+    double max_tension = 30.0;  ///< upper bound of β2
     /// Loop length (s). 0: the least common multiple of the wave periods, which must be
     /// commensurate (ratios of integers up to 1000). > 0: the angular frequencies are
     /// quantised to multiples of 2π / repeat_time (Tessendorf eq. 18) so that any set
@@ -57,11 +60,12 @@ std::vector<std::uint32_t> grid_triangles(std::size_t nx, std::size_t ny);
 /// camera through every `pixel_step`-th pixel of the image, met with the still-water
 /// plane z = 0. The camera looks from `position` at `look_at` with z up and no roll.
 struct GridCamera {
-    std::array<double, 3> position{0.0, -50.0, 20.0};
-    std::array<double, 3> look_at{0.0, 0.0, 0.0};
-    double vertical_fov_degrees = 50.0;
-    std::size_t image_width = 1024, image_height = 768;
-    std::size_t pixel_step = 4;
+    std::array<double, 3> position{0.0, -50.0, 20.0};  ///< the camera (m, z up)
+    std::array<double, 3> look_at{0.0, 0.0, 0.0};      ///< where it looks (m)
+    double vertical_fov_degrees = 50.0;  ///< vertical field of view
+    std::size_t image_width = 1024;  ///< pixels
+    std::size_t image_height = 768;  ///< pixels
+    std::size_t pixel_step = 4;  ///< a grid point every pixel_step-th pixel along both axes
     /// Pixel rows whose rays meet the water further than this (or above the horizon)
     /// are left out (m).
     double max_distance = std::numeric_limits<double>::infinity();
@@ -71,10 +75,12 @@ struct GridCamera {
 /// their triangles (counter-clockwise seen from +z). Uniform in screen space: dense
 /// near the camera, sparse towards the horizon.
 struct CameraGrid {
-    std::vector<double> x, y;
-    std::vector<std::uint32_t> triangles;
-    std::size_t columns = 0, rows = 0;
-    std::size_t vertex_count() const noexcept { return x.size(); }
+    std::vector<double> x;  ///< still-water points (m)
+    std::vector<double> y;  ///< still-water points (m)
+    std::vector<std::uint32_t> triangles;  ///< 3 per triangle
+    std::size_t columns = 0;  ///< points per row
+    std::size_t rows = 0;     ///< rows
+    std::size_t vertex_count() const noexcept { return x.size(); }  ///< points
 };
 
 /// Throws InputError naming the value when the camera is at or below the water,
@@ -86,6 +92,7 @@ CameraGrid camera_grid(const GridCamera& camera);
 // Water mesh (CGAL): a graded triangulation of the water, bounded by the shoreline
 // ---------------------------------------------------------------------------------
 
+/// Options of mesh_water.
 struct WaterMeshOptions {
     /// Smallest angle the refinement aims at (degrees, at most 20.7: CGAL's bound for
     /// which Ruppert–Shewchuk refinement terminates). Angles of the domain itself (a
@@ -100,10 +107,11 @@ struct WaterMeshOptions {
 /// Vertices (m) and counter-clockwise triangles of the water mesh; `boundary` marks
 /// the vertices on the domain rectangle or the shoreline.
 struct WaterMesh {
-    std::vector<double> x, y;
-    std::vector<std::uint32_t> triangles;
-    std::vector<std::uint8_t> boundary;
-    std::size_t vertex_count() const noexcept { return x.size(); }
+    std::vector<double> x;  ///< vertices (m)
+    std::vector<double> y;  ///< vertices (m)
+    std::vector<std::uint32_t> triangles;  ///< 3 per triangle, counter-clockwise seen from above
+    std::vector<std::uint8_t> boundary;  ///< per vertex: 1 on the domain rectangle or the shoreline
+    std::size_t vertex_count() const noexcept { return x.size(); }  ///< vertices
 };
 
 /// The target edge length (m, > 0, finite) at a wet point (x, y).
@@ -138,8 +146,9 @@ enum class RefineScheme {
     catmull_clark,  ///< Catmull–Clark: each triangle becomes 3 quads, then 4 per level; split into 2 triangles each
 };
 
+/// OpenSubdiv refinement of a surface (plan_refinement; the scenes' /refine).
 struct RefineOptions {
-    RefineScheme scheme = RefineScheme::loop;
+    RefineScheme scheme = RefineScheme::loop;  ///< Loop or Catmull–Clark
     int level = 1;  ///< uniform refinement levels, 1 … 6 (adaptive: at most 2^level segments per edge)
     /// Adaptive (Loop only): each coarse edge is cut into 1 … 2^level segments — more
     /// where the surface bends (Ts'o's flatness criterion: the angle between its end
@@ -155,7 +164,7 @@ struct RefineOptions {
     /// (§3.3). Sharpness is topology in OpenSubdiv: a frame with creases is refined
     /// again (same faces, its own stencils). 0 = off.
     double crest_sharpness_per_metre = 0.0;
-    double max_crest_sharpness = 4.0;
+    double max_crest_sharpness = 4.0;  ///< upper bound of an edge's sharpness
 };
 
 /// Crest creases of one frame (positions 3 per vertex, z up): every edge of the
@@ -164,7 +173,7 @@ struct RefineOptions {
 /// the order first met).
 struct Creases {
     std::vector<std::uint32_t> edges;  ///< 2 per crease
-    std::vector<float> sharpness;
+    std::vector<float> sharpness;  ///< per crease
 };
 Creases crest_creases(std::span<const float> positions, std::span<const std::uint32_t> triangles, double per_metre,
                       double max);
@@ -172,21 +181,23 @@ Creases crest_creases(std::span<const float> positions, std::span<const std::uin
 /// What adaptive refinement looks at: unit normals of the coarse surface at K sampled
 /// times (K · vertices · 3 floats), the vertices' rest positions and the camera.
 struct AdaptiveCriteria {
-    std::span<const float> sample_normals;
-    std::span<const double> rest_x, rest_y;
-    std::array<double, 3> camera{0.0, 0.0, 0.0};
+    std::span<const float> sample_normals;  ///< K · vertices · 3 unit normals
+    std::span<const double> rest_x;  ///< rest positions (m)
+    std::span<const double> rest_y;  ///< rest positions (m)
+    std::array<double, 3> camera{0.0, 0.0, 0.0};  ///< for near_distance (m)
 };
 
 /// The refined topology of a triangle mesh and the stencils that give each refined
 /// vertex as a weighted sum of the coarse ones (OpenSubdiv Far::StencilTable, boundary
 /// edges and corners kept sharp). Built once; frames only apply the stencils.
 struct Refinement {
-    std::size_t coarse_vertices = 0, fine_vertices = 0;
+    std::size_t coarse_vertices = 0;  ///< vertices of the surface refined
+    std::size_t fine_vertices = 0;    ///< vertices of the refined mesh
     std::vector<std::uint32_t> triangles;                ///< of the refined mesh, same orientation
     std::vector<std::uint32_t> stencil_offsets;          ///< fine_vertices + 1 (compressed rows)
     std::vector<std::uint32_t> stencil_indices;          ///< coarse vertex of each weight
-    std::vector<float> stencil_weights;
-    std::size_t triangle_count() const noexcept { return triangles.size() / 3; }
+    std::vector<float> stencil_weights;  ///< weights, by stencil_offsets
+    std::size_t triangle_count() const noexcept { return triangles.size() / 3; }  ///< refined triangles
 };
 
 /// Triangles a uniform refinement of `coarse_triangles` by `options` makes (Catmull–
@@ -217,22 +228,30 @@ double loop_period(std::span<const double> periods);
 /// evaluated per frame by evaluate_height_field.
 struct HeightFieldPlan {
     // control grid
-    std::size_t nx = 0, ny = 0;
-    double x0 = 0, y0 = 0, dx = 1, dy = 1;
+    std::size_t nx = 0;  ///< control vertices along x
+    std::size_t ny = 0;  ///< control vertices along y
+    double x0 = 0;  ///< control vertex (0, 0) (m)
+    double y0 = 0;  ///< control vertex (0, 0) (m)
+    double dx = 1;  ///< control spacing along x (m)
+    double dy = 1;  ///< control spacing along y (m)
     // wave terms per control vertex: node v has terms term_offsets[v] .. term_offsets[v+1]−1,
     // η_v(t) = Σ term_amplitude · sin(term_phase − term_omega · t)
-    std::vector<std::size_t> term_offsets;
-    std::vector<double> term_amplitude, term_phase, term_omega;
+    std::vector<std::size_t> term_offsets;  ///< node v's terms: term_offsets[v] .. term_offsets[v+1]−1
+    std::vector<double> term_amplitude;  ///< A of each term (m)
+    std::vector<double> term_phase;      ///< its phase (rad)
+    std::vector<double> term_omega;      ///< its ω (rad/s)
     // sampled surface: (samples·(nx−1) + 1) × (samples·(ny−1) + 1) vertices, row-major
-    int samples_per_span = 8;
-    std::size_t vertex_nx = 0, vertex_ny = 0;
+    int samples_per_span = 8;  ///< spline samples per span and axis
+    std::size_t vertex_nx = 0;  ///< sampled vertices along x
+    std::size_t vertex_ny = 0;  ///< sampled vertices along y
     std::vector<std::uint32_t> triangles;  ///< 3 indices per triangle, counter-clockwise seen from +z
-    double tension_per_metre = 0, max_tension = 0;
+    double tension_per_metre = 0;  ///< β2 per metre of η
+    double max_tension = 0;        ///< upper bound of β2
     double loop_period = 0.0;  ///< s: frame(t) == frame(t + loop_period)
 
-    std::size_t control_count() const noexcept { return nx * ny; }
-    std::size_t vertex_count() const noexcept { return vertex_nx * vertex_ny; }
-    std::size_t triangle_count() const noexcept { return triangles.size() / 3; }
+    std::size_t control_count() const noexcept { return nx * ny; }  ///< control vertices
+    std::size_t vertex_count() const noexcept { return vertex_nx * vertex_ny; }  ///< sampled vertices
+    std::size_t triangle_count() const noexcept { return triangles.size() / 3; }  ///< triangles
 };
 
 /// Deposits the traced rays on the control grid (complex mean per train and node, so
@@ -270,19 +289,26 @@ struct RayStripTriMesh;  // the OpenMesh TriMesh (surface/ray_strips.cpp)
 /// same vertices, faces and per-vertex properties is built from them where it is asked
 /// for (write_ray_strips_ply), so that planning never pays for it.
 struct RayStrips {
-    std::vector<std::uint32_t> ray, step;   ///< ray id and front number of each vertex
-    std::vector<double> x, y;               ///< rest position (m)
-    std::vector<double> dir_x, dir_y;       ///< unit ray direction: the profile's horizontal axis
+    std::vector<std::uint32_t> ray;   ///< ray id of each vertex
+    std::vector<std::uint32_t> step;  ///< front number of each vertex
+    std::vector<double> x;  ///< rest position (m)
+    std::vector<double> y;  ///< rest position (m)
+    std::vector<double> dir_x;  ///< unit ray direction: the profile's horizontal axis
+    std::vector<double> dir_y;  ///< unit ray direction: the profile's horizontal axis
     std::vector<double> phase;              ///< Σ k Δs (rad) along the ray
-    std::vector<double> k, amplitude, depth, slope, rise;  ///< as in FrontSet
-    std::vector<RayFlag> flag;
+    std::vector<double> k;          ///< as in FrontSet
+    std::vector<double> amplitude;  ///< as in FrontSet
+    std::vector<double> depth;      ///< as in FrontSet
+    std::vector<double> slope;      ///< as in FrontSet
+    std::vector<double> rise;       ///< as in FrontSet
+    std::vector<RayFlag> flag;  ///< the ray's state at the vertex
     std::vector<std::uint8_t> caustic;      ///< 1 where rays crossed (FrontSet::caustic)
     std::vector<std::uint32_t> triangles;   ///< 3 per triangle, counter-clockwise seen from above
     double omega = 0.0;                     ///< ω of the train (rad/s)
     std::size_t degenerate_skipped = 0;     ///< zero-area cells left out (rays meeting on the shore)
 
-    std::size_t vertex_count() const noexcept { return x.size(); }
-    std::size_t triangle_count() const noexcept { return triangles.size() / 3; }
+    std::size_t vertex_count() const noexcept { return x.size(); }  ///< vertices
+    std::size_t triangle_count() const noexcept { return triangles.size() / 3; }  ///< triangles
 };
 
 /// Tessellates the fronts (Gonzato fig. 11): between two consecutive fronts, rays

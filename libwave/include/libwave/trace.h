@@ -22,7 +22,7 @@ struct WaveTrain {
     double period = 8.0;       ///< T (s), > 0
     double amplitude = 0.5;    ///< deep-water amplitude A∞ (m), > 0
     double direction_x = 0.0;  ///< direction of travel (need not be unit; not zero)
-    double direction_y = 1.0;
+    double direction_y = 1.0;  ///< direction of travel
 };
 
 /// Options of trace_rays, with their defaults.
@@ -31,14 +31,14 @@ struct TraceOptions {
     double ray_spacing = 1.0;
     /// Guard rails: more rays than this (over all trains) or more crossings on one ray
     /// raise LimitError naming the option.
-    std::size_t max_rays = 1'000'000;
-    std::size_t max_crossings = 100'000;
+    std::size_t max_rays = 1'000'000;      ///< rays over all trains
+    std::size_t max_crossings = 100'000;  ///< isobath crossings on one ray
     /// Breaker index γ: at caustics the amplitude is capped at γ h / 2 (H <= γ h).
     double breaker_index = kBreakerIndex;
     /// Le Méhauté's rule of thumb (quoted by Ts'o §3.1.3): refraction alone is doubtful
     /// where K_r leaves [1/doubt_factor, doubt_factor]; such points are flagged.
     double doubt_factor = 2.0;
-    DispersionOptions dispersion{};
+    DispersionOptions dispersion{};  ///< how k(ω, h) is solved
 };
 
 /// What happened at a ray point.
@@ -65,20 +65,25 @@ struct RaySet {
     std::vector<std::uint32_t> train;     ///< wave train of each ray
     std::vector<double> spacing_start;    ///< b0 of each ray (m)
 
-    std::vector<double> x, y;             ///< point (m)
-    std::vector<double> dir_x, dir_y;     ///< unit direction of the leg after the point
+    std::vector<double> x;  ///< point (m)
+    std::vector<double> y;  ///< point (m)
+    std::vector<double> dir_x;  ///< unit direction of the leg after the point
+    std::vector<double> dir_y;  ///< unit direction of the leg after the point
     std::vector<double> arc_length;       ///< distance travelled from the start (m)
     std::vector<double> phase;            ///< Σ k Δs plus the plane-wave phase at the start (rad)
     std::vector<double> depth;            ///< depth the leg is computed with (m)
-    std::vector<double> k, omega, celerity, group_velocity;
+    std::vector<double> k;               ///< wavenumber (rad/m)
+    std::vector<double> omega;           ///< ω of the ray's train (rad/s)
+    std::vector<double> celerity;        ///< C (m/s)
+    std::vector<double> group_velocity;  ///< C_g (m/s)
     std::vector<double> shoaling;         ///< K_s
     std::vector<double> refraction;       ///< K_r from the spacing of neighbouring rays
     std::vector<double> amplitude;        ///< A = A∞ K_s K_r, capped at caustics (m)
-    std::vector<RayEvent> event;
+    std::vector<RayEvent> event;          ///< what happened at the point
     std::vector<std::uint8_t> flags;      ///< RayPointFlag bits
 
-    std::size_t ray_count() const noexcept { return offsets.size() - 1; }
-    std::size_t point_count() const noexcept { return x.size(); }
+    std::size_t ray_count() const noexcept { return offsets.size() - 1; }  ///< rays traced
+    std::size_t point_count() const noexcept { return x.size(); }         ///< points over all rays
 };
 
 /// Traces every train over the seafloor in Ts'o–Barsky's isobath mode: a ray runs
@@ -117,8 +122,10 @@ enum class FrontRefraction {
     isobath,   ///< Ts'o–Barsky: exact crossings of the isobaths inside each step, Snell at each
 };
 
+/// Options of trace_fronts (the scenes' /fronts, with ray_spacing, breaker_index and
+/// max_rays from /trace).
 struct FrontOptions {
-    FrontRefraction refraction = FrontRefraction::gradient;
+    FrontRefraction refraction = FrontRefraction::gradient;  ///< how rays turn
     double ray_spacing = 1.0;     ///< initial distance between rays (m); Gonzato's bay: 1
     double step = 0.4;            ///< step length along every ray per front (m); bay: 0.4
     double split_distance = 1.2;  ///< insert a ray where neighbours are farther apart (m); bay: 1.2
@@ -134,27 +141,34 @@ struct FrontOptions {
     /// steps, which max_rays and max_steps bound only one at a time (~100 bytes each).
     std::size_t max_points = 10'000'000;
     double breaker_index = kBreakerIndex;  ///< amplitude cap γ h / 2
-    DispersionOptions dispersion{};
+    DispersionOptions dispersion{};  ///< how k(ω, h) is solved
 };
 
 /// Fronts as rows: front f holds the live rays after f steps, in order along the
 /// front, at points front_offsets[f] .. front_offsets[f+1]−1 (structure of arrays).
 struct FrontSet {
-    std::vector<std::size_t> front_offsets{0};
+    std::vector<std::size_t> front_offsets{0};  ///< front f at points front_offsets[f] .. front_offsets[f+1]−1
     std::vector<std::uint32_t> ray;  ///< stable ray id (initial rays 0…n−1, inserted rays after)
-    std::vector<double> x, y, dir_x, dir_y;
+    std::vector<double> x;  ///< point (m)
+    std::vector<double> y;  ///< point (m)
+    std::vector<double> dir_x;  ///< unit direction of travel
+    std::vector<double> dir_y;  ///< unit direction of travel
     std::vector<double> phase;       ///< plane-wave start phase + Σ k Δs (rad)
-    std::vector<double> k, depth, slope;  ///< slope = |∇h| (bottom slope)
+    std::vector<double> k;      ///< wavenumber (rad/m)
+    std::vector<double> depth;  ///< h (m)
+    std::vector<double> slope;  ///< |∇h| (bottom slope)
     std::vector<double> rise;        ///< −∇h · direction: tan β of the bottom rising along the ray (< 0 where it deepens)
     std::vector<double> amplitude;   ///< A∞ K_s K_r, K_r from the spacing of the neighbours
-    std::vector<RayFlag> flag;
+    std::vector<RayFlag> flag;       ///< the ray's state at the point
     std::vector<std::uint8_t> caustic;  ///< 1 where the ray has crossed a neighbour (order flipped): kept, amplitude capped
-    double omega = 0.0;
-    std::size_t caustic_points = 0;
-    std::size_t initial_rays = 0, inserted_rays = 0, rays_aground = 0;
-    std::size_t rays_trapped = 0;    ///< removed after turning max_turn (orbiting an island's shelf) or three domain crossings
+    double omega = 0.0;                ///< ω of the train (rad/s)
+    std::size_t caustic_points = 0;    ///< points with caustic set
+    std::size_t initial_rays = 0;      ///< rays started on the upwave side
+    std::size_t inserted_rays = 0;     ///< rays inserted where neighbours drifted apart
+    std::size_t rays_aground = 0;      ///< rays that reached the shore
+    std::size_t rays_trapped = 0;    ///< removed after turning max_turn_degrees (orbiting an island's shelf) or three domain crossings
 
-    std::size_t front_count() const noexcept { return front_offsets.size() - 1; }
+    std::size_t front_count() const noexcept { return front_offsets.size() - 1; }  ///< fronts traced
 };
 
 /// Gonzato's adaptive tracing of one train (§3.3): every ray advances `step` per front.

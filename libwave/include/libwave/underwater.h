@@ -38,6 +38,7 @@ double water_attenuation(WaterType type) noexcept;
 const char* water_type_name(WaterType type) noexcept;
 WaterType parse_water_type(const std::string& name, const std::string& where);
 
+/// The sun, the water and the map of plan_caustics (the scenes' /underwater).
 struct CausticOptions {
     /// Towards the sun (any length > 0; z > 0: the sun above the horizon).
     std::array<double, 3> sun{0.0, 0.0, 1.0};
@@ -46,7 +47,8 @@ struct CausticOptions {
     double attenuation = 0.15;  ///< c (1/m) along the refracted path (WaterType::coastal)
     /// Map pixels along x and y: the map covers the seafloor grid's rectangle, row 0
     /// at its largest y (an image's top: the same frame as the animation's TEXCOORD_0).
-    std::size_t width = 512, height = 512;
+    std::size_t width = 512;   ///< map pixels along x
+    std::size_t height = 512;  ///< map pixels along y
     /// Beyond the surface's rectangle the water is taken as flat: the floor near the
     /// up-sun borders, whose light entered beyond them, gets flat water's irradiance
     /// instead of none.
@@ -58,10 +60,12 @@ struct CausticOptions {
 /// (sun at or below the horizon, non-positive index, negative attenuation, a map side
 /// of 0 or above 16 384, a grid of fewer than 2 × 2 nodes).
 struct CausticPlan {
-    CausticOptions options;
-    ElevationGrid floor;
-    double x0 = 0.0, y_top = 0.0;          ///< the map's corner at pixel (0, 0)'s outer corner
-    double pixel_x = 1.0, pixel_y = 1.0;   ///< pixel size (m)
+    CausticOptions options;  ///< as planned
+    ElevationGrid floor;     ///< a copy of the seafloor grid
+    double x0 = 0.0;     ///< x of pixel (0, 0)'s outer corner (m)
+    double y_top = 0.0;  ///< y of pixel (0, 0)'s outer corner: the map's top (m)
+    double pixel_x = 1.0;  ///< pixel size (m)
+    double pixel_y = 1.0;  ///< pixel size (m)
     double max_slope = 0.0;                ///< |∇z| bound of the floor (for the search)
     double max_depth = 0.0;                ///< the floor's greatest depth (m)
     std::array<double, 3> sun{};           ///< unit, towards the sun
@@ -75,7 +79,11 @@ struct CausticWorkspace {
     std::vector<double> hit;             ///< 2 per vertex: the refracted ray's floor point, map pixels
     std::vector<double> weight;          ///< per vertex: T · e^{−c·s}
     std::vector<double> flux;            ///< per triangle
-    std::vector<std::uint32_t> first_band, last_band, band_offsets, band_fill, band_triangles;
+    std::vector<std::uint32_t> first_band;             ///< per triangle: the first map row band it covers
+    std::vector<std::uint32_t> last_band;              ///< per triangle: the last
+    std::vector<std::uint32_t> band_offsets;           ///< per row band: its triangles' start in band_triangles
+    std::vector<std::uint32_t> band_fill;              ///< per band: triangles filed so far
+    std::vector<std::uint32_t> band_triangles;         ///< triangle indices, by band
 };
 
 /// The irradiance per unit plan area on the seafloor (same unit as I₀), width · height
