@@ -11,6 +11,7 @@ rm -rf "$work" && mkdir -p "$work"
 cd "$work"  # not the source tree: the import must come from the venv
 where=$("$work/venv/bin/python" -c "import libwave; print(libwave.__file__)")
 [[ $where == "$work/venv/"* ]] || { echo "libwave imported from $where, not the venv"; exit 1; }
-"$work/venv/bin/pip" show -f libwave | grep -q "_libwave.pyi" || { echo "the wheel has no stubs"; exit 1; }
+files=$("$work/venv/bin/pip" show -f libwave)  # (not piped into grep -q: pip would see a broken pipe)
+[[ $files == *_libwave.pyi* && $files == *py.typed* ]] || { echo "the wheel has no stubs:"; echo "$files"; exit 1; }
 env -u PYTHONPATH "$work/venv/bin/python" "$src/examples/pipeline.py" \
   "$src/data/bathymetry/okushiri_monai_lab1to400_1p4cm.asc" "$work/frame3.glb" 3
