@@ -10,9 +10,6 @@
 
 #include <embree3/rtcore.h>
 
-#define STB_IMAGE_WRITE_STATIC  // our own copy: consumers may link theirs
-#define STB_IMAGE_WRITE_IMPLEMENTATION
-#include <stb/stb_image_write.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -207,18 +204,5 @@ Image contact_sheet(std::span<const Image> images, std::size_t columns) {
                         &sheet.rgb[3 * ((k / columns * h + y) * sheet.width + k % columns * w)]);
     return sheet;
 }
-
-std::string png_bytes(const Image& image) {
-    std::string bytes;
-    const auto sink = [](void* ctx, void* data, int size) {
-        static_cast<std::string*>(ctx)->append(static_cast<const char*>(data), static_cast<std::size_t>(size));
-    };
-    if (!stbi_write_png_to_func(sink, &bytes, static_cast<int>(image.width), static_cast<int>(image.height), 3, image.rgb.data(),
-                                static_cast<int>(3 * image.width)))
-        throw RuntimeError("preview: could not encode a PNG");
-    return bytes;
-}
-
-void write_png(const Image& image, const std::string& path) { write_file_atomic(path, png_bytes(image)); }
 
 }  // namespace wave
