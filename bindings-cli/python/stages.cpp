@@ -195,6 +195,38 @@ void bind_fronts(py::module_& m) {
         "Traces one wave train (period s, deep-water amplitude m, direction of travel [x, y]) as Gonzato's adaptive "
         "fronts; the defaults are the scene keys' (/trace, /fronts)");
 
+    py::class_<wave::RaySet, std::shared_ptr<wave::RaySet>> ray_class(
+        m, "Rays", "Ts'o–Barsky's rays: points of ray r at offsets[r] .. offsets[r+1]");
+    const auto ray_field = [&](const char* name, std::vector<double> wave::RaySet::*member, const char* doc) {
+        ray_class.def_property_readonly(name, [member](Shared self) {
+            const auto& r = self.cast<const wave::RaySet&>();
+            return view(r.*member, {ssize((r.*member).size())}, self);
+        }, doc);
+    };
+    ray_field("x", &wave::RaySet::x, "x (m) of every point");
+    ray_field("y", &wave::RaySet::y, "y (m)");
+    ray_field("phase", &wave::RaySet::phase, "Σ k Δs plus the plane-wave phase at the start (rad)");
+    ray_field("depth", &wave::RaySet::depth, "depth the leg is computed with (m)");
+    ray_field("amplitude", &wave::RaySet::amplitude, "A = A∞ K_s K_r, capped at caustics (m)");
+    ray_class.def_property_readonly("offsets", [](Shared self) {
+                 const auto& r = self.cast<const wave::RaySet&>();
+                 return view(r.offsets, {ssize(r.offsets.size())}, self);
+             })
+        .def_property_readonly("ray_count", &wave::RaySet::ray_count);
+    m.def(
+        "trace_rays",
+        [](const wave::Seafloor& seafloor, const wave::DepthContours& isobaths, double period, double amplitude,
+           std::array<double, 2> direction, double ray_spacing, double breaker_index, std::size_t max_rays) {
+            wave::TraceOptions o;
+            o.ray_spacing = ray_spacing, o.breaker_index = breaker_index, o.max_rays = max_rays;
+            const std::vector<wave::WaveTrain> trains{train(period, amplitude, direction)};
+            py::gil_scoped_release release;
+            return std::make_shared<wave::RaySet>(wave::trace_rays(seafloor, isobaths, trains, o));
+        },
+        py::arg("seafloor"), py::arg("isobaths"), py::arg("period"), py::arg("amplitude"), py::arg("direction"),
+        py::arg("ray_spacing") = 1.0, py::arg("breaker_index") = wave::kBreakerIndex, py::arg("max_rays") = 1'000'000,
+        "Ts'o–Barsky's rays of one train over the isobaths (exact crossings, Snell at each; the height field's tracing)");
+
     py::class_<wave::WaveField, std::shared_ptr<wave::WaveField>>(
         m, "WaveField", "The refraction–diffraction field of one train (docs/wave-field.md)");
     m.def(
@@ -352,6 +384,89 @@ void bind_motion(py::module_& m) {
         py::arg("x"), py::arg("y"), py::arg("triangles"), "Plans untangling against the rest positions (m) and triangles");
 }
 
+void bind_breakers_and_ocean(py::module_& m) {
+    py::class_<wave::JeschkeMotionPlan, std::shared_ptr<wave::JeschkeMotionPlan>>(
+        m, "JeschkeBreakers", "Jeschke's procedural breakers planned on ray strips (plan_jeschke_breakers)")
+        .def_property_readonly("vertex_count", &wave::JeschkeMotionPlan::vertex_count)
+        .def_property_readonly("loop_periods", &wave::JeschkeMotionPlan::loop_periods, "swell periods after which they repeat")
+        .def(
+            "evaluate",
+            [](const wave::JeschkeMotionPlan& p, double t, std::optional<py::array> out) {
+                py::array_t<float> a = out ? writable_floats(*out, 3 * p.vertex_count(), "evaluate out")
+                                           : py::array_t<float>({ssize(p.vertex_count()), py::ssize_t{3}});
+                std::span<float> s = span_of(a);
+                {
+                    py::gil_scoped_release release;
+                    wave::evaluate_jeschke_breakers(p, t, s);
+                }
+                return a;
+            },
+            py::arg("t"), py::arg("out") = py::none(), "Positions at time t (s): (vertices, 3) float32, z up")
+        .def(
+            "foam",
+            [](const wave::JeschkeMotionPlan& p, double t) {
+                py::array_t<float> out(ssize(p.vertex_count()));
+                std::span<float> s = span_of(out);
+                py::gil_scoped_release release;
+                wave::jeschke_foam(p, t, s);
+                return out;
+            },
+            py::arg("t"), "Foam in [0, 1] per vertex at time t: broken crests' foam fading behind them");
+    m.def(
+        "plan_jeschke_breakers",
+        [](const wave::RayStrips& strips, double period, double amplitude, double breaker_index, double wave_variation) {
+            wave::JeschkeBreakerOptions o;
+            o.breaker_index = breaker_index, o.wave_variation = wave_variation;
+            py::gil_scoped_release release;
+            return std::make_shared<wave::JeschkeMotionPlan>(
+                wave::plan_jeschke_breakers(strips, 2.0 * amplitude, wave::deep_water_wavelength(period), o));
+        },
+        py::arg("strips"), py::arg("period"), py::arg("amplitude"), py::arg("breaker_index") = wave::kBreakerIndex,
+        py::arg("wave_variation") = 0.25,
+        "Jeschke's breakers for the strips of a train (period s, deep-water amplitude m), parametrised from its rays "
+        "(as the scenes' /breakers)");
+
+    py::class_<wave::OceanPlan, std::shared_ptr<wave::OceanPlan>>(
+        m, "OceanPatch", "Tessendorf's FFT ocean patch planned once (plan_ocean_patch)")
+        .def_readonly("resolution", &wave::OceanPlan::n)
+        .def_readonly("size", &wave::OceanPlan::size)
+        .def(
+            "evaluate",
+            [](const wave::OceanPlan& p, double t) {
+                const std::size_t side = p.n + 1;
+                py::array_t<float> pos({ssize(side * side), py::ssize_t{3}}), nrm({ssize(side * side), py::ssize_t{3}});
+                py::array_t<float> jm(ssize(side * side));
+                std::span<float> ps = span_of(pos), ns = span_of(nrm), js = span_of(jm);
+                {
+                    py::gil_scoped_release release;
+                    wave::OceanWorkspace workspace(p.n);
+                    wave::ocean_patch_frame(p, wave::evaluate_ocean(p, t, workspace), ps, ns, js);
+                }
+                return py::make_tuple(pos, nrm, jm);
+            },
+            py::arg("t"),
+            "The patch at time t: (positions, normals, j_minus) for its (N+1)² vertices (row-major, the last row and "
+            "column repeat the first: patches tile); J₋ < 0 where the surface folds");
+    m.def(
+        "plan_ocean_patch",
+        [](std::size_t resolution, double size, double wind_speed, std::array<double, 2> wind_direction, double choppiness,
+           double repeat_time, std::uint64_t seed) {
+            wave::OceanOptions o;
+            o.resolution = resolution, o.size = size, o.choppiness = choppiness, o.repeat_time = repeat_time, o.seed = seed;
+            o.spectrum.wind_speed = wind_speed, o.spectrum.wind_direction = wind_direction;
+            py::gil_scoped_release release;
+            return std::make_shared<wave::OceanPlan>(wave::plan_ocean(o));
+        },
+        py::arg("resolution") = 256, py::arg("size") = 1000.0, py::arg("wind_speed") = 31.0,
+        py::arg("wind_direction") = std::array<double, 2>{1.0, 0.0}, py::arg("choppiness") = 1.0,
+        py::arg("repeat_time") = 0.0, py::arg("seed") = 1,
+        "Tessendorf's FFT ocean (Phillips spectrum, the scenes' /ocean defaults): N×N waves on an L×L m patch");
+    m.def("grid_triangles", [](std::size_t nx, std::size_t ny) {
+        const std::vector<std::uint32_t> t = wave::grid_triangles(nx, ny);
+        return copy(t, {ssize(t.size() / 3), 3});
+    }, py::arg("nx"), py::arg("ny"), "Triangles of a row-major nx × ny vertex grid (the ocean patch's: nx = ny = N + 1)");
+}
+
 void bind_shading(py::module_& m) {
     m.def(
         "vertex_normals",
@@ -429,6 +544,7 @@ void bind_stages(py::module_& m) {
     bind_fronts(m);
     bind_surfaces(m);
     bind_motion(m);
+    bind_breakers_and_ocean(m);
     bind_shading(m);
     bind_export(m);
 }

@@ -110,3 +110,37 @@ def test_stubs_match_the_module_and_type_check_the_example():
     mypy = subprocess.run([sys.executable, "-m", "mypy", "--strict", "--no-incremental", "--cache-dir", "/dev/null",
                            str(REPO / "examples" / "pipeline.py")], capture_output=True, text=True, env=env)
     assert mypy.returncode == 0, mypy.stdout + mypy.stderr
+
+
+def test_the_ocean_patch_stage_equals_the_ocean_scenes_frame():
+    scene = libwave.Scene({"surface": {"kind": "ocean"}, "animation": {"fps": 10},
+                           "ocean": {"resolution": 32, "size": 100, "wind_speed": 12, "repeat_time": 4},
+                           "outputs": {"attributes": "none"}})
+    anim = libwave.animate(scene, libwave.plan(scene), 3, 4)
+    patch = libwave.plan_ocean_patch(resolution=32, size=100, wind_speed=12, repeat_time=4)
+    positions, normals, j_minus = patch.evaluate(0.3)
+    assert positions.shape == (33 * 33, 3) and j_minus.shape == (33 * 33,)
+    assert positions.tobytes() == np.asarray(anim.positions[0]).tobytes()
+    assert np.array_equal(libwave.grid_triangles(33, 33), anim.triangles)
+    # The patch tiles: the last column repeats the first, one patch further along x.
+    grid = positions.reshape(33, 33, 3)
+    assert np.allclose(grid[:, 32, 0] - grid[:, 0, 0], 100.0, atol=1e-3)
+    assert np.array_equal(grid[:, 32, 2], grid[:, 0, 2])
+
+
+def test_jeschke_breakers_and_rays_as_stages():
+    beach = libwave.procedural_seafloor("planar-beach")
+    fronts = libwave.trace_fronts(beach, 8.0, 0.5, (0, 1), ray_spacing=4, step=2, split_distance=8)
+    strips = libwave.build_ray_strips(fronts)
+    breakers = libwave.plan_jeschke_breakers(strips, 8.0, 0.5)
+    assert breakers.vertex_count == strips.vertex_count and breakers.loop_periods == 3
+    p = breakers.evaluate(2.0)
+    foam = breakers.foam(30.0)
+    assert p.shape == (strips.vertex_count, 3) and np.isfinite(p).all()
+    assert 0.0 <= foam.min() and foam.max() <= 1.0 and foam.max() > 0.5  # broken crests leave foam
+    # A breaking crest stands higher than the offshore swell (shoaling, then the breaker).
+    assert p[:, 2].max() > 0.5
+    iso = libwave.extract_isobaths(beach, spacing=1.0)
+    rays = libwave.trace_rays(beach, iso, 8.0, 0.5, (0, 1), ray_spacing=10)
+    assert rays.ray_count > 5 and len(rays.x) == rays.offsets[-1]
+    assert np.nanmax(rays.amplitude) > 0.5  # shoaling raises the deep-water amplitude before the break
