@@ -47,6 +47,27 @@ py::array_t<float> writable_floats(const py::array& a, std::size_t count, const 
 
 std::span<float> span_of(py::array_t<float>& a) { return {a.mutable_data(), static_cast<std::size_t>(a.size())}; }
 
+// A motion plan's positions at time t (vertices × 3 float32, z up), into `out` when given.
+template <class Plan>
+py::array_t<float> positions_at(const Plan& p, double t, const std::optional<py::array>& out,
+                                void (*evaluate)(const Plan&, double, std::span<float>)) {
+    py::array_t<float> a = out ? writable_floats(*out, 3 * p.vertex_count(), "evaluate out")
+                               : py::array_t<float>({ssize(p.vertex_count()), py::ssize_t{3}});
+    std::span<float> s = span_of(a);
+    py::gil_scoped_release release;
+    evaluate(p, t, s);
+    return a;
+}
+
+// A member array of a bound libwave object as a read-only 1-D NumPy view.
+template <class T, class V>
+void def_array(py::class_<T, std::shared_ptr<T>>& cls, const char* name, std::vector<V> T::*member, const char* doc = "") {
+    cls.def_property_readonly(name, [member](Shared self) {
+        const auto& o = self.cast<const T&>();
+        return view(o.*member, {ssize((o.*member).size())}, self);
+    }, doc);
+}
+
 void bind_seafloor(py::module_& m) {
     py::class_<wave::Seafloor, std::shared_ptr<wave::Seafloor>>(
         m, "Seafloor", "A seafloor: an elevation grid (z up, m) and where it came from (read_seafloor, procedural_seafloor)")
@@ -149,27 +170,15 @@ void bind_isobaths(py::module_& m) {
 void bind_fronts(py::module_& m) {
     py::class_<wave::FrontSet, std::shared_ptr<wave::FrontSet>> front_class(
         m, "Fronts", "Gonzato's adaptive wave fronts: point arrays, front f at front_offsets[f] .. front_offsets[f+1]");
-    const auto front_field = [&](const char* name, std::vector<double> wave::FrontSet::*member, const char* doc) {
-        front_class.def_property_readonly(name, [member](Shared self) {
-            const auto& f = self.cast<const wave::FrontSet&>();
-            return view(f.*member, {ssize((f.*member).size())}, self);
-        }, doc);
-    };
-    front_field("x", &wave::FrontSet::x, "x (m) of every point");
-    front_field("y", &wave::FrontSet::y, "y (m)");
-    front_field("phase", &wave::FrontSet::phase, "Σ k Δs (rad)");
-    front_field("k", &wave::FrontSet::k, "wavenumber (rad/m)");
-    front_field("depth", &wave::FrontSet::depth, "h (m)");
-    front_field("amplitude", &wave::FrontSet::amplitude, "A (m): A∞ K_s K_r, or the field's after take_field_amplitudes");
-    front_class.def_property_readonly("ray", [](Shared self) {
-              const auto& f = self.cast<const wave::FrontSet&>();
-              return view(f.ray, {ssize(f.ray.size())}, self);
-          }, "ray id of every point")
-        .def_property_readonly("front_offsets", [](Shared self) {
-            const auto& f = self.cast<const wave::FrontSet&>();
-            return view(f.front_offsets, {ssize(f.front_offsets.size())}, self);
-        })
-        .def_property_readonly("front_count", &wave::FrontSet::front_count)
+    def_array(front_class, "x", &wave::FrontSet::x, "x (m) of every point");
+    def_array(front_class, "y", &wave::FrontSet::y, "y (m)");
+    def_array(front_class, "phase", &wave::FrontSet::phase, "Σ k Δs (rad)");
+    def_array(front_class, "k", &wave::FrontSet::k, "wavenumber (rad/m)");
+    def_array(front_class, "depth", &wave::FrontSet::depth, "h (m)");
+    def_array(front_class, "amplitude", &wave::FrontSet::amplitude, "A (m): A∞ K_s K_r, or the field's after take_field_amplitudes");
+    def_array(front_class, "ray", &wave::FrontSet::ray, "ray id of every point");
+    def_array(front_class, "front_offsets", &wave::FrontSet::front_offsets);
+    front_class.def_property_readonly("front_count", &wave::FrontSet::front_count)
         .def_readonly("initial_rays", &wave::FrontSet::initial_rays)
         .def_readonly("inserted_rays", &wave::FrontSet::inserted_rays)
         .def_readonly("rays_aground", &wave::FrontSet::rays_aground)
@@ -197,22 +206,13 @@ void bind_fronts(py::module_& m) {
 
     py::class_<wave::RaySet, std::shared_ptr<wave::RaySet>> ray_class(
         m, "Rays", "Ts'o–Barsky's rays: points of ray r at offsets[r] .. offsets[r+1]");
-    const auto ray_field = [&](const char* name, std::vector<double> wave::RaySet::*member, const char* doc) {
-        ray_class.def_property_readonly(name, [member](Shared self) {
-            const auto& r = self.cast<const wave::RaySet&>();
-            return view(r.*member, {ssize((r.*member).size())}, self);
-        }, doc);
-    };
-    ray_field("x", &wave::RaySet::x, "x (m) of every point");
-    ray_field("y", &wave::RaySet::y, "y (m)");
-    ray_field("phase", &wave::RaySet::phase, "Σ k Δs plus the plane-wave phase at the start (rad)");
-    ray_field("depth", &wave::RaySet::depth, "depth the leg is computed with (m)");
-    ray_field("amplitude", &wave::RaySet::amplitude, "A = A∞ K_s K_r, capped at caustics (m)");
-    ray_class.def_property_readonly("offsets", [](Shared self) {
-                 const auto& r = self.cast<const wave::RaySet&>();
-                 return view(r.offsets, {ssize(r.offsets.size())}, self);
-             })
-        .def_property_readonly("ray_count", &wave::RaySet::ray_count);
+    def_array(ray_class, "x", &wave::RaySet::x, "x (m) of every point");
+    def_array(ray_class, "y", &wave::RaySet::y, "y (m)");
+    def_array(ray_class, "phase", &wave::RaySet::phase, "Σ k Δs plus the plane-wave phase at the start (rad)");
+    def_array(ray_class, "depth", &wave::RaySet::depth, "depth the leg is computed with (m)");
+    def_array(ray_class, "amplitude", &wave::RaySet::amplitude, "A = A∞ K_s K_r, capped at caustics (m)");
+    def_array(ray_class, "offsets", &wave::RaySet::offsets);
+    ray_class.def_property_readonly("ray_count", &wave::RaySet::ray_count);
     m.def(
         "trace_rays",
         [](const wave::Seafloor& seafloor, const wave::DepthContours& isobaths, double period, double amplitude,
@@ -252,18 +252,12 @@ void bind_fronts(py::module_& m) {
 void bind_surfaces(py::module_& m) {
     py::class_<wave::RayStrips, std::shared_ptr<wave::RayStrips>> strip_class(
         m, "RayStrips", "Triangles between consecutive fronts, one vertex per ray per front, with the rays' fields");
-    const auto strip_field = [&](const char* name, std::vector<double> wave::RayStrips::*member) {
-        strip_class.def_property_readonly(name, [member](Shared self) {
-            const auto& s = self.cast<const wave::RayStrips&>();
-            return view(s.*member, {ssize((s.*member).size())}, self);
-        });
-    };
-    strip_field("x", &wave::RayStrips::x);
-    strip_field("y", &wave::RayStrips::y);
-    strip_field("phase", &wave::RayStrips::phase);
-    strip_field("k", &wave::RayStrips::k);
-    strip_field("amplitude", &wave::RayStrips::amplitude);
-    strip_field("depth", &wave::RayStrips::depth);
+    def_array(strip_class, "x", &wave::RayStrips::x);
+    def_array(strip_class, "y", &wave::RayStrips::y);
+    def_array(strip_class, "phase", &wave::RayStrips::phase);
+    def_array(strip_class, "k", &wave::RayStrips::k);
+    def_array(strip_class, "amplitude", &wave::RayStrips::amplitude);
+    def_array(strip_class, "depth", &wave::RayStrips::depth);
     strip_class.def_property_readonly("triangles", [](Shared self) {
               const auto& s = self.cast<const wave::RayStrips&>();
               return view(s.triangles, {ssize(s.triangle_count()), 3}, self);
@@ -276,24 +270,16 @@ void bind_surfaces(py::module_& m) {
         return std::make_shared<wave::RayStrips>(wave::build_ray_strips(f));
     }, py::arg("fronts"), "Tessellates the fronts into ray strips (Gonzato fig. 11)");
 
-    py::class_<wave::WaterMesh, std::shared_ptr<wave::WaterMesh>>(
-        m, "WaterMesh", "The graded triangulation of the water, bounded by the domain's sides and the shoreline")
-        .def_property_readonly("x", [](Shared self) {
-            const auto& w = self.cast<const wave::WaterMesh&>();
-            return view(w.x, {ssize(w.vertex_count())}, self);
-        })
-        .def_property_readonly("y", [](Shared self) {
-            const auto& w = self.cast<const wave::WaterMesh&>();
-            return view(w.y, {ssize(w.vertex_count())}, self);
-        })
+    py::class_<wave::WaterMesh, std::shared_ptr<wave::WaterMesh>> mesh_class(
+        m, "WaterMesh", "The graded triangulation of the water, bounded by the domain's sides and the shoreline");
+    def_array(mesh_class, "x", &wave::WaterMesh::x, "vertices (m)");
+    def_array(mesh_class, "y", &wave::WaterMesh::y);
+    def_array(mesh_class, "boundary", &wave::WaterMesh::boundary, "1 on the domain's sides or the shoreline");
+    mesh_class
         .def_property_readonly("triangles", [](Shared self) {
             const auto& w = self.cast<const wave::WaterMesh&>();
             return view(w.triangles, {ssize(w.triangles.size() / 3), 3}, self);
         })
-        .def_property_readonly("boundary", [](Shared self) {
-            const auto& w = self.cast<const wave::WaterMesh&>();
-            return view(w.boundary, {ssize(w.vertex_count())}, self);
-        }, "1 on the domain's sides or the shoreline")
         .def_property_readonly("vertex_count", &wave::WaterMesh::vertex_count);
     m.def(
         "mesh_water",
@@ -329,14 +315,7 @@ void bind_motion(py::module_& m) {
         .def(
             "evaluate",
             [](const wave::GonzatoMotionPlan& p, double t, std::optional<py::array> out) {
-                py::array_t<float> a = out ? writable_floats(*out, 3 * p.vertex_count(), "evaluate out")
-                                           : py::array_t<float>({ssize(p.vertex_count()), py::ssize_t{3}});
-                std::span<float> s = span_of(a);
-                {
-                    py::gil_scoped_release release;
-                    wave::evaluate_gonzato_motion(p, t, s);
-                }
-                return a;
+                return positions_at(p, t, out, &wave::evaluate_gonzato_motion);
             },
             py::arg("t"), py::arg("out") = py::none(),
             "Positions at time t (s): (vertices, 3) float32, z up; into `out` when given (no allocation)");
@@ -392,14 +371,7 @@ void bind_breakers_and_ocean(py::module_& m) {
         .def(
             "evaluate",
             [](const wave::JeschkeMotionPlan& p, double t, std::optional<py::array> out) {
-                py::array_t<float> a = out ? writable_floats(*out, 3 * p.vertex_count(), "evaluate out")
-                                           : py::array_t<float>({ssize(p.vertex_count()), py::ssize_t{3}});
-                std::span<float> s = span_of(a);
-                {
-                    py::gil_scoped_release release;
-                    wave::evaluate_jeschke_breakers(p, t, s);
-                }
-                return a;
+                return positions_at(p, t, out, &wave::evaluate_jeschke_breakers);
             },
             py::arg("t"), py::arg("out") = py::none(), "Positions at time t (s): (vertices, 3) float32, z up")
         .def(
