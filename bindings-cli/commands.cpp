@@ -379,7 +379,9 @@ json surface_summary(const RunSummary& r) {
                                {"repeat_time_s", plan.ocean.repeat_time},
                                {"choppiness", plan.ocean.choppiness},
                                {"wind_speed_m_s", o.spectrum.wind_speed},
-                               {"significant_height_m", 4.0 * std::sqrt(plan.ocean.expected_variance)}};
+                               {"significant_height_m", 4.0 * std::sqrt(plan.ocean.expected_variance)},
+                               {"fold_threshold", plan.fold_foam.threshold}};
+        if (plan.whitecap_coverage > 0.0) surface["wind_sea"]["whitecap_coverage"] = plan.whitecap_coverage;
     }
     if (!plan.gerstner.empty()) surface["gerstner_waves"] = plan.gerstner.size();
     if (scene.breakers) surface["breakers"] = breakers_summary(plan.breakers);

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <cstring>
@@ -486,6 +487,70 @@ TEST(OceanScene, AnyFrameAloneEqualsTheSameFrameOfARun) {
         EXPECT_EQ(b[1], a[1]);
         EXPECT_EQ(b[2], a[2]);
     }
+}
+
+TEST(FoldFoam, WhitecapCoverageFollowsCallaghan) {
+    // Callaghan, Deane & Stokes (2008): W = 3.18e-3 (U − 3.70)³ % to 9.25 m/s,
+    // 4.82e-4 (U + 1.98)³ % from 11.25 m/s, blended between.
+    EXPECT_EQ(whitecap_coverage(3.0), 0.0);
+    EXPECT_NEAR(whitecap_coverage(8.0), 3.18e-3 * std::pow(4.3, 3.0) / 100.0, 1e-12);
+    EXPECT_NEAR(whitecap_coverage(23.0), 4.82e-4 * std::pow(24.98, 3.0) / 100.0, 1e-12);  // 7.5 %
+    EXPECT_NEAR(whitecap_coverage(31.0), 0.1729, 1e-4);
+    for (double u = 9.0; u < 11.5; u += 0.01)  // continuous and growing across the overlap
+        EXPECT_LT(whitecap_coverage(u), whitecap_coverage(u + 0.01) + 1e-12) << u;
+    EXPECT_NEAR(whitecap_coverage(9.25), 3.18e-3 * std::pow(5.55, 3.0) / 100.0, 1e-12);
+    EXPECT_NEAR(whitecap_coverage(11.25), 4.82e-4 * std::pow(13.23, 3.0) / 100.0, 1e-12);
+    EXPECT_EQ(whitecap_coverage(200.0), 1.0);
+}
+
+TEST(FoldFoam, ThresholdForACoverageIsAnalyticOnUniformJ) {
+    // J₋ uniform on [−1, 1] at one time (no history): foam >= 0.1 where
+    // (T − J)/softness >= 0.1, i.e. J <= T − 0.1·softness, a share (T − 0.1 s + 1)/2.
+    FoldFoamOptions o;
+    const std::size_t n = 200'001;
+    std::vector<std::vector<float>> past(1, std::vector<float>(n));
+    for (std::size_t v = 0; v < n; ++v) past[0][v] = static_cast<float>(-1.0 + 2.0 * static_cast<double>(v) / (n - 1));
+    for (double share : {0.01, 0.17, 0.5, 0.9}) {
+        const double t = fold_threshold_for_coverage(past, 0.25, o, share);
+        EXPECT_NEAR(t, 2.0 * share - 1.0 + 0.1 * o.softness, 1e-4) << share;
+    }
+    // Older samples add foam (faded): a lower threshold reaches the same share.
+    past.insert(past.begin(), past[0]);
+    std::reverse(past[0].begin(), past[0].end());  // another sea 0.25 s ago
+    EXPECT_LT(fold_threshold_for_coverage(past, 0.25, o, 0.17), 2.0 * 0.17 - 1.0 + 0.1 * o.softness);
+    EXPECT_EQ(fold_threshold_for_coverage(past, 0.25, o, 0.0), -2.0);
+    EXPECT_THROW(fold_threshold_for_coverage(past, 0.25, o, 1.5), InputError);
+    EXPECT_THROW(fold_threshold_for_coverage({}, 0.25, o, 0.1), InputError);
+}
+
+TEST(OceanScene, FoldFoamCoversTheWindsWhitecapShare) {
+    // A 20 m/s sea: the threshold is calibrated on frame 0's history so that foam >= 0.1
+    // covers whitecap_coverage(20) = 4.4 % of the sea; every frame of the loop stays near it.
+    const Scene scene = parse_scene(R"({"surface": {"kind": "ocean"}, "animation": {"fps": 4},
+      "ocean": {"resolution": 128, "size": 400, "wind_speed": 20, "repeat_time": 8, "choppiness": 1.5, "small_wave_cutoff": 0.5}})",
+                                    "gale.json", ".");
+    const ScenePlan plan = plan_scene(scene);
+    EXPECT_NEAR(plan.whitecap_coverage, whitecap_coverage(20.0), 1e-15);
+    EXPECT_LT(plan.fold_foam.threshold, 1.0);
+    const SceneAnimation a = animate_scene(scene, plan);
+    for (std::size_t f = 0; f < a.frame_count; ++f) {
+        std::size_t covered = 0;
+        for (std::size_t v = 0; v < a.vertex_count; ++v) covered += a.foam[f * a.vertex_count + v] >= 0.1f ? 1 : 0;
+        EXPECT_NEAR(static_cast<double>(covered) / static_cast<double>(a.vertex_count), plan.whitecap_coverage, 0.02)
+            << "frame " << f;
+    }
+    // A threshold the scene gives is kept; a coverage it gives is met instead of the wind's.
+    const ScenePlan fixed = plan_scene(parse_scene(R"({"surface": {"kind": "ocean"}, "shade": {"fold_threshold": 0.4},
+      "ocean": {"resolution": 64, "size": 400, "wind_speed": 20}})", "fixed.json", "."));
+    EXPECT_EQ(fixed.fold_foam.threshold, 0.4);
+    EXPECT_EQ(fixed.whitecap_coverage, 0.0);
+    const ScenePlan chosen = plan_scene(parse_scene(R"({"surface": {"kind": "ocean"}, "shade": {"whitecap_coverage": 0.3},
+      "ocean": {"resolution": 64, "size": 400, "wind_speed": 20}})", "chosen.json", "."));
+    EXPECT_EQ(chosen.whitecap_coverage, 0.3);
+    EXPECT_GT(chosen.fold_foam.threshold, plan.fold_foam.threshold);
+    EXPECT_THROW(parse_scene(R"({"surface": {"kind": "ocean"}, "shade": {"whitecap_coverage": 0.3, "fold_threshold": 0.4}})",
+                             "both.json", "."),
+                 InputError);
 }
 
 TEST(OceanScene, WindWavesCalmDownOverTheShelf) {

@@ -119,6 +119,14 @@ struct JonswapParameters {
 };
 JonswapParameters jonswap_parameters(double wind_speed, double fetch, double peak_enhancement = 3.3) noexcept;
 
+/// The share of the sea surface covered by whitecaps for a wind U10 (m/s): Callaghan,
+/// Deane & Stokes (2008, Geophys. Res. Lett. 35, L23609) from 11 years of photographs,
+/// W = 3.18·10⁻³ (U − 3.70)³ % up to 9.25 m/s and 4.82·10⁻⁴ (U + 1.98)³ % from 11.25
+/// (blended linearly where the two fits overlap, so W is continuous), 0 below 3.70 m/s,
+/// extrapolated past their 23 m/s and capped at 1. A fraction in [0, 1]: 0.54 % at
+/// 9.25 m/s, 7.5 % at 23, 17 % at 31 (a storm).
+double whitecap_coverage(double wind_speed) noexcept;
+
 /// S(ω) = α g² ω⁻⁵ exp(−5/4 (ω_p/ω)⁴) γ^r, r = exp(−(ω − ω_p)² / (2 σ² ω_p²)),
 /// σ = 0.07 below the peak and 0.09 above.
 double jonswap_spectrum(double omega, const JonswapParameters& p) noexcept;

@@ -121,6 +121,12 @@ struct Scene {
     std::optional<OceanOptions> ocean;
     std::vector<GerstnerSpec> gerstner;  ///< Gerstner waves superposed on any surface
     FoldFoamOptions fold_foam{};         ///< foam where the choppy FFT surface folds
+    /// /shade/fold_threshold was given: the fold foam keeps it. Otherwise plan_scene
+    /// calibrates the threshold so that the foam covers `whitecap_coverage` of the sea.
+    bool fold_threshold_set = false;
+    /// The share of the sea the fold foam covers (/shade/whitecap_coverage, in [0, 1]);
+    /// empty: the wind's (whitecap_coverage(wind speed), Callaghan et al. 2008).
+    std::optional<double> whitecap_coverage;
     /// Camera for the Fresnel weights (m, z up); empty = above the domain's up-wave
     /// side, looking across it (scene_camera).
     std::optional<std::array<double, 3>> camera;
@@ -249,6 +255,10 @@ struct ScenePlan {
     std::vector<float> rest_depth;      ///< depth there (m)
     std::vector<float> wind_sea_scale;  ///< wind-sea amplitude factor
     double loop_period = 0.0; ///< the animation repeats after this (s)
+    /// The fold foam the frames use: the scene's, with the threshold calibrated to the
+    /// whitecap coverage when the scene did not give one (a wind sea only).
+    FoldFoamOptions fold_foam{};
+    double whitecap_coverage = 0.0;  ///< the coverage the threshold was calibrated to (0: not calibrated)
     /// Doubts about the result that are not errors, e.g. a train whose wavelength the
     /// surface grid cannot resolve (aliasing).
     std::vector<std::string> warnings;

@@ -142,6 +142,17 @@ FoldSample fold_sample(std::span<const float> j_minus, const FoldFoamOptions& op
 /// accumulate_fold_foam on the J₋ the sample was taken from.
 void accumulate_fold_foam(const FoldSample& sample, double age, const FoldFoamOptions& options, std::span<float> foam);
 
+/// The J₋ threshold at which fold foam covers `coverage` of a surface (the share of
+/// points with foam >= 0.1, the threshold `wave inspect` takes for a lip), the other
+/// options kept: `past_j_minus[i]` holds J₋ at the points for the lattice time
+/// (count − 1 − i) · step before now (the newest last), as the frames see it. Bisection
+/// (40 steps) over [−2, 1] on every `stride`-th point; the foam grows with the
+/// threshold, so the result is the smallest one reaching the coverage (1 when even that
+/// falls short; −2 for coverage 0). Throws InputError on empty or unequal arrays or a
+/// coverage outside [0, 1].
+double fold_threshold_for_coverage(std::span<const std::vector<float>> past_j_minus, double step,
+                                   const FoldFoamOptions& options, double coverage, std::size_t stride = 1);
+
 /// Throws InputError naming the field for out-of-range options.
 void validate_fold_foam(const FoldFoamOptions& options, const std::string& where = "fold foam");
 

@@ -34,6 +34,15 @@ double pierson_moskowitz_spectrum(double omega, double wind_speed) noexcept {
     return alpha * kGravity * kGravity / std::pow(omega, 5) * std::exp(-beta * w0 * w0 * w0 * w0);
 }
 
+double whitecap_coverage(double wind_speed) noexcept {
+    if (!(wind_speed > 3.70)) return 0.0;
+    // The two fits overlap on 9.25 … 11.25 m/s: blended linearly there, so W is continuous.
+    const double low = 3.18e-3 * std::pow(wind_speed - 3.70, 3.0);
+    const double high = 4.82e-4 * std::pow(wind_speed + 1.98, 3.0);
+    const double s = std::clamp((wind_speed - 9.25) / 2.0, 0.0, 1.0);
+    return std::min(1.0, ((1.0 - s) * low + s * high) / 100.0);
+}
+
 JonswapParameters jonswap_parameters(double wind_speed, double fetch, double peak_enhancement) noexcept {
     JonswapParameters p;
     p.alpha = 0.076 * std::pow(wind_speed * wind_speed / (fetch * kGravity), 0.22);

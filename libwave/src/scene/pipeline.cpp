@@ -166,6 +166,24 @@ void plan_components(const Scene& scene, ScenePlan& p) {
                              " >= 1: crests may loop over themselves (Tessendorf §3.1); lower the amplitudes");
 }
 
+// The fold foam's threshold: the scene's /shade/fold_threshold when it gives one; else the
+// J₋ at which the wind sea's foam covers the whitecap share (/shade/whitecap_coverage, or
+// the wind's by Callaghan et al.), found on the lattice as frame 0 sees it (its fade
+// window of past lattice times, every 4th point).
+void plan_fold_foam(const Scene& scene, ScenePlan& p) {
+    p.fold_foam = scene.fold_foam;
+    if (p.ocean.n == 0 || !scene.ocean || scene.fold_threshold_set) return;
+    const double target = scene.whitecap_coverage ? *scene.whitecap_coverage : whitecap_coverage(scene.ocean->spectrum.wind_speed);
+    double step = 0.0;
+    const std::vector<long long> lattice = fold_lattice(0.0, p.fold_foam, p.loop_period, step);  // newest first
+    OceanWorkspace workspace(p.ocean.n);
+    std::vector<std::vector<float>> past(lattice.size(), std::vector<float>(p.ocean.n * p.ocean.n));
+    for (std::size_t i = 0; i < lattice.size(); ++i)
+        evaluate_ocean_jacobian(p.ocean, static_cast<double>(lattice[i]) * step, workspace, past[lattice.size() - 1 - i]);
+    p.fold_foam.threshold = fold_threshold_for_coverage(past, step, p.fold_foam, target, 4);
+    p.whitecap_coverage = target;
+}
+
 }  // namespace
 
 ScenePlan plan_scene(const Scene& scene, PlanStages stages) {
@@ -178,6 +196,7 @@ ScenePlan plan_scene(const Scene& scene, PlanStages stages) {
     detail::surface_model(scene.surface_kind).plan(scene, p, stages);
     if (stages == PlanStages::trace) return p;
     plan_components(scene, p);
+    plan_fold_foam(scene, p);
     if (stages == PlanStages::all) refine_scene_plan(scene, p);
     return p;
 }
@@ -669,7 +688,7 @@ void coarse_foam(FrameRun& r, double t, std::span<float> fc) {
     const ScenePlan& plan = r.plan;
     if (r.model.foam) r.model.foam(r.scene, plan, t, r.state.get(), fc);
     if (plan.ocean.n == 0) return;
-    const FoldFoamOptions& fold = r.scene.fold_foam;
+    const FoldFoamOptions& fold = plan.fold_foam;
     accumulate_fold_foam(r.wind_sea.vertex_j, 0.0, fold, fc);
     double step = 0.0;
     const auto lattice = fold_lattice(t, fold, plan.loop_period, step);

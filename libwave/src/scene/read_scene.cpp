@@ -503,8 +503,14 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     if (root.has("shade")) {
         const Node sh = root["shade"];
         sh.require_object({"fresnel", "foam_fade_time", "foam_onset", "fold_threshold", "fold_softness", "fold_window",
-                           "fold_lattice_step"});
-        if (sh.has("fold_threshold")) s.fold_foam.threshold = sh["fold_threshold"].number("J₋");
+                           "fold_lattice_step", "whitecap_coverage"});
+        if (sh.has("fold_threshold") && sh.has("whitecap_coverage"))
+            sh["whitecap_coverage"].fail("give /shade/fold_threshold or /shade/whitecap_coverage, not both (the coverage sets the threshold)");
+        if (sh.has("fold_threshold")) {
+            s.fold_foam.threshold = sh["fold_threshold"].number("J₋");
+            s.fold_threshold_set = true;
+        }
+        if (sh.has("whitecap_coverage")) s.whitecap_coverage = sh["whitecap_coverage"].number("share of the sea");
         if (sh.has("fold_softness")) s.fold_foam.softness = sh["fold_softness"].number("J₋");
         if (sh.has("fold_window")) s.fold_foam.window = sh["fold_window"].number("s");
         if (sh.has("fold_lattice_step")) s.fold_foam.lattice_step = sh["fold_lattice_step"].number("s");

@@ -64,6 +64,38 @@ void accumulate_fold_foam(const FoldSample& sample, double age, const FoldFoamOp
     }
 }
 
+double fold_threshold_for_coverage(std::span<const std::vector<float>> past, double step, const FoldFoamOptions& options,
+                                   double coverage, std::size_t stride) {
+    if (past.empty() || past.back().empty()) throw InputError("fold foam: no J₋ samples to calibrate the threshold on");
+    if (!(coverage >= 0.0 && coverage <= 1.0))
+        throw InputError("fold foam: coverage must be in [0, 1], got " + detail::format_number(coverage));
+    const std::size_t n = past.back().size(), times = past.size();
+    for (const auto& j : past)
+        if (j.size() != n) throw InputError("fold foam: J₋ samples of different sizes");
+    stride = std::max<std::size_t>(1, stride);
+    std::vector<double> fade(times);
+    for (std::size_t i = 0; i < times; ++i) fade[i] = fold_fade(static_cast<double>(times - 1 - i) * step, options);
+    const auto covered = [&](double threshold) {
+        FoldFoamOptions o = options;
+        o.threshold = threshold;
+        std::size_t count = 0, total = 0;
+        for (std::size_t v = 0; v < n; v += stride, ++total) {
+            double foam = 0.0;
+            for (std::size_t i = 0; i < times && foam < 0.1; ++i) foam = std::max(foam, fold_coverage(past[i][v], o) * fade[i]);
+            count += foam >= 0.1 ? 1 : 0;
+        }
+        return static_cast<double>(count) / static_cast<double>(total);
+    };
+    double lo = -2.0, hi = 1.0;
+    if (coverage <= 0.0) return lo;
+    if (covered(hi) < coverage) return hi;
+    for (int k = 0; k < 40; ++k) {
+        const double mid = 0.5 * (lo + hi);
+        (covered(mid) >= coverage ? hi : lo) = mid;
+    }
+    return hi;
+}
+
 void validate_fold_foam(const FoldFoamOptions& o, const std::string& where) {
     const auto fail = [&](const char* field, const std::string& what) { throw InputError(where + "/" + field + ": " + what); };
     const auto f = [](double v) { return detail::format_number(v); };
