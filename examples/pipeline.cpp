@@ -104,12 +104,9 @@ Frame frame_by_stages(const std::string& grid_path, std::size_t frame_number) {
     wave::FresnelOptions fresnel;
     fresnel.camera = {2.5, -2.0, 1.2};
     wave::fresnel_weights(f.positions, f.normals, fresnel, f.reflect, f.refract);
-    // TEXCOORD_0: the rest position over the seafloor's rectangle (v down).
-    const wave::ElevationGrid& g = seafloor.grid;
-    for (std::size_t v = 0; v < n; ++v) {
-        f.texcoords.push_back(static_cast<float>((mesh.x[v] - g.x0) / (g.x_max() - g.x0)));
-        f.texcoords.push_back(static_cast<float>(1.0 - (mesh.y[v] - g.y0) / (g.y_max() - g.y0)));
-    }
+    // TEXCOORD_0: the rest position over the seafloor's rectangle.
+    f.texcoords.resize(2 * n);
+    wave::domain_texcoords(seafloor.grid, mesh.x, mesh.y, f.texcoords);
     std::printf("stages: %zu isobaths, %zu rays, %zu strip triangles, water mesh %zu vertices, %zu triangles\n",
                 isobaths.size(), traced.initial_rays + traced.inserted_rays, strips.triangle_count(), n,
                 mesh.triangles.size() / 3);

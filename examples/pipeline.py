@@ -43,10 +43,7 @@ def frame_by_stages(grid_path: str, frame: int) -> Dict[str, Any]:
     untangle.apply(positions, foam)  # breaking lips (foam) may overturn
     normals = libwave.vertex_normals(positions, mesh.triangles)
     reflect, refract = libwave.fresnel_weights(positions, normals, CAMERA)
-    x0, y0 = seafloor.origin
-    ny, nx = seafloor.elevation.shape
-    dx, dy = seafloor.spacing
-    texcoords = np.stack([(mesh.x - x0) / ((nx - 1) * dx), 1.0 - (mesh.y - y0) / ((ny - 1) * dy)], axis=1).astype(np.float32)
+    texcoords = libwave.domain_texcoords(seafloor, mesh.x, mesh.y)
     print(f"stages: {len(isobaths)} isobaths, {fronts.initial_rays + fronts.inserted_rays} rays, "
           f"{len(strips.triangles)} strip triangles, water mesh {mesh.vertex_count} vertices, {len(mesh.triangles)} triangles")
     return {"positions": positions, "normals": normals, "texcoords": texcoords, "foam": foam,

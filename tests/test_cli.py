@@ -53,6 +53,14 @@ def floats(doc, binary, accessor):
     return struct.unpack_from("<%df" % (a["count"] * width), binary, start)
 
 
+def write_scene(folder, doc, name="s.json"):
+    """Writes a scene document as a file in `folder`; returns its path."""
+    path = os.path.join(folder, name)
+    with open(path, "w") as f:
+        json.dump(doc, f)
+    return path
+
+
 def wave(*args, cwd=None):
     return subprocess.run([WAVE, *args], capture_output=True, text=True, cwd=cwd, timeout=120)
 
@@ -1823,9 +1831,7 @@ class OutputFolders(unittest.TestCase):
 
     def test_a_rerun_leaves_nothing_stale_and_overwrite_clears_the_folder(self):
         with tempfile.TemporaryDirectory() as d:
-            scene = os.path.join(d, "s.json")
-            with open(scene, "w") as f:
-                json.dump(self.SCENE, f)
+            scene = write_scene(d, self.SCENE)
             out = os.path.join(d, "out")
             run = lambda *args: self.assertEqual(wave("run", scene, "-o", out, "-q", *args).returncode, 0)
             run("--container", "gltf", "--preview")
@@ -1854,9 +1860,7 @@ class OutputFolders(unittest.TestCase):
 
     def test_o_file_glb_writes_that_one_file(self):
         with tempfile.TemporaryDirectory() as d:
-            scene = os.path.join(d, "s.json")
-            with open(scene, "w") as f:
-                json.dump(self.SCENE, f)
+            scene = write_scene(d, self.SCENE)
             target = os.path.join(d, "shots", "water.glb")
             r = wave("run", scene, "-o", target, "-q")
             self.assertEqual(r.returncode, 0, r.stderr)

@@ -480,6 +480,17 @@ void bind_shading(py::module_& m) {
 
 void bind_export(py::module_& m) {
     m.def(
+        "domain_texcoords",
+        [](const wave::Seafloor& seafloor, const py::array& x, const py::array& y) {
+            const auto xs = to_vector<double>(x, 1, "domain_texcoords x"), ys = to_vector<double>(y, 1, "domain_texcoords y");
+            std::vector<float> uv(2 * xs.size());
+            wave::domain_texcoords(seafloor.grid, xs, ys, uv);
+            return copy(uv, {ssize(xs.size()), 2});
+        },
+        py::arg("seafloor"), py::arg("x"), py::arg("y"),
+        "TEXCOORD_0 of points in plan over the seafloor's rectangle, as wave run writes it: (points, 2) float32, "
+        "u along +x, v down");
+    m.def(
         "frame_glb",
         [](const py::array& positions, const py::array& normals, const py::array& triangles, std::optional<py::array> texcoords,
            std::optional<py::array> foam, std::optional<py::array> reflect, std::optional<py::array> refract, double fps,

@@ -52,6 +52,12 @@ struct HeightFieldOptions {
     std::size_t max_vertices = 20'000'000;  ///< guard rail on the sampled surface
 };
 
+/// TEXCOORD_0 of points in plan: u = (x − x0) / width, v = 1 − (y − y0) / height over
+/// the grid's rectangle (u along +x, v down: glTF's image origin is top-left), 2 floats
+/// per point into `texcoords`. Throws InputError when the sizes disagree.
+void domain_texcoords(const ElevationGrid& grid, std::span<const double> x, std::span<const double> y,
+                      std::span<float> texcoords);
+
 /// Triangles of a row-major grid of nx × ny vertices (2 per cell, counter-clockwise
 /// seen from +z): the topology of the height field and of the ocean patch.
 std::vector<std::uint32_t> grid_triangles(std::size_t nx, std::size_t ny);

@@ -762,15 +762,8 @@ void rest_texcoords(const ScenePlan& plan, const Refinement* refined, SceneAnima
         apply_refinement(*refined, std::span<const double>(plan.rest_x), 1, fine_x);
         apply_refinement(*refined, std::span<const double>(plan.rest_y), 1, fine_y);
     }
-    const std::vector<double>& rx = refined ? fine_x : plan.rest_x;
-    const std::vector<double>& ry = refined ? fine_y : plan.rest_y;
-    const ElevationGrid& g = plan.seafloor.grid;
-    const double width = g.x_max() - g.x0, height = g.y_max() - g.y0;
     a.texcoords.resize(2 * n);
-    for (std::size_t v = 0; v < n; ++v) {
-        a.texcoords[2 * v] = static_cast<float>((rx[v] - g.x0) / width);
-        a.texcoords[2 * v + 1] = static_cast<float>(1.0 - (ry[v] - g.y0) / height);
-    }
+    domain_texcoords(plan.seafloor.grid, refined ? fine_x : plan.rest_x, refined ? fine_y : plan.rest_y, a.texcoords);
 }
 
 // A seafloor colour for an elevation z (m): pale sand at the waterline darkening with
