@@ -8,6 +8,7 @@
 #pragma once
 
 #include "libwave/bathymetry.h"
+#include "libwave/surface.h"
 #include "libwave/trace.h"
 
 #include <complex>
@@ -91,6 +92,16 @@ std::size_t take_field_amplitudes(const WaveField& field, FrontSet& fronts) noex
 
 /// The same for Ts'o's rays: `fields[t]` is train t's field (RaySet::train).
 std::size_t take_field_amplitudes(std::span<const WaveField> fields, RaySet& rays) noexcept;
+
+/// Fills the gaps the rays leave: the vertices of resampled strips (resample_ray_strips)
+/// that no strip covers but that are under water (k = 0, depth > 0) — along the
+/// domain's sides where the rays diverge, in shadows — take the field's wave: amplitude
+/// |η̂|, direction ∇ arg η̂, k by the dispersion relation at their depth, slope and rise
+/// from the seafloor, and phase arg η̂ plus the circular mean of (ray phase − arg η̂)
+/// over the covered vertices where the field has water (the two phases differ by a
+/// constant where both describe the incident wave), so that crests run on across the
+/// gap's edge. Vertices outside the field's water stay still. Returns how many it filled.
+std::size_t fill_strip_gaps(const WaveField& field, const Seafloor& seafloor, RayStrips& strips);
 
 /// The field resampled on a regular grid over the seafloor's rectangle (row 0 at y0,
 /// the field's spacing): what `wave field` writes. NaN where there is no water.

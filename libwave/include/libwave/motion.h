@@ -169,6 +169,79 @@ UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> 
                                UntangleWorkspace* workspace = nullptr);
 
 // ---------------------------------------------------------------------------------
+// The far field: the sea beyond the domain, on the skirt (plan_sea_skirt)
+// ---------------------------------------------------------------------------------
+
+/// A periodic component of the surface's motion that continues beyond the domain: a
+/// harmonic of a wave train or a Gerstner wave.
+struct FarFieldWave {
+    double omega = 0.0;        ///< the fundamental's ω (rad/s, > 0); the component's is harmonic · ω
+    int harmonic = 1;          ///< 1 the fundamental, 2 its first overtone, … (bound: n ω with n k)
+    double direction_x = 1.0;  ///< where it travels (any length > 0)
+    double direction_y = 0.0;  ///< where it travels
+    /// The fundamental's wavenumber (rad/m), or 0: from the dispersion relation at the
+    /// depth under the nearest border point (the seafloor is continued unchanged outwards).
+    double k = 0.0;
+};
+
+/// Options of plan_far_field.
+struct FarFieldOptions {
+    /// The border's motion that the waves do not explain (its mean set-up, crest-to-crest
+    /// variation, overtones left out) fades out over this many wavelengths of the first
+    /// wave beyond the border (> 0).
+    double residual_wavelengths = 1.0;
+};
+
+/// The skirt's motion: per new vertex and component, complex amplitudes of (x, y, z)
+/// carried out from its anchors and faded where the skirt cannot resolve them.
+struct FarFieldPlan {
+    std::size_t surface_vertices = 0;  ///< the surface's own vertices precede the skirt's in `positions`
+    std::vector<double> omega;         ///< per component (rad/s)
+    std::vector<double> rest_x;  ///< skirt vertices at rest (m)
+    std::vector<double> rest_y;  ///< skirt vertices at rest (m)
+    std::vector<float> anchor_weight;   ///< per skirt vertex: its first anchor's share (SeaSkirt::anchor_weight)
+    std::vector<float> residual_weight; ///< per skirt vertex: 1 at the border → 0 beyond the residual band
+    /// Per skirt vertex and component (vertex-major): Re and Im of x, y, z (6 floats);
+    /// the displacement is Σ Re(C e^{−iωt}).
+    std::vector<float> amplitude;
+    /// The anchors (the surface's border vertices the skirt hangs on): their own fits
+    /// (no fade, no travel), 6 floats per anchor and component (anchor-major).
+    std::vector<float> anchor_amplitude;
+    std::vector<float> anchor_rest;  ///< 3 per anchor: its rest position (m)
+    std::vector<std::uint32_t> anchor_vertex;  ///< per anchor: its surface vertex
+    std::vector<std::uint32_t> anchor_slot;  ///< per skirt anchor entry (2 per skirt vertex): its anchor number
+    std::size_t vertex_count() const noexcept { return rest_x.size(); }  ///< skirt vertices
+    std::size_t component_count() const noexcept { return omega.size(); }  ///< components
+};
+
+/// The share of a wave of `wavelength` (m) that skirt triangles with edges `edge` (m)
+/// long carry: 1 up to a sixth of the wavelength, fading linearly to 0 at a third.
+double far_field_share(double wavelength, double edge) noexcept;
+
+/// Fits each anchor's displacement (its position minus its rest position) in
+/// `samples` — the surface at `times`, 3 floats per surface vertex per time — by least
+/// squares (LAPACK dgelss) with a mean and a cosine and sine per component, then
+/// carries each component out along the skirt vertex's outward direction N: C(d) =
+/// C(border) e^{i n k (D̂·N) d} (crests keep their place along the border; waves
+/// going in arrive from the open sea, waves going out leave), and fades it where the
+/// skirt's edges (SeaSkirt::size) grow from a sixth to a third of its wavelength. The
+/// anchors' residual (their displacement less the components: the mean set-up,
+/// overtones left out, crest-to-crest variation) is blended out over
+/// options.residual_wavelengths, so that the skirt meets the surface without a step. `rest_x`/`rest_y` are the surface's rest positions.
+/// Needs at least 2 · components + 1 samples; throws InputError otherwise or on sizes
+/// that disagree.
+FarFieldPlan plan_far_field(const SeaSkirt& skirt, const ElevationGrid& seafloor, std::span<const FarFieldWave> waves,
+                            std::span<const double> rest_x, std::span<const double> rest_y, std::span<const double> times,
+                            std::span<const float> samples, const FarFieldOptions& options = {});
+
+/// The skirt's positions at time t into `positions` after the surface's own (3 floats
+/// per vertex, surface_vertices + vertex_count() vertices), which must hold the surface's
+/// moved vertices already: each skirt vertex is its components' sum plus its anchors'
+/// residual faded. Parallel; independent of the thread count. Allocates nothing but
+/// `scratch` (resized to 3 floats per anchor).
+void evaluate_far_field(const FarFieldPlan& plan, double t, std::span<float> positions, std::vector<float>& scratch);
+
+// ---------------------------------------------------------------------------------
 // Jeschke, Birkholz & Schumann's procedural breaker (§3–4, table 1)
 // ---------------------------------------------------------------------------------
 

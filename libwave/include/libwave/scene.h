@@ -107,6 +107,21 @@ struct Scene {
     /// (`"water_mesh": false`), the strips themselves. A camera grid replaces both
     /// (reading /surface/camera_grid empties it).
     std::optional<double> water_mesh_per_wavelength = 16.0;
+    /// The far field (/surface/far_field): the sea beyond the domain, so that no edge
+    /// shows towards the horizon.
+    struct FarField {
+        /// How far the skirt reaches beyond the domain (m); 0: 2000 times the camera's
+        /// height, at least 10 times the domain's size.
+        double distance = 0.0;
+        /// The swell keeps its resolution this many local wavelengths beyond the border,
+        /// then fades out where the skirt's edges grow (> 0).
+        double swell_wavelengths = 3.0;
+    };
+    /// Set (the default): traced surfaces continue on a skirt out to the far rectangle
+    /// (plan_sea_skirt, plan_far_field); empty (`"far_field": false`, the ocean patch,
+    /// which tiles, and the camera grid, which reaches the horizon itself): the surface
+    /// ends at the domain's border.
+    std::optional<FarField> far_field = FarField{};
     /// The preview renderer's view, sun and bump waves (`wave preview`, `--preview`);
     /// its camera position is the scene's camera.
     PreviewOptions preview{};
@@ -244,6 +259,12 @@ struct ScenePlan {
     JeschkeMotionPlan breakers; ///< ray strips with Scene::breakers: the breakers' plan (on the camera grid if any)
     CameraGrid camera_grid;     ///< Scene::camera_grid: the sampled points (empty otherwise)
     WaterMesh water_mesh;       ///< Scene::water_mesh_per_wavelength: the mesh (empty otherwise)
+    SeaSkirt skirt;             ///< Scene::far_field: the skirt beyond the domain (no vertices otherwise)
+    FarFieldPlan far_field;     ///< … its motion
+    /// With a skirt: the model's own vertices (they come first in rest_x, rest_y) and the
+    /// surface's triangles with the skirt's (empty without a skirt).
+    std::size_t model_vertices = 0;
+    std::vector<std::uint32_t> skirted_triangles;  ///< the model's triangles, then the skirt's
     RayStrips water_strips;     ///< … the strips' fields resampled at its vertices (Gonzato's profile and foam move it)
     Refinement refinement;      ///< Scene::refine: refined topology + stencils (fine_vertices = 0 when none)
     OceanPlan ocean;          ///< the FFT ocean (kind ocean, or superposed); n = 0 when none

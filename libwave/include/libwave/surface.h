@@ -144,6 +144,65 @@ EdgeSize wavelength_edge_size(const Seafloor& seafloor, const WaveTrain& train, 
 WaterMesh mesh_water(const Seafloor& seafloor, const EdgeSize& size, const WaterMeshOptions& options = {});
 
 // ---------------------------------------------------------------------------------
+// The sea skirt (CGAL): the surface continued beyond the domain to the horizon
+// ---------------------------------------------------------------------------------
+
+/// Target edge length (m, > 0, finite) of the skirt at distance `d` (m) beyond the
+/// border point (bx, by), where the surface's border edge is `border_edge` long.
+using SkirtSize = std::function<double(double bx, double by, double d, double border_edge)>;
+
+/// Options of plan_sea_skirt.
+struct SeaSkirtOptions {
+    double distance = 0.0;  ///< how far the skirt reaches beyond the rectangle (m, > 0): its outer rectangle
+    SkirtSize size;         ///< the target edge lengths (required)
+    /// Smallest angle the refinement aims at (degrees, in (0, 20.7]); triangles on the
+    /// surface's border edges keep those edges (they are never split) and may stay below it.
+    double min_angle_deg = 20.0;
+    std::size_t max_vertices = 2'000'000;  ///< refused (LimitError) when the refinement would exceed it
+};
+
+/// A skirt around a surface whose border runs along its bounding rectangle (the water
+/// mesh, a height-field grid): triangles from the surface's border edges on the
+/// rectangle out to a rectangle `distance` beyond it. Only water is continued: the skirt
+/// covers the points whose nearest point on the rectangle lies on a border edge of the
+/// surface (or is a corner inside a border chain); where a chain of border edges ends
+/// (the shore meets the domain's side), the skirt ends on a straight cut going
+/// outwards, perpendicular to that side.
+struct SeaSkirt {
+    std::size_t surface_vertices = 0;  ///< the surface's vertex count: new vertex i is index surface_vertices + i
+    std::vector<double> x;  ///< new vertices (m), all outside the rectangle
+    std::vector<double> y;  ///< new vertices (m)
+    /// 3 per triangle, counter-clockwise seen from above; indices below
+    /// surface_vertices are the surface's own border vertices (shared, never moved).
+    std::vector<std::uint32_t> triangles;
+    /// 2 per new vertex: the surface's border vertices at the ends of the border edge
+    /// that holds its nearest point on the rectangle (the same vertex twice at a corner).
+    std::vector<std::uint32_t> anchor;
+    std::vector<float> anchor_weight;  ///< per new vertex: the first anchor's share (linear along the edge)
+    std::vector<double> distance;      ///< per new vertex: to the rectangle (m)
+    std::vector<double> normal_x;      ///< per new vertex: unit direction from its nearest border point
+    std::vector<double> normal_y;      ///< per new vertex: unit direction from its nearest border point
+    std::vector<double> size;          ///< per new vertex: the target edge length there (m)
+    double x0 = 0.0;  ///< the rectangle: the surface vertices' bounding box (m)
+    double y0 = 0.0;  ///< the rectangle (m)
+    double x1 = 0.0;  ///< the rectangle (m)
+    double y1 = 0.0;  ///< the rectangle (m)
+    double reach = 0.0;  ///< how far the far rectangle lies beyond it (SeaSkirtOptions::distance, m)
+    std::size_t vertex_count() const noexcept { return x.size(); }  ///< new vertices
+};
+
+/// The skirt of a surface (x, y its vertices at rest, `triangles` counter-clockwise):
+/// a constrained Delaunay triangulation of the outside of its bounding rectangle up to
+/// `distance`, with the surface's border edges on the rectangle, the cuts and the outer
+/// rectangle as constraints, refined (CGAL Mesh_2, without splitting constrained
+/// edges: the cuts and the outer rectangle are pre-split at the target sizes) until each
+/// triangle's longest edge is at most `size` at its centroid. A surface with no border
+/// edge on its rectangle gets an empty skirt. Deterministic. Throws InputError on bad
+/// options or indices, LimitError above max_vertices.
+SeaSkirt plan_sea_skirt(std::span<const double> x, std::span<const double> y, std::span<const std::uint32_t> triangles,
+                        const SeaSkirtOptions& options);
+
+// ---------------------------------------------------------------------------------
 // Subdivision (OpenSubdiv): any triangle surface refined once per scene
 // ---------------------------------------------------------------------------------
 

@@ -104,9 +104,10 @@ void plan_wind_sea(const OceanOptions& o, ScenePlan& p) {
 
 namespace {
 
-// The triangles of the surface's own vertices (before any refinement).
+// The triangles of the surface's own vertices (before any refinement): the model's,
+// and the skirt's when the far field continues it.
 const std::vector<std::uint32_t>& surface_triangles(const Scene& scene, const ScenePlan& p) {
-    return detail::surface_model(scene.surface_kind).triangles(p);
+    return p.skirted_triangles.empty() ? detail::surface_model(scene.surface_kind).triangles(p) : p.skirted_triangles;
 }
 
 // A wind sea superposed on a coastal surface: its loop a whole multiple of the swell's.
@@ -166,6 +167,92 @@ void plan_components(const Scene& scene, ScenePlan& p) {
                              " >= 1: crests may loop over themselves (Tessendorf §3.1); lower the amplitudes");
 }
 
+// The skirt's edge lengths: the border's edges, growing to an eighth of the shortest
+// train's local wavelength over the swell band (/surface/far_field/swell_wavelengths),
+// then slowly (the swell fades over about two wavelengths), then by a third of the
+// distance towards the horizon.
+SkirtSize skirt_size(const Scene& scene, const ScenePlan& p) {
+    double period = scene.waves.empty() ? 0.0 : scene.waves[0].period;
+    for (const WaveTrain& w : scene.waves) period = std::min(period, w.period);
+    const double band = scene.far_field->swell_wavelengths;
+    const ElevationGrid* g = &p.seafloor.grid;
+    return [g, period, band](double bx, double by, double d, double edge) {
+        const double depth = std::max(depth_at(*g, bx, by), 1e-3);
+        const double wavelength = period > 0.0 ? 2.0 * std::numbers::pi / wavenumber_for_period(period, depth) : 8.0 * edge;
+        const double base = std::max(edge, wavelength / 8.0), width = band * wavelength;
+        if (d <= width) return std::min(edge + 0.3 * d, base);
+        const double out = d - width;
+        return base + 0.08 * out + 0.3 * out * out / (out + 10.0 * wavelength);
+    };
+}
+
+// How far the skirt reaches: the scene's distance, or far enough that its edge is
+// within 1/2000 rad of the horizon from the scene's camera.
+double skirt_distance(const Scene& scene, const ScenePlan& p) {
+    if (scene.far_field->distance > 0.0) return scene.far_field->distance;
+    const ElevationGrid& g = p.seafloor.grid;
+    const double size = std::max(g.x_max() - g.x0, g.y_max() - g.y0);
+    return std::max(2000.0 * std::max(0.0, scene_camera(scene, p.seafloor)[2]), 10.0 * size);
+}
+
+// The far field (/surface/far_field): the skirt around the model's surface, its motion
+// fitted on the model's border at spread times, the skirt's vertices appended to the
+// rest positions (the seafloor under them is the border's, continued outwards).
+void plan_far_field_stage(const Scene& scene, ScenePlan& p) {
+    const detail::SurfaceModel& model = detail::surface_model(scene.surface_kind);
+    if (!scene.far_field || model.far_field_harmonics == 0 || p.camera_grid.vertex_count() > 0) return;
+    const std::vector<std::uint32_t>& triangles = model.triangles(p);
+    try {
+        p.skirt = plan_sea_skirt(p.rest_x, p.rest_y, triangles,
+                                 SeaSkirtOptions{.distance = skirt_distance(scene, p), .size = skirt_size(scene, p),
+                                                 .max_vertices = scene.surface.max_vertices});
+    } catch (const LimitError& e) {
+        throw LimitError("scene: " + std::string(e.what()) +
+                         " (/surface/max_vertices); lower /surface/far_field/swell_wavelengths or its distance, or set "
+                         "\"far_field\": false");
+    }
+    if (p.skirt.vertex_count() == 0) return;
+    // The periodic components: each train's harmonics, each Gerstner wave.
+    std::vector<FarFieldWave> waves;
+    for (const WaveTrain& w : scene.waves)
+        for (int h = 1; h <= model.far_field_harmonics; ++h)
+            waves.push_back({.omega = quantize_frequency(2.0 * std::numbers::pi / w.period, p.loop_period), .harmonic = h,
+                             .direction_x = w.direction_x, .direction_y = w.direction_y});
+    for (const GerstnerWave& w : p.gerstner)
+        waves.push_back({.omega = w.omega, .direction_x = w.kx, .direction_y = w.ky, .k = std::hypot(w.kx, w.ky)});
+    // The model's surface (and the Gerstner waves) at times spread over the loop.
+    const std::size_t n = p.rest_x.size(), samples = 2 * waves.size() + 5;
+    std::vector<double> times(samples);
+    std::vector<float> positions(3 * n * samples);
+    std::unique_ptr<detail::ModelState> state = model.start(scene, p, false);
+    detail::WindSeaState unused;
+    std::vector<float> normals(3 * n);
+    for (std::size_t s = 0; s < samples; ++s) {
+        times[s] = p.loop_period * std::fmod(0.6180339887498949 * static_cast<double>(s), 1.0);
+        const std::span<float> frame(&positions[3 * n * s], 3 * n);
+        detail::ModelFrame f{.positions = frame, .normals = normals, .wind_sea = unused};
+        model.move(scene, p, times[s], state.get(), f);
+        if (!p.gerstner.empty()) add_gerstner_waves(p.gerstner, p.rest_x, p.rest_y, p.rest_depth, times[s], frame);
+    }
+    p.far_field = plan_far_field(p.skirt, p.seafloor.grid, waves, p.rest_x, p.rest_y, times, positions);
+    // The skirt's vertices after the model's.
+    p.model_vertices = n;
+    p.skirted_triangles = triangles;
+    p.skirted_triangles.insert(p.skirted_triangles.end(), p.skirt.triangles.begin(), p.skirt.triangles.end());
+    p.rest_x.insert(p.rest_x.end(), p.skirt.x.begin(), p.skirt.x.end());
+    p.rest_y.insert(p.rest_y.end(), p.skirt.y.begin(), p.skirt.y.end());
+    const ElevationGrid& g = p.seafloor.grid;
+    for (std::size_t v = 0; v < p.skirt.vertex_count(); ++v) {
+        const auto depth = static_cast<float>(std::max(0.0, depth_at(g, p.skirt.x[v], p.skirt.y[v])));
+        p.rest_depth.push_back(depth);
+        if (p.wind_sea_scale.empty()) continue;
+        // The wind sea continues as far as the skirt resolves its peak wavelength.
+        const double peak_wavelength = 2.0 * std::numbers::pi * kGravity / (p.ocean.peak_omega * p.ocean.peak_omega);
+        p.wind_sea_scale.push_back(static_cast<float>(wind_sea_depth_factor(p.ocean.peak_omega, depth) *
+                                                      far_field_share(peak_wavelength, p.skirt.size[v])));
+    }
+}
+
 // The fold foam's threshold: the scene's /shade/fold_threshold when it gives one; else the
 // J₋ at which the wind sea's foam covers the whitecap share (/shade/whitecap_coverage, or
 // the wind's by Callaghan et al.), found on the lattice as frame 0 sees it (its fade
@@ -196,6 +283,7 @@ ScenePlan plan_scene(const Scene& scene, PlanStages stages) {
     detail::surface_model(scene.surface_kind).plan(scene, p, stages);
     if (stages == PlanStages::trace) return p;
     plan_components(scene, p);
+    plan_far_field_stage(scene, p);
     plan_fold_foam(scene, p);
     if (stages == PlanStages::all) refine_scene_plan(scene, p);
     return p;
@@ -613,6 +701,7 @@ struct FrameRun {
     std::vector<float> coarse_p{}, coarse_nr{}, coarse_foam{}, fine_depth{};
     std::optional<UntanglePlan> untangle{};  // when the coarse vertices move sideways
     UntangleWorkspace untangle_scratch{};
+    std::vector<float> far_field_scratch{};  // the skirt's anchors' residuals
     VertexFaces adjacency{};
     FresnelOptions fresnel{};
     std::optional<CausticPlan> caustics{};  // /underwater: a map per frame
@@ -669,8 +758,15 @@ void fold_at_vertices(const ScenePlan& plan, std::span<const float> lattice_j, s
 // returns whether the normals are done.
 bool move_coarse(FrameRun& r, double t, std::span<float> pc, std::span<float> nrc) {
     const ScenePlan& plan = r.plan;
-    detail::ModelFrame frame{.positions = pc, .normals = nrc, .wind_sea = r.wind_sea};
-    const bool exact_normals = r.model.move(r.scene, plan, t, r.state.get(), frame);
+    // With a far field the model moves its own vertices, the skirt follows them.
+    const std::size_t own = plan.model_vertices > 0 ? plan.model_vertices : plan.rest_x.size();
+    detail::ModelFrame frame{.positions = pc.first(3 * own), .normals = nrc.first(3 * own), .wind_sea = r.wind_sea};
+    const bool exact_normals = r.model.move(r.scene, plan, t, r.state.get(), frame) && own == plan.rest_x.size();
+    if (!plan.gerstner.empty()) {
+        const std::span<const double> x(plan.rest_x.data(), own), y(plan.rest_y.data(), own);
+        add_gerstner_waves(plan.gerstner, x, y, std::span<const float>(plan.rest_depth.data(), own), t, pc.first(3 * own));
+    }
+    if (plan.skirt.vertex_count() > 0) evaluate_far_field(plan.far_field, t, pc, r.far_field_scratch);
     if (!plan.wind_sea_scale.empty()) {  // a wind sea superposed on the model's surface
         const OceanFields fields = evaluate_ocean(plan.ocean, t, *r.wind_sea.workspace);
         add_ocean_samples(plan.ocean, fields, plan.rest_x, plan.rest_y, plan.wind_sea_scale, pc);
@@ -679,14 +775,13 @@ bool move_coarse(FrameRun& r, double t, std::span<float> pc, std::span<float> nr
             fold_at_vertices(plan, r.wind_sea.lattice_j, r.wind_sea.vertex_j);
         }
     }
-    if (!plan.gerstner.empty()) add_gerstner_waves(plan.gerstner, plan.rest_x, plan.rest_y, plan.rest_depth, t, pc);
     return exact_normals && plan.gerstner.empty() && !r.refined;
 }
 
 // Foam at the coarse vertices: the model's, then the wind sea's folds fading out.
 void coarse_foam(FrameRun& r, double t, std::span<float> fc) {
     const ScenePlan& plan = r.plan;
-    if (r.model.foam) r.model.foam(r.scene, plan, t, r.state.get(), fc);
+    if (r.model.foam) r.model.foam(r.scene, plan, t, r.state.get(), fc.first(plan.model_vertices > 0 ? plan.model_vertices : fc.size()));
     if (plan.ocean.n == 0) return;
     const FoldFoamOptions& fold = plan.fold_foam;
     accumulate_fold_foam(r.wind_sea.vertex_j, 0.0, fold, fc);
@@ -774,6 +869,52 @@ std::array<float, 3> seafloor_colour(double z, double depth_max) {
     return {static_cast<float>(0.6 - 0.35 * t), static_cast<float>(0.5 - 0.3 * t), static_cast<float>(0.32 - 0.2 * t)};
 }
 
+// Under the far field's skirt: the seafloor's border continued outwards to the skirt's
+// far rectangle (each border node's elevation along its side's outward normal, a fan
+// to the far corner at each corner), so that the water beyond the domain lies over the
+// same bottom. The grid's nodes are the first cols × rows of `a`'s seafloor vertices.
+void add_seafloor_apron(double R, std::size_t cols, std::size_t rows, double depth_max, SceneAnimation& a) {
+    // The grid's border nodes counter-clockwise, side by side (corners in both sides).
+    const std::array<std::vector<std::uint32_t>, 4> sides = [&] {
+        std::array<std::vector<std::uint32_t>, 4> s;
+        const auto at = [cols](std::size_t c, std::size_t r) { return static_cast<std::uint32_t>(r * cols + c); };
+        for (std::size_t c = 0; c < cols; ++c) s[0].push_back(at(c, 0));
+        for (std::size_t r = 0; r < rows; ++r) s[1].push_back(at(cols - 1, r));
+        for (std::size_t c = cols; c-- > 0;) s[2].push_back(at(c, rows - 1));
+        for (std::size_t r = rows; r-- > 0;) s[3].push_back(at(0, r));
+        return s;
+    }();
+    constexpr double normal[4][2] = {{0.0, -1.0}, {1.0, 0.0}, {0.0, 1.0}, {-1.0, 0.0}};
+    const bool mapped = !a.seafloor_texcoords.empty();
+    const auto add = [&](std::uint32_t from, double x, double y) {
+        const float z = a.seafloor_positions[3 * from + 2];
+        a.seafloor_positions.insert(a.seafloor_positions.end(), {static_cast<float>(x), static_cast<float>(y), z});
+        const auto colour = seafloor_colour(z, depth_max);
+        a.seafloor_colors.insert(a.seafloor_colors.end(), colour.begin(), colour.end());
+        if (mapped) a.seafloor_texcoords.insert(a.seafloor_texcoords.end(), {a.seafloor_texcoords[2 * from], a.seafloor_texcoords[2 * from + 1]});
+        return static_cast<std::uint32_t>(a.seafloor_positions.size() / 3 - 1);
+    };
+    std::array<std::uint32_t, 4> first{}, last{};  // each side's outer vertices at its ends
+    for (std::size_t s = 0; s < 4; ++s) {
+        std::uint32_t previous = 0;
+        for (std::size_t j = 0; j < sides[s].size(); ++j) {
+            const std::uint32_t v = sides[s][j];
+            const std::uint32_t q = add(v, a.seafloor_positions[3 * v] + R * normal[s][0], a.seafloor_positions[3 * v + 1] + R * normal[s][1]);
+            if (j == 0) first[s] = q;
+            if (j > 0) a.seafloor_triangles.insert(a.seafloor_triangles.end(), {sides[s][j - 1], previous, q, sides[s][j - 1], q, v});
+            previous = q;
+        }
+        last[s] = previous;
+    }
+    for (std::size_t s = 0; s < 4; ++s) {  // the corner after side s
+        const std::uint32_t c = sides[s].back();
+        const double fx = a.seafloor_positions[3 * c] + R * (normal[s][0] + normal[(s + 1) % 4][0]);
+        const double fy = a.seafloor_positions[3 * c + 1] + R * (normal[s][1] + normal[(s + 1) % 4][1]);
+        const std::uint32_t far = add(c, fx, fy);
+        a.seafloor_triangles.insert(a.seafloor_triangles.end(), {c, last[s], far, c, far, first[(s + 1) % 4]});
+    }
+}
+
 // The seafloor mesh (at most 256 nodes a side), camera, sun and material settings the
 // single-file forms carry beside the water (/outputs/seafloor, camera, sun, material).
 void dress_animation(const Scene& scene, const ScenePlan& plan, SceneAnimation& a) {
@@ -820,6 +961,7 @@ void dress_animation(const Scene& scene, const ScenePlan& plan, SceneAnimation& 
             d.caustic_fps = scene.fps;
             d.caustic_full_scale = scene.underwater->full_scale;
         }
+        if (plan.skirt.vertex_count() > 0) add_seafloor_apron(plan.skirt.reach, cols, rows, depth_max, a);
     }
     a.dressing = d;
 }

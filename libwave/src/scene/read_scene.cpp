@@ -168,7 +168,20 @@ SurfaceKind read_kind(const Node& n) {
 
 void read_surface(const Node& n, Scene& s) {
     n.require_object({"kind", "grid", "samples_per_span", "footprint", "footprint_radius", "tension_per_metre",
-                      "max_tension", "repeat_time", "max_vertices", "camera_grid", "water_mesh"});
+                      "max_tension", "repeat_time", "max_vertices", "camera_grid", "water_mesh", "far_field"});
+    if (n.has("far_field")) {
+        const Node f = n["far_field"];
+        if (f.value().is_boolean()) {
+            if (f.value().get<bool>()) f.fail("expected false (no far field) or an object");
+            s.far_field.reset();
+        } else {
+            f.require_object({"distance", "swell_wavelengths"});
+            Scene::FarField o;
+            if (f.has("distance")) o.distance = f["distance"].number("m");
+            if (f.has("swell_wavelengths")) o.swell_wavelengths = f["swell_wavelengths"].number("");
+            s.far_field = o;
+        }
+    }
     if (n.has("water_mesh")) {
         const Node w = n["water_mesh"];
         if (w.value().is_boolean()) {
@@ -181,6 +194,9 @@ void read_surface(const Node& n, Scene& s) {
     }
     if (n.has("camera_grid")) {
         if (!n.has("water_mesh")) s.water_mesh_per_wavelength.reset();  // the grid replaces it
+        if (n.has("far_field") && s.far_field)
+            n["far_field"].fail("not with /surface/camera_grid: the camera grid reaches the horizon itself");
+        s.far_field.reset();
         // Hinsinger's screen-space sampling (Jeschke §5); the camera stands at /camera/position.
         const Node c = n["camera_grid"];
         c.require_object({"look_at", "vertical_fov_degrees", "image", "pixel_step", "max_distance"});
@@ -407,7 +423,7 @@ void refuse_height_field_options(const Node& root, std::string_view kind_hint) {
     if (!root.has("surface") || !root["surface"].value().is_object()) return;
     const Node n = root["surface"];
     for (const auto& [key, _] : n.value().items())
-        if (key != "kind" && key != "camera_grid" && key != "water_mesh")
+        if (key != "kind" && key != "camera_grid" && key != "water_mesh" && key != "far_field")
             n[key.c_str()].fail("a height-field option; this scene's surface kind is \"" + std::string(kind_hint));
 }
 

@@ -47,6 +47,10 @@ struct SurfaceModel {
     /// Its motion moves vertices sideways by fields neighbours may disagree on (phases
     /// of crossing rays, breakers): the pipeline untangles every frame (untangle_motion).
     bool untangle;
+    /// Harmonics of each wave train its motion holds, which the far field fits at the
+    /// border and carries beyond it (plan_far_field): 1 for a linear model, more for a
+    /// profile with sharp crests; 0: no far field (the ocean patch tiles instead).
+    int far_field_harmonics;
 
     /// Scene reading, the model's rules between keys, given every key of the file
     /// (`root`) and the scene read so far: keys it does not take, defaults it sets.

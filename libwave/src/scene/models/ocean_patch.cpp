@@ -13,6 +13,9 @@ void read_before(const Node& root, Scene& s) {
                            "swell; superpose /gerstner waves, or use a coastal surface with /ocean");
     refuse_height_field_options(root, "ocean\" (set /ocean instead)");
     refuse_ray_strip_keys(root);
+    if (root.has("surface") && root["surface"].value().is_object() && root["surface"].has("far_field"))
+        root["surface"]["far_field"].fail("not for the open-ocean patch: it tiles (repeat it beyond /ocean/size)");
+    s.far_field.reset();
     s.ocean = OceanOptions{};
     s.ocean->repeat_time = 20.0;  // Tessendorf's figure 5
 }
@@ -60,6 +63,7 @@ extern const SurfaceModel kOceanPatchModel{
     .loop_keys = "/ocean/repeat_time",
     .size_keys = "lower /ocean/resolution, /ocean/repeat_time or /animation/fps",
     .untangle = false,
+    .far_field_harmonics = 0,
     .read_before = read_before,
     .read_after = [](const Node&, Scene&) {},
     .seafloor = flat_bottom,

@@ -3,6 +3,7 @@
 // Hinsinger's camera grid). One wave train.
 #include "../surface_model.h"
 
+#include "libwave/field.h"
 #include "libwave/physics.h"
 
 #include <algorithm>
@@ -79,6 +80,8 @@ void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
     if (scene.water_mesh_per_wavelength) {
         p.water_mesh = plan_water_mesh(scene, p);
         p.water_strips = resample_ray_strips(p.strips, p.seafloor, p.water_mesh.x, p.water_mesh.y, p.water_mesh.triangles);
+        // Where the rays left gaps (the sides, shadows), the field's wave.
+        if (!p.wave_fields.empty()) fill_strip_gaps(p.wave_fields[0], p.seafloor, p.water_strips);
     }
     const bool on_mesh = p.water_mesh.vertex_count() > 0;
     p.motion = plan_gonzato_motion(on_mesh ? p.water_strips : p.strips, scene.profile);
@@ -127,6 +130,7 @@ extern const SurfaceModel kRayStripsModel{
     .loop_keys = "/waves/0/period",
     .size_keys = "raise /trace/ray_spacing or /fronts/step, or lower /animation/fps",
     .untangle = true,
+    .far_field_harmonics = 2,
     .read_before = read_before,
     .read_after = read_after,
     .seafloor = [](const Scene& s) { return load_seafloor(s.seafloor); },

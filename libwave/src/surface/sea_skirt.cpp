@@ -1,0 +1,380 @@
+// The sea skirt (surface.h): the outside of a surface's bounding rectangle, where its
+// border is water, triangulated out to a far rectangle (CGAL constrained Delaunay,
+// Mesh_2 refinement that never splits a constrained edge: the surface's border edges
+// stay shared as they are). docs/far-field.md.
+#include "libwave/surface.h"
+
+#include "libwave/errors.h"
+
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Delaunay_mesh_face_base_2.h>
+#include <CGAL/Delaunay_mesh_size_criteria_2.h>
+#include <CGAL/Delaunay_mesher_no_edge_refinement_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numbers>
+#include <string>
+#include <utility>
+
+namespace wave {
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Vb = CGAL::Triangulation_vertex_base_with_info_2<std::uint32_t, K>;
+using Fb = CGAL::Delaunay_mesh_face_base_2<K, CGAL::Constrained_Delaunay_triangulation_face_base_2<K>>;
+using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
+using CDT = CGAL::Constrained_Delaunay_triangulation_2<K, Tds, CGAL::Exact_predicates_tag>;
+using Point = CDT::Point;
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
+// The rectangle and positions along its perimeter, counter-clockwise from (x0, y0):
+// sides 0 bottom, 1 right, 2 top, 3 left.
+struct Rectangle {
+    double x0, y0, x1, y1;
+    double w() const { return x1 - x0; }
+    double h() const { return y1 - y0; }
+    double perimeter() const { return 2.0 * (w() + h()); }
+    double position(int side, double x, double y) const {
+        switch (side) {
+            case 0: return x - x0;
+            case 1: return w() + (y - y0);
+            case 2: return w() + h() + (x1 - x);
+            default: return 2.0 * w() + h() + (y1 - y);
+        }
+    }
+    static std::array<double, 2> normal(int side) {
+        constexpr std::array<std::array<double, 2>, 4> n{{{0.0, -1.0}, {1.0, 0.0}, {0.0, 1.0}, {-1.0, 0.0}}};
+        return n[static_cast<std::size_t>(side)];
+    }
+};
+
+// A surface edge on the rectangle, oriented along the perimeter (a before b).
+struct BorderEdge {
+    double from, to;  // perimeter positions (to > from; the left side's last edge ends at the perimeter)
+    std::uint32_t a, b;
+    int side;
+};
+
+// The surface's boundary edges (one triangle) with both ends on one side.
+std::vector<BorderEdge> border_edges(std::span<const double> x, std::span<const double> y,
+                                     std::span<const std::uint32_t> triangles, const Rectangle& r, double tol) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> count;
+    for (std::size_t t = 0; t < triangles.size(); t += 3)
+        for (int e = 0; e < 3; ++e) {
+            const std::uint32_t a = triangles[t + static_cast<std::size_t>(e)], b = triangles[t + static_cast<std::size_t>((e + 1) % 3)];
+            ++count[{std::min(a, b), std::max(a, b)}];
+        }
+    const auto on_side = [&](std::uint32_t v, int side) {
+        switch (side) {
+            case 0: return std::abs(y[v] - r.y0) <= tol;
+            case 1: return std::abs(x[v] - r.x1) <= tol;
+            case 2: return std::abs(y[v] - r.y1) <= tol;
+            default: return std::abs(x[v] - r.x0) <= tol;
+        }
+    };
+    std::vector<BorderEdge> out;
+    for (const auto& [edge, n] : count) {
+        if (n != 1) continue;
+        for (int side = 0; side < 4; ++side) {
+            if (!on_side(edge.first, side) || !on_side(edge.second, side)) continue;
+            double pa = r.position(side, x[edge.first], y[edge.first]), pb = r.position(side, x[edge.second], y[edge.second]);
+            std::uint32_t a = edge.first, b = edge.second;
+            if (pa > pb) std::swap(pa, pb), std::swap(a, b);
+            if (pb - pa > tol) out.push_back({pa, pb, a, b, side});
+            break;
+        }
+    }
+    std::sort(out.begin(), out.end(), [](const BorderEdge& p, const BorderEdge& q) { return p.from < q.from; });
+    return out;
+}
+
+// Runs of consecutive border edges [first, last] (indices into the sorted edges); a run
+// through (x0, y0) is one chain (its first index after its last); `loop` when the
+// edges go all the way round.
+struct Chain {
+    std::size_t first, last;
+};
+
+std::vector<Chain> chains_of(const std::vector<BorderEdge>& e, bool& loop) {
+    std::vector<Chain> out;
+    for (std::size_t i = 0; i < e.size(); ++i) {
+        if (!out.empty() && e[out.back().last].b == e[i].a) out.back().last = i;
+        else out.push_back({i, i});
+    }
+    loop = false;
+    if (out.size() > 1 && e[out.back().last].b == e[out.front().first].a) {
+        out.front().first = out.back().first;  // wraps round the first corner
+        out.pop_back();
+    } else if (out.size() == 1 && e.back().b == e.front().a) {
+        loop = true;
+    }
+    return out;
+}
+
+// The nearest point on the rectangle of a point outside it, and what the skirt needs
+// there: the border edge (or corner vertex) that holds it.
+struct BorderLookup {
+    const Rectangle& r;
+    const std::vector<BorderEdge>& edges;
+    std::span<const double> x, y;
+
+    struct Hit {
+        double bx, by, d, nx, ny, edge_length;
+        std::uint32_t a, b;
+        float weight;  // of a
+    };
+
+    Hit at(double px, double py) const {
+        Hit h{};
+        h.bx = std::clamp(px, r.x0, r.x1);
+        h.by = std::clamp(py, r.y0, r.y1);
+        h.d = std::hypot(px - h.bx, py - h.by);
+        h.nx = h.d > 0.0 ? (px - h.bx) / h.d : 0.0;
+        h.ny = h.d > 0.0 ? (py - h.by) / h.d : 0.0;
+        // Its perimeter position (a corner: both of its sides' positions are tried).
+        const int side = h.by == r.y0 && h.bx > r.x0 ? 0 : h.bx == r.x1 ? 1 : h.by == r.y1 ? 2 : 3;
+        double p = r.position(side, h.bx, h.by);
+        if (side == 3 && p <= 0.0) p = r.perimeter();
+        const BorderEdge* best = nullptr;
+        double best_gap = std::numeric_limits<double>::infinity();
+        const auto consider = [&](double q) {
+            auto it = std::upper_bound(edges.begin(), edges.end(), q, [](double v, const BorderEdge& e) { return v < e.from; });
+            for (auto c : {it, it == edges.begin() ? it : it - 1}) {
+                if (c == edges.end()) continue;
+                const double gap = q < c->from ? c->from - q : q > c->to ? q - c->to : 0.0;
+                if (gap < best_gap) best_gap = gap, best = &*c, p = q;
+            }
+        };
+        consider(p);
+        if (p == r.perimeter()) consider(0.0);
+        const double t = std::clamp((p - best->from) / (best->to - best->from), 0.0, 1.0);
+        h.a = best->a;
+        h.b = best->b;
+        h.weight = static_cast<float>(1.0 - t);
+        h.edge_length = std::hypot(x[best->b] - x[best->a], y[best->b] - y[best->a]);
+        if (h.weight >= 1.0f) h.b = h.a;
+        if (h.weight <= 0.0f) h.a = h.b, h.weight = 1.0f;
+        return h;
+    }
+};
+
+// Mesh_2's size criterion with the skirt's size at each triangle's centroid.
+class SkirtCriteria : public CGAL::Delaunay_mesh_size_criteria_2<CDT> {
+    using Base = CGAL::Delaunay_mesh_size_criteria_2<CDT>;
+    const BorderLookup* lookup_;
+    const SkirtSize* size_;
+
+public:
+    SkirtCriteria(double squared_sine_bound, const BorderLookup& lookup, const SkirtSize& size)
+        : Base(squared_sine_bound, 0.0), lookup_(&lookup), size_(&size) {}
+
+    class Is_bad : public Base::Is_bad {
+        const BorderLookup* lookup_;
+        const SkirtSize* size_;
+
+    public:
+        Is_bad(double bound, const Geom_traits& geom, const BorderLookup* lookup, const SkirtSize* size)
+            : Base::Is_bad(bound, 0.0, geom), lookup_(lookup), size_(size) {}
+
+        CGAL::Mesh_2::Face_badness operator()(const Quality q) const { return Base::Is_bad::operator()(q); }
+
+        CGAL::Mesh_2::Face_badness operator()(const CDT::Face_handle& fh, Quality& q) const {
+            const CGAL::Mesh_2::Face_badness shape = Base::Is_bad::operator()(fh, q);
+            const Point &a = fh->vertex(0)->point(), &b = fh->vertex(1)->point(), &c = fh->vertex(2)->point();
+            const BorderLookup::Hit h = lookup_->at((a.x() + b.x() + c.x()) / 3.0, (a.y() + b.y() + c.y()) / 3.0);
+            const double s = (*size_)(h.bx, h.by, h.d, h.edge_length);
+            const double longest = std::max({CGAL::squared_distance(a, b), CGAL::squared_distance(b, c), CGAL::squared_distance(c, a)});
+            q.second = longest / (s * s);
+            return q.size() > 1.0 ? CGAL::Mesh_2::IMPERATIVELY_BAD : shape;
+        }
+    };
+
+    Is_bad is_bad_object() const { return Is_bad(this->bound(), this->traits, lookup_, size_); }
+};
+
+void check(std::span<const double> x, std::span<const double> y, std::span<const std::uint32_t> triangles,
+           const SeaSkirtOptions& o) {
+    if (x.size() != y.size()) throw InputError("sea skirt: x and y differ in length");
+    if (triangles.size() % 3 != 0) throw InputError("sea skirt: triangles are not a multiple of 3 indices");
+    for (std::uint32_t v : triangles)
+        if (v >= x.size()) throw InputError("sea skirt: triangle index " + std::to_string(v) + " >= vertex count");
+    if (!(o.distance > 0.0) || !std::isfinite(o.distance)) throw InputError("sea skirt: distance must be finite and > 0 m");
+    if (!o.size) throw InputError("sea skirt: no size function");
+    if (!(o.min_angle_deg > 0.0 && o.min_angle_deg <= 20.7)) throw InputError("sea skirt: min_angle_deg outside (0, 20.7]");
+}
+
+// Points from `from` to `to` (both included) along a straight line, spaced by the size
+// at each step.
+std::vector<Point> split_line(Point from, Point to, const BorderLookup& lookup, const SkirtSize& size) {
+    std::vector<Point> out{from};
+    const double len = std::sqrt(CGAL::squared_distance(from, to));
+    double s = 0.0;
+    while (true) {
+        const double mx = from.x() + (to.x() - from.x()) * s / len, my = from.y() + (to.y() - from.y()) * s / len;
+        const BorderLookup::Hit h = lookup.at(mx, my);
+        const double step = 0.5 * size(h.bx, h.by, h.d, h.edge_length);  // constraints are never split: room for the refinement
+        const double left = len - s;
+        if (left <= step) break;
+        s += left < 2.0 * step ? 0.5 * left : step;
+        out.emplace_back(from.x() + (to.x() - from.x()) * s / len, from.y() + (to.y() - from.y()) * s / len);
+    }
+    out.push_back(to);
+    return out;
+}
+
+// The skirt's vertex count before meshing: the wet outside area over the target triangle
+// areas (√3/4 s² each, half as many vertices as triangles), integrated outwards from
+// each border edge (a strip of its length) and each wet corner (a quarter disc) on
+// geometric steps of the distance.
+double estimate_vertices(const std::vector<BorderEdge>& edges, const std::vector<Chain>& chains, bool loop,
+                         const BorderLookup& lookup, const SkirtSize& size, double reach, std::span<const double> x,
+                         std::span<const double> y) {
+    constexpr int kSteps = 96;
+    const auto integrate = [&](double bx, double by, double edge, double width, bool corner) {
+        double triangles = 0.0, d0 = 0.0;
+        for (int i = 1; i <= kSteps; ++i) {
+            const double d1 = reach * std::pow(1e-6, 1.0 - double(i) / kSteps);
+            const double dm = 0.5 * (d0 + d1), s = size(bx, by, dm, edge);
+            const double area = corner ? 0.5 * std::numbers::pi * dm * (d1 - d0) : width * (d1 - d0);
+            triangles += area / (std::sqrt(3.0) / 4.0 * s * s);
+            d0 = d1;
+        }
+        return triangles;
+    };
+    double triangles = 0.0;
+    for (const BorderEdge& e : edges) {
+        const double len = std::hypot(x[e.b] - x[e.a], y[e.b] - y[e.a]);
+        triangles += integrate(0.5 * (x[e.a] + x[e.b]), 0.5 * (y[e.a] + y[e.b]), len, len, false);
+    }
+    // Corners inside a chain (the chain turns there): the edge that arrives at a corner
+    // and the next one lie on different sides.
+    for (const Chain& c : chains)
+        for (std::size_t i = c.first;; i = (i + 1) % edges.size()) {
+            const std::size_t next = (i + 1) % edges.size();
+            if ((i != c.last || loop) && edges[next].side != edges[i].side) {
+                const std::uint32_t v = edges[i].b;
+                triangles += integrate(x[v], y[v], lookup.at(x[v], y[v]).edge_length, 0.0, true);
+            }
+            if (i == c.last) break;
+        }
+    return 0.5 * triangles;
+}
+
+}  // namespace
+
+SeaSkirt plan_sea_skirt(std::span<const double> x, std::span<const double> y, std::span<const std::uint32_t> triangles,
+                        const SeaSkirtOptions& o) {
+    check(x, y, triangles, o);
+    SeaSkirt out;
+    out.surface_vertices = x.size();
+    out.reach = o.distance;
+    if (x.empty() || triangles.empty()) return out;
+    const auto [xlo, xhi] = std::minmax_element(x.begin(), x.end());
+    const auto [ylo, yhi] = std::minmax_element(y.begin(), y.end());
+    const Rectangle r{*xlo, *ylo, *xhi, *yhi};
+    out.x0 = r.x0, out.y0 = r.y0, out.x1 = r.x1, out.y1 = r.y1;
+    if (!(r.w() > 0.0 && r.h() > 0.0)) return out;
+    const double tol = 1e-9 * std::max({1.0, r.w(), r.h()});
+    const std::vector<BorderEdge> edges = border_edges(x, y, triangles, r, tol);
+    if (edges.empty()) return out;
+    bool loop = false;
+    const std::vector<Chain> chains = chains_of(edges, loop);
+    const BorderLookup lookup{r, edges, x, y};
+    const double R = o.distance;
+    const double expected = estimate_vertices(edges, chains, loop, lookup, o.size, R, x, y);
+    if (!(expected <= static_cast<double>(o.max_vertices)))
+        throw LimitError("sea skirt: about " + std::to_string(static_cast<long long>(std::min(expected, 1e18))) +
+                         " vertices for the target edge lengths, more than the limit of " + std::to_string(o.max_vertices));
+
+    CDT cdt;
+    // The rectangle as one closed constraint through every border vertex and corner.
+    std::map<std::pair<double, double>, std::uint32_t> surface_index;
+    std::vector<std::pair<double, Point>> ring;
+    for (const BorderEdge& e : edges)
+        for (std::uint32_t v : {e.a, e.b}) {
+            if (!surface_index.emplace(std::pair{x[v], y[v]}, v).second) continue;
+            ring.emplace_back(v == e.a ? e.from : e.to, Point(x[v], y[v]));
+        }
+    for (const auto& [p, q] : {std::pair{0.0, Point(r.x0, r.y0)}, {r.w(), Point(r.x1, r.y0)},
+                               {r.w() + r.h(), Point(r.x1, r.y1)}, {2.0 * r.w() + r.h(), Point(r.x0, r.y1)}})
+        if (!surface_index.contains({q.x(), q.y()})) ring.emplace_back(p, q);
+    std::sort(ring.begin(), ring.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<Point> inner;
+    for (const auto& [_, q] : ring) inner.push_back(q);
+    inner.push_back(inner.front());
+    cdt.insert_constraint(inner.begin(), inner.end());
+
+    // Cuts where a chain ends, and the outer rectangle through their far ends.
+    std::vector<std::pair<double, Point>> outer_points;
+    const Rectangle far{r.x0 - R, r.y0 - R, r.x1 + R, r.y1 + R};
+    for (const auto& [p, q] : {std::pair{0.0, Point(far.x0, far.y0)}, {far.w(), Point(far.x1, far.y0)},
+                               {far.w() + far.h(), Point(far.x1, far.y1)}, {2.0 * far.w() + far.h(), Point(far.x0, far.y1)}})
+        outer_points.emplace_back(p, q);
+    if (!loop)
+        for (const Chain& c : chains)
+            for (const auto& [v, side] : {std::pair{edges[c.first].a, edges[c.first].side}, {edges[c.last].b, edges[c.last].side}}) {
+                const auto n = Rectangle::normal(side);
+                const Point from(x[v], y[v]), to(x[v] + R * n[0], y[v] + R * n[1]);
+                const std::vector<Point> cut = split_line(from, to, lookup, o.size);
+                cdt.insert_constraint(cut.begin(), cut.end());
+                outer_points.emplace_back(far.position(side, to.x(), to.y()), to);
+            }
+    std::sort(outer_points.begin(), outer_points.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<Point> outer;
+    for (std::size_t i = 0; i < outer_points.size(); ++i) {
+        const Point from = outer_points[i].second, to = outer_points[(i + 1) % outer_points.size()].second;
+        if (from == to) continue;
+        const std::vector<Point> piece = split_line(from, to, lookup, o.size);
+        outer.insert(outer.end(), piece.begin(), piece.end() - 1);
+    }
+    outer.push_back(outer.front());
+    cdt.insert_constraint(outer.begin(), outer.end());
+
+    // Water beyond each chain: a seed just outside its first edge.
+    std::vector<Point> seeds;
+    for (const Chain& c : chains) {
+        const BorderEdge& e = edges[c.first];
+        const auto n = Rectangle::normal(e.side);
+        const double len = std::hypot(x[e.b] - x[e.a], y[e.b] - y[e.a]);
+        seeds.emplace_back(0.5 * (x[e.a] + x[e.b]) + 0.25 * len * n[0], 0.5 * (y[e.a] + y[e.b]) + 0.25 * len * n[1]);
+    }
+    const double sine = std::sin(o.min_angle_deg * std::numbers::pi / 180.0);
+    CGAL::Delaunay_mesher_no_edge_refinement_2<CDT, SkirtCriteria> mesher(cdt, SkirtCriteria(sine * sine, lookup, o.size));
+    mesher.set_seeds(seeds.begin(), seeds.end(), true);
+    mesher.refine_mesh();
+    if (cdt.number_of_vertices() > o.max_vertices)
+        throw LimitError("sea skirt: " + std::to_string(cdt.number_of_vertices()) + " vertices, more than the limit of " +
+                         std::to_string(o.max_vertices));
+
+    for (CDT::Finite_vertices_iterator v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v) {
+        const auto it = surface_index.find({v->point().x(), v->point().y()});
+        v->info() = it != surface_index.end() ? it->second : kNone;
+    }
+    for (CDT::Finite_faces_iterator f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+        if (!f->is_in_domain()) continue;
+        for (int k = 0; k < 3; ++k) {
+            const CDT::Vertex_handle v = f->vertex(k);
+            if (v->info() == kNone) {
+                v->info() = static_cast<std::uint32_t>(out.surface_vertices + out.x.size());
+                const BorderLookup::Hit h = lookup.at(v->point().x(), v->point().y());
+                out.x.push_back(v->point().x());
+                out.y.push_back(v->point().y());
+                out.anchor.insert(out.anchor.end(), {h.a, h.b});
+                out.anchor_weight.push_back(h.weight);
+                out.distance.push_back(h.d);
+                out.normal_x.push_back(h.nx);
+                out.normal_y.push_back(h.ny);
+                out.size.push_back(o.size(h.bx, h.by, h.d, h.edge_length));
+            }
+            out.triangles.push_back(v->info());
+        }
+    }
+    return out;
+}
+
+}  // namespace wave

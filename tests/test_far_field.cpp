@@ -1,0 +1,271 @@
+// The far field (surface.h plan_sea_skirt; motion.h plan_far_field, evaluate_far_field):
+// the skirt's geometry against areas known by construction, and its motion against a
+// plane wave that must continue unchanged beyond the border.
+#include "libwave/errors.h"
+#include "libwave/field.h"
+#include "libwave/motion.h"
+#include "libwave/surface.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <vector>
+
+namespace {
+
+using namespace wave;
+
+constexpr double kSide = 10.0, kReach = 200.0;
+
+// A flat grid of 11 × 11 nodes over [0, 10]², optionally without its top-right quarter
+// (x > 5 and y > 5): its border then leaves the rectangle there, like a shore.
+struct Surface {
+    std::vector<double> x, y;
+    std::vector<std::uint32_t> triangles;
+    explicit Surface(bool notch) {
+        for (std::size_t j = 0; j <= 10; ++j)
+            for (std::size_t i = 0; i <= 10; ++i) {
+                x.push_back(double(i));
+                y.push_back(double(j));
+            }
+        const std::vector<std::uint32_t> all = grid_triangles(11, 11);
+        for (std::size_t t = 0; t < all.size(); t += 3) {
+            const double cx = (x[all[t]] + x[all[t + 1]] + x[all[t + 2]]) / 3.0, cy = (y[all[t]] + y[all[t + 1]] + y[all[t + 2]]) / 3.0;
+            if (notch && cx > 5.0 && cy > 5.0) continue;
+            triangles.insert(triangles.end(), {all[t], all[t + 1], all[t + 2]});
+        }
+    }
+};
+
+// Edges grow with the distance (1 m at the border).
+SeaSkirtOptions options() {
+    SeaSkirtOptions o;
+    o.distance = kReach;
+    o.size = [](double, double, double d, double edge) { return std::max(edge, 1.0 + 0.25 * d); };
+    return o;
+}
+
+struct Corner {
+    double x, y;
+};
+
+Corner at(const SeaSkirt& s, std::uint32_t v, const Surface& m) {
+    return v < s.surface_vertices ? Corner{m.x[v], m.y[v]} : Corner{s.x[v - s.surface_vertices], s.y[v - s.surface_vertices]};
+}
+
+double signed_area(Corner a, Corner b, Corner c) { return 0.5 * ((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y)); }
+
+double smallest_angle_deg(Corner a, Corner b, Corner c) {
+    const auto angle = [](Corner p, Corner q, Corner r) {
+        const double ux = q.x - p.x, uy = q.y - p.y, vx = r.x - p.x, vy = r.y - p.y;
+        return std::acos(std::clamp((ux * vx + uy * vy) / std::hypot(ux, uy) / std::hypot(vx, vy), -1.0, 1.0));
+    };
+    return std::min({angle(a, b, c), angle(b, c, a), angle(c, a, b)}) * 180.0 / std::numbers::pi;
+}
+
+TEST(SeaSkirt, SurroundsAnAllWaterSurfaceOutToTheFarRectangle) {
+    const Surface m(false);
+    const SeaSkirt s = plan_sea_skirt(m.x, m.y, m.triangles, options());
+    ASSERT_GT(s.vertex_count(), 0u);
+    double area = 0.0, smallest = 180.0;
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+    for (std::size_t t = 0; t < s.triangles.size(); t += 3) {
+        const Corner a = at(s, s.triangles[t], m), b = at(s, s.triangles[t + 1], m), c = at(s, s.triangles[t + 2], m);
+        const double A = signed_area(a, b, c);
+        EXPECT_GT(A, 0.0) << "triangle " << t / 3 << " is not counter-clockwise";
+        area += A;
+        smallest = std::min(smallest, smallest_angle_deg(a, b, c));
+        for (int e = 0; e < 3; ++e) {
+            const std::uint32_t p = s.triangles[t + e], q = s.triangles[t + (e + 1) % 3];
+            ++edges[{std::min(p, q), std::max(p, q)}];
+        }
+    }
+    // The annulus between [0, 10]² and [−R, 10 + R]², exactly.
+    const double full = (kSide + 2.0 * kReach) * (kSide + 2.0 * kReach) - kSide * kSide;
+    EXPECT_NEAR(area, full, 1e-9 * full);
+    EXPECT_GE(smallest, 15.0);
+    // New vertices lie outside the rectangle; the surface's own ones the skirt uses are
+    // on its border; every boundary edge of the skirt lies on the rectangle or the far one.
+    for (std::size_t v = 0; v < s.vertex_count(); ++v)
+        EXPECT_TRUE(s.x[v] < 0.0 || s.x[v] > kSide || s.y[v] < 0.0 || s.y[v] > kSide) << v;
+    std::size_t inner = 0;
+    for (const auto& [e, n] : edges) {
+        if (n != 1) continue;
+        const Corner a = at(s, e.first, m), b = at(s, e.second, m);
+        const bool on_inner = e.first < s.surface_vertices && e.second < s.surface_vertices;
+        const auto on_far = [](Corner p) {
+            return std::abs(p.x + kReach) < 1e-9 || std::abs(p.x - kSide - kReach) < 1e-9 || std::abs(p.y + kReach) < 1e-9 ||
+                   std::abs(p.y - kSide - kReach) < 1e-9;
+        };
+        EXPECT_TRUE(on_inner || (on_far(a) && on_far(b))) << a.x << "," << a.y << " – " << b.x << "," << b.y;
+        inner += on_inner;
+    }
+    EXPECT_EQ(inner, 40u);  // each of the grid's 40 border edges, shared once
+}
+
+TEST(SeaSkirt, EndsOnStraightCutsWhereTheBorderIsDry) {
+    const Surface m(true);
+    const SeaSkirt s = plan_sea_skirt(m.x, m.y, m.triangles, options());
+    double area = 0.0;
+    for (std::size_t t = 0; t < s.triangles.size(); t += 3) {
+        const Corner a = at(s, s.triangles[t], m), b = at(s, s.triangles[t + 1], m), c = at(s, s.triangles[t + 2], m);
+        area += signed_area(a, b, c);
+        const double cx = (a.x + b.x + c.x) / 3.0, cy = (a.y + b.y + c.y) / 3.0;
+        // Nothing beyond the dry border (the right side above y = 5, the top right of x = 5, their corner).
+        EXPECT_FALSE((cx > kSide && cy > 5.0) || (cy > kSide && cx > 5.0)) << cx << ", " << cy;
+    }
+    const double full = (kSide + 2.0 * kReach) * (kSide + 2.0 * kReach) - kSide * kSide;
+    const double dry = 5.0 * kReach + 5.0 * kReach + kReach * kReach;
+    EXPECT_NEAR(area, full - dry, 1e-9 * full);
+    // The anchors are the nearest border edge's ends, weights on [0, 1].
+    for (std::size_t v = 0; v < s.vertex_count(); ++v) {
+        const double bx = std::clamp(s.x[v], 0.0, kSide), by = std::clamp(s.y[v], 0.0, kSide);
+        EXPECT_NEAR(s.distance[v], std::hypot(s.x[v] - bx, s.y[v] - by), 1e-9);
+        const std::uint32_t a = s.anchor[2 * v], b = s.anchor[2 * v + 1];
+        const double w = s.anchor_weight[v];
+        EXPECT_NEAR(w * m.x[a] + (1.0 - w) * m.x[b], bx, 1e-6);
+        EXPECT_NEAR(w * m.y[a] + (1.0 - w) * m.y[b], by, 1e-6);
+    }
+}
+
+// The surface moving as a deep-water Gerstner wave travelling along +x at times t.
+std::vector<float> gerstner_frame(const Surface& m, double A, double k, double omega, double t) {
+    std::vector<float> p;
+    for (std::size_t v = 0; v < m.x.size(); ++v) {
+        const double phi = k * m.x[v] - omega * t;
+        p.insert(p.end(), {float(m.x[v] - A * std::sin(phi)), float(m.y[v]), float(A * std::cos(phi))});
+    }
+    return p;
+}
+
+TEST(FarField, APlaneWaveRunsOnUnchangedBeyondEveryWetSide) {
+    const Surface m(true);
+    const double A = 0.05, k = 2.0 * std::numbers::pi / 8.0, omega = std::sqrt(9.81 * k);
+    SeaSkirtOptions o = options();
+    o.size = [](double, double, double d, double edge) { return d < 30.0 ? std::max(edge, 0.5) : 0.5 + 0.3 * (d - 30.0); };
+    const SeaSkirt s = plan_sea_skirt(m.x, m.y, m.triangles, o);
+    std::vector<double> times;
+    std::vector<float> samples;
+    for (int i = 0; i < 7; ++i) {
+        times.push_back(0.37 * i);
+        const std::vector<float> f = gerstner_frame(m, A, k, omega, times.back());
+        samples.insert(samples.end(), f.begin(), f.end());
+    }
+    const FarFieldWave wave{.omega = omega, .direction_x = 1.0, .direction_y = 0.0, .k = k};
+    ElevationGrid flat;
+    flat.nx = flat.ny = 2;
+    flat.dx = flat.dy = kSide;
+    flat.z.assign(4, -100.0);
+    const FarFieldPlan p = plan_far_field(s, flat, std::span(&wave, 1), m.x, m.y, times, samples);
+    std::vector<float> scratch;
+    std::size_t checked = 0;
+    for (double t : {0.1, 1.3, 2.9}) {
+        std::vector<float> pos = gerstner_frame(m, A, k, omega, t);
+        pos.resize(3 * (m.x.size() + s.vertex_count()));
+        evaluate_far_field(p, t, pos, scratch);
+        for (std::size_t v = 0; v < s.vertex_count(); ++v) {
+            if (s.size[v] > (2.0 * std::numbers::pi / k) / 6.0) continue;  // fading out: not resolved there
+            const double phi = k * s.x[v] - omega * t;
+            const float* q = &pos[3 * (m.x.size() + v)];
+            ASSERT_NEAR(q[0], s.x[v] - A * std::sin(phi), 2e-5 + 1e-7 * std::abs(s.x[v])) << s.x[v] << ", " << s.y[v];
+            ASSERT_NEAR(q[1], s.y[v], 2e-5 + 1e-7 * std::abs(s.y[v]));
+            ASSERT_NEAR(q[2], A * std::cos(phi), 2e-5);
+            ++checked;
+        }
+    }
+    EXPECT_GT(checked, 1000u);
+    // Far out the skirt is still water.
+    std::vector<float> pos = gerstner_frame(m, A, k, omega, 0.5);
+    pos.resize(3 * (m.x.size() + s.vertex_count()));
+    evaluate_far_field(p, 0.5, pos, scratch);
+    for (std::size_t v = 0; v < s.vertex_count(); ++v)
+        if (s.distance[v] > 100.0) {
+            ASSERT_EQ(pos[3 * (m.x.size() + v) + 2], 0.0f);
+        }
+}
+
+TEST(FarField, WhatTheWavesDoNotExplainFadesOutOverTheResidualBand) {
+    const Surface m(false);
+    const double k = 2.0 * std::numbers::pi / 8.0, omega = std::sqrt(9.81 * k);
+    const SeaSkirt s = plan_sea_skirt(m.x, m.y, m.triangles, options());
+    // The border stands 0.2 m up (a set-up no wave explains) and no wave moves it.
+    std::vector<double> times{0.0, 0.5, 1.0, 1.5, 2.0};
+    std::vector<float> one;
+    for (std::size_t v = 0; v < m.x.size(); ++v) one.insert(one.end(), {float(m.x[v]), float(m.y[v]), 0.2f});
+    std::vector<float> samples;
+    for (std::size_t i = 0; i < times.size(); ++i) samples.insert(samples.end(), one.begin(), one.end());
+    const FarFieldWave wave{.omega = omega, .direction_x = 1.0, .direction_y = 0.0, .k = k};
+    ElevationGrid flat;
+    flat.nx = flat.ny = 2;
+    flat.dx = flat.dy = kSide;
+    flat.z.assign(4, -100.0);
+    FarFieldOptions o;
+    o.residual_wavelengths = 2.0;  // 16 m
+    const FarFieldPlan p = plan_far_field(s, flat, std::span(&wave, 1), m.x, m.y, times, samples, o);
+    std::vector<float> pos = one, scratch;
+    pos[2] = 0.5f;  // now one anchor rises by a further 0.3 m: the skirt follows it near the border
+    pos.resize(3 * (m.x.size() + s.vertex_count()));
+    evaluate_far_field(p, 0.7, pos, scratch);
+    for (std::size_t v = 0; v < s.vertex_count(); ++v) {
+        const float z = pos[3 * (m.x.size() + v) + 2];
+        if (s.distance[v] >= 16.0) {
+            EXPECT_NEAR(z, 0.0f, 1e-6f);
+        }
+        const bool touches_corner = s.anchor[2 * v] == 0 || s.anchor[2 * v + 1] == 0;
+        if (s.distance[v] < 0.5 && !touches_corner) {
+            EXPECT_NEAR(z, 0.2f, 0.01f);
+        }
+    }
+}
+
+TEST(FarField, RefusesTooFewSamplesAndMismatchedSizes) {
+    const Surface m(false);
+    const SeaSkirt s = plan_sea_skirt(m.x, m.y, m.triangles, options());
+    const FarFieldWave waves[2] = {{.omega = 1.0}, {.omega = 2.0}};
+    ElevationGrid flat;
+    flat.nx = flat.ny = 2;
+    flat.dx = flat.dy = kSide;
+    flat.z.assign(4, -100.0);
+    const std::vector<double> times{0.0, 1.0, 2.0, 3.0};  // 2 components need 5
+    const std::vector<float> samples(3 * m.x.size() * times.size(), 0.0f);
+    EXPECT_THROW(plan_far_field(s, flat, waves, m.x, m.y, times, samples), InputError);
+    EXPECT_THROW(plan_far_field(s, flat, std::span(waves, 1), m.x, m.y, times, std::span(samples).first(10)), InputError);
+    SeaSkirtOptions o = options();
+    o.distance = -1.0;
+    EXPECT_THROW(plan_sea_skirt(m.x, m.y, m.triangles, o), InputError);
+    const std::vector<std::uint32_t> bad{0, 1, 9999};
+    EXPECT_THROW(plan_sea_skirt(m.x, m.y, bad, options()), InputError);
+}
+
+TEST(FarField, TheSameBitsOnAnyThreadCount) {
+    const Surface m(true);
+    const SeaSkirt s = plan_sea_skirt(m.x, m.y, m.triangles, options());
+    const double k = 0.7, omega = std::sqrt(9.81 * k);
+    std::vector<double> times{0.0, 0.3, 0.6, 0.9, 1.2};
+    std::vector<float> samples;
+    for (double t : times) {
+        const std::vector<float> f = gerstner_frame(m, 0.1, k, omega, t);
+        samples.insert(samples.end(), f.begin(), f.end());
+    }
+    const FarFieldWave wave{.omega = omega, .direction_x = 1.0, .direction_y = 0.5, .k = k};
+    ElevationGrid flat;
+    flat.nx = flat.ny = 2;
+    flat.dx = flat.dy = kSide;
+    flat.z.assign(4, -100.0);
+    const FarFieldPlan p = plan_far_field(s, flat, std::span(&wave, 1), m.x, m.y, times, samples);
+    std::vector<std::vector<float>> out;
+    for (std::size_t threads : {1u, 4u}) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+        std::vector<float> pos = gerstner_frame(m, 0.1, k, omega, 0.77), scratch;
+        pos.resize(3 * (m.x.size() + s.vertex_count()));
+        evaluate_far_field(p, 0.77, pos, scratch);
+        out.push_back(pos);
+    }
+    EXPECT_EQ(out[0], out[1]);
+}
+
+}  // namespace
