@@ -389,6 +389,12 @@ json surface_summary(const RunSummary& r) {
         surface["water_mesh"] = {{"vertices_per_wavelength", scene.water_mesh_per_wavelength.value_or(0.0)},
                                  {"vertices", plan.water_mesh.vertex_count()},
                                  {"triangles", plan.water_mesh.triangles.size() / 3}};
+    if (plan.skirt.vertex_count() > 0)
+        surface["far_field"] = {{"vertices", plan.skirt.vertex_count()},
+                                {"triangles", plan.skirt.triangles.size() / 3},
+                                {"distance_m", plan.skirt.reach},
+                                {"components", plan.far_field.component_count()},
+                                {"anchors", plan.far_field.anchor_vertex.size()}};
     if (plan.camera_grid.vertex_count() > 0)
         surface["camera_grid"] = {{"columns", plan.camera_grid.columns}, {"rows", plan.camera_grid.rows}};
     if (scene.refine)

@@ -4,8 +4,10 @@
 //
 // Reads the Okushiri (Monai valley, 1:400 laboratory model) elevation grid, slices its
 // isobaths, traces Gonzato's adaptive wave fronts of a 0.6 s swell over it, takes their
-// heights from the refraction–diffraction field, tessellates them into ray strips, meshes the water, carries the strips' fields onto the mesh,
-// moves it with Gonzato's plunging profile at frame FRAME (default 3, 25 frames/s),
+// heights from the refraction–diffraction field, tessellates them into ray strips, meshes
+// the water, carries the strips' fields onto the mesh (the field's where no strip passed),
+// continues it to the horizon on a skirt, moves it with Gonzato's plunging profile at
+// frame FRAME (default 3, 25 frames/s) and the skirt with the border's fitted swell,
 // adds the breaking foam, untangles it, computes normals and Fresnel weights, and
 // writes that one frame as a .glb.
 //
@@ -33,6 +35,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <numbers>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -82,34 +85,58 @@ Frame frame_by_stages(const std::string& grid_path, std::size_t frame_number) {
     // The water mesh: 16 vertices per local wavelength, the depth no shallower than
     // where the swell breaks (H∞/γ), and the strips' fields at its vertices.
     const wave::WaterMesh mesh = wave::mesh_water(seafloor, wave::wavelength_edge_size(seafloor, swell, 16.0));
-    const wave::RayStrips on_mesh = wave::resample_ray_strips(strips, seafloor, mesh.x, mesh.y, mesh.triangles);
-
-    // Motion and shading of one frame, into caller-owned buffers.
+    wave::RayStrips on_mesh = wave::resample_ray_strips(strips, seafloor, mesh.x, mesh.y, mesh.triangles);
+    wave::fill_strip_gaps(field, seafloor, on_mesh);  // where no strip passed, the field's wave
     const wave::GonzatoMotionPlan motion = wave::plan_gonzato_motion(on_mesh);
-    const wave::UntanglePlan untangle = wave::plan_untangle(mesh.x, mesh.y, mesh.triangles);
-    const wave::VertexFaces adjacency = wave::vertex_faces(mesh.vertex_count(), mesh.triangles);
     const std::size_t n = mesh.vertex_count();
+
+    // The far field: a skirt to the horizon (2000 camera heights, at least ten domains),
+    // moved by the swell's fundamental and first overtone fitted at the border.
+    const wave::ElevationGrid& g = seafloor.grid;
+    wave::SeaSkirtOptions skirt_options;
+    skirt_options.distance = std::max(2000.0 * 1.2, 10.0 * std::max(g.x_max() - g.x0, g.y_max() - g.y0));
+    skirt_options.size = wave::swell_skirt_size(seafloor, swell.period, 3.0);
+    const wave::SeaSkirt skirt = wave::plan_sea_skirt(mesh.x, mesh.y, mesh.triangles, skirt_options);
+    const double omega = 2.0 * std::numbers::pi / swell.period;
+    const std::vector<wave::FarFieldWave> waves{{.omega = omega, .harmonic = 1, .direction_x = 1.0, .direction_y = 0.15},
+                                                {.omega = omega, .harmonic = 2, .direction_x = 1.0, .direction_y = 0.15}};
+    const std::vector<double> times = wave::far_field_sample_times(swell.period, waves.size());
+    std::vector<float> samples(3 * n * times.size());
+    for (std::size_t s = 0; s < times.size(); ++s)
+        wave::evaluate_gonzato_motion(motion, times[s], std::span<float>(&samples[3 * n * s], 3 * n));
+    const wave::FarFieldPlan far = wave::plan_far_field(skirt, g, waves, mesh.x, mesh.y, times, samples);
+    std::vector<double> x = mesh.x, y = mesh.y;
+    x.insert(x.end(), skirt.x.begin(), skirt.x.end());
+    y.insert(y.end(), skirt.y.begin(), skirt.y.end());
     Frame f;
     f.triangles = mesh.triangles;
-    f.positions.resize(3 * n);
-    f.normals.resize(3 * n);
-    f.foam.resize(n);
-    f.reflect.resize(n);
-    f.refract.resize(n);
+    f.triangles.insert(f.triangles.end(), skirt.triangles.begin(), skirt.triangles.end());
+
+    // Motion and shading of one frame, into caller-owned buffers.
+    const wave::UntanglePlan untangle = wave::plan_untangle(x, y, f.triangles);
+    const std::size_t all = x.size();
+    const wave::VertexFaces adjacency = wave::vertex_faces(all, f.triangles);
+    f.positions.resize(3 * all);
+    f.normals.resize(3 * all);
+    f.foam.assign(all, 0.0f);
+    f.reflect.resize(all);
+    f.refract.resize(all);
     const double t = static_cast<double>(frame_number) / 25.0;
-    wave::evaluate_gonzato_motion(motion, t, f.positions);
-    wave::breaking_foam(on_mesh, motion, t, wave::FoamOptions{}, f.foam);
+    std::vector<float> scratch;
+    wave::evaluate_gonzato_motion(motion, t, std::span<float>(f.positions).first(3 * n));
+    wave::evaluate_far_field(far, t, f.positions, scratch);
+    wave::breaking_foam(on_mesh, motion, t, wave::FoamOptions{}, std::span<float>(f.foam).first(n));
     wave::untangle_motion(untangle, f.foam, f.positions);  // breaking lips (foam) may overturn
     wave::vertex_normals(f.positions, f.triangles, adjacency, f.normals);
     wave::FresnelOptions fresnel;
     fresnel.camera = {2.5, -2.0, 1.2};
     wave::fresnel_weights(f.positions, f.normals, fresnel, f.reflect, f.refract);
     // TEXCOORD_0: the rest position over the seafloor's rectangle.
-    f.texcoords.resize(2 * n);
-    wave::domain_texcoords(seafloor.grid, mesh.x, mesh.y, f.texcoords);
-    std::printf("stages: %zu isobaths, %zu rays, %zu strip triangles, water mesh %zu vertices, %zu triangles\n",
+    f.texcoords.resize(2 * all);
+    wave::domain_texcoords(g, x, y, f.texcoords);
+    std::printf("stages: %zu isobaths, %zu rays, %zu strip triangles, water mesh %zu vertices, %zu triangles, skirt %zu vertices\n",
                 isobaths.size(), traced.initial_rays + traced.inserted_rays, strips.triangle_count(), n,
-                mesh.triangles.size() / 3);
+                mesh.triangles.size() / 3, skirt.vertex_count());
     return f;
 }
 

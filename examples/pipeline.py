@@ -6,9 +6,10 @@
 The same stages as examples/pipeline.cpp, with NumPy arrays between them: the Okushiri
 grid (1:400 laboratory model) is read through GDAL, sliced into isobaths, a 0.6 s swell
 is traced as Gonzato's adaptive fronts whose heights come from the refraction–diffraction
-field, the fronts become ray strips, the water is meshed and takes the strips' fields,
-Gonzato's profile moves it at frame FRAME (default 3, 25 frames/s), breaking foam is
-added, the frame is untangled, its normals and Fresnel weights computed, and it is
+field, the fronts become ray strips, the water is meshed and takes the strips' fields
+(the field's where no strip passed), a skirt continues it to the horizon, Gonzato's
+profile moves it at frame FRAME (default 3, 25 frames/s) and the skirt follows the
+border's fitted swell, breaking foam is added, the frame is untangled, its normals and Fresnel weights computed, and it is
 written as a .glb. The scene pipeline then gives the same frame of the same scene, and
 every array must be equal bit for bit (exit 1 otherwise; 2 on bad input).
 """
@@ -34,20 +35,37 @@ def frame_by_stages(grid_path: str, frame: int) -> Dict[str, Any]:
     strips = libwave.build_ray_strips(fronts)
     mesh = libwave.mesh_water(seafloor, PERIOD, AMPLITUDE, per_wavelength=16)
     on_mesh = libwave.resample_ray_strips(strips, seafloor, mesh)
-
+    libwave.fill_strip_gaps(field, seafloor, on_mesh)  # where no strip passed, the field's wave
     motion = libwave.plan_gonzato_motion(on_mesh)
-    untangle = libwave.plan_untangle(mesh.x, mesh.y, mesh.triangles)
+
+    # The far field: a skirt to the horizon (2000 camera heights, at least ten domains),
+    # moved by the swell's fundamental and first overtone fitted at the border.
+    size = max(np.ptp(mesh.x), np.ptp(mesh.y))
+    skirt = libwave.plan_sea_skirt(seafloor, mesh.x, mesh.y, mesh.triangles, PERIOD, max(2000 * CAMERA[2], 10 * size))
+    omega = 2 * np.pi / PERIOD
+    waves = [(omega, h, DIRECTION, 0.0) for h in (1, 2)]
+    times = libwave.far_field_sample_times(PERIOD, len(waves))
+    far = libwave.plan_far_field(skirt, seafloor, waves, mesh.x, mesh.y, times, np.stack([motion.evaluate(s) for s in times]))
+    x, y = np.concatenate([mesh.x, skirt.x]), np.concatenate([mesh.y, skirt.y])
+    triangles = np.concatenate([mesh.triangles, skirt.triangles])
+    untangle = libwave.plan_untangle(x, y, triangles)
+
     t = frame / FPS
-    positions = motion.evaluate(t)
-    foam = libwave.breaking_foam(on_mesh, motion, t)
+    n = mesh.vertex_count
+    positions = np.zeros((n + skirt.vertex_count, 3), np.float32)
+    positions[:n] = motion.evaluate(t)
+    far.evaluate(t, positions)
+    foam = np.zeros(n + skirt.vertex_count, np.float32)
+    foam[:n] = libwave.breaking_foam(on_mesh, motion, t)
     untangle.apply(positions, foam)  # breaking lips (foam) may overturn
-    normals = libwave.vertex_normals(positions, mesh.triangles)
+    normals = libwave.vertex_normals(positions, triangles)
     reflect, refract = libwave.fresnel_weights(positions, normals, CAMERA)
-    texcoords = libwave.domain_texcoords(seafloor, mesh.x, mesh.y)
+    texcoords = libwave.domain_texcoords(seafloor, x, y)
     print(f"stages: {len(isobaths)} isobaths, {fronts.initial_rays + fronts.inserted_rays} rays, "
-          f"{len(strips.triangles)} strip triangles, water mesh {mesh.vertex_count} vertices, {len(mesh.triangles)} triangles")
+          f"{len(strips.triangles)} strip triangles, water mesh {mesh.vertex_count} vertices, {len(mesh.triangles)} triangles, "
+          f"skirt {skirt.vertex_count} vertices to {skirt.reach:g} m")
     return {"positions": positions, "normals": normals, "texcoords": texcoords, "foam": foam,
-            "reflect": reflect, "refract": refract, "triangles": np.asarray(mesh.triangles)}
+            "reflect": reflect, "refract": refract, "triangles": triangles}
 
 
 def scene(grid_path: str) -> libwave.Scene:

@@ -252,7 +252,11 @@ class MainJob(unittest.TestCase):
             # The exported surface is the water mesh, the strips' fields resampled on it.
             mesh = report["surface"]["water_mesh"]
             self.assertEqual(mesh["vertices_per_wavelength"], 16)
-            self.assertEqual((mesh["vertices"], mesh["triangles"]), (report["surface"]["vertices"], report["surface"]["triangles"]))
+            # … continued to the horizon by the far field's skirt (docs/far-field.md).
+            far = report["surface"]["far_field"]
+            self.assertEqual((mesh["vertices"] + far["vertices"], mesh["triangles"] + far["triangles"]),
+                             (report["surface"]["vertices"], report["surface"]["triangles"]))
+            self.assertGreaterEqual(far["distance_m"], 2000 * 40)  # the default camera stands 40 m up
             for name in ["ray", "step", "phase", "k", "omega", "amplitude", "depth", "slope", "rise", "flag", "caustic"]:
                 self.assertIn(name, props)
             self.check_animation(out, report)
@@ -768,7 +772,8 @@ class WindWaves(unittest.TestCase):
                 report = json.loads(r.stdout)
                 self.assertEqual(report["surface"]["refine"]["level"], 1)
                 coarse = report["surface"]["refine"]["coarse_vertices"]
-                self.assertEqual(report["surface"]["triangles"], 4 * report["surface"]["water_mesh"]["triangles"])
+                coarse_triangles = report["surface"]["water_mesh"]["triangles"] + report["surface"]["far_field"]["triangles"]
+                self.assertEqual(report["surface"]["triangles"], 4 * coarse_triangles)
                 self.assertGreater(report["surface"]["vertices"], 3 * coarse)
                 glb = os.path.join(out, "animation-frames-0-2.glb")
                 validate_gltf(self, glb)
@@ -1036,10 +1041,16 @@ class Inspect(unittest.TestCase):
             self.assertEqual(len(m["per_frame"]), 20)
             self.assertEqual((m["unreferenced_vertices"], m["non_manifold_edges"]), (0, 0))
             self.assertEqual(len(m["boundary"]["loops"]), 1)
-            self.assertEqual(m["boundary"]["border"], [0.0, 0.0, 100.0, 90.0])
+            # The far field's skirt reaches 2000 camera heights (40 m) out on the three
+            # wet sides; the beach side ends at the domain (y = 90).
+            R = 80000.0
+            self.assertEqual(m["boundary"]["border"], [-R, -R, 100.0 + R, 90.0])
             worst = m["worst"]
             self.assertEqual((worst["facing_down"], worst["folds"], worst["degenerate"]), (0, 0, 0))
-            self.assertGreaterEqual(worst["smallest_angle_deg"], 20.0)
+            # The water mesh aims at 20°, the skirt too; a few skirt triangles on the water
+            # mesh's border edges, which the skirt shares and never splits, stay just below 15°.
+            self.assertGreaterEqual(worst["smallest_angle_deg"], 14.0)
+            self.assertLessEqual(worst["slivers"], 5)
             self.assertLess(worst["max_speed_m_s"], 10.0)
             # Text: the same numbers for a person.
             r = wave("inspect", out)
@@ -1063,8 +1074,10 @@ class Inspect(unittest.TestCase):
                 self.assertEqual([f["folds"] for f in m["per_frame"] if f["folds"]], [], example)
                 self.assertGreater(sum(f["lips"] for f in m["per_frame"]), 0, example)  # the crests do overturn
                 self.assertEqual(len(m["boundary"]["loops"]), 1 if example != "gonzato-island.json" else 2, example)
-            # The sides stay on the domain's border (no lip hangs over it): the bay's 100 × 90 m.
-            self.assertEqual(self.inspect(os.path.join(d, "gonzato-bay.json"))["boundary"]["border"], [0.0, 0.0, 100.0, 90.0])
+            # The skirt's sides stay on its far rectangle (80 km out: 2000 camera heights)
+            # and the beach side on the domain's border (no lip hangs over it).
+            R = 80000.0
+            self.assertEqual(self.inspect(os.path.join(d, "gonzato-bay.json"))["boundary"]["border"], [-R, -R, 100.0 + R, 90.0])
 
     def test_breakers_on_the_water_mesh_leave_no_vertex_unused(self):
         # The breaking beach on the strips leaves vertices no triangle uses and a
@@ -1103,7 +1116,7 @@ class Inspect(unittest.TestCase):
                 doc = json.load(f)
             worst = {}
             for mesh in [False, {"vertices_per_wavelength": 8}]:
-                doc["surface"] = {"water_mesh": mesh}
+                doc["surface"] = {"water_mesh": mesh, "far_field": False}  # the surfaces alone
                 scene, out = os.path.join(d, "s.json"), os.path.join(d, "out-%s" % bool(mesh))
                 with open(scene, "w") as f:
                     json.dump(doc, f)

@@ -306,6 +306,88 @@ void bind_surfaces(py::module_& m) {
         },
         py::arg("strips"), py::arg("seafloor"), py::arg("mesh"),
         "The strips' fields at the water mesh's vertices (its triangles): the surface Gonzato's motion moves");
+    m.def(
+        "fill_strip_gaps",
+        [](const wave::WaveField& field, const wave::Seafloor& seafloor, wave::RayStrips& strips) {
+            py::gil_scoped_release release;
+            return wave::fill_strip_gaps(field, seafloor, strips);
+        },
+        py::arg("field"), py::arg("seafloor"), py::arg("strips"),
+        "Gives resampled strips' vertices no strip covers the field's wave (in place; phase matched to the rays'): what "
+        "scenes do on the water mesh when the field gives the heights. Returns the vertices filled");
+}
+
+void bind_far_field(py::module_& m) {
+    py::class_<wave::SeaSkirt, std::shared_ptr<wave::SeaSkirt>> skirt_class(
+        m, "SeaSkirt", "The sea beyond the domain: triangles from the surface's border out to a far rectangle (plan_sea_skirt)");
+    def_array(skirt_class, "x", &wave::SeaSkirt::x, "new vertices (m), after the surface's own");
+    def_array(skirt_class, "y", &wave::SeaSkirt::y);
+    def_array(skirt_class, "distance", &wave::SeaSkirt::distance, "per new vertex: to the domain's rectangle (m)");
+    skirt_class
+        .def_property_readonly("triangles", [](Shared self) {
+            const auto& k = self.cast<const wave::SeaSkirt&>();
+            return view(k.triangles, {ssize(k.triangles.size() / 3), 3}, self);
+        }, "(triangles, 3) uint32 into the surface's vertices then the skirt's")
+        .def_property_readonly("vertex_count", &wave::SeaSkirt::vertex_count)
+        .def_readonly("surface_vertices", &wave::SeaSkirt::surface_vertices)
+        .def_readonly("reach", &wave::SeaSkirt::reach);
+    m.def(
+        "plan_sea_skirt",
+        [](const wave::Seafloor& seafloor, const py::array& x, const py::array& y, const py::array& triangles, double period,
+           double distance, double swell_wavelengths, std::size_t max_vertices) {
+            const auto xs = to_vector<double>(x, 1, "plan_sea_skirt x"), ys = to_vector<double>(y, 1, "plan_sea_skirt y");
+            const auto t = to_vector<std::uint32_t>(triangles, 3, "plan_sea_skirt triangles");
+            wave::SeaSkirtOptions o;
+            o.distance = distance, o.max_vertices = max_vertices;
+            o.size = wave::swell_skirt_size(seafloor, period, swell_wavelengths);
+            py::gil_scoped_release release;
+            return std::make_shared<wave::SeaSkirt>(wave::plan_sea_skirt(xs, ys, t, o));
+        },
+        py::arg("seafloor"), py::arg("x"), py::arg("y"), py::arg("triangles"), py::arg("period"), py::arg("distance"),
+        py::arg("swell_wavelengths") = 3.0, py::arg("max_vertices") = 20'000'000,
+        "The skirt of a surface (rest x, y, triangles) sized for the shortest train's period out to `distance` m: the "
+        "scenes' /surface/far_field");
+    m.def("far_field_sample_times", &wave::far_field_sample_times, py::arg("loop_period"), py::arg("components"),
+          "The times (s) at which the scenes sample a surface for plan_far_field");
+
+    py::class_<wave::FarFieldPlan, std::shared_ptr<wave::FarFieldPlan>>(
+        m, "FarField", "The skirt's motion: the border's periodic components carried out (plan_far_field)")
+        .def_property_readonly("vertex_count", &wave::FarFieldPlan::vertex_count)
+        .def_readonly("surface_vertices", &wave::FarFieldPlan::surface_vertices)
+        .def(
+            "evaluate",
+            [](const wave::FarFieldPlan& p, double t, py::array positions) {
+                py::array_t<float> a = writable_floats(positions, 3 * (p.surface_vertices + p.vertex_count()), "far field positions");
+                std::span<float> s = span_of(a);
+                std::vector<float> scratch;
+                py::gil_scoped_release release;
+                wave::evaluate_far_field(p, t, s, scratch);
+            },
+            py::arg("t"), py::arg("positions"),
+            "Moves the skirt at time t (s) in place: positions is a writable (surface + skirt vertices, 3) float32 "
+            "array whose first rows hold the surface already moved");
+    m.def(
+        "plan_far_field",
+        [](const wave::SeaSkirt& skirt, const wave::Seafloor& seafloor, const std::vector<py::tuple>& waves,
+           const py::object& rest_x, const py::object& rest_y, const py::object& times, const py::object& samples) {
+            std::vector<wave::FarFieldWave> w;
+            for (const py::tuple& c : waves) {
+                if (c.size() != 4) throw py::value_error("plan_far_field waves: expected (omega, harmonic, (dx, dy), k) tuples");
+                const auto d = c[2].cast<std::array<double, 2>>();
+                w.push_back({.omega = c[0].cast<double>(), .harmonic = c[1].cast<int>(), .direction_x = d[0],
+                             .direction_y = d[1], .k = c[3].cast<double>()});
+            }
+            const auto xs = to_vector<double>(rest_x, 1, "plan_far_field rest_x"), ys = to_vector<double>(rest_y, 1, "plan_far_field rest_y");
+            const auto ts = to_vector<double>(times, 1, "plan_far_field times");
+            const auto ps = to_vector<float>(samples, 1, "plan_far_field samples");
+            py::gil_scoped_release release;
+            return std::make_shared<wave::FarFieldPlan>(wave::plan_far_field(skirt, seafloor.grid, w, xs, ys, ts, ps));
+        },
+        py::arg("skirt"), py::arg("seafloor"), py::arg("waves"), py::arg("rest_x"), py::arg("rest_y"), py::arg("times"),
+        py::arg("samples"),
+        "Fits the surface's border motion (samples: the surface at `times`, (times, vertices, 3) float32) by the "
+        "components `waves` — (omega, harmonic, (dx, dy), k or 0 for the dispersion relation) — and carries them out "
+        "over the skirt");
 }
 
 void bind_motion(py::module_& m) {
@@ -527,6 +609,7 @@ void bind_stages(py::module_& m) {
     bind_fronts(m);
     bind_surfaces(m);
     bind_motion(m);
+    bind_far_field(m);
     bind_breakers_and_ocean(m);
     bind_shading(m);
     bind_export(m);

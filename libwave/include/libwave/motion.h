@@ -218,6 +218,12 @@ struct FarFieldPlan {
 /// long carry: 1 up to a sixth of the wavelength, fading linearly to 0 at a third.
 double far_field_share(double wavelength, double edge) noexcept;
 
+/// The times (s) at which the scenes sample a surface for plan_far_field: 2 · components
+/// + 5 of them, at the golden ratio's multiples of the loop (modulo the loop), so that
+/// no two components alias whatever their frequencies. Throws InputError unless
+/// loop_period > 0.
+std::vector<double> far_field_sample_times(double loop_period, std::size_t components);
+
 /// Fits each anchor's displacement (its position minus its rest position) in
 /// `samples` — the surface at `times`, 3 floats per surface vertex per time — by least
 /// squares (LAPACK dgelss) with a mean and a cosine and sine per component, then

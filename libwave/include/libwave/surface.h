@@ -151,6 +151,15 @@ WaterMesh mesh_water(const Seafloor& seafloor, const EdgeSize& size, const Water
 /// border point (bx, by), where the surface's border edge is `border_edge` long.
 using SkirtSize = std::function<double(double bx, double by, double d, double border_edge)>;
 
+/// The scenes' skirt sizing (/surface/far_field): the border's own edge length `e`
+/// growing by 0.3 d to λ/8 over the swell band (swell_wavelengths · λ beyond the border,
+/// λ the shortest train's local wavelength at the depth of the nearest border point),
+/// then max(e, λ/8) + 0.08 d′ + 0.3 d′² / (d′ + 10 λ) at d′ past the band: the swell
+/// fades over about two wavelengths, then edges grow by about a third of the distance.
+/// Reads `seafloor`, which must outlive it. Throws InputError unless shortest_period
+/// and swell_wavelengths are > 0.
+SkirtSize swell_skirt_size(const Seafloor& seafloor, double shortest_period, double swell_wavelengths);
+
 /// Options of plan_sea_skirt.
 struct SeaSkirtOptions {
     double distance = 0.0;  ///< how far the skirt reaches beyond the rectangle (m, > 0): its outer rectangle

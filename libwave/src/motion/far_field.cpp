@@ -80,6 +80,14 @@ double smoothstep(double e0, double e1, double v) {
 
 }  // namespace
 
+std::vector<double> far_field_sample_times(double loop_period, std::size_t components) {
+    if (!(loop_period > 0.0) || !std::isfinite(loop_period))
+        throw InputError("far field: the loop period must be > 0 s");
+    std::vector<double> t(2 * components + 5);
+    for (std::size_t s = 0; s < t.size(); ++s) t[s] = loop_period * std::fmod(0.6180339887498949 * static_cast<double>(s), 1.0);
+    return t;
+}
+
 double far_field_share(double wavelength, double edge) noexcept {
     if (!(wavelength > 0.0)) return 0.0;
     return std::clamp((wavelength / 3.0 - edge) / (wavelength / 6.0), 0.0, 1.0);

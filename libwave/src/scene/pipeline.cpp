@@ -167,23 +167,10 @@ void plan_components(const Scene& scene, ScenePlan& p) {
                              " >= 1: crests may loop over themselves (Tessendorf §3.1); lower the amplitudes");
 }
 
-// The skirt's edge lengths: the border's edges, growing to an eighth of the shortest
-// train's local wavelength over the swell band (/surface/far_field/swell_wavelengths),
-// then slowly (the swell fades over about two wavelengths), then by a third of the
-// distance towards the horizon.
-SkirtSize skirt_size(const Scene& scene, const ScenePlan& p) {
-    double period = scene.waves.empty() ? 0.0 : scene.waves[0].period;
+double shortest_period(const Scene& scene) {
+    double period = std::numeric_limits<double>::infinity();
     for (const WaveTrain& w : scene.waves) period = std::min(period, w.period);
-    const double band = scene.far_field->swell_wavelengths;
-    const ElevationGrid* g = &p.seafloor.grid;
-    return [g, period, band](double bx, double by, double d, double edge) {
-        const double depth = std::max(depth_at(*g, bx, by), 1e-3);
-        const double wavelength = period > 0.0 ? 2.0 * std::numbers::pi / wavenumber_for_period(period, depth) : 8.0 * edge;
-        const double base = std::max(edge, wavelength / 8.0), width = band * wavelength;
-        if (d <= width) return std::min(edge + 0.3 * d, base);
-        const double out = d - width;
-        return base + 0.08 * out + 0.3 * out * out / (out + 10.0 * wavelength);
-    };
+    return period;
 }
 
 // How far the skirt reaches: the scene's distance, or far enough that its edge is
@@ -204,7 +191,7 @@ void plan_far_field_stage(const Scene& scene, ScenePlan& p) {
     const std::vector<std::uint32_t>& triangles = model.triangles(p);
     try {
         p.skirt = plan_sea_skirt(p.rest_x, p.rest_y, triangles,
-                                 SeaSkirtOptions{.distance = skirt_distance(scene, p), .size = skirt_size(scene, p),
+                                 SeaSkirtOptions{.distance = skirt_distance(scene, p), .size = swell_skirt_size(p.seafloor, shortest_period(scene), scene.far_field->swell_wavelengths),
                                                  .max_vertices = scene.surface.max_vertices});
     } catch (const LimitError& e) {
         throw LimitError("scene: " + std::string(e.what()) +
@@ -221,14 +208,13 @@ void plan_far_field_stage(const Scene& scene, ScenePlan& p) {
     for (const GerstnerWave& w : p.gerstner)
         waves.push_back({.omega = w.omega, .direction_x = w.kx, .direction_y = w.ky, .k = std::hypot(w.kx, w.ky)});
     // The model's surface (and the Gerstner waves) at times spread over the loop.
-    const std::size_t n = p.rest_x.size(), samples = 2 * waves.size() + 5;
-    std::vector<double> times(samples);
-    std::vector<float> positions(3 * n * samples);
+    const std::size_t n = p.rest_x.size();
+    const std::vector<double> times = far_field_sample_times(p.loop_period, waves.size());
+    std::vector<float> positions(3 * n * times.size());
     std::unique_ptr<detail::ModelState> state = model.start(scene, p, false);
     detail::WindSeaState unused;
     std::vector<float> normals(3 * n);
-    for (std::size_t s = 0; s < samples; ++s) {
-        times[s] = p.loop_period * std::fmod(0.6180339887498949 * static_cast<double>(s), 1.0);
+    for (std::size_t s = 0; s < times.size(); ++s) {
         const std::span<float> frame(&positions[3 * n * s], 3 * n);
         detail::ModelFrame f{.positions = frame, .normals = normals, .wind_sea = unused};
         model.move(scene, p, times[s], state.get(), f);

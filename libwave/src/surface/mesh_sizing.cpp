@@ -26,4 +26,20 @@ EdgeSize wavelength_edge_size(const Seafloor& seafloor, const WaveTrain& train, 
     };
 }
 
+SkirtSize swell_skirt_size(const Seafloor& seafloor, double shortest_period, double swell_wavelengths) {
+    if (!(shortest_period > 0.0) || !std::isfinite(shortest_period))
+        throw InputError("sea skirt: the shortest period must be > 0 s, got " + detail::format_number(shortest_period));
+    if (!(swell_wavelengths > 0.0) || !std::isfinite(swell_wavelengths))
+        throw InputError("sea skirt: swell_wavelengths must be > 0, got " + detail::format_number(swell_wavelengths));
+    const ElevationGrid* grid = &seafloor.grid;
+    return [grid, shortest_period, swell_wavelengths](double bx, double by, double d, double edge) {
+        const double depth = std::max(depth_at(*grid, bx, by), 1e-3);
+        const double wavelength = 2.0 * std::numbers::pi / wavenumber_for_period(shortest_period, depth);
+        const double base = std::max(edge, wavelength / 8.0), band = swell_wavelengths * wavelength;
+        if (d <= band) return std::min(edge + 0.3 * d, base);
+        const double out = d - band;
+        return base + 0.08 * out + 0.3 * out * out / (out + 10.0 * wavelength);
+    };
+}
+
 }  // namespace wave

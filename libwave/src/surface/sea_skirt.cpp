@@ -1,7 +1,8 @@
 // The sea skirt (surface.h): the outside of a surface's bounding rectangle, where its
 // border is water, triangulated out to a far rectangle (CGAL constrained Delaunay,
-// Mesh_2 refinement that never splits a constrained edge: the surface's border edges
-// stay shared as they are). docs/far-field.md.
+// Mesh_2 refinement that never splits a constrained edge: the skirt shares the
+// surface's border edges as they are; the cuts and the far rectangle are pre-split).
+// docs/far-field.md.
 #include "libwave/surface.h"
 
 #include "libwave/errors.h"
@@ -21,16 +22,28 @@
 #include <string>
 #include <utility>
 
-namespace wave {
-namespace {
+namespace wave::skirt_mesh {
 
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Vb = CGAL::Triangulation_vertex_base_with_info_2<std::uint32_t, K>;
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+// A vertex knows the surface vertex it is (kNone: a vertex of the skirt's own).
+struct VertexInfo {
+    std::uint32_t index = kNone;
+};
+using Vb = CGAL::Triangulation_vertex_base_with_info_2<VertexInfo, K>;
 using Fb = CGAL::Delaunay_mesh_face_base_2<K, CGAL::Constrained_Delaunay_triangulation_face_base_2<K>>;
 using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
 using CDT = CGAL::Constrained_Delaunay_triangulation_2<K, Tds, CGAL::Exact_predicates_tag>;
 using Point = CDT::Point;
-constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
+}  // namespace wave::skirt_mesh
+
+namespace wave {
+namespace {
+
+using skirt_mesh::CDT;
+using skirt_mesh::kNone;
+using skirt_mesh::Point;
 
 // The rectangle and positions along its perimeter, counter-clockwise from (x0, y0):
 // sides 0 bottom, 1 right, 2 top, 3 left.
@@ -217,7 +230,7 @@ std::vector<Point> split_line(Point from, Point to, const BorderLookup& lookup, 
     while (true) {
         const double mx = from.x() + (to.x() - from.x()) * s / len, my = from.y() + (to.y() - from.y()) * s / len;
         const BorderLookup::Hit h = lookup.at(mx, my);
-        const double step = 0.5 * size(h.bx, h.by, h.d, h.edge_length);  // constraints are never split: room for the refinement
+        const double step = 0.25 * size(h.bx, h.by, h.d, h.edge_length);  // constraints are never split: room for the refinement
         const double left = len - s;
         if (left <= step) break;
         s += left < 2.0 * step ? 0.5 * left : step;
@@ -292,7 +305,8 @@ SeaSkirt plan_sea_skirt(std::span<const double> x, std::span<const double> y, st
                          " vertices for the target edge lengths, more than the limit of " + std::to_string(o.max_vertices));
 
     CDT cdt;
-    // The rectangle as one closed constraint through every border vertex and corner.
+    // The rectangle as one closed constraint through every border vertex (each knows its
+    // surface index) and corner.
     std::map<std::pair<double, double>, std::uint32_t> surface_index;
     std::vector<std::pair<double, Point>> ring;
     for (const BorderEdge& e : edges)
@@ -304,10 +318,13 @@ SeaSkirt plan_sea_skirt(std::span<const double> x, std::span<const double> y, st
                                {r.w() + r.h(), Point(r.x1, r.y1)}, {2.0 * r.w() + r.h(), Point(r.x0, r.y1)}})
         if (!surface_index.contains({q.x(), q.y()})) ring.emplace_back(p, q);
     std::sort(ring.begin(), ring.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    std::vector<Point> inner;
-    for (const auto& [_, q] : ring) inner.push_back(q);
-    inner.push_back(inner.front());
-    cdt.insert_constraint(inner.begin(), inner.end());
+    std::vector<CDT::Vertex_handle> inner;
+    for (const auto& [_, q] : ring) {
+        inner.push_back(cdt.insert(q));
+        const auto it = surface_index.find({q.x(), q.y()});
+        if (it != surface_index.end()) inner.back()->info().index = it->second;
+    }
+    for (std::size_t i = 0; i < inner.size(); ++i) cdt.insert_constraint(inner[i], inner[(i + 1) % inner.size()]);
 
     // Cuts where a chain ends, and the outer rectangle through their far ends.
     std::vector<std::pair<double, Point>> outer_points;
@@ -351,16 +368,12 @@ SeaSkirt plan_sea_skirt(std::span<const double> x, std::span<const double> y, st
         throw LimitError("sea skirt: " + std::to_string(cdt.number_of_vertices()) + " vertices, more than the limit of " +
                          std::to_string(o.max_vertices));
 
-    for (CDT::Finite_vertices_iterator v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v) {
-        const auto it = surface_index.find({v->point().x(), v->point().y()});
-        v->info() = it != surface_index.end() ? it->second : kNone;
-    }
     for (CDT::Finite_faces_iterator f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
         if (!f->is_in_domain()) continue;
         for (int k = 0; k < 3; ++k) {
             const CDT::Vertex_handle v = f->vertex(k);
-            if (v->info() == kNone) {
-                v->info() = static_cast<std::uint32_t>(out.surface_vertices + out.x.size());
+            if (v->info().index == kNone) {
+                v->info().index = static_cast<std::uint32_t>(out.surface_vertices + out.x.size());
                 const BorderLookup::Hit h = lookup.at(v->point().x(), v->point().y());
                 out.x.push_back(v->point().x());
                 out.y.push_back(v->point().y());
@@ -371,7 +384,7 @@ SeaSkirt plan_sea_skirt(std::span<const double> x, std::span<const double> y, st
                 out.normal_y.push_back(h.ny);
                 out.size.push_back(o.size(h.bx, h.by, h.d, h.edge_length));
             }
-            out.triangles.push_back(v->info());
+            out.triangles.push_back(v->info().index);
         }
     }
     return out;
