@@ -124,7 +124,7 @@ TEST(Refine, SceneRefinesTheExportedSurface) {
     const SceneAnimation a = animate_scene(scene, plan, 2e9, {0, 2});
     EXPECT_EQ(a.vertex_count, plan.refinement.fine_vertices);
     ASSERT_GT(plan.water_mesh.vertex_count(), 0u);  // the exported surface: the water mesh by default
-    EXPECT_EQ(a.triangles.size(), 4 * plan.water_mesh.triangles.size());
+    EXPECT_EQ(a.triangles.size(), 4 * (plan.water_mesh.triangles.size() + plan.skirt.triangles.size()));  // and its far field
     EXPECT_EQ(a.foam.size(), 2 * a.vertex_count);
     // The coarse vertices' refined positions follow the coarse frame: stencils applied
     // to the unrefined frame give the refined one.

@@ -214,7 +214,7 @@ def import_dressing(context, dressing, folder="", caustics=True):
             eye = np.asarray(matrix)[:3, 3]
             reach = float(np.max(np.linalg.norm(np.asarray(corners, np.float64) - eye, axis=1)))
             cam.clip_end = max(cam.clip_end, 1.5 * reach)
-            cam.clip_start = max(cam.clip_start, cam.clip_end * 1e-5)
+            cam.clip_start = max(cam.clip_start, cam.clip_end * 1e-6)  # a far field reaches 2000 camera heights
         obj = bpy.data.objects.new("libwave camera", cam)
         obj.matrix_world = Matrix(matrix.tolist())
         context.collection.objects.link(obj)

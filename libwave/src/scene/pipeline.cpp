@@ -34,8 +34,18 @@ PreviewOptions scene_preview(const Scene& scene, const Seafloor& seafloor) {
     PreviewOptions o = scene.preview;
     o.camera = scene_camera(scene, seafloor);
     if (!scene.preview_look_at_set) {
+        // Towards the domain's centre, but pitched down no more than keeps the horizon
+        // 12 % of the picture below its top: the sea (and with a far field, the skirt)
+        // meets the sky in view.
         const ElevationGrid& g = seafloor.grid;
-        o.look_at = {0.5 * (g.x0 + g.x_max()), 0.5 * (g.y0 + g.y_max()), 0.0};
+        const std::array<double, 3> centre{0.5 * (g.x0 + g.x_max()), 0.5 * (g.y0 + g.y_max()), 0.0};
+        const double dx = centre[0] - o.camera[0], dy = centre[1] - o.camera[1], dz = centre[2] - o.camera[2];
+        const double across = std::hypot(dx, dy), reach = std::hypot(across, dz);
+        const double most = (0.5 - 0.12) * o.vertical_fov_degrees * std::numbers::pi / 180.0;
+        o.look_at = centre;
+        if (across > 0.0 && std::atan2(-dz, across) > most)
+            o.look_at = {o.camera[0] + reach * std::cos(most) * dx / across, o.camera[1] + reach * std::cos(most) * dy / across,
+                         o.camera[2] - reach * std::sin(most)};
     }
     return o;
 }
@@ -188,6 +198,10 @@ double skirt_distance(const Scene& scene, const ScenePlan& p) {
 void plan_far_field_stage(const Scene& scene, ScenePlan& p) {
     const detail::SurfaceModel& model = detail::surface_model(scene.surface_kind);
     if (!scene.far_field || model.far_field_harmonics == 0 || p.camera_grid.vertex_count() > 0) return;
+    // Draco's and KHR_mesh_quantization's position grids span the whole mesh: the
+    // skirt's reach would coarsen the coastal surface to metres. Those forms end at the
+    // domain's border (docs/far-field.md).
+    if (scene.draco || scene.quantize) return;
     const std::vector<std::uint32_t>& triangles = model.triangles(p);
     try {
         p.skirt = plan_sea_skirt(p.rest_x, p.rest_y, triangles,
@@ -721,7 +735,9 @@ void start_run(FrameRun& r, const std::vector<std::uint32_t>& triangles, std::si
     r.fresnel.camera = scene_camera(r.scene, plan.seafloor);
     r.fresnel.model = r.scene.fresnel;
     if (r.scene.underwater && r.scene.underwater->caustics) {
-        r.caustics = plan_caustics(plan.seafloor.grid, scene_caustic_options(r.scene, plan.seafloor));
+        CausticOptions o = scene_caustic_options(r.scene, plan.seafloor);
+        o.flat_water_beyond = plan.skirt.vertex_count() == 0;  // a skirt brings the light from beyond itself
+        r.caustics = plan_caustics(plan.seafloor.grid, o);
         r.caustic_map.resize(r.caustics->options.width * r.caustics->options.height);
     }
 }
