@@ -344,7 +344,7 @@ void bind_far_field(py::module_& m) {
             return std::make_shared<wave::SeaSkirt>(wave::plan_sea_skirt(xs, ys, t, o));
         },
         py::arg("seafloor"), py::arg("x"), py::arg("y"), py::arg("triangles"), py::arg("period"), py::arg("distance"),
-        py::arg("swell_wavelengths") = 3.0, py::arg("max_vertices") = 20'000'000,
+        py::arg("swell_wavelengths") = 2.0, py::arg("max_vertices") = 20'000'000,
         "The skirt of a surface (rest x, y, triangles) sized for the shortest train's period out to `distance` m: the "
         "scenes' /surface/far_field");
     m.def("far_field_sample_times", &wave::far_field_sample_times, py::arg("loop_period"), py::arg("components"),

@@ -115,7 +115,7 @@ struct Scene {
         double distance = 0.0;
         /// The swell keeps its resolution this many local wavelengths beyond the border,
         /// then fades out where the skirt's edges grow (> 0).
-        double swell_wavelengths = 3.0;
+        double swell_wavelengths = 2.0;
     };
     /// Set (the default): traced surfaces continue on a skirt out to the far rectangle
     /// (plan_sea_skirt, plan_far_field); empty (`"far_field": false`, the ocean patch,

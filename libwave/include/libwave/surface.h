@@ -152,9 +152,9 @@ WaterMesh mesh_water(const Seafloor& seafloor, const EdgeSize& size, const Water
 using SkirtSize = std::function<double(double bx, double by, double d, double border_edge)>;
 
 /// The scenes' skirt sizing (/surface/far_field): the border's own edge length `e`
-/// growing by 0.3 d to λ/8 over the swell band (swell_wavelengths · λ beyond the border,
+/// growing by 0.3 d to λ/6 over the swell band (swell_wavelengths · λ beyond the border,
 /// λ the shortest train's local wavelength at the depth of the nearest border point),
-/// then max(e, λ/8) + 0.08 d′ + 0.3 d′² / (d′ + 10 λ) at d′ past the band: the swell
+/// then max(e, λ/6) + 0.08 d′ + 0.3 d′² / (d′ + 2 λ) at d′ past the band: the swell
 /// fades over about two wavelengths, then edges grow by about a third of the distance.
 /// Reads `seafloor`, which must outlive it. Throws InputError unless shortest_period
 /// and swell_wavelengths are > 0.

@@ -35,10 +35,10 @@ SkirtSize swell_skirt_size(const Seafloor& seafloor, double shortest_period, dou
     return [grid, shortest_period, swell_wavelengths](double bx, double by, double d, double edge) {
         const double depth = std::max(depth_at(*grid, bx, by), 1e-3);
         const double wavelength = 2.0 * std::numbers::pi / wavenumber_for_period(shortest_period, depth);
-        const double base = std::max(edge, wavelength / 8.0), band = swell_wavelengths * wavelength;
+        const double base = std::max(edge, wavelength / 6.0), band = swell_wavelengths * wavelength;
         if (d <= band) return std::min(edge + 0.3 * d, base);
         const double out = d - band;
-        return base + 0.08 * out + 0.3 * out * out / (out + 10.0 * wavelength);
+        return base + 0.08 * out + 0.3 * out * out / (out + 2.0 * wavelength);
     };
 }
 
