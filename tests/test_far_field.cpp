@@ -132,6 +132,15 @@ TEST(SeaSkirt, EndsOnStraightCutsWhereTheBorderIsDry) {
     }
 }
 
+// A flat floor 100 m down under the grid's square.
+ElevationGrid deep_floor() {
+    ElevationGrid g;
+    g.nx = g.ny = 2;
+    g.dx = g.dy = kSide;
+    g.z.assign(4, -100.0);
+    return g;
+}
+
 // The surface moving as a deep-water Gerstner wave travelling along +x at times t.
 std::vector<float> gerstner_frame(const Surface& m, double A, double k, double omega, double t) {
     std::vector<float> p;
@@ -142,24 +151,26 @@ std::vector<float> gerstner_frame(const Surface& m, double A, double k, double o
     return p;
 }
 
+// The same at each of `times`, one after another (plan_far_field's samples).
+std::vector<float> gerstner_frames(const Surface& m, double A, double k, double omega, const std::vector<double>& times) {
+    std::vector<float> out;
+    for (double t : times) {
+        const std::vector<float> f = gerstner_frame(m, A, k, omega, t);
+        out.insert(out.end(), f.begin(), f.end());
+    }
+    return out;
+}
+
 TEST(FarField, APlaneWaveRunsOnUnchangedBeyondEveryWetSide) {
     const Surface m(true);
     const double A = 0.05, k = 2.0 * std::numbers::pi / 8.0, omega = std::sqrt(9.81 * k);
     SeaSkirtOptions o = options();
     o.size = [](double, double, double d, double edge) { return d < 30.0 ? std::max(edge, 0.5) : 0.5 + 0.3 * (d - 30.0); };
     const SeaSkirt s = plan_sea_skirt(m.x, m.y, m.triangles, o);
-    std::vector<double> times;
-    std::vector<float> samples;
-    for (int i = 0; i < 7; ++i) {
-        times.push_back(0.37 * i);
-        const std::vector<float> f = gerstner_frame(m, A, k, omega, times.back());
-        samples.insert(samples.end(), f.begin(), f.end());
-    }
+    const std::vector<double> times{0.0, 0.37, 0.74, 1.11, 1.48, 1.85, 2.22};
+    const std::vector<float> samples = gerstner_frames(m, A, k, omega, times);
     const FarFieldWave wave{.omega = omega, .direction_x = 1.0, .direction_y = 0.0, .k = k};
-    ElevationGrid flat;
-    flat.nx = flat.ny = 2;
-    flat.dx = flat.dy = kSide;
-    flat.z.assign(4, -100.0);
+    const ElevationGrid flat = deep_floor();
     const FarFieldPlan p = plan_far_field(s, flat, std::span(&wave, 1), m.x, m.y, times, samples);
     std::vector<float> scratch;
     std::size_t checked = 0;
@@ -199,10 +210,7 @@ TEST(FarField, WhatTheWavesDoNotExplainFadesOutOverTheResidualBand) {
     std::vector<float> samples;
     for (std::size_t i = 0; i < times.size(); ++i) samples.insert(samples.end(), one.begin(), one.end());
     const FarFieldWave wave{.omega = omega, .direction_x = 1.0, .direction_y = 0.0, .k = k};
-    ElevationGrid flat;
-    flat.nx = flat.ny = 2;
-    flat.dx = flat.dy = kSide;
-    flat.z.assign(4, -100.0);
+    const ElevationGrid flat = deep_floor();
     FarFieldOptions o;
     o.residual_wavelengths = 2.0;  // 16 m
     const FarFieldPlan p = plan_far_field(s, flat, std::span(&wave, 1), m.x, m.y, times, samples, o);
@@ -226,10 +234,7 @@ TEST(FarField, RefusesTooFewSamplesAndMismatchedSizes) {
     const Surface m(false);
     const SeaSkirt s = plan_sea_skirt(m.x, m.y, m.triangles, options());
     const FarFieldWave waves[2] = {{.omega = 1.0}, {.omega = 2.0}};
-    ElevationGrid flat;
-    flat.nx = flat.ny = 2;
-    flat.dx = flat.dy = kSide;
-    flat.z.assign(4, -100.0);
+    const ElevationGrid flat = deep_floor();
     const std::vector<double> times{0.0, 1.0, 2.0, 3.0};  // 2 components need 5
     const std::vector<float> samples(3 * m.x.size() * times.size(), 0.0f);
     EXPECT_THROW(plan_far_field(s, flat, waves, m.x, m.y, times, samples), InputError);
@@ -245,17 +250,10 @@ TEST(FarField, TheSameBitsOnAnyThreadCount) {
     const Surface m(true);
     const SeaSkirt s = plan_sea_skirt(m.x, m.y, m.triangles, options());
     const double k = 0.7, omega = std::sqrt(9.81 * k);
-    std::vector<double> times{0.0, 0.3, 0.6, 0.9, 1.2};
-    std::vector<float> samples;
-    for (double t : times) {
-        const std::vector<float> f = gerstner_frame(m, 0.1, k, omega, t);
-        samples.insert(samples.end(), f.begin(), f.end());
-    }
+    const std::vector<double> times{0.0, 0.3, 0.6, 0.9, 1.2};
+    const std::vector<float> samples = gerstner_frames(m, 0.1, k, omega, times);
     const FarFieldWave wave{.omega = omega, .direction_x = 1.0, .direction_y = 0.5, .k = k};
-    ElevationGrid flat;
-    flat.nx = flat.ny = 2;
-    flat.dx = flat.dy = kSide;
-    flat.z.assign(4, -100.0);
+    const ElevationGrid flat = deep_floor();
     const FarFieldPlan p = plan_far_field(s, flat, std::span(&wave, 1), m.x, m.y, times, samples);
     std::vector<std::vector<float>> out;
     for (std::size_t threads : {1u, 4u}) {

@@ -6,6 +6,7 @@
 #include "libwave/surface.h"
 
 #include "libwave/errors.h"
+#include "centroid_size_criteria.h"
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Delaunay_mesh_face_base_2.h>
@@ -176,40 +177,6 @@ struct BorderLookup {
     }
 };
 
-// Mesh_2's size criterion with the skirt's size at each triangle's centroid.
-class SkirtCriteria : public CGAL::Delaunay_mesh_size_criteria_2<CDT> {
-    using Base = CGAL::Delaunay_mesh_size_criteria_2<CDT>;
-    const BorderLookup* lookup_;
-    const SkirtSize* size_;
-
-public:
-    SkirtCriteria(double squared_sine_bound, const BorderLookup& lookup, const SkirtSize& size)
-        : Base(squared_sine_bound, 0.0), lookup_(&lookup), size_(&size) {}
-
-    class Is_bad : public Base::Is_bad {
-        const BorderLookup* lookup_;
-        const SkirtSize* size_;
-
-    public:
-        Is_bad(double bound, const Geom_traits& geom, const BorderLookup* lookup, const SkirtSize* size)
-            : Base::Is_bad(bound, 0.0, geom), lookup_(lookup), size_(size) {}
-
-        CGAL::Mesh_2::Face_badness operator()(const Quality q) const { return Base::Is_bad::operator()(q); }
-
-        CGAL::Mesh_2::Face_badness operator()(const CDT::Face_handle& fh, Quality& q) const {
-            const CGAL::Mesh_2::Face_badness shape = Base::Is_bad::operator()(fh, q);
-            const Point &a = fh->vertex(0)->point(), &b = fh->vertex(1)->point(), &c = fh->vertex(2)->point();
-            const BorderLookup::Hit h = lookup_->at((a.x() + b.x() + c.x()) / 3.0, (a.y() + b.y() + c.y()) / 3.0);
-            const double s = (*size_)(h.bx, h.by, h.d, h.edge_length);
-            const double longest = std::max({CGAL::squared_distance(a, b), CGAL::squared_distance(b, c), CGAL::squared_distance(c, a)});
-            q.second = longest / (s * s);
-            return q.size() > 1.0 ? CGAL::Mesh_2::IMPERATIVELY_BAD : shape;
-        }
-    };
-
-    Is_bad is_bad_object() const { return Is_bad(this->bound(), this->traits, lookup_, size_); }
-};
-
 void check(std::span<const double> x, std::span<const double> y, std::span<const std::uint32_t> triangles,
            const SeaSkirtOptions& o) {
     if (x.size() != y.size()) throw InputError("sea skirt: x and y differ in length");
@@ -361,7 +328,12 @@ SeaSkirt plan_sea_skirt(std::span<const double> x, std::span<const double> y, st
         seeds.emplace_back(0.5 * (x[e.a] + x[e.b]) + 0.25 * len * n[0], 0.5 * (y[e.a] + y[e.b]) + 0.25 * len * n[1]);
     }
     const double sine = std::sin(o.min_angle_deg * std::numbers::pi / 180.0);
-    CGAL::Delaunay_mesher_no_edge_refinement_2<CDT, SkirtCriteria> mesher(cdt, SkirtCriteria(sine * sine, lookup, o.size));
+    const std::function<double(double, double)> size_at = [&](double px, double py) {
+        const BorderLookup::Hit h = lookup.at(px, py);
+        return o.size(h.bx, h.by, h.d, h.edge_length);
+    };
+    using Criteria = detail::CentroidSizeCriteria<CDT>;
+    CGAL::Delaunay_mesher_no_edge_refinement_2<CDT, Criteria> mesher(cdt, Criteria(sine * sine, size_at));
     mesher.set_seeds(seeds.begin(), seeds.end(), true);
     mesher.refine_mesh();
     if (cdt.number_of_vertices() > o.max_vertices)

@@ -4,6 +4,7 @@
 
 #include "libwave/errors.h"
 #include "libwave/isobath.h"
+#include "centroid_size_criteria.h"
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Delaunay_mesh_face_base_2.h>
@@ -39,41 +40,6 @@ double centroid_size(const EdgeSize& size, const ElevationGrid& grid, double x, 
     if (depth_at(grid, x, y) <= 0.0) return std::numeric_limits<double>::infinity();  // land: shape only
     return size(x, y);
 }
-
-// Mesh_2's size criterion with the size read at each triangle's centroid: a triangle
-// whose longest edge exceeds it is split first (imperatively bad), then the angle bound.
-class LocalSizeCriteria : public CGAL::Delaunay_mesh_size_criteria_2<CDT> {
-    using Base = CGAL::Delaunay_mesh_size_criteria_2<CDT>;
-    const EdgeSize* size_;
-    const ElevationGrid* grid_;
-
-public:
-    LocalSizeCriteria(double squared_sine_bound, const EdgeSize& size, const ElevationGrid& grid)
-        : Base(squared_sine_bound, 0.0), size_(&size), grid_(&grid) {}
-
-    class Is_bad : public Base::Is_bad {
-        const EdgeSize* size_;
-        const ElevationGrid* grid_;
-
-    public:
-        Is_bad(double bound, const Geom_traits& geom, const EdgeSize* size, const ElevationGrid* grid)
-            : Base::Is_bad(bound, 0.0, geom), size_(size), grid_(grid) {}
-
-        CGAL::Mesh_2::Face_badness operator()(const Quality q) const { return Base::Is_bad::operator()(q); }
-
-        CGAL::Mesh_2::Face_badness operator()(const CDT::Face_handle& fh, Quality& q) const {
-            const CGAL::Mesh_2::Face_badness shape = Base::Is_bad::operator()(fh, q);  // q: (sine², 0)
-            const Point &a = fh->vertex(0)->point(), &b = fh->vertex(1)->point(), &c = fh->vertex(2)->point();
-            const double s = centroid_size(*size_, *grid_, (a.x() + b.x() + c.x()) / 3.0, (a.y() + b.y() + c.y()) / 3.0);
-            const double longest = std::max({CGAL::squared_distance(a, b), CGAL::squared_distance(b, c),
-                                             CGAL::squared_distance(c, a)});
-            q.second = std::isfinite(s) ? longest / (s * s) : 0.0;
-            return q.size() > 1.0 ? CGAL::Mesh_2::IMPERATIVELY_BAD : shape;
-        }
-    };
-
-    Is_bad is_bad_object() const { return Is_bad(this->bound(), this->traits, size_, grid_); }
-};
 
 // The h = 0 polylines of the seafloor (none when it is all water or all land), rings
 // shorter than min_ring left out.
@@ -246,7 +212,8 @@ WaterMesh mesh_water(const Seafloor& seafloor, const EdgeSize& size, const Water
     const double min_gap = std::isfinite(smallest) ? 0.1 * smallest : 1e-9 * std::hypot(g.x_max() - g.x0, g.y_max() - g.y0);
     insert_constraints(cdt, g, shoreline(seafloor, std::isfinite(min_ring) ? min_ring : 0.0), min_gap);
     const double sine = std::sin(options.min_angle_deg * std::numbers::pi / 180.0);
-    CGAL::Delaunay_mesher_2<CDT, LocalSizeCriteria> mesher(cdt, LocalSizeCriteria(sine * sine, size, g));
+    const std::function<double(double, double)> size_at = [&](double x, double y) { return centroid_size(size, g, x, y); };
+    CGAL::Delaunay_mesher_2<CDT, detail::CentroidSizeCriteria<CDT>> mesher(cdt, detail::CentroidSizeCriteria<CDT>(sine * sine, size_at));
     mesher.refine_mesh();
 
     const std::vector<bool> wet = wet_regions(cdt, g);
