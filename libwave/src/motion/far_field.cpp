@@ -205,7 +205,7 @@ void evaluate_far_field(const FarFieldPlan& p, double t, std::span<float> positi
         const std::uint32_t v = p.anchor_vertex[k];
         for (std::size_t axis = 0; axis < 3; ++axis)
             scratch[3 * k + axis] = static_cast<float>(positions[3 * v + axis] - p.anchor_rest[3 * k + axis] -
-                                                       wave_sum(&p.anchor_amplitude[6 * k * W], axis));
+                                                       wave_sum(p.anchor_amplitude.data() + 6 * k * W, axis));
     }
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, S, 2048), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t v = r.begin(); v != r.end(); ++v) {
@@ -214,7 +214,7 @@ void evaluate_far_field(const FarFieldPlan& p, double t, std::span<float> positi
             const double rest[3] = {p.rest_x[v], p.rest_y[v], 0.0};
             for (std::size_t axis = 0; axis < 3; ++axis) {
                 const double residual = wa * scratch[3 * a0 + axis] + (1.0 - wa) * scratch[3 * a1 + axis];
-                positions[3 * (n + v) + axis] = static_cast<float>(rest[axis] + wave_sum(&p.amplitude[6 * v * W], axis) + beta * residual);
+                positions[3 * (n + v) + axis] = static_cast<float>(rest[axis] + wave_sum(p.amplitude.data() + 6 * v * W, axis) + beta * residual);
             }
         }
     });
