@@ -192,9 +192,54 @@ double skirt_distance(const Scene& scene, const ScenePlan& p) {
     return std::max(2000.0 * std::max(0.0, scene_camera(scene, p.seafloor)[2]), 10.0 * size);
 }
 
+// The far field's periodic components: each train's harmonics the model holds, each
+// Gerstner wave.
+std::vector<FarFieldWave> far_field_components(const Scene& scene, const ScenePlan& p, int harmonics) {
+    std::vector<FarFieldWave> waves;
+    for (const WaveTrain& w : scene.waves)
+        for (int h = 1; h <= harmonics; ++h)
+            waves.push_back({.omega = quantize_frequency(2.0 * std::numbers::pi / w.period, p.loop_period), .harmonic = h,
+                             .direction_x = w.direction_x, .direction_y = w.direction_y});
+    for (const GerstnerWave& w : p.gerstner)
+        waves.push_back({.omega = w.omega, .direction_x = w.kx, .direction_y = w.ky, .k = std::hypot(w.kx, w.ky)});
+    return waves;
+}
+
+// The model's own surface (with the Gerstner waves) at `times`, one frame after another.
+std::vector<float> sample_model(const Scene& scene, const ScenePlan& p, const detail::SurfaceModel& model,
+                                std::span<const double> times) {
+    const std::size_t n = p.rest_x.size();
+    std::vector<float> positions(3 * n * times.size()), normals(3 * n);
+    std::unique_ptr<detail::ModelState> state = model.start(scene, p, false);
+    detail::WindSeaState unused;
+    for (std::size_t s = 0; s < times.size(); ++s) {
+        const std::span<float> frame(&positions[3 * n * s], 3 * n);
+        detail::ModelFrame f{.positions = frame, .normals = normals, .wind_sea = unused};
+        model.move(scene, p, times[s], state.get(), f);
+        if (!p.gerstner.empty()) add_gerstner_waves(p.gerstner, p.rest_x, p.rest_y, p.rest_depth, times[s], frame);
+    }
+    return positions;
+}
+
+// The skirt's vertices after the model's: rest positions, the depth of the seafloor
+// continued outwards, and the wind sea as far as the skirt resolves its peak wavelength.
+void append_skirt(ScenePlan& p) {
+    p.model_vertices = p.rest_x.size();
+    p.skirted_triangles.insert(p.skirted_triangles.end(), p.skirt.triangles.begin(), p.skirt.triangles.end());
+    p.rest_x.insert(p.rest_x.end(), p.skirt.x.begin(), p.skirt.x.end());
+    p.rest_y.insert(p.rest_y.end(), p.skirt.y.begin(), p.skirt.y.end());
+    const double peak_wavelength = p.ocean.n > 0 ? 2.0 * std::numbers::pi * kGravity / (p.ocean.peak_omega * p.ocean.peak_omega) : 0.0;
+    for (std::size_t v = 0; v < p.skirt.vertex_count(); ++v) {
+        const auto depth = static_cast<float>(std::max(0.0, depth_at(p.seafloor.grid, p.skirt.x[v], p.skirt.y[v])));
+        p.rest_depth.push_back(depth);
+        if (!p.wind_sea_scale.empty())
+            p.wind_sea_scale.push_back(static_cast<float>(wind_sea_depth_factor(p.ocean.peak_omega, depth) *
+                                                          far_field_share(peak_wavelength, p.skirt.size[v])));
+    }
+}
+
 // The far field (/surface/far_field): the skirt around the model's surface, its motion
-// fitted on the model's border at spread times, the skirt's vertices appended to the
-// rest positions (the seafloor under them is the border's, continued outwards).
+// fitted on the model's border at spread times, the skirt's vertices appended.
 void plan_far_field_stage(const Scene& scene, ScenePlan& p) {
     const detail::SurfaceModel& model = detail::surface_model(scene.surface_kind);
     if (!scene.far_field || model.far_field_harmonics == 0 || p.camera_grid.vertex_count() > 0) return;
@@ -203,54 +248,23 @@ void plan_far_field_stage(const Scene& scene, ScenePlan& p) {
     // domain's border (docs/far-field.md).
     if (scene.draco || scene.quantize) return;
     const std::vector<std::uint32_t>& triangles = model.triangles(p);
+    SeaSkirtOptions o;
+    o.distance = skirt_distance(scene, p);
+    o.size = swell_skirt_size(p.seafloor, shortest_period(scene), scene.far_field->swell_wavelengths);
+    o.max_vertices = scene.surface.max_vertices;
     try {
-        p.skirt = plan_sea_skirt(p.rest_x, p.rest_y, triangles,
-                                 SeaSkirtOptions{.distance = skirt_distance(scene, p), .size = swell_skirt_size(p.seafloor, shortest_period(scene), scene.far_field->swell_wavelengths),
-                                                 .max_vertices = scene.surface.max_vertices});
+        p.skirt = plan_sea_skirt(p.rest_x, p.rest_y, triangles, o);
     } catch (const LimitError& e) {
         throw LimitError("scene: " + std::string(e.what()) +
                          " (/surface/max_vertices); lower /surface/far_field/swell_wavelengths or its distance, or set "
                          "\"far_field\": false");
     }
     if (p.skirt.vertex_count() == 0) return;
-    // The periodic components: each train's harmonics, each Gerstner wave.
-    std::vector<FarFieldWave> waves;
-    for (const WaveTrain& w : scene.waves)
-        for (int h = 1; h <= model.far_field_harmonics; ++h)
-            waves.push_back({.omega = quantize_frequency(2.0 * std::numbers::pi / w.period, p.loop_period), .harmonic = h,
-                             .direction_x = w.direction_x, .direction_y = w.direction_y});
-    for (const GerstnerWave& w : p.gerstner)
-        waves.push_back({.omega = w.omega, .direction_x = w.kx, .direction_y = w.ky, .k = std::hypot(w.kx, w.ky)});
-    // The model's surface (and the Gerstner waves) at times spread over the loop.
-    const std::size_t n = p.rest_x.size();
+    const std::vector<FarFieldWave> waves = far_field_components(scene, p, model.far_field_harmonics);
     const std::vector<double> times = far_field_sample_times(p.loop_period, waves.size());
-    std::vector<float> positions(3 * n * times.size());
-    std::unique_ptr<detail::ModelState> state = model.start(scene, p, false);
-    detail::WindSeaState unused;
-    std::vector<float> normals(3 * n);
-    for (std::size_t s = 0; s < times.size(); ++s) {
-        const std::span<float> frame(&positions[3 * n * s], 3 * n);
-        detail::ModelFrame f{.positions = frame, .normals = normals, .wind_sea = unused};
-        model.move(scene, p, times[s], state.get(), f);
-        if (!p.gerstner.empty()) add_gerstner_waves(p.gerstner, p.rest_x, p.rest_y, p.rest_depth, times[s], frame);
-    }
-    p.far_field = plan_far_field(p.skirt, p.seafloor.grid, waves, p.rest_x, p.rest_y, times, positions);
-    // The skirt's vertices after the model's.
-    p.model_vertices = n;
+    p.far_field = plan_far_field(p.skirt, p.seafloor.grid, waves, p.rest_x, p.rest_y, times, sample_model(scene, p, model, times));
     p.skirted_triangles = triangles;
-    p.skirted_triangles.insert(p.skirted_triangles.end(), p.skirt.triangles.begin(), p.skirt.triangles.end());
-    p.rest_x.insert(p.rest_x.end(), p.skirt.x.begin(), p.skirt.x.end());
-    p.rest_y.insert(p.rest_y.end(), p.skirt.y.begin(), p.skirt.y.end());
-    const ElevationGrid& g = p.seafloor.grid;
-    for (std::size_t v = 0; v < p.skirt.vertex_count(); ++v) {
-        const auto depth = static_cast<float>(std::max(0.0, depth_at(g, p.skirt.x[v], p.skirt.y[v])));
-        p.rest_depth.push_back(depth);
-        if (p.wind_sea_scale.empty()) continue;
-        // The wind sea continues as far as the skirt resolves its peak wavelength.
-        const double peak_wavelength = 2.0 * std::numbers::pi * kGravity / (p.ocean.peak_omega * p.ocean.peak_omega);
-        p.wind_sea_scale.push_back(static_cast<float>(wind_sea_depth_factor(p.ocean.peak_omega, depth) *
-                                                      far_field_share(peak_wavelength, p.skirt.size[v])));
-    }
+    append_skirt(p);
 }
 
 // The fold foam's threshold: the scene's /shade/fold_threshold when it gives one; else the
@@ -742,6 +756,11 @@ void start_run(FrameRun& r, const std::vector<std::uint32_t>& triangles, std::si
     }
 }
 
+// The vertices the surface model moves itself: all but a far field's skirt.
+std::size_t model_vertex_count(const ScenePlan& plan) {
+    return plan.model_vertices > 0 ? plan.model_vertices : plan.rest_x.size();
+}
+
 // lattice J₋ → J₋ per coarse vertex.
 void fold_at_vertices(const ScenePlan& plan, std::span<const float> lattice_j, std::span<float> out) {
     if (plan.wind_sea_scale.empty()) {  // the surface is the patch: (N+1)² vertices repeat the first row and column
@@ -761,7 +780,7 @@ void fold_at_vertices(const ScenePlan& plan, std::span<const float> lattice_j, s
 bool move_coarse(FrameRun& r, double t, std::span<float> pc, std::span<float> nrc) {
     const ScenePlan& plan = r.plan;
     // With a far field the model moves its own vertices, the skirt follows them.
-    const std::size_t own = plan.model_vertices > 0 ? plan.model_vertices : plan.rest_x.size();
+    const std::size_t own = model_vertex_count(plan);
     detail::ModelFrame frame{.positions = pc.first(3 * own), .normals = nrc.first(3 * own), .wind_sea = r.wind_sea};
     const bool exact_normals = r.model.move(r.scene, plan, t, r.state.get(), frame) && own == plan.rest_x.size();
     if (!plan.gerstner.empty()) {
@@ -783,7 +802,7 @@ bool move_coarse(FrameRun& r, double t, std::span<float> pc, std::span<float> nr
 // Foam at the coarse vertices: the model's, then the wind sea's folds fading out.
 void coarse_foam(FrameRun& r, double t, std::span<float> fc) {
     const ScenePlan& plan = r.plan;
-    if (r.model.foam) r.model.foam(r.scene, plan, t, r.state.get(), fc.first(plan.model_vertices > 0 ? plan.model_vertices : fc.size()));
+    if (r.model.foam) r.model.foam(r.scene, plan, t, r.state.get(), fc.first(model_vertex_count(plan)));
     if (plan.ocean.n == 0) return;
     const FoldFoamOptions& fold = plan.fold_foam;
     accumulate_fold_foam(r.wind_sea.vertex_j, 0.0, fold, fc);
