@@ -166,31 +166,35 @@ SurfaceKind read_kind(const Node& n) {
     return n.choice(kinds);
 }
 
+// A key that is false (off) or an object (on, its settings): whether it is there and on;
+// true is refused, naming what false means.
+bool switched_on(const Node& n, const char* key, const char* off) {
+    if (!n.has(key)) return false;
+    const Node k = n[key];
+    if (!k.value().is_boolean()) return true;
+    if (k.value().get<bool>()) k.fail(std::string("expected false (") + off + ") or an object");
+    return false;
+}
+
 void read_surface(const Node& n, Scene& s) {
     n.require_object({"kind", "grid", "samples_per_span", "footprint", "footprint_radius", "tension_per_metre",
                       "max_tension", "repeat_time", "max_vertices", "camera_grid", "water_mesh", "far_field"});
-    if (n.has("far_field")) {
+    if (switched_on(n, "far_field", "no far field")) {
         const Node f = n["far_field"];
-        if (f.value().is_boolean()) {
-            if (f.value().get<bool>()) f.fail("expected false (no far field) or an object");
-            s.far_field.reset();
-        } else {
-            f.require_object({"distance", "swell_wavelengths"});
-            Scene::FarField o;
-            if (f.has("distance")) o.distance = f["distance"].number("m");
-            if (f.has("swell_wavelengths")) o.swell_wavelengths = f["swell_wavelengths"].number("");
-            s.far_field = o;
-        }
+        f.require_object({"distance", "swell_wavelengths"});
+        Scene::FarField o;
+        if (f.has("distance")) o.distance = f["distance"].number("m");
+        if (f.has("swell_wavelengths")) o.swell_wavelengths = f["swell_wavelengths"].number("");
+        s.far_field = o;
+    } else if (n.has("far_field")) {
+        s.far_field.reset();
     }
-    if (n.has("water_mesh")) {
+    if (switched_on(n, "water_mesh", "the strips themselves")) {
         const Node w = n["water_mesh"];
-        if (w.value().is_boolean()) {
-            if (w.value().get<bool>()) w.fail("expected false (the strips themselves) or an object");
-            s.water_mesh_per_wavelength.reset();
-        } else {
-            w.require_object({"vertices_per_wavelength"});
-            s.water_mesh_per_wavelength = w.has("vertices_per_wavelength") ? w["vertices_per_wavelength"].number("") : *Scene{}.water_mesh_per_wavelength;
-        }
+        w.require_object({"vertices_per_wavelength"});
+        s.water_mesh_per_wavelength = w.has("vertices_per_wavelength") ? w["vertices_per_wavelength"].number("") : *Scene{}.water_mesh_per_wavelength;
+    } else if (n.has("water_mesh")) {
+        s.water_mesh_per_wavelength.reset();
     }
     if (n.has("camera_grid")) {
         if (!n.has("water_mesh")) s.water_mesh_per_wavelength.reset();  // the grid replaces it
