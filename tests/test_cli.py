@@ -46,11 +46,27 @@ def read_glb(path):
 
 
 def floats(doc, binary, accessor):
+    """A float accessor's values, flat: its view (zeros without one), then its sparse
+    substitutions (morph targets store only the vertices that move)."""
     a = doc["accessors"][accessor]
-    view = doc["bufferViews"][a["bufferView"]]
     width = {"SCALAR": 1, "VEC2": 2, "VEC3": 3}[a["type"]]
-    start = view.get("byteOffset", 0) + a.get("byteOffset", 0)
-    return struct.unpack_from("<%df" % (a["count"] * width), binary, start)
+    if "bufferView" in a:
+        view = doc["bufferViews"][a["bufferView"]]
+        start = view.get("byteOffset", 0) + a.get("byteOffset", 0)
+        values = list(struct.unpack_from("<%df" % (a["count"] * width), binary, start))
+    else:
+        values = [0.0] * (a["count"] * width)
+    sparse = a.get("sparse")
+    if sparse:
+        n = sparse["count"]
+        index_view = doc["bufferViews"][sparse["indices"]["bufferView"]]
+        value_view = doc["bufferViews"][sparse["values"]["bufferView"]]
+        code = {5121: "B", 5123: "H", 5125: "I"}[sparse["indices"]["componentType"]]
+        indices = struct.unpack_from("<%d%s" % (n, code), binary, index_view.get("byteOffset", 0) + sparse["indices"].get("byteOffset", 0))
+        packed = struct.unpack_from("<%df" % (n * width), binary, value_view.get("byteOffset", 0) + sparse["values"].get("byteOffset", 0))
+        for i, k in enumerate(indices):
+            values[k * width:(k + 1) * width] = packed[i * width:(i + 1) * width]
+    return tuple(values)
 
 
 def write_scene(folder, doc, name="s.json"):
@@ -1698,7 +1714,9 @@ class Limits(unittest.TestCase):
             rc, rss_kb = map(int, out.stdout.split())
             self.assertEqual(rc, 0, out.stderr)
             size = os.path.getsize(os.path.join(d, "m", "animation.glb"))
-            self.assertAlmostEqual(size / est["output_bytes"], 1.0, delta=0.02)  # the writer's layout, exactly but for JSON
+            # The writer's dense layout, an upper bound: sparse targets (still vertices:
+            # the dry beach, foam-free water) take less (the bay: 0.86 of it).
+            self.assertTrue(0.7 < size / est["output_bytes"] < 1.02, f"{size} bytes vs estimate {est['output_bytes']}")
             if not self.UNDER_ASAN:
                 ratio = rss_kb * 1024 / est["peak_memory_bytes"]
                 self.assertTrue(0.75 < ratio < 1.33, f"peak RSS {rss_kb / 1e6:.2f} GB vs estimate {est['peak_memory_bytes'] / 1e9:.2f} GB")

@@ -1,6 +1,7 @@
 // Export and shade kernels: key times, input checks, and vertex normals.
 #include "libwave/errors.h"
 #include "libwave/export.h"
+#include "libwave/io.h"
 #include "libwave/scene.h"
 #include "libwave/shade.h"
 
@@ -14,6 +15,7 @@
 #include <algorithm>
 #include <array>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 #include <vector>
 
@@ -225,10 +227,55 @@ TEST(Draco, MorphBaseKeepsTheVertexOrderOfItsTargets) {
     EXPECT_LE(worst, 120.0 / double(1 << 14));  // point v is vertex v, within the 14-bit step of the ~110 m extent
 }
 
-TEST(Quantization, MorphFramesDecodeWithinTheInt16Step) {
-    // KHR_mesh_quantization: frame k = node transform (base + target k), each stored as
-    // normalised int16 — within one quantisation step of the float frame per target.
-    const SceneAnimation anim = coarse_bay(4);
+// An accessor of a .glb as doubles: float or normalised int16, dense (any stride),
+// without a view (zeros), or sparse (a view, or zeros, then the listed elements).
+std::vector<double> accessor_values(const nlohmann::json& doc, const char* bin, int index) {
+    const auto& acc = doc["accessors"][index];
+    const std::size_t width = acc["type"] == "VEC3" ? 3 : acc["type"] == "VEC2" ? 2 : 1;
+    const std::size_t count = acc["count"].get<std::size_t>();
+    const int type = acc["componentType"].get<int>();
+    const std::size_t size = type == 5126 ? 4 : 2;
+    const auto value = [&](const char* p) {
+        if (type == 5126) {
+            float f = 0;
+            std::memcpy(&f, p, 4);
+            return double{f};
+        }
+        std::int16_t q = 0;
+        std::memcpy(&q, p, 2);
+        return std::max(q / 32767.0, -1.0);
+    };
+    std::vector<double> out(width * count, 0.0);
+    if (acc.contains("bufferView")) {
+        const auto& bv = doc["bufferViews"][acc["bufferView"].get<int>()];
+        const std::size_t stride = bv.value("byteStride", width * size);
+        for (std::size_t e = 0; e < count; ++e)
+            for (std::size_t c = 0; c < width; ++c)
+                out[width * e + c] = value(bin + bv.value("byteOffset", 0) + acc.value("byteOffset", 0) + stride * e + size * c);
+    }
+    if (acc.contains("sparse")) {
+        const auto& sp = acc["sparse"];
+        const auto& iv = doc["bufferViews"][sp["indices"]["bufferView"].get<int>()];
+        const auto& vv = doc["bufferViews"][sp["values"]["bufferView"].get<int>()];
+        EXPECT_EQ(sp["indices"]["componentType"], 5123);  // uint16: fewer than 65 536 vertices
+        for (std::size_t i = 0; i < sp["count"].get<std::size_t>(); ++i) {
+            std::uint16_t k = 0;
+            std::memcpy(&k, bin + iv.value("byteOffset", 0) + 2 * i, 2);
+            for (std::size_t c = 0; c < width; ++c)
+                out[width * k + c] = value(bin + vv.value("byteOffset", 0) + width * size * i + size * c);
+        }
+    }
+    return out;
+}
+
+TEST(Quantization, MorphFramesDecodeWithinTheInt16StepOfTheMotion) {
+    // KHR_mesh_quantization in the morph form: frame k = node scale · (base + target k),
+    // the base float, the deltas normalised int16 with the largest delta as the range.
+    // One vertex moved 50 km away in every frame (a far-field skirt's outer corner)
+    // must not coarsen the others' steps, as a range over the extent would (to 1.5 m).
+    SceneAnimation anim = coarse_bay(4);
+    const std::size_t n = anim.vertex_count;
+    for (std::size_t f = 0; f < anim.frame_count; ++f) anim.positions[3 * (f * n)] += 50000.0f;
     MorphAnimationView view = anim.view();
     view.quantize = true;
     const std::string glb = gltf_morph_glb(view);
@@ -237,42 +284,93 @@ TEST(Quantization, MorphFramesDecodeWithinTheInt16Step) {
     std::uint32_t json_length = 0;
     std::memcpy(&json_length, glb.data() + 12, 4);
     const char* bin = glb.data() + 20 + json_length + 8;
-    // Reads a normalised int16 VEC3 accessor (stride 8) as doubles in [−1, 1].
-    const auto read = [&](int accessor) {
-        const auto& acc = doc["accessors"][accessor];
-        EXPECT_EQ(acc["componentType"], 5122);  // SHORT
-        EXPECT_TRUE(acc["normalized"].get<bool>());
-        const auto& bv = doc["bufferViews"][acc["bufferView"].get<int>()];
-        EXPECT_EQ(bv["byteStride"], 8);
-        std::vector<double> out(3 * acc["count"].get<std::size_t>());
-        for (std::size_t v = 0; v < out.size() / 3; ++v)
-            for (std::size_t c = 0; c < 3; ++c) {
-                std::int16_t q = 0;
-                std::memcpy(&q, bin + bv.value("byteOffset", 0) + 8 * v + 2 * c, 2);
-                out[3 * v + c] = std::max(q / 32767.0, -1.0);
-            }
-        return out;
-    };
     const auto& prim = doc["meshes"][0]["primitives"][0];
     const auto& node = doc["nodes"][0];
+    EXPECT_FALSE(node.contains("translation"));  // float base positions keep the run's coordinates
     const double scale = node["scale"][0].get<double>();
-    const std::vector<double> base = read(prim["attributes"]["POSITION"].get<int>());
-    const std::size_t n = anim.vertex_count;
+    double largest = 0.0;  // the largest delta from frame 0, any axis
+    for (std::size_t i = 0; i < anim.positions.size(); ++i)
+        largest = std::max(largest, std::abs(double{anim.positions[i]} - anim.positions[i % (3 * n)]));
+    EXPECT_NEAR(scale, largest, 1e-6 * largest);
+    EXPECT_EQ(doc["accessors"][prim["attributes"]["POSITION"].get<int>()]["componentType"], 5126);
+    const std::vector<double> base = accessor_values(doc, bin, prim["attributes"]["POSITION"].get<int>());
     for (std::size_t f = 0; f < 4; ++f) {
-        const std::vector<double> delta = read(prim["targets"][f]["POSITION"].get<int>());
-        double worst = 0.0;
+        const auto& target = doc["accessors"][prim["targets"][f]["POSITION"].get<int>()];
+        EXPECT_EQ(target["componentType"], 5122);  // SHORT
+        EXPECT_TRUE(target["normalized"].get<bool>());
+        const std::vector<double> delta = accessor_values(doc, bin, prim["targets"][f]["POSITION"].get<int>());
+        double worst = 0.0, far = 0.0;
         for (std::size_t v = 0; v < n; ++v) {
             const float* p = &anim.positions[3 * (f * n + v)];
             const double expected[3] = {p[0], p[2], -p[1]};  // glTF axes
             for (std::size_t c = 0; c < 3; ++c) {
-                const double got = node["translation"][c].get<double>() + scale * (base[3 * v + c] + delta[3 * v + c]);
-                worst = std::max(worst, std::abs(got - expected[c]));
+                const double error = std::abs(scale * (base[3 * v + c] + delta[3 * v + c]) - expected[c]);
+                (v == 0 ? far : worst) = std::max(v == 0 ? far : worst, error);
             }
         }
-        EXPECT_LE(worst, scale / 32767.0 + 1e-6) << "frame " << f;  // two roundings of half a step each
+        // Half a step of the delta plus the float base's rounding (relative 2^-24 of
+        // the ~100 m coordinates, twice: p / scale, then scale times it).
+        EXPECT_LE(worst, 0.5 * scale / 32767.0 + 1.2e-5) << "frame " << f;
+        EXPECT_LT(0.5 * scale / 32767.0 + 1.2e-5, 1e-4);  // a range over the 50 km extent: 0.76 m
+        EXPECT_LE(far, 0.5 * scale / 32767.0 + 50000.0 * 1.2e-7) << "frame " << f;
     }
     view.draco = DracoOptions{};
     EXPECT_THROW(gltf_frame_glb(view, 0), InputError);  // Draco or quantisation, not both
+}
+
+TEST(MorphTargets, StillVerticesAreStoredSparseAndReadBack) {
+    // Half the bay still in every frame (a dry beach, a skirt beyond the swell): each
+    // target's moving half only, as a sparse accessor; a still foam channel has no
+    // data at all. The library's reader gives the same frames back bit for bit.
+    SceneAnimation anim = coarse_bay(3);
+    const std::size_t n = anim.vertex_count;
+    for (std::size_t f = 1; f < anim.frame_count; ++f)
+        for (std::size_t v = n / 2; v < n; ++v) {
+            for (std::size_t c = 0; c < 3; ++c) {
+                anim.positions[3 * (f * n + v) + c] = anim.positions[3 * v + c];
+                anim.normals[3 * (f * n + v) + c] = anim.normals[3 * v + c];
+            }
+            anim.reflect[f * n + v] = anim.reflect[v];
+            anim.refract[f * n + v] = anim.refract[v];
+        }
+    std::fill(anim.foam.begin(), anim.foam.end(), 0.0f);
+    const std::string glb = gltf_morph_glb(anim.view());
+    const auto doc = nlohmann::json::parse(glb_json(glb));
+    std::uint32_t json_length = 0;
+    std::memcpy(&json_length, glb.data() + 12, 4);
+    const char* bin = glb.data() + 20 + json_length + 8;
+    const auto& targets = doc["meshes"][0]["primitives"][0]["targets"];
+    for (std::size_t f = 1; f < anim.frame_count; ++f) {
+        const auto& position = doc["accessors"][targets[f]["POSITION"].get<int>()];
+        ASSERT_TRUE(position.contains("sparse")) << "frame " << f;
+        EXPECT_FALSE(position.contains("bufferView"));
+        EXPECT_LE(position["sparse"]["count"].get<std::size_t>(), n / 2 + 1);
+        const std::vector<double> delta = accessor_values(doc, bin, targets[f]["POSITION"].get<int>());
+        for (std::size_t v = 0; v < n; ++v) {
+            const float* p = &anim.positions[3 * (f * n + v)];
+            const float* p0 = &anim.positions[3 * v];
+            ASSERT_EQ(delta[3 * v], double{p[0] - p0[0]}) << "frame " << f << " vertex " << v;
+            ASSERT_EQ(delta[3 * v + 2], double{-p[1] - -p0[1]}) << "frame " << f << " vertex " << v;
+        }
+        const auto& foam = doc["accessors"][targets[f]["TEXCOORD_2"].get<int>()];
+        EXPECT_FALSE(foam.contains("bufferView") || foam.contains("sparse"));  // all zeros
+    }
+    const std::filesystem::path file = std::filesystem::temp_directory_path() / "libwave-sparse-targets.glb";
+    write_file_atomic(file.string(), glb);
+    const StoredAnimation back = read_animation(file.string());
+    std::filesystem::remove(file);
+    ASSERT_EQ(back.frame_count, anim.frame_count);
+    // base + delta in float: within a rounding of the values (the bay spans ~100 m).
+    const auto worst = [](const std::vector<float>& a, const std::vector<float>& b) {
+        EXPECT_EQ(a.size(), b.size());
+        double w = 0.0;
+        for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) w = std::max(w, std::abs(double{a[i]} - b[i]));
+        return w;
+    };
+    EXPECT_LE(worst(back.positions, anim.positions), 2e-5);
+    EXPECT_LE(worst(back.normals, anim.normals), 2e-7);
+    EXPECT_EQ(back.foam, anim.foam);
+    EXPECT_LE(worst(back.reflect, anim.reflect), 2e-7);
 }
 
 TEST(Fresnel, WeightsMatchTheFormulasAndSumToOne) {

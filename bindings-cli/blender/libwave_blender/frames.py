@@ -54,18 +54,28 @@ def accessor(doc, buffers, index):
     dtype = np.dtype(_COMPONENTS[a["componentType"]])
     width = _WIDTH[a["type"]]
     count = a["count"]
-    if "bufferView" not in a:
-        return np.zeros((count, width), np.float32)
-    view = doc["bufferViews"][a["bufferView"]]
-    raw = buffers[view.get("buffer", 0)]
-    start = view.get("byteOffset", 0) + a.get("byteOffset", 0)
-    stride = view.get("byteStride", dtype.itemsize * width)
-    if stride == dtype.itemsize * width:
-        values = np.frombuffer(raw, dtype, count * width, start).reshape(count, width)
-    else:
-        values = np.lib.stride_tricks.as_strided(np.frombuffer(raw, np.uint8, len(raw) - start, start).view(dtype),
-                                                 (count, width), (stride, dtype.itemsize))
-    values = values.astype(np.float32)
+    if "bufferView" in a:
+        view = doc["bufferViews"][a["bufferView"]]
+        raw = buffers[view.get("buffer", 0)]
+        start = view.get("byteOffset", 0) + a.get("byteOffset", 0)
+        stride = view.get("byteStride", dtype.itemsize * width)
+        if stride == dtype.itemsize * width:
+            values = np.frombuffer(raw, dtype, count * width, start).reshape(count, width)
+        else:
+            values = np.lib.stride_tricks.as_strided(np.frombuffer(raw, np.uint8, len(raw) - start, start).view(dtype),
+                                                     (count, width), (stride, dtype.itemsize))
+        values = values.astype(np.float32)
+    else:  # zeros, unless sparse
+        values = np.zeros((count, width), np.float32)
+    sparse = a.get("sparse")
+    if sparse:  # a morph target's moving vertices only
+        def packed(part, part_dtype, part_width):
+            view = doc["bufferViews"][part["bufferView"]]
+            start = view.get("byteOffset", 0) + part.get("byteOffset", 0)
+            return np.frombuffer(buffers[view.get("buffer", 0)], part_dtype, sparse["count"] * part_width,
+                                 start).reshape(sparse["count"], part_width)
+        indices = packed(sparse["indices"], np.dtype(_COMPONENTS[sparse["indices"]["componentType"]]), 1)[:, 0]
+        values[indices.astype(np.int64)] = packed(sparse["values"], dtype, width).astype(np.float32)
     if a.get("normalized"):
         if dtype.kind == "i":
             values = np.maximum(values / float(np.iinfo(dtype).max), -1.0)
@@ -110,9 +120,11 @@ def _primitive_frame(doc, buffers, mesh_index, target=None):
     if "KHR_draco_mesh_compression" in prim.get("extensions", {}):
         raise LibwaveFileError("Draco-compressed")
     attrs = prim["attributes"]
-    # Quantised positions (normalised int16) are undone by their mesh node's transform;
-    # float positions are final (a nodes-form frame node's scale only switches it on and off).
-    if doc["accessors"][attrs["POSITION"]].get("normalized"):
+    # Quantised positions (normalised int16 in the frame or in the morph deltas) are undone
+    # by their mesh node's transform; plain float positions are final (a nodes-form frame
+    # node's scale only switches it on and off).
+    position_accessors = [attrs["POSITION"]] + [t["POSITION"] for t in prim.get("targets", []) if "POSITION" in t]
+    if any(doc["accessors"][i].get("normalized") for i in position_accessors[:2]):
         translation, scale = _node_transform(doc, mesh_index)
     else:
         translation, scale = np.zeros(3, np.float32), np.ones(3, np.float32)

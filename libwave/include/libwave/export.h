@@ -112,8 +112,10 @@ struct MorphAnimationView {
     /// Compress with Draco. In the morph form only the base mesh is compressed (with
     /// Draco's order-keeping sequential method); the targets stay float.
     std::optional<DracoOptions> draco;
-    /// KHR_mesh_quantization (not with Draco): positions as normalised int16 with the
-    /// node transform undoing it (error <= extent / 65534), normals int8, UV maps
+    /// KHR_mesh_quantization (not with Draco), the mesh node's transform undoing the
+    /// positions' scale: in the nodes and files forms positions are normalised int16
+    /// (error <= extent / 65534); morph targets keep the base's positions float and
+    /// store deltas as int16 (error <= largest delta / 65534). Normals int8, UV maps
     /// uint16 (morph deltas int16; normal deltas stay float).
     bool quantize = false;
     /// The seafloor, camera, sun and water material (morph and nodes forms; in the files

@@ -89,6 +89,54 @@ struct GlbBuilder {
         return static_cast<int>(model.accessors.size() - 1);
     }
 
+    // `count` elements of `element` bytes, `stride` bytes apart in `data`. A morph
+    // target (`target`) is stored sparse when its non-zero elements with their indices
+    // take under 3/4 of the dense view (the still vertices of a target: land, the far
+    // skirt, foam-free water), as no view at all when every element is zero.
+    int stored(const void* data, std::size_t element, std::size_t stride, std::size_t count, int component, int type,
+               bool normalized, std::vector<double> min, std::vector<double> max, bool target) {
+        const auto* in = static_cast<const unsigned char*>(data);
+        const auto zero = [&](std::size_t e) {
+            return std::all_of(in + e * stride, in + e * stride + element, [](unsigned char c) { return c == 0; });
+        };
+        std::vector<std::uint32_t> nonzero;
+        if (target)
+            for (std::size_t e = 0; e < count; ++e)
+                if (!zero(e)) nonzero.push_back(static_cast<std::uint32_t>(e));
+        const std::size_t index_bytes = count <= 65536 ? 2 : 4;
+        const bool sparse = target && 4 * nonzero.size() * (index_bytes + element) < 3 * count * stride;
+        int index;
+        if (!sparse) {
+            index = accessor(view(data, count * stride, TINYGLTF_TARGET_ARRAY_BUFFER, stride == element ? 0 : stride),
+                             component, count, type, std::move(min), std::move(max));
+        } else {
+            index = accessor(-1, component, count, type, std::move(min), std::move(max));
+            if (!nonzero.empty()) {
+                std::vector<unsigned char> values(nonzero.size() * element), indices(nonzero.size() * index_bytes);
+                for (std::size_t i = 0; i < nonzero.size(); ++i) {
+                    std::memcpy(&values[i * element], in + nonzero[i] * stride, element);
+                    if (index_bytes == 2) {
+                        const auto k = static_cast<std::uint16_t>(nonzero[i]);
+                        std::memcpy(&indices[2 * i], &k, 2);
+                    } else {
+                        std::memcpy(&indices[4 * i], &nonzero[i], 4);
+                    }
+                }
+                tinygltf::Accessor& a = model.accessors[static_cast<std::size_t>(index)];
+                a.sparse.isSparse = true;
+                a.sparse.count = static_cast<int>(nonzero.size());
+                a.sparse.indices.bufferView = view(indices.data(), indices.size(), 0);
+                a.sparse.indices.byteOffset = 0;
+                a.sparse.indices.componentType =
+                    index_bytes == 2 ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+                a.sparse.values.bufferView = view(values.data(), values.size(), 0);
+                a.sparse.values.byteOffset = 0;
+            }
+        }
+        model.accessors[static_cast<std::size_t>(index)].normalized = normalized;
+        return index;
+    }
+
     // vec3 floats with the min/max glTF requires on POSITION accessors.
     int vec3(const std::vector<float>& v, int target, bool bounds) {
         std::vector<double> lo(3, std::numeric_limits<double>::infinity()), hi(3, -std::numeric_limits<double>::infinity());
@@ -241,23 +289,33 @@ FrameArrays frame_arrays(const MorphAnimationView& a, std::size_t f) {
     return out;
 }
 
-// KHR_mesh_quantization: positions as normalised int16 around `origin` (glTF axes)
-// with half-range `scale`, undone by the mesh node's transform; normals as normalised
-// int8 (morph deltas of normals stay float: they can exceed 1); UV maps as normalised
-// uint16, their morph deltas as normalised int16.
+// KHR_mesh_quantization. Frames of their own (nodes, files): positions as normalised
+// int16 around `origin` (glTF axes) with half-range `scale`, undone by the mesh node's
+// transform. Morph targets: the base's positions stay float, p / scale, and
+// the deltas are normalised int16 with `scale` the largest delta, so that their step
+// follows the motion, not the mesh's extent (a far-field skirt spans tens of km).
+// Normals as normalised int8 (morph deltas of normals stay float: they can exceed 1);
+// UV maps as normalised uint16, their morph deltas as normalised int16.
 struct Quantization {
     std::array<double, 3> origin{};
     double scale = 1.0;
+    bool float_base = false;  // morph targets: base positions float, deltas int16
 };
 
-Quantization quantization_for(const MorphAnimationView& a) {
+Quantization quantization_for(const MorphAnimationView& a, bool morph_targets) {
     std::array<double, 3> lo{}, hi{};
     lo.fill(std::numeric_limits<double>::infinity());
     hi.fill(-std::numeric_limits<double>::infinity());
-    float p[3];
+    const std::size_t n = a.vertex_count;
+    float p[3], p0[3];
+    double delta = 0.0;
     for (std::size_t i = 0; i < a.positions.size() / 3; ++i) {
         to_y_up(&a.positions[3 * i], p);
         for (std::size_t c = 0; c < 3; ++c) lo[c] = std::min(lo[c], double{p[c]}), hi[c] = std::max(hi[c], double{p[c]});
+        if (morph_targets && i >= n) {
+            to_y_up(&a.positions[3 * (i % n)], p0);  // the base is the range's first frame
+            for (std::size_t c = 0; c < 3; ++c) delta = std::max(delta, std::abs(double{p[c]} - double{p0[c]}));
+        }
     }
     Quantization q;
     double half = 0.0;
@@ -265,8 +323,12 @@ Quantization quantization_for(const MorphAnimationView& a) {
         q.origin[c] = 0.5 * (lo[c] + hi[c]);
         half = std::max(half, 0.5 * (hi[c] - lo[c]));
     }
-    // Morph deltas span up to the whole extent: the range must hold them too.
-    q.scale = std::max(half * (a.frame_count > 1 ? 2.0 : 1.0), 1e-6);
+    q.float_base = morph_targets;
+    // Float base positions keep the run's own coordinates (an extent's centre can lie
+    // tens of km from the coast when a skirt reaches out on the sea side only).
+    if (morph_targets) q.origin = {0.0, 0.0, 0.0};
+    // A still animation keeps a 1 mm range (its deltas are all 0).
+    q.scale = morph_targets ? std::max(delta, 1e-3) : std::max(half, 1e-6);
     return q;
 }
 
@@ -283,7 +345,9 @@ struct ModelWriter {
     // `frames`: how many frames' attributes the buffer will hold (reserved up front:
     // growing a buffer of hundreds of MB by doubling was a third of the export time).
     // With `file`, the buffer's bytes go there instead (AnimationFileWriter).
-    ModelWriter(const MorphAnimationView& a, std::size_t frames, std::FILE* file = nullptr, std::string path = {})
+    // `morph_targets`: the frames are the morph form's targets (its quantisation).
+    ModelWriter(const MorphAnimationView& a, std::size_t frames, std::FILE* file = nullptr, std::string path = {},
+                bool morph_targets = false)
         : dressing(a.dressing) {
         model.buffers.emplace_back();
         if (file) {
@@ -310,7 +374,7 @@ struct ModelWriter {
         model.asset.extras = tinygltf::Value(extras);
         if (a.draco) return;  // every primitive carries its own compressed indices and UVs
         if (a.quantize) {
-            quant = quantization_for(a);
+            quant = quantization_for(a, morph_targets);
             model.extensionsUsed.push_back("KHR_mesh_quantization");
             model.extensionsRequired.push_back("KHR_mesh_quantization");
         }
@@ -322,7 +386,7 @@ struct ModelWriter {
     // elements must start on 4-byte boundaries).
     template <class Int>
     int normalised(const std::vector<float>& values, std::size_t width, std::size_t stride, int component, int type,
-                   const std::function<double(std::size_t, std::size_t)>& encode, bool bounds) {
+                   const std::function<double(std::size_t, std::size_t)>& encode, bool bounds, bool target) {
         const std::size_t count = values.size() / width;
         std::vector<Int> q(count * stride, 0);
         std::vector<double> lo(width, std::numeric_limits<double>::infinity()), hi(width, -std::numeric_limits<double>::infinity());
@@ -333,36 +397,47 @@ struct ModelWriter {
                 q[v * stride + c] = static_cast<Int>(x);
                 lo[c] = std::min(lo[c], x), hi[c] = std::max(hi[c], x);
             }
-        const int view_index = b.view(q.data(), q.size() * sizeof(Int), TINYGLTF_TARGET_ARRAY_BUFFER,
-                                      stride == width ? 0 : stride * sizeof(Int));
-        const int index = b.accessor(view_index, component, count, type, bounds ? lo : std::vector<double>{},
-                                     bounds ? hi : std::vector<double>{});
-        model.accessors[static_cast<std::size_t>(index)].normalized = true;
-        return index;
+        return b.stored(q.data(), width * sizeof(Int), stride * sizeof(Int), count, component, type, true,
+                        bounds ? lo : std::vector<double>{}, bounds ? hi : std::vector<double>{}, target);
     }
     // An attribute's accessor; `target` = a morph delta.
     int floats(const std::string& name, int type, const std::vector<float>& values, bool target = false) {
+        if (quant && name == "POSITION" && quant->float_base && !target) {
+            std::vector<float> scaled(values.size());
+            for (std::size_t i = 0; i < values.size(); ++i)
+                scaled[i] = static_cast<float>((values[i] - quant->origin[i % 3]) / quant->scale);
+            return b.vec3(scaled, TINYGLTF_TARGET_ARRAY_BUFFER, true);
+        }
         if (quant && name == "POSITION") {
             const Quantization& qz = *quant;
             return normalised<std::int16_t>(values, 3, 4, TINYGLTF_COMPONENT_TYPE_SHORT, TINYGLTF_TYPE_VEC3,
                                             [&](std::size_t v, std::size_t c) {
                                                 return (values[3 * v + c] - (target ? 0.0 : qz.origin[c])) / qz.scale * 32767.0;
-                                            }, true);
+                                            }, true, target);
         }
         if (quant && name == "NORMAL" && !target)
             return normalised<std::int8_t>(values, 3, 4, TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_TYPE_VEC3,
-                                           [&](std::size_t v, std::size_t c) { return values[3 * v + c] * 127.0; }, false);
+                                           [&](std::size_t v, std::size_t c) { return values[3 * v + c] * 127.0; }, false, false);
         if (quant && name.rfind("TEXCOORD_", 0) == 0) {
             if (target)
                 return normalised<std::int16_t>(values, 2, 2, TINYGLTF_COMPONENT_TYPE_SHORT, TINYGLTF_TYPE_VEC2,
-                                                [&](std::size_t v, std::size_t c) { return values[2 * v + c] * 32767.0; }, false);
+                                                [&](std::size_t v, std::size_t c) { return values[2 * v + c] * 32767.0; }, false, true);
             return normalised<std::uint16_t>(values, 2, 2, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_VEC2,
-                                             [&](std::size_t v, std::size_t c) { return values[2 * v + c] * 65535.0; }, false);
+                                             [&](std::size_t v, std::size_t c) { return values[2 * v + c] * 65535.0; }, false, false);
         }
-        if (name == "POSITION") return b.vec3(values, TINYGLTF_TARGET_ARRAY_BUFFER, true);
+        if (name == "POSITION" && !target) return b.vec3(values, TINYGLTF_TARGET_ARRAY_BUFFER, true);
         const std::size_t width = type == TINYGLTF_TYPE_VEC3 ? 3 : type == TINYGLTF_TYPE_VEC2 ? 2 : 1;
-        return b.accessor(b.view(values.data(), values.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER),
-                          TINYGLTF_COMPONENT_TYPE_FLOAT, values.size() / width, type);
+        std::vector<double> lo, hi;
+        if (name == "POSITION") {  // a target's bounds (the validator checks them)
+            lo.assign(3, std::numeric_limits<double>::infinity());
+            hi.assign(3, -std::numeric_limits<double>::infinity());
+            for (std::size_t i = 0; i < values.size(); ++i) {
+                lo[i % 3] = std::min(lo[i % 3], double{values[i]});
+                hi[i % 3] = std::max(hi[i % 3], double{values[i]});
+            }
+        }
+        return b.stored(values.data(), width * sizeof(float), width * sizeof(float), values.size() / width,
+                        TINYGLTF_COMPONENT_TYPE_FLOAT, type, false, std::move(lo), std::move(hi), target);
     }
     // A primitive of one frame (its own accessors; indices and TEXCOORD_0 shared).
     tinygltf::Primitive primitive(const FrameArrays& frame) {
@@ -418,7 +493,7 @@ struct ModelWriter {
         n.name = name;
         n.mesh = mesh;
         if (quant) {  // undoes the position quantisation
-            n.translation = {quant->origin[0], quant->origin[1], quant->origin[2]};
+            if (!quant->float_base) n.translation = {quant->origin[0], quant->origin[1], quant->origin[2]};
             n.scale = {quant->scale, quant->scale, quant->scale};
         }
         model.nodes.push_back(n);
@@ -745,7 +820,7 @@ struct NodesBuilder {
 
 std::string gltf_morph_glb(const MorphAnimationView& a) {
     check(a);
-    ModelWriter w(a, a.frame_count + 1);
+    ModelWriter w(a, a.frame_count + 1, nullptr, {}, true);
     MorphBuilder morph(w, a, a.frame_count);
     morph.add(a);
     return glb_bytes(w, morph.finish());

@@ -34,39 +34,75 @@ struct Reader {
 
     [[noreturn]] void fail(const std::string& what) const { throw InputError(path + ": " + what); }
 
-    // An accessor as floats (normalised integers mapped to [-1, 1] / [0, 1]), `width`
-    // components per element.
+    // The bytes of a buffer view, from `offset` within it, checked to hold `count`
+    // elements of `element` bytes `stride` apart.
+    const unsigned char* view_bytes(int view, std::size_t offset, std::size_t count, std::size_t element,
+                                    std::size_t stride, const std::string& what) const {
+        if (view < 0 || static_cast<std::size_t>(view) >= m.bufferViews.size()) fail(what + " has no data");
+        const tinygltf::BufferView& v = m.bufferViews[static_cast<std::size_t>(view)];
+        if (v.buffer < 0 || static_cast<std::size_t>(v.buffer) >= m.buffers.size()) fail(what + " has no buffer");
+        const std::vector<unsigned char>& data = m.buffers[static_cast<std::size_t>(v.buffer)].data;
+        const std::size_t start = v.byteOffset + offset;
+        if (start > data.size() || (count > 0 && (count - 1) * stride + element > data.size() - start))
+            fail(what + " runs past its buffer");
+        return data.data() + start;
+    }
+
+    // One component as a float (normalised integers mapped to [-1, 1] / [0, 1]).
+    double component(const tinygltf::Accessor& a, const unsigned char* p, const std::string& what) const {
+        switch (a.componentType) {
+            case TINYGLTF_COMPONENT_TYPE_FLOAT: { float f; std::memcpy(&f, p, 4); return f; }
+            case TINYGLTF_COMPONENT_TYPE_SHORT: { std::int16_t q; std::memcpy(&q, p, 2); return a.normalized ? std::max(q / 32767.0, -1.0) : q; }
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { std::uint16_t q; std::memcpy(&q, p, 2); return a.normalized ? q / 65535.0 : q; }
+            case TINYGLTF_COMPONENT_TYPE_BYTE: { std::int8_t q; std::memcpy(&q, p, 1); return a.normalized ? std::max(q / 127.0, -1.0) : q; }
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return a.normalized ? *p / 255.0 : *p;
+            default: fail(what + ": unsupported component type");
+        }
+    }
+
+    // An accessor as floats, `width` components per element: its buffer view (zeros
+    // without one), then its sparse substitutions (morph targets of still vertices).
     std::vector<float> floats(int index, std::size_t width) const {
         if (index < 0 || static_cast<std::size_t>(index) >= m.accessors.size()) fail("an attribute has no accessor");
         const tinygltf::Accessor& a = m.accessors[static_cast<std::size_t>(index)];
+        const std::string what = "accessor " + std::to_string(index);
         const std::size_t comps = a.type == TINYGLTF_TYPE_SCALAR ? 1 : a.type == TINYGLTF_TYPE_VEC2 ? 2
                                   : a.type == TINYGLTF_TYPE_VEC3 ? 3 : a.type == TINYGLTF_TYPE_VEC4 ? 4 : 0;
-        if (comps != width) fail("accessor " + std::to_string(index) + " has " + std::to_string(comps) + " components, expected " + std::to_string(width));
-        if (a.bufferView < 0 || static_cast<std::size_t>(a.bufferView) >= m.bufferViews.size()) fail("accessor " + std::to_string(index) + " has no data");
-        const tinygltf::BufferView& v = m.bufferViews[static_cast<std::size_t>(a.bufferView)];
-        if (v.buffer < 0 || static_cast<std::size_t>(v.buffer) >= m.buffers.size()) fail("accessor " + std::to_string(index) + " has no buffer");
-        const std::vector<unsigned char>& data = m.buffers[static_cast<std::size_t>(v.buffer)].data;
+        if (comps != width) fail(what + " has " + std::to_string(comps) + " components, expected " + std::to_string(width));
         const int size = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(a.componentType));
-        if (size <= 0) fail("accessor " + std::to_string(index) + ": unknown component type");
-        const std::size_t stride = v.byteStride ? v.byteStride : comps * static_cast<std::size_t>(size);
-        const std::size_t start = v.byteOffset + a.byteOffset;
-        if (a.count > 0 && start + (a.count - 1) * stride + comps * static_cast<std::size_t>(size) > data.size())
-            fail("accessor " + std::to_string(index) + " runs past its buffer");
-        std::vector<float> out(a.count * comps);
-        for (std::size_t e = 0; e < a.count; ++e)
-            for (std::size_t c = 0; c < comps; ++c) {
-                const unsigned char* p = &data[start + e * stride + c * static_cast<std::size_t>(size)];
-                double x = 0.0;
-                switch (a.componentType) {
-                    case TINYGLTF_COMPONENT_TYPE_FLOAT: { float f; std::memcpy(&f, p, 4); x = f; break; }
-                    case TINYGLTF_COMPONENT_TYPE_SHORT: { std::int16_t q; std::memcpy(&q, p, 2); x = a.normalized ? std::max(q / 32767.0, -1.0) : q; break; }
-                    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { std::uint16_t q; std::memcpy(&q, p, 2); x = a.normalized ? q / 65535.0 : q; break; }
-                    case TINYGLTF_COMPONENT_TYPE_BYTE: { std::int8_t q; std::memcpy(&q, p, 1); x = a.normalized ? std::max(q / 127.0, -1.0) : q; break; }
-                    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: x = a.normalized ? *p / 255.0 : *p; break;
-                    default: fail("accessor " + std::to_string(index) + ": unsupported component type");
-                }
-                out[e * comps + c] = static_cast<float>(x);
+        if (size <= 0) fail(what + ": unknown component type");
+        const std::size_t element = comps * static_cast<std::size_t>(size);
+        std::vector<float> out(a.count * comps, 0.0f);
+        const auto decode = [&](const unsigned char* p, std::size_t e) {
+            for (std::size_t c = 0; c < comps; ++c) out[e * comps + c] = static_cast<float>(component(a, p + c * static_cast<std::size_t>(size), what));
+        };
+        if (a.bufferView >= 0) {
+            const std::size_t stride = static_cast<std::size_t>(a.bufferView) < m.bufferViews.size() &&
+                                               m.bufferViews[static_cast<std::size_t>(a.bufferView)].byteStride
+                                           ? m.bufferViews[static_cast<std::size_t>(a.bufferView)].byteStride : element;
+            const unsigned char* p = view_bytes(a.bufferView, a.byteOffset, a.count, element, stride, what);
+            for (std::size_t e = 0; e < a.count; ++e) decode(p + e * stride, e);
+        }
+        if (a.sparse.isSparse) {
+            if (a.sparse.count < 1 || static_cast<std::size_t>(a.sparse.count) > a.count) fail(what + ": bad sparse count");
+            const auto n = static_cast<std::size_t>(a.sparse.count);
+            const int isize = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(a.sparse.indices.componentType));
+            if (isize != 1 && isize != 2 && isize != 4) fail(what + ": bad sparse index type");
+            const unsigned char* ip = view_bytes(a.sparse.indices.bufferView, static_cast<std::size_t>(std::max(a.sparse.indices.byteOffset, 0)),
+                                                 n, static_cast<std::size_t>(isize), static_cast<std::size_t>(isize), what + "'s sparse indices");
+            const unsigned char* vp = view_bytes(a.sparse.values.bufferView, static_cast<std::size_t>(std::max(a.sparse.values.byteOffset, 0)),
+                                                 n, element, element, what + "'s sparse values");
+            std::uint64_t last = 0;
+            for (std::size_t i = 0; i < n; ++i) {
+                std::uint32_t k = 0;
+                if (isize == 1) k = ip[i];
+                else if (isize == 2) { std::uint16_t q; std::memcpy(&q, ip + 2 * i, 2); k = q; }
+                else std::memcpy(&k, ip + 4 * i, 4);
+                if (k >= a.count || (i > 0 && k <= last)) fail(what + ": sparse indices out of range or not increasing");
+                last = k;
+                decode(vp + i * element, k);
             }
+        }
         return out;
     }
 

@@ -243,10 +243,11 @@ void append_skirt(ScenePlan& p) {
 void plan_far_field_stage(const Scene& scene, ScenePlan& p) {
     const detail::SurfaceModel& model = detail::surface_model(scene.surface_kind);
     if (!scene.far_field || model.far_field_harmonics == 0 || p.camera_grid.vertex_count() > 0) return;
-    // Draco's and KHR_mesh_quantization's position grids span the whole mesh: the
-    // skirt's reach would coarsen the coastal surface to metres. Those forms end at the
-    // domain's border (docs/far-field.md).
-    if (scene.draco || scene.quantize) return;
+    // Draco's position grid, and KHR_mesh_quantization's in frames of their own (nodes,
+    // files), span the whole mesh: the skirt's reach would coarsen the coastal surface
+    // to metres. Those end at the domain's border (docs/far-field.md); quantised morph
+    // targets keep float base positions and size their steps by the motion.
+    if (scene.draco || (scene.quantize && scene.form != Scene::Form::morph)) return;
     const std::vector<std::uint32_t>& triangles = model.triangles(p);
     SeaSkirtOptions o;
     o.distance = skirt_distance(scene, p);
