@@ -1,7 +1,9 @@
 # Renders an output of `wave run` through the libwave add-on with Cycles on the CPU:
 #   blender -b --factory-startup --python scripts/blender-render.py -- ADDON_ZIP RUN_DIR OUT.png [FRAME [SEED]]
 # (SEED: Cycles' sampling seed, default 0; two seeds of one frame measure render noise;
-# LIBWAVE_NO_CAUSTICS=1 imports without the caustic maps, to compare.)
+# LIBWAVE_NO_CAUSTICS=1 imports without the caustic maps, to compare;
+# LIBWAVE_CAMERA="x,y,z,tx,ty,tz" puts the camera at x,y,z looking at tx,ty,tz,
+# Blender axes, for close-ups.)
 # The add-on imports the water (positions, foam, reflect, refract per frame) and the
 # seafloor, camera and sun the .glb carries; this script adds a sky and renders.
 import math
@@ -30,6 +32,12 @@ if scene.camera is None:  # the files form carries no camera: one from the open 
     cam.location = (cx, cy - 1.1 * size, 0.4 * size)
     cam.rotation_euler = (math.atan2(1.1, 0.4), 0.0, 0.0)
     scene.camera = cam
+if os.environ.get("LIBWAVE_CAMERA"):
+    from mathutils import Vector
+    x, y, z, tx, ty, tz = map(float, os.environ["LIBWAVE_CAMERA"].split(","))
+    scene.camera.location = (x, y, z)
+    scene.camera.rotation_euler = (Vector((tx, ty, tz)) - Vector((x, y, z))).to_track_quat("-Z", "Y").to_euler()
+    scene.camera.data.clip_start = 1e-3 * (Vector((tx, ty, tz)) - Vector((x, y, z))).length
 world = bpy.data.worlds.new("sky")
 world.use_nodes = True
 world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.45, 0.6, 0.8, 1.0)

@@ -719,6 +719,8 @@ class MainJob(unittest.TestCase):
                 ('{"waves": [{"period": 6}], "outputs": {"attributes": "all"}}', "uv-maps"),
                 ('{"waves": [{"period": 6}], "outputs": {"colour": true}}', "/outputs/colour"),
                 ('{"waves": [{"period": 6}], "shade": {"foam_onset": 1.5}}', "/shade/foam_onset"),
+                ('{"waves": [{"period": 6}], "shade": {"foam_fade_periods": 0}}', "/shade/foam_fade_periods"),
+                ('{"waves": [{"period": 6}], "shade": {"foam_fade_periods": 0.3, "foam_fade_time": 2}}', "/shade/foam_fade_periods"),
                 ('{"waves": [{"period": 6}], "outputs": {"draco": true, "quantize": true}}', "/outputs/draco"),
                 ('{"waves": [{"period": 6}], "outputs": {"form": "files", "draco": {"position_bits": 40}}}', "/outputs/draco/position_bits"),
                 ('{"waves": [{"period": 6}], "seafloor": {"source": "nowhere.asc"}}', "/seafloor/source"),

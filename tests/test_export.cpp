@@ -419,13 +419,35 @@ TEST(Foam, ReleasedAtTheCrestOfBreakingWavesAndFading) {
     EXPECT_NEAR(foam[0], 1.0, 1e-6);
     EXPECT_NEAR(foam[1], 0.5, 1e-6);  // half-way up the onset ramp (0.9 … 1)
     EXPECT_EQ(foam[2], 0.0f);
+    // By default it fades over 0.3 of the 5 s period: τ = 1.5 s.
     breaking_foam(s, m, crest + 1.0, o, foam);
-    EXPECT_NEAR(foam[0], std::exp(-1.0 / o.fade_time), 1e-6);
+    EXPECT_NEAR(foam[0], std::exp(-1.0 / 1.5), 1e-6);
     // Periodic: one period later it is the same.
     std::vector<float> later(3);
     breaking_foam(s, m, crest + 1.0 + 5.0, o, later);
     EXPECT_NEAR(later[0], foam[0], 1e-6);
+    // Froude similarity: the same wave 400 times smaller (periods 20 times shorter)
+    // has the same foam at the same share of its period.
+    RayStrips small = s;
+    for (auto& a : small.amplitude) a /= 400;
+    for (auto& d : small.depth) d /= 400;
+    for (auto& k : small.k) k *= 400;
+    for (auto& x : small.x) x /= 400;
+    small.omega = s.omega * 20.0;
+    const GonzatoMotionPlan ms = plan_gonzato_motion(small);
+    const double small_crest = -(ms.shape[0].trough_phase + std::numbers::pi) / small.omega;
+    breaking_foam(small, ms, small_crest + 1.0 / 20.0, o, later);
+    EXPECT_NEAR(later[0], foam[0], 1e-5);
+    // A fixed time instead: τ = 2 s for any period.
+    o.fade_time = 2.0;
+    breaking_foam(s, m, crest + 1.0, o, foam);
+    EXPECT_NEAR(foam[0], std::exp(-1.0 / 2.0), 1e-6);
+    breaking_foam(small, ms, small_crest + 0.1, o, later);  // within its 0.25 s period
+    EXPECT_NEAR(later[0], std::exp(-0.1 / 2.0), 1e-5);
+    o.fade_time = -1.0;
+    EXPECT_THROW(breaking_foam(s, m, 0.0, o, foam), InputError);
     o.fade_time = 0.0;
+    o.fade_periods = 0.0;
     EXPECT_THROW(breaking_foam(s, m, 0.0, o, foam), InputError);
 }
 
@@ -452,7 +474,7 @@ TEST(Foam, HeightFieldNodesReleaseFoamAndVerticesBlendIt) {
     EXPECT_NEAR(foam[4], 0.25, 1e-6);  // the centre blends all four
     EXPECT_EQ(foam[8], 0.0f);
     height_field_foam(plan, depth, crest + 1.0, o, nodes, foam);
-    EXPECT_NEAR(foam[0], std::exp(-1.0 / o.fade_time), 1e-6);
+    EXPECT_NEAR(foam[0], std::exp(-1.0 / (0.3 * 2.0 * std::numbers::pi)), 1e-6);  // τ = 0.3 T, T = 2π s
     std::vector<float> wrong(3);
     EXPECT_THROW(height_field_foam(plan, depth, 0.0, o, nodes, wrong), InputError);
 }

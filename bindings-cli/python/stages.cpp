@@ -407,9 +407,9 @@ void bind_motion(py::module_& m) {
     m.def(
         "breaking_foam",
         [](const wave::RayStrips& strips, const wave::GonzatoMotionPlan& motion, double t, double breaker_index,
-           double onset, double fade_time) {
+           double onset, double fade_periods, double fade_time) {
             wave::FoamOptions o;
-            o.breaker_index = breaker_index, o.onset = onset, o.fade_time = fade_time;
+            o.breaker_index = breaker_index, o.onset = onset, o.fade_periods = fade_periods, o.fade_time = fade_time;
             py::array_t<float> out(ssize(strips.vertex_count()));
             std::span<float> s = span_of(out);
             py::gil_scoped_release release;
@@ -417,8 +417,9 @@ void bind_motion(py::module_& m) {
             return out;
         },
         py::arg("strips"), py::arg("motion"), py::arg("t"), py::arg("breaker_index") = wave::kBreakerIndex,
-        py::arg("onset") = 0.9, py::arg("fade_time") = 1.5,
-        "Depth-limited breaking foam in [0, 1] per vertex at time t (docs/shade.md)");
+        py::arg("onset") = 0.9, py::arg("fade_periods") = 0.3, py::arg("fade_time") = 0.0,
+        "Depth-limited breaking foam in [0, 1] per vertex at time t (docs/shade.md): it fades over fade_periods "
+        "of the wave's period, or fade_time s when > 0");
 
     py::class_<wave::UntanglePlan, std::shared_ptr<wave::UntanglePlan>>(
         m, "Untangle", "The rest triangles a frame is untangled against (plan_untangle)")

@@ -71,8 +71,17 @@ struct FoamOptions {
     double breaker_index = kBreakerIndex;  ///< γ
     /// Foam starts where H reaches this share of γh (the tracer caps H at γh), full at γh.
     double onset = 0.9;
-    double fade_time = 1.5;  ///< s: foam released as a crest passes decays as e^{−Δt / fade_time}
+    /// Foam released as a crest passes decays as e^{−Δt / τ}, τ = fade_periods · T with T
+    /// the passing wave's period: Froude similarity, a 1:400 model's foam lasts 1/20 of
+    /// its prototype's, as its periods do (0.3 · 5 s = 1.5 s on the default bay).
+    double fade_periods = 0.3;
+    double fade_time = 0.0;  ///< s: τ itself when > 0 (then the same for every period)
 };
+
+/// The fade's time constant τ of FoamOptions in radians of the wave's phase (ω τ), for
+/// a wave of angular frequency ω. Throws InputError unless fade_periods > 0 and
+/// fade_time >= 0 (both finite).
+double foam_fade_phase(const FoamOptions& options, double omega);
 
 /// Foam in [0, 1] per vertex of Gonzato's ray strips at time t: a vertex whose wave
 /// height H = 2A is at the breaking limit γh gets foam each time a crest passes it

@@ -522,7 +522,7 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     }
     if (root.has("shade")) {
         const Node sh = root["shade"];
-        sh.require_object({"fresnel", "foam_fade_time", "foam_onset", "fold_threshold", "fold_softness", "fold_window",
+        sh.require_object({"fresnel", "foam_fade_time", "foam_fade_periods", "foam_onset", "fold_threshold", "fold_softness", "fold_window",
                            "fold_lattice_step", "whitecap_coverage"});
         if (sh.has("fold_threshold") && sh.has("whitecap_coverage"))
             sh["whitecap_coverage"].fail("give /shade/fold_threshold or /shade/whitecap_coverage, not both (the coverage sets the threshold)");
@@ -535,7 +535,10 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
         if (sh.has("fold_window")) s.fold_foam.window = sh["fold_window"].number("s");
         if (sh.has("fold_lattice_step")) s.fold_foam.lattice_step = sh["fold_lattice_step"].number("s");
         if (sh.has("fresnel")) s.fresnel = sh["fresnel"].choice<FresnelModel>({{"exact", FresnelModel::exact}, {"tso", FresnelModel::tso}});
+        if (sh.has("foam_fade_time") && sh.has("foam_fade_periods"))
+            sh["foam_fade_periods"].fail("give /shade/foam_fade_time or /shade/foam_fade_periods, not both");
         if (sh.has("foam_fade_time")) s.foam.fade_time = sh["foam_fade_time"].number("s");
+        if (sh.has("foam_fade_periods")) s.foam.fade_periods = sh["foam_fade_periods"].number("wave periods");
         if (sh.has("foam_onset")) s.foam.onset = sh["foam_onset"].number("share of the breaking height");
     }
     if (root.has("outputs")) {
@@ -577,7 +580,8 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     }
     s.foam.breaker_index = s.trace.breaker_index;
     s.field.breaker_index = s.trace.breaker_index;
-    s.fold_foam.fade_time = s.foam.fade_time;
+    // The wind sea's fold foam has no single period: its own 1.5 s unless a time is given.
+    if (s.foam.fade_time > 0.0) s.fold_foam.fade_time = s.foam.fade_time;
     validate_fold_foam(s.fold_foam, origin + ": /shade");
     if (root.has("animation")) {
         const Node a = root["animation"];

@@ -42,14 +42,21 @@ void fresnel_weights(std::span<const float> p, std::span<const float> n, const F
     });
 }
 
+double foam_fade_phase(const FoamOptions& o, double omega) {
+    if (!(o.fade_periods > 0.0) || !std::isfinite(o.fade_periods) || !(o.fade_time >= 0.0) || !std::isfinite(o.fade_time))
+        throw InputError("shade: foam needs fade_periods > 0 and fade_time >= 0 s");
+    return o.fade_time > 0.0 ? omega * o.fade_time : 2.0 * std::numbers::pi * o.fade_periods;
+}
+
 void breaking_foam(const RayStrips& s, const GonzatoMotionPlan& m, double t, const FoamOptions& o,
                    std::span<float> foam) {
     const std::size_t count = s.vertex_count();
     require_size(m.vertex_count(), count, "motion plan vertices");
     require_size(foam.size(), count, "foam");
-    if (!(o.breaker_index > 0.0) || !(o.fade_time > 0.0) || !(o.onset > 0.0 && o.onset < 1.0))
-        throw InputError("shade: foam needs breaker_index > 0, fade_time > 0 s and 0 < onset < 1");
+    if (!(o.breaker_index > 0.0) || !(o.onset > 0.0 && o.onset < 1.0))
+        throw InputError("shade: foam needs breaker_index > 0 and 0 < onset < 1");
     const double two_pi = 2.0 * std::numbers::pi;
+    const double fade = foam_fade_phase(o, m.omega);
     for (std::size_t v = 0; v < count; ++v) {
         const double h = s.depth[v];
         if (!(h > 0.0) || !(s.amplitude[v] > 0.0)) {
@@ -68,7 +75,7 @@ void breaking_foam(const RayStrips& s, const GonzatoMotionPlan& m, double t, con
         const double phi = m.phase[v] - m.omega * t;
         double since = std::fmod(m.shape[v].trough_phase + std::numbers::pi - phi, two_pi);
         if (since < 0.0) since += two_pi;
-        foam[v] = static_cast<float>(weight * std::exp(-since / m.omega / o.fade_time));
+        foam[v] = static_cast<float>(weight * std::exp(-since / fade));
     }
 }
 
@@ -77,9 +84,10 @@ void height_field_foam(const HeightFieldPlan& plan, std::span<const float> node_
     require_size(node_depth.size(), plan.control_count(), "node depth");
     require_size(node_foam.size(), plan.control_count(), "node foam");
     require_size(foam.size(), plan.vertex_count(), "foam");
-    if (!(o.breaker_index > 0.0) || !(o.fade_time > 0.0) || !(o.onset > 0.0 && o.onset < 1.0))
-        throw InputError("shade: foam needs breaker_index > 0, fade_time > 0 s and 0 < onset < 1");
+    if (!(o.breaker_index > 0.0) || !(o.onset > 0.0 && o.onset < 1.0))
+        throw InputError("shade: foam needs breaker_index > 0 and 0 < onset < 1");
     const double two_pi = 2.0 * std::numbers::pi;
+    (void)foam_fade_phase(o, 1.0);  // checks the options even where no term breaks
     for (std::size_t v = 0; v < plan.control_count(); ++v) {
         double f = 0.0;
         const double h = node_depth[v];
@@ -92,7 +100,7 @@ void height_field_foam(const HeightFieldPlan& plan, std::span<const float> node_
             const double omega = plan.term_omega[i];
             double since = std::fmod(0.5 * std::numbers::pi - (plan.term_phase[i] - omega * t), two_pi);
             if (since < 0.0) since += two_pi;
-            f = std::max(f, weight * std::exp(-since / omega / o.fade_time));
+            f = std::max(f, weight * std::exp(-since / foam_fade_phase(o, omega)));
         }
         node_foam[v] = static_cast<float>(f);
     }
