@@ -319,6 +319,8 @@ Scene run_scene(const RunArgs& a) {
     if (a.draco && !scene.draco) scene.draco = DracoOptions{};
     if (a.no_draco) scene.draco.reset();
     if (a.quantize) scene.quantize = true;
+    // Draco asked for on the command line replaces a scene's quantisation (it quantises itself).
+    if (a.no_quantize || (a.draco && !a.quantize)) scene.quantize = false;
     if (scene.draco && scene.quantize) throw InputError("choose --draco or --quantize, not both (Draco quantises itself)");
     if (!a.container.empty()) scene.container = container_from_name(a.container);
     if (!a.frames.empty() && !a.slice.empty()) throw InputError("choose --frames or --slice, not both");
@@ -419,7 +421,7 @@ json run_report(const RunSummary& r) {
                 {"warnings", r.plan.warnings},
                 {"outputs", json::array()}};
     if (r.scene.underwater && r.scene.underwater->caustics) {
-        const CausticOptions o = scene_caustic_options(r.scene, r.plan.seafloor);
+        const CausticOptions o = scene_caustic_options(r.scene, r.plan);
         report["underwater"] = {{"caustic_maps", kCausticImages}, {"map_size", {o.width, o.height}},
                                 {"attenuation_per_m", o.attenuation}, {"full_scale", r.scene.underwater->full_scale},
                                 {"sun_towards", o.sun}};

@@ -67,6 +67,7 @@ struct RunArgs {
     double fps = 0.0;    ///< > 0 overrides the scene's fps
     bool draco = false;     ///< Draco-compress (whatever the scene says)
     bool no_draco = false;  ///< plain meshes (whatever the scene says)
+    bool no_quantize = false;  ///< float attributes (whatever the scene says)
     std::string container;  ///< glb | gltf; empty = the scene's
     bool quantize = false;  ///< KHR_mesh_quantization
     bool quiet = false;  ///< no progress bar and no text report

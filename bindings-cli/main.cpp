@@ -91,7 +91,8 @@ int main(int argc, char** argv) {
     run_cmd->add_option("--slice", run.slice, "I/N: slice I (0-based) of N equal slices of the loop, e.g. a Slurm array task's $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT");
     run_cmd->add_option("--container", run.container, "glb (binary, default) or gltf (JSON + external .bin)")
         ->check(CLI::IsMember({"glb", "gltf"}));
-    run_cmd->add_flag("--quantize", run.quantize, "KHR_mesh_quantization: int16 positions, int8 normals, uint16 UV maps (~30 % smaller morph files)");
+    auto* quantize_opt = run_cmd->add_flag("--quantize", run.quantize, "KHR_mesh_quantization: int16 position deltas (morph) or positions, int8 normals, uint16 UV maps (~30 % smaller morph files)");
+    run_cmd->add_flag("--no-quantize", run.no_quantize, "float attributes even where the scene asks for quantisation")->excludes(quantize_opt);
     auto* draco_opt = run_cmd->add_flag("--draco", run.draco, "Draco-compress the meshes (morph: the base mesh only; default quantisation: positions 14 bits)");
     run_cmd->add_flag("--no-draco", run.no_draco, "plain meshes even where the scene asks for Draco (Blender's own glTF importer reads no Draco)")
         ->excludes(draco_opt);
@@ -123,6 +124,8 @@ int main(int argc, char** argv) {
     bool batch_no_draco = false;
     batch_cmd->add_flag("--no-draco", batch_no_draco, "as for run");
     batch_cmd->add_flag("--quantize", batch_quantize, "as for run");
+    bool batch_no_quantize = false;
+    batch_cmd->add_flag("--no-quantize", batch_no_quantize, "as for run");
     batch_cmd->add_option("--threads", batch_threads, "worker threads of each scene's run")->check(positive);
     batch_cmd->add_flag("-q,--quiet", batch.quiet, "no line per scene");
     batch_cmd->add_flag("--json", batch.json, "print the summary as JSON");
@@ -261,6 +264,7 @@ int main(int argc, char** argv) {
             if (batch_draco) batch.run_args.push_back("--draco");
             if (batch_no_draco) batch.run_args.push_back("--no-draco");
             if (batch_quantize) batch.run_args.push_back("--quantize");
+            if (batch_no_quantize) batch.run_args.push_back("--no-quantize");
             return cli::run_batch(batch);
         }
         if (*validate_cmd) return cli::run_validate(validate_scene, validate_json, validate_max_memory_gb);

@@ -837,10 +837,12 @@ class WindWaves(unittest.TestCase):
                 self.assertGreater(b["breaking_rays"], 0.3 * b["rays"])
                 self.assertLessEqual(set(b["breaker_types"]), types | {"collapsing", "surging"})
                 self.assertGreater(b["break_depth_m"][1], 0.5)
-                frame = os.path.join(d, "frames", "frame-0001.glb")
+                # The beach: quantised morph targets (Blender 3.4 imports them); Okushiri: Draco frames.
+                frame = os.path.join(d, "animation-frames-0-2.glb" if name == "breaking-beach.json" else "frames/frame-0001.glb")
                 validate_gltf(self, frame)
                 doc, _ = read_glb(frame)
-                self.assertIn("KHR_draco_mesh_compression", doc["extensionsRequired"])
+                self.assertIn("KHR_mesh_quantization" if name == "breaking-beach.json" else "KHR_draco_mesh_compression",
+                              doc["extensionsRequired"])
 
     def test_open_ocean_example(self):
         # Two frames of the 512² gale: the patch, the analytic significant height, valid files.
@@ -1084,7 +1086,7 @@ class Inspect(unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             for example, fps in [("gonzato-bay.json", 4), ("gonzato-island.json", 2), ("breaking-beach.json", 2)]:
                 out = os.path.join(d, example)
-                r = wave("run", os.path.join(EXAMPLES, example), "-q", "-o", out, "--fps", str(fps), "--no-draco")
+                r = wave("run", os.path.join(EXAMPLES, example), "-q", "-o", out, "--fps", str(fps), "--no-draco", "--no-quantize")
                 self.assertEqual(r.returncode, 0, r.stderr)
                 m = self.inspect(out)
                 self.assertGreater(m["frames"], 8, example)
@@ -1243,7 +1245,9 @@ class BlenderDelivery(unittest.TestCase):
 
     def test_no_draco_overrides_the_scene(self):
         with tempfile.TemporaryDirectory() as d:
-            r = wave("run", os.path.join(EXAMPLES, "breaking-beach.json"), "-o", d, "--no-draco", "--frames", "0:2", "--json")
+            scene = write_scene(d, {"name": "bay with Draco", "waves": [{"period": 5, "amplitude": 0.3}],
+                                    "outputs": {"form": "files", "draco": True}})
+            r = wave("run", scene, "-o", d, "--no-draco", "--frames", "0:2", "--json")
             self.assertEqual(r.returncode, 0, r.stderr)
             report = json.loads(r.stdout)
             self.assertFalse(report["surface"]["draco"])
@@ -1252,6 +1256,25 @@ class BlenderDelivery(unittest.TestCase):
             self.assertNotIn("KHR_draco_mesh_compression", doc.get("extensionsUsed", []))
             validate_gltf(self, os.path.join(d, frame))
             r = wave("run", "-o", os.path.join(d, "x"), "--draco", "--no-draco")
+            self.assertEqual(r.returncode, 2)
+            self.assertIn("excludes", r.stderr)
+
+    def test_the_breaking_beach_imports_without_the_addon_and_quantisation_can_be_turned_off(self):
+        # The flagship breaker example's default: one .glb of quantised morph targets
+        # (Blender 3.4's own importer reads KHR_mesh_quantization, not Draco), with the
+        # far field; --no-quantize gives floats, --draco Draco instead.
+        with tempfile.TemporaryDirectory() as d:
+            scene = os.path.join(EXAMPLES, "breaking-beach.json")
+            for extra, quantised, draco in [((), True, False), (("--no-quantize",), False, False), (("--draco",), False, True)]:
+                out = os.path.join(d, "-".join(extra) or "default")
+                r = wave("run", scene, "-o", out, "--frames", "0:3", "-q", *extra)
+                self.assertEqual(r.returncode, 0, r.stderr)
+                with open(os.path.join(out, "report-frames-0-3.json")) as f:
+                    surface = json.load(f)["surface"]
+                self.assertEqual((surface["form"], surface["quantized"], surface["draco"]), ("morph", quantised, draco), extra)
+                self.assertEqual("far_field" in surface, not draco, extra)
+                validate_gltf(self, os.path.join(out, next(n for n in os.listdir(out) if n.endswith(".glb"))))
+            r = wave("run", scene, "-o", os.path.join(d, "x"), "--quantize", "--no-quantize")
             self.assertEqual(r.returncode, 2)
             self.assertIn("excludes", r.stderr)
 
@@ -1691,11 +1714,11 @@ class Limits(unittest.TestCase):
         err = self.run_limited({"waves": wave_train, "surface": {"kind": "height-field", "grid": [40000, 40000]}})
         self.assertIn("exceed max_vertices", err)
         # Frame arrays over the memory limit, and the options that lower or raise it (a
-        # quantised file holds every frame; the others stream a chunk at a time).
-        err = self.run_limited({"waves": wave_train, "animation": {"fps": 1000}, "outputs": {"quantize": True},
+        # quantised nodes file holds every frame; the others stream a chunk at a time).
+        err = self.run_limited({"waves": wave_train, "animation": {"fps": 1000}, "outputs": {"form": "nodes", "quantize": True},
                                 "surface": {"water_mesh": {"vertices_per_wavelength": 32}}})
         self.assertIn("GB of per-frame arrays", err)
-        self.assertIn("drop /outputs/quantize", err)
+        self.assertIn("use the morph form or drop /outputs/quantize", err)
         self.assertIn("wave run --max-memory-gb", err)
         # A 10^9-cell ocean patch is refused by the schema's range.
         err = self.run_limited({"surface": {"kind": "ocean"}, "ocean": {"resolution": 32768}})
@@ -1737,7 +1760,8 @@ class Limits(unittest.TestCase):
 class Streaming(unittest.TestCase):
     """A long animation is written a chunk of frames at a time (docs/export.md, "Streamed
     output"): under an address-space cap several times below its output, every form
-    finishes with valid files; the quantised single file, which holds every frame, is
+    finishes with valid files, quantised morph targets too (a first pass over the
+    positions finds their range); the quantised nodes file, which holds every frame, is
     refused by the same cap."""
 
     UNDER_ASAN = "ASAN_OPTIONS" in os.environ  # ASan reserves terabytes of address space
@@ -1780,9 +1804,17 @@ class Streaming(unittest.TestCase):
             validate_gltf(self, os.path.join(out, "animation.glb"))
             doc, _ = read_glb(os.path.join(out, "animation.glb"))
             self.assertEqual(len(doc["meshes"][0]["primitives"][0]["targets"]), 120)
+            quantised_short, _ = self.run_capped(d, "--form", "morph", "--quantize")
+            self.assertEqual(quantised_short.returncode, 0, quantised_short.stderr)
+            validate_gltf(self, os.path.join(d, "out-form-morph-quantize", "animation.glb"))
+            shutil.rmtree(os.path.join(d, "out-form-morph-quantize"))
             self.SCENE = Streaming.SCENE
-            # Quantised, the single file holds every frame: the same cap refuses it.
             r, out = self.run_capped(d, "--form", "morph", "--quantize")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertGreater(os.path.getsize(os.path.join(out, "animation.glb")), 1.7 * self.CAP)
+            shutil.rmtree(out)
+            # Quantised nodes hold every frame (each frame's grid spans the animation): refused.
+            r, out = self.run_capped(d, "--form", "nodes", "--quantize")
             self.assertNotEqual(r.returncode, 0)
             self.assertFalse(os.path.exists(out), "no partial output")
 

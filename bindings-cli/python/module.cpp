@@ -299,7 +299,7 @@ PYBIND11_MODULE(_libwave, m) {
             wave::CausticOptions o;
             {
                 py::gil_scoped_release release;
-                o = wave::scene_caustic_options(s, plan.seafloor);
+                o = wave::scene_caustic_options(s, plan);
                 const wave::CausticPlan cp = wave::plan_caustics(plan.seafloor.grid, o);
                 map.resize(o.width * o.height);
                 const std::size_t n = a.vertex_count;

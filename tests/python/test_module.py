@@ -84,7 +84,7 @@ def test_write_animation_streams_the_same_files_as_wave_run(small, tmp_path):
     # A slice, and a form the stream does not write
     files = libwave.write_animation(scene, plan, str(tmp_path / "slice"), first=10, end=14)
     assert [f[0] for f in files] == ["animation-frames-10-14.glb"]
-    quantised = libwave.parse_scene(dict(SMALL, outputs={"quantize": True}))
+    quantised = libwave.parse_scene(dict(SMALL, outputs={"form": "nodes", "quantize": True}))
     with pytest.raises(libwave.InputError, match="not streamed"):
         libwave.write_animation(quantised, plan, str(tmp_path / "q"))
 

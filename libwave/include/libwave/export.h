@@ -118,6 +118,11 @@ struct MorphAnimationView {
     /// store deltas as int16 (error <= largest delta / 65534). Normals int8, UV maps
     /// uint16 (morph deltas int16; normal deltas stay float).
     bool quantize = false;
+    /// Quantised morph targets: the range of the position deltas from the range's first
+    /// frame (the largest |delta| of any coordinate), when known before the frames come
+    /// (AnimationFileWriter streams quantised morph targets only with it); none = found
+    /// from the frames given. Deltas beyond it are clamped.
+    std::optional<double> quantize_range;
     /// The seafloor, camera, sun and water material (morph and nodes forms; in the files
     /// form the loop's frame 0 carries them).
     std::optional<SceneDressing> dressing;

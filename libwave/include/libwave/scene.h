@@ -235,8 +235,11 @@ PreviewOptions scene_preview(const Scene& scene, const Seafloor& seafloor);
 
 /// The caustic options of a scene with /underwater: its sun (/preview/sun), water, and
 /// a map over the seafloor grid's rectangle, map_size pixels along its longer side;
-/// I₀ = 1, so the maps hold irradiance relative to the sun's on flat water.
-CausticOptions scene_caustic_options(const Scene& scene, const Seafloor& seafloor);
+/// I₀ = 1, so the maps hold irradiance relative to the sun's on flat water. Flat water
+/// beyond the surface lights the floor unless the plan has a far-field skirt, which
+/// brings that light itself.
+struct ScenePlan;
+CausticOptions scene_caustic_options(const Scene& scene, const ScenePlan& plan);
 
 /// The caustic maps' names beside an animation, by loop frame (printf pattern).
 inline constexpr char kCausticImages[] = "caustics/caustics-%04d.png";
@@ -427,14 +430,20 @@ public:
     /// `progress(done, total)` counts frames of the whole range.
     std::size_t next(SceneAnimation& out, std::size_t count,
                      const std::function<void(std::size_t, std::size_t)>& progress = {});
+    /// The largest |delta| of any position coordinate from the range's first frame,
+    /// over the whole range, from a pass of its own (`chunk` frames at a time, positions
+    /// only: no shading, colour or caustics); this stream is not advanced. What a
+    /// quantised morph file needs before its first target (MorphAnimationView::quantize_range).
+    double position_delta_range(std::size_t chunk) const;
 
 private:
     struct State;
     std::unique_ptr<State> state_;
 };
 
-/// Whether wave run streams the scene's form (stream_animation): morph, nodes and pc2,
-/// not quantised (KHR_mesh_quantization's range spans every frame). The files form
+/// Whether wave run streams the scene's form (stream_animation): morph (plain or
+/// quantised: a first pass finds the deltas' range), nodes and pc2 (not quantised:
+/// KHR_mesh_quantization's range of positions spans every frame). The files form
 /// writes a chunk of frames at a time by its own index (`wave run --resume`).
 bool streamed_form(const Scene& scene);
 

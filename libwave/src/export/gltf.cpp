@@ -308,11 +308,12 @@ Quantization quantization_for(const MorphAnimationView& a, bool morph_targets) {
     hi.fill(-std::numeric_limits<double>::infinity());
     const std::size_t n = a.vertex_count;
     float p[3], p0[3];
-    double delta = 0.0;
+    double delta = a.quantize_range.value_or(0.0);
+    const bool scan_deltas = morph_targets && !a.quantize_range;
     for (std::size_t i = 0; i < a.positions.size() / 3; ++i) {
         to_y_up(&a.positions[3 * i], p);
         for (std::size_t c = 0; c < 3; ++c) lo[c] = std::min(lo[c], double{p[c]}), hi[c] = std::max(hi[c], double{p[c]});
-        if (morph_targets && i >= n) {
+        if (scan_deltas && i >= n) {
             to_y_up(&a.positions[3 * (i % n)], p0);  // the base is the range's first frame
             for (std::size_t c = 0; c < 3; ++c) delta = std::max(delta, std::abs(double{p[c]} - double{p0[c]}));
         }
@@ -876,9 +877,10 @@ AnimationFileWriter::AnimationFileWriter(std::string path, Form form, bool gltf_
     : state_(std::make_unique<State>()) {
     State& s = *state_;
     check(first);
-    if (first.quantize)
-        throw InputError("glTF export: a streamed file cannot be quantised (KHR_mesh_quantization's range spans every "
-                         "frame); write it whole (gltf_morph_glb, gltf_nodes_glb)");
+    if (first.quantize && (form != Form::morph || !first.quantize_range))
+        throw InputError("glTF export: a streamed file is quantised only as morph targets whose delta range is given "
+                         "(quantize_range: KHR_mesh_quantization's range spans every frame); write it whole "
+                         "(gltf_morph_glb, gltf_nodes_glb)");
     if (frame_count < first.frame_count) throw InputError("glTF export: the first chunk holds more frames than the range");
     // Float positions and normals alone: refused at once rather than after every frame.
     if (!gltf_container && !first.draco && 24.0 * static_cast<double>(frame_count) * static_cast<double>(first.vertex_count) > 4294967295.0)
@@ -903,7 +905,7 @@ AnimationFileWriter::AnimationFileWriter(std::string path, Form form, bool gltf_
         own.seafloor_texcoords = s.seafloor_texcoords;
         own.seafloor_triangles = s.seafloor_triangles;
     }
-    s.writer.emplace(s.header, 0, s.bin, s.bin_path);
+    s.writer.emplace(s.header, 0, s.bin, s.bin_path, form == Form::morph);
     s.writer->dressing = s.header.dressing;
     if (form == Form::morph) s.morph.emplace(*s.writer, first, frame_count);
     else s.nodes.emplace(*s.writer, first, frame_count);

@@ -72,8 +72,10 @@ std::array<double, 3> scene_camera(const Scene& scene, const Seafloor& seafloor)
     return {cx - dx * 1.1 * size, cy - dy * 1.1 * size, 0.4 * size};
 }
 
-CausticOptions scene_caustic_options(const Scene& scene, const Seafloor& seafloor) {
+CausticOptions scene_caustic_options(const Scene& scene, const ScenePlan& plan) {
+    const Seafloor& seafloor = plan.seafloor;
     CausticOptions o;
+    o.flat_water_beyond = plan.skirt.vertex_count() == 0;
     const double az = scene.preview.sun_azimuth_degrees * std::numbers::pi / 180.0;
     const double el = scene.preview.sun_elevation_degrees * std::numbers::pi / 180.0;
     o.sun = {std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
@@ -434,7 +436,7 @@ EncodedFiles encode_animation(const MorphAnimationView& view, Scene::Form form, 
 }
 
 bool streamed_form(const Scene& scene) {
-    return scene.form != Scene::Form::files && !scene.quantize;
+    return scene.form != Scene::Form::files && (!scene.quantize || scene.form == Scene::Form::morph);
 }
 
 namespace {
@@ -499,7 +501,7 @@ struct Pc2Stream {
 StreamedAnimation stream_animation(AnimationStream& stream, const Scene& scene, const std::string& folder, bool whole,
                                    std::size_t chunk, const std::function<void(std::size_t, std::size_t)>& progress) {
     if (!streamed_form(scene))
-        throw InputError("scene: the files form and quantised files are not streamed by stream_animation");
+        throw InputError("scene: the files form and quantised nodes or pc2 files are not streamed by stream_animation");
     StreamedAnimation out;
     out.z_min = std::numeric_limits<float>::infinity();
     out.z_max = -std::numeric_limits<float>::infinity();
@@ -511,11 +513,16 @@ StreamedAnimation stream_animation(AnimationStream& stream, const Scene& scene, 
     EncodedFiles small;     // the pc2 form's base mesh
     std::vector<std::string> maps;  // caustic maps written, in order
     SceneAnimation a;
+    // Quantised morph targets need their delta range before the first target: a pass
+    // over the frames' positions alone finds it.
+    const std::optional<double> quantize_range =
+        scene.quantize ? std::optional<double>(stream.position_delta_range(chunk)) : std::nullopt;
     try {
         // The range's first frame alone first (the file's settings, and the frame kept
         // for the caller), then `chunk` frames at a time.
         while (stream.next(a, stream.frames_left() == frames ? 1 : std::max<std::size_t>(1, chunk), progress) > 0) {
-            const MorphAnimationView view = a.view();
+            MorphAnimationView view = a.view();
+            view.quantize_range = quantize_range;
             if (a.first_frame == stream.first_frame()) {
                 if (scene.form == Scene::Form::pc2) {
                     pc2.start(view, frames, scene.container, small);
@@ -616,7 +623,7 @@ RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double plann
     // (4 bytes a pixel) and the PNG's 16-bit pixels (2).
     double caustic_work = 0.0;
     if (scene.underwater && scene.underwater->caustics && g.nx >= 2 && g.ny >= 2) {
-        const CausticOptions o = scene_caustic_options(scene, plan.seafloor);
+        const CausticOptions o = scene_caustic_options(scene, plan);
         const double pixels = static_cast<double>(o.width) * static_cast<double>(o.height);
         e.output_bytes += frames * 1.2 * pixels;
         caustic_work = 6.0 * pixels;
@@ -661,7 +668,9 @@ namespace {
 // What lowers a run's memory, or raises its limit: the end of both memory refusals.
 std::string memory_advice(const Scene& scene) {
     return (scene.refine ? std::string("lower /refine/level, or ") : std::string()) +
-           (scene.quantize ? std::string("drop /outputs/quantize (unquantised files are streamed), or ") : std::string()) +
+           (scene.quantize && scene.form != Scene::Form::morph
+                ? std::string("use the morph form or drop /outputs/quantize (quantised nodes files are written whole), or ")
+                : std::string()) +
            std::string(detail::surface_model(scene.surface_kind).size_keys) + ", or raise the limit (wave run --max-memory-gb)";
 }
 
@@ -750,9 +759,7 @@ void start_run(FrameRun& r, const std::vector<std::uint32_t>& triangles, std::si
     r.fresnel.camera = scene_camera(r.scene, plan.seafloor);
     r.fresnel.model = r.scene.fresnel;
     if (r.scene.underwater && r.scene.underwater->caustics) {
-        CausticOptions o = scene_caustic_options(r.scene, plan.seafloor);
-        o.flat_water_beyond = plan.skirt.vertex_count() == 0;  // a skirt brings the light from beyond itself
-        r.caustics = plan_caustics(plan.seafloor.grid, o);
+        r.caustics = plan_caustics(plan.seafloor.grid, scene_caustic_options(r.scene, plan));
         r.caustic_map.resize(r.caustics->options.width * r.caustics->options.height);
     }
 }
@@ -1020,6 +1027,24 @@ AnimationStream::AnimationStream(const Scene& scene, const ScenePlan& plan, Fram
 }
 
 AnimationStream::~AnimationStream() = default;
+
+double AnimationStream::position_delta_range(std::size_t chunk) const {
+    const State& s = *state_;
+    Scene positions_only = s.scene;  // no shading, colour or caustics: the positions are the same
+    positions_only.attributes = Scene::Attributes::none;
+    positions_only.color = false;
+    positions_only.underwater.reset();
+    AnimationStream pass(positions_only, s.plan, FrameRange{s.first, s.first + s.count});
+    SceneAnimation a;
+    std::vector<float> base;
+    double range = 0.0;
+    while (pass.next(a, std::max<std::size_t>(1, chunk)) > 0) {
+        if (base.empty()) base.assign(a.positions.begin(), a.positions.begin() + static_cast<std::ptrdiff_t>(3 * a.vertex_count));
+        for (std::size_t i = 0; i < a.positions.size(); ++i)
+            range = std::max(range, std::abs(double{a.positions[i]} - double{base[i % base.size()]}));
+    }
+    return range;
+}
 std::size_t AnimationStream::first_frame() const noexcept { return state_->first; }
 std::size_t AnimationStream::frame_count() const noexcept { return state_->count; }
 std::size_t AnimationStream::frames_left() const noexcept { return state_->count - state_->done; }
