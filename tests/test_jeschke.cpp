@@ -429,3 +429,70 @@ TEST(JeschkeVariation, FoamOnlyWhereSomeCrestBrokeAndBoundedByTheFade) {
     EXPECT_GT(foamy, 1000u);
     EXPECT_GT(alike_differs, 1000u) << "the varied crests leave other foam than identical ones";
 }
+
+TEST(JeschkeGaps, OffStripVerticesContinueTheNearestTracedWaveWithinAWavelength) {
+    // An 11 × 3 grid, 1 m apart; the rays cover x <= 5 (a wave along +x, W = 4 m,
+    // Φ = k x), the rest is a gap such as rays leave at a domain's downwave side.
+    constexpr std::uint32_t nx = 11, ny = 3;
+    JeschkeMotionPlan p;
+    const double W = 4.0, k = 2.0 * std::numbers::pi / W;
+    for (std::uint32_t j = 0; j < ny; ++j)
+        for (std::uint32_t i = 0; i < nx; ++i) {
+            const bool traced = i <= 5;
+            p.x.push_back(double(i));
+            p.y.push_back(double(j));
+            p.dir_x.push_back(1.0);
+            p.dir_y.push_back(0.0);
+            p.phase.push_back(traced ? k * double(i) : 0.0);
+            p.width.push_back(traced ? float(W) : 0.0f);
+            p.scale.push_back(traced ? 0.5f + 0.01f * float(j) : 0.0f);
+            p.mean_level.push_back(traced ? 0.05f : 0.0f);
+            p.break_phase.push_back(traced ? 30.0f : std::numeric_limits<float>::infinity());
+            p.end_phase.push_back(traced ? 60.0f : std::numeric_limits<float>::infinity());
+            for (auto* f : {&p.rise, &p.breaking_length, &p.curl, &p.foam_yield}) f->push_back(traced ? 0.25f : 0.0f);
+        }
+    std::vector<std::uint32_t> triangles;
+    for (std::uint32_t j = 0; j + 1 < ny; ++j)
+        for (std::uint32_t i = 0; i + 1 < nx; ++i) {
+            const std::uint32_t a = j * nx + i, b = a + 1, c = a + nx, d = c + 1;
+            triangles.insert(triangles.end(), {a, b, d, a, d, c});
+        }
+    JeschkeMotionPlan filled = p;
+    // Within 4 m (one wavelength) of x = 5: x = 6 … 9 on every row; x = 10 is 5 m away.
+    EXPECT_EQ(fill_jeschke_gaps(filled, triangles), 4u * ny);
+    for (std::size_t j = 0; j < ny; ++j)
+        for (std::size_t i = 6; i < nx; ++i) {
+            const std::size_t v = j * nx + i;
+            if (i == 10) {
+                EXPECT_EQ(filled.width[v], 0.0f) << "beyond the reach: at rest";
+                continue;
+            }
+            EXPECT_NEAR(filled.phase[v], k * double(i), 1e-12) << "the plane wave continued";
+            EXPECT_EQ(filled.width[v], float(W));
+            EXPECT_EQ(filled.scale[v], 0.5f + 0.01f * float(j)) << "the same row's traced vertex is nearest";
+            EXPECT_EQ(filled.break_phase[v], 30.0f);
+        }
+    // The traced vertices are untouched, and a filled vertex moves as the traced one a
+    // wavelength before it (the same phase mod 2π, the same row's breakers) does.
+    for (std::size_t v = 0; v < p.vertex_count(); ++v)
+        if (p.width[v] > 0.0f) {
+            EXPECT_EQ(filled.phase[v], p.phase[v]);
+        }
+    std::vector<float> positions(3 * p.vertex_count());
+    for (double t : {0.0, 0.7, 3.1}) {
+        evaluate_jeschke_breakers(filled, t, positions);
+        for (std::uint32_t j = 0; j < ny; ++j) {
+            const float* a = &positions[3 * (j * nx + 2)];
+            const float* b = &positions[3 * (j * nx + 6)];
+            EXPECT_NEAR(b[0] - a[0], W, 1e-5) << "t " << t;
+            EXPECT_NEAR(b[2], a[2], 1e-5) << "t " << t;
+        }
+    }
+    // A longer reach fills x = 10 too; a bad reach or index is refused.
+    JeschkeMotionPlan wide = p;
+    EXPECT_EQ(fill_jeschke_gaps(wide, triangles, 2.0), 5u * ny);
+    EXPECT_THROW(fill_jeschke_gaps(wide, triangles, 0.0), InputError);
+    std::vector<std::uint32_t> bad = triangles;
+    bad[0] = 999;
+    EXPECT_THROW(fill_jeschke_gaps(wide, bad), InputError);
+}

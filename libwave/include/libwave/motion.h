@@ -411,6 +411,17 @@ JeschkeMotionPlan plan_jeschke_breakers(const RayStrips& strips, double deep_hei
 JeschkeMotionPlan resample_jeschke_breakers(const JeschkeMotionPlan& plan, std::span<const std::uint32_t> triangles,
                                             std::span<const double> x, std::span<const double> y);
 
+/// Closes the gaps resampling leaves on a water surface (`triangles` over the plan's
+/// vertices): where the rays diverge at the domain's sides, a vertex off the strips
+/// takes the breakers of the nearest traced vertex u reached through the mesh, its
+/// phase continued as a plane wave, Φ = Φ_u + k_u D_u · (x − x_u), if it lies within
+/// `reach_wavelengths` of u's wavelength. Farther vertices (the shadows behind islands,
+/// which a plane wave would wrongly fill) stay at rest. Nearest by distance to u
+/// (Dijkstra over the mesh's edges, ties by index): deterministic. Returns how many
+/// vertices it filled. Throws InputError on a bad index or reach <= 0.
+std::size_t fill_jeschke_gaps(JeschkeMotionPlan& plan, std::span<const std::uint32_t> triangles,
+                              double reach_wavelengths = 1.0);
+
 /// Vertex positions at time t (3 floats per vertex, z up): each vertex lies in the
 /// unit shape of the crest nearest to it in phase (crests pass a vertex when
 /// ωt − Φ ≡ 0 mod 2π), at s = ½ − δ/2π, moved along its ray by (1 − y − s)·W and up by

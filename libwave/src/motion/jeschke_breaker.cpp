@@ -14,7 +14,9 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <queue>
 #include <string>
+#include <tuple>
 
 namespace wave {
 namespace {
@@ -351,6 +353,63 @@ JeschkeMotionPlan resample_jeschke_breakers(const JeschkeMotionPlan& src, std::s
         }
     });
     return p;
+}
+
+std::size_t fill_jeschke_gaps(JeschkeMotionPlan& p, std::span<const std::uint32_t> triangles, double reach_wavelengths) {
+    const std::size_t n = p.vertex_count();
+    if (!(reach_wavelengths > 0.0) || !std::isfinite(reach_wavelengths))
+        throw InputError("jeschke gaps: reach_wavelengths must be > 0");
+    // The mesh's vertex neighbours (CSR).
+    std::vector<std::uint32_t> start(n + 1, 0), next;
+    for (std::uint32_t v : triangles) {
+        if (v >= n) throw InputError("jeschke gaps: triangle index " + std::to_string(v) + " of " + std::to_string(n) + " vertices");
+        start[v + 1] += 2;
+    }
+    for (std::size_t v = 0; v < n; ++v) start[v + 1] += start[v];
+    next.resize(start[n]);
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t t = 0; t + 2 < triangles.size(); t += 3)
+        for (std::size_t i = 0; i < 3; ++i) {
+            const std::uint32_t a = triangles[t + i];
+            next[fill[a]++] = triangles[t + (i + 1) % 3];
+            next[fill[a]++] = triangles[t + (i + 2) % 3];
+        }
+    // Dijkstra from every traced vertex at once; a gap vertex keeps its nearest source.
+    constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
+    std::vector<std::uint32_t> source(n, none);
+    std::vector<double> distance(n, std::numeric_limits<double>::infinity());
+    using Item = std::tuple<double, std::uint32_t, std::uint32_t>;  // (distance, vertex, source)
+    std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
+    for (std::uint32_t v = 0; v < n; ++v)
+        if (p.width[v] > 0.0f) source[v] = v, distance[v] = 0.0, queue.emplace(0.0, v, v);
+    while (!queue.empty()) {
+        const auto [d, v, s] = queue.top();
+        queue.pop();
+        if (d > distance[v] || source[v] != s) continue;
+        for (std::uint32_t i = start[v]; i < start[v + 1]; ++i) {
+            const std::uint32_t w = next[i];
+            if (p.width[w] > 0.0f) continue;  // traced: keeps its own
+            const double dw = std::hypot(p.x[w] - p.x[s], p.y[w] - p.y[s]);
+            if (dw > reach_wavelengths * p.width[s]) continue;
+            if (dw < distance[w] || (dw == distance[w] && s < source[w])) {
+                distance[w] = dw, source[w] = s;
+                queue.emplace(dw, w, s);
+            }
+        }
+    }
+    std::size_t filled = 0;
+    for (std::size_t v = 0; v < n; ++v) {
+        const std::uint32_t s = source[v];
+        if (s == none || s == v) continue;
+        const double k = 2.0 * std::numbers::pi / p.width[s];
+        p.phase[v] = p.phase[s] + k * (p.dir_x[s] * (p.x[v] - p.x[s]) + p.dir_y[s] * (p.y[v] - p.y[s]));
+        p.dir_x[v] = p.dir_x[s], p.dir_y[v] = p.dir_y[s];
+        for (auto* f : {&p.width, &p.scale, &p.mean_level, &p.rise, &p.breaking_length, &p.curl, &p.foam_yield,
+                        &p.break_phase, &p.end_phase})
+            (*f)[v] = (*f)[s];
+        ++filled;
+    }
+    return filled;
 }
 
 void evaluate_jeschke_breakers(const JeschkeMotionPlan& p, double t, std::span<float> positions) {

@@ -94,9 +94,14 @@ void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
             GridCamera c = *scene.camera_grid;
             c.position = scene_camera(scene, p.seafloor);
             p.camera_grid = camera_grid(c);
+            // (No gap filling: the grid covers land too, which must stay at rest.)
             p.breakers = resample_jeschke_breakers(p.breakers, p.strips.triangles, p.camera_grid.x, p.camera_grid.y);
         }
-        if (on_mesh) p.breakers = resample_jeschke_breakers(p.breakers, p.strips.triangles, p.water_mesh.x, p.water_mesh.y);
+        if (on_mesh) {
+            p.breakers = resample_jeschke_breakers(p.breakers, p.strips.triangles, p.water_mesh.x, p.water_mesh.y);
+            // Where the rays leave gaps (the downwave sides), the nearest traced breakers.
+            fill_jeschke_gaps(p.breakers, p.water_mesh.triangles);
+        }
         // Varied crests repeat after m of them: the loop holds m periods.
         p.loop_period *= static_cast<double>(p.breakers.loop_periods());
     }
