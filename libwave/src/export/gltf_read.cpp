@@ -72,6 +72,9 @@ struct Reader {
         const int size = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(a.componentType));
         if (size <= 0) fail(what + ": unknown component type");
         const std::size_t element = comps * static_cast<std::size_t>(size);
+        // An accessor without a view (zeros) holds no bytes to bound its count: refuse
+        // counts beyond any libwave output rather than allocate them.
+        if (a.count > (std::size_t{1} << 28)) fail(what + " claims " + std::to_string(a.count) + " elements");
         std::vector<float> out(a.count * comps, 0.0f);
         const auto decode = [&](const unsigned char* p, std::size_t e) {
             for (std::size_t c = 0; c < comps; ++c) out[e * comps + c] = static_cast<float>(component(a, p + c * static_cast<std::size_t>(size), what));
@@ -80,6 +83,7 @@ struct Reader {
             const std::size_t stride = static_cast<std::size_t>(a.bufferView) < m.bufferViews.size() &&
                                                m.bufferViews[static_cast<std::size_t>(a.bufferView)].byteStride
                                            ? m.bufferViews[static_cast<std::size_t>(a.bufferView)].byteStride : element;
+            if (stride < element || stride > 256) fail(what + ": byte stride " + std::to_string(stride));
             const unsigned char* p = view_bytes(a.bufferView, a.byteOffset, a.count, element, stride, what);
             for (std::size_t e = 0; e < a.count; ++e) decode(p + e * stride, e);
         }
