@@ -16,6 +16,7 @@
 #include <array>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <vector>
 
@@ -371,6 +372,41 @@ TEST(MorphTargets, StillVerticesAreStoredSparseAndReadBack) {
     EXPECT_LE(worst(back.normals, anim.normals), 2e-7);
     EXPECT_EQ(back.foam, anim.foam);
     EXPECT_LE(worst(back.reflect, anim.reflect), 2e-7);
+
+    // Hostile sparse accessors are refused by name, never read out of bounds: the same
+    // file with one target's JSON edited (the BIN chunk unchanged).
+    const int sparse_target = targets[1]["POSITION"].get<int>();
+    const auto refused = [&](const std::function<void(nlohmann::json&)>& edit, const std::string& message) {
+        nlohmann::json bad = doc;
+        edit(bad["accessors"][sparse_target]);
+        std::string json = bad.dump();
+        json.append((4 - json.size() % 4) % 4, ' ');
+        const std::size_t bin_at = 20 + json_length;
+        std::string out = glb.substr(0, 12);
+        const auto u32 = [&](std::size_t v) {
+            const auto x = static_cast<std::uint32_t>(v);
+            out.append(reinterpret_cast<const char*>(&x), 4);
+        };
+        u32(json.size());
+        out += "JSON" + json + glb.substr(bin_at);
+        const auto total = static_cast<std::uint32_t>(out.size());
+        std::memcpy(&out[8], &total, 4);
+        write_file_atomic(file.string(), out);
+        try {
+            read_animation(file.string());
+            ADD_FAILURE() << "accepted: " << message;
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << message << ": " << e.what();
+        }
+        std::filesystem::remove(file);
+    };
+    refused([](nlohmann::json& a) { a["sparse"]["count"] = a["count"].get<int>() + 1; }, "bad sparse count");
+    refused([](nlohmann::json& a) { a["sparse"]["indices"]["componentType"] = 5126; }, "bad sparse index type");
+    refused([](nlohmann::json& a) { a["sparse"]["values"]["byteOffset"] = 1 << 30; }, "runs past its buffer");
+    refused([](nlohmann::json& a) {
+        a.erase("sparse");
+        a["count"] = 1 << 30;
+    }, "claims");
 }
 
 TEST(Fresnel, WeightsMatchTheFormulasAndSumToOne) {

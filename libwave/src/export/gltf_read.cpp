@@ -90,8 +90,11 @@ struct Reader {
         if (a.sparse.isSparse) {
             if (a.sparse.count < 1 || static_cast<std::size_t>(a.sparse.count) > a.count) fail(what + ": bad sparse count");
             const auto n = static_cast<std::size_t>(a.sparse.count);
-            const int isize = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(a.sparse.indices.componentType));
-            if (isize != 1 && isize != 2 && isize != 4) fail(what + ": bad sparse index type");
+            const int itype = a.sparse.indices.componentType;
+            if (itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+                itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+                fail(what + ": bad sparse index type " + std::to_string(itype));
+            const int isize = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(itype));
             const unsigned char* ip = view_bytes(a.sparse.indices.bufferView, static_cast<std::size_t>(std::max(a.sparse.indices.byteOffset, 0)),
                                                  n, static_cast<std::size_t>(isize), static_cast<std::size_t>(isize), what + "'s sparse indices");
             const unsigned char* vp = view_bytes(a.sparse.values.bufferView, static_cast<std::size_t>(std::max(a.sparse.values.byteOffset, 0)),
