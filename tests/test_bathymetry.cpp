@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -346,6 +348,18 @@ TEST_F(Scratch, OffIsPlainlyOffBeforeCgalReadsIt) {
     static constexpr char kNulFirst[] = "\0OFF 0 2-0 -30  2\n3 ";
     const std::string nul = write("nul.off", std::string(kNulFirst, sizeof kNulFirst - 1));
     expect_input_error([&] { read_seafloor(nul); }, {nul, "line 1:", "is not an OFF header keyword"});
+    // Binary OFF: CGAL 5.5 reads no facet's colour count and so read this two-triangle
+    // plane as one triangle; counts near 2^31 overflowed its header (the fuzzer). Refused
+    // by name, with the formats that do read.
+    std::string binary = "OFF BINARY\n";
+    const auto put = [&](std::uint32_t bits) {
+        for (int shift = 24; shift >= 0; shift -= 8) binary += static_cast<char>((bits >> shift) & 0xFFu);
+    };
+    for (const std::uint32_t count : {4u, 2u, 0u}) put(count);
+    for (const float c : {0.f, 0.f, -1.f, 10.f, 0.f, -3.f, 10.f, 6.f, -3.f, 0.f, 6.f, -1.f}) put(std::bit_cast<std::uint32_t>(c));
+    for (const std::uint32_t i : {3u, 0u, 1u, 2u, 0u, 3u, 0u, 2u, 3u, 0u}) put(i);  // each facet ends with 0 colours
+    const std::string bin = write("binary.off", binary);
+    expect_input_error([&] { read_seafloor(bin); }, {bin, "line 1: binary OFF is not read", "PLY"});
 }
 
 // CGAL's PLY reader sizes each list from a count it reads unchecked (tests/fuzz): the
