@@ -204,16 +204,20 @@ TEST(JeschkeFoam, NoneBeforeTheBreakThenDecayingUntilTheNextCrest) {
         }
         if (b.foam_yield[v] < 1.0f || b.phase[v] >= b.end_phase[v]) continue;
         ++surf;
-        // Within a period: one rise (a broken crest passes), monotone decay otherwise.
-        int rises = 0;
-        for (std::size_t f = 1; f <= 400; ++f) {
-            if (foam[f][v] > foam[f - 1][v]) {
-                ++rises;
-                const double since = std::fmod(b.omega * static_cast<double>(f) * dt - b.phase[v] + 100 * kPi, 2 * kPi) / b.omega;
-                EXPECT_NEAR(foam[f][v], 1.0 - since / b.foam_fade_time, 1e-3);  // linear fade from the passage
-            }
+        // Within a period: the lip's foam rising over the fifth of a period before the
+        // crest (lip_foam_rise), then the linear fade from its passage; rising only in
+        // that window, and as one stretch of frames.
+        int rise_starts = 0;
+        const auto rising = [&](std::size_t f) { return foam[f][v] > foam[(f + 399) % 400][v]; };  // frame 400 is frame 0
+        for (std::size_t f = 0; f < 400; ++f) {
+            const double since = std::fmod(b.omega * static_cast<double>(f) * dt - b.phase[v] + 100 * kPi, 2 * kPi) / b.omega;
+            const double lip = lip_foam_rise(2 * kPi - b.omega * since);
+            EXPECT_NEAR(foam[f][v], std::max({0.0, 1.0 - since / b.foam_fade_time, lip}), 1e-3);
+            if (!rising(f)) continue;
+            EXPECT_TRUE(lip > 0.0 || since < dt + 1e-9) << "vertex " << v;  // before the crest, or at it
+            rise_starts += rising((f + 399) % 400) ? 0 : 1;
         }
-        EXPECT_EQ(rises, 1) << "vertex " << v;
+        EXPECT_EQ(rise_starts, 1) << "vertex " << v;
     }
     EXPECT_GT(seaward, 1000u);
     EXPECT_GT(surf, 100u);
@@ -417,9 +421,14 @@ TEST(JeschkeVariation, FoamOnlyWhereSomeCrestBrokeAndBoundedByTheFade) {
                 ASSERT_EQ(cur[v], 0.0f) << "vertex " << v;
             }
             if (cur[v] > prev[v]) {
-                // A rise only when a crest has just passed (within one step).
+                // A rise only when a crest has just passed (within one step), or before
+                // the next one as its lip's foam rises (never above that curve).
                 const double since = std::fmod(b.omega * t - b.phase[v] + 1000 * kPi, 2 * kPi) / b.omega;
-                ASSERT_LT(since, dt + 1e-9) << "vertex " << v << " t " << t;
+                const double rise = lip_foam_rise(2 * kPi - b.omega * since);
+                if (since >= dt + 1e-9) {
+                    ASSERT_GT(rise, 0.0) << "vertex " << v << " t " << t;
+                    ASSERT_LE(cur[v], rise + 1e-6) << "vertex " << v << " t " << t;
+                }
             }
             foamy += cur[v] > 0.0f;
             alike_differs += std::abs(cur[v] - alike[v]) > 0.05f;

@@ -9,6 +9,7 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <vector>
 
@@ -49,18 +50,31 @@ double smallest_area_ratio(const Grid& g, const std::vector<float>& p) {
 }
 
 TEST(Untangle, OneTriangleTakesTheAnalyticFactor) {
-    // (0,0) (1,0) (0,1): twice the area 1. The top vertex pulled down by 2 m: A(s) = 1 − 2s,
-    // ≥ 0.1 up to s = 0.45; the kernel stays 2 % inside the root: 0.441.
+    // (0,0) (1,0) (0,1): twice the area 1. The top vertex pulled down by 2 m: A(s) = 1 − 2s.
     const std::vector<double> x{0, 1, 0}, y{0, 0, 1};
     const std::vector<std::uint32_t> tri{0, 1, 2};
+    {
+        // The passes alone: A ≥ 0.1 up to s = 0.45; they stay 2 % inside the root: 0.441.
+        const UntanglePlan plan = plan_untangle(x, y, tri, {.pin_border = false, .ramp_slope = 0.0});
+        std::vector<float> p{0, 0, 0, 1, 0, 0, 0, -1, 0.5f};
+        const UntangleReport r = untangle_motion(plan, {}, p);
+        EXPECT_EQ(r.damped_vertices, 1u);
+        EXPECT_NEAR(p[7], 1.0 - 2.0 * 0.98 * 0.45, 1e-6);
+        EXPECT_EQ(p[6], 0.0f);     // the offset keeps its direction
+        EXPECT_EQ(p[8], 0.5f);     // heights are not touched
+        EXPECT_EQ(p[0], 0.0f);     // vertices that did not move stay
+    }
+    // The ramp: the offsets' gradient is diag(0, −2), a compression λ = −2; the bound
+    // (1 + sλ)² ≥ 0.3 gives s = (1 − √0.3) / 2, and this one-axis squeeze keeps exactly
+    // 1 − 2s = √0.3 of the area (≥ 0.3: no pass needed).
     const UntanglePlan plan = plan_untangle(x, y, tri, {.pin_border = false});
     std::vector<float> p{0, 0, 0, 1, 0, 0, 0, -1, 0.5f};
     const UntangleReport r = untangle_motion(plan, {}, p);
     EXPECT_EQ(r.damped_vertices, 1u);
-    EXPECT_NEAR(p[7], 1.0 - 2.0 * 0.98 * 0.45, 1e-6);
-    EXPECT_EQ(p[6], 0.0f);     // the offset keeps its direction
-    EXPECT_EQ(p[8], 0.5f);     // heights are not touched
-    EXPECT_EQ(p[0], 0.0f);     // vertices that did not move stay
+    EXPECT_EQ(r.passes, 1u);
+    EXPECT_NEAR(p[7], std::sqrt(0.3), 1e-6);
+    EXPECT_EQ(p[6], 0.0f);
+    EXPECT_EQ(p[8], 0.5f);
 }
 
 TEST(Untangle, ARigidShiftAndAGentleWaveAreLeftAlone) {
@@ -99,12 +113,13 @@ TEST(Untangle, BorderVerticesSlideAlongTheirSideOnly) {
     }
 }
 
-// A steep Gerstner-like wave on a grid: the offset x + Q·sin(kx) folds where Q·k > 1.
-std::vector<float> folded_wave(const Grid& g, double qk) {
+// A steep Gerstner-like wave on a grid: the offset x + Q·sin(kx) folds where Q·k > 1;
+// `shift` moves it along (radians of phase).
+std::vector<float> folded_wave(const Grid& g, double qk, double shift = 0.0) {
     const double k = 2.0 * std::numbers::pi / 8.0, q = qk / k;
     std::vector<float> p = g.rest();
     for (std::size_t v = 0; v < g.x.size(); ++v) {
-        const double phase = k * g.x[v] + 0.3 * g.y[v];  // crests slanted across the grid
+        const double phase = k * g.x[v] + 0.3 * g.y[v] - shift;  // crests slanted across the grid
         p[3 * v] = float(g.x[v] - q * std::sin(phase));
         p[3 * v + 2] = float(0.5 * std::cos(phase));
     }
@@ -113,7 +128,8 @@ std::vector<float> folded_wave(const Grid& g, double qk) {
 
 TEST(Untangle, AFoldingWaveKeepsEveryTriangleUpAndTheCrestsWhereTheyWere) {
     const Grid g(40, 0.5);
-    const UntanglePlan plan = plan_untangle(g.x, g.y, g.triangles);
+    // The passes alone (the ramp's own test follows).
+    const UntanglePlan plan = plan_untangle(g.x, g.y, g.triangles, {.ramp_slope = 0.0});
     std::vector<float> p = folded_wave(g, 1.6);
     ASSERT_LT(smallest_area_ratio(g, p), 0.0);  // folded as moved
     const std::vector<float> moved = p;
@@ -142,15 +158,66 @@ TEST(Untangle, AFoldingWaveKeepsEveryTriangleUpAndTheCrestsWhereTheyWere) {
     EXPECT_EQ(inspect_animation(view).frames[0].facing_down, 0u);
 }
 
+// The wave moving on by 1/96 of a period per step (Q·k = 1.6: 2 m sweeps folding on
+// 31 % of the phases). A vertex's untangled position may move per step at most twice
+// as far as the fastest moved vertex does: the factors are continuous in the offsets.
+// The passes alone fail this: neighbours damped unevenly fold again and take the last
+// resort, s = 0, one step and not the next.
+double largest_step_ratio(const UntangleOptions& options, double* smallest_area) {
+    const Grid g(40, 0.5);
+    const UntanglePlan plan = plan_untangle(g.x, g.y, g.triangles, options);
+    std::vector<float> before, moved_before;
+    double moved_step = 0.0, step = 0.0;
+    *smallest_area = 1e300;
+    for (int i = 0; i <= 96; ++i) {
+        std::vector<float> moved = folded_wave(g, 1.6, 2.0 * std::numbers::pi * i / 96.0), p = moved;
+        untangle_motion(plan, {}, p);
+        *smallest_area = std::min(*smallest_area, smallest_area_ratio(g, p));
+        for (std::size_t v = 0; i > 0 && v < g.x.size(); ++v) {
+            moved_step = std::max(moved_step, std::hypot(double(moved[3 * v]) - moved_before[3 * v],
+                                                         double(moved[3 * v + 1]) - moved_before[3 * v + 1]));
+            step = std::max(step, std::hypot(double(p[3 * v]) - before[3 * v], double(p[3 * v + 1]) - before[3 * v + 1]));
+        }
+        before = p;
+        moved_before = moved;
+    }
+    return step / moved_step;
+}
+
+TEST(Untangle, TheRampKeepsAMovingWaveSmooth) {
+    double area = 0.0;
+    const double ramp = largest_step_ratio({}, &area);
+    EXPECT_LT(ramp, 2.0);
+    EXPECT_GE(area, 0.1 - 1e-4);
+    const double passes = largest_step_ratio({.ramp_slope = 0.0}, &area);
+    EXPECT_GT(passes, 2.0) << "the passes alone no longer jump: this test lost its witness";
+    EXPECT_GE(area, 0.1 - 1e-4);
+    std::printf("largest step over the moved wave's: ramp %.2f, passes alone %.2f\n", ramp, passes);
+}
+
 TEST(Untangle, FoamyCrestsAreLipsLeftToOverturn) {
     const Grid g(40, 0.5);
     const UntanglePlan plan = plan_untangle(g.x, g.y, g.triangles, {.pin_border = false});
     std::vector<float> p = folded_wave(g, 1.6);
     const std::vector<float> moved = p;
-    const std::vector<float> foam(g.x.size(), 0.5f);  // every vertex breaking
+    const std::vector<float> foam(g.x.size(), 1.0f);  // every vertex breaking, fully foamy
     const UntangleReport r = untangle_motion(plan, foam, p);
     EXPECT_EQ(r.damped_vertices, 0u);
     EXPECT_EQ(p, moved);
+    // Half foamy: the passes leave the lips alone, the ramp frees them by half (the
+    // smoothstep of (0.55 − 0.1) / 0.9): every offset between the foam-free answer and
+    // the motion's own.
+    std::vector<float> half = moved, none = moved;
+    untangle_motion(plan, std::vector<float>(g.x.size(), 0.55f), half);
+    untangle_motion(plan, {}, none);
+    std::size_t between = 0;
+    for (std::size_t v = 0; v < g.x.size(); ++v) {
+        const double d_none = double(none[3 * v]) - g.x[v], d_half = double(half[3 * v]) - g.x[v], d = double(moved[3 * v]) - g.x[v];
+        EXPECT_LE(std::abs(d_none), std::abs(d_half) + 1e-5) << v;
+        EXPECT_LE(std::abs(d_half), std::abs(d) + 1e-5) << v;
+        between += std::abs(d_half) > std::abs(d_none) + 1e-3 && std::abs(d_half) < std::abs(d) - 1e-3;
+    }
+    EXPECT_GT(between, g.x.size() / 4);
 }
 
 TEST(Untangle, TheSameBitsOnOneThreadAndOnMany) {
@@ -175,6 +242,10 @@ TEST(Untangle, WrongSizesAndOptionsAreRefused) {
     EXPECT_THROW(plan_untangle(g.x, g.y, std::vector<std::uint32_t>{0, 1, 9}), InputError);
     EXPECT_THROW(plan_untangle(g.x, g.y, std::vector<std::uint32_t>{0, 1}), InputError);
     EXPECT_THROW(plan_untangle(g.x, g.y, g.triangles, UntangleOptions{.min_area_ratio = 1.0}), InputError);
+    EXPECT_THROW(plan_untangle(g.x, g.y, g.triangles, UntangleOptions{.ramp_slope = -1.0}), InputError);
+    EXPECT_THROW(plan_untangle(g.x, g.y, g.triangles, UntangleOptions{.ramp_slope = NAN}), InputError);
+    EXPECT_THROW(plan_untangle(g.x, g.y, g.triangles, UntangleOptions{.ramp_area_ratio = 0.05}), InputError);
+    EXPECT_THROW(plan_untangle(g.x, g.y, g.triangles, UntangleOptions{.ramp_area_ratio = 1.0}), InputError);
     const UntanglePlan plan = plan_untangle(g.x, g.y, g.triangles);
     std::vector<float> p(3 * 9 - 1);
     EXPECT_THROW(untangle_motion(plan, {}, p), InputError);

@@ -22,6 +22,7 @@
 #include <numbers>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace wave {
@@ -111,7 +112,29 @@ struct UntangleOptions {
     /// sideways at all, and no vertex (a lip included) leaves the rectangle: the
     /// surface's sides stay straight on the border in every frame.
     bool pin_border = true;
+    /// The ramp, before the passes: every triangle compressed so hard that it could
+    /// keep less than ramp_area_ratio (> min_area_ratio, < 1) of its rest area gives
+    /// its vertices the factor that keeps that much by a bound continuous in the
+    /// offsets (the strongest compression λ of the offsets' gradient: area ≥ (1 + sλ)²
+    /// of rest); from there the factor rises over the mesh by at most ramp_slope ×
+    /// (edge length / the longer offset) per edge, so that neighbours' scaled offsets
+    /// differ by about ramp_slope × their edge at most. A vertex's foam frees it of the
+    /// ramp (smoothly from lip_foam to foam 1). The factors are then a continuous
+    /// function of the offsets and the foam, and the passes seldom find work. 0: no
+    /// ramp, the passes alone — which damp neighbours unevenly: a common 2 m sweep
+    /// scaled by 1 here and 0.25 next door is a 1.5 m shear that folds again, and on
+    /// the default bay vertices jumped by up to 3 m from one frame to the next.
+    double ramp_slope = 0.2;
+    double ramp_area_ratio = 0.3;  ///< see ramp_slope
 };
+
+/// A breaking crest's foam before the crest arrives, as a share of the foam it leaves:
+/// the plunging lip runs ahead of the crest, and its foam rises (smoothstep) from 0 a
+/// fifth of a period before the crest to 1 at it. `phase_to_crest`: radians until the
+/// crest (≥ 0). Both breakers' foam (breaking_foam, jeschke_foam) take it, so that the
+/// foam — and the untangling, which frees foamy vertices — is continuous in time: a
+/// step in the foam was a step of metres in position.
+double lip_foam_rise(double phase_to_crest) noexcept;
 
 /// Planned once per mesh: the rest positions in plan, the triangles' rest areas (twice
 /// the signed area; a triangle facing down at rest is left alone) and the triangles
@@ -132,8 +155,9 @@ struct UntanglePlan {
 
     std::size_t vertex_count() const noexcept { return rest_x.size(); }  ///< vertices planned
 };
-/// Throws InputError when the sizes disagree, an index is out of range or
-/// min_area_ratio is outside (0, 1).
+/// Throws InputError when the sizes disagree, an index is out of range,
+/// min_area_ratio is outside (0, 1), ramp_area_ratio outside (min_area_ratio, 1) or
+/// ramp_slope negative or not finite.
 UntanglePlan plan_untangle(std::span<const double> rest_x, std::span<const double> rest_y,
                            std::span<const std::uint32_t> triangles, const UntangleOptions& options = {});
 
@@ -150,11 +174,14 @@ struct UntangleWorkspace {
     std::vector<double> dy;  ///< horizontal offsets per vertex (m)
     std::vector<double> factor;  ///< per vertex: the factor on its offset
     std::vector<double> s;       ///< per triangle: the factor that restores it
+    std::vector<double> ramp;    ///< per vertex: the ramp's factor
+    std::vector<std::pair<double, std::uint32_t>> queue;  ///< the ramp's heap (factor, vertex)
 };
 
 /// Untangles one frame in place: `positions` (3 floats per vertex, z up) are the moved
 /// vertices; `foam` (one per vertex, or empty: no lips) marks breaking crests. Pinned
-/// border vertices first lose their offset across their side (pin_border). Each
+/// border vertices first lose their offset across their side (pin_border). Then the
+/// ramp (UntangleOptions::ramp_slope) damps round every squeezed triangle. Each
 /// pass finds, for every triangle below min_area_ratio of its rest area, the largest
 /// factor s ∈ [0, 1] on its vertices' horizontal offsets that restores it (a quadratic
 /// in s), and scales every vertex by the smallest factor of its triangles; a triangle
@@ -431,7 +458,8 @@ void evaluate_jeschke_breakers(const JeschkeMotionPlan& plan, double t, std::spa
 
 /// §3.1 foam for any time without history: the time since the last crest passed
 /// each vertex, whether that crest had broken there (its life at the vertex), and a
-/// linear fade; the largest value over the recent waves. In [0, 1].
+/// linear fade; the largest value over the recent waves, and the next crest's lip
+/// rising before it arrives (lip_foam_rise). In [0, 1].
 void jeschke_foam(const JeschkeMotionPlan& plan, double t, std::span<float> foam);
 
 // ---------------------------------------------------------------------------------

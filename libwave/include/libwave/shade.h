@@ -86,7 +86,10 @@ double foam_fade_phase(const FoamOptions& options, double omega);
 /// Foam in [0, 1] per vertex of Gonzato's ray strips at time t: a vertex whose wave
 /// height H = 2A is at the breaking limit γh gets foam each time a crest passes it
 /// (phase Φ_min + π of its profile), fading with the time since; sub-breaking
-/// vertices get none, and the ramp from `onset`·γh to γh avoids a hard edge.
+/// vertices get none, and the ramp from `onset`·γh to γh avoids a hard edge. The
+/// foam rises (smoothstep) over the fifth of a period before the crest arrives — the
+/// plunging lip runs ahead of it — so that it is continuous in time: the untangling
+/// frees foamy vertices to overturn, and a step in the foam was a step in position.
 /// Allocates nothing; throws InputError on mismatched sizes or bad options.
 void breaking_foam(const RayStrips& strips, const GonzatoMotionPlan& motion, double t, const FoamOptions& options,
                    std::span<float> foam);

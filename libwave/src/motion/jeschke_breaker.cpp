@@ -470,8 +470,8 @@ void jeschke_foam(const JeschkeMotionPlan& p, double t, std::span<float> foam) {
             if (p.loop_periods() == 1) {
                 // Every crest passes here alike (a periodic swell): the latest one, τ ago,
                 // holds the largest of the faded values (§3.1's maximum over the waves).
-                foam[v] = p.foam_yield[v] <= 0.0f ? 0.0f
-                                                   : static_cast<float>(p.foam_yield[v] * std::max(0.0, 1.0 - tau / p.foam_fade_time));
+                const double left = std::max({0.0, 1.0 - tau / p.foam_fade_time, lip_foam_rise(two_pi - since)});
+                foam[v] = p.foam_yield[v] <= 0.0f ? 0.0f : static_cast<float>(p.foam_yield[v] * left);
                 continue;
             }
             // Varied crests: each recent one broke here or not; the largest faded value.
@@ -492,6 +492,12 @@ void jeschke_foam(const JeschkeMotionPlan& p, double t, std::span<float> foam) {
                 const CrestPhases c = crest_phases(p, v, latest - j, p.phase[v]);
                 const BreakerLife life = jeschke_life(p.phase[v], p.rise[v], c.break_phase, c.breaking_length, c.end_phase);
                 best = std::max(best, foam_yield(life, p.foam_onset) * (1.0 - (tau + static_cast<double>(j) * period) / p.foam_fade_time));
+            }
+            // The next crest's lip, if it breaks here.
+            if (const double rise = lip_foam_rise(two_pi - since); rise > 0.0) {
+                const CrestPhases c = crest_phases(p, v, latest + 1, p.phase[v]);
+                const BreakerLife life = jeschke_life(p.phase[v], p.rise[v], c.break_phase, c.breaking_length, c.end_phase);
+                best = std::max(best, foam_yield(life, p.foam_onset) * rise);
             }
             foam[v] = static_cast<float>(best);
         }

@@ -10,7 +10,9 @@
 
 #include <algorithm>
 #include <atomic>
+#include <functional>
 #include <cmath>
+#include <numbers>
 #include <string>
 
 namespace wave {
@@ -45,7 +47,117 @@ double restoring_factor(double a0, double b, double c, double target) noexcept {
     return std::clamp(0.98 * root, 0.0, 1.0);
 }
 
+// Triangle t with its vertices' horizontal offsets (factor · d) scaled by s: twice its
+// area in plan is A(s) = a0 + b·s + c·s², a0 its rest area; a1 = A(1).
+struct Squeeze {
+    double b = 0.0, c = 0.0, a1 = 0.0;
+};
+Squeeze squeeze(const UntanglePlan& plan, std::size_t t, const std::vector<double>& factor, const std::vector<double>& dx,
+                const std::vector<double>& dy) noexcept {
+    const std::uint32_t i = plan.triangles[3 * t], j = plan.triangles[3 * t + 1], k = plan.triangles[3 * t + 2];
+    const double rx[3] = {plan.rest_x[i], plan.rest_x[j], plan.rest_x[k]};
+    const double ry[3] = {plan.rest_y[i], plan.rest_y[j], plan.rest_y[k]};
+    const double ex[3] = {factor[i] * dx[i], factor[j] * dx[j], factor[k] * dx[k]};
+    const double ey[3] = {factor[i] * dy[i], factor[j] * dy[j], factor[k] * dy[k]};
+    // u = rest edges, w = offset edges.
+    const double ux1 = rx[1] - rx[0], uy1 = ry[1] - ry[0], ux2 = rx[2] - rx[0], uy2 = ry[2] - ry[0];
+    const double wx1 = ex[1] - ex[0], wy1 = ey[1] - ey[0], wx2 = ex[2] - ex[0], wy2 = ey[2] - ey[0];
+    Squeeze q;
+    q.b = ux1 * wy2 + wx1 * uy2 - uy1 * wx2 - wy1 * ux2;
+    q.c = wx1 * wy2 - wy1 * wx2;
+    q.a1 = area2(rx[0] + ex[0], ry[0] + ey[0], rx[1] + ex[1], ry[1] + ey[1], rx[2] + ex[2], ry[2] + ey[2]);
+    return q;
+}
+
+// The factor s ≤ 1 on triangle t's offsets (factor · d) that keeps at least `ratio` of
+// its rest area, from a bound that is continuous in the offsets: with J the offsets'
+// gradient over the triangle and λ the smallest eigenvalue of its symmetric part (the
+// strongest compression), the moved triangle's linear map I + sJ stretches no unit
+// vector by less than 1 + sλ, so its area ratio is at least (1 + sλ)² and it keeps its
+// orientation while 1 + sλ > 0. Stretching and rotation (λ ≥ 0) never damp; a
+// compression does from λ = −(1 − √ratio) on. (The quadratic's own first root is
+// sharper but jumps where its dip below the target appears or vanishes.)
+double compression_factor(const UntanglePlan& plan, std::size_t t, const std::vector<double>& factor,
+                          const std::vector<double>& dx, const std::vector<double>& dy, double ratio) noexcept {
+    const std::uint32_t i = plan.triangles[3 * t], j = plan.triangles[3 * t + 1], k = plan.triangles[3 * t + 2];
+    const double ux1 = plan.rest_x[j] - plan.rest_x[i], uy1 = plan.rest_y[j] - plan.rest_y[i];
+    const double ux2 = plan.rest_x[k] - plan.rest_x[i], uy2 = plan.rest_y[k] - plan.rest_y[i];
+    const double wx1 = factor[j] * dx[j] - factor[i] * dx[i], wy1 = factor[j] * dy[j] - factor[i] * dy[i];
+    const double wx2 = factor[k] * dx[k] - factor[i] * dx[i], wy2 = factor[k] * dy[k] - factor[i] * dy[i];
+    const double det = plan.rest_area[t];  // ux1 uy2 − ux2 uy1
+    // J = W U⁻¹, U = [u1 u2], W = [w1 w2] (columns).
+    const double j11 = (wx1 * uy2 - wx2 * uy1) / det, j12 = (wx2 * ux1 - wx1 * ux2) / det;
+    const double j21 = (wy1 * uy2 - wy2 * uy1) / det, j22 = (wy2 * ux1 - wy1 * ux2) / det;
+    const double s12 = 0.5 * (j12 + j21);
+    const double lowest = 0.5 * (j11 + j22) - std::hypot(0.5 * (j11 - j22), s12);
+    const double allowed = 1.0 - std::sqrt(ratio);
+    return lowest < -allowed ? allowed / -lowest : 1.0;
+}
+
+// The ramp (UntangleOptions::ramp_slope): each compressed triangle's
+// compression_factor at ramp_area_ratio on its vertices, spread outwards by a min-plus
+// (Dijkstra) sweep over the edges, rising by ramp_slope × edge / longer offset per
+// edge; a vertex's foam then frees it of the ramp (foam_weight, 0 … 1). Every step is
+// continuous in the offsets (and the foam). Sequential, in (factor, vertex) order: the
+// same bits on any thread count.
+template <class FoamWeight>
+void ramp_factors(const UntanglePlan& plan, const FoamWeight& foam_weight, UntangleWorkspace& w) {
+    const UntangleOptions& o = plan.options;
+    const std::size_t n = plan.vertex_count(), m = plan.rest_area.size();
+    std::vector<double>& g = w.ramp;
+    g.assign(n, 1.0);
+    for (std::size_t t = 0; t < m; ++t) {
+        const double a0 = plan.rest_area[t];
+        if (!(a0 > 0.0)) continue;
+        const std::uint32_t* v = &plan.triangles[3 * t];
+        const double st = compression_factor(plan, t, w.factor, w.dx, w.dy, o.ramp_area_ratio);
+        for (int c = 0; c < 3; ++c) g[v[c]] = std::min(g[v[c]], st);
+    }
+    auto& heap = w.queue;
+    heap.clear();
+    for (std::uint32_t v = 0; v < n; ++v)
+        if (g[v] < 1.0) heap.emplace_back(g[v], v);
+    if (heap.empty()) return;
+    const auto later = std::greater<>();
+    std::make_heap(heap.begin(), heap.end(), later);
+    const auto offset = [&](std::uint32_t v) { return w.factor[v] * std::hypot(w.dx[v], w.dy[v]); };
+    while (!heap.empty()) {
+        std::pop_heap(heap.begin(), heap.end(), later);
+        const auto [gv, v] = heap.back();
+        heap.pop_back();
+        if (gv > g[v]) continue;  // a stale entry
+        for (std::uint32_t f = plan.face_offsets[v]; f < plan.face_offsets[v + 1]; ++f)
+            for (int c = 0; c < 3; ++c) {
+                const std::uint32_t u = plan.triangles[3 * plan.faces[f] + c];
+                if (u == v) continue;
+                const double longer = std::max(offset(u), offset(v));
+                if (!(longer > 0.0)) continue;
+                const double edge = std::hypot(plan.rest_x[u] - plan.rest_x[v], plan.rest_y[u] - plan.rest_y[v]);
+                const double gu = gv + o.ramp_slope * edge / longer;
+                if (gu < g[u]) {
+                    g[u] = gu;
+                    heap.emplace_back(gu, u);
+                    std::push_heap(heap.begin(), heap.end(), later);
+                }
+            }
+    }
+    // A breaking crest's vertices shed the ramp as their foam grows from lip_foam to 1
+    // (smoothly: the foam is continuous in time, so is the factor).
+    for (std::size_t v = 0; v < n; ++v) {
+        const double free = foam_weight(v);
+        w.factor[v] *= g[v] + (1.0 - g[v]) * free;
+    }
+}
+
 }  // namespace
+
+double lip_foam_rise(double phase_to_crest) noexcept {
+    // A fifth of a period: on the default bay a tenth let vertices freed for their lip
+    // move at 15 m/s.
+    constexpr double rise = 0.4 * std::numbers::pi;
+    const double x = std::clamp(1.0 - phase_to_crest / rise, 0.0, 1.0);
+    return x * x * (3.0 - 2.0 * x);
+}
 
 UntanglePlan plan_untangle(std::span<const double> rest_x, std::span<const double> rest_y,
                            std::span<const std::uint32_t> triangles, const UntangleOptions& options) {
@@ -57,6 +169,11 @@ UntanglePlan plan_untangle(std::span<const double> rest_x, std::span<const doubl
         if (v >= n) throw InputError("untangle: triangle index " + std::to_string(v) + " out of " + std::to_string(n) + " vertices");
     if (!(options.min_area_ratio > 0.0 && options.min_area_ratio < 1.0))
         throw InputError("untangle: min_area_ratio " + std::to_string(options.min_area_ratio) + " is not in (0, 1)");
+    if (!(options.ramp_area_ratio > options.min_area_ratio && options.ramp_area_ratio < 1.0))
+        throw InputError("untangle: ramp_area_ratio " + std::to_string(options.ramp_area_ratio) + " is not in (min_area_ratio " +
+                         std::to_string(options.min_area_ratio) + ", 1)");
+    if (!(options.ramp_slope >= 0.0 && std::isfinite(options.ramp_slope)))
+        throw InputError("untangle: ramp_slope " + std::to_string(options.ramp_slope) + " is not a finite number >= 0");
     UntanglePlan p;
     p.rest_x.assign(rest_x.begin(), rest_x.end());
     p.rest_y.assign(rest_y.begin(), rest_y.end());
@@ -125,6 +242,14 @@ UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> 
                                               room(dy[v], plan.y_min - plan.rest_y[v], plan.y_max - plan.rest_y[v])}),
                                    0.0, 1.0);
         }
+    const auto foam_weight = [&](std::size_t v) {
+        if (foam.empty()) return 0.0;
+        const double x = std::clamp((static_cast<double>(foam[v]) - o.lip_foam) / (1.0 - o.lip_foam), 0.0, 1.0);
+        return x * x * (3.0 - 2.0 * x);
+    };
+    // One ramp: a second on the first's factors found compressions that the first's
+    // uneven factors made, and on the default bay its vertices jumped again (10 m/s).
+    if (o.ramp_slope > 0.0) ramp_factors(plan, foam_weight, w);
     UntangleReport report;
     for (std::size_t pass = 0;; ++pass) {
         report.passes = pass + 1;
@@ -138,25 +263,11 @@ UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> 
                 if (!(a0 > 0.0)) continue;
                 const std::uint32_t i = plan.triangles[3 * t], j = plan.triangles[3 * t + 1], k = plan.triangles[3 * t + 2];
                 if (lip(i) || lip(j) || lip(k)) continue;
-                // Offsets e = factor · d; A(s) = area of rest + s·e, a quadratic in s.
-                const double rx[3] = {plan.rest_x[i], plan.rest_x[j], plan.rest_x[k]};
-                const double ry[3] = {plan.rest_y[i], plan.rest_y[j], plan.rest_y[k]};
-                const double ex[3] = {factor[i] * dx[i], factor[j] * dx[j], factor[k] * dx[k]};
-                const double ey[3] = {factor[i] * dy[i], factor[j] * dy[j], factor[k] * dy[k]};
+                const Squeeze q = squeeze(plan, t, factor, dx, dy);
                 const double target = o.min_area_ratio * a0;
-                const double a1 = area2(rx[0] + ex[0], ry[0] + ey[0], rx[1] + ex[1], ry[1] + ey[1], rx[2] + ex[2], ry[2] + ey[2]);
-                if (a1 >= target) continue;
+                if (q.a1 >= target) continue;
                 any = true;
-                if (last_resort) {
-                    s[t] = 0.0;
-                    continue;
-                }
-                // A(s) = a0 + b s + c s², with u = rest edges, w = offset edges.
-                const double ux1 = rx[1] - rx[0], uy1 = ry[1] - ry[0], ux2 = rx[2] - rx[0], uy2 = ry[2] - ry[0];
-                const double wx1 = ex[1] - ex[0], wy1 = ey[1] - ey[0], wx2 = ex[2] - ex[0], wy2 = ey[2] - ey[0];
-                const double b = ux1 * wy2 + wx1 * uy2 - uy1 * wx2 - wy1 * ux2;
-                const double c = wx1 * wy2 - wy1 * wx2;
-                s[t] = restoring_factor(a0, b, c, target);
+                s[t] = last_resort ? 0.0 : restoring_factor(a0, q.b, q.c, target);
             }
             if (any) tangled.store(true, std::memory_order_relaxed);
         });

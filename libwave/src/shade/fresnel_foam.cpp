@@ -75,7 +75,7 @@ void breaking_foam(const RayStrips& s, const GonzatoMotionPlan& m, double t, con
         const double phi = m.phase[v] - m.omega * t;
         double since = std::fmod(m.shape[v].trough_phase + std::numbers::pi - phi, two_pi);
         if (since < 0.0) since += two_pi;
-        foam[v] = static_cast<float>(weight * std::exp(-since / fade));
+        foam[v] = static_cast<float>(weight * std::max(std::exp(-since / fade), lip_foam_rise(two_pi - since)));
     }
 }
 
