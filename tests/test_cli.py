@@ -1152,6 +1152,29 @@ class Inspect(unittest.TestCase):
             self.assertLess(worst[True]["longest_edge_m"], worst[False]["longest_edge_m"] / 5)
             self.assertLessEqual(worst[True]["max_speed_m_s"], 1.05 * worst[False]["max_speed_m_s"])
 
+    def test_traced_surfaces_move_no_faster_than_the_wave_frame_to_frame(self):
+        # At the shipped 24 fps, chord speeds between consecutive frames: the untangling's
+        # factors are continuous (its ramp; the lip's foam rising before the crest), so no
+        # vertex outruns 1.5 × the celerity in the deepest water of the scene. Before the
+        # ramp, vertices jumped metres between frames: 73 m/s on the bay, 68 on the island.
+        for name, path in (("default bay", None), ("island", os.path.join(EXAMPLES, "gonzato-island.json"))):
+            with self.subTest(scene=name), tempfile.TemporaryDirectory() as d:
+                out = os.path.join(d, "out")
+                r = wave("run", *([path] if path else []), "-q", "-o", out, "--frames", "0:48", "--no-draco")
+                self.assertEqual(r.returncode, 0, r.stderr)
+                with open(os.path.join(out, "report-frames-0-48.json")) as f:
+                    report = json.load(f)
+                self.assertEqual(report["surface"]["fps"], 24.0)
+                deepest = report["seafloor"]["depth_range_m"][1]
+                c = wave("dispersion", "-T", "5", "-d", str(deepest), "--json")
+                self.assertEqual(c.returncode, 0, c.stderr)
+                celerity = json.loads(c.stdout)["celerity_m_per_s"]
+                m = self.inspect(os.path.join(out, "animation-frames-0-48.glb"))
+                worst = m["worst"]
+                self.assertEqual(worst["folds"], 0)
+                self.assertGreater(worst["lips"], 0)  # the breaking crests still overturn
+                self.assertLess(worst["max_speed_m_s"], 1.5 * celerity, "fastest vertex %d" % worst["fastest_vertex"])
+
     def test_bad_paths_exit_2_naming_them(self):
         with tempfile.TemporaryDirectory() as d:
             r = wave("inspect", os.path.join(d, "nowhere"))
