@@ -10,10 +10,12 @@
 
 #include <algorithm>
 #include <atomic>
-#include <functional>
 #include <cmath>
+#include <functional>
 #include <numbers>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace wave {
 namespace {
