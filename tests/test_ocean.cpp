@@ -15,6 +15,7 @@
 #include <complex>
 #include <cstring>
 #include <numbers>
+#include <random>
 #include <vector>
 
 namespace {
@@ -519,6 +520,29 @@ TEST(FoldFoam, ThresholdForACoverageIsAnalyticOnUniformJ) {
     std::reverse(past[0].begin(), past[0].end());  // another sea 0.25 s ago
     EXPECT_LT(fold_threshold_for_coverage(past, 0.25, o, 0.17), 2.0 * 0.17 - 1.0 + 0.1 * o.softness);
     EXPECT_EQ(fold_threshold_for_coverage(past, 0.25, o, 0.0), -2.0);
+    // Random seas at three past times: the threshold is the smallest that reaches the
+    // share, to 1e-6 (the foam of every point recomputed here from the public pieces).
+    std::mt19937 rng(7);
+    std::normal_distribution<float> sea(0.3f, 0.5f);
+    std::vector<std::vector<float>> three(3, std::vector<float>(50'000));
+    for (auto& times : three)
+        for (float& j : times) j = sea(rng);
+    const auto share_at = [&](double threshold) {
+        FoldFoamOptions at = o;
+        at.threshold = threshold;
+        std::size_t count = 0;
+        for (std::size_t v = 0; v < three[0].size(); ++v) {
+            double foam = 0.0;
+            for (std::size_t i = 0; i < 3; ++i) foam = std::max(foam, fold_coverage(three[i][v], at) * fold_fade((2.0 - double(i)) * 0.25, at));
+            count += foam >= 0.1;
+        }
+        return static_cast<double>(count) / static_cast<double>(three[0].size());
+    };
+    for (double share : {0.03, 0.3}) {
+        const double t = fold_threshold_for_coverage(three, 0.25, o, share);
+        EXPECT_GE(share_at(t), share) << share;
+        EXPECT_LT(share_at(t - 1e-6), share) << share;
+    }
     EXPECT_THROW(fold_threshold_for_coverage(past, 0.25, o, 1.5), InputError);
     EXPECT_THROW(fold_threshold_for_coverage({}, 0.25, o, 0.1), InputError);
 }

@@ -157,10 +157,11 @@ void accumulate_fold_foam(const FoldSample& sample, double age, const FoldFoamOp
 /// The J₋ threshold at which fold foam covers `coverage` of a surface (the share of
 /// points with foam >= 0.1, the threshold `wave inspect` takes for a lip), the other
 /// options kept: `past_j_minus[i]` holds J₋ at the points for the lattice time
-/// (count − 1 − i) · step before now (the newest last), as the frames see it. Bisection
-/// (40 steps) over [−2, 1] on every `stride`-th point; the foam grows with the
-/// threshold, so the result is the smallest one reaching the coverage (1 when even that
-/// falls short; −2 for coverage 0). Throws InputError on empty or unequal arrays or a
+/// (count − 1 − i) · step before now (the newest last), as the frames see it. On every
+/// `stride`-th point: each point's own threshold (where its foam reaches 0.1), the
+/// ⌈coverage · points⌉-th smallest of them selected, a hair above for rounding; the
+/// foam grows with the threshold, so the result is the smallest one reaching the
+/// coverage, in [−2, 1] (1 when even that falls short; −2 for coverage 0). Throws InputError on empty or unequal arrays or a
 /// coverage outside [0, 1].
 double fold_threshold_for_coverage(std::span<const std::vector<float>> past_j_minus, double step,
                                    const FoldFoamOptions& options, double coverage, std::size_t stride = 1);
