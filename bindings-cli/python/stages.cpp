@@ -434,8 +434,9 @@ void bind_motion(py::module_& m) {
                 return wave::untangle_motion(p, f, s).damped_vertices;
             },
             py::arg("positions"), py::arg("foam") = py::none(),
-            "Untangles one frame in place (positions: writable (vertices, 3) float32); vertices with foam >= 0.1 are "
-            "breaking lips left to overturn. Returns how many vertices were damped");
+            "Untangles one frame in place (positions: writable (vertices, 3) float32); triangles with a vertex whose "
+            "foam is >= 0.1 are breaking lips left to overturn, and foam from 0.1 to 1 frees a vertex of the ramp's "
+            "damping (docs/inspect.md, untangling). Returns how many vertices were damped");
     m.def(
         "plan_untangle",
         [](const py::array& x, const py::array& y, const py::array& triangles) {
