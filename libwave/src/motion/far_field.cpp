@@ -2,6 +2,7 @@
 // components and carried out over the sea skirt (docs/far-field.md).
 #include "libwave/motion.h"
 
+#include "core/smoothstep.h"
 #include "libwave/errors.h"
 
 #include <tbb/blocked_range.h>
@@ -71,11 +72,6 @@ Complex along_edge(Complex a, Complex b, double wa) {
     if (wa >= 1.0 || b == a) return a;
     const double turn = std::remainder(std::arg(b) - std::arg(a), kTwoPi);
     return std::polar(wa * std::abs(a) + (1.0 - wa) * std::abs(b), std::arg(a) + (1.0 - wa) * turn);
-}
-
-double smoothstep(double e0, double e1, double v) {
-    const double t = std::clamp((v - e0) / (e1 - e0), 0.0, 1.0);
-    return t * t * (3.0 - 2.0 * t);
 }
 
 }  // namespace
@@ -174,7 +170,7 @@ FarFieldPlan plan_far_field(const SeaSkirt& skirt, const ElevationGrid& seafloor
             }
         }
         const double band = first_wavelength > 0.0 ? options.residual_wavelengths * first_wavelength : 4.0 * skirt.size[v];
-        p.residual_weight[v] = static_cast<float>(1.0 - smoothstep(0.0, band, d));
+        p.residual_weight[v] = static_cast<float>(1.0 - detail::smoothstep(0.0, band, d));
     }
     return p;
 }

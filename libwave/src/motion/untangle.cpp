@@ -2,6 +2,8 @@
 // over in plan (libwave/motion.h).
 #include "libwave/motion.h"
 
+#include "core/smoothstep.h"
+
 #include "libwave/errors.h"
 #include "libwave/shade.h"
 
@@ -157,8 +159,7 @@ double lip_foam_rise(double phase_to_crest) noexcept {
     // A fifth of a period: on the default bay a tenth let vertices freed for their lip
     // move at 15 m/s.
     constexpr double rise = 0.4 * std::numbers::pi;
-    const double x = std::clamp(1.0 - phase_to_crest / rise, 0.0, 1.0);
-    return x * x * (3.0 - 2.0 * x);
+    return detail::smoothstep(0.0, 1.0, 1.0 - phase_to_crest / rise);
 }
 
 UntanglePlan plan_untangle(std::span<const double> rest_x, std::span<const double> rest_y,
@@ -245,9 +246,7 @@ UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> 
                                    0.0, 1.0);
         }
     const auto foam_weight = [&](std::size_t v) {
-        if (foam.empty()) return 0.0;
-        const double x = std::clamp((static_cast<double>(foam[v]) - o.lip_foam) / (1.0 - o.lip_foam), 0.0, 1.0);
-        return x * x * (3.0 - 2.0 * x);
+        return foam.empty() ? 0.0 : detail::smoothstep(o.lip_foam, 1.0, static_cast<double>(foam[v]));
     };
     // One ramp: a second on the first's factors found compressions that the first's
     // uneven factors made, and on the default bay its vertices jumped again (10 m/s).
