@@ -319,8 +319,11 @@ Scene run_scene(const RunArgs& a) {
     if (a.draco && !scene.draco) scene.draco = DracoOptions{};
     if (a.no_draco) scene.draco.reset();
     if (a.quantize) scene.quantize = true;
-    // Draco asked for on the command line replaces a scene's quantisation (it quantises itself).
-    if (a.no_quantize || (a.draco && !a.quantize)) scene.quantize = false;
+    // Draco asked for on the command line replaces a scene's quantisation (it quantises
+    // itself); so does another form than morph (a scene quantises its morph file, whose
+    // float base keeps the far field; quantised frames of their own would drop it).
+    const bool other_form = !a.form.empty() && scene.form != Scene::Form::morph;
+    if (a.no_quantize || ((a.draco || other_form) && !a.quantize)) scene.quantize = false;
     if (scene.draco && scene.quantize) throw InputError("choose --draco or --quantize, not both (Draco quantises itself)");
     if (!a.container.empty()) scene.container = container_from_name(a.container);
     if (!a.frames.empty() && !a.slice.empty()) throw InputError("choose --frames or --slice, not both");
@@ -677,8 +680,9 @@ int run_job(const RunArgs& a) {
     check_out_dir(out_dir);
 
     auto clock = std::chrono::steady_clock::now();
-    ScenePlan plan = plan_scene(scene, PlanStages::surface);
     const double max_bytes = a.max_memory_gb * 1e9;
+    check_plan_limits(scene, max_bytes);
+    ScenePlan plan = plan_scene(scene, PlanStages::surface);
     const bool files_form = scene.form == Scene::Form::files;
     const std::size_t loop_frames = scene_loop_frames(scene, plan);
     if (!a.slice.empty()) range = slice_frames(a.slice, loop_frames);
@@ -796,9 +800,10 @@ int run_validate(const std::string& path, bool as_json, double max_memory_gb) {
     // The plan (tracing, surfaces; every limit is checked here, before the frames) gives
     // what a run would hold and write; /refine's subdivision is predicted, not built, and
     // the run's own limits are checked as `wave run` checks them.
+    const double max_bytes = max_memory_gb * 1e9;
+    check_plan_limits(scene, max_bytes);
     const ScenePlan plan = plan_scene(scene, PlanStages::surface);
     const RunEstimate e = estimate_run(scene, plan, resident_bytes());  // this process now holds what wave run's plan holds
-    const double max_bytes = max_memory_gb * 1e9;
     check_run_limits(scene, e, scene.form == Scene::Form::files || streamed_form(scene) ? files_form_chunk(e, max_bytes) : e.frames, max_bytes);
     const std::string_view form = form_name(scene.form);
     if (as_json) {

@@ -3,7 +3,9 @@
 # (SEED: Cycles' sampling seed, default 0; two seeds of one frame measure render noise;
 # LIBWAVE_NO_CAUSTICS=1 imports without the caustic maps, to compare;
 # LIBWAVE_CAMERA="x,y,z,tx,ty,tz" puts the camera at x,y,z looking at tx,ty,tz,
-# Blender axes, for close-ups.)
+# Blender axes, for close-ups; LIBWAVE_BAKE=FILE.blend imports baked into the .blend
+# and saves it, ready to render, as FILE.blend: `blender -b --factory-startup FILE.blend
+# -o OUT -f FRAME` then renders it without the add-on.)
 # The add-on imports the water (positions, foam, reflect, refract per frame) and the
 # seafloor, camera and sun the .glb carries; this script adds a sky and renders.
 import math
@@ -20,10 +22,11 @@ bpy.ops.wm.read_factory_settings(use_empty=True)
 bpy.ops.preferences.addon_install(filepath=addon_zip, overwrite=True)
 addon_utils.enable("libwave_blender", default_set=True)
 source = os.path.join(run, "index.json") if os.path.exists(os.path.join(run, "index.json")) else os.path.join(run, "animation.glb")
-bpy.ops.import_scene.libwave(filepath=source, caustics=os.environ.get("LIBWAVE_NO_CAUSTICS") != "1")
+bake = os.environ.get("LIBWAVE_BAKE")
+bpy.ops.import_scene.libwave(filepath=source, caustics=os.environ.get("LIBWAVE_NO_CAUSTICS") != "1", bake=bool(bake))
 scene = bpy.context.scene
 if scene.camera is None:  # the files form carries no camera: one from the open sea
-    water = next(o for o in scene.objects if "libwave_source" in o)
+    water = next(o for o in scene.objects if "libwave_source" in o or "libwave_baked" in o)
     xs = [v.co.x for v in water.data.vertices]
     ys = [v.co.y for v in water.data.vertices]
     cx, cy, size = (min(xs) + max(xs)) / 2, (min(ys) + max(ys)) / 2, max(max(xs) - min(xs), max(ys) - min(ys))
@@ -49,6 +52,8 @@ scene.cycles.samples = 16
 scene.cycles.use_denoising = False
 scene.cycles.seed = seed
 scene.render.resolution_x, scene.render.resolution_y = 640, 360
+if bake:
+    bpy.ops.wm.save_as_mainfile(filepath=bake)
 scene.frame_set(frame)
 scene.render.filepath = out
 bpy.ops.render.render(write_still=True)

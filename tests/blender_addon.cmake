@@ -3,12 +3,14 @@
 file(REMOVE_RECURSE ${OUT})
 foreach(form morph quant nodes files pc2)
   set(args --fps 6)
-  if(form STREQUAL "quant")
+  if(form STREQUAL "morph")
+    list(APPEND args --no-quantize)  # the default scene's morph file is quantised
+  elseif(form STREQUAL "quant")
     list(APPEND args --quantize)
   elseif(form STREQUAL "pc2")
     list(APPEND args --form pc2)
   elseif(NOT form STREQUAL "morph")
-    list(APPEND args --form ${form})
+    list(APPEND args --form ${form})  # floats: another form than morph drops the scene's quantisation
   endif()
   execute_process(COMMAND ${WAVE} run -o ${OUT}/${form} -q ${args} RESULT_VARIABLE rc ERROR_VARIABLE err)
   if(NOT rc EQUAL 0)
@@ -20,7 +22,7 @@ endforeach()
 # (no far field: the check frames the maps' rectangle by the seafloor's extent).
 file(WRITE ${OUT}/pool.json [=[{"seafloor": {"source": "pool.asc"}, "waves": [{"period": 1.0, "amplitude": 0.04, "direction": [0, 1]}],
  "trace": {"ray_spacing": 0.1}, "preview": {"sun": {"elevation_degrees": 60, "azimuth_degrees": 100}},
- "underwater": {"map_size": 64, "water_type": "clear-ocean"}, "animation": {"fps": 10},
+ "underwater": {"map_size": 64, "water_type": "clear-ocean"}, "animation": {"fps": 10}, "outputs": {"color": true},
  "surface": {"far_field": false}}]=])
 set(pool "ncols 11\nnrows 11\nxllcorner 0\nyllcorner 0\ncellsize 1\n")
 foreach(row RANGE 10)
@@ -42,3 +44,20 @@ message(STATUS "${out}")
 if(NOT rc EQUAL 0 OR NOT out MATCHES "LIBWAVE-ADDON ok")
   message(FATAL_ERROR "The Blender add-on test failed (${rc}):\n${out}\n${err}")
 endif()
+
+# Baked into the .blend (the quantised default run): saved by a Blender with the add-on,
+# played by a factory-settings Blender without it (tests/blender_bake.py).
+get_filename_component(tests ${SCRIPT} DIRECTORY)
+foreach(step save check)
+  if(step STREQUAL "save")
+    set(step_args save ${ADDON} ${OUT}/quant/animation.glb ${OUT}/baked.blend)
+  else()
+    set(step_args check ${OUT}/baked.blend ${OUT}/quant/animation.glb)
+  endif()
+  execute_process(COMMAND ${BLENDER} -b --factory-startup --python-exit-code 1 --python ${tests}/blender_bake.py -- ${step_args}
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  message(STATUS "${out}")
+  if(NOT rc EQUAL 0 OR NOT out MATCHES "LIBWAVE-BAKE ok")
+    message(FATAL_ERROR "The baked .blend (${step}) failed (${rc}):\n${out}\n${err}")
+  endif()
+endforeach()

@@ -146,6 +146,12 @@ for folder in runs:
             gap = np.abs(values - expected[name][k]).max()
             if gap > (1e-6 if "quant" not in folder else 1.0 / 65535.0 + 1e-6):
                 errors.append(f"{path}: frame {f}: {name} off by {gap}")
+        if len(expected.get("colors", [])):  # Ts'o's baked colour (outputs.color)
+            rgba = np.empty(4 * n, np.float32)
+            obj.data.attributes["colour"].data.foreach_get("color", rgba)
+            gap = np.abs(rgba.reshape(n, 4)[:, :3] - expected["colors"][k]).max()
+            if gap > 1e-6:
+                errors.append(f"{path}: frame {f}: colour off by {gap}")
     mat = obj.data.materials[0]
     if not any(n.type == "ATTRIBUTE" and n.attribute_name == "foam" for n in mat.node_tree.nodes):
         errors.append(f"{path}: the material does not read the foam attribute")
@@ -193,6 +199,24 @@ for folder in runs:
                 errors.append(f"{path}: the render lacks sky, water or seafloor: {sky}, {water_share}, {ground}")
     if folder.endswith("caustics"):
         check_caustics(folder, scene, obj, frames)
+        # The option "Ts'o's baked colour": the water emits the colour attribute.
+        if bpy.ops.import_scene.libwave(filepath=path, baked_colour=True) != {"FINISHED"}:
+            errors.append(f"{path}: import with the baked colour failed")
+        else:
+            again = [o for o in bpy.context.scene.objects if "libwave_source" in o and o != obj]
+            tree = again[0].data.materials[0].node_tree
+            emits = [nd for nd in tree.nodes if nd.type == "EMISSION" and nd.inputs["Color"].is_linked and
+                     nd.inputs["Color"].links[0].from_node.type == "ATTRIBUTE" and
+                     nd.inputs["Color"].links[0].from_node.attribute_name == "colour"]
+            if not emits:
+                errors.append(f"{path}: the baked-colour material does not emit the colour attribute")
+    elif len(expected.get("colors", [])) == 0:
+        try:  # an operator that reports an error raises in a script
+            bpy.ops.import_scene.libwave(filepath=path, baked_colour=True)
+            errors.append(f"{path}: the baked colour was accepted from a file without colour")
+        except RuntimeError as e:
+            if "has no baked colour" not in str(e):
+                errors.append(f"{path}: the baked colour refused with {e}")
     print(f"LIBWAVE-ADDON checked {path}: {frames} frames of {n} vertices")
 
 print("\n".join(errors) if errors else "LIBWAVE-ADDON ok")

@@ -31,6 +31,7 @@ def scenes():
     yield "default", []
     # The other forms and encodings of the default scene (the files form's index and
     # frames carry the run key, which names libwave's version: re-record on a bump).
+    yield "default-morph-float", ["--no-quantize"]
     yield "default-nodes-quantized", ["--form", "nodes", "--quantize"]
     yield "default-files-gltf", ["--form", "files", "--container", "gltf"]
     yield "default-morph-draco", ["--draco"]

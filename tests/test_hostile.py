@@ -143,6 +143,24 @@ class Refusals(unittest.TestCase):
                         self.assertLess(rss, 300e6, f"{args[0]} level {level}: the subdivision was not built")
                         self.assertLess(seconds, 2.0)
 
+    def test_an_ocean_beyond_the_memory_limit_is_refused_before_its_lattice_is_planned(self):
+        # A 4096² patch needs 2.15 GB before its first frame (its lattice, transforms and
+        # one frame): over the default 2 GB it is refused from /ocean/resolution alone.
+        # `wave validate` used to plan it first (25–39 s, 1.5 GB) and then refuse.
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "ocean.json")
+            with open(path, "w") as f:
+                json.dump({"surface": {"kind": "ocean"}, "ocean": {"resolution": 4096, "size": 1000, "repeat_time": 10}}, f)
+            for args in (["validate", path], ["run", path, "-q", "-o", os.path.join(d, "out")]):
+                rc, _, err, seconds, rss = measured(args)
+                self.assertEqual(rc, 2, err)
+                self.assertIn("/ocean/resolution 4096 needs at least 2.15 GB", err)
+                self.assertIn("wave run --max-memory-gb", err)
+                self.assertFalse(os.path.exists(os.path.join(d, "out")))
+                if not UNDER_ASAN:
+                    self.assertLess(rss, 200e6, f"{args[0]}: the lattice was planned")
+                    self.assertLess(seconds, 2.0)
+
     def test_empty_surfaces_say_why(self):
         land = "ncols 3\nnrows 3\nxllcorner 0\nyllcorner 0\ncellsize 10\nNODATA_value -9999\n" + "1 2 3\n" * 3
         nodata = "ncols 3\nnrows 3\nxllcorner 0\nyllcorner 0\ncellsize 10\nNODATA_value -9999\n" + "-9999 -9999 -9999\n" * 3

@@ -39,6 +39,7 @@ struct Bay {
     Scene scene = default_scene();
     ScenePlan plan;
     Bay() {
+        scene.quantize = false;  // float frames: each test chooses its encoding
         scene.underwater = UnderwaterOptions{.map_size = 48};
         plan = plan_scene(scene);
     }

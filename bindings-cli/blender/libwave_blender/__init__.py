@@ -4,7 +4,9 @@ Imports what `wave run` writes — the morph, nodes and files forms, plain or qu
 (Draco through libwave's Python module) — as one water object whose positions and
 per-vertex foam, reflect and refract are updated on every frame change (the files form
 streams its frames from disk), with the scene's fps and frame range set, the loop
-repeating past its end, and an editable water material that reads the foam. Works in
+repeating past its end, and an editable water material that reads the foam; or, on
+request, baked into the .blend (bake.py) so that the saved file plays without the
+add-on. Works in
 Debian's Blender 3.4 (no numpy.bool patch needed: Blender's glTF importer is not used)
 and in Blender 4.x.
 """
@@ -17,6 +19,7 @@ from bpy.app.handlers import persistent
 from bpy.props import BoolProperty, StringProperty
 from bpy_extras.io_utils import ImportHelper
 
+from . import bake as baking
 from . import frames
 
 bl_info = {
@@ -75,8 +78,11 @@ def _on_frame_change(scene, depsgraph=None):
                 print(f"libwave: {obj.name}: {e}")
 
 
-def water_material(name="libwave water"):
-    """Principled water (transmission, IOR 1.333) mixed with white foam by the foam attribute."""
+def water_material(baked_colour=False):
+    """Principled water (transmission, IOR 1.333) mixed with white foam by the foam
+    attribute; with `baked_colour`, the water emits the file's `colour` attribute (Ts'o's
+    eq. 4.1, R · sky + T · water colour: the shading baked by `wave run`) instead."""
+    name = "libwave water (Ts'o colour)" if baked_colour else "libwave water"
     mat = bpy.data.materials.get(name)
     if mat is not None:
         return mat
@@ -85,21 +91,28 @@ def water_material(name="libwave water"):
     nodes, links = mat.node_tree.nodes, mat.node_tree.links
     nodes.clear()
     out = nodes.new("ShaderNodeOutputMaterial")
-    water = nodes.new("ShaderNodeBsdfPrincipled")
-    water.inputs["Base Color"].default_value = (0.02, 0.12, 0.16, 1.0)
-    water.inputs["Roughness"].default_value = 0.04
-    water.inputs["IOR"].default_value = 1.333
-    for transmission in ("Transmission Weight", "Transmission"):  # Blender 4.x, 3.x
-        if transmission in water.inputs:
-            water.inputs[transmission].default_value = 1.0
-            break
+    if baked_colour:
+        water = nodes.new("ShaderNodeEmission")
+        colour = nodes.new("ShaderNodeAttribute")
+        colour.attribute_name = "colour"
+        links.new(colour.outputs["Color"], water.inputs["Color"])
+        colour.location = (-600, 250)
+    else:
+        water = nodes.new("ShaderNodeBsdfPrincipled")
+        water.inputs["Base Color"].default_value = (0.02, 0.12, 0.16, 1.0)
+        water.inputs["Roughness"].default_value = 0.04
+        water.inputs["IOR"].default_value = 1.333
+        for transmission in ("Transmission Weight", "Transmission"):  # Blender 4.x, 3.x
+            if transmission in water.inputs:
+                water.inputs[transmission].default_value = 1.0
+                break
     foam_bsdf = nodes.new("ShaderNodeBsdfDiffuse")
     foam_bsdf.inputs["Color"].default_value = (0.9, 0.92, 0.95, 1.0)
     foam = nodes.new("ShaderNodeAttribute")
     foam.attribute_name = "foam"
     mix = nodes.new("ShaderNodeMixShader")
     links.new(foam.outputs["Fac"], mix.inputs["Fac"])
-    links.new(water.outputs["BSDF"], mix.inputs[1])
+    links.new(water.outputs[0], mix.inputs[1])
     links.new(foam_bsdf.outputs["BSDF"], mix.inputs[2])
     links.new(mix.outputs["Shader"], out.inputs["Surface"])
     for i, node in enumerate((foam, water, foam_bsdf, mix, out)):
@@ -234,20 +247,28 @@ def import_dressing(context, dressing, folder="", caustics=True):
     return made
 
 
-def import_animation(context, path, set_scene=True, caustics=True):
+def import_animation(context, path, set_scene=True, caustics=True, bake=False, baked_colour=False):
     """Creates the water object for `path` (a .glb/.gltf or index.json); with `set_scene`
     the scene's fps and frame range become the animation's; with `caustics` the caustic
-    maps beside it (when the run wrote them) light the seafloor."""
+    maps beside it (when the run wrote them) light the seafloor; with `bake` every frame
+    is stored in the .blend and played by Blender's own nodes (bake.py), otherwise the
+    frames are read from the file on each frame change; with `baked_colour` the water
+    shows the file's baked colour (a ValueError when it has none)."""
     anim = _animation(os.path.abspath(path))
     first = anim.frame(0)
+    if baked_colour and first.color is None:
+        raise ValueError(f"{path} has no baked colour (run the scene with \"outputs\": {{\"color\": true}})")
     mesh = bpy.data.meshes.new("libwave water")
     mesh.from_pydata(first.positions.tolist(), [], anim.triangles.tolist())
-    mesh.materials.append(water_material())
+    mesh.materials.append(water_material(baked_colour))
     obj = bpy.data.objects.new(mesh.name, mesh)
     context.collection.objects.link(obj)
-    obj[_PROP] = anim.path
-    obj["libwave_frame_start"] = 0
     obj["libwave_form"] = anim.form
+    if bake:
+        baking.bake(context, obj, anim)
+    else:
+        obj[_PROP] = anim.path
+        obj["libwave_frame_start"] = 0
     scene = context.scene
     if set_scene:
         scene.render.fps = max(1, round(anim.fps))
@@ -258,7 +279,8 @@ def import_animation(context, path, set_scene=True, caustics=True):
         bpy.app.handlers.frame_change_post.append(_on_frame_change)
     if anim.dressing is not None:
         import_dressing(context, anim.dressing, anim.folder, caustics)
-    apply_frame(obj, scene.frame_current)
+    if not bake:
+        apply_frame(obj, scene.frame_current)
     return obj
 
 
@@ -273,10 +295,17 @@ class ImportLibwave(bpy.types.Operator, ImportHelper):
     set_scene: BoolProperty(name="Set fps and frame range", default=True)
     caustics: BoolProperty(name="Caustics on the seafloor", default=True,
                            description="Light the seafloor with the caustic maps beside the file (/underwater)")
+    bake: BoolProperty(name="Bake into the .blend", default=False,
+                       description="Store every frame in the .blend and play it with Geometry Nodes: the saved file "
+                                   "plays without this add-on and without the source files (memory: all frames)")
+
+    baked_colour: BoolProperty(name="Ts'o's baked colour", default=False,
+                               description="Shade the water by the colour `wave run` baked (outputs.color: Ts'o's "
+                                           "R · sky + T · water colour) instead of the physical water material")
 
     def execute(self, context):
         try:
-            import_animation(context, self.filepath, self.set_scene, self.caustics)
+            import_animation(context, self.filepath, self.set_scene, self.caustics, self.bake, self.baked_colour)
         except (OSError, KeyError, ValueError, frames.LibwaveFileError) as e:
             self.report({"ERROR"}, f"libwave: {e}")
             return {"CANCELLED"}

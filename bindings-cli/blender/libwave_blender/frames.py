@@ -237,7 +237,9 @@ class Animation:
             times = accessor(doc, self.buffers, sampler["input"])[:, 0]
         if "targets" in prim and prim["targets"]:
             self.form = "morph"
-            self.frame_count = len(prim["targets"])
+            # A target per frame; quantised files add NORMAL-only targets after them
+            # (a normal's turn beyond ±1), which the add-on does not need.
+            self.frame_count = sum("POSITION" in t for t in prim["targets"])
         else:
             self.form = "nodes"
             self.frame_nodes = [n for n in doc.get("nodes", []) if "mesh" in n and n.get("name") != "seafloor"]

@@ -100,7 +100,9 @@ async function gltfSource(url) {
   const morph = Array.isArray(prim.targets) && prim.targets.length > 0;
   const meshes = [];
   gltf.scene.traverse((o) => { if (isWater(o)) meshes.push(o); });
-  const frames = morph ? prim.targets.length : meshes.length;
+  // A target per frame; quantised files add NORMAL-only targets after them (a
+  // normal's turn beyond ±1, weighted in by the same animation).
+  const frames = morph ? prim.targets.filter((t) => t.POSITION !== undefined).length : meshes.length;
   const targetCache = new Map();  // target index → { gltf name → BufferAttribute }
   const targetAttribute = async (i, name) => {
     if (!targetCache.has(i)) targetCache.set(i, {});

@@ -381,6 +381,18 @@ std::size_t scene_loop_frames(const Scene& scene, const ScenePlan& plan);
 /// `wave run` will hold them); 0 = modelled from the surface's vertex count.
 RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double planned_resident_bytes = 0.0);
 
+/// What a scene needs at least before its plan exists (bytes): an FFT ocean's lattice
+/// and transforms (92 B per lattice point) and, for the open-ocean patch, one frame's
+/// arrays of its (N+1)² vertices; 0 for scenes without /ocean. A lower bound of the
+/// peak a run reaches (measured in bench/RESULTS.md), known from the scene alone.
+double planned_memory_floor_bytes(const Scene& scene);
+
+/// Refuses, before any planning, a scene whose planned_memory_floor_bytes exceeds
+/// `max_bytes` (LimitError naming /ocean/resolution and `wave run --max-memory-gb`):
+/// `wave run` and `wave validate` call it first, so that a 4096² ocean beyond the limit
+/// is refused at once instead of after planning its lattice.
+void check_plan_limits(const Scene& scene, double max_bytes);
+
 /// The limits of a run, checked by `wave validate`, by `wave run` before the refinement
 /// is planned, and by animate_scene: the loop's estimate.frames within
 /// /animation/max_frames, the per-frame arrays of the `frames` held at once of the

@@ -419,6 +419,11 @@ struct ModelWriter {
         if (quant && name == "NORMAL" && !target)
             return normalised<std::int8_t>(values, 3, 4, TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_TYPE_VEC3,
                                            [&](std::size_t v, std::size_t c) { return values[3 * v + c] * 127.0; }, false, false);
+        if (quant && name == "NORMAL")  // the part within ±1 (normal_overflow holds the rest)
+            return normalised<std::int16_t>(values, 3, 4, TINYGLTF_COMPONENT_TYPE_SHORT, TINYGLTF_TYPE_VEC3,
+                                            [&](std::size_t v, std::size_t c) {
+                                                return std::clamp(double{values[3 * v + c]}, -1.0, 1.0) * 32767.0;
+                                            }, false, true);
         if (quant && name.rfind("TEXCOORD_", 0) == 0) {
             if (target)
                 return normalised<std::int16_t>(values, 2, 2, TINYGLTF_COMPONENT_TYPE_SHORT, TINYGLTF_TYPE_VEC2,
@@ -439,6 +444,19 @@ struct ModelWriter {
         }
         return b.stored(values.data(), width * sizeof(float), width * sizeof(float), values.size() / width,
                         TINYGLTF_COMPONENT_TYPE_FLOAT, type, false, std::move(lo), std::move(hi), target);
+    }
+    // A quantised normal delta beyond ±1 (a normal turned by more than 60°): the excess
+    // as a NORMAL-only target of its own, sparse, or -1 when no component exceeds 1.
+    int normal_overflow(const std::vector<float>& delta) {
+        std::vector<float> excess(delta.size());
+        bool any = false;
+        for (std::size_t i = 0; i < delta.size(); ++i) {
+            excess[i] = delta[i] - std::clamp(delta[i], -1.0f, 1.0f);
+            any = any || excess[i] != 0.0f;
+        }
+        if (!any) return -1;
+        return normalised<std::int16_t>(excess, 3, 4, TINYGLTF_COMPONENT_TYPE_SHORT, TINYGLTF_TYPE_VEC3,
+                                        [&](std::size_t v, std::size_t c) { return excess[3 * v + c] * 32767.0; }, false, true);
     }
     // A primitive of one frame (its own accessors; indices and TEXCOORD_0 shared).
     tinygltf::Primitive primitive(const FrameArrays& frame) {
@@ -689,6 +707,8 @@ struct MorphBuilder {
     tinygltf::Primitive prim;
     std::vector<tinygltf::Value> names;
     std::vector<double> weights;
+    // Quantised normals' excess beyond ±1: (frame, NORMAL-only target), after the frames'.
+    std::vector<std::pair<std::size_t, int>> overflow;
 
     MorphBuilder(ModelWriter& writer, const MorphAnimationView& first, std::size_t frame_count)
         : w(writer), range{first.first_frame, frame_count, first.fps, first.name}, base(frame_arrays(first, 0)) {
@@ -708,6 +728,8 @@ struct MorphBuilder {
                 const auto& b = std::get<2>(base.attributes[i]);
                 for (std::size_t j = 0; j < values.size(); ++j) values[j] -= b[j];
                 target[name] = w.floats(name, type, values, true);
+                if (w.quant && name == "NORMAL")
+                    if (const int excess = w.normal_overflow(values); excess >= 0) overflow.emplace_back(names.size(), excess);
             }
             prim.targets.push_back(std::move(target));
             weights.push_back(names.empty() ? 1.0 : 0.0);
@@ -717,7 +739,12 @@ struct MorphBuilder {
     std::vector<int> finish() {
         if (names.size() != range.frame_count)
             throw InputError("glTF export: " + std::to_string(names.size()) + " frames written of " + std::to_string(range.frame_count));
-        const std::size_t frames = range.frame_count;
+        const std::size_t frames = range.frame_count, targets = frames + overflow.size();
+        for (const auto& [frame, excess] : overflow) {
+            prim.targets.push_back({{"NORMAL", excess}});
+            names.emplace_back(frame_name(range.first_frame + frame) + " normals beyond 1");
+            weights.push_back(frame == 0 ? 1.0 : 0.0);
+        }
         tinygltf::Mesh mesh;
         mesh.name = range.name;
         mesh.weights = std::move(weights);
@@ -728,9 +755,11 @@ struct MorphBuilder {
         w.model.meshes.push_back(std::move(mesh));
         const int node = w.node(range.name, static_cast<int>(w.model.meshes.size() - 1));
 
-        // One key per frame; weights one-hot (values stay in 0…1, as Blender clamps them).
-        std::vector<float> times, one_hot(frames * frames, 0.0f);
-        for (std::size_t f = 0; f < frames; ++f) one_hot[f * frames + f] = 1.0f;
+        // One key per frame; weights 0 or 1 (Blender 3.4 clamps them to 0…1): frame f's
+        // target and its normals' excess, if any.
+        std::vector<float> times, one_hot(frames * targets, 0.0f);
+        for (std::size_t f = 0; f < frames; ++f) one_hot[f * targets + f] = 1.0f;
+        for (std::size_t j = 0; j < overflow.size(); ++j) one_hot[overflow[j].first * targets + frames + j] = 1.0f;
         tinygltf::AnimationSampler sampler;
         sampler.input = key_times(w, range, times);
         sampler.output = w.b.accessor(w.b.view(one_hot.data(), one_hot.size() * sizeof(float), 0),

@@ -215,6 +215,53 @@ void append(StoredAnimation& a, const Frame& f) {
     a.colors.insert(a.colors.end(), f.color.begin(), f.color.end());
 }
 
+// The morph form: frame k = base + Σ_t w_kt · target t, w from the STEP weights track.
+// libwave writes target k for frame k (weight 1) and, in quantised files, NORMAL-only
+// targets after the frames' holding a normal's excess beyond ±1 (weight 1 in their
+// frame's row); other weights are refused.
+void read_morph_frames(const Reader& r, const tinygltf::Model& m, const tinygltf::Primitive& first, StoredAnimation& a) {
+    const tinygltf::Animation& anim = m.animations[0];
+    const int s = anim.channels[0].sampler;
+    if (s < 0 || static_cast<std::size_t>(s) >= anim.samplers.size()) r.fail("the weights channel has no sampler");
+    const tinygltf::AnimationSampler& sampler = anim.samplers[static_cast<std::size_t>(s)];
+    const std::size_t targets = first.targets.size(), frames = r.floats(sampler.input, 1).size();
+    const std::vector<float> w = r.floats(sampler.output, 1);
+    if (frames > targets || w.size() != frames * targets)
+        r.fail("the weights track has " + std::to_string(w.size()) + " values for " + std::to_string(frames) + " keys and " +
+               std::to_string(targets) + " morph targets");
+    std::vector<std::vector<float>> excess(targets - frames);
+    for (std::size_t t = frames; t < targets; ++t) {
+        if (first.targets[t].size() != 1 || !first.targets[t].count("NORMAL"))
+            r.fail("morph target " + std::to_string(t) + " (beyond the " + std::to_string(frames) + " frames) is not NORMAL-only");
+        append_z_up(excess[t - frames], r.floats(first.targets[t].at("NORMAL"), 3), {0, 0, 0}, {1, 1, 1}, false);
+    }
+    const Frame base = read_frame(r, first.attributes, 0, false, a.layout);
+    for (std::size_t k = 0; k < frames; ++k) {
+        for (std::size_t t = 0; t < targets; ++t) {
+            const float wk = w[k * targets + t];
+            if (wk != (t == k ? 1.0f : 0.0f) && (t < frames || wk != 1.0f))
+                r.fail("frame " + std::to_string(k) + " weighs morph target " + std::to_string(t) + " by " + std::to_string(wk) +
+                       " (libwave's frames weigh their own target by 1, others by 0)");
+        }
+        const Frame d = read_frame(r, first.targets[k], 0, true, a.layout);
+        Frame f;
+        add(r, k, "POSITION", f.position, base.position, d.position);
+        add(r, k, "NORMAL", f.normal, base.normal, d.normal);
+        for (std::size_t t = frames; t < targets; ++t) {
+            if (w[k * targets + t] == 0.0f) continue;
+            const std::vector<float> with = f.normal;
+            f.normal.clear();
+            add(r, t, "NORMAL", f.normal, with, excess[t - frames]);
+        }
+        add(r, k, "reflect weight", f.reflect, base.reflect, d.reflect);
+        add(r, k, "refract weight", f.refract, base.refract, d.refract);
+        add(r, k, "foam", f.foam, base.foam, d.foam);
+        add(r, k, "COLOR_0", f.color, base.color, d.color);
+        append(a, f);
+        ++a.frame_count;
+    }
+}
+
 // tinygltf (Debian's) trusts the file's byte ranges when it decodes Draco
 // primitives: a bufferView beyond its buffer overflows the heap (found by
 // tests/fuzz/fuzz_gltf). The container and every range are checked here first, on the
@@ -404,20 +451,8 @@ StoredAnimation read_glb(const std::string& path) {
     if (!first.attributes.count("TEXCOORD_0")) r.fail("the mesh has no TEXCOORD_0 (libwave writes the rest position there)");
     a.texcoords = r.floats(first.attributes.at("TEXCOORD_0"), 2);
     a.vertex_count = a.texcoords.size() / 2;
-    if (path_kind == "weights") {  // morph: frame k = base + target k
-        const Frame base = read_frame(r, first.attributes, 0, false, a.layout);
-        for (std::size_t t = 0; t < first.targets.size(); ++t) {
-            const Frame d = read_frame(r, first.targets[t], 0, true, a.layout);
-            Frame f;
-            add(r, t, "POSITION", f.position, base.position, d.position);
-            add(r, t, "NORMAL", f.normal, base.normal, d.normal);
-            add(r, t, "reflect weight", f.reflect, base.reflect, d.reflect);
-            add(r, t, "refract weight", f.refract, base.refract, d.refract);
-            add(r, t, "foam", f.foam, base.foam, d.foam);
-            add(r, t, "COLOR_0", f.color, base.color, d.color);
-            append(a, f);
-            ++a.frame_count;
-        }
+    if (path_kind == "weights") {
+        read_morph_frames(r, m, first, a);
     } else {  // nodes (a mesh per frame) or one frame file
         for (const std::size_t mesh : water) {
             if (m.meshes[mesh].primitives.empty()) r.fail("a frame's mesh has no primitive");

@@ -597,7 +597,7 @@ RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double plann
     switch (scene.form) {
         case Scene::Form::morph:
             e.output_bytes = (scene.draco ? draco_frame : n * per_frame_vertex + uv0 + indices) +
-                             frames * n * per_frame_vertex * (scene.quantize ? 0.7 : 1.0);
+                             frames * n * per_frame_vertex * (scene.quantize ? 0.6 : 1.0);
             break;
         case Scene::Form::nodes:  // meshes share the indices and TEXCOORD_0
             e.output_bytes = scene.draco ? frames * draco_frame
@@ -675,6 +675,28 @@ std::string memory_advice(const Scene& scene) {
 }
 
 }  // namespace
+
+double planned_memory_floor_bytes(const Scene& scene) {
+    if (!scene.ocean) return 0.0;
+    // The lattice: h̃0, conj h̃0(−k) (complex float), ω (double), ω̄ steps (int32); the
+    // workspace: eight half spectra (complex float) and eight real fields (float).
+    const double n = static_cast<double>(scene.ocean->resolution), lattice = (8.0 + 8.0 + 8.0 + 4.0) * n * n,
+                 workspace = 8.0 * 8.0 * n * (n / 2.0 + 1.0) + 8.0 * 4.0 * n * n;
+    const bool shaded = scene.attributes != Scene::Attributes::none;
+    const double frame = scene.surface_kind == SurfaceKind::ocean
+                             ? (n + 1.0) * (n + 1.0) * (24.0 + (shaded ? 12.0 : 0.0) + (scene.color ? 12.0 : 0.0))
+                             : 0.0;
+    return lattice + workspace + frame;
+}
+
+void check_plan_limits(const Scene& scene, double max_bytes) {
+    const double floor = planned_memory_floor_bytes(scene);
+    if (floor > max_bytes)
+        throw LimitError("scene: /ocean/resolution " + std::to_string(scene.ocean->resolution) + " needs at least " +
+                         fmt(std::ceil(floor / 1e7) / 100.0) + " GB before its first frame is written (its lattice, transforms" +
+                         (scene.surface_kind == SurfaceKind::ocean ? " and one frame" : "") + "), over the limit of " +
+                         fmt(max_bytes / 1e9) + " GB; lower /ocean/resolution, or raise the limit (wave run --max-memory-gb)");
+}
 
 void check_run_limits(const Scene& scene, const RunEstimate& e, std::size_t frames, double max_bytes) {
     if (e.frames > scene.max_frames)

@@ -454,7 +454,8 @@ Scene default_scene() {
  "seafloor": {"source": "gonzato-bay"},
  "waves": [{"period": 5, "amplitude": 0.3, "direction": [0, 1]}],
  "trace": {"ray_spacing": 1},
- "fronts": {"step": 0.4, "split_distance": 1.2}})";
+ "fronts": {"step": 0.4, "split_distance": 1.2},
+ "outputs": {"quantize": true}})";
     return parse_scene(kDefault, "the default scene", ".");
 }
 
