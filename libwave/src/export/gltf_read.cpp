@@ -237,11 +237,12 @@ void read_morph_frames(const Reader& r, const tinygltf::Model& m, const tinygltf
     }
     const Frame base = read_frame(r, first.attributes, 0, false, a.layout);
     for (std::size_t k = 0; k < frames; ++k) {
+        std::size_t excess_weighed = 0;
         for (std::size_t t = 0; t < targets; ++t) {
             const float wk = w[k * targets + t];
-            if (wk != (t == k ? 1.0f : 0.0f) && (t < frames || wk != 1.0f))
+            if (wk != (t == k ? 1.0f : 0.0f) && (t < frames || wk != 1.0f || ++excess_weighed > 1))
                 r.fail("frame " + std::to_string(k) + " weighs morph target " + std::to_string(t) + " by " + std::to_string(wk) +
-                       " (libwave's frames weigh their own target by 1, others by 0)");
+                       " (libwave's frames weigh their own target and at most one normals' excess by 1, others by 0)");
         }
         const Frame d = read_frame(r, first.targets[k], 0, true, a.layout);
         Frame f;
