@@ -511,7 +511,7 @@ void print_run_text(const RunSummary& r) {
               << (scene.form == Scene::Form::files ? "frames/ + index.json (" + std::to_string(animation_files) + " files"
                   : scene.form == Scene::Form::nodes ? shown_name + " (" + std::to_string(r.frames) + " scale-switched nodes"
                   : scene.form == Scene::Form::pc2   ? shown_name + " + .obj + .pc2 (" + std::to_string(r.frames) + " point-cache samples"
-                                                     : shown_name + " (" + std::to_string(r.frames) + " morph targets, STEP weights")
+                                                     : shown_name + " (" + std::to_string(r.frames) + " frames as morph targets, STEP weights")
               << "; " << static_cast<double>(r.animation_bytes) / 1e6 << " MB; set the scene fps to " << scene.fps
               << " before importing)\n"
               << "           " << r.out_dir << "/{" << side << "}\n";

@@ -91,7 +91,7 @@ int main(int argc, char** argv) {
     run_cmd->add_option("--slice", run.slice, "I/N: slice I (0-based) of N equal slices of the loop, e.g. a Slurm array task's $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT");
     run_cmd->add_option("--container", run.container, "glb (binary, default) or gltf (JSON + external .bin)")
         ->check(CLI::IsMember({"glb", "gltf"}));
-    auto* quantize_opt = run_cmd->add_flag("--quantize", run.quantize, "KHR_mesh_quantization: int16 position deltas (morph) or positions, int8 normals, uint16 UV maps (~30 % smaller morph files)");
+    auto* quantize_opt = run_cmd->add_flag("--quantize", run.quantize, "KHR_mesh_quantization: int16 position and normal deltas (morph) or positions, int8 normals, uint16 UV maps (the default scene: 44 MB instead of 69; its default)");
     run_cmd->add_flag("--no-quantize", run.no_quantize, "float attributes even where the scene asks for quantisation")->excludes(quantize_opt);
     auto* draco_opt = run_cmd->add_flag("--draco", run.draco, "Draco-compress the meshes (morph: the base mesh only; default quantisation: positions 14 bits)");
     run_cmd->add_flag("--no-draco", run.no_draco, "plain meshes even where the scene asks for Draco (Blender's own glTF importer reads no Draco)")
