@@ -110,6 +110,31 @@ def check_caustics(folder, scene, water, frames):
         errors.append(f"{folder}: the caustic sequence is out of step with the frames")
 
 
+def check_file_normals(path, scene, expected):
+    """Imported with the file's normals, every corner's normal at frames 1 and N/2 is its
+    vertex's normal in the file (within 1°: the quantised base's int8 steps)."""
+    before = set(bpy.data.objects)
+    bpy.ops.import_scene.libwave(filepath=path, file_normals=True)
+    obj = next(o for o in bpy.data.objects if o not in before and "libwave_source" in o)
+    mesh, frames = obj.data, expected["frame_count"]
+    for f in [1, frames // 2]:
+        scene.frame_set(f)
+        if hasattr(mesh, "calc_normals_split"):  # Blender 3.x; 4.1+ keeps corner_normals up to date
+            mesh.calc_normals_split()
+        corners = np.empty(3 * len(mesh.loops), np.float32)
+        (mesh.corner_normals if hasattr(mesh, "corner_normals") else mesh.loops).foreach_get(
+            "vector" if hasattr(mesh, "corner_normals") else "normal", corners)
+        vertex = np.empty(len(mesh.loops), np.int64)
+        mesh.loops.foreach_get("vertex_index", vertex)
+        want = expected["normals"][f % frames][vertex]
+        want /= np.linalg.norm(want, axis=1, keepdims=True)
+        angle = np.degrees(np.arccos(np.clip((corners.reshape(-1, 3) * want).sum(axis=1), -1.0, 1.0)))
+        if angle.max() > 1.0:
+            errors.append(f"{path}: frame {f}: the file's normals are off by up to {angle.max():.2f}° "
+                          f"({(angle > 1.0).sum()} of {len(angle)} corners beyond 1°)")
+    bpy.data.objects.remove(obj)
+
+
 for folder in runs:
     if folder.endswith("pc2"):
         check_point_cache(folder, os.path.join(os.path.dirname(folder), "morph", "animation.glb"))
@@ -152,6 +177,8 @@ for folder in runs:
             gap = np.abs(rgba.reshape(n, 4)[:, :3] - expected["colors"][k]).max()
             if gap > 1e-6:
                 errors.append(f"{path}: frame {f}: colour off by {gap}")
+    if not all(p.use_smooth for p in obj.data.polygons):
+        errors.append(f"{path}: the water is not smooth-shaded")
     mat = obj.data.materials[0]
     if not any(n.type == "ATTRIBUTE" and n.attribute_name == "foam" for n in mat.node_tree.nodes):
         errors.append(f"{path}: the material does not read the foam attribute")
@@ -197,6 +224,8 @@ for folder in runs:
             print(f"LIBWAVE-ADDON render: sky {sky:.2f}, water {water_share:.2f}, seafloor (under the water) {ground:.2f}")
             if min(sky, water_share, ground) < 0.05:
                 errors.append(f"{path}: the render lacks sky, water or seafloor: {sky}, {water_share}, {ground}")
+    if folder.endswith(("morph", "quant", "files")):  # option "The file's normals": custom normals per frame
+        check_file_normals(path, scene, expected)
     if folder.endswith("caustics"):
         check_caustics(folder, scene, obj, frames)
         # The option "Ts'o's baked colour": the water emits the colour attribute.

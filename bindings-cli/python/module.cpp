@@ -372,6 +372,7 @@ PYBIND11_MODULE(_libwave, m) {
             };
             py::dict d;
             d["positions"] = copy(a.positions, {frames, n, 3});
+            d["normals"] = copy(a.normals, {frames, n, 3});
             d["foam"] = copy(a.foam, {frames, n});
             d["reflect"] = copy(a.reflect, {frames, n});
             d["refract"] = copy(a.refract, {frames, n});
@@ -383,8 +384,8 @@ PYBIND11_MODULE(_libwave, m) {
         },
         py::arg("path"),
         "Reads an output of wave run (.glb/.gltf of the morph or nodes form, a frame file, or the files form's "
-        "index.json; plain, quantised or a Draco morph base): positions (frames, n, 3) z up, foam/reflect/refract "
-        "(frames, n), colors, triangles, fps, frame_count, first_frame, loop_frames, scene");
+        "index.json; plain, quantised or a Draco morph base): positions and normals (frames, n, 3) z up, "
+        "foam/reflect/refract (frames, n), colors, triangles, fps, frame_count, first_frame, loop_frames, scene");
 
     m.def(
         "inspect",

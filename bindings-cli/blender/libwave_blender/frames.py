@@ -90,10 +90,12 @@ def to_blender(xyz):
 
 
 class Frame:
-    """One frame: positions (n, 3), the shading (n,) each (None when absent), colour (n, 3) or None."""
+    """One frame: positions and normals (n, 3), the shading (n,) each (None when absent),
+    colour (n, 3) or None."""
 
-    def __init__(self, positions, foam=None, reflect=None, refract=None, color=None):
+    def __init__(self, positions, foam=None, reflect=None, refract=None, color=None, normals=None):
         self.positions, self.foam, self.reflect, self.refract, self.color = positions, foam, reflect, refract, color
+        self.normals = normals
 
 
 def _shading(attrs, get):
@@ -114,8 +116,9 @@ def _node_transform(doc, mesh_index):
     return np.zeros(3, np.float32), np.ones(3, np.float32)
 
 
-def _primitive_frame(doc, buffers, mesh_index, target=None):
-    """A frame from a mesh's first primitive (and, for the morph form, one of its targets)."""
+def _primitive_frame(doc, buffers, mesh_index, target=None, excess=()):
+    """A frame from a mesh's first primitive (and, for the morph form, one of its targets
+    and the NORMAL-only targets in `excess` that its key weighs in)."""
     prim = doc["meshes"][mesh_index]["primitives"][0]
     if "KHR_draco_mesh_compression" in prim.get("extensions", {}):
         raise LibwaveFileError("Draco-compressed")
@@ -138,7 +141,13 @@ def _primitive_frame(doc, buffers, mesh_index, target=None):
     positions = to_blender(get("POSITION") * scale + translation)
     foam, reflect, refract = _shading(attrs, get)
     color = get("COLOR_0")[:, :3] if "COLOR_0" in attrs else None
-    return Frame(positions, foam, reflect, refract, color)
+    normals = None
+    if "NORMAL" in attrs:
+        normals = get("NORMAL")
+        for t in excess:  # a quantised normal's turn beyond ±1
+            normals = normals + accessor(doc, buffers, prim["targets"][t]["NORMAL"])
+        normals = to_blender(normals / np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-12))
+    return Frame(positions, foam, reflect, refract, color, normals)
 
 
 _GLTF_TO_BLENDER = np.array([[1, 0, 0], [0, 0, -1], [0, 1, 0]], np.float64)
@@ -240,6 +249,13 @@ class Animation:
             # A target per frame; quantised files add NORMAL-only targets after them
             # (a normal's turn beyond ±1), which the add-on does not need.
             self.frame_count = sum("POSITION" in t for t in prim["targets"])
+            # Each key's row of the weights track: the NORMAL-only targets it weighs in.
+            targets, self._excess = len(prim["targets"]), {}
+            if doc.get("animations") and targets > self.frame_count:
+                weights = accessor(doc, self.buffers, doc["animations"][0]["samplers"][0]["output"])[:, 0]
+                rows = weights.reshape(-1, targets)[:, self.frame_count:]
+                for k, t in zip(*np.nonzero(rows)):
+                    self._excess.setdefault(int(k), []).append(self.frame_count + int(t))
         else:
             self.form = "nodes"
             self.frame_nodes = [n for n in doc.get("nodes", []) if "mesh" in n and n.get("name") != "seafloor"]
@@ -264,7 +280,7 @@ class Animation:
                 doc, buffers = self._frame_file(k)
                 f = _primitive_frame(doc, buffers, 0)
             elif self.form == "morph":
-                f = _primitive_frame(self.doc, self.buffers, 0, k)
+                f = _primitive_frame(self.doc, self.buffers, 0, k, self._excess.get(k, ()))
             else:
                 f = _primitive_frame(self.doc, self.buffers, self.frame_nodes[k]["mesh"])
         except LibwaveFileError as e:
@@ -280,9 +296,10 @@ class Animation:
             return None if a is None or len(a) == 0 else np.asarray(a[k])
 
         positions = np.asarray(s["positions"][k]).reshape(n, 3)
-        colors = s.get("colors")
+        colors, normals = s.get("colors"), s.get("normals")
         return Frame(positions, scalar("foam"), scalar("reflect"), scalar("refract"),
-                     None if colors is None or len(colors) == 0 else np.asarray(colors[k]).reshape(n, 3))
+                     None if colors is None or len(colors) == 0 else np.asarray(colors[k]).reshape(n, 3),
+                     None if normals is None or len(normals) == 0 else np.asarray(normals[k]).reshape(n, 3))
 
 
 def _load_draco(path):
