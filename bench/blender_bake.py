@@ -1,4 +1,5 @@
-# The add-on's streamed import beside its bake into the .blend, in one Blender session:
+# The add-on's streamed import (with Blender's normals, then the file's) beside its bake
+# into the .blend, in one Blender session:
 #   blender -b --factory-startup --python bench/blender_bake.py -- ADDON_ZIP SOURCE OUT_DIR
 # For each route: the import's time, the RSS it adds over Blender's own (after factory
 # settings), the time of a frame change over the whole loop (mean, each frame once, plus
@@ -38,11 +39,11 @@ def fresh():
 bpy.ops.wm.read_factory_settings(use_empty=True)
 bpy.ops.preferences.addon_install(filepath=addon_zip, overwrite=True)
 rows = []
-for route in ("streamed", "baked"):
+for route in ("streamed", "streamed, the file's normals", "baked"):
     fresh()
     base = rss_mb()
     start = time.perf_counter()
-    bpy.ops.import_scene.libwave(filepath=source, bake=route == "baked")
+    bpy.ops.import_scene.libwave(filepath=source, bake=route == "baked", file_normals="normals" in route)
     took = time.perf_counter() - start
     scene = bpy.context.scene
     water = bpy.data.objects["libwave water"]
