@@ -7,8 +7,8 @@ streams its frames from disk), with the scene's fps and frame range set, the loo
 repeating past its end, and an editable water material that reads the foam; or, on
 request, baked into the .blend (bake.py) so that the saved file plays without the
 add-on. Works in
-Debian's Blender 3.4 (no numpy.bool patch needed: Blender's glTF importer is not used)
-and in Blender 4.x.
+Debian's Blender 3.4 (no numpy.bool patch needed: Blender's glTF importer is not used);
+the Blender 4.x names and APIs it meets are guarded (not tested here: no Blender 4).
 """
 import math
 import os
@@ -79,6 +79,15 @@ def _on_frame_change(scene, depsgraph=None):
                 apply_frame(obj, scene.frame_current)
             except (OSError, frames.LibwaveFileError) as e:  # a moved file: say so once per frame, keep Blender usable
                 print(f"libwave: {obj.name}: {e}")
+
+
+def _smooth(mesh, custom_normals=False):
+    """Smooth shading (Blender's vertex normals of the animated positions); with
+    `custom_normals` the mesh takes custom normals (Blender 3.x needs auto smooth for them)."""
+    mesh.polygons.foreach_set("use_smooth", np.ones(len(mesh.polygons), bool))
+    if custom_normals and hasattr(mesh, "use_auto_smooth"):  # removed in Blender 4.1
+        mesh.use_auto_smooth = True
+        mesh.auto_smooth_angle = math.pi  # no sharp edges: an overturning lip keeps its fan
 
 
 def water_material(baked_colour=False):
@@ -249,15 +258,6 @@ def import_dressing(context, dressing, folder="", caustics=True):
         context.collection.objects.link(obj)
         made.append(obj)
     return made
-
-
-def _smooth(mesh, custom_normals=False):
-    """Smooth shading (Blender's vertex normals of the animated positions); with
-    `custom_normals` the mesh takes custom normals (Blender 3.x needs auto smooth for them)."""
-    mesh.polygons.foreach_set("use_smooth", np.ones(len(mesh.polygons), bool))
-    if custom_normals and hasattr(mesh, "use_auto_smooth"):  # removed in Blender 4.1
-        mesh.use_auto_smooth = True
-        mesh.auto_smooth_angle = math.pi  # no sharp edges: an overturning lip keeps its fan
 
 
 def import_animation(context, path, set_scene=True, caustics=True, bake=False, baked_colour=False, file_normals=False):
