@@ -61,9 +61,7 @@ def apply_frame(obj, scene_frame):
             _attribute(mesh, name).data.foreach_set("value", np.ascontiguousarray(values, np.float32))
     if f.color is not None:
         colour = mesh.attributes.get("colour") or mesh.attributes.new("colour", "FLOAT_COLOR", "POINT")
-        rgba = np.ones((len(f.color), 4), np.float32)
-        rgba[:, :3] = f.color
-        colour.data.foreach_set("color", rgba.ravel())
+        colour.data.foreach_set("color", frames.to_rgba(f.color))
     if obj.get("libwave_file_normals") and f.normals is not None:
         mesh.update()  # the custom normals are stored against the new positions' own normals
         mesh.normals_split_custom_set_from_vertices(np.ascontiguousarray(f.normals, np.float32))
@@ -208,9 +206,7 @@ def import_dressing(context, dressing, folder="", caustics=True):
         mesh.from_pydata(positions.tolist(), [], triangles.tolist())
         _smooth(mesh)
         if colours is not None:
-            rgba = np.ones((len(colours), 4), np.float32)
-            rgba[:, :3] = colours
-            mesh.attributes.new("depth colour", "FLOAT_COLOR", "POINT").data.foreach_set("color", rgba.ravel())
+            mesh.attributes.new("depth colour", "FLOAT_COLOR", "POINT").data.foreach_set("color", frames.to_rgba(colours))
         maps = dressing.caustics if caustics else None
         if maps is not None and os.path.exists(os.path.join(folder, maps[1]["images"] % 0)):
             uv, info = maps

@@ -13,6 +13,8 @@ Sample Index evaluate all of them: 0.65 s a frame for the default run).
 import bpy
 import numpy as np
 
+from .frames import to_rgba
+
 QUANTITIES = ("foam", "reflect", "refract")
 
 
@@ -40,9 +42,7 @@ def _frame_meshes(name, anim):
         mesh.vertices.foreach_set("co", np.ascontiguousarray(f.positions, np.float32).ravel())
         for q in attributes:
             if q == "colour":
-                rgba = np.ones((n, 4), np.float32)
-                rgba[:, :3] = f.color
-                mesh.attributes.new(q, "FLOAT_COLOR", "POINT").data.foreach_set("color", rgba.ravel())
+                mesh.attributes.new(q, "FLOAT_COLOR", "POINT").data.foreach_set("color", to_rgba(f.color))
             else:
                 mesh.attributes.new(q, "FLOAT", "POINT").data.foreach_set("value", np.ascontiguousarray(getattr(f, q), np.float32))
         mesh.update()

@@ -84,6 +84,13 @@ def accessor(doc, buffers, index):
     return values
 
 
+def to_rgba(rgb):
+    """(n, 3) colours as Blender's flat RGBA float array (alpha 1)."""
+    rgba = np.ones((len(rgb), 4), np.float32)
+    rgba[:, :3] = rgb
+    return rgba.ravel()
+
+
 def to_blender(xyz):
     """glTF y-up → Blender z-up."""
     return np.stack([xyz[:, 0], -xyz[:, 2], xyz[:, 1]], axis=1)
