@@ -205,6 +205,36 @@ TEST(Caustics, ASlopingFloorIsFoundWhereTheRayMeetsIt) {
     }
 }
 
+TEST(Caustics, AnInclinedFloorUnderAnInclinedSunGetsTheLightItsSlopeSpreads) {
+    // Flat water over the plane z = −H − αx, the sun in the x–z plane: a ray refracted to
+    // t meets the floor point x' after s = (H + αx') / −t_z, and a strip dx of surface
+    // lands on dx · −t_z / (−t_z − α t_x) of floor, so E(x') = T I₀ e^{−c s} (−t_z − α t_x) / −t_z.
+    // The rays are found by the search's secant steps (no closed form on a slope).
+    const double H = 5.0, alpha = 0.2, c = 0.1, elevation = 60.0 * kPi / 180.0;
+    ElevationGrid g;
+    g.nx = 51;
+    g.ny = 6;
+    g.dx = 1.0;
+    g.dy = 1.0;
+    for (std::size_t j = 0; j < g.ny; ++j)
+        for (std::size_t i = 0; i < g.nx; ++i) g.z.push_back(-H - alpha * double(i));
+    CausticOptions o;
+    o.sun = {std::cos(elevation), 0.0, std::sin(elevation)};
+    o.attenuation = c;
+    o.width = 100;
+    o.height = 10;
+    const CausticPlan plan = plan_caustics(g, o);
+    const std::vector<float> map = caustics(plan, sine_surface(50.0, 5.0, 201, 21, 0.0, 1.0));
+    const double eta = 1.0 / kWaterRefractiveIndex, tx = -eta * std::cos(elevation), tz = -std::sqrt(1.0 - tx * tx);
+    const double T = fresnel_transmissivity(std::sin(elevation));
+    for (std::size_t j = 2; j < 8; ++j)
+        for (std::size_t i = 20; i < 80; ++i) {
+            const double x = 0.5 * (double(i) + 0.5), s = (H + alpha * x) / -tz;
+            const double expected = T * std::exp(-c * s) * (-tz - alpha * tx) / -tz;
+            EXPECT_NEAR(map[j * 100 + i], expected, 2e-3 * expected) << i << ", " << j;
+        }
+}
+
 TEST(Caustics, AFootprintFarBeyondTheMapEndsAtOnce) {
     // A triangle reaching 10¹⁷ m left of the map beside a small one inside it: no walk of
     // 10¹⁷ pixels towards the map (steps of 1 could never get there), and the part of
@@ -227,6 +257,84 @@ TEST(Caustics, AFootprintFarBeyondTheMapEndsAtOnce) {
     for (float e : map) total += e;
     const double expected = fresnel_transmissivity(1.0) * std::exp(-0.15 * 2.0) * 42.0;  // 1 m² pixels
     EXPECT_NEAR(total, expected, 1e-3 * expected);
+}
+
+// Every triangle's three edges appear exactly once among the mesh's edges, each on the
+// side it walks them: the triangle on an edge's first side walks a → b, the one on
+// its second side b → a.
+void expect_every_walk_once(const CausticMesh& mesh) {
+    const std::size_t nt = mesh.triangles.size() / 3;
+    std::vector<int> seen(3 * nt, 0);
+    const auto mark = [&](std::uint32_t t, std::uint32_t a, std::uint32_t b) {
+        bool found = false;
+        for (std::size_t c = 0; c < 3; ++c)
+            if (mesh.triangles[3 * t + c] == a && mesh.triangles[3 * t + (c + 1) % 3] == b) ++seen[3 * t + c], found = true;
+        EXPECT_TRUE(found) << "triangle " << t << " does not walk " << a << " → " << b;
+    };
+    for (std::size_t e = 0; e < mesh.edges.size() / 4; ++e) {
+        const std::uint32_t a = mesh.edges[4 * e], b = mesh.edges[4 * e + 1];
+        mark(mesh.edges[4 * e + 2], a, b);
+        if (mesh.edges[4 * e + 3] != CausticMesh::kNone) mark(mesh.edges[4 * e + 3], b, a);
+    }
+    for (std::size_t i = 0; i < seen.size(); ++i) EXPECT_EQ(seen[i], 1) << "walk " << i;
+}
+
+TEST(Caustics, AMeshListsEachEdgeOnceWithTheTrianglesOnItsTwoSides) {
+    const std::size_t nx = 7, ny = 5;
+    const CausticMesh mesh = plan_caustic_mesh(grid_triangles(nx, ny), nx * ny);
+    const std::size_t edges = (nx - 1) * ny + nx * (ny - 1) + (nx - 1) * (ny - 1);
+    ASSERT_EQ(mesh.edges.size(), 4 * edges);
+    std::size_t border = 0;
+    for (std::size_t e = 0; e < edges; ++e) border += mesh.edges[4 * e + 3] == CausticMesh::kNone;
+    EXPECT_EQ(border, 2 * (nx - 1) + 2 * (ny - 1));
+    expect_every_walk_once(mesh);
+}
+
+TEST(Caustics, AnEdgeOfThreeTrianglesOrOfTwoWalkingItAlikeIsListedOncePerExtraTriangle) {
+    // Triangles 0 and 1 share 0–1 the usual way; triangle 2 also walks 0 → 1 (a third
+    // sheet on the edge, turned like triangle 0); triangle 3 walks 1 → 0 and pairs with it.
+    const std::vector<std::uint32_t> triangles{0, 1, 2, 1, 0, 3, 0, 1, 4, 1, 0, 5};
+    const CausticMesh mesh = plan_caustic_mesh(triangles, 6);
+    expect_every_walk_once(mesh);
+    std::size_t on_01 = 0, paired = 0;
+    for (std::size_t e = 0; e < mesh.edges.size() / 4; ++e)
+        if (std::min(mesh.edges[4 * e], mesh.edges[4 * e + 1]) == 0 && std::max(mesh.edges[4 * e], mesh.edges[4 * e + 1]) == 1)
+            ++on_01, paired += mesh.edges[4 * e + 3] != CausticMesh::kNone;
+    EXPECT_EQ(on_01, 2u);
+    EXPECT_EQ(paired, 2u);
+    EXPECT_THROW(plan_caustic_mesh(std::vector<std::uint32_t>{0, 1}, 6), InputError);
+    EXPECT_THROW(plan_caustic_mesh(std::vector<std::uint32_t>{0, 1, 6}, 6), InputError);
+}
+
+TEST(Caustics, APlannedMeshGivesTheSameBitsAsTheTrianglesGivenWithTheFrame) {
+    // A crest past its focus over a sloping floor: footprints turned over, rays found by
+    // the search rather than in closed form.
+    ElevationGrid g;
+    g.nx = 33;
+    g.ny = 9;
+    g.dx = 1.0;
+    g.dy = 1.0;
+    for (std::size_t j = 0; j < g.ny; ++j)
+        for (std::size_t i = 0; i < g.nx; ++i) g.z.push_back(-30.0 - 0.3 * double(i) + 0.4 * std::sin(double(j)));
+    CausticOptions o;
+    o.sun = {0.2, -0.1, 0.97};
+    o.width = 256;
+    o.height = 64;
+    const CausticPlan plan = plan_caustics(g, o);
+    ASSERT_FALSE(plan.flat);
+    const Surface s = sine_surface(32.0, 8.0, 161, 41, 0.05, 2.0 * kPi / 4.0);
+    const CausticMesh mesh = plan_caustic_mesh(s.triangles, s.positions.size() / 3);
+    std::vector<float> planned(256 * 64), given(256 * 64);
+    CausticWorkspace workspace;
+    evaluate_caustics(plan, mesh, s.positions, s.normals, planned, &workspace);
+    evaluate_caustics(plan, s.positions, s.normals, s.triangles, given);
+    EXPECT_EQ(planned, given);
+    EXPECT_GT(*std::max_element(planned.begin(), planned.end()), 3.0 * std::accumulate(planned.begin(), planned.end(), 0.0) / 16384.0);
+    std::vector<float> again(256 * 64);
+    evaluate_caustics(plan, mesh, s.positions, s.normals, again, &workspace);  // the workspace reused
+    EXPECT_EQ(again, planned);
+    std::vector<float> fewer(s.positions.begin(), s.positions.end() - 3);
+    EXPECT_THROW(evaluate_caustics(plan, mesh, fewer, fewer, planned), InputError);
 }
 
 TEST(Caustics, BadOptionsAndSizesAreRefused) {

@@ -66,35 +66,59 @@ struct CausticPlan {
     double y_top = 0.0;  ///< y of pixel (0, 0)'s outer corner: the map's top (m)
     double pixel_x = 1.0;  ///< pixel size (m)
     double pixel_y = 1.0;  ///< pixel size (m)
+    double per_pixel_x = 1.0;  ///< pixels per metre along x
+    double per_pixel_y = 1.0;  ///< pixels per metre along y
     double max_slope = 0.0;                ///< |∇z| bound of the floor (for the search)
     double max_depth = 0.0;                ///< the floor's greatest depth (m)
+    bool flat = false;                     ///< every node at one depth (max_depth): rays meet the floor in closed form
     std::array<double, 3> sun{};           ///< unit, towards the sun
 };
 CausticPlan plan_caustics(const ElevationGrid& seafloor, const CausticOptions& options);
 
-/// Per-frame scratch (per-vertex hits and weights, each band's triangle list), kept by
-/// a caller that evaluates frame after frame so that frames after the first allocate
-/// nothing.
+/// Once per triangle list (a surface's topology, the same in every frame of an
+/// animation): every edge once, with the triangles on its two sides, so that a frame
+/// walks each edge once rather than once per triangle. An edge that a third triangle
+/// shares, or that two triangles walk the same way (one turned over), is listed again
+/// for each such triangle. InputError for a list that is not whole triangles or an
+/// index out of range.
+struct CausticMesh {
+    static constexpr std::uint32_t kNone = 0xffffffffu;  ///< no triangle on that side
+    std::size_t vertex_count = 0;
+    std::vector<std::uint32_t> triangles;  ///< as planned, 3 per triangle
+    /// 4 per edge: its vertices a and b, the triangle that walks a → b, the one that
+    /// walks b → a (kNone on the border).
+    std::vector<std::uint32_t> edges;
+};
+CausticMesh plan_caustic_mesh(std::span<const std::uint32_t> triangles, std::size_t vertex_count);
+
+/// Per-frame scratch (per-vertex hits and weights, per-triangle densities, each band's
+/// items), kept by a caller that evaluates frame after frame so that frames after the
+/// first allocate nothing.
 struct CausticWorkspace {
-    std::vector<double> hit;             ///< 2 per vertex: the refracted ray's floor point, map pixels
-    std::vector<double> weight;          ///< per vertex: T · e^{−c·s}
-    std::vector<double> flux;            ///< per triangle
-    std::vector<std::uint32_t> first_band;             ///< per triangle: the first map row band it covers
-    std::vector<std::uint32_t> last_band;              ///< per triangle: the last
-    std::vector<std::uint32_t> band_offsets;           ///< per row band: its triangles' start in band_triangles
-    std::vector<std::uint32_t> band_fill;              ///< per band: triangles filed so far
-    std::vector<std::uint32_t> band_triangles;         ///< triangle indices, by band
+    std::vector<double> hit;     ///< 2 per vertex: the refracted ray's floor point, map pixels
+    std::vector<double> weight;  ///< per vertex: T · e^{−c·s}
+    /// Per triangle: −flux / footprint area spread by its edges (0 when its flux goes
+    /// whole into one pixel, or it carries none), and the flux put whole into one pixel.
+    std::vector<double> density, direct;
+    std::vector<std::uint32_t> item_bands;    ///< 2 per item (edges, then triangles): the first and last row band it reaches
+    std::vector<std::uint32_t> chunk_counts;  ///< per chunk of items and band: items filed
+    std::vector<std::uint32_t> band_offsets;  ///< per row band: its items' start in band_items
+    std::vector<std::uint32_t> band_items;    ///< item indices, by band, each band in item order
 };
 
 /// The irradiance per unit plan area on the seafloor (same unit as I₀), width · height
 /// floats, row-major from the top row, for one frame of a surface: positions and unit
-/// normals 3 floats per vertex (m, z up, the still water at z = 0), counter-clockwise
-/// triangles seen from above. Flat water over a flat floor of depth h gives
-/// T(θᵢ) · I₀ · e^{−c·h / cos θₜ} everywhere its light reaches. Light enters only
-/// through the given surface (a map pixel whose light would come from beyond it stays
-/// dark, unless flat_water_beyond), triangles facing away from the sun pass none, and the water's own shadow
-/// (a crest shading a trough) is not traced. The same bits for any thread count.
-/// InputError on mismatched sizes or indices out of range.
+/// normals 3 floats per vertex (m, z up, the still water at z = 0) of the planned mesh's
+/// vertices, its triangles counter-clockwise seen from above. Flat water over a flat floor
+/// of depth h gives T(θᵢ) · I₀ · e^{−c·h / cos θₜ} everywhere its light reaches. Light
+/// enters only through the given surface (a map pixel whose light would come from
+/// beyond it stays dark, unless flat_water_beyond), triangles facing away from the sun
+/// pass none, and the water's own shadow (a crest shading a trough) is not traced. The
+/// same bits for any thread count. InputError on mismatched sizes.
+void evaluate_caustics(const CausticPlan& plan, const CausticMesh& mesh, std::span<const float> positions,
+                       std::span<const float> normals, std::span<float> irradiance, CausticWorkspace* workspace = nullptr);
+
+/// The same for a triangle list given with the frame (its mesh planned on each call).
 void evaluate_caustics(const CausticPlan& plan, std::span<const float> positions, std::span<const float> normals,
                        std::span<const std::uint32_t> triangles, std::span<float> irradiance,
                        CausticWorkspace* workspace = nullptr);

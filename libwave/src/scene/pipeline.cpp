@@ -751,6 +751,7 @@ struct FrameRun {
     VertexFaces adjacency{};
     FresnelOptions fresnel{};
     std::optional<CausticPlan> caustics{};  // /underwater: a map per frame
+    CausticMesh caustic_mesh{};             // the surface's edges, walked once a frame
     CausticWorkspace caustic_scratch{};
     std::vector<float> caustic_map{};
 };
@@ -782,6 +783,7 @@ void start_run(FrameRun& r, const std::vector<std::uint32_t>& triangles, std::si
     r.fresnel.model = r.scene.fresnel;
     if (r.scene.underwater && r.scene.underwater->caustics) {
         r.caustics = plan_caustics(plan.seafloor.grid, scene_caustic_options(r.scene, plan));
+        r.caustic_mesh = plan_caustic_mesh(triangles, n);
         r.caustic_map.resize(r.caustics->options.width * r.caustics->options.height);
     }
 }
@@ -885,7 +887,7 @@ void evaluate_frame(FrameRun& r, const std::vector<std::uint32_t>& coarse_triang
         a.z_max = std::max(a.z_max, p[3 * v + 2]);
     }
     if (r.caustics) {
-        evaluate_caustics(*r.caustics, p, nr, a.triangles, r.caustic_map, &r.caustic_scratch);
+        evaluate_caustics(*r.caustics, r.caustic_mesh, p, nr, r.caustic_map, &r.caustic_scratch);
         a.caustics[f] = caustic_png(r.caustic_map, r.caustics->options.width, r.caustics->options.height,
                                     r.scene.underwater->full_scale);
     }

@@ -8,6 +8,7 @@
 #include <png.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <cmath>
@@ -34,6 +35,7 @@ constexpr NamedWater kWaters[] = {
 };
 
 constexpr std::size_t kBandRows = 8;       // map rows a parallel task accumulates
+constexpr std::size_t kItemChunk = 16384;  // edges and triangles a binning task files (fixed: the same bits on any thread count)
 constexpr std::size_t kMaxMapSide = 16384;
 constexpr int kMaxSearchSteps = 60;        // regula falsi steps of the ray–floor search (it converges well before)
 
@@ -53,20 +55,20 @@ struct Footprint {
     double max(int axis) const noexcept { return std::max({p[axis], p[2 + axis], p[4 + axis]}); }
 };
 
-// ∫ over pixel [i, i + 1] of the ramp that rises from 0 at x0 to 1 at x1 (x0 < x1): an
-// edge's share of the pixel per unit of its height in the row. Each piece is integrated
-// on its own (no difference of two large integrals: an edge reaching far off the map
-// stays exact).
-double ramp_share(double i, double x0, double x1) noexcept {
+// ∫ over pixel [i, i + 1] of the ramp that rises from 0 at x0 to 1 at x1 (x0 < x1,
+// inverse = 1 / (x1 − x0)): an edge's share of the pixel per unit of its height in the
+// row. Each piece is integrated on its own (no difference of two large integrals: an
+// edge reaching far off the map stays exact).
+double ramp_share(double i, double x0, double x1, double inverse) noexcept {
     const double a = std::max(i, x0), b = std::min(i + 1.0, x1);
-    const double rising = b > a ? (b - a) * (0.5 * (a + b) - x0) / (x1 - x0) : 0.0;
+    const double rising = std::max(0.0, b - a) * (0.5 * (a + b) - x0) * inverse;
     return rising + std::max(0.0, i + 1.0 - std::max(i, x1));
 }
 
 // Exact coverage by signed edge areas (the scanline accumulation of font rasterisers):
 // a closed polygon covers, at abscissa x of a row, the sum over its edges of their
 // signed heights in the row left of x. Each edge adds the differences of that sum
-// from pixel to pixel to `acc` (a row of width + 1 per map row of the band); a prefix
+// from pixel to pixel to `acc` (a row of width + 2 per map row of the band); a prefix
 // sum along each row then gives every pixel's covered area times the weight. Work is
 // proportional to the edges' lengths in pixels, not to the area they enclose.
 void add_edge(double ua, double va, double ub, double vb, double weight, std::size_t width, std::size_t row0,
@@ -75,7 +77,7 @@ void add_edge(double ua, double va, double ub, double vb, double weight, std::si
     const double dir = va < vb ? weight : -weight;
     if (va > vb) std::swap(ua, ub), std::swap(va, vb);
     const double dudv = (ub - ua) / (vb - va), end_row = static_cast<double>(row0 + rows);
-    const std::size_t stride = width + 1;
+    const std::size_t stride = width + 2;
     for (double j = std::max(std::floor(va), static_cast<double>(row0)); j < end_row && j < vb; j += 1.0) {
         const double top = std::max(va, j), bottom = std::min(vb, j + 1.0);
         if (bottom <= top) continue;
@@ -89,7 +91,28 @@ void add_edge(double ua, double va, double ub, double vb, double weight, std::si
         if (first == last) {  // within one pixel column (the common case): d · (i + 1 − mid)
             const double c = d * (first + 1.0 - 0.5 * (x0 + x1));
             at(first) += c;
-            if (first + 1.0 < limit) at(first + 1.0) += d - c;
+            at(first + 1.0) += d - c;  // at most pixel `width`: the row's slot beyond the map
+            continue;
+        }
+        if (first >= 0.0) {
+            // Across two or more columns, from the map (the row has two slots beyond
+            // it): c(i) rises by d / (x1 − x0) from one column wholly inside the edge's span
+            // to the next, so only its first two and last two columns are integrated.
+            const double inverse = 1.0 / (x1 - x0), span = last - first;
+            const double s_first = 0.5 * (first + 1.0 - x0) * (first + 1.0 - x0) * inverse;
+            const double s_last = (x1 - last) * (0.5 * (last + x1) - x0) * inverse + (last + 1.0 - x1);
+            double* cell = row + static_cast<std::size_t>(first);
+            const auto columns = static_cast<std::size_t>(std::min(span, limit - first));
+            cell[0] += d * s_first;
+            if (columns == 1) {
+                cell[1] += d * (s_last - s_first);
+            } else {
+                cell[1] += d * ((first + 1.5 - x0) * inverse - s_first);
+                const double step = d * inverse;
+                for (std::size_t k = 2; k < columns; ++k) cell[k] += step;
+                if (last < limit) cell[columns] += d * (s_last - (last - 0.5 - x0) * inverse);
+            }
+            if (last < limit) cell[columns + 1] += d * (1.0 - s_last);
             continue;
         }
         // Pixels left of the map all add to pixel 0's sum, which telescopes to c(−1):
@@ -99,10 +122,10 @@ void add_edge(double ua, double va, double ub, double vb, double weight, std::si
             at(0.0) += d;
             continue;
         }
-        const double start = std::max(first, -1.0);
+        const double start = std::max(first, -1.0), inverse = 1.0 / std::max(x1 - x0, 1e-300);
         double previous = 0.0;
         for (double i = start; i <= last + 1.0 && i < limit; i += 1.0) {
-            const double c = i > last ? d : d * ramp_share(i, x0, x1);
+            const double c = i > last ? d : d * ramp_share(i, x0, x1, inverse);
             at(i) += c - previous;
             previous = c;
         }
@@ -120,45 +143,14 @@ double bilinear_elevation(const ElevationGrid& g, double x, double y) noexcept {
     return (1.0 - b) * ((1.0 - a) * row[0] + a * row[1]) + b * ((1.0 - a) * row[g.nx] + a * row[g.nx + 1]);
 }
 
-// Where a ray from p along unit t (t.z < 0) first meets the floor: its path length s.
-// First a march over the bilinear floor: steps of f(s) / (−t_z + slope·|t_xy|), f the
-// height above it, which never pass it while the slope bound holds, and at least one
-// grid cell along the ray's plan direction (a ridge narrower than a cell may be
-// passed). Then the crossing of the floor itself (depth_at's bicubic surface) in the
-// bracket found, widened by a cell, by regula falsi (Illinois).
-double path_to_floor(const CausticPlan& plan, const Vec3& p, const Vec3& t) noexcept {
-    const auto above = [&](double s) { return p.z + s * t.z + depth_at(plan.floor, p.x + s * t.x, p.y + s * t.y); };
-    const auto above_linear = [&](double s) { return p.z + s * t.z - bilinear_elevation(plan.floor, p.x + s * t.x, p.y + s * t.y); };
-    const double f0 = above(0.0);
-    if (f0 <= 0.0) return 0.0;  // the vertex is on or under the floor (a dry or run-up vertex)
-    const double across = std::hypot(t.x, t.y), rate = -t.z + plan.max_slope * across;
-    const double cell = std::min(plan.floor.dx, plan.floor.dy);
-    const double cell_step = across > 0.0 ? cell / across : cell / -t.z;
-    const double longest = (p.z + plan.max_depth) / -t.z + cell_step;  // below the deepest point
-    double s = 0.0, f = above_linear(0.0), lo = 0.0, hi = longest;
-    while (s < longest) {
-        const double next = s + std::max(f / rate, cell_step), fn = above_linear(next);
-        if (fn <= 0.0) {
-            // Where the bilinear floor is crossed: often the floor itself (a plane, a
-            // flat bottom), so one look there may end the search.
-            const double guess = s + (next - s) * f / (f - fn);
-            if (std::abs(above(guess)) < 1e-7 * (1.0 + f0)) return guess;
-            lo = s;
-            hi = next;
-            break;
-        }
-        s = next;
-        f = fn;
-    }
-    lo = std::max(0.0, lo - cell_step);
-    hi += cell_step;
-    double flo = above(lo), fhi = above(hi);
-    if (flo <= 0.0) lo = 0.0, flo = f0;
-    if (fhi > 0.0) return hi;  // no floor below the bracket (not with a grid clamped at its border)
+// Regula falsi (Illinois) for the root of `above` in [lo, hi], above(lo) = flo > 0 ≥
+// above(hi) = fhi, to the search's tolerance.
+template <class Above>
+double illinois(const Above& above, double lo, double flo, double hi, double fhi, double tolerance) noexcept {
     int side = 0;
     for (int k = 0; k < kMaxSearchSteps; ++k) {
         const double mid = (lo * fhi - hi * flo) / (fhi - flo), fm = above(mid);
-        if (std::abs(fm) < 1e-7 * (1.0 + f0) || hi - lo < 1e-9 * (1.0 + hi)) return mid;
+        if (std::abs(fm) < tolerance || hi - lo < 1e-9 * (1.0 + hi)) return mid;
         if (fm > 0.0) {
             lo = mid, flo = fm;
             if (side == 1) fhi *= 0.5;
@@ -172,6 +164,66 @@ double path_to_floor(const CausticPlan& plan, const Vec3& p, const Vec3& t) noex
     return 0.5 * (lo + hi);
 }
 
+// Where a ray from p along unit t (t.z < 0) first meets the floor (depth_at's bicubic
+// surface): its path length s. f(s), the ray's height above the floor, falls by between
+// −t_z − slope·|t_xy| and −t_z + slope·|t_xy| per unit of s while the slope bound holds.
+// When the lesser rate is positive (the ray descends faster than the floor can rise
+// along it: every ray over a gentle floor), f falls monotonically, the crossing is the
+// only one and lies between f(0) over the greater rate and f(0) over the lesser: secant
+// steps kept in that bracket. Otherwise a march over the bilinear floor: steps of f / (the greater
+// rate), which never pass it while the slope bound holds, and at least one grid cell
+// along the ray's plan direction (a ridge narrower than a cell may be passed); then
+// regula falsi in the bracket found, widened by a cell.
+double path_to_floor(const CausticPlan& plan, const Vec3& p, const Vec3& t) noexcept {
+    const auto above = [&](double s) { return p.z + s * t.z + depth_at(plan.floor, p.x + s * t.x, p.y + s * t.y); };
+    const auto above_linear = [&](double s) { return p.z + s * t.z - bilinear_elevation(plan.floor, p.x + s * t.x, p.y + s * t.y); };
+    const double f0 = above(0.0);
+    if (f0 <= 0.0) return 0.0;  // the vertex is on or under the floor (a dry or run-up vertex)
+    // A ten-thousandth of a map pixel (a height error moves the hit no farther in plan),
+    // or 1e-7 of the height above the floor where that is coarser.
+    const double tolerance = std::max(1e-7 * (1.0 + f0), 1e-4 * std::min(plan.pixel_x, plan.pixel_y));
+    const double across = std::hypot(t.x, t.y), rate = -t.z + plan.max_slope * across, slowest = -t.z - plan.max_slope * across;
+    if (slowest > 0.0) {
+        // Secant steps from the surface (s = 0) through the flat floor's answer (the
+        // depth under the vertex), kept inside the bracket the signs have narrowed: over
+        // a floor that is nearly a plane where the ray lands, two or three looks.
+        double lo = f0 / rate, hi = f0 / slowest, previous = 0.0, f_previous = f0, s = f0 / -t.z;
+        for (int k = 0; k < kMaxSearchSteps; ++k) {
+            const double fs = above(s);
+            if (std::abs(fs) < tolerance) return s;
+            if (hi - lo < 1e-9 * (1.0 + hi)) break;  // the slope bound failed it: march
+            (fs > 0.0 ? lo : hi) = s;
+            const double secant = fs != f_previous ? s - fs * (s - previous) / (fs - f_previous) : 0.5 * (lo + hi);
+            previous = s, f_previous = fs;
+            s = secant > lo && secant < hi ? secant : 0.5 * (lo + hi);
+        }
+    }
+    const double cell = std::min(plan.floor.dx, plan.floor.dy);
+    const double cell_step = across > 0.0 ? cell / across : cell / -t.z;
+    const double longest = (p.z + plan.max_depth) / -t.z + cell_step;  // below the deepest point
+    double s = 0.0, f = above_linear(0.0), lo = 0.0, hi = longest;
+    while (s < longest) {
+        const double next = s + std::max(f / rate, cell_step), fn = above_linear(next);
+        if (fn <= 0.0) {
+            // Where the bilinear floor is crossed: often the floor itself (a plane, a
+            // flat bottom), so one look there may end the search.
+            const double guess = s + (next - s) * f / (f - fn);
+            if (std::abs(above(guess)) < tolerance) return guess;
+            lo = s;
+            hi = next;
+            break;
+        }
+        s = next;
+        f = fn;
+    }
+    lo = std::max(0.0, lo - cell_step);
+    hi += cell_step;
+    double flo = above(lo), fhi = above(hi);
+    if (flo <= 0.0) lo = 0.0, flo = f0;
+    if (fhi > 0.0) return hi;  // no floor below the bracket (not with a grid clamped at its border)
+    return illinois(above, lo, flo, hi, fhi, tolerance);
+}
+
 // The floor point (map pixels) and weight T · e^{−c·s} of vertex v's refracted ray.
 void trace_vertex(const CausticPlan& plan, std::span<const float> positions, std::span<const float> normals, std::size_t v,
                   double* hit, double& weight) noexcept {
@@ -179,7 +231,8 @@ void trace_vertex(const CausticPlan& plan, std::span<const float> positions, std
     const Vec3 p{positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]};
     Vec3 n{normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]};
     const double len = std::sqrt(dot(n, n));
-    n = len > 0.0 ? Vec3{n.x / len, n.y / len, n.z / len} : Vec3{0.0, 0.0, 1.0};
+    const double inverse = len > 0.0 ? 1.0 / len : 0.0;
+    n = len > 0.0 ? Vec3{n.x * inverse, n.y * inverse, n.z * inverse} : Vec3{0.0, 0.0, 1.0};
     const Vec3 l{plan.sun[0], plan.sun[1], plan.sun[2]};
     double cos_i = dot(n, l);
     weight = 1.0;
@@ -194,14 +247,15 @@ void trace_vertex(const CausticPlan& plan, std::span<const float> positions, std
     Vec3 t{-eta * l.x + k * n.x, -eta * l.y + k * n.y, -eta * l.z + k * n.z};
     double s = 0.0;
     if (t.z < -1e-6) {
-        s = path_to_floor(plan, p, t);
+        // A flat floor in closed form (depth_at of a constant grid is that constant).
+        s = plan.flat ? std::max(0.0, p.z - plan.floor.z[0]) / -t.z : path_to_floor(plan, p, t);
     } else {  // refracted level or upwards (a steep overturning face): it lights no floor
         t = {0.0, 0.0, -1.0};
         weight = 0.0;
     }
     weight *= fresnel_transmissivity(cos_i, 1.0, o.water_index) * std::exp(-o.attenuation * s);
-    hit[0] = (p.x + s * t.x - plan.x0) / plan.pixel_x;
-    hit[1] = (plan.y_top - (p.y + s * t.y)) / plan.pixel_y;
+    hit[0] = (p.x + s * t.x - plan.x0) * plan.per_pixel_x;
+    hit[1] = (plan.y_top - (p.y + s * t.y)) * plan.per_pixel_y;
 }
 
 // The flux triangle k carries to the floor (0 when it faces away from the sun).
@@ -227,29 +281,33 @@ Footprint footprint(std::span<const double> hit, std::span<const std::uint32_t> 
     return q;
 }
 
-// Spreads a footprint's flux uniformly over it, into rows [row0, row0 + rows) of the
-// band's accumulation rows.
-void deposit(const Footprint& q, double flux, std::size_t width, std::size_t row0, std::size_t rows, std::span<double> acc) noexcept {
+// A triangle's share of the map: its flux spread uniformly over its footprint, as
+// `density` = −flux / signed area on its edges (with v down, a footprint of positive
+// signed area has its left edges going up, which subtract; the sign follows the area's,
+// so a footprint turned over past a focus adds its flux too), or, for a footprint
+// within one pixel or collapsed to a point or a line, the whole flux into its
+// centroid's pixel (`direct`, `pixel`: the map index, or none off the map).
+struct Share {
+    double density = 0.0, direct = 0.0;
+};
+Share triangle_share(double flux, const Footprint& q) noexcept {
+    if (!(flux > 0.0)) return {};
     const double area = q.signed_area();
-    const std::size_t stride = width + 1;
-    if (std::abs(area) < 1e-12 || (std::floor(q.min(0)) == std::floor(q.max(0)) && std::floor(q.min(1)) == std::floor(q.max(1)))) {
-        // In one pixel, or collapsed to a point or a line: the whole flux in its centroid's pixel.
-        const double u = (q.p[0] + q.p[2] + q.p[4]) / 3.0, v = (q.p[1] + q.p[3] + q.p[5]) / 3.0;
-        if (u >= 0.0 && v >= static_cast<double>(row0) && u < static_cast<double>(width) && v < static_cast<double>(row0 + rows)) {
-            double* row = &acc[(static_cast<std::size_t>(v) - row0) * stride];
-            row[static_cast<std::size_t>(u)] += flux;
-            row[static_cast<std::size_t>(u) + 1] -= flux;
-        }
-        return;
-    }
-    // With v down, a footprint of positive signed area has its left edges going up
-    // (they subtract): the weight's sign follows the area's, so a footprint turned
-    // over (past a focus) adds its flux too.
-    const double weight = -flux / area;
-    for (int e = 0; e < 3; ++e) {
-        const int f = (e + 1) % 3;
-        add_edge(q.p[2 * e], q.p[2 * e + 1], q.p[2 * f], q.p[2 * f + 1], weight, width, row0, rows, acc);
-    }
+    if (std::abs(area) < 1e-12 || (std::floor(q.min(0)) == std::floor(q.max(0)) && std::floor(q.min(1)) == std::floor(q.max(1))))
+        return {0.0, flux};
+    return {-flux / area, 0.0};
+}
+
+// The map row band range [first, last] an edge's rows reach (first > last: none), for
+// an edge of weight w from (ua, va) to (ub, vb): none when it is level, weighs nothing,
+// or lies wholly below, above or right of the map. (Left of the map it still adds its
+// height to every pixel of its rows.)
+std::pair<std::uint32_t, std::uint32_t> edge_bands(double ua, double va, double ub, double vb, double w, std::size_t width,
+                                                   std::size_t height) noexcept {
+    const double lo = std::max(0.0, std::floor(std::min(va, vb))), hi = std::min(static_cast<double>(height) - 1.0, std::floor(std::max(va, vb)));
+    if (w == 0.0 || va == vb || lo > hi || std::min(ua, ub) >= static_cast<double>(width)) return {1, 0};
+    return {static_cast<std::uint32_t>(static_cast<std::size_t>(lo) / kBandRows),
+            static_cast<std::uint32_t>(static_cast<std::size_t>(hi) / kBandRows)};
 }
 
 // Flat water beyond the surface's rectangle: a pixel gets T · I₀ · e^{−c·s} times the
@@ -270,17 +328,26 @@ void add_light_from_beyond(const CausticPlan& plan, std::span<float> irradiance)
                overlap(y0, plan.y_top, y - 0.5 * plan.pixel_y, y + 0.5 * plan.pixel_y) / (plan.pixel_x * plan.pixel_y);
     };
     const double reach = plan.max_depth / -tz;  // the longest path
+    // Only pixels within the longest path's shift (and a pixel) of a border can take light
+    // from beyond it: the rows near the top and bottom, the columns near the sides.
+    const auto margin = [](double shift, double pixel, std::size_t count) {
+        return std::min(count, static_cast<std::size_t>(std::ceil(std::abs(shift) / pixel)) + 2);
+    };
+    const std::size_t mx = margin(reach * tx, plan.pixel_x, o.width), my = margin(reach * ty, plan.pixel_y, o.height);
+    const auto pixel = [&](std::size_t i, std::size_t j) {
+        const double x = plan.x0 + (static_cast<double>(i) + 0.5) * plan.pixel_x;
+        const double y = plan.y_top - (static_cast<double>(j) + 0.5) * plan.pixel_y;
+        if (inside(x - reach * tx, y - reach * ty) >= 1.0) return;
+        const double h = depth_at(plan.floor, x, y);
+        if (h <= 0.0) return;
+        const double s = h / -tz, beyond = 1.0 - inside(x - s * tx, y - s * ty);
+        if (beyond > 0.0) irradiance[j * o.width + i] += static_cast<float>(beyond * transmitted * std::exp(-o.attenuation * s));
+    };
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, o.height, 16), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t j = r.begin(); j != r.end(); ++j)
-            for (std::size_t i = 0; i < o.width; ++i) {
-                const double x = plan.x0 + (static_cast<double>(i) + 0.5) * plan.pixel_x;
-                const double y = plan.y_top - (static_cast<double>(j) + 0.5) * plan.pixel_y;
-                if (inside(x - reach * tx, y - reach * ty) >= 1.0) continue;
-                const double h = depth_at(plan.floor, x, y);
-                if (h <= 0.0) continue;
-                const double s = h / -tz, beyond = 1.0 - inside(x - s * tx, y - s * ty);
-                if (beyond > 0.0) irradiance[j * o.width + i] += static_cast<float>(beyond * transmitted * std::exp(-o.attenuation * s));
-            }
+        for (std::size_t j = r.begin(); j != r.end(); ++j) {
+            const bool edge_row = j < my || j + my >= o.height;
+            for (std::size_t i = 0; i < o.width; i = (edge_row || i + 1 < mx || i + 1 >= o.width - mx) ? i + 1 : o.width - mx) pixel(i, j);
+        }
     });
 }
 
@@ -330,6 +397,8 @@ CausticPlan plan_caustics(const ElevationGrid& seafloor, const CausticOptions& o
     plan.y_top = seafloor.y_max();
     plan.pixel_x = (seafloor.x_max() - seafloor.x0) / static_cast<double>(options.width);
     plan.pixel_y = (seafloor.y_max() - seafloor.y0) / static_cast<double>(options.height);
+    plan.per_pixel_x = static_cast<double>(options.width) / (seafloor.x_max() - seafloor.x0);
+    plan.per_pixel_y = static_cast<double>(options.height) / (seafloor.y_max() - seafloor.y0);
     plan.sun = {options.sun[0] / sun_len, options.sun[1] / sun_len, options.sun[2] / sun_len};
     // The grid's steepest cell (forward differences along both axes), with room for
     // the bicubic interpolant's overshoot between nodes.
@@ -342,64 +411,158 @@ CausticPlan plan_caustics(const ElevationGrid& seafloor, const CausticOptions& o
         }
     plan.max_slope = 1.5 * steepest + 1e-9;
     for (double z : seafloor.z) plan.max_depth = std::max(plan.max_depth, -z);
+    plan.flat = std::all_of(seafloor.z.begin(), seafloor.z.end(), [&](double z) { return z == seafloor.z[0]; });
     return plan;
 }
 
-void evaluate_caustics(const CausticPlan& plan, std::span<const float> positions, std::span<const float> normals,
-                       std::span<const std::uint32_t> triangles, std::span<float> irradiance, CausticWorkspace* workspace) {
-    const std::size_t n = positions.size() / 3, width = plan.options.width, height = plan.options.height;
-    if (positions.size() % 3 != 0 || normals.size() != positions.size())
-        throw InputError("caustics: " + std::to_string(positions.size()) + " position floats and " +
-                         std::to_string(normals.size()) + " normal floats are not 3 per vertex each");
+CausticMesh plan_caustic_mesh(std::span<const std::uint32_t> triangles, std::size_t vertex_count) {
     if (triangles.size() % 3 != 0) throw InputError("caustics: " + std::to_string(triangles.size()) + " indices is not whole triangles");
+    if (triangles.size() / 3 >= CausticMesh::kNone || vertex_count >= CausticMesh::kNone)
+        throw InputError("caustics: " + std::to_string(triangles.size() / 3) + " triangles over " + std::to_string(vertex_count) +
+                         " vertices is more than 32-bit indices hold");
     for (std::uint32_t v : triangles)
-        if (v >= n) throw InputError("caustics: triangle index " + std::to_string(v) + " out of " + std::to_string(n) + " vertices");
+        if (v >= vertex_count)
+            throw InputError("caustics: triangle index " + std::to_string(v) + " out of " + std::to_string(vertex_count) + " vertices");
+    CausticMesh mesh;
+    mesh.vertex_count = vertex_count;
+    mesh.triangles.assign(triangles.begin(), triangles.end());
+    // Every directed edge under its undirected key; sorted by key, then triangle, then
+    // the edge's place in it: one order, whatever the thread count.
+    struct Walk {
+        std::uint64_t key;    // lower vertex << 32 | higher
+        std::uint32_t index;  // 3 · triangle + corner: the edge from that corner to the next
+    };
+    std::vector<Walk> walks(triangles.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size(), 1 << 14), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            const std::uint64_t a = triangles[i], b = triangles[i - i % 3 + (i % 3 + 1) % 3];
+            walks[i] = {std::min(a, b) << 32 | std::max(a, b), static_cast<std::uint32_t>(i)};
+        }
+    });
+    tbb::parallel_sort(walks.begin(), walks.end(), [](const Walk& x, const Walk& y) { return x.key != y.key ? x.key < y.key : x.index < y.index; });
+    const auto from = [&](std::uint32_t i) { return triangles[i]; };
+    mesh.edges.reserve(2 * triangles.size() + 8);
+    std::vector<std::uint32_t> open;  // the key's edges still waiting for a triangle walking them backwards
+    for (std::size_t i = 0; i < walks.size();) {
+        std::size_t end = i;
+        open.clear();
+        while (end < walks.size() && walks[end].key == walks[i].key) {
+            const std::uint32_t w = walks[end++].index, t = w / 3, a = from(w), b = triangles[w - w % 3 + (w % 3 + 1) % 3];
+            const auto partner = std::find_if(open.begin(), open.end(), [&](std::uint32_t e) {
+                return mesh.edges[4 * e] == b && mesh.edges[4 * e + 1] == a && mesh.edges[4 * e + 3] == CausticMesh::kNone;
+            });
+            if (partner != open.end()) {
+                mesh.edges[4 * *partner + 3] = t;
+            } else {
+                open.push_back(static_cast<std::uint32_t>(mesh.edges.size() / 4));
+                mesh.edges.insert(mesh.edges.end(), {a, b, t, CausticMesh::kNone});
+            }
+        }
+        i = end;
+    }
+    return mesh;
+}
+
+void evaluate_caustics(const CausticPlan& plan, const CausticMesh& mesh, std::span<const float> positions,
+                       std::span<const float> normals, std::span<float> irradiance, CausticWorkspace* workspace) {
+    const std::size_t n = mesh.vertex_count, width = plan.options.width, height = plan.options.height;
+    if (positions.size() != 3 * n || normals.size() != positions.size())
+        throw InputError("caustics: " + std::to_string(positions.size()) + " position floats and " + std::to_string(normals.size()) +
+                         " normal floats for a mesh of " + std::to_string(n) + " vertices (3 floats each)");
     if (irradiance.size() != width * height)
         throw InputError("caustics: the map holds " + std::to_string(irradiance.size()) + " floats, not " +
                          std::to_string(width) + " × " + std::to_string(height));
     CausticWorkspace local;
     CausticWorkspace& w = workspace ? *workspace : local;
+    const std::span<const std::uint32_t> triangles = mesh.triangles;
+    const std::size_t nt = triangles.size() / 3, ne = mesh.edges.size() / 4, items = ne + nt;
+    const std::size_t bands = (height + kBandRows - 1) / kBandRows, chunks = (items + kItemChunk - 1) / kItemChunk;
     w.hit.resize(2 * n);
     w.weight.resize(n);
+    w.density.resize(nt);
+    w.direct.resize(nt);
+    w.item_bands.resize(2 * items);
+    w.chunk_counts.assign(chunks * bands, 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t v = r.begin(); v != r.end(); ++v) trace_vertex(plan, positions, normals, v, &w.hit[2 * v], w.weight[v]);
     });
-    // Each triangle's flux and the bands of rows its footprint reaches (first > last:
-    // none), in parallel; then each band lists its triangles in triangle order (a
-    // counting sort), so that every pixel sums its shares in a fixed order.
-    const std::size_t nt = triangles.size() / 3, bands = (height + kBandRows - 1) / kBandRows;
-    w.flux.resize(nt);
-    w.first_band.resize(nt);
-    w.last_band.resize(nt);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nt, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t k = r.begin(); k != r.end(); ++k) {
-            const double flux = triangle_flux(plan, positions, triangles, w.weight, k);
-            const Footprint q = footprint(w.hit, triangles, k);
-            const double lo = std::max(0.0, std::floor(q.min(1))), hi = std::min(static_cast<double>(height) - 1.0, std::floor(q.max(1)));
-            const bool reaches = flux > 0.0 && lo <= hi && q.max(0) >= 0.0 && q.min(0) < static_cast<double>(width);
-            w.flux[k] = flux;
-            w.first_band[k] = reaches ? static_cast<std::uint32_t>(static_cast<std::size_t>(lo) / kBandRows) : 1;
-            w.last_band[k] = reaches ? static_cast<std::uint32_t>(static_cast<std::size_t>(hi) / kBandRows) : 0;
+            const Share share = triangle_share(triangle_flux(plan, positions, triangles, w.weight, k), footprint(w.hit, triangles, k));
+            w.density[k] = share.density;
+            w.direct[k] = share.direct;
+        }
+    });
+    // Every item's bands — each edge, and each triangle whose flux goes into one pixel —
+    // then a counting sort of the items into bands, by fixed chunks of items: each band
+    // lists its items in item order, so every pixel sums its shares in one order.
+    const auto edge_weight = [&](std::size_t e) {
+        const std::uint32_t back = mesh.edges[4 * e + 3];
+        return w.density[mesh.edges[4 * e + 2]] - (back == CausticMesh::kNone ? 0.0 : w.density[back]);
+    };
+    const auto centroid = [&](std::size_t k) {
+        const Footprint q = footprint(w.hit, triangles, k);
+        return std::array<double, 2>{(q.p[0] + q.p[2] + q.p[4]) / 3.0, (q.p[1] + q.p[3] + q.p[5]) / 3.0};
+    };
+    const auto on_map = [&](const std::array<double, 2>& c) {
+        return c[0] >= 0.0 && c[1] >= 0.0 && c[0] < static_cast<double>(width) && c[1] < static_cast<double>(height);
+    };
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t c = r.begin(); c != r.end(); ++c) {
+            std::uint32_t* count = &w.chunk_counts[c * bands];
+            for (std::size_t i = c * kItemChunk; i < std::min(items, (c + 1) * kItemChunk); ++i) {
+                std::pair<std::uint32_t, std::uint32_t> range{1, 0};
+                if (i < ne) {
+                    const std::uint32_t a = mesh.edges[4 * i], b = mesh.edges[4 * i + 1];
+                    range = edge_bands(w.hit[2 * a], w.hit[2 * a + 1], w.hit[2 * b], w.hit[2 * b + 1], edge_weight(i), width, height);
+                } else if (w.direct[i - ne] > 0.0) {
+                    const auto at = centroid(i - ne);
+                    if (on_map(at)) range.first = range.second = static_cast<std::uint32_t>(static_cast<std::size_t>(at[1]) / kBandRows);
+                }
+                w.item_bands[2 * i] = range.first;
+                w.item_bands[2 * i + 1] = range.second;
+                for (std::uint32_t band = range.first; band <= range.second; ++band) ++count[band];
+            }
         }
     });
     w.band_offsets.assign(bands + 1, 0);
-    for (std::size_t k = 0; k < nt; ++k)
-        for (std::uint32_t b = w.first_band[k]; b <= w.last_band[k]; ++b) ++w.band_offsets[b + 1];
-    for (std::size_t b = 0; b < bands; ++b) w.band_offsets[b + 1] += w.band_offsets[b];
-    w.band_triangles.resize(w.band_offsets[bands]);
-    w.band_fill.assign(w.band_offsets.begin(), w.band_offsets.end() - 1);
-    for (std::size_t k = 0; k < nt; ++k)
-        for (std::uint32_t b = w.first_band[k]; b <= w.last_band[k]; ++b) w.band_triangles[w.band_fill[b]++] = static_cast<std::uint32_t>(k);
+    std::uint32_t filed = 0;
+    for (std::size_t band = 0; band < bands; ++band) {
+        w.band_offsets[band] = filed;
+        for (std::size_t c = 0; c < chunks; ++c) {
+            const std::uint32_t count = w.chunk_counts[c * bands + band];
+            w.chunk_counts[c * bands + band] = filed;  // now the chunk's first slot in the band
+            filed += count;
+        }
+    }
+    w.band_offsets[bands] = filed;
+    w.band_items.resize(filed);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t c = r.begin(); c != r.end(); ++c) {
+            std::uint32_t* slot = &w.chunk_counts[c * bands];
+            for (std::size_t i = c * kItemChunk; i < std::min(items, (c + 1) * kItemChunk); ++i)
+                for (std::uint32_t band = w.item_bands[2 * i]; band <= w.item_bands[2 * i + 1]; ++band)
+                    w.band_items[slot[band]++] = static_cast<std::uint32_t>(i);
+        }
+    });
     const double per_area = 1.0 / (plan.pixel_x * plan.pixel_y);
-    const std::size_t stride = width + 1;
+    const std::size_t stride = width + 2;  // a row of differences and two slots beyond the map
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, bands, 1), [&](const tbb::blocked_range<std::size_t>& r) {
         std::vector<double> acc(kBandRows * stride);
-        for (std::size_t b = r.begin(); b != r.end(); ++b) {
-            const std::size_t row0 = b * kBandRows, rows = std::min(kBandRows, height - row0);
+        for (std::size_t band = r.begin(); band != r.end(); ++band) {
+            const std::size_t row0 = band * kBandRows, rows = std::min(kBandRows, height - row0);
             std::fill(acc.begin(), acc.end(), 0.0);
-            for (std::size_t e = w.band_offsets[b]; e < w.band_offsets[b + 1]; ++e) {
-                const std::size_t k = w.band_triangles[e];
-                deposit(footprint(w.hit, triangles, k), w.flux[k], width, row0, rows, acc);
+            for (std::size_t e = w.band_offsets[band]; e < w.band_offsets[band + 1]; ++e) {
+                const std::size_t i = w.band_items[e];
+                if (i < ne) {
+                    const std::uint32_t a = mesh.edges[4 * i], b = mesh.edges[4 * i + 1];
+                    add_edge(w.hit[2 * a], w.hit[2 * a + 1], w.hit[2 * b], w.hit[2 * b + 1], edge_weight(i), width, row0, rows, acc);
+                } else {
+                    const auto at = centroid(i - ne);
+                    double* row = &acc[(static_cast<std::size_t>(at[1]) - row0) * stride];
+                    row[static_cast<std::size_t>(at[0])] += w.direct[i - ne];
+                    row[static_cast<std::size_t>(at[0]) + 1] -= w.direct[i - ne];
+                }
             }
             for (std::size_t j = 0; j < rows; ++j) {
                 double sum = 0.0;
@@ -411,6 +574,13 @@ void evaluate_caustics(const CausticPlan& plan, std::span<const float> positions
         }
     });
     if (plan.options.flat_water_beyond) add_light_from_beyond(plan, irradiance);
+}
+
+void evaluate_caustics(const CausticPlan& plan, std::span<const float> positions, std::span<const float> normals,
+                       std::span<const std::uint32_t> triangles, std::span<float> irradiance, CausticWorkspace* workspace) {
+    if (positions.size() % 3 != 0)
+        throw InputError("caustics: " + std::to_string(positions.size()) + " position floats is not 3 per vertex");
+    evaluate_caustics(plan, plan_caustic_mesh(triangles, positions.size() / 3), positions, normals, irradiance, workspace);
 }
 
 std::string caustic_png(std::span<const float> irradiance, std::size_t width, std::size_t height, double full_scale) {
