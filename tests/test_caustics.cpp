@@ -235,6 +235,45 @@ TEST(Caustics, AnInclinedFloorUnderAnInclinedSunGetsTheLightItsSlopeSpreads) {
         }
 }
 
+TEST(Caustics, ANarrowRidgeCastsItsShadowOnTheFloorBehindIt) {
+    // A floor 4 m down with a ridge two cells wide rising to 1 m below the surface, the
+    // sun at 45° straight up the x axis: light travelling towards −x meets the ridge's
+    // face, and the floor behind it is dark for about 3 m · tan θₜ (but for the light the
+    // footprints spread across a shadow's edge, below). The rays that meet the face start
+    // over the flat floor of the next tile of cells up-sun: a slope bound blind to the
+    // ridge's tile beside theirs would let them step through it and light the shadow.
+    ElevationGrid g;
+    g.nx = 81;
+    g.ny = 9;
+    g.dx = 0.5;
+    g.dy = 0.5;
+    for (std::size_t j = 0; j < g.ny; ++j)
+        for (std::size_t i = 0; i < g.nx; ++i) g.z.push_back(i == 46 || i == 47 ? -1.0 : -4.0);  // x = 23, 23.5: the last cells of tile 5
+    CausticOptions o;
+    const double elevation = 45.0 * kPi / 180.0;
+    o.sun = {std::cos(elevation), 0.0, std::sin(elevation)};
+    o.attenuation = 0.0;
+    o.width = 160;
+    o.height = 16;
+    const CausticPlan plan = plan_caustics(g, o);
+    ASSERT_GT(plan.max_slope, 5.0);
+    ASSERT_LT(plan.tile_slope.front(), 1e-6);  // the tiles away from the ridge are flat
+    const std::vector<float> map = caustics(plan, sine_surface(40.0, 4.0, 321, 33, 0.0, 1.0));
+    const double sin_t = std::cos(elevation) / kWaterRefractiveIndex, tan_t = sin_t / std::sqrt(1.0 - sin_t * sin_t);
+    const double flat = fresnel_transmissivity(std::sin(elevation));
+    const auto column_mean = [&](double x) {  // the map's middle rows at x (m)
+        const auto i = static_cast<std::size_t>(x / 0.25);
+        double sum = 0.0;
+        for (std::size_t j = 4; j < 12; ++j) sum += map[j * 160 + i];
+        return sum / 8.0;
+    };
+    // The footprints of the surface triangles whose rays part between the ridge's face
+    // and the floor beyond the shadow bridge it: one row of surface cells (0.125 m)
+    // spread over its ~1.9 m, twice (two triangles a cell), a tenth of flat water's light.
+    for (double x = 23.0 - 0.6 * 3.0 * tan_t; x < 22.5; x += 0.25) EXPECT_LT(column_mean(x), 0.15 * flat) << "shadow at x = " << x;
+    for (double x : {5.0, 10.0, 15.0, 26.0, 30.0, 35.0}) EXPECT_NEAR(column_mean(x), flat, 0.01 * flat) << "open floor at x = " << x;
+}
+
 TEST(Caustics, AFootprintFarBeyondTheMapEndsAtOnce) {
     // A triangle reaching 10¹⁷ m left of the map beside a small one inside it: no walk of
     // 10¹⁷ pixels towards the map (steps of 1 could never get there), and the part of

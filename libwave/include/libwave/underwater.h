@@ -69,6 +69,12 @@ struct CausticPlan {
     double per_pixel_x = 1.0;  ///< pixels per metre along x
     double per_pixel_y = 1.0;  ///< pixels per metre along y
     double max_slope = 0.0;                ///< |∇z| bound of the floor (for the search)
+    /// The search's local bounds: |∇z| over each tile of kSlopeTile × kSlopeTile grid
+    /// cells and its eight neighbours (a step that moves at most a tile in plan stays
+    /// within them), row-major, slope_tiles_x per row.
+    static constexpr std::size_t kSlopeTile = 8;
+    std::size_t slope_tiles_x = 0, slope_tiles_y = 0;
+    std::vector<double> tile_slope;
     double max_depth = 0.0;                ///< the floor's greatest depth (m)
     bool flat = false;                     ///< every node at one depth (max_depth): rays meet the floor in closed form
     std::array<double, 3> sun{};           ///< unit, towards the sun

@@ -77,6 +77,7 @@ void add_edge(double ua, double va, double ub, double vb, double weight, std::si
     const double dir = va < vb ? weight : -weight;
     if (va > vb) std::swap(ua, ub), std::swap(va, vb);
     const double dudv = (ub - ua) / (vb - va), end_row = static_cast<double>(row0 + rows);
+    const double per_x = dudv != 0.0 ? dir / std::abs(dudv) : 0.0;  // the edge's signed height per unit of x
     const std::size_t stride = width + 2;
     for (double j = std::max(std::floor(va), static_cast<double>(row0)); j < end_row && j < vb; j += 1.0) {
         const double top = std::max(va, j), bottom = std::min(vb, j + 1.0);
@@ -88,31 +89,35 @@ void add_edge(double ua, double va, double ub, double vb, double weight, std::si
         const double first = std::floor(x0), last = std::floor(x1), limit = static_cast<double>(width);
         const auto at = [&](double i) -> double& { return row[static_cast<std::size_t>(std::max(i, 0.0))]; };  // left of the map: pixel 0's sum
         if (first >= limit) continue;
-        if (first == last) {  // within one pixel column (the common case): d · (i + 1 − mid)
-            const double c = d * (first + 1.0 - 0.5 * (x0 + x1));
-            at(first) += c;
-            at(first + 1.0) += d - c;  // at most pixel `width`: the row's slot beyond the map
+        if (first >= 0.0 && last < limit) {
+            // On the map: the row's piece of the edge split at each column border, each
+            // part adding to its column c(i) = h · (i + 1 − its mid) and h to the next;
+            // a part's height h is its width times the edge's height per unit of x, the
+            // first part's all of d when the piece stays in one column (a vertical edge
+            // has no height per unit of x), and the last part takes the rest, so that the
+            // row adds d in all. One path for every piece, without branches for the
+            // common one and two columns.
+            double* cell = row + static_cast<std::size_t>(first);
+            const auto span = static_cast<std::size_t>(last - first);
+            const double right = std::min(x1, first + 1.0), d0 = span == 0 ? d : per_x * (right - x0);
+            const double c0 = d0 * (first + 1.0 - 0.5 * (x0 + right));
+            cell[0] += c0;
+            cell[1] += d0 - c0;
+            double used = d0;
+            for (std::size_t k = 1; k < span; ++k) {  // whole columns: half in theirs, half in the next
+                cell[k] += 0.5 * per_x;
+                cell[k + 1] += 0.5 * per_x;
+                used += per_x;
+            }
+            const double dl = d - used, cl = dl * (1.0 - 0.5 * (x1 - last));
+            cell[span] += cl;
+            cell[span + 1] += dl - cl;  // at most pixel `width`: the row's slot beyond the map
             continue;
         }
-        if (first >= 0.0) {
-            // Across two or more columns, from the map (the row has two slots beyond
-            // it): c(i) rises by d / (x1 − x0) from one column wholly inside the edge's span
-            // to the next, so only its first two and last two columns are integrated.
-            const double inverse = 1.0 / (x1 - x0), span = last - first;
-            const double s_first = 0.5 * (first + 1.0 - x0) * (first + 1.0 - x0) * inverse;
-            const double s_last = (x1 - last) * (0.5 * (last + x1) - x0) * inverse + (last + 1.0 - x1);
-            double* cell = row + static_cast<std::size_t>(first);
-            const auto columns = static_cast<std::size_t>(std::min(span, limit - first));
-            cell[0] += d * s_first;
-            if (columns == 1) {
-                cell[1] += d * (s_last - s_first);
-            } else {
-                cell[1] += d * ((first + 1.5 - x0) * inverse - s_first);
-                const double step = d * inverse;
-                for (std::size_t k = 2; k < columns; ++k) cell[k] += step;
-                if (last < limit) cell[columns] += d * (s_last - (last - 0.5 - x0) * inverse);
-            }
-            if (last < limit) cell[columns + 1] += d * (1.0 - s_last);
+        if (first == last) {  // within one pixel column, left of the map: d · (i + 1 − mid) into pixel 0's sum
+            const double c = d * (first + 1.0 - 0.5 * (x0 + x1));
+            at(first) += c;
+            at(first + 1.0) += d - c;
             continue;
         }
         // Pixels left of the map all add to pixel 0's sum, which telescopes to c(−1):
@@ -170,10 +175,12 @@ double illinois(const Above& above, double lo, double flo, double hi, double fhi
 // When the lesser rate is positive (the ray descends faster than the floor can rise
 // along it: every ray over a gentle floor), f falls monotonically, the crossing is the
 // only one and lies between f(0) over the greater rate and f(0) over the lesser: secant
-// steps kept in that bracket. Otherwise a march over the bilinear floor: steps of f / (the greater
-// rate), which never pass it while the slope bound holds, and at least one grid cell
-// along the ray's plan direction (a ridge narrower than a cell may be passed); then
-// regula falsi in the bracket found, widened by a cell.
+// steps kept in that bracket. Otherwise a march over the bilinear floor: steps of f over
+// the greater rate with the slope bound of the tiles round the ray's plan point (at most
+// a tile in plan, so that the bound holds over the step), which never pass the floor
+// while the bound holds, and at least one grid cell along the ray's plan direction (a
+// ridge narrower than a cell may be passed); then regula falsi in the bracket found,
+// widened by a cell.
 double path_to_floor(const CausticPlan& plan, const Vec3& p, const Vec3& t) noexcept {
     const auto above = [&](double s) { return p.z + s * t.z + depth_at(plan.floor, p.x + s * t.x, p.y + s * t.y); };
     const auto above_linear = [&](double s) { return p.z + s * t.z - bilinear_elevation(plan.floor, p.x + s * t.x, p.y + s * t.y); };
@@ -200,11 +207,28 @@ double path_to_floor(const CausticPlan& plan, const Vec3& p, const Vec3& t) noex
     }
     const double cell = std::min(plan.floor.dx, plan.floor.dy);
     const double cell_step = across > 0.0 ? cell / across : cell / -t.z;
+    const double tile_step = across > 0.0 ? static_cast<double>(CausticPlan::kSlopeTile) * cell / across : std::numeric_limits<double>::infinity();
     const double longest = (p.z + plan.max_depth) / -t.z + cell_step;  // below the deepest point
-    double s = 0.0, f = above_linear(0.0), lo = 0.0, hi = longest;
+    // The slope bound of the tiles round the ray's plan point at s: good for a step that
+    // moves it at most a tile.
+    const auto local_rate = [&](double s) {
+        const auto tile = [](double u, std::size_t tiles) {
+            return std::min(static_cast<std::size_t>(std::max(0.0, u) / static_cast<double>(CausticPlan::kSlopeTile)), tiles - 1);
+        };
+        const std::size_t a = tile((p.x + s * t.x - plan.floor.x0) / plan.floor.dx, plan.slope_tiles_x);
+        const std::size_t b = tile((p.y + s * t.y - plan.floor.y0) / plan.floor.dy, plan.slope_tiles_y);
+        return -t.z + plan.tile_slope[b * plan.slope_tiles_x + a] * across;
+    };
+    double s = 0.0, f = above_linear(0.0), lo = 0.0, hi = longest, cap = tile_step;
     while (s < longest) {
-        const double next = s + std::max(f / rate, cell_step), fn = above_linear(next);
+        const double next = s + std::max(std::min(f / local_rate(s), cap), cell_step), fn = above_linear(next);
         if (fn <= 0.0) {
+            if (next - s > cell_step && cap > cell_step) {
+                // Crossed within a long step: again from s a cell at most at a time, so that
+                // the bicubic floor is looked for next to the bilinear one's first crossing.
+                cap = cell_step;
+                continue;
+            }
             // Where the bilinear floor is crossed: often the floor itself (a plane, a
             // flat bottom), so one look there may end the search.
             const double guess = s + (next - s) * f / (f - fn);
@@ -400,16 +424,30 @@ CausticPlan plan_caustics(const ElevationGrid& seafloor, const CausticOptions& o
     plan.per_pixel_x = static_cast<double>(options.width) / (seafloor.x_max() - seafloor.x0);
     plan.per_pixel_y = static_cast<double>(options.height) / (seafloor.y_max() - seafloor.y0);
     plan.sun = {options.sun[0] / sun_len, options.sun[1] / sun_len, options.sun[2] / sun_len};
-    // The grid's steepest cell (forward differences along both axes), with room for
-    // the bicubic interpolant's overshoot between nodes.
-    double steepest = 0.0;
+    // Each cell's slope (forward differences along both axes), the steepest of each tile
+    // of cells, then of each tile and its neighbours, with room for the bicubic
+    // interpolant's overshoot between nodes.
+    constexpr std::size_t T = CausticPlan::kSlopeTile;
+    const std::size_t tx = (seafloor.nx - 2) / T + 1, ty = (seafloor.ny - 2) / T + 1;
+    std::vector<double> own(tx * ty, 0.0);
     for (std::size_t j = 0; j + 1 < seafloor.ny; ++j)
         for (std::size_t i = 0; i + 1 < seafloor.nx; ++i) {
             const double gx = (seafloor.at(i + 1, j) - seafloor.at(i, j)) / seafloor.dx;
             const double gy = (seafloor.at(i, j + 1) - seafloor.at(i, j)) / seafloor.dy;
-            steepest = std::max(steepest, std::hypot(gx, gy));
+            double& tile = own[(j / T) * tx + i / T];
+            tile = std::max(tile, std::hypot(gx, gy));
         }
-    plan.max_slope = 1.5 * steepest + 1e-9;
+    plan.slope_tiles_x = tx;
+    plan.slope_tiles_y = ty;
+    plan.tile_slope.assign(tx * ty, 0.0);
+    for (std::size_t b = 0; b < ty; ++b)
+        for (std::size_t a = 0; a < tx; ++a) {
+            double steepest = 0.0;
+            for (std::size_t bb = b > 0 ? b - 1 : 0; bb <= std::min(b + 1, ty - 1); ++bb)
+                for (std::size_t aa = a > 0 ? a - 1 : 0; aa <= std::min(a + 1, tx - 1); ++aa) steepest = std::max(steepest, own[bb * tx + aa]);
+            plan.tile_slope[b * tx + a] = 1.5 * steepest + 1e-9;
+        }
+    plan.max_slope = 1.5 * *std::max_element(own.begin(), own.end()) + 1e-9;
     for (double z : seafloor.z) plan.max_depth = std::max(plan.max_depth, -z);
     plan.flat = std::all_of(seafloor.z.begin(), seafloor.z.end(), [&](double z) { return z == seafloor.z[0]; });
     return plan;
