@@ -75,6 +75,31 @@ TEST(AnimationStream, ChunksEqualTheWholeRangeBitForBit) {
     EXPECT_THROW(AnimationStream(b.scene, b.plan, FrameRange{500, 501}), InputError);
 }
 
+TEST(AnimationStream, AnErrorMidChunkWaitsForTheMapsStillBeingEncoded) {
+    // The caustic maps' PNGs are encoded on tasks of their own while the frames go on;
+    // a frame that fails (here the progress callback) must not leave one writing into
+    // the chunk it unwinds (the sanitizer suite runs this too), and the stream reports
+    // the frame's own error. A stream started again gives the same maps.
+    const Bay& b = bay();
+    const FrameRange range{0, 6};
+    {
+        AnimationStream stream(b.scene, b.plan, range);
+        SceneAnimation chunk;
+        const auto stop = [](std::size_t done, std::size_t) {
+            if (done == 3) throw RuntimeError("stopped at frame 3");
+        };
+        EXPECT_THROW(stream.next(chunk, 6, stop), RuntimeError);
+    }
+    const SceneAnimation whole = animate_scene(b.scene, b.plan, 2e9, range);
+    AnimationStream again(b.scene, b.plan, range);
+    SceneAnimation chunk;
+    ASSERT_EQ(again.next(chunk, 6), 6u);
+    for (std::size_t f = 0; f < 6; ++f) {
+        EXPECT_FALSE(chunk.caustics[f].empty());
+        EXPECT_EQ(chunk.caustics[f], whole.caustics[f]);
+    }
+}
+
 TEST(StreamAnimation, EveryStreamedFormEqualsTheWholeEncodingByteForByte) {
     const Bay& b = bay();
     const FrameRange range{3, 10};

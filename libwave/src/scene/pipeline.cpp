@@ -12,8 +12,10 @@
 #include "surface_model.h"
 
 #include <nlohmann/json.hpp>
+#include <tbb/task_group.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -753,8 +755,17 @@ struct FrameRun {
     std::optional<CausticPlan> caustics{};  // /underwater: a map per frame
     CausticMesh caustic_mesh{};             // the surface's edges, walked once a frame
     CausticWorkspace caustic_scratch{};
-    std::vector<float> caustic_map{};
+    // A map's PNG is encoded on a task of its own while the frames go on (the encoding
+    // is serial and takes as long as the map): two maps, each with its encoding task.
+    std::array<std::vector<float>, 2> caustic_maps{};
+    std::array<std::unique_ptr<tbb::task_group>, 2> caustic_pngs{};
 };
+
+// Waits for the caustic maps' PNGs still being encoded (rethrowing their errors).
+void finish_caustic_pngs(FrameRun& r) {
+    for (auto& task : r.caustic_pngs)
+        if (task) task->wait();
+}
 
 void start_run(FrameRun& r, const std::vector<std::uint32_t>& triangles, std::size_t n) {
     const ScenePlan& plan = r.plan;
@@ -784,7 +795,10 @@ void start_run(FrameRun& r, const std::vector<std::uint32_t>& triangles, std::si
     if (r.scene.underwater && r.scene.underwater->caustics) {
         r.caustics = plan_caustics(plan.seafloor.grid, scene_caustic_options(r.scene, plan));
         r.caustic_mesh = plan_caustic_mesh(triangles, n);
-        r.caustic_map.resize(r.caustics->options.width * r.caustics->options.height);
+        for (std::size_t b = 0; b < 2; ++b) {
+            r.caustic_maps[b].resize(r.caustics->options.width * r.caustics->options.height);
+            r.caustic_pngs[b] = std::make_unique<tbb::task_group>();
+        }
     }
 }
 
@@ -887,9 +901,13 @@ void evaluate_frame(FrameRun& r, const std::vector<std::uint32_t>& coarse_triang
         a.z_max = std::max(a.z_max, p[3 * v + 2]);
     }
     if (r.caustics) {
-        evaluate_caustics(*r.caustics, r.caustic_mesh, p, nr, r.caustic_map, &r.caustic_scratch);
-        a.caustics[f] = caustic_png(r.caustic_map, r.caustics->options.width, r.caustics->options.height,
-                                    r.scene.underwater->full_scale);
+        const std::size_t b = f % 2;
+        r.caustic_pngs[b]->wait();  // the map two frames back is encoded: its buffer is free
+        evaluate_caustics(*r.caustics, r.caustic_mesh, p, nr, r.caustic_maps[b], &r.caustic_scratch);
+        r.caustic_pngs[b]->run([&r, &a, b, f] {
+            a.caustics[f] = caustic_png(r.caustic_maps[b], r.caustics->options.width, r.caustics->options.height,
+                                        r.scene.underwater->full_scale);
+        });
     }
     if (!r.shaded) return;
     const std::span<float> refl(&a.reflect[n * f], n), refr(&a.refract[n * f], n);
@@ -1099,9 +1117,22 @@ std::size_t AnimationStream::next(SceneAnimation& a, std::size_t count, const st
     a.caustics.assign(scene.underwater && scene.underwater->caustics ? k : 0, std::string());
     a.z_min = std::numeric_limits<float>::infinity();
     a.z_max = -std::numeric_limits<float>::infinity();
-    for (std::size_t f = 0; f < k; ++f) {
-        evaluate_frame(s.run, s.coarse_triangles, f, a);
-        if (progress) progress(s.done + f + 1, s.count);
+    try {
+        for (std::size_t f = 0; f < k; ++f) {
+            evaluate_frame(s.run, s.coarse_triangles, f, a);
+            if (progress) progress(s.done + f + 1, s.count);
+        }
+        finish_caustic_pngs(s.run);
+    } catch (...) {
+        // No encoding task may outlive the frames it reads and writes.
+        for (auto& task : s.run.caustic_pngs) {
+            if (!task) continue;
+            try {
+                task->wait();
+            } catch (...) {  // the frame's own error is the one to report
+            }
+        }
+        throw;
     }
     s.done += k;
     rest_texcoords(s.plan, s.refined, a);
