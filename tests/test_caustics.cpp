@@ -341,6 +341,12 @@ TEST(Caustics, AnEdgeOfThreeTrianglesOrOfTwoWalkingItAlikeIsListedOncePerExtraTr
             ++on_01, paired += mesh.edges[4 * e + 3] != CausticMesh::kNone;
     EXPECT_EQ(on_01, 2u);
     EXPECT_EQ(paired, 2u);
+    // A crowd of 20 000 triangles on one edge (a degenerate mesh) is planned at once:
+    // past a few unpaired sides, each is an edge of its own.
+    std::vector<std::uint32_t> crowd;
+    for (std::uint32_t k = 0; k < 20000; ++k) crowd.insert(crowd.end(), {0, 1, 2 + k});
+    const CausticMesh crowded = plan_caustic_mesh(crowd, 20002);
+    expect_every_walk_once(crowded);
     EXPECT_THROW(plan_caustic_mesh(std::vector<std::uint32_t>{0, 1}, 6), InputError);
     EXPECT_THROW(plan_caustic_mesh(std::vector<std::uint32_t>{0, 1, 6}, 6), InputError);
 }

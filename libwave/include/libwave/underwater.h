@@ -69,11 +69,12 @@ struct CausticPlan {
     double per_pixel_x = 1.0;  ///< pixels per metre along x
     double per_pixel_y = 1.0;  ///< pixels per metre along y
     double max_slope = 0.0;                ///< |∇z| bound of the floor (for the search)
+    static constexpr std::size_t kSlopeTile = 8;  ///< grid cells a side of the search's slope tiles
+    std::size_t slope_tiles_x = 0;  ///< slope tiles along x
+    std::size_t slope_tiles_y = 0;  ///< slope tiles along y
     /// The search's local bounds: |∇z| over each tile of kSlopeTile × kSlopeTile grid
     /// cells and its eight neighbours (a step that moves at most a tile in plan stays
     /// within them), row-major, slope_tiles_x per row.
-    static constexpr std::size_t kSlopeTile = 8;
-    std::size_t slope_tiles_x = 0, slope_tiles_y = 0;
     std::vector<double> tile_slope;
     double max_depth = 0.0;                ///< the floor's greatest depth (m)
     bool flat = false;                     ///< every node at one depth (max_depth): rays meet the floor in closed form
@@ -89,7 +90,7 @@ CausticPlan plan_caustics(const ElevationGrid& seafloor, const CausticOptions& o
 /// index out of range.
 struct CausticMesh {
     static constexpr std::uint32_t kNone = 0xffffffffu;  ///< no triangle on that side
-    std::size_t vertex_count = 0;
+    std::size_t vertex_count = 0;          ///< the vertices the triangles index
     std::vector<std::uint32_t> triangles;  ///< as planned, 3 per triangle
     /// 4 per edge: its vertices a and b, the triangle that walks a → b, the one that
     /// walks b → a (kNone on the border).
@@ -103,9 +104,10 @@ CausticMesh plan_caustic_mesh(std::span<const std::uint32_t> triangles, std::siz
 struct CausticWorkspace {
     std::vector<double> hit;     ///< 2 per vertex: the refracted ray's floor point, map pixels
     std::vector<double> weight;  ///< per vertex: T · e^{−c·s}
-    /// Per triangle: −flux / footprint area spread by its edges (0 when its flux goes
-    /// whole into one pixel, or it carries none), and the flux put whole into one pixel.
-    std::vector<double> density, direct;
+    /// Per triangle: −flux / footprint area, spread by its edges (0 when its flux goes
+    /// whole into one pixel, or it carries none).
+    std::vector<double> density;
+    std::vector<double> direct;  ///< per triangle: the flux put whole into one pixel (else 0)
     std::vector<std::uint32_t> item_bands;    ///< 2 per item (edges, then triangles): the first and last row band it reaches
     std::vector<std::uint32_t> chunk_counts;  ///< per chunk of items and band: items filed
     std::vector<std::uint32_t> band_offsets;  ///< per row band: its items' start in band_items

@@ -37,6 +37,7 @@ constexpr NamedWater kWaters[] = {
 constexpr std::size_t kBandRows = 8;       // map rows a parallel task accumulates
 constexpr std::size_t kItemChunk = 16384;  // edges and triangles a binning task files (fixed: the same bits on any thread count)
 constexpr std::size_t kMaxMapSide = 16384;
+constexpr std::size_t kMaxPairingSearch = 8;  // an edge's unpaired sides searched for a partner
 constexpr int kMaxSearchSteps = 60;        // regula falsi steps of the ray–floor search (it converges well before)
 
 struct Vec3 {
@@ -310,7 +311,7 @@ Footprint footprint(std::span<const double> hit, std::span<const std::uint32_t> 
 // signed area has its left edges going up, which subtract; the sign follows the area's,
 // so a footprint turned over past a focus adds its flux too), or, for a footprint
 // within one pixel or collapsed to a point or a line, the whole flux into its
-// centroid's pixel (`direct`, `pixel`: the map index, or none off the map).
+// centroid's pixel (`direct`; none when the centroid is off the map).
 struct Share {
     double density = 0.0, direct = 0.0;
 };
@@ -486,15 +487,18 @@ CausticMesh plan_caustic_mesh(std::span<const std::uint32_t> triangles, std::siz
         open.clear();
         while (end < walks.size() && walks[end].key == walks[i].key) {
             const std::uint32_t w = walks[end++].index, t = w / 3, a = from(w), b = triangles[w - w % 3 + (w % 3 + 1) % 3];
-            const auto partner = std::find_if(open.begin(), open.end(), [&](std::uint32_t e) {
+            // Pairing only halves work, so a crowd of triangles on one edge (a degenerate
+            // mesh) is not searched: past a few, each is an edge of its own.
+            const auto last = open.size() <= kMaxPairingSearch ? open.end() : open.begin();
+            const auto partner = std::find_if(open.begin(), last, [&](std::uint32_t e) {
                 return mesh.edges[4 * e] == b && mesh.edges[4 * e + 1] == a && mesh.edges[4 * e + 3] == CausticMesh::kNone;
             });
-            if (partner != open.end()) {
-                mesh.edges[4 * *partner + 3] = t;
-            } else {
+            if (partner == last) {
                 open.push_back(static_cast<std::uint32_t>(mesh.edges.size() / 4));
                 mesh.edges.insert(mesh.edges.end(), {a, b, t, CausticMesh::kNone});
+                continue;
             }
+            mesh.edges[4 * *partner + 3] = t;
         }
         i = end;
     }
