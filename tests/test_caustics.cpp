@@ -21,15 +21,22 @@ using namespace wave;
 
 constexpr double kPi = std::numbers::pi;
 
+// An nx × ny grid of spacing dx × dy from the origin, elevation z(i, j) at node (i, j).
+template <class Elevation>
+ElevationGrid grid_of(std::size_t nx, std::size_t ny, double dx, double dy, Elevation z) {
+    ElevationGrid g;
+    g.nx = nx;
+    g.ny = ny;
+    g.dx = dx;
+    g.dy = dy;
+    for (std::size_t j = 0; j < ny; ++j)
+        for (std::size_t i = 0; i < nx; ++i) g.z.push_back(z(double(i), double(j)));
+    return g;
+}
+
 // A flat seafloor grid of depth h over [0, w] × [0, d].
 ElevationGrid flat_floor(double w, double d, double h) {
-    ElevationGrid g;
-    g.nx = 9;
-    g.ny = 9;
-    g.dx = w / 8.0;
-    g.dy = d / 8.0;
-    g.z.assign(81, -h);
-    return g;
+    return grid_of(9, 9, w / 8.0, d / 8.0, [h](double, double) { return -h; });
 }
 
 // A surface z = a sin(k x) over [0, w] × [0, d], nx × ny vertices, exact unit normals.
@@ -184,13 +191,7 @@ TEST(Caustics, TheSameBitsOnOneThreadAndOnFour) {
 TEST(Caustics, ASlopingFloorIsFoundWhereTheRayMeetsIt) {
     // Floor z = −2 − 0.5 x rising towards x = 0; a flat surface under a zenith sun:
     // every ray goes straight down, path h(x), so the map is I₀ T e^{−c h(x)}.
-    ElevationGrid g;
-    g.nx = 21;
-    g.ny = 3;
-    g.dx = 1.0;
-    g.dy = 5.0;
-    for (std::size_t j = 0; j < 3; ++j)
-        for (std::size_t i = 0; i < 21; ++i) g.z.push_back(-2.0 - 0.5 * double(i));
+    const ElevationGrid g = grid_of(21, 3, 1.0, 5.0, [](double i, double) { return -2.0 - 0.5 * i; });
     CausticOptions o;
     o.attenuation = 0.2;
     o.width = 20;
@@ -211,13 +212,7 @@ TEST(Caustics, AnInclinedFloorUnderAnInclinedSunGetsTheLightItsSlopeSpreads) {
     // lands on dx · −t_z / (−t_z − α t_x) of floor, so E(x') = T I₀ e^{−c s} (−t_z − α t_x) / −t_z.
     // The rays are found by the search's secant steps (no closed form on a slope).
     const double H = 5.0, alpha = 0.2, c = 0.1, elevation = 60.0 * kPi / 180.0;
-    ElevationGrid g;
-    g.nx = 51;
-    g.ny = 6;
-    g.dx = 1.0;
-    g.dy = 1.0;
-    for (std::size_t j = 0; j < g.ny; ++j)
-        for (std::size_t i = 0; i < g.nx; ++i) g.z.push_back(-H - alpha * double(i));
+    const ElevationGrid g = grid_of(51, 6, 1.0, 1.0, [&](double i, double) { return -H - alpha * i; });
     CausticOptions o;
     o.sun = {std::cos(elevation), 0.0, std::sin(elevation)};
     o.attenuation = c;
@@ -242,13 +237,8 @@ TEST(Caustics, ANarrowRidgeCastsItsShadowOnTheFloorBehindIt) {
     // footprints spread across a shadow's edge, below). The rays that meet the face start
     // over the flat floor of the next tile of cells up-sun: a slope bound blind to the
     // ridge's tile beside theirs would let them step through it and light the shadow.
-    ElevationGrid g;
-    g.nx = 81;
-    g.ny = 9;
-    g.dx = 0.5;
-    g.dy = 0.5;
-    for (std::size_t j = 0; j < g.ny; ++j)
-        for (std::size_t i = 0; i < g.nx; ++i) g.z.push_back(i == 46 || i == 47 ? -1.0 : -4.0);  // x = 23, 23.5: the last cells of tile 5
+    // The ridge's nodes at x = 23 and 23.5 m: the last cells of tile 5.
+    const ElevationGrid g = grid_of(81, 9, 0.5, 0.5, [](double i, double) { return i == 46.0 || i == 47.0 ? -1.0 : -4.0; });
     CausticOptions o;
     const double elevation = 45.0 * kPi / 180.0;
     o.sun = {std::cos(elevation), 0.0, std::sin(elevation)};
@@ -354,13 +344,7 @@ TEST(Caustics, AnEdgeOfThreeTrianglesOrOfTwoWalkingItAlikeIsListedOncePerExtraTr
 TEST(Caustics, APlannedMeshGivesTheSameBitsAsTheTrianglesGivenWithTheFrame) {
     // A crest past its focus over a sloping floor: footprints turned over, rays found by
     // the search rather than in closed form.
-    ElevationGrid g;
-    g.nx = 33;
-    g.ny = 9;
-    g.dx = 1.0;
-    g.dy = 1.0;
-    for (std::size_t j = 0; j < g.ny; ++j)
-        for (std::size_t i = 0; i < g.nx; ++i) g.z.push_back(-30.0 - 0.3 * double(i) + 0.4 * std::sin(double(j)));
+    const ElevationGrid g = grid_of(33, 9, 1.0, 1.0, [](double i, double j) { return -30.0 - 0.3 * i + 0.4 * std::sin(j); });
     CausticOptions o;
     o.sun = {0.2, -0.1, 0.97};
     o.width = 256;
