@@ -77,7 +77,7 @@ struct CausticPlan {
     /// within them), row-major, slope_tiles_x per row.
     std::vector<double> tile_slope;
     double max_depth = 0.0;                ///< the floor's greatest depth (m)
-    bool flat = false;                     ///< every node at one depth (max_depth): rays meet the floor in closed form
+    bool flat = false;                     ///< every node at one elevation: rays meet the floor in closed form
     std::array<double, 3> sun{};           ///< unit, towards the sun
 };
 CausticPlan plan_caustics(const ElevationGrid& seafloor, const CausticOptions& options);
