@@ -1830,8 +1830,8 @@ class Streaming(unittest.TestCase):
     """A long animation is written a chunk of frames at a time (docs/export.md, "Streamed
     output"): under an address-space cap several times below its output, every form
     finishes with valid files, quantised morph targets too (a first pass over the
-    positions finds their range); the quantised nodes file, which holds every frame, is
-    refused by the same cap."""
+    positions finds their range), and `wave merge` indexes the files form's frames; the
+    quantised nodes file, which holds every frame, is refused by the same cap."""
 
     UNDER_ASAN = "ASAN_OPTIONS" in os.environ  # ASan reserves terabytes of address space
     SCENE = {"name": "long ocean", "surface": {"kind": "ocean"},
@@ -1840,17 +1840,18 @@ class Streaming(unittest.TestCase):
              "animation": {"fps": 24}}
     CAP = 320 << 20  # bytes of address space (libraries, two worker threads' stacks and arenas, the plan)
 
+    def capped(self, *args):
+        def cap():
+            resource.setrlimit(resource.RLIMIT_AS, (self.CAP, self.CAP))
+        return subprocess.run([WAVE, *args], capture_output=True, text=True, timeout=600,
+                              preexec_fn=None if self.UNDER_ASAN else cap)
+
     def run_capped(self, d, *extra):
         path = os.path.join(d, "long.json")
         with open(path, "w") as f:
             json.dump(self.SCENE, f)
-
-        def cap():
-            resource.setrlimit(resource.RLIMIT_AS, (self.CAP, self.CAP))
         out = os.path.join(d, "out-" + "-".join(a.strip("-") for a in extra))
-        r = subprocess.run([WAVE, "run", path, "-q", "--threads", "2", "-o", out, *extra], capture_output=True, text=True,
-                           timeout=600, preexec_fn=None if self.UNDER_ASAN else cap)
-        return r, out
+        return self.capped("run", path, "-q", "--threads", "2", "-o", out, *extra), out
 
     def test_a_long_animation_streams_under_a_memory_cap_far_below_its_size(self):
         if self.UNDER_ASAN:
@@ -1864,6 +1865,18 @@ class Streaming(unittest.TestCase):
                 self.assertEqual([p.name for p in pathlib.Path(out).iterdir() if p.name.startswith(".")], [], form)
                 with open(os.path.join(out, "report.json")) as f:
                     self.assertEqual(json.load(f)["surface"]["frames"], 1440)
+                if form == "files":
+                    # `wave merge` reads and hashes one frame's files at a time: under the
+                    # same cap it rebuilds the index the run wrote, entry for entry.
+                    with open(os.path.join(out, "index.json")) as f:
+                        written = json.load(f)
+                    os.remove(os.path.join(out, "index.json"))
+                    r = self.capped("merge", out)
+                    self.assertEqual(r.returncode, 0, r.stderr)
+                    with open(os.path.join(out, "index.json")) as f:
+                        merged = json.load(f)
+                    self.assertEqual(len(merged["frames"]), 1440)
+                    self.assertEqual([e["content"] for e in merged["frames"]], [e["content"] for e in written["frames"]])
                 shutil.rmtree(out)
             # The morph file: a valid glTF whose last frame's target is there (validated
             # on a shorter loop of the same ocean: the validator itself holds the file).
