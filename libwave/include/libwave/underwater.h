@@ -108,6 +108,7 @@ struct CausticWorkspace {
     /// whole into one pixel, or it carries none).
     std::vector<double> density;
     std::vector<double> direct;  ///< per triangle: the flux put whole into one pixel (else 0)
+    std::vector<std::uint32_t> direct_pixel;  ///< per triangle with `direct`: that pixel's index in the map
     std::vector<std::uint32_t> item_bands;    ///< 2 per item (edges, then triangles): the first and last row band it reaches
     std::vector<std::uint32_t> chunk_counts;  ///< per chunk of items and band: items filed
     std::vector<std::uint32_t> band_offsets;  ///< per row band: its items' start in band_items

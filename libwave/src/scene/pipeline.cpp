@@ -761,10 +761,17 @@ struct FrameRun {
     std::array<std::unique_ptr<tbb::task_group>, 2> caustic_pngs{};
 };
 
-// Waits for the caustic maps' PNGs still being encoded (rethrowing their errors).
-void finish_caustic_pngs(FrameRun& r) {
-    for (auto& task : r.caustic_pngs)
-        if (task) task->wait();
+// Waits for the caustic maps' PNGs still being encoded: rethrowing their errors, or,
+// `quietly` (a frame's own error is unwinding), dropping them.
+void finish_caustic_pngs(FrameRun& r, bool quietly = false) {
+    for (auto& task : r.caustic_pngs) {
+        if (!task) continue;
+        try {
+            task->wait();
+        } catch (...) {
+            if (!quietly) throw;
+        }
+    }
 }
 
 void start_run(FrameRun& r, const std::vector<std::uint32_t>& triangles, std::size_t n) {
@@ -1124,14 +1131,7 @@ std::size_t AnimationStream::next(SceneAnimation& a, std::size_t count, const st
         }
         finish_caustic_pngs(s.run);
     } catch (...) {
-        // No encoding task may outlive the frames it reads and writes.
-        for (auto& task : s.run.caustic_pngs) {
-            if (!task) continue;
-            try {
-                task->wait();
-            } catch (...) {  // the frame's own error is the one to report
-            }
-        }
+        finish_caustic_pngs(s.run, true);  // no encoding task may outlive the frames it reads and writes
         throw;
     }
     s.done += k;

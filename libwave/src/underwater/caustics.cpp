@@ -311,16 +311,21 @@ Footprint footprint(std::span<const double> hit, std::span<const std::uint32_t> 
 // signed area has its left edges going up, which subtract; the sign follows the area's,
 // so a footprint turned over past a focus adds its flux too), or, for a footprint
 // within one pixel or collapsed to a point or a line, the whole flux into its
-// centroid's pixel (`direct`; none when the centroid is off the map).
+// centroid's pixel (`direct`, `pixel`: its index in the map; nothing when the centroid
+// is off the map).
 struct Share {
     double density = 0.0, direct = 0.0;
+    std::uint32_t pixel = 0;
 };
-Share triangle_share(double flux, const Footprint& q) noexcept {
+Share triangle_share(double flux, const Footprint& q, std::size_t width, std::size_t height) noexcept {
     if (!(flux > 0.0)) return {};
     const double area = q.signed_area();
-    if (std::abs(area) < 1e-12 || (std::floor(q.min(0)) == std::floor(q.max(0)) && std::floor(q.min(1)) == std::floor(q.max(1))))
-        return {0.0, flux};
-    return {-flux / area, 0.0};
+    if (std::abs(area) < 1e-12 || (std::floor(q.min(0)) == std::floor(q.max(0)) && std::floor(q.min(1)) == std::floor(q.max(1)))) {
+        const double u = (q.p[0] + q.p[2] + q.p[4]) / 3.0, v = (q.p[1] + q.p[3] + q.p[5]) / 3.0;
+        if (!(u >= 0.0 && v >= 0.0 && u < static_cast<double>(width) && v < static_cast<double>(height))) return {};
+        return {0.0, flux, static_cast<std::uint32_t>(static_cast<std::size_t>(v) * width + static_cast<std::size_t>(u))};
+    }
+    return {-flux / area, 0.0, 0};
 }
 
 // The map row band range [first, last] an edge's rows reach (first > last: none), for
@@ -523,6 +528,7 @@ void evaluate_caustics(const CausticPlan& plan, const CausticMesh& mesh, std::sp
     w.weight.resize(n);
     w.density.resize(nt);
     w.direct.resize(nt);
+    w.direct_pixel.resize(nt);
     w.item_bands.resize(2 * items);
     w.chunk_counts.assign(chunks * bands, 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -530,9 +536,11 @@ void evaluate_caustics(const CausticPlan& plan, const CausticMesh& mesh, std::sp
     });
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nt, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t k = r.begin(); k != r.end(); ++k) {
-            const Share share = triangle_share(triangle_flux(plan, positions, triangles, w.weight, k), footprint(w.hit, triangles, k));
+            const Share share = triangle_share(triangle_flux(plan, positions, triangles, w.weight, k), footprint(w.hit, triangles, k),
+                                               width, height);
             w.density[k] = share.density;
             w.direct[k] = share.direct;
+            w.direct_pixel[k] = share.pixel;
         }
     });
     // Every item's bands — each edge, and each triangle whose flux goes into one pixel —
@@ -541,13 +549,6 @@ void evaluate_caustics(const CausticPlan& plan, const CausticMesh& mesh, std::sp
     const auto edge_weight = [&](std::size_t e) {
         const std::uint32_t back = mesh.edges[4 * e + 3];
         return w.density[mesh.edges[4 * e + 2]] - (back == CausticMesh::kNone ? 0.0 : w.density[back]);
-    };
-    const auto centroid = [&](std::size_t k) {
-        const Footprint q = footprint(w.hit, triangles, k);
-        return std::array<double, 2>{(q.p[0] + q.p[2] + q.p[4]) / 3.0, (q.p[1] + q.p[3] + q.p[5]) / 3.0};
-    };
-    const auto on_map = [&](const std::array<double, 2>& c) {
-        return c[0] >= 0.0 && c[1] >= 0.0 && c[0] < static_cast<double>(width) && c[1] < static_cast<double>(height);
     };
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t c = r.begin(); c != r.end(); ++c) {
@@ -558,8 +559,7 @@ void evaluate_caustics(const CausticPlan& plan, const CausticMesh& mesh, std::sp
                     const std::uint32_t a = mesh.edges[4 * i], b = mesh.edges[4 * i + 1];
                     range = edge_bands(w.hit[2 * a], w.hit[2 * a + 1], w.hit[2 * b], w.hit[2 * b + 1], edge_weight(i), width, height);
                 } else if (w.direct[i - ne] > 0.0) {
-                    const auto at = centroid(i - ne);
-                    if (on_map(at)) range.first = range.second = static_cast<std::uint32_t>(static_cast<std::size_t>(at[1]) / kBandRows);
+                    range.first = range.second = static_cast<std::uint32_t>(w.direct_pixel[i - ne] / width / kBandRows);
                 }
                 w.item_bands[2 * i] = range.first;
                 w.item_bands[2 * i + 1] = range.second;
@@ -600,10 +600,10 @@ void evaluate_caustics(const CausticPlan& plan, const CausticMesh& mesh, std::sp
                     const std::uint32_t a = mesh.edges[4 * i], b = mesh.edges[4 * i + 1];
                     add_edge(w.hit[2 * a], w.hit[2 * a + 1], w.hit[2 * b], w.hit[2 * b + 1], edge_weight(i), width, row0, rows, acc);
                 } else {
-                    const auto at = centroid(i - ne);
-                    double* row = &acc[(static_cast<std::size_t>(at[1]) - row0) * stride];
-                    row[static_cast<std::size_t>(at[0])] += w.direct[i - ne];
-                    row[static_cast<std::size_t>(at[0]) + 1] -= w.direct[i - ne];
+                    const std::size_t pixel = w.direct_pixel[i - ne];
+                    double* cell = &acc[(pixel / width - row0) * stride + pixel % width];
+                    cell[0] += w.direct[i - ne];
+                    cell[1] -= w.direct[i - ne];
                 }
             }
             for (std::size_t j = 0; j < rows; ++j) {
