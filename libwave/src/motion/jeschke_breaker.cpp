@@ -30,21 +30,43 @@ double lerp(double a, double b, double t) noexcept { return a + (b - a) * t; }
 // 0 there: see the note on table 1 in jeschke_constants).
 double power(double x, double p) noexcept { return p == 1.0 ? x : p == 0.0 ? 1.0 : std::pow(x, p); }
 
+// x^p on [0, 1], with a finite slope at x = 0 when p < 1: the mirrored power
+// 1 − (1 − x)^{1/p} rises the same way (from 0 to 1, concave), as back_half does for
+// k1. Table 1's powers below 1 otherwise have an infinite slope where they start: in s
+// (s2^k4, the exponential term, and s2^k6, the rotation, at the wave's edge s2 = 0,
+// where a vertex passes from one crest to the next: 17 c early in the breaking phase,
+// k4 = 4t) and in time (t^0.85 as breaking starts, t^0.7 as collapsing starts).
+double finite_power(double x, double p) noexcept {
+    if (p >= 1.0 || p <= 0.0) return power(x, p);
+    return 1.0 - std::pow(1.0 - x, 1.0 / p);
+}
+
 // The shape's point for one half (s1, s2 of §4 and that half's constants).
 BreakerShapePoint half_point(double s1, double s2, const BreakerConstants& c, double curl) noexcept {
     const auto& k = c.k;
-    const double z1 = k[2] * (1.0 + std::cos((s2 - 1.0) * pi)) / 2.0 + (k[3] != 0.0 ? k[3] * power(s2, k[4]) : 0.0);
-    const double phi = k[5] != 0.0 ? pi * curl * k[5] * power(s2, k[6]) / 2.0 : 0.0;
+    const double z1 = k[2] * (1.0 + std::cos((s2 - 1.0) * pi)) / 2.0 + (k[3] != 0.0 ? k[3] * finite_power(s2, k[4]) : 0.0);
+    const double phi = k[5] != 0.0 ? pi * curl * k[5] * finite_power(s2, k[6]) / 2.0 : 0.0;
     const double a = 0.5 - s1;
     if (phi == 0.0) return {a + 0.5, z1 * k[7]};  // the round phase: no rotation (most of the sea)
     const double cp = std::cos(phi), sp = std::sin(phi);
     return {a * cp - z1 * sp + 0.5, (a * sp + z1 * cp) * k[7]};
 }
 
-// Half width (in s) of the seam that joins the two halves at the lip where their
-// constants give different lip points (the collapsing phase: the back's jet is thrown
-// forward while the front's face subsides).
-constexpr double lip_seam = 0.03;
+// The seam that joins the two halves at the lip where their constants give different
+// lip points (the collapsing phase: the back's jet is thrown forward while the front's
+// face subsides). Its half width (in s) grows with the gap, so that the seam's own
+// slope, ¾ gap / width, stays below ⅜ of the wave per unit s: a fixed 0.03 drew the
+// jet across a 0.36 W gap in 6 % of a period, at 7.6 × the phase speed.
+constexpr double lip_seam_min = 0.03, lip_seam_max = 0.3, lip_seam_per_gap = 2.0;
+
+// The ratio scale/width (5H/L) at which the seam's gap weighs the shape's vertical
+// moves against its horizontal ones.
+constexpr double height_ratio = 0.25;
+
+double lip_seam(const BreakerShapePoint& lb, const BreakerShapePoint& lf) noexcept {
+    const double gap = std::hypot(lb.y - lf.y, height_ratio * (lb.z - lf.z));
+    return std::clamp(lip_seam_per_gap * gap, lip_seam_min, lip_seam_max);
+}
 
 }  // namespace
 
@@ -63,7 +85,7 @@ BreakerConstants jeschke_constants(BreakerPhase phase, double t, bool front) noe
             break;
         case BreakerPhase::breaking:
             if (front)
-                k = {0.0, lerp(1.0, 2.0, t), (1.0 - std::pow(t, 0.85)) / 4.0, std::pow(t, 0.85) / 4.0, lerp(0.0, 4.0, t),
+                k = {0.0, lerp(1.0, 2.0, t), (1.0 - finite_power(t, 0.85)) / 4.0, finite_power(t, 0.85) / 4.0, lerp(0.0, 4.0, t),
                      t * std::sqrt(t), lerp(0.0, 16.0, t), (4.0 + t) / 5.0};
             else
                 k = {0.0, lerp(1.0, 0.7, t), 0.25, 0.0, 0.0, t * std::sqrt(t), lerp(0.0, 4.0, t), (4.0 + t) / 5.0};
@@ -74,7 +96,7 @@ BreakerConstants jeschke_constants(BreakerPhase phase, double t, bool front) noe
             if (front)
                 k = {0.0, 2.0, 0.0, (1.0 - t) / 4.0, 4.0, 1.0, 16.0, 1.0 - t};
             else
-                k = {0.0, lerp(0.7, 0.5, t), 0.25, std::pow(t, 0.7) / 2.0, lerp(0.0, 40.0, t), 1.0, 4.0, 1.0 - t};
+                k = {0.0, lerp(0.7, 0.5, t), 0.25, finite_power(t, 0.7) / 2.0, lerp(0.0, 40.0, t), 1.0, 4.0, 1.0 - t};
             break;
     }
     return c;
@@ -106,10 +128,11 @@ BreakerShapePoint jeschke_shape(double s, const BreakerConstants& back, const Br
     const bool is_front = s >= 0.5;
     BreakerShapePoint p = is_front ? front_half(s, front, curl) : back_half(s, back, curl);
     const double d = std::abs(s - 0.5);
-    if (d < lip_seam) {
+    if (d >= lip_seam_max) return p;
+    const BreakerShapePoint lb = half_point(0.5, 1.0, back, curl), lf = half_point(0.5, 1.0, front, curl);
+    if (const double seam = lip_seam(lb, lf); d < seam) {
         // Both halves meet at their mean lip point; the blend fades over the seam.
-        const BreakerShapePoint lb = half_point(0.5, 1.0, back, curl), lf = half_point(0.5, 1.0, front, curl);
-        const double w = 1.0 - d / lip_seam, w2 = w * w * (3.0 - 2.0 * w);  // smoothstep
+        const double w = 1.0 - d / seam, w2 = w * w * (3.0 - 2.0 * w);  // smoothstep
         const double sign = is_front ? 1.0 : -1.0;  // back moves by −D/2, front by +D/2
         p.y += sign * 0.5 * (lb.y - lf.y) * w2;
         p.z += sign * 0.5 * (lb.z - lf.z) * w2;
@@ -434,10 +457,11 @@ void evaluate_jeschke_breakers(const JeschkeMotionPlan& p, double t, std::span<f
             const CrestPhases c = crest_phases(p, v, crest, psi);
             const BreakerLife life = jeschke_life(psi, p.rise[v], c.break_phase, c.breaking_length, c.end_phase);
             // Away from the lip seam only the half holding s is needed (k7, the scale,
-            // is the same in both halves of every phase).
+            // is the same in both halves of every phase; the seam is never wider than
+            // lip_seam_max, and the round phase's halves meet).
             BreakerShapePoint q;
             double k7 = 0.0;
-            if (std::abs(s - 0.5) < lip_seam) {
+            if (std::abs(s - 0.5) < lip_seam_max && life.phase != BreakerPhase::round) {
                 const BreakerConstants back = jeschke_constants(life.phase, life.t, false);
                 q = jeschke_shape(s, back, jeschke_constants(life.phase, life.t, true), p.curl[v]);
                 k7 = back.k[7];
