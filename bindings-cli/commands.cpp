@@ -825,45 +825,140 @@ int run_validate(const std::string& path, bool as_json, double max_memory_gb) {
     return 0;
 }
 
+namespace {
+
+// What wave convert read and wrote.
+struct Converted {
+    std::size_t frames = 0, first_frame = 0, vertices = 0;
+    double fps = 0.0;
+    std::vector<std::pair<std::string, std::size_t>> files;  // (name under the folder, bytes)
+};
+
+// The input's settings on a view for the output (Draco, quantisation).
+MorphAnimationView output_view(const StoredAnimation& piece, const ConvertArgs& a) {
+    MorphAnimationView view = piece.view();
+    if (a.draco) view.draco = DracoOptions{};
+    view.quantize = a.quantize;
+    return view;
+}
+
+// Quantised morph targets need their range before the first target: a first pass over
+// the input's positions, a piece at a time.
+std::optional<double> convert_delta_range(const ConvertArgs& a, Scene::Form form) {
+    if (!a.quantize || form != Scene::Form::morph) return std::nullopt;
+    std::vector<float> base;
+    double range = 0.0;
+    read_animation_pieces(a.input, [&](StoredAnimation&& piece, std::size_t) {
+        if (base.empty()) base.assign(piece.positions.begin(), piece.positions.begin() + static_cast<std::ptrdiff_t>(3 * piece.vertex_count));
+        range = position_delta_range(base, piece.positions, range);
+    });
+    return range;
+}
+
+// The input's pieces (the files form's frames one by one, one file whole) re-encoded as
+// they are read, into the staging folder: a form streamed_form accepts goes through a
+// StreamedWriter, the files form frame by frame with its index. Memory holds one piece.
+Converted convert_streamed(const ConvertArgs& a, Scene::Form form, Scene::Container container,
+                           const std::filesystem::path& staging, Files& held) {
+    Converted c;
+    const std::optional<double> range = convert_delta_range(a, form);
+    std::optional<StreamedWriter> writer;
+    std::vector<json> entries;
+    std::size_t loop_frames = 0;
+    std::string scene;
+    bool whole = false;
+    read_animation_pieces(a.input, [&](StoredAnimation&& piece, std::size_t total) {
+        MorphAnimationView view = output_view(piece, a);
+        view.quantize_range = range;
+        if (c.frames == 0) {
+            c.first_frame = piece.first_frame, c.vertices = piece.vertex_count, c.fps = piece.fps;
+            loop_frames = piece.loop_frames, scene = piece.scene;
+            whole = piece.first_frame == 0 && total == piece.loop_frames;
+            if (form != Scene::Form::files) writer.emplace(staging.string(), form, container, whole, view, total);
+        }
+        c.frames += piece.frame_count;
+        if (writer) {
+            writer->append(view);
+            return;
+        }
+        // Entries with each frame's files (size, SHA-256) and height range; no run key:
+        // these frames were re-encoded, not computed from a scene.
+        const Files files = encode_animation(view, form, container, whole);
+        const std::size_t per_frame = files.size() / piece.frame_count, n = piece.vertex_count;
+        for (std::size_t k = 0; k < piece.frame_count; ++k) {
+            const Files frame(files.begin() + static_cast<std::ptrdiff_t>(k * per_frame),
+                              files.begin() + static_cast<std::ptrdiff_t>((k + 1) * per_frame));
+            entries.push_back(frame_entry(piece.first_frame + k, piece.fps, frame, view.positions.subspan(3 * n * k, 3 * n)));
+            for (const auto& [name, bytes] : frame) {
+                std::filesystem::create_directories((staging / name).parent_path());
+                write_file_atomic((staging / name).string(), bytes);
+                c.files.emplace_back(name, bytes.size());
+            }
+        }
+    });
+    if (writer) {
+        c.files = writer->finish();
+    } else {
+        const IndexInfo info{scene, c.fps, static_cast<double>(loop_frames) / c.fps, loop_frames, ""};
+        std::string index = merged_index((std::filesystem::path(a.out_dir) / "index.json").string(), info, entries, whole).dump(2) + "\n";
+        held.emplace_back("index.json", std::move(index));
+    }
+    return c;
+}
+
+// The forms that hold every frame (quantised nodes and pc2: KHR_mesh_quantization's
+// range spans the animation): the input read whole, then encoded.
+Converted convert_whole(const ConvertArgs& a, Scene::Form form, Scene::Container container, Files& held) {
+    const StoredAnimation stored = read_animation(a.input);
+    const bool whole = stored.first_frame == 0 && stored.frame_count == stored.loop_frames;
+    held = encode_animation(output_view(stored, a), form, container, whole);
+    Converted c{stored.frame_count, stored.first_frame, stored.vertex_count, stored.fps, {}};
+    for (const auto& [name, bytes] : held) c.files.emplace_back(name, bytes.size());
+    return c;
+}
+
+}  // namespace
+
 int run_convert(const ConvertArgs& a) {
     if (a.draco && a.quantize) throw InputError("convert: choose --draco or --quantize, not both (Draco quantises itself)");
     check_out_dir(a.out_dir);
-    StoredAnimation stored = read_animation(a.input);
-    MorphAnimationView view = stored.view();
-    if (a.draco) view.draco = DracoOptions{};
-    view.quantize = a.quantize;
     const Scene::Form form = form_from_name(a.form.empty() ? "morph" : a.form);
     const Scene::Container container = container_from_name(a.container.empty() ? "glb" : a.container);
-    const bool whole = stored.first_frame == 0 && stored.frame_count == stored.loop_frames;
-    auto files = encode_animation(view, form, container, whole);
-    std::size_t bytes = 0;
-    for (const auto& f : files) bytes += f.second.size();
-    if (form == Scene::Form::files) {
-        // Entries with each frame's files (size, SHA-256) and height range; no run key:
-        // these frames were re-encoded, not computed from a scene.
-        std::vector<json> entries;
-        const std::size_t per_frame = files.size() / stored.frame_count, n = stored.vertex_count;
-        for (std::size_t k = 0; k < stored.frame_count; ++k) {
-            entries.push_back(frame_entry(stored.first_frame + k, stored.fps,
-                                          Files(files.begin() + static_cast<std::ptrdiff_t>(k * per_frame),
-                                                files.begin() + static_cast<std::ptrdiff_t>((k + 1) * per_frame)),
-                                          view.positions.subspan(3 * n * k, 3 * n)));
+    Files held;  // small files (or, for the forms that hold every frame, all) to publish
+    Converted c;
+    const bool created = !std::filesystem::exists(a.out_dir);
+    const std::filesystem::path staging = staging_folder(a.out_dir);
+    try {
+        if (streamed_form(form, a.quantize) || (form == Scene::Form::files && !a.quantize)) {
+            std::filesystem::create_directories(staging);
+            c = convert_streamed(a, form, container, staging, held);
+        } else {
+            c = convert_whole(a, form, container, held);
         }
-        const IndexInfo info{stored.scene, stored.fps, static_cast<double>(stored.loop_frames) / stored.fps, stored.loop_frames, ""};
-        files.emplace_back("index.json", merged_index((std::filesystem::path(a.out_dir) / "index.json").string(), info, entries,
-                                                      whole)
-                                                 .dump(2) + "\n");
+        publish(a.out_dir, held, [&](const std::filesystem::path&) {  // the streamed files lie in the staging folder
+            std::vector<std::string> names;
+            for (const auto& f : c.files)
+                if (std::none_of(held.begin(), held.end(), [&](const auto& h) { return h.first == f.first; })) names.push_back(f.first);
+            return names;
+        });
+    } catch (...) {
+        std::error_code ignored;
+        std::filesystem::remove_all(staging, ignored);
+        if (created) std::filesystem::remove_all(a.out_dir, ignored);
+        throw;
     }
-    publish(a.out_dir, files);
-    json summary{{"input", a.input}, {"frames", stored.frame_count}, {"first_frame", stored.first_frame},
-                 {"vertices", stored.vertex_count}, {"fps", stored.fps}, {"form", a.form.empty() ? "morph" : a.form},
-                 {"draco", a.draco}, {"quantized", a.quantize}, {"bytes", bytes}, {"outputs", json::array()}};
-    for (const auto& f : files) summary["outputs"].push_back(f.first);
+    std::size_t bytes = 0;
+    std::vector<std::string> outputs;
+    for (const auto& f : c.files) bytes += f.second, outputs.push_back(f.first);
+    for (const auto& f : held)
+        if (std::find(outputs.begin(), outputs.end(), f.first) == outputs.end()) bytes += f.second.size(), outputs.push_back(f.first);
+    json summary{{"input", a.input}, {"frames", c.frames}, {"first_frame", c.first_frame},
+                 {"vertices", c.vertices}, {"fps", c.fps}, {"form", a.form.empty() ? "morph" : a.form},
+                 {"draco", a.draco}, {"quantized", a.quantize}, {"bytes", bytes}, {"outputs", outputs}};
     if (a.json) std::cout << summary.dump(2) << '\n';
     else if (!a.quiet)
-        std::cout << "converted " << a.input << " (" << stored.frame_count << " frames of " << stored.vertex_count
-                  << " vertices) -> " << a.out_dir << "/ (" << files.size() << " files, " << static_cast<double>(bytes) / 1e6
-                  << " MB)\n";
+        std::cout << "converted " << a.input << " (" << c.frames << " frames of " << c.vertices << " vertices) -> " << a.out_dir
+                  << "/ (" << outputs.size() << " files, " << static_cast<double>(bytes) / 1e6 << " MB)\n";
     return 0;
 }
 

@@ -1877,6 +1877,17 @@ class Streaming(unittest.TestCase):
                         merged = json.load(f)
                     self.assertEqual(len(merged["frames"]), 1440)
                     self.assertEqual([e["content"] for e in merged["frames"]], [e["content"] for e in written["frames"]])
+                    # `wave convert` reads the frame files one at a time and streams the
+                    # morph file out: under the same cap, a file 2.4× the cap.
+                    converted = os.path.join(d, "converted")
+                    r = self.capped("convert", os.path.join(out, "index.json"), "-o", converted, "-q")
+                    self.assertEqual(r.returncode, 0, r.stderr)
+                    with open(os.path.join(converted, "animation.glb"), "rb") as f:  # its JSON chunk alone
+                        head = f.read(20)
+                        doc = json.loads(f.read(struct.unpack_from("<I", head, 12)[0]))
+                    self.assertEqual(len(doc["meshes"][0]["primitives"][0]["targets"]), 1440)
+                    self.assertGreater(os.path.getsize(os.path.join(converted, "animation.glb")), 2.4 * self.CAP)
+                    shutil.rmtree(converted)
                 shutil.rmtree(out)
             # The morph file: a valid glTF whose last frame's target is there (validated
             # on a shorter loop of the same ocean: the validator itself holds the file).
@@ -2098,11 +2109,38 @@ class Convert(unittest.TestCase):
             run("quantized", "--quantize")
             run("draco", "--draco")
             convert = lambda src, out, *args: wave("convert", os.path.join(d, src), "-o", os.path.join(d, out), "--json", *args)
-            # files -> morph: the very file `wave run` writes in the morph form.
+            # files -> morph: the very file `wave run` writes in the morph form; quantised
+            # too (a first pass over the frames finds the deltas' range, as the run's
+            # does), and the pc2 form's caches and base. The frames come a file at a
+            # time (read_animation_pieces) into the streamed writers.
             r = convert("files/index.json", "c-morph")
             self.assertEqual(r.returncode, 0, r.stderr)
             self.assertEqual(pathlib.Path(d, "c-morph", "animation.glb").read_bytes(),
                              pathlib.Path(d, "morph", "animation.glb").read_bytes())
+            r = convert("files/index.json", "c-quantized", "--quantize")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertEqual(pathlib.Path(d, "c-quantized", "animation.glb").read_bytes(),
+                             pathlib.Path(d, "quantized", "animation.glb").read_bytes())
+            run("pc2", "--form", "pc2")
+            r = convert("files/index.json", "c-pc2", "--form", "pc2")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertEqual(sorted(json.loads(r.stdout)["outputs"]),
+                             ["animation-shading.pc2", "animation.glb", "animation.obj", "animation.pc2"])
+            for name in json.loads(r.stdout)["outputs"]:
+                self.assertEqual(pathlib.Path(d, "c-pc2", name).read_bytes(), pathlib.Path(d, "pc2", name).read_bytes(), name)
+            # files -> files, a frame at a time: the same positions, and index entries for
+            # the same frames, times and heights (the frames carry no run key: re-encoded,
+            # not computed, so their bytes differ from the run's by that key).
+            r = convert("files/index.json", "c-files", "--form", "files")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertEqual(self.positions(os.path.join(d, "c-files")), self.positions(os.path.join(d, "files")))
+            with open(os.path.join(d, "files", "index.json")) as a, open(os.path.join(d, "c-files", "index.json")) as b:
+                ran, converted = json.load(a), json.load(b)
+            keys = lambda index: [(e["frame"], e["time"], e["file"], e["height_range_m"]) for e in index["frames"]]
+            self.assertEqual(keys(converted), keys(ran))
+            self.assertEqual((converted["scene"], converted["loop_frames"]), (ran["scene"], ran["loop_frames"]))
+            self.assertNotIn("run_key", converted)
+            self.assertEqual(sorted(p.name for p in pathlib.Path(d, "c-files").iterdir()), ["frames", "index.json"])
             reference = self.positions(os.path.join(d, "files"))
             extent = max(max(abs(x) for x in frame) for frame in reference)
             # morph -> files: base + delta in float (one rounding); quantised: two int16

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <array>
 #include <memory>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -272,5 +273,19 @@ struct StoredAnimation {
 /// writer's quantisation. Throws InputError naming the file for anything else (not
 /// glTF, not written by libwave, frames whose triangles differ).
 StoredAnimation read_animation(const std::string& path);
+
+/// read_animation a piece at a time, so that memory holds one piece: the files form's
+/// frames one by one (each with its frame number, and the index's fps and loop), a
+/// .glb/.gltf whole. `piece` gets them in order, with the frames the input lists in all
+/// (the index's entries; the file's frames). The files form's checks (consecutive frames,
+/// the same triangles, no Draco frames) are read_animation's and throw before the
+/// offending piece.
+void read_animation_pieces(const std::string& path, const std::function<void(StoredAnimation&&, std::size_t)>& piece);
+
+/// Quantised morph targets' range (MorphAnimationView::quantize_range): the largest
+/// |delta| of any position coordinate of `frames` (whole frames of base.size() floats)
+/// from `base`, the range's first frame, and `so_far`. Taken chunk by chunk over a range,
+/// it is what gltf_morph_glb finds over the whole range.
+double position_delta_range(std::span<const float> base, std::span<const float> frames, double so_far = 0.0) noexcept;
 
 }  // namespace wave

@@ -458,6 +458,32 @@ private:
 /// KHR_mesh_quantization's range of positions spans every frame). The files form
 /// writes a chunk of frames at a time by its own index (`wave run --resume`).
 bool streamed_form(const Scene& scene);
+/// The same for a form and quantisation (what `wave convert` asks).
+bool streamed_form(Scene::Form form, bool quantize) noexcept;
+
+/// The files of a form streamed_form accepts, written into `folder` (it must exist) a
+/// chunk of frames at a time: made with the range's first chunk (the file's static
+/// parts and settings are its) and the range's frame count, then `append` every chunk
+/// in order, the first one too, then `finish`, which returns each file's name (under
+/// the folder) and bytes, in encode_animation's order. The bytes equal
+/// encode_animation's of the whole range (`whole` as there; caustic maps aside). Used
+/// by stream_animation and `wave convert`. Throws InputError for a form it does not
+/// stream (naming it) and what AnimationFileWriter refuses; destroyed unfinished, it
+/// removes what it wrote.
+class StreamedWriter {
+public:
+    StreamedWriter(const std::string& folder, Scene::Form form, Scene::Container container, bool whole,
+                   const MorphAnimationView& first, std::size_t frame_count);
+    ~StreamedWriter();
+    StreamedWriter(const StreamedWriter&) = delete;
+    StreamedWriter& operator=(const StreamedWriter&) = delete;
+    void append(const MorphAnimationView& chunk);  ///< the next frames, in order
+    std::vector<std::pair<std::string, std::size_t>> finish();  ///< writes the files in place
+
+private:
+    struct State;
+    std::unique_ptr<State> state_;
+};
 
 /// What stream_animation wrote and saw.
 struct StreamedAnimation {

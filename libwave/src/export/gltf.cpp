@@ -984,4 +984,11 @@ std::array<double, 4> gltf_look_rotation(const std::array<double, 3>& from, cons
     return rotation_with_z({from[0] - to[0], from[1] - to[1], from[2] - to[2]});  // +Z from the target back to the eye
 }
 
+double position_delta_range(std::span<const float> base, std::span<const float> frames, double so_far) noexcept {
+    if (base.empty()) return so_far;
+    for (std::size_t i = 0; i < frames.size(); ++i)
+        so_far = std::max(so_far, std::abs(double{frames[i]} - double{base[i % base.size()]}));
+    return so_far;
+}
+
 }  // namespace wave

@@ -18,6 +18,7 @@
 #include <array>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <limits>
 #include <iterator>
@@ -219,7 +220,8 @@ void append(StoredAnimation& a, const Frame& f) {
 // libwave writes target k for frame k (weight 1) and, in quantised files, NORMAL-only
 // targets after the frames' holding a normal's excess beyond ±1 (weight 1 in their
 // frame's row); other weights are refused.
-void read_morph_frames(const Reader& r, const tinygltf::Model& m, const tinygltf::Primitive& first, StoredAnimation& a) {
+void read_morph_frames(const Reader& r, const tinygltf::Model& m, const tinygltf::Primitive& first, StoredAnimation& a,
+                       const std::function<void()>& frame_read) {
     const tinygltf::Animation& anim = m.animations[0];
     const int s = anim.channels[0].sampler;
     if (s < 0 || static_cast<std::size_t>(s) >= anim.samplers.size()) r.fail("the weights channel has no sampler");
@@ -260,6 +262,7 @@ void read_morph_frames(const Reader& r, const tinygltf::Model& m, const tinygltf
         add(r, k, "COLOR_0", f.color, base.color, d.color);
         append(a, f);
         ++a.frame_count;
+        frame_read();
     }
 }
 
@@ -411,23 +414,46 @@ void read_dressing(const Reader& r, const tinygltf::Model& m, StoredAnimation& a
     if (any) a.dressing = d;
 }
 
-StoredAnimation read_glb(const std::string& path) {
+// The frames a piece holds: about 64 MB of decoded arrays (at least one frame).
+std::size_t frames_per_piece(std::size_t vertex_count) {
+    constexpr double piece_bytes = 64e6, per_vertex = 4.0 * (3 + 3 + 3 + 3);  // positions, normals, shading, colour
+    return std::max<std::size_t>(1, static_cast<std::size_t>(piece_bytes / (per_vertex * static_cast<double>(std::max<std::size_t>(1, vertex_count)))));
+}
+
+// Every vertex of every frame of a piece is covered by each attribute (or it is absent):
+// the writers index them by vertex.
+void check_piece(const Reader& r, const StoredAnimation& a) {
+    if (a.positions.size() != 3 * a.vertex_count * a.frame_count) r.fail("frames of different sizes");
+    const std::size_t values = a.vertex_count * a.frame_count;
+    if (a.normals.size() != 3 * values) r.fail("NORMAL does not cover every vertex of every frame");
+    for (const auto* scalar : {&a.reflect, &a.refract, &a.foam})
+        if (!scalar->empty() && scalar->size() != values) r.fail("a shading attribute does not cover every vertex of every frame");
+    if (!a.colors.empty() && a.colors.size() != 3 * values) r.fail("COLOR_0 does not cover every vertex of every frame");
+}
+
+// A .glb/.gltf of libwave's, a piece of frames at a time (frames_per_piece; a file of a
+// morph or nodes form): the file's bytes go once tinygltf holds its buffer, and the
+// decoded frames are handed on a piece at a time, so memory holds the file's buffer
+// and one piece, not the decoded animation beside it.
+void read_glb_pieces(const std::string& path, const std::function<void(StoredAnimation&&, std::size_t)>& piece) {
     tinygltf::Model m;
     tinygltf::TinyGLTF loader;
     std::string err, warn;
     const bool binary = std::filesystem::path(path).extension() == ".glb";
     detail::require_input_file(path);
-    std::ifstream in(path, std::ios::binary);
-    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (!in.good() && !in.eof()) throw InputError(path + ": cannot read the file");
-    if (bytes.size() > std::numeric_limits<unsigned int>::max()) throw InputError(path + ": larger than glTF's 4 GB");
-    check_layout(path, bytes, binary);
-    const std::string base_dir = std::filesystem::path(path).parent_path().string();  // a .gltf's .bin lies beside it
-    const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
-    const auto size = static_cast<unsigned int>(bytes.size());
-    const bool ok = binary ? loader.LoadBinaryFromMemory(&m, &err, &warn, data, size, base_dir)
-                           : loader.LoadASCIIFromString(&m, &err, &warn, bytes.data(), size, base_dir);
-    if (!ok) throw InputError(path + ": not a readable glTF 2.0 file: " + err);
+    {
+        std::ifstream in(path, std::ios::binary);
+        const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        if (!in.good() && !in.eof()) throw InputError(path + ": cannot read the file");
+        if (bytes.size() > std::numeric_limits<unsigned int>::max()) throw InputError(path + ": larger than glTF's 4 GB");
+        check_layout(path, bytes, binary);
+        const std::string base_dir = std::filesystem::path(path).parent_path().string();  // a .gltf's .bin lies beside it
+        const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+        const auto size = static_cast<unsigned int>(bytes.size());
+        const bool ok = binary ? loader.LoadBinaryFromMemory(&m, &err, &warn, data, size, base_dir)
+                               : loader.LoadASCIIFromString(&m, &err, &warn, bytes.data(), size, base_dir);
+        if (!ok) throw InputError(path + ": not a readable glTF 2.0 file: " + err);
+    }
     const Reader r{m, path};
     if (!m.asset.extras.Has("libwave")) r.fail("not written by libwave (no asset.extras.libwave): only libwave's outputs can be converted");
     const tinygltf::Value& info = m.asset.extras.Get("libwave");
@@ -452,8 +478,38 @@ StoredAnimation read_glb(const std::string& path) {
     if (!first.attributes.count("TEXCOORD_0")) r.fail("the mesh has no TEXCOORD_0 (libwave writes the rest position there)");
     a.texcoords = r.floats(first.attributes.at("TEXCOORD_0"), 2);
     a.vertex_count = a.texcoords.size() / 2;
+    read_dressing(r, m, a);
+    // The file's frames: its weights track's keys (read_morph_frames checks them), or its meshes.
+    std::size_t total = water.size();
     if (path_kind == "weights") {
-        read_morph_frames(r, m, first, a);
+        const int s = m.animations[0].channels[0].sampler;
+        const int input = s >= 0 && static_cast<std::size_t>(s) < m.animations[0].samplers.size() ? m.animations[0].samplers[static_cast<std::size_t>(s)].input : -1;
+        total = input >= 0 && static_cast<std::size_t>(input) < m.accessors.size() ? m.accessors[static_cast<std::size_t>(input)].count : 0;
+    }
+    // A piece: the file's static parts and the frames read since the last one.
+    const std::size_t per_piece = frames_per_piece(a.vertex_count);
+    bool handed = false;
+    const auto swap_frames = [](StoredAnimation& x, StoredAnimation& y) {
+        for (auto member : {&StoredAnimation::positions, &StoredAnimation::normals, &StoredAnimation::reflect,
+                            &StoredAnimation::refract, &StoredAnimation::foam, &StoredAnimation::colors})
+            (x.*member).swap(y.*member);
+    };
+    const auto hand_on = [&] {
+        check_piece(r, a);
+        StoredAnimation frames;  // holds a's frame arrays while the static parts are copied
+        swap_frames(a, frames);
+        StoredAnimation out = a;
+        swap_frames(out, frames);
+        a.first_frame += a.frame_count;
+        a.frame_count = 0;
+        handed = true;
+        piece(std::move(out), total);
+    };
+    const auto frame_read = [&] {
+        if (a.frame_count == per_piece) hand_on();
+    };
+    if (path_kind == "weights") {
+        read_morph_frames(r, m, first, a, frame_read);
     } else {  // nodes (a mesh per frame) or one frame file
         for (const std::size_t mesh : water) {
             if (m.meshes[mesh].primitives.empty()) r.fail("a frame's mesh has no primitive");
@@ -461,18 +517,10 @@ StoredAnimation read_glb(const std::string& path) {
             if (r.indices(p.indices) != a.triangles) r.fail("frame " + std::to_string(mesh) + " has other triangles than frame 0");
             append(a, read_frame(r, p.attributes, static_cast<int>(mesh), false, a.layout));
             ++a.frame_count;
+            frame_read();
         }
     }
-    read_dressing(r, m, a);
-    if (a.positions.size() != 3 * a.vertex_count * a.frame_count) r.fail("frames of different sizes");
-    // Every attribute covers every vertex of every frame (or is absent): the writers
-    // index them by vertex.
-    const std::size_t values = a.vertex_count * a.frame_count;
-    if (a.normals.size() != 3 * values) r.fail("NORMAL does not cover every vertex of every frame");
-    for (const auto* scalar : {&a.reflect, &a.refract, &a.foam})
-        if (!scalar->empty() && scalar->size() != values) r.fail("a shading attribute does not cover every vertex of every frame");
-    if (!a.colors.empty() && a.colors.size() != 3 * values) r.fail("COLOR_0 does not cover every vertex of every frame");
-    return a;
+    if (a.frame_count > 0 || !handed) hand_on();
 }
 
 }  // namespace
@@ -483,8 +531,33 @@ MorphAnimationView StoredAnimation::view() const {
     return v;
 }
 
-StoredAnimation read_animation(const std::string& path) {
-    if (std::filesystem::path(path).extension() != ".json") return read_glb(path);
+namespace {
+
+// Appends a later piece's frames to `a`.
+void append_piece(StoredAnimation& a, StoredAnimation&& f) {
+    if (a.frame_count == 0) {
+        a = std::move(f);
+        return;
+    }
+    a.frame_count += f.frame_count;
+    const auto cat = [](std::vector<float>& to, const std::vector<float>& from) { to.insert(to.end(), from.begin(), from.end()); };
+    cat(a.positions, f.positions), cat(a.normals, f.normals), cat(a.reflect, f.reflect), cat(a.refract, f.refract);
+    cat(a.foam, f.foam), cat(a.colors, f.colors);
+}
+
+StoredAnimation read_glb(const std::string& path) {
+    StoredAnimation a;
+    read_glb_pieces(path, [&](StoredAnimation&& f, std::size_t) { append_piece(a, std::move(f)); });
+    return a;
+}
+
+}  // namespace
+
+void read_animation_pieces(const std::string& path, const std::function<void(StoredAnimation&&, std::size_t)>& piece) {
+    if (std::filesystem::path(path).extension() != ".json") {
+        read_glb_pieces(path, piece);
+        return;
+    }
     // The files form: index.json lists the frame files.
     detail::require_input_file(path);
     std::ifstream in(path, std::ios::binary);
@@ -493,32 +566,35 @@ StoredAnimation read_animation(const std::string& path) {
     const nlohmann::json index = detail::parse_json_input(text, path + " (a frame index)");
     if (!index.contains("frames") || !index["frames"].is_array() || index["frames"].empty())
         throw InputError(path + ": not a frame index (no \"frames\")");
-    StoredAnimation a;
-    std::size_t expected = 0;
+    std::vector<std::uint32_t> triangles;  // the first frame's, which every frame must share
+    std::size_t expected = 0, vertex_count = 0;
+    double fps = 0.0;
+    std::size_t loop_frames = 0;
+    bool draco = false;
     for (const auto& entry : index["frames"]) {
         const std::string file = (std::filesystem::path(path).parent_path() / entry.at("file").get<std::string>()).string();
         StoredAnimation f = read_glb(file);
         const std::size_t frame = entry.at("frame").get<std::size_t>();
-        if (a.frame_count == 0) {
-            a = std::move(f);
-            a.first_frame = frame;
-            a.fps = index.value("fps", a.fps);
-            a.loop_frames = index.value("loop_frames", a.loop_frames);
-            expected = frame + 1;
-            continue;
+        if (expected == 0) {
+            fps = index.value("fps", f.fps);
+            loop_frames = index.value("loop_frames", f.loop_frames);
+            triangles = f.triangles, vertex_count = f.vertex_count, draco = f.draco_frames;
+        } else {
+            if (draco || f.draco_frames)
+                throw InputError(path + ": its frames are Draco-compressed one by one (Draco reorders each frame's points, so "
+                                 "frames no longer share a vertex order): convert from an uncompressed output, or run the scene again");
+            if (frame != expected) throw InputError(path + ": frame " + std::to_string(expected) + " is missing (next is " + std::to_string(frame) + ")");
+            if (f.triangles != triangles || f.vertex_count != vertex_count) throw InputError(file + ": other triangles than the first frame");
         }
-        if (a.draco_frames || f.draco_frames)
-            throw InputError(path + ": its frames are Draco-compressed one by one (Draco reorders each frame's points, so "
-                             "frames no longer share a vertex order): convert from an uncompressed output, or run the scene again");
-        if (frame != expected) throw InputError(path + ": frame " + std::to_string(expected) + " is missing (next is " + std::to_string(frame) + ")");
-        if (f.triangles != a.triangles || f.vertex_count != a.vertex_count)
-            throw InputError(file + ": other triangles than the first frame");
-        ++expected;
-        ++a.frame_count;
-        const auto cat = [](std::vector<float>& to, const std::vector<float>& from) { to.insert(to.end(), from.begin(), from.end()); };
-        cat(a.positions, f.positions), cat(a.normals, f.normals), cat(a.reflect, f.reflect), cat(a.refract, f.refract);
-        cat(a.foam, f.foam), cat(a.colors, f.colors);
+        f.first_frame = frame, f.fps = fps, f.loop_frames = loop_frames;
+        expected = frame + 1;
+        piece(std::move(f), index["frames"].size());
     }
+}
+
+StoredAnimation read_animation(const std::string& path) {
+    StoredAnimation a;
+    read_animation_pieces(path, [&](StoredAnimation&& f, std::size_t) { append_piece(a, std::move(f)); });
     return a;
 }
 

@@ -437,9 +437,7 @@ EncodedFiles encode_animation(const MorphAnimationView& view, Scene::Form form, 
     return files;
 }
 
-bool streamed_form(const Scene& scene) {
-    return scene.form != Scene::Form::files && (!scene.quantize || scene.form == Scene::Form::morph);
-}
+bool streamed_form(const Scene& scene) { return streamed_form(scene.form, scene.quantize); }
 
 namespace {
 
@@ -500,6 +498,54 @@ struct Pc2Stream {
 
 }  // namespace
 
+bool streamed_form(Scene::Form form, bool quantize) noexcept {
+    return form != Scene::Form::files && (!quantize || form == Scene::Form::morph);
+}
+
+struct StreamedWriter::State {
+    std::optional<AnimationFileWriter> glb;
+    Pc2Stream pc2;
+    EncodedFiles small;  // the pc2 form's base mesh
+    std::string folder;
+};
+
+StreamedWriter::StreamedWriter(const std::string& folder, Scene::Form form, Scene::Container container, bool whole,
+                               const MorphAnimationView& first, std::size_t frame_count)
+    : state_(std::make_unique<State>()) {
+    if (!streamed_form(form, first.quantize))
+        throw InputError("export: the files form and quantised nodes or pc2 files are not streamed");
+    const std::string name = animation_file_name(first.first_frame, frame_count, whole);
+    state_->folder = folder;
+    if (form == Scene::Form::pc2) {
+        state_->pc2.folder = folder;
+        state_->pc2.base = whole ? "animation" : name.substr(0, name.size() - 4);
+        state_->pc2.start(first, frame_count, container, state_->small);
+        return;
+    }
+    const bool gltf = container == Scene::Container::gltf;
+    const std::string path = folder + "/" + (gltf ? name.substr(0, name.size() - 4) + ".gltf" : name);
+    state_->glb.emplace(path, form == Scene::Form::morph ? AnimationFileWriter::Form::morph : AnimationFileWriter::Form::nodes,
+                        gltf, first, frame_count);
+}
+
+StreamedWriter::~StreamedWriter() = default;
+
+void StreamedWriter::append(const MorphAnimationView& chunk) {
+    if (state_->glb) state_->glb->append(chunk);
+    else state_->pc2.add(chunk);
+}
+
+std::vector<std::pair<std::string, std::size_t>> StreamedWriter::finish() {
+    if (state_->glb) return state_->glb->finish();
+    std::vector<std::pair<std::string, std::size_t>> written;
+    for (const auto& [file, bytes] : state_->small) {
+        write_file_atomic(state_->folder + "/" + file, bytes);
+        written.emplace_back(file, bytes.size());
+    }
+    state_->pc2.finish(written);
+    return written;
+}
+
 StreamedAnimation stream_animation(AnimationStream& stream, const Scene& scene, const std::string& folder, bool whole,
                                    std::size_t chunk, const std::function<void(std::size_t, std::size_t)>& progress) {
     if (!streamed_form(scene))
@@ -508,11 +554,7 @@ StreamedAnimation stream_animation(AnimationStream& stream, const Scene& scene, 
     out.z_min = std::numeric_limits<float>::infinity();
     out.z_max = -std::numeric_limits<float>::infinity();
     const std::size_t frames = stream.frame_count();
-    const std::string name = animation_file_name(stream.first_frame(), frames, whole);
-    const bool gltf = scene.container == Scene::Container::gltf;
-    std::optional<AnimationFileWriter> glb;
-    Pc2Stream pc2{.folder = folder, .base = whole ? "animation" : name.substr(0, name.size() - 4)};
-    EncodedFiles small;     // the pc2 form's base mesh
+    std::optional<StreamedWriter> writer;
     std::vector<std::string> maps;  // caustic maps written, in order
     SceneAnimation a;
     // Quantised morph targets need their delta range before the first target: a pass
@@ -526,17 +568,10 @@ StreamedAnimation stream_animation(AnimationStream& stream, const Scene& scene, 
             MorphAnimationView view = a.view();
             view.quantize_range = quantize_range;
             if (a.first_frame == stream.first_frame()) {
-                if (scene.form == Scene::Form::pc2) {
-                    pc2.start(view, frames, scene.container, small);
-                } else {
-                    const std::string path = folder + "/" + (gltf ? name.substr(0, name.size() - 4) + ".gltf" : name);
-                    glb.emplace(path, scene.form == Scene::Form::morph ? AnimationFileWriter::Form::morph : AnimationFileWriter::Form::nodes,
-                                gltf, view, frames);
-                }
+                writer.emplace(folder, scene.form, scene.container, whole, view, frames);
                 out.first = a;
             }
-            if (glb) glb->append(view);
-            else pc2.add(view);
+            writer->append(view);
             for (std::size_t k = 0; k < a.caustics.size(); ++k) {
                 maps.push_back(caustic_file_name(a.first_frame + k));
                 std::filesystem::create_directories((std::filesystem::path(folder) / maps.back()).parent_path());
@@ -549,15 +584,7 @@ StreamedAnimation stream_animation(AnimationStream& stream, const Scene& scene, 
         for (const std::string& m : maps) std::remove((folder + "/" + m).c_str());
         throw;
     }
-    if (glb) {
-        out.files = glb->finish();
-    } else {
-        for (const auto& [file, bytes] : small) {
-            write_file_atomic(folder + "/" + file, bytes);
-            out.files.emplace_back(file, bytes.size());
-        }
-        pc2.finish(out.files);
-    }
+    out.files = writer->finish();
     for (const std::string& m : maps) out.files.emplace_back(m, std::filesystem::file_size(std::filesystem::path(folder) / m));
     return out;
 }
@@ -1089,8 +1116,7 @@ double AnimationStream::position_delta_range(std::size_t chunk) const {
     double range = 0.0;
     while (pass.next(a, std::max<std::size_t>(1, chunk)) > 0) {
         if (base.empty()) base.assign(a.positions.begin(), a.positions.begin() + static_cast<std::ptrdiff_t>(3 * a.vertex_count));
-        for (std::size_t i = 0; i < a.positions.size(); ++i)
-            range = std::max(range, std::abs(double{a.positions[i]} - double{base[i % base.size()]}));
+        range = wave::position_delta_range(base, a.positions, range);
     }
     return range;
 }
