@@ -289,31 +289,43 @@ PYBIND11_MODULE(_libwave, m) {
 
     m.def(
         "caustics",
-        [](const wave::Scene& scene, const ScenePlan& plan, const SceneAnimation& a, std::size_t frame, std::size_t map_size) {
-            if (frame >= a.frame_count)
-                throw wave::InputError("caustics: frame " + std::to_string(frame) + " of " + std::to_string(a.frame_count));
+        [](const wave::Scene& scene, const ScenePlan& plan, const SceneAnimation& a, const py::object& frame, std::size_t map_size) {
+            // One frame (an int: a (height, width) map) or several (a sequence: (frames, height, width)),
+            // the floor and the mesh's edges planned once for all of them.
+            const bool one = py::isinstance<py::int_>(frame);
+            const std::vector<std::size_t> frames = one ? std::vector<std::size_t>{frame.cast<std::size_t>()}
+                                                        : frame.cast<std::vector<std::size_t>>();
+            for (std::size_t f : frames)
+                if (f >= a.frame_count) throw wave::InputError("caustics: frame " + std::to_string(f) + " of " + std::to_string(a.frame_count));
             wave::Scene s = scene;
             if (!s.underwater) s.underwater = wave::UnderwaterOptions{};
             if (map_size > 0) s.underwater->map_size = map_size;
-            std::vector<float> map;
+            std::vector<float> maps;
             wave::CausticOptions o;
             {
                 py::gil_scoped_release release;
                 o = wave::scene_caustic_options(s, plan);
                 const wave::CausticPlan cp = wave::plan_caustics(plan.seafloor.grid, o);
-                map.resize(o.width * o.height);
-                const std::size_t n = a.vertex_count;
-                wave::evaluate_caustics(cp, std::span<const float>(&a.positions[3 * n * frame], 3 * n),
-                                        std::span<const float>(&a.normals[3 * n * frame], 3 * n), a.triangles, map);
+                const std::size_t n = a.vertex_count, pixels = o.width * o.height;
+                const wave::CausticMesh mesh = wave::plan_caustic_mesh(a.triangles, n);
+                wave::CausticWorkspace workspace;
+                maps.resize(frames.size() * pixels);
+                for (std::size_t i = 0; i < frames.size(); ++i)
+                    wave::evaluate_caustics(cp, mesh, std::span<const float>(&a.positions[3 * n * frames[i]], 3 * n),
+                                            std::span<const float>(&a.normals[3 * n * frames[i]], 3 * n),
+                                            std::span<float>(maps).subspan(i * pixels, pixels), &workspace);
             }
-            py::array_t<float> out({static_cast<py::ssize_t>(o.height), static_cast<py::ssize_t>(o.width)});
-            std::copy(map.begin(), map.end(), out.mutable_data());
+            const auto h = static_cast<py::ssize_t>(o.height), w = static_cast<py::ssize_t>(o.width);
+            py::array_t<float> out = one ? py::array_t<float>({h, w}) : py::array_t<float>({static_cast<py::ssize_t>(frames.size()), h, w});
+            std::copy(maps.begin(), maps.end(), out.mutable_data());
             return out;
         },
         py::arg("scene"), py::arg("plan"), py::arg("animation"), py::arg("frame") = 0, py::arg("map_size") = 0,
         "The caustics a frame (index within the animation) focuses onto the seafloor under the scene's sun "
         "(docs/underwater.md): (height, width) float32 irradiance relative to the sun's on flat water, row 0 at the "
-        "seafloor's largest y; the scene's /underwater water, or coastal water; map_size 0 = the scene's (512)");
+        "seafloor's largest y; the scene's /underwater water, or coastal water; map_size 0 = the scene's (512). "
+        "`frame` a sequence of frames: (frames, height, width), the seafloor and the mesh's edges planned once "
+        "for all of them (planning the edges of a 512² surface takes about as long as four maps)");
 
     libwave_python::bind_stages(m);
 

@@ -196,6 +196,16 @@ def test_caustics_of_a_frame_equal_the_maps_wave_run_writes(tmp_path):
     small = libwave.caustics(scene, plan, anim, 0, map_size=64)
     assert small.shape == (64, 64)
     assert abs(float(small.mean()) - float(e.mean())) < 0.02 * float(e.mean())  # flux kept at any resolution
+    # Several frames at once (the seafloor and the mesh's edges planned once): each map
+    # is the one frame's, bit for bit, in the order asked.
+    three = libwave.animate(scene, plan, 0, 3)
+    maps = libwave.caustics(scene, plan, three, [2, 0, 1])
+    assert maps.shape == (3, 256, 256)
+    assert np.array_equal(maps[1], e)
+    assert np.array_equal(maps[0], libwave.caustics(scene, plan, three, 2))
+    assert not np.array_equal(maps[0], maps[1])
+    with pytest.raises(libwave.InputError, match="frame 3 of 3"):
+        libwave.caustics(scene, plan, three, [0, 3])
 
 
 def test_wave_field_matches_wave_field_cli(tmp_path):
