@@ -43,7 +43,7 @@ const forms = {
   'nodes-draco': ['--form', 'nodes', '--draco'],
   'nodes-quantized': ['--form', 'nodes', '--quantize'],
 };
-// The default bay without its far field: Draco and quantised files leave the far field
+// The default bay without its far field: Draco and quantised nodes and files leave the far field
 // out (their position grids span the mesh), and every form must hold the same mesh.
 const bay = path.join(work, 'bay.json');
 fs.writeFileSync(bay, JSON.stringify({

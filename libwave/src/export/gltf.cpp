@@ -302,6 +302,44 @@ struct Quantization {
     bool float_base = false;  // morph targets: base positions float, deltas int16
 };
 
+// Draco's grids span a primitive's whole extent. A far-field skirt reaches tens of km
+// beyond the domain (docs/far-field.md), whose rest positions TEXCOORD_0 spans [0, 1]²:
+// positions gain the bits that keep the domain's vertices on the step the options give
+// over the domain's own extent, and the UV maps the bits that keep [0, 1]'s step (at
+// most Draco's 30). Without a skirt nothing changes.
+DracoOptions draco_bits_for_reach(const DracoOptions& o, std::span<const float> texcoords,
+                                  const std::vector<detail::DracoInput>& inputs) {
+    std::array<double, 2> uv_lo{0.0, 0.0}, uv_hi{1.0, 1.0};
+    for (std::size_t i = 0; i < texcoords.size(); ++i)
+        uv_lo[i % 2] = std::min(uv_lo[i % 2], double{texcoords[i]}), uv_hi[i % 2] = std::max(uv_hi[i % 2], double{texcoords[i]});
+    const double uv_span = std::max(uv_hi[0] - uv_lo[0], uv_hi[1] - uv_lo[1]);
+    if (!(uv_span > 1.0)) return o;
+    const auto position = std::find_if(inputs.begin(), inputs.end(), [](const detail::DracoInput& in) { return in.name == "POSITION"; });
+    double all = 0.0, domain = 0.0;  // the largest side of the bounding box: of every vertex, of the domain's
+    if (position != inputs.end()) {
+        std::array<double, 3> lo, hi, dlo, dhi;
+        lo.fill(std::numeric_limits<double>::infinity()), dlo = lo;
+        hi.fill(-std::numeric_limits<double>::infinity()), dhi = hi;
+        for (std::size_t v = 0; 3 * v + 2 < position->values.size() && 2 * v + 1 < texcoords.size(); ++v) {
+            const bool inside = texcoords[2 * v] >= 0.0f && texcoords[2 * v] <= 1.0f && texcoords[2 * v + 1] >= 0.0f &&
+                                texcoords[2 * v + 1] <= 1.0f;
+            for (std::size_t c = 0; c < 3; ++c) {
+                const double x = position->values[3 * v + c];
+                lo[c] = std::min(lo[c], x), hi[c] = std::max(hi[c], x);
+                if (inside) dlo[c] = std::min(dlo[c], x), dhi[c] = std::max(dhi[c], x);
+            }
+        }
+        for (std::size_t c = 0; c < 3; ++c) all = std::max(all, hi[c] - lo[c]), domain = std::max(domain, dhi[c] - dlo[c]);
+    }
+    const auto widen = [](int bits, double ratio) {
+        return ratio > 1.0 ? std::min(30, bits + static_cast<int>(std::ceil(std::log2(ratio)))) : bits;
+    };
+    DracoOptions wide = o;
+    wide.texcoord_bits = widen(o.texcoord_bits, uv_span);
+    if (domain > 0.0) wide.position_bits = widen(o.position_bits, all / domain);
+    return wide;
+}
+
 Quantization quantization_for(const MorphAnimationView& a, bool morph_targets) {
     std::array<double, 3> lo{}, hi{};
     lo.fill(std::numeric_limits<double>::infinity());
@@ -474,7 +512,8 @@ struct ModelWriter {
         std::vector<detail::DracoInput> inputs{{"TEXCOORD_0", 2, a.texcoords}};
         for (const auto& [name, type, values] : frame.attributes)
             inputs.push_back({name, type == TINYGLTF_TYPE_VEC3 ? 3 : type == TINYGLTF_TYPE_VEC2 ? 2 : 1, values});
-        const detail::DracoOutput encoded = detail::draco_encode(a.triangles, a.vertex_count, inputs, *a.draco, keep_order);
+        const detail::DracoOutput encoded =
+            detail::draco_encode(a.triangles, a.vertex_count, inputs, draco_bits_for_reach(*a.draco, a.texcoords, inputs), keep_order);
         tinygltf::Primitive prim;
         prim.mode = TINYGLTF_MODE_TRIANGLES;
         prim.indices = b.accessor(-1, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, a.triangles.size(), TINYGLTF_TYPE_SCALAR);
