@@ -472,9 +472,10 @@ bool streamed_form(Scene::Form form, bool quantize) noexcept;
 /// removes what it wrote.
 class StreamedWriter {
 public:
+    /// A writer of `frame_count` frames in `form` into `folder`, whose static parts are `first`'s.
     StreamedWriter(const std::string& folder, Scene::Form form, Scene::Container container, bool whole,
                    const MorphAnimationView& first, std::size_t frame_count);
-    ~StreamedWriter();
+    ~StreamedWriter();  ///< removes what it wrote unless finished
     StreamedWriter(const StreamedWriter&) = delete;
     StreamedWriter& operator=(const StreamedWriter&) = delete;
     void append(const MorphAnimationView& chunk);  ///< the next frames, in order
