@@ -831,7 +831,7 @@ namespace {
 struct Converted {
     std::size_t frames = 0, first_frame = 0, vertices = 0;
     double fps = 0.0;
-    std::vector<std::pair<std::string, std::size_t>> files;  // (name under the folder, bytes)
+    std::vector<std::pair<std::string, std::size_t>> staged;  // written into the staging folder: (name, bytes)
 };
 
 // The input's settings on a view for the output (Draco, quantisation).
@@ -892,12 +892,12 @@ Converted convert_streamed(const ConvertArgs& a, Scene::Form form, Scene::Contai
             for (const auto& [name, bytes] : frame) {
                 std::filesystem::create_directories((staging / name).parent_path());
                 write_file_atomic((staging / name).string(), bytes);
-                c.files.emplace_back(name, bytes.size());
+                c.staged.emplace_back(name, bytes.size());
             }
         }
     });
     if (writer) {
-        c.files = writer->finish();
+        c.staged = writer->finish();
     } else {
         const IndexInfo info{scene, c.fps, static_cast<double>(loop_frames) / c.fps, loop_frames, ""};
         std::string index = merged_index((std::filesystem::path(a.out_dir) / "index.json").string(), info, entries, whole).dump(2) + "\n";
@@ -912,9 +912,7 @@ Converted convert_whole(const ConvertArgs& a, Scene::Form form, Scene::Container
     const StoredAnimation stored = read_animation(a.input);
     const bool whole = stored.first_frame == 0 && stored.frame_count == stored.loop_frames;
     held = encode_animation(output_view(stored, a), form, container, whole);
-    Converted c{stored.frame_count, stored.first_frame, stored.vertex_count, stored.fps, {}};
-    for (const auto& [name, bytes] : held) c.files.emplace_back(name, bytes.size());
-    return c;
+    return {stored.frame_count, stored.first_frame, stored.vertex_count, stored.fps, {}};
 }
 
 }  // namespace
@@ -937,8 +935,7 @@ int run_convert(const ConvertArgs& a) {
         }
         publish(a.out_dir, held, [&](const std::filesystem::path&) {  // the streamed files lie in the staging folder
             std::vector<std::string> names;
-            for (const auto& f : c.files)
-                if (std::none_of(held.begin(), held.end(), [&](const auto& h) { return h.first == f.first; })) names.push_back(f.first);
+            for (const auto& f : c.staged) names.push_back(f.first);
             return names;
         });
     } catch (...) {
@@ -949,9 +946,8 @@ int run_convert(const ConvertArgs& a) {
     }
     std::size_t bytes = 0;
     std::vector<std::string> outputs;
-    for (const auto& f : c.files) bytes += f.second, outputs.push_back(f.first);
-    for (const auto& f : held)
-        if (std::find(outputs.begin(), outputs.end(), f.first) == outputs.end()) bytes += f.second.size(), outputs.push_back(f.first);
+    for (const auto& f : c.staged) bytes += f.second, outputs.push_back(f.first);
+    for (const auto& f : held) bytes += f.second.size(), outputs.push_back(f.first);
     json summary{{"input", a.input}, {"frames", c.frames}, {"first_frame", c.first_frame},
                  {"vertices", c.vertices}, {"fps", c.fps}, {"form", a.form.empty() ? "morph" : a.form},
                  {"draco", a.draco}, {"quantized", a.quantize}, {"bytes", bytes}, {"outputs", outputs}};
