@@ -5,6 +5,7 @@
 #include "libwave/errors.h"
 #include "libwave/field.h"
 #include "libwave/physics.h"
+#include "libwave/trace.h"
 
 #include <gtest/gtest.h>
 
@@ -181,6 +182,28 @@ TEST(WaveField, BreakingLimitsTheHeightToGammaH) {
         const double h = 9.0 - y / 30.0;
         EXPECT_LE(2.0 * std::abs(s.eta), 0.78 * h * 1.02 + 1e-9) << y;
     }
+}
+
+TEST(WaveField, AgroundRaysKeepNoAmplitude) {
+    // Rays that reach the shore of a 1:30 beach stand on h = 0 give or take rounding
+    // (about half of them a hair on the wet side): none takes the field's amplitude.
+    const Seafloor beach = grid_seafloor(200.0, 300.0, 2.0, [](double x, double y) { return 9.0 - y / 30.0 + 0.3 * std::sin(x / 7.0); });
+    const WaveTrain train{.period = 6.0, .amplitude = 0.5, .direction_x = 0.3, .direction_y = 1.0};
+    FrontSet fronts = trace_fronts(beach, train);
+    const WaveField f = solve_wave_field(beach, train);
+    std::size_t aground = 0, wet_side = 0;
+    for (std::size_t i = 0; i < fronts.x.size(); ++i)
+        if (fronts.flag[i] == RayFlag::aground) {
+            ++aground;
+            wet_side += fronts.depth[i] > 0.0;
+        }
+    ASSERT_GT(wet_side, 0u) << "no aground point on the wet side of h = 0: the case tests nothing";
+    EXPECT_GT(take_field_amplitudes(f, fronts), fronts.x.size() / 2);
+    for (std::size_t i = 0; i < fronts.x.size(); ++i)
+        if (fronts.flag[i] == RayFlag::aground) {
+            EXPECT_EQ(fronts.amplitude[i], 0.0) << i << " depth " << fronts.depth[i];
+        }
+    EXPECT_GT(aground, 0u);
 }
 
 }  // namespace

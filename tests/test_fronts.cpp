@@ -97,6 +97,16 @@ TEST(Fronts, DispersionTableMatchesTheSolver) {
                           std::abs(e.shoaling / w.shoaling - 1.0)});
     }
     EXPECT_LT(worst, 1e-8);
+    // At the nodes (solved from the last node's root) the table is the solver's to 1e-13.
+    const double ds = std::sqrt(12.0) / 4095.0;
+    double at_nodes = 0.0;
+    for (int i = 2; i < 4095; i += 7) {
+        const double h = (i * ds) * (i * ds);
+        const LinearWave w = linear_wave(omega, h);
+        const detail::WaveTable::Entry e = table.at(h);
+        at_nodes = std::max({at_nodes, std::abs(e.k / w.k - 1.0), std::abs(e.shoaling / w.shoaling - 1.0)});
+    }
+    EXPECT_LT(at_nodes, 1e-13);
     EXPECT_EQ(table.at(0.0).k, 0.0);
     EXPECT_EQ(table.at(-1.0).celerity, 0.0);
     const detail::WaveTable capillary(omega, 12.0, DispersionOptions{.capillary_length = 2.7e-3});

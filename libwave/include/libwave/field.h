@@ -87,7 +87,8 @@ FieldSample sample_wave_field(const WaveField& field, double x, double y) noexce
 /// Gives the fronts' points their amplitude from the field (|η̂| where the field has
 /// water): the rays keep their direction and phase. Where the field broke, the larger
 /// of the field's and the ray's own amplitude (the ray's says how far past breaking
-/// the wave is, which breaker models read). Returns how many points took the field's.
+/// the wave is, which breaker models read). Points on land and aground rays (on the
+/// shoreline) keep theirs. Returns how many points took the field's.
 std::size_t take_field_amplitudes(const WaveField& field, FrontSet& fronts) noexcept;
 
 /// The same for Ts'o's rays: `fields[t]` is train t's field (RaySet::train).

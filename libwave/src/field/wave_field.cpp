@@ -246,7 +246,9 @@ std::size_t take_field_amplitudes(const WaveField& field, FrontSet& fronts) noex
     std::size_t taken = 0;
     for (std::size_t i = 0; i < fronts.x.size(); ++i) {
         const FieldSample s = sample_wave_field(field, fronts.x[i], fronts.y[i]);
-        if (!s.wet || fronts.depth[i] <= 0.0) continue;
+        // An aground ray stands on the shoreline: its depth is 0 give or take rounding
+        // (±1e-16), and the sign of that rounding must not decide its amplitude.
+        if (!s.wet || fronts.depth[i] <= 0.0 || fronts.flag[i] == RayFlag::aground) continue;
         // In the surf zone the field holds H at γh; the ray's own (shoaled, capped)
         // amplitude says how far past breaking the wave is, which the breakers read.
         fronts.amplitude[i] = s.broken ? std::max(std::abs(s.eta), fronts.amplitude[i]) : std::abs(s.eta);

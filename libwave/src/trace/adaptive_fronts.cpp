@@ -30,7 +30,15 @@ struct Ray {
     detail::CrossingSkip skip{};
     bool ashore = false;
     DepthSample here{};  // the seafloor at (x, y), kept from the end of the last step
+    detail::WaveTable::Entry wave{};  // waves.at(here.depth): k, C and K_s there
 };
+
+// The seafloor and the wave at the ray's position, kept with it: each step, the front's
+// record and the next step read them (three table lookups of one depth otherwise).
+void settle(Ray& r, const ElevationGrid& g, const detail::WaveTable& waves) {
+    r.here = sample_depth(g, r.x, r.y);
+    r.wave = waves.at(r.here.depth);
+}
 
 // Isobath mode's per-scene state.
 struct IsobathMode {
@@ -54,6 +62,10 @@ void validate(const WaveTrain& t, const FrontOptions& o) {
         throw InputError("fronts: max_turn_degrees must be in (0, 720] degrees, got " + detail::format_number(o.max_turn_degrees));
 }
 
+// |(x, y)| without hypot's care for overflow: gradients, directions and steps are far
+// from it, and hypot was a tenth of a trace.
+double norm(double x, double y) { return std::sqrt(x * x + y * y); }
+
 bool inside(const detail::Box& b, double x, double y) { return x >= b.x0 && x <= b.x1 && y >= b.y0 && y <= b.y1; }
 
 // One refraction step of an ALIVE or FLAT ray (gradient mode): the contour normal is
@@ -61,8 +73,8 @@ bool inside(const detail::Box& b, double x, double y) { return x >= b.x0 && x <=
 // the component along the contour over C constant (Gonzato eq. 8).
 void advance(Ray& r, const ElevationGrid& g, const detail::WaveTable& waves, const FrontOptions& o) {
     const DepthSample& here = r.here;
-    const double slope = std::hypot(here.dh_dx, here.dh_dy);
-    const detail::WaveTable::Entry w1 = waves.at(here.depth);
+    const double slope = norm(here.dh_dx, here.dh_dy);
+    const detail::WaveTable::Entry w1 = r.wave;
     // Near grazing incidence, the direction at mid-step from the ray equation
     // dθ/ds = −(1/C) ∂C/∂m (m the ray's left normal) decides where Snell's "ahead" is. A
     // ray running exactly along a contour is at its turning point, where the depth
@@ -99,7 +111,7 @@ void advance(Ray& r, const ElevationGrid& g, const detail::WaveTable& waves, con
             a = std::copysign(std::sqrt(1.0 - b2 * b2), pdx * nx + pdy * ny);
             b = b2;
         }
-        const double len = std::hypot(a, b);
+        const double len = norm(a, b);
         const double ndx = (a * nx + b * tx) / len, ndy = (a * ny + b * ty) / len;
         r.turn += std::atan2(r.dx * ndy - r.dy * ndx, r.dx * ndx + r.dy * ndy);
         r.dx = ndx;
@@ -109,7 +121,7 @@ void advance(Ray& r, const ElevationGrid& g, const detail::WaveTable& waves, con
     double run = o.step;
     r.x += run * r.dx;
     r.y += run * r.dy;
-    r.here = sample_depth(g, r.x, r.y);
+    settle(r, g, waves);
     if (depth0 > 0.0 && r.here.depth <= 0.0) {
         // The step crossed the shoreline: the ray ends on it (depth interpolated along
         // the step), as its neighbours that follow the shore do — a vertex left on dry
@@ -117,12 +129,12 @@ void advance(Ray& r, const ElevationGrid& g, const detail::WaveTable& waves, con
         run *= depth0 / (depth0 - r.here.depth);
         r.x = x0 + run * r.dx;
         r.y = y0 + run * r.dy;
-        r.here = sample_depth(g, r.x, r.y);
+        settle(r, g, waves);
         r.ashore = true;
     }
     // Σ k Δs by the trapezoid rule between the two ends of the step (k counts as 0 on
     // the shoreline, as on dry land: the shallow-water k diverges there).
-    r.phase += 0.5 * (w1.k + (r.ashore ? 0.0 : waves.at(r.here.depth).k)) * run;
+    r.phase += 0.5 * (w1.k + (r.ashore ? 0.0 : r.wave.k)) * run;
 }
 
 // One step of an ALIVE or FLAT ray in isobath mode: straight to each exact isobath
@@ -158,28 +170,28 @@ void advance_isobath(Ray& r, const IsobathMode& m, const ElevationGrid& g, const
         }
         r.turn += std::atan2(ox * r.dy - oy * r.dx, ox * r.dx + oy * r.dy);
     }
-    r.here = sample_depth(g, r.x, r.y);
+    settle(r, g, waves);
 }
 
 // Moves an AGROUND ray onto h = 0 by Newton steps along the depth gradient: one is
 // exact on a plane; a curved shore (a small island) needs a few, or the vertex stays
 // on dry land (tests/test_properties.cpp).
-void onto_shore(Ray& r, const ElevationGrid& g) {
+void onto_shore(Ray& r, const ElevationGrid& g, const detail::WaveTable& waves) {
     for (int newton = 0; newton < 6; ++newton) {
         const DepthSample s = sample_depth(g, r.x, r.y);
-        const double slope = std::hypot(s.dh_dx, s.dh_dy);
+        const double slope = norm(s.dh_dx, s.dh_dy);
         if (!(slope > 1e-12) || std::abs(s.depth) < 1e-9) break;
         r.x -= s.depth * s.dh_dx / (slope * slope);
         r.y -= s.depth * s.dh_dy / (slope * slope);
     }
-    r.here = sample_depth(g, r.x, r.y);
+    settle(r, g, waves);
 }
 
 // An AGROUND ray follows the shoreline: one step along the contour through it, in the
 // sense closest to its travel, then back onto h = 0.
-void follow_shore(Ray& r, const ElevationGrid& g, const FrontOptions& o) {
+void follow_shore(Ray& r, const ElevationGrid& g, const detail::WaveTable& waves, const FrontOptions& o) {
     DepthSample s = sample_depth(g, r.x, r.y);
-    double slope = std::hypot(s.dh_dx, s.dh_dy);
+    double slope = norm(s.dh_dx, s.dh_dy);
     if (!(slope > 1e-12)) return;
     double tx = -s.dh_dy / slope, ty = s.dh_dx / slope;
     if (tx * r.dx + ty * r.dy < 0.0) tx = -tx, ty = -ty;
@@ -187,7 +199,7 @@ void follow_shore(Ray& r, const ElevationGrid& g, const FrontOptions& o) {
     r.dy = ty;
     r.x += o.step * tx;
     r.y += o.step * ty;
-    onto_shore(r, g);
+    onto_shore(r, g, waves);
 }
 
 }  // namespace
@@ -256,7 +268,7 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
         Ray r{static_cast<std::uint32_t>(front.size()), e.x, e.y, dx, dy, k * ((e.x * dx + e.y * dy) - phase_origin),
               RayFlag::alive};
         r.band = h;
-        r.here = sample_depth(g, e.x, e.y);
+        settle(r, g, waves);
         front.push_back(r);
     }
     out.initial_rays = front.size();
@@ -283,7 +295,7 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
             if (i > 0) b += across(front[i - 1]), b0 += gap_b0[i - 1], ++sides;
             if (i + 1 < n) b += across(front[i + 1]), b0 += gap_b0[i], ++sides;
             const double kr = (sides > 0 && b > 0.0) ? std::sqrt(b0 / b) : 1.0;
-            const detail::WaveTable::Entry w = waves.at(s.depth);
+            const detail::WaveTable::Entry& w = r.wave;
             double a = r.flag == RayFlag::aground ? 0.0 : t.amplitude * w.shoaling * kr;
             a = std::min(a, 0.5 * o.breaker_index * std::max(s.depth, 0.0));  // breaking / caustic cap
             if (r.flag == RayFlag::alive || r.flag == RayFlag::flat)
@@ -296,7 +308,7 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
             out.phase.push_back(r.phase);
             out.k.push_back(w.k);
             out.depth.push_back(s.depth);
-            out.slope.push_back(std::hypot(s.dh_dx, s.dh_dy));
+            out.slope.push_back(norm(s.dh_dx, s.dh_dy));
             out.rise.push_back(-(s.dh_dx * r.dx + s.dh_dy * r.dy));
             out.amplitude.push_back(a);
             out.flag.push_back(r.flag);
@@ -314,6 +326,8 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
     };
 
     record();
+    std::vector<Ray> spare;  // the next front is built here, then swapped in (no allocation a step)
+    std::vector<double> spare_gaps;
     for (std::size_t step = 0;; ++step) {
         const bool moving = std::any_of(front.begin(), front.end(),
                                         [](const Ray& r) { return r.flag == RayFlag::alive || r.flag == RayFlag::flat; });
@@ -324,7 +338,7 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
         const bool trapped_by_path = static_cast<double>(step + 1) > kTrappedCrossings * fronts_needed;
         for (Ray& r : front) {
             if (r.flag == RayFlag::aground) {
-                follow_shore(r, g, o);
+                follow_shore(r, g, waves, o);
             } else {
                 if (isobath_mode) advance_isobath(r, mode, g, waves, o);
                 else advance(r, g, waves, o);
@@ -348,8 +362,10 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
                 front[i + 1].flag == RayFlag::aground)
                 front[i].flag = RayFlag::dead;
         // Remove the dead; their tubes join a neighbour's.
-        std::vector<Ray> kept;
-        std::vector<double> kept_gaps;
+        std::vector<Ray>& kept = spare;
+        std::vector<double>& kept_gaps = spare_gaps;
+        kept.clear();
+        kept_gaps.clear();
         double carry = 0.0;
         for (std::size_t i = 0; i < front.size(); ++i) {
             if (front[i].flag == RayFlag::dead) {
@@ -363,8 +379,10 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
         front.swap(kept);
         gap_b0.swap(kept_gaps);
         // Over-sampling: a new ray midway between neighbours that drifted apart.
-        std::vector<Ray> grown;
-        std::vector<double> grown_gaps;
+        std::vector<Ray>& grown = spare;
+        std::vector<double>& grown_gaps = spare_gaps;
+        grown.clear();
+        grown_gaps.clear();
         for (std::size_t i = 0; i < front.size(); ++i) {
             grown.push_back(front[i]);
             if (i + 1 == front.size()) break;
@@ -377,20 +395,20 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
             // is a gap between rays heading apart by more than a right angle.
             const bool crossed = side * ((b.x - a.x) * a.dy - (b.y - a.y) * a.dx) <= 0.0 ||
                                  a.dx * b.dx + a.dy * b.dy <= 0.0;
-            if (!both_flat && !both_aground && !crossed && std::hypot(b.x - a.x, b.y - a.y) > o.split_distance) {
+            if (!both_flat && !both_aground && !crossed && norm(b.x - a.x, b.y - a.y) > o.split_distance) {
                 if (out.initial_rays + out.inserted_rays >= o.max_rays)
                     throw LimitError("fronts: more than " + std::to_string(o.max_rays) +
                                      " rays (FrontOptions::max_rays, scene key /trace/max_rays; raise it or raise split_distance)");
                 Ray m{next_id++, 0.5 * (a.x + b.x), 0.5 * (a.y + b.y), a.dx + b.dx, a.dy + b.dy,
                       0.5 * (a.phase + b.phase), RayFlag::alive, 0.5 * (a.turn + b.turn)};
                 m.band = a.band;  // isobath mode: the new ray starts in its neighbour's band
-                m.here = sample_depth(g, m.x, m.y);
-                const double l = std::hypot(m.dx, m.dy);
+                settle(m, g, waves);
+                const double l = norm(m.dx, m.dy);
                 m.dx = l > 0.0 ? m.dx / l : a.dx;
                 m.dy = l > 0.0 ? m.dy / l : a.dy;
                 if (m.here.depth <= 0.0) {  // the gap's middle is on land: a new ray on its shore
                     m.flag = RayFlag::aground;
-                    onto_shore(m, g);
+                    onto_shore(m, g, waves);
                 }
                 grown_gaps.push_back(0.5 * gap_b0[i]);
                 grown_gaps.push_back(0.5 * gap_b0[i]);

@@ -111,6 +111,33 @@ bool refract_at_contour(const IsobathCrossing& hit, double celerity_before, doub
     return true;
 }
 
+namespace {
+
+// A gravity wave's k and K_s at depth h, Newton from the guess k0 on
+// f(k) = g k tanh(k h) − ω²: from the last node's k √h, two or three steps reach the
+// root to 1e-15, each with one tanh (1/cosh² = 1 − tanh², and 2x / sinh 2x =
+// x (1 − tanh² x) / tanh x for the group velocity). Returns false when it does not
+// converge, for the general solver to take over.
+bool gravity_wave_from(double omega, double h, double k0, double& k, double& shoaling) {
+    const double w2 = omega * omega;
+    k = k0;
+    for (int step = 0; step < 20; ++step) {
+        const double t = std::tanh(k * h);
+        const double f = kGravity * k * t - w2, df = kGravity * (t + k * h * (1.0 - t * t));
+        const double next = k - f / df;
+        const bool done = std::abs(next - k) <= 1e-15 * k;
+        k = next;
+        if (!done) continue;
+        const double x = k * h, tx = std::tanh(x);
+        const double n = x < 1e-4 ? 1.0 - x * x / 3.0 : 0.5 * (1.0 + x * (1.0 - tx * tx) / tx);  // C_g / C
+        shoaling = std::sqrt((0.5 * kGravity / omega) / (n * omega / k));
+        return std::isfinite(k) && k > 0.0 && std::isfinite(shoaling);
+    }
+    return false;
+}
+
+}  // namespace
+
 WaveTable::WaveTable(double omega, double max_depth, const DispersionOptions& options, std::size_t nodes)
     : omega_(omega), options_(options) {
     if (options.capillary_length > 0.0 || !(max_depth > 0.0) || nodes < 2) return;  // exact solver only
@@ -118,11 +145,18 @@ WaveTable::WaveTable(double omega, double max_depth, const DispersionOptions& op
     ds_ = s_max_ / static_cast<double>(nodes - 1);
     k_root_h_.resize(nodes);
     shoaling_quarter_h_.resize(nodes);
+    // Node by node from the shallow end, each solve started from the last node's k √h
+    // (smooth in s): a third of the full solver's cost, which was a sixth of a trace.
     for (std::size_t i = 1; i < nodes; ++i) {
         const double s = ds_ * static_cast<double>(i), h = s * s;
-        const LinearWave w = linear_wave(omega, h, options);
-        k_root_h_[i] = w.k * s;
-        shoaling_quarter_h_[i] = w.shoaling * std::sqrt(s);
+        double k = 0.0, shoaling = 0.0;
+        if (i == 1 || !gravity_wave_from(omega, h, k_root_h_[i - 1] / s, k, shoaling)) {
+            const LinearWave w = linear_wave(omega, h, options);
+            k = w.k;
+            shoaling = w.shoaling;
+        }
+        k_root_h_[i] = k * s;
+        shoaling_quarter_h_[i] = shoaling * std::sqrt(s);
     }
 }
 
