@@ -108,6 +108,21 @@ void BM_ocean_scene_frames(benchmark::State& state) {
 }
 BENCHMARK(BM_ocean_scene_frames)->Args({256, 1})->Args({256, 25})->Args({1024, 1})->Args({1024, 13})->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// What a run pays before its first frame: the plan — the spectrum, and the fold foam's
+// threshold calibrated on frame 0's past lattice times, whose samples at the vertices
+// the plan keeps for a run from frame 0 (the first streamed frame below starts with them).
+void BM_ocean_plan(benchmark::State& state) {
+    const wave::Scene scene = gale_scene(state.range(0));
+    double kept = 0.0;
+    for (auto _ : state) {
+        const wave::ScenePlan plan = wave::plan_scene(scene);
+        kept = 0.0;
+        for (const auto& [j, sample] : plan.fold_past) kept += static_cast<double>(sample.vertex.size() * 8);
+    }
+    state.counters["fold_past_MB"] = kept / 1e6;
+}
+BENCHMARK(BM_ocean_plan)->Arg(256)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 // The same frames as `wave run` now evaluates them (AnimationStream, docs/export.md
 // "Streamed output"): 4 frames at a time into arrays reused from chunk to chunk, so
 // only the first chunk meets fresh pages. Steady cost per frame: the difference of

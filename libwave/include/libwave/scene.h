@@ -283,6 +283,10 @@ struct ScenePlan {
     /// whitecap coverage when the scene did not give one (a wind sea only).
     FoldFoamOptions fold_foam{};
     double whitecap_coverage = 0.0;  ///< the coverage the threshold was calibrated to (0: not calibrated)
+    /// Frame 0's fold-foam past, kept from that calibration: its lattice indices (newest
+    /// first) and the samples at the surface's vertices, the same bits a frame computes.
+    /// A run through frame 0 starts with them. Empty when the threshold was given.
+    std::vector<std::pair<long long, FoldSample>> fold_past;
     /// Doubts about the result that are not errors, e.g. a train whose wavelength the
     /// surface grid cannot resolve (aliasing).
     std::vector<std::string> warnings;

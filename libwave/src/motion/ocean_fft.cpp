@@ -1,5 +1,6 @@
 // Tessendorf §3.3–3.7 per frame: h̃(k, t) (eq. 26), height, slope (eq. 20),
 // choppy displacement (eq. 29) and the Jacobian (eqs. 30–34) by inverse real FFTs.
+#include "core/memory.h"
 #include "libwave/errors.h"
 #include "libwave/motion.h"
 #include "libwave/physics.h"
@@ -36,6 +37,8 @@ struct OceanWorkspace::Impl {
             spectrum[f] = fftwf_alloc_complex(n * half);
             field[f] = fftwf_alloc_real(n * n);
             if (!spectrum[f] || !field[f]) release(), throw RuntimeError("ocean: out of memory for the FFT buffers");
+            detail::advise_huge_pages(spectrum[f], n * half * sizeof(fftwf_complex));  // first touched by a frame
+            detail::advise_huge_pages(field[f], n * n * sizeof(float));
         }
         const std::lock_guard lock(planner_mutex());
         // FFTW_ESTIMATE: the plan depends on the size only (no timing), so every run

@@ -9,6 +9,7 @@
 #include "core/files.h"
 #include "core/json_input.h"
 #include "core/limits.h"
+#include "core/memory.h"
 #include "surface_model.h"
 
 #include <nlohmann/json.hpp>
@@ -276,10 +277,25 @@ void plan_far_field_stage(const Scene& scene, ScenePlan& p) {
     append_skirt(p);
 }
 
+// lattice J₋ → J₋ per coarse vertex.
+void fold_at_vertices(const ScenePlan& plan, std::span<const float> lattice_j, std::span<float> out) {
+    if (plan.wind_sea_scale.empty()) {  // the surface is the patch: (N+1)² vertices repeat the first row and column
+        const std::size_t N = plan.ocean.n, side = N + 1;
+        for (std::size_t row = 0; row < side; ++row) {
+            const float* src = &lattice_j[(row == N ? 0 : row) * N];
+            std::copy(src, src + N, &out[row * side]);
+            out[row * side + N] = src[0];
+        }
+    } else {
+        sample_ocean_field(plan.ocean, lattice_j, plan.rest_x, plan.rest_y, plan.wind_sea_scale, out);
+    }
+}
+
 // The fold foam's threshold: the scene's /shade/fold_threshold when it gives one; else the
 // J₋ at which the wind sea's foam covers the whitecap share (/shade/whitecap_coverage, or
 // the wind's by Callaghan et al.), found on the lattice as frame 0 sees it (its fade
-// window of past lattice times, every 4th point).
+// window of past lattice times, every 4th point). Those past times' samples at the
+// vertices are kept: a run from frame 0 starts with them (they were computed twice).
 void plan_fold_foam(const Scene& scene, ScenePlan& p) {
     p.fold_foam = scene.fold_foam;
     if (p.ocean.n == 0 || !scene.ocean || scene.fold_threshold_set) return;
@@ -287,11 +303,18 @@ void plan_fold_foam(const Scene& scene, ScenePlan& p) {
     double step = 0.0;
     const std::vector<long long> lattice = fold_lattice(0.0, p.fold_foam, p.loop_period, step);  // newest first
     OceanWorkspace workspace(p.ocean.n);
-    std::vector<std::vector<float>> past(lattice.size(), std::vector<float>(p.ocean.n * p.ocean.n));
-    for (std::size_t i = 0; i < lattice.size(); ++i)
+    std::vector<std::vector<float>> past(lattice.size());
+    for (std::size_t i = 0; i < lattice.size(); ++i) {
+        detail::size_for_overwrite(past[lattice.size() - 1 - i], p.ocean.n * p.ocean.n);
         evaluate_ocean_jacobian(p.ocean, static_cast<double>(lattice[i]) * step, workspace, past[lattice.size() - 1 - i]);
+    }
     p.fold_foam.threshold = fold_threshold_for_coverage(past, step, p.fold_foam, target, 4);
     p.whitecap_coverage = target;
+    std::vector<float> at_vertices(p.rest_x.size());
+    for (std::size_t i = 0; i < lattice.size(); ++i) {
+        fold_at_vertices(p, past[lattice.size() - 1 - i], at_vertices);
+        p.fold_past.emplace_back(lattice[i], fold_sample(at_vertices, p.fold_foam));
+    }
 }
 
 }  // namespace
@@ -811,8 +834,8 @@ void start_run(FrameRun& r, const std::vector<std::uint32_t>& triangles, std::si
     r.state = r.model.start(r.scene, plan, r.shaded);
     if (plan.ocean.n > 0) {
         r.wind_sea.workspace.emplace(plan.ocean.n);
-        r.wind_sea.lattice_j.resize(plan.ocean.n * plan.ocean.n);
-        r.wind_sea.vertex_j.resize(nc);
+        detail::size_for_overwrite(r.wind_sea.lattice_j, plan.ocean.n * plan.ocean.n);
+        detail::size_for_overwrite(r.wind_sea.vertex_j, nc);
     }
     if (r.refined) {
         r.coarse_p.resize(3 * nc);
@@ -827,7 +850,7 @@ void start_run(FrameRun& r, const std::vector<std::uint32_t>& triangles, std::si
         r.untangle = plan_untangle(plan.rest_x, plan.rest_y, surface_triangles(r.scene, plan));
         if (!r.shaded || r.refined) r.coarse_foam.resize(nc);
     }
-    r.adjacency = vertex_faces(n, triangles);  // normals gathered in parallel
+    if (r.shaded || r.untangle) r.fold_past.insert(plan.fold_past.begin(), plan.fold_past.end());  // frame 0's foam past
     r.fresnel.camera = scene_camera(r.scene, plan.seafloor);
     r.fresnel.model = r.scene.fresnel;
     if (r.scene.underwater && r.scene.underwater->caustics) {
@@ -845,19 +868,6 @@ std::size_t model_vertex_count(const ScenePlan& plan) {
     return plan.model_vertices > 0 ? plan.model_vertices : plan.rest_x.size();
 }
 
-// lattice J₋ → J₋ per coarse vertex.
-void fold_at_vertices(const ScenePlan& plan, std::span<const float> lattice_j, std::span<float> out) {
-    if (plan.wind_sea_scale.empty()) {  // the surface is the patch: (N+1)² vertices repeat the first row and column
-        const std::size_t N = plan.ocean.n, side = N + 1;
-        for (std::size_t row = 0; row < side; ++row) {
-            const float* src = &lattice_j[(row == N ? 0 : row) * N];
-            std::copy(src, src + N, &out[row * side]);
-            out[row * side + N] = src[0];
-        }
-    } else {
-        sample_ocean_field(plan.ocean, lattice_j, plan.rest_x, plan.rest_y, plan.wind_sea_scale, out);
-    }
-}
 
 // The surface's coarse vertices at time t (and their normals when they are exact);
 // returns whether the normals are done.
@@ -933,7 +943,12 @@ void evaluate_frame(FrameRun& r, const std::vector<std::uint32_t>& coarse_triang
         fr = &r.frame_refinement;
     }
     if (r.refined) apply_refinement(*fr, pc, 3, p);
-    if (!normals_done) vertex_normals(p, a.triangles, r.adjacency, nr);
+    if (!normals_done) {
+        // Made when a frame first needs it: the FFT patch's normals are exact, and a
+        // million vertices' adjacency took as long as three of its frames.
+        if (r.adjacency.offsets.empty()) r.adjacency = vertex_faces(n, a.triangles);
+        vertex_normals(p, a.triangles, r.adjacency, nr);
+    }
     for (std::size_t v = 0; v < n; ++v) {
         a.z_min = std::min(a.z_min, p[3 * v + 2]);
         a.z_max = std::max(a.z_max, p[3 * v + 2]);
@@ -966,7 +981,7 @@ void rest_texcoords(const ScenePlan& plan, const Refinement* refined, SceneAnima
         apply_refinement(*refined, std::span<const double>(plan.rest_x), 1, fine_x);
         apply_refinement(*refined, std::span<const double>(plan.rest_y), 1, fine_y);
     }
-    a.texcoords.resize(2 * n);
+    detail::size_for_overwrite(a.texcoords, 2 * n);
     domain_texcoords(plan.seafloor.grid, refined ? fine_x : plan.rest_x, refined ? fine_y : plan.rest_y, a.texcoords);
 }
 
@@ -1141,16 +1156,18 @@ std::size_t AnimationStream::next(SceneAnimation& a, std::size_t count, const st
     a.frame_count = k;
     a.triangles = s.triangles;
     const std::size_t n = a.vertex_count;
-    a.positions.resize(3 * n * k);
-    a.normals.resize(3 * n * k);
+    // Every value is written below (foam is cleared per frame): the first chunk's arrays
+    // are fresh memory, advised for huge pages, later chunks reuse them.
+    detail::size_for_overwrite(a.positions, 3 * n * k);
+    detail::size_for_overwrite(a.normals, 3 * n * k);
     a.layout = scene.attributes == Scene::Attributes::named ? ScalarLayout::custom : ScalarLayout::blender34;
     a.draco = scene.draco;
     a.quantize = scene.quantize;
     const bool shaded = scene.attributes != Scene::Attributes::none;
-    a.reflect.resize(shaded ? n * k : 0);
-    a.refract.resize(shaded ? n * k : 0);
-    a.foam.assign(shaded ? n * k : 0, 0.0f);
-    a.colors.resize(scene.color ? 3 * n * k : 0);
+    detail::size_for_overwrite(a.reflect, shaded ? n * k : 0);
+    detail::size_for_overwrite(a.refract, shaded ? n * k : 0);
+    detail::size_for_overwrite(a.foam, shaded ? n * k : 0);
+    detail::size_for_overwrite(a.colors, scene.color ? 3 * n * k : 0);
     a.caustics.assign(scene.underwater && scene.underwater->caustics ? k : 0, std::string());
     a.z_min = std::numeric_limits<float>::infinity();
     a.z_max = -std::numeric_limits<float>::infinity();

@@ -41,6 +41,8 @@ void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
     // The patch's (N+1)² vertices: the lattice and a repeat of its first row and column.
     const std::size_t side = p.ocean.n + 1;
     p.patch_triangles = grid_triangles(side, side);
+    p.rest_x.reserve(side * side);
+    p.rest_y.reserve(side * side);
     for (std::size_t row = 0; row < side; ++row)
         for (std::size_t col = 0; col < side; ++col) {
             p.rest_x.push_back(p.ocean.spacing() * static_cast<double>(col));
