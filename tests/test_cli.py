@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """The `wave` command line as a user meets it: exit codes (0 ok, 2 bad input or usage,
 1 runtime failure), `error: …` on stderr naming the file/value, and no partial output."""
+import array
 import hashlib
 import json
 import math
@@ -1865,6 +1866,21 @@ class Streaming(unittest.TestCase):
                 self.assertEqual([p.name for p in pathlib.Path(out).iterdir() if p.name.startswith(".")], [], form)
                 with open(os.path.join(out, "report.json")) as f:
                     self.assertEqual(json.load(f)["surface"]["frames"], 1440)
+                if form == "morph":
+                    # `wave convert` reads a morph file's targets from the file frame by
+                    # frame (only its static parts are loaded): the 2.5× cap file → pc2.
+                    self.assertGreater(os.path.getsize(os.path.join(out, "animation.glb")), 2.4 * self.CAP)
+                    r = self.capped("convert", os.path.join(out, "animation.glb"), "--form", "pc2", "-o",
+                                    os.path.join(d, "morph-to-pc2"), "-q")
+                    self.assertEqual(r.returncode, 0, r.stderr)
+                if form == "pc2":  # the conversion wrote the caches this run writes (morph deltas: float rounding)
+                    for cache in pathlib.Path(out).glob("*.pc2"):
+                        ran, converted = cache.read_bytes(), (pathlib.Path(d) / "morph-to-pc2" / cache.name).read_bytes()
+                        self.assertEqual(ran[:32], converted[:32], cache.name)  # header: points, frames
+                        a, b = array.array("f", ran[32:]), array.array("f", converted[32:])
+                        self.assertEqual(len(a), len(b), cache.name)
+                        self.assertLess(max(abs(x - y) for x, y in zip(a, b)), 1e-4, cache.name)  # metres (a 200 m patch)
+                    shutil.rmtree(os.path.join(d, "morph-to-pc2"))
                 if form == "files":
                     # `wave merge` reads and hashes one frame's files at a time: under the
                     # same cap it rebuilds the index the run wrote, entry for entry.

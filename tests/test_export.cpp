@@ -435,6 +435,34 @@ TEST(Fresnel, WeightsMatchTheFormulasAndSumToOne) {
     EXPECT_THROW(fresnel_weights(p, n, o, wrong, t), InputError);
 }
 
+TEST(Fresnel, WeightsAreTheFormulaBitForBit) {
+    // Many vertices in every orientation (from under lips too), camera near and far, and
+    // a grazing index of 1: each weight is fresnel_reflectivity's own value to the bit.
+    std::vector<float> p, n;
+    std::uint32_t state = 12345;
+    const auto uniform = [&] { return static_cast<float>((state = state * 1664525u + 1013904223u) >> 8) / 16777216.0f; };
+    for (int v = 0; v < 20000; ++v) {
+        const float a = 6.2831853f * uniform(), z = 2.0f * uniform() - 1.0f, s = std::sqrt(1.0f - z * z);
+        p.insert(p.end(), {100.0f * uniform(), 100.0f * uniform(), 2.0f * uniform() - 1.0f});
+        n.insert(n.end(), {s * std::cos(a), s * std::sin(a), z});
+    }
+    for (const double index : {kWaterRefractiveIndex, 1.0, 2.4}) {
+        FresnelOptions o;
+        o.camera = {40.0, -30.0, 12.0};
+        o.water_index = index;
+        std::vector<float> r(n.size() / 3), t(r.size());
+        fresnel_weights(p, n, o, r, t);
+        for (std::size_t v = 0; v < r.size(); ++v) {
+            const double ex = o.camera[0] - p[3 * v], ey = o.camera[1] - p[3 * v + 1], ez = o.camera[2] - p[3 * v + 2];
+            const double len = std::sqrt(ex * ex + ey * ey + ez * ez);
+            const double c = std::min(std::abs((ex * n[3 * v] + ey * n[3 * v + 1] + ez * n[3 * v + 2]) / len), 1.0);
+            const double expected = fresnel_reflectivity(c, 1.0, index);
+            ASSERT_EQ(r[v], static_cast<float>(expected)) << v << " index " << index;
+            ASSERT_EQ(t[v], static_cast<float>(1.0 - expected)) << v;
+        }
+    }
+}
+
 TEST(Foam, ReleasedAtTheCrestOfBreakingWavesAndFading) {
     // Three vertices on a 1 m deep flat: breaking (H = γh), at 95 % of it, and calm.
     RayStrips s;

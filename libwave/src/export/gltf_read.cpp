@@ -25,15 +25,46 @@
 #include <string>
 #include <vector>
 #include <map>
+#include <set>
 
 namespace wave {
 namespace {
 
+// The buffer views a file's frames alone use (morph targets, the nodes form's later
+// meshes), left in the file: each is read when its frame is decoded and dropped after
+// it, so a reader holds the file's static parts and one frame, not the whole buffer.
+struct LazyViews {
+    std::string file;      // where buffer 0's bytes are: the .glb, or a .gltf's .bin
+    std::size_t base = 0;  // the file offset of buffer 0's first byte
+    std::map<int, std::pair<std::size_t, std::size_t>> where{};  // view → (byteOffset, byteLength) in buffer 0
+    mutable std::ifstream in{};
+    mutable std::map<int, std::vector<unsigned char>> loaded{};
+
+    const std::vector<unsigned char>* bytes(int view, const std::string& path) const {
+        const auto it = where.find(view);
+        if (it == where.end()) return nullptr;
+        auto [slot, fresh] = loaded.try_emplace(view);
+        if (fresh) {
+            slot->second.resize(it->second.second);
+            in.seekg(static_cast<std::streamoff>(base + it->second.first));
+            in.read(reinterpret_cast<char*>(slot->second.data()), static_cast<std::streamsize>(it->second.second));
+            if (!in) throw InputError(path + ": cannot read bufferView " + std::to_string(view) + " from " + file);
+        }
+        return &slot->second;
+    }
+};
+
 struct Reader {
     const tinygltf::Model& m;
     const std::string& path;
+    const LazyViews* lazy = nullptr;  // views still in the file, if any
 
     [[noreturn]] void fail(const std::string& what) const { throw InputError(path + ": " + what); }
+
+    // Drops the views read from the file since the last call (a frame is decoded).
+    void release() const {
+        if (lazy) lazy->loaded.clear();
+    }
 
     // The bytes of a buffer view, from `offset` within it, checked to hold `count`
     // elements of `element` bytes `stride` apart.
@@ -42,8 +73,9 @@ struct Reader {
         if (view < 0 || static_cast<std::size_t>(view) >= m.bufferViews.size()) fail(what + " has no data");
         const tinygltf::BufferView& v = m.bufferViews[static_cast<std::size_t>(view)];
         if (v.buffer < 0 || static_cast<std::size_t>(v.buffer) >= m.buffers.size()) fail(what + " has no buffer");
-        const std::vector<unsigned char>& data = m.buffers[static_cast<std::size_t>(v.buffer)].data;
-        const std::size_t start = v.byteOffset + offset;
+        const std::vector<unsigned char>* in_file = lazy ? lazy->bytes(view, path) : nullptr;
+        const std::vector<unsigned char>& data = in_file ? *in_file : m.buffers[static_cast<std::size_t>(v.buffer)].data;
+        const std::size_t start = (in_file ? 0 : v.byteOffset) + offset;
         if (start > data.size() || (count > 0 && (count - 1) * stride + element > data.size() - start))
             fail(what + " runs past its buffer");
         return data.data() + start;
@@ -118,14 +150,10 @@ struct Reader {
         if (index < 0 || static_cast<std::size_t>(index) >= m.accessors.size()) fail("the mesh has no indices accessor");
         const tinygltf::Accessor& a = m.accessors[static_cast<std::size_t>(index)];
         if (a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT) fail("indices are not uint32");
-        if (a.bufferView < 0 || static_cast<std::size_t>(a.bufferView) >= m.bufferViews.size()) fail("the indices have no data");
-        const tinygltf::BufferView& v = m.bufferViews[static_cast<std::size_t>(a.bufferView)];
-        if (v.buffer < 0 || static_cast<std::size_t>(v.buffer) >= m.buffers.size()) fail("the indices' bufferView has no buffer");
-        const auto& data = m.buffers[static_cast<std::size_t>(v.buffer)].data;
-        const std::size_t start = v.byteOffset + a.byteOffset;
-        if (start + 4 * a.count > data.size()) fail("indices run past their buffer");
+        if (a.count > (std::size_t{1} << 30)) fail("the indices claim " + std::to_string(a.count) + " elements");
+        const unsigned char* p = view_bytes(a.bufferView, a.byteOffset, a.count, 4, 4, "the indices");
         std::vector<std::uint32_t> out(a.count);
-        std::memcpy(out.data(), &data[start], 4 * a.count);
+        if (a.count > 0) std::memcpy(out.data(), p, 4 * a.count);
         return out;
     }
 
@@ -266,33 +294,60 @@ void read_morph_frames(const Reader& r, const tinygltf::Model& m, const tinygltf
     }
 }
 
+// A glTF file's JSON and, for a .glb, where its BIN chunk's data lies: read without
+// that data, the header and chunk lengths checked against the file.
+struct Container {
+    std::string json;
+    std::size_t bin_at = 0, bin_length = 0;  // a .glb's BIN chunk data: file offset, length
+};
+
+Container read_container(const std::string& path, std::ifstream& in, std::uintmax_t size, bool binary) {
+    const auto fail = [&](const std::string& what) { throw InputError(path + ": not a readable glTF 2.0 file: " + what); };
+    Container c;
+    if (!binary) {
+        c.json.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+        if (in.bad()) throw InputError(path + ": cannot read the file");
+        return c;
+    }
+    const auto u32 = [](const char* at) {
+        std::uint32_t v = 0;
+        std::memcpy(&v, at, 4);
+        return std::size_t{v};
+    };
+    char head[20];
+    if (size < 20 || !in.read(head, 20) || std::memcmp(head, "glTF", 4) != 0 || u32(head + 8) != size)
+        fail("the GLB header does not match the file");
+    const std::size_t json_length = u32(head + 12);
+    if (json_length > size - 20 || std::memcmp(head + 16, "JSON", 4) != 0) fail("the JSON chunk runs past the file");
+    c.json.resize(json_length);
+    if (!in.read(c.json.data(), static_cast<std::streamsize>(json_length))) throw InputError(path + ": cannot read the file");
+    const std::size_t bin_at = 20 + json_length;
+    char chunk[8];
+    if (bin_at + 8 <= size) {
+        if (!in.read(chunk, 8)) throw InputError(path + ": cannot read the file");
+        c.bin_length = u32(chunk);
+        if (c.bin_length > size - bin_at - 8) fail("the BIN chunk runs past the file");
+        c.bin_at = bin_at + 8;
+    }
+    return c;
+}
+
+// `length` bytes of a file from `at` (a Draco view, a static view of a lazy read).
+std::string file_bytes(std::ifstream& in, const std::string& path, std::size_t at, std::size_t length) {
+    std::string out(length, '\0');
+    in.clear();
+    in.seekg(static_cast<std::streamoff>(at));
+    if (!in.read(out.data(), static_cast<std::streamsize>(length))) throw InputError(path + ": cannot read the file");
+    return out;
+}
+
 // tinygltf (Debian's) trusts the file's byte ranges when it decodes Draco
 // primitives: a bufferView beyond its buffer overflows the heap (found by
 // tests/fuzz/fuzz_gltf). The container and every range are checked here first, on the
-// bytes then handed to tinygltf (the file is read once).
-void check_layout(const std::string& path, const std::string& bytes, bool binary) {
+// JSON then handed to tinygltf; a .glb's Draco bitstreams are read from `in`.
+void check_layout(const std::string& path, const nlohmann::json& doc, const Container& c, bool binary, std::ifstream& in) {
     const auto fail = [&](const std::string& what) { throw InputError(path + ": not a readable glTF 2.0 file: " + what); };
-    const auto u32 = [&](std::size_t at) {
-        std::uint32_t v = 0;
-        std::memcpy(&v, bytes.data() + at, 4);
-        return std::size_t{v};
-    };
-    std::string text;
-    std::size_t bin_length = 0;
-    if (binary) {
-        if (bytes.size() < 20 || bytes.compare(0, 4, "glTF") != 0 || u32(8) != bytes.size()) fail("the GLB header does not match the file");
-        const std::size_t json_length = u32(12);
-        if (json_length > bytes.size() - 20 || bytes.compare(16, 4, "JSON") != 0) fail("the JSON chunk runs past the file");
-        text = bytes.substr(20, json_length);
-        const std::size_t bin_at = 20 + json_length;
-        if (bin_at + 8 <= bytes.size()) {
-            bin_length = u32(bin_at);
-            if (bin_length > bytes.size() - bin_at - 8) fail("the BIN chunk runs past the file");
-        }
-    } else {
-        text = bytes;
-    }
-    const nlohmann::json doc = detail::parse_json_input(text, path);  // nesting bounded before tinygltf parses it
+    const std::size_t bin_length = c.bin_length;
     const auto count = [](const nlohmann::json& o, const char* key) -> double {
         const auto it = o.find(key);
         return it == o.end() ? 0.0 : it->is_number() ? it->get<double>() : -1.0;
@@ -363,9 +418,10 @@ void check_layout(const std::string& path, const std::string& bytes, bool binary
                     // decode the bitstream here and require each id (and a GLB's own buffer).
                     const auto& view = doc["bufferViews"][d["bufferView"].get<std::size_t>()];
                     if (!binary || count(view, "buffer") != 0.0 || doc["buffers"][0].contains("uri")) continue;
-                    const std::size_t at = 20 + u32(12) + 8 + static_cast<std::size_t>(count(view, "byteOffset"));
+                    const std::string bitstream = file_bytes(in, path, c.bin_at + static_cast<std::size_t>(count(view, "byteOffset")),
+                                                             static_cast<std::size_t>(count(view, "byteLength")));
                     draco::DecoderBuffer buffer;
-                    buffer.Init(bytes.data() + at, static_cast<std::size_t>(count(view, "byteLength")));
+                    buffer.Init(bitstream.data(), bitstream.size());
                     draco::Decoder decoder;
                     auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
                     if (!decoded.ok()) fail(std::string("a Draco primitive does not decode: ") + decoded.status().error_msg());
@@ -414,9 +470,10 @@ void read_dressing(const Reader& r, const tinygltf::Model& m, StoredAnimation& a
     if (any) a.dressing = d;
 }
 
-// The frames a piece holds: about 64 MB of decoded arrays (at least one frame).
+// The frames a piece holds: about 16 MB of decoded arrays (at least one frame; a
+// streamed conversion holds a piece twice, decoded and in its writer).
 std::size_t frames_per_piece(std::size_t vertex_count) {
-    constexpr double piece_bytes = 64e6, per_vertex = 4.0 * (3 + 3 + 3 + 3);  // positions, normals, shading, colour
+    constexpr double piece_bytes = 16e6, per_vertex = 4.0 * (3 + 3 + 3 + 3);  // positions, normals, shading, colour
     return std::max<std::size_t>(1, static_cast<std::size_t>(piece_bytes / (per_vertex * static_cast<double>(std::max<std::size_t>(1, vertex_count)))));
 }
 
@@ -435,26 +492,137 @@ void check_piece(const Reader& r, const StoredAnimation& a) {
 // morph or nodes form): the file's bytes go once tinygltf holds its buffer, and the
 // decoded frames are handed on a piece at a time, so memory holds the file's buffer
 // and one piece, not the decoded animation beside it.
-void read_glb_pieces(const std::string& path, const std::function<void(StoredAnimation&&, std::size_t)>& piece) {
-    tinygltf::Model m;
-    tinygltf::TinyGLTF loader;
-    std::string err, warn;
+// The buffer views only a file's frames use: those of morph target accessors and of the
+// nodes form's later meshes (every mesh after the first but the seafloor), unless an
+// accessor of the static parts (the first mesh, the seafloor, the animation), an image
+// or a Draco bitstream uses them too.
+std::set<int> frame_views(const nlohmann::json& doc) {
+    std::set<int> frame_accessors, static_accessors, pinned;
+    const auto accessor_of = [](const nlohmann::json& v, std::set<int>& into) {
+        if (v.is_number_integer()) into.insert(v.get<int>());
+    };
+    const auto array = [&](const char* key) { return doc.contains(key) && doc[key].is_array() ? doc[key] : nlohmann::json::array(); };
+    const nlohmann::json meshes = array("meshes");
+    for (std::size_t i = 0; i < meshes.size(); ++i) {
+        const nlohmann::json& mesh = meshes[i];
+        if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
+        const bool frame_mesh = i > 0 && !(mesh.contains("name") && mesh["name"] == "seafloor");
+        for (const auto& prim : mesh["primitives"]) {
+            if (!prim.is_object()) continue;
+            std::set<int>& own = frame_mesh ? frame_accessors : static_accessors;
+            if (prim.contains("indices")) accessor_of(prim["indices"], own);
+            if (prim.contains("attributes") && prim["attributes"].is_object())
+                for (const auto& [_, a] : prim["attributes"].items()) accessor_of(a, own);
+            if (prim.contains("targets") && prim["targets"].is_array())
+                for (const auto& t : prim["targets"])
+                    if (t.is_object())
+                        for (const auto& [_, a] : t.items()) accessor_of(a, frame_accessors);
+            const auto ext = prim.find("extensions");
+            if (ext != prim.end() && ext->is_object() && ext->contains("KHR_draco_mesh_compression") &&
+                (*ext)["KHR_draco_mesh_compression"].is_object())
+                accessor_of((*ext)["KHR_draco_mesh_compression"].value("bufferView", nlohmann::json()), pinned);
+        }
+    }
+    for (const auto& anim : array("animations"))
+        if (anim.is_object() && anim.contains("samplers") && anim["samplers"].is_array())
+            for (const auto& sampler : anim["samplers"])
+                if (sampler.is_object()) {
+                    accessor_of(sampler.value("input", nlohmann::json()), static_accessors);
+                    accessor_of(sampler.value("output", nlohmann::json()), static_accessors);
+                }
+    for (const auto& image : array("images"))
+        if (image.is_object()) accessor_of(image.value("bufferView", nlohmann::json()), pinned);
+    const nlohmann::json accessors = array("accessors");
+    const auto views_of = [&](int a, std::set<int>& into) {
+        if (a < 0 || static_cast<std::size_t>(a) >= accessors.size() || !accessors[static_cast<std::size_t>(a)].is_object()) return;
+        const nlohmann::json& acc = accessors[static_cast<std::size_t>(a)];
+        accessor_of(acc.value("bufferView", nlohmann::json()), into);
+        if (acc.contains("sparse") && acc["sparse"].is_object())
+            for (const char* part : {"indices", "values"})
+                if (acc["sparse"].contains(part) && acc["sparse"][part].is_object())
+                    accessor_of(acc["sparse"][part].value("bufferView", nlohmann::json()), into);
+    };
+    std::set<int> lazy;
+    for (const int a : frame_accessors) views_of(a, lazy);
+    for (const int a : static_accessors) views_of(a, pinned);
+    for (const int v : pinned) lazy.erase(v);
+    return lazy;
+}
+
+// Loads one of libwave's glTF files into `m`. When buffer 0 is a .glb's BIN chunk or a
+// .gltf's external .bin (every layout libwave writes), tinygltf parses the JSON with a
+// buffer of the static views alone, moved together, and the frames' views stay in the
+// file for `lazy`; otherwise it loads the whole file, as it would.
+void load_model(const std::string& path, tinygltf::Model& m, LazyViews& lazy) {
     const bool binary = std::filesystem::path(path).extension() == ".glb";
     detail::require_input_file(path);
-    {
-        std::ifstream in(path, std::ios::binary);
+    std::error_code ec;
+    const std::uintmax_t size = std::filesystem::file_size(path, ec);
+    std::ifstream in(path, std::ios::binary);
+    if (ec || !in) throw InputError(path + ": cannot read the file");
+    const Container c = read_container(path, in, size, binary);
+    nlohmann::json doc = detail::parse_json_input(c.json, path);  // nesting bounded before tinygltf parses it
+    check_layout(path, doc, c, binary, in);
+    const std::string base_dir = std::filesystem::path(path).parent_path().string();  // a .gltf's .bin lies beside it
+    tinygltf::TinyGLTF loader;
+    std::string err, warn;
+    const bool one_buffer = doc.contains("buffers") && doc["buffers"].is_array() && doc["buffers"].size() == 1 && doc["buffers"][0].is_object();
+    const nlohmann::json uri = one_buffer ? doc["buffers"][0].value("uri", nlohmann::json()) : nlohmann::json();
+    const bool in_bin_chunk = binary && one_buffer && uri.is_null() && c.bin_length > 0;
+    const bool in_bin_file = !binary && one_buffer && uri.is_string() && uri.get<std::string>().rfind("data:", 0) != 0;
+    const bool views_listed = !doc.contains("bufferViews") || doc["bufferViews"].is_array();
+    if ((!in_bin_chunk && !in_bin_file) || !views_listed) {
+        in.clear();
+        in.seekg(0);
         const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-        if (!in.good() && !in.eof()) throw InputError(path + ": cannot read the file");
+        if (in.bad()) throw InputError(path + ": cannot read the file");
         if (bytes.size() > std::numeric_limits<unsigned int>::max()) throw InputError(path + ": larger than glTF's 4 GB");
-        check_layout(path, bytes, binary);
-        const std::string base_dir = std::filesystem::path(path).parent_path().string();  // a .gltf's .bin lies beside it
         const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
-        const auto size = static_cast<unsigned int>(bytes.size());
-        const bool ok = binary ? loader.LoadBinaryFromMemory(&m, &err, &warn, data, size, base_dir)
-                               : loader.LoadASCIIFromString(&m, &err, &warn, bytes.data(), size, base_dir);
+        const auto length = static_cast<unsigned int>(bytes.size());
+        const bool ok = binary ? loader.LoadBinaryFromMemory(&m, &err, &warn, data, length, base_dir)
+                               : loader.LoadASCIIFromString(&m, &err, &warn, bytes.data(), length, base_dir);
         if (!ok) throw InputError(path + ": not a readable glTF 2.0 file: " + err);
+        return;
     }
-    const Reader r{m, path};
+    lazy.file = in_bin_chunk ? path : (std::filesystem::path(path).parent_path() / uri.get<std::string>()).string();
+    lazy.base = in_bin_chunk ? c.bin_at : 0;
+    lazy.in.open(lazy.file, std::ios::binary);
+    if (!lazy.in) throw InputError(path + ": cannot read its buffer " + lazy.file);
+    const std::set<int> deferred = frame_views(doc);
+    std::string bin;  // the static views, each 4-byte aligned (accessors keep their alignment)
+    nlohmann::json& views = doc["bufferViews"];
+    for (std::size_t v = 0; v < views.size(); ++v) {
+        nlohmann::json& view = views[v];
+        const std::size_t offset = view.value("byteOffset", std::size_t{0}), length = view.value("byteLength", std::size_t{0});
+        if (deferred.count(static_cast<int>(v))) {
+            lazy.where[static_cast<int>(v)] = {offset, length};
+            view["byteOffset"] = 0;  // tinygltf does not read it; the reader asks `lazy`
+            continue;
+        }
+        bin.resize((bin.size() + 3) & ~std::size_t{3}, '\0');
+        view["byteOffset"] = bin.size();
+        bin += file_bytes(lazy.in, path, lazy.base + offset, length);
+    }
+    doc["buffers"][0] = nlohmann::json{{"byteLength", bin.size()}};
+    std::string json = doc.dump();
+    json.resize((json.size() + 3) & ~std::size_t{3}, ' ');
+    bin.resize((bin.size() + 3) & ~std::size_t{3}, '\0');
+    const auto u32 = [](std::size_t v) {
+        const auto x = static_cast<std::uint32_t>(v);
+        return std::string(reinterpret_cast<const char*>(&x), 4);
+    };
+    const std::string glb = "glTF" + u32(2) + u32(28 + json.size() + bin.size()) + u32(json.size()) + "JSON" + json +
+                            u32(bin.size()) + std::string("BIN\0", 4) + bin;
+    if (!loader.LoadBinaryFromMemory(&m, &err, &warn, reinterpret_cast<const unsigned char*>(glb.data()),
+                                     static_cast<unsigned int>(glb.size()), base_dir))
+        throw InputError(path + ": not a readable glTF 2.0 file: " + err);
+}
+
+void read_glb_pieces(const std::string& path, const std::function<void(StoredAnimation&&, std::size_t)>& piece) {
+    tinygltf::Model m;
+    LazyViews lazy;
+    load_model(path, m, lazy);
+    const Reader r{m, path, lazy.where.empty() ? nullptr : &lazy};
     if (!m.asset.extras.Has("libwave")) r.fail("not written by libwave (no asset.extras.libwave): only libwave's outputs can be converted");
     const tinygltf::Value& info = m.asset.extras.Get("libwave");
     StoredAnimation a;
@@ -506,6 +674,11 @@ void read_glb_pieces(const std::string& path, const std::function<void(StoredAni
         piece(std::move(out), total);
     };
     const auto frame_read = [&] {
+        r.release();  // the frame's views read from the file
+        if (a.frame_count == 1 && per_piece > 1)  // the piece's arrays at their final size, not grown by doubling
+            for (auto member : {&StoredAnimation::positions, &StoredAnimation::normals, &StoredAnimation::reflect,
+                                &StoredAnimation::refract, &StoredAnimation::foam, &StoredAnimation::colors})
+                (a.*member).reserve((a.*member).size() * per_piece);
         if (a.frame_count == per_piece) hand_on();
     };
     if (path_kind == "weights") {
