@@ -46,6 +46,7 @@ struct LazyViews {
         auto [slot, fresh] = loaded.try_emplace(view);
         if (fresh) {
             slot->second.resize(it->second.second);
+            in.clear();
             in.seekg(static_cast<std::streamoff>(base + it->second.first));
             in.read(reinterpret_cast<char*>(slot->second.data()), static_cast<std::streamsize>(it->second.second));
             if (!in) throw InputError(path + ": cannot read bufferView " + std::to_string(view) + " from " + file);

@@ -868,7 +868,6 @@ std::size_t model_vertex_count(const ScenePlan& plan) {
     return plan.model_vertices > 0 ? plan.model_vertices : plan.rest_x.size();
 }
 
-
 // The surface's coarse vertices at time t (and their normals when they are exact);
 // returns whether the normals are done.
 bool move_coarse(FrameRun& r, double t, std::span<float> pc, std::span<float> nrc) {

@@ -62,9 +62,12 @@ void validate(const WaveTrain& t, const FrontOptions& o) {
         throw InputError("fronts: max_turn_degrees must be in (0, 720] degrees, got " + detail::format_number(o.max_turn_degrees));
 }
 
-// |(x, y)| without hypot's care for overflow: gradients, directions and steps are far
-// from it, and hypot was a tenth of a trace.
-double norm(double x, double y) { return std::sqrt(x * x + y * y); }
+// |(x, y)|: hypot's care for overflow only when the squares overflow (gradients,
+// directions and steps are far from it; hypot was a tenth of a trace).
+double norm(double x, double y) {
+    const double r = std::sqrt(x * x + y * y);
+    return r < HUGE_VAL ? r : std::hypot(x, y);
+}
 
 bool inside(const detail::Box& b, double x, double y) { return x >= b.x0 && x <= b.x1 && y >= b.y0 && y <= b.y1; }
 
