@@ -3,11 +3,14 @@
 // planar beach against the analytic shoaling, and the history-free foam.
 #include <gtest/gtest.h>
 
+#include "grid_seafloor.h"
 #include "libwave/errors.h"
 #include "libwave/motion.h"
 #include "libwave/physics.h"
 #include "libwave/scene.h"
 #include "libwave/shade.h"
+#include "libwave/surface.h"
+#include "libwave/trace.h"
 
 #include <tbb/global_control.h>
 
@@ -218,6 +221,52 @@ TEST(JeschkeBreakers, NoVertexOutrunsThreeAndAHalfTimesItsPhaseSpeed) {
     }
     EXPECT_GT(outrun, 0u) << "the lips outrun their crests";
     EXPECT_LE(worst, 3.5);
+}
+
+// The fastest vertex of `b` over a period (steps of T/960), in units of its local phase
+// speed c = W/T; vertices at rest (W = 0 where a ray ends) and float noise aside.
+double fastest_over_phase_speed(const JeschkeMotionPlan& b) {
+    const std::size_t n = b.vertex_count();
+    const double period = 2 * kPi / b.omega, dt = period / 960;
+    std::vector<float> p0(3 * n), p1(3 * n);
+    evaluate_jeschke_breakers(b, 0.0, p1);
+    double worst = 0.0;
+    for (double t = 0.0; t < period; t += dt) {
+        p0.swap(p1);
+        evaluate_jeschke_breakers(b, t + dt, p1);
+        for (std::size_t v = 0; v < n; ++v) {
+            const double speed = std::hypot(p1[3 * v] - p0[3 * v], p1[3 * v + 1] - p0[3 * v + 1], p1[3 * v + 2] - p0[3 * v + 2]) / dt;
+            if (b.width[v] == 0.0f || speed < 0.01) continue;
+            worst = std::max(worst, speed * period / b.width[v]);
+        }
+    }
+    return worst;
+}
+
+TEST(JeschkeBreakers, ASteepShoreDoesNotThrowItsLipsFasterThanAGentleOne) {
+    // Breaking Okushiri's islet in miniature: 12 m deep, then a 1:4 slope to the shore,
+    // T = 12 s. The ray ends a few metres past its break; a crest living its whole life
+    // in that run throws its lip at 6 c here (13 c by the islet). With the surf zone spanning at least half a local
+    // wavelength (the default) the shore cuts the crest's life short instead: as on the
+    // gentle beach above (≤ 3.5 c).
+    const Seafloor steep = test::grid_seafloor(120.0, 300.0, 2.0, [](double, double y) { return std::min(12.0, 0.25 * (250.0 - y)); });
+    const WaveTrain swell{.period = 12.0, .amplitude = 0.5, .direction_x = 0.0, .direction_y = 1.0};
+    FrontOptions fronts;
+    fronts.ray_spacing = 4.0;
+    const RayStrips strips = build_ray_strips(trace_fronts(steep, swell, fronts));
+    const double deep_length = deep_water_wavelength(swell.period);
+    JeschkeBreakerOptions o;
+    o.wave_variation = 0.0;
+    const JeschkeMotionPlan floored = plan_jeschke_breakers(strips, 2 * swell.amplitude, deep_length, o);
+    ASSERT_FALSE(floored.rays.empty());
+    EXPECT_TRUE(std::any_of(floored.rays.begin(), floored.rays.end(), [](const RayBreak& r) { return r.breaks; }));
+    o.min_surf_zone_wavelengths = 0.0;  // each ray's own end: the life squeezed into the last metres
+    const JeschkeMotionPlan squeezed = plan_jeschke_breakers(strips, 2 * swell.amplitude, deep_length, o);
+    const double with_floor = fastest_over_phase_speed(floored), without = fastest_over_phase_speed(squeezed);
+    EXPECT_GT(without, 5.0) << "the case does not squeeze the crest's life";  // measured 6.03 c
+    EXPECT_LE(with_floor, 3.5);  // measured 3.45 c
+    RecordProperty("with_floor", std::to_string(with_floor));
+    RecordProperty("without_floor", std::to_string(without));
 }
 
 TEST(JeschkeFoam, NoneBeforeTheBreakThenDecayingUntilTheNextCrest) {

@@ -329,6 +329,12 @@ struct JeschkeBreakerOptions {
     /// of the ray), at most `max_breaking_wavelengths`; collapsing takes the rest.
     double breaking_share = 0.4;
     double max_breaking_wavelengths = 1.0;  ///< upper bound of the breaking phase (local wavelengths)
+    /// The surf zone (breaking and collapsing) spans at least this many local wavelengths
+    /// of a crest's run, even where its ray ends sooner (a steep shore): the crest is still
+    /// collapsing when it meets the shore rather than living its whole life in a few
+    /// metres, where the shapes changed so fast that lip vertices moved at 13 × the phase
+    /// speed. 0 = each ray's own end.
+    double min_surf_zone_wavelengths = 0.5;
     /// Round phase: crests come up from still water over this many wavelengths from
     /// the offshore edge (the paper's birth); 0 = they enter fully grown.
     double rise_wavelengths = 1.0;
@@ -404,7 +410,7 @@ struct JeschkeMotionPlan {
     std::vector<float> scale;       ///< 5H (m)
     std::vector<float> mean_level;  ///< removed from z (m)
     std::vector<float> break_phase;  ///< the ray's break and end (rad)
-    std::vector<float> end_phase;    ///< the ray's break and end (rad)
+    std::vector<float> end_phase;    ///< where its crests die (rad): the ray's end, or min_surf_zone_wavelengths past the break
     std::vector<float> rise;                    ///< round-phase growth (rad)
     std::vector<float> breaking_length;         ///< breaking-phase length (rad)
     std::vector<float> curl;                    ///< k5 scale of the ray's breaker type

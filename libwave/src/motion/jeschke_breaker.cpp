@@ -195,6 +195,7 @@ void check_options(const JeschkeBreakerOptions& o) {
     check(o.breaker_index, 0.1, 2.0, "breaker_index");
     check(o.breaking_share, 0.01, 0.99, "breaking_share");
     check(o.max_breaking_wavelengths, 0.05, 100.0, "max_breaking_wavelengths");
+    check(o.min_surf_zone_wavelengths, 0.0, 100.0, "min_surf_zone_wavelengths");
     check(o.rise_wavelengths, 0.0, 100.0, "rise_wavelengths");
     check(o.foam_fade_time, 1e-3, 1e6, "foam_fade_time");
     check(o.foam_onset, 0.0, 1.0, "foam_onset");
@@ -259,7 +260,7 @@ JeschkeMotionPlan plan_jeschke_breakers(const RayStrips& strips, double deep_hei
         std::size_t i = 0;
         while (i < vs.size() && f(vs[i]) < 0.0) ++i;
         double rise_len = o.rise_wavelengths * two_pi;
-        double breaking_len = 0.0, curl = 1.0;
+        double breaking_len = 0.0, curl = 1.0, life_end = never;  // where a crest dies: the ray's end, or later
         if (i < vs.size()) {
             rb.breaks = true;
             const std::uint32_t b = vs[i];
@@ -293,7 +294,11 @@ JeschkeMotionPlan plan_jeschke_breakers(const RayStrips& strips, double deep_hei
                    : rb.type == BreakerType::plunging   ? o.curl_plunging
                    : rb.type == BreakerType::collapsing ? o.curl_collapsing
                                                         : o.curl_surging;
-            breaking_len = std::min(o.breaking_share * (rb.end_phase - rb.break_phase), o.max_breaking_wavelengths * two_pi);
+            // A steep shore ends the ray a few metres past the break: breaking and collapsing
+            // squeezed into that run moved lip vertices at 13 c (breaking Okushiri's islet).
+            // The crest's life spans at least min_surf_zone_wavelengths; the shore cuts it.
+            life_end = std::max(rb.end_phase, rb.break_phase + o.min_surf_zone_wavelengths * two_pi);
+            breaking_len = std::min(o.breaking_share * (life_end - rb.break_phase), o.max_breaking_wavelengths * two_pi);
             if (!(breaking_len > 0.0)) breaking_len = 1e-6;  // breaks on its last vertex
             rise_len = std::min(rise_len, rb.break_phase);
         } else {
@@ -301,7 +306,7 @@ JeschkeMotionPlan plan_jeschke_breakers(const RayStrips& strips, double deep_hei
         }
         for (std::uint32_t v : vs) {
             p.break_phase[v] = static_cast<float>(rb.break_phase);
-            p.end_phase[v] = static_cast<float>(rb.breaks ? rb.end_phase : never);
+            p.end_phase[v] = static_cast<float>(life_end);
             p.rise[v] = static_cast<float>(rise_len);
             p.breaking_length[v] = static_cast<float>(breaking_len);
             p.curl[v] = static_cast<float>(curl);

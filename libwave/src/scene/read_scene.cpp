@@ -273,7 +273,7 @@ JeschkeBreakerOptions read_breakers(const Node& n) {
         n.choice<int>({{"jeschke", 0}});
         return o;
     }
-    n.require_object({"model", "breaking_share", "max_breaking_wavelengths", "rise_wavelengths", "foam_fade_time",
+    n.require_object({"model", "breaking_share", "max_breaking_wavelengths", "min_surf_zone_wavelengths", "rise_wavelengths", "foam_fade_time",
                       "foam_onset", "curl_spilling", "curl_plunging", "curl_collapsing", "curl_surging", "wave_variation",
                       "varied_waves", "variation_seed"});
     if (n.has("model")) n["model"].choice<int>({{"jeschke", 0}});
@@ -282,6 +282,7 @@ JeschkeBreakerOptions read_breakers(const Node& n) {
     };
     share("breaking_share", o.breaking_share, "share of the surf zone");
     share("max_breaking_wavelengths", o.max_breaking_wavelengths, "wavelengths");
+    share("min_surf_zone_wavelengths", o.min_surf_zone_wavelengths, "wavelengths");
     share("rise_wavelengths", o.rise_wavelengths, "wavelengths");
     share("foam_fade_time", o.foam_fade_time, "s");
     share("foam_onset", o.foam_onset, "share of the breaking phase");
