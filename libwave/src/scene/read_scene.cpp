@@ -273,9 +273,9 @@ JeschkeBreakerOptions read_breakers(const Node& n) {
         n.choice<int>({{"jeschke", 0}});
         return o;
     }
-    n.require_object({"model", "breaking_share", "max_breaking_wavelengths", "min_surf_zone_wavelengths", "rise_wavelengths", "foam_fade_time",
-                      "foam_onset", "curl_spilling", "curl_plunging", "curl_collapsing", "curl_surging", "wave_variation",
-                      "varied_waves", "variation_seed"});
+    n.require_object({"model", "breaking_share", "max_breaking_wavelengths", "min_surf_zone_wavelengths",
+                      "rise_wavelengths", "foam_fade_time", "foam_onset", "curl_spilling", "curl_plunging",
+                      "curl_collapsing", "curl_surging", "wave_variation", "varied_waves", "variation_seed"});
     if (n.has("model")) n["model"].choice<int>({{"jeschke", 0}});
     const auto share = [&](const char* key, double& v, const char* unit) {
         if (n.has(key)) v = n[key].number(unit);
