@@ -33,6 +33,13 @@ namespace {
 // The buffer views a file's frames alone use (morph targets, the nodes form's later
 // meshes), left in the file: each is read when its frame is decoded and dropped after
 // it, so a reader holds the file's static parts and one frame, not the whole buffer.
+// `length` bytes of a file from `at` into `into` (the stream's state cleared first).
+void read_at(std::ifstream& in, const std::string& path, std::size_t at, char* into, std::size_t length) {
+    in.clear();
+    in.seekg(static_cast<std::streamoff>(at));
+    if (!in.read(into, static_cast<std::streamsize>(length))) throw InputError(path + ": cannot read the file");
+}
+
 struct LazyViews {
     std::string file;      // where buffer 0's bytes are: the .glb, or a .gltf's .bin
     std::size_t base = 0;  // the file offset of buffer 0's first byte
@@ -46,10 +53,7 @@ struct LazyViews {
         auto [slot, fresh] = loaded.try_emplace(view);
         if (fresh) {
             slot->second.resize(it->second.second);
-            in.clear();
-            in.seekg(static_cast<std::streamoff>(base + it->second.first));
-            in.read(reinterpret_cast<char*>(slot->second.data()), static_cast<std::streamsize>(it->second.second));
-            if (!in) throw InputError(path + ": cannot read bufferView " + std::to_string(view) + " from " + file);
+            read_at(in, path, base + it->second.first, reinterpret_cast<char*>(slot->second.data()), it->second.second);
         }
         return &slot->second;
     }
@@ -336,9 +340,7 @@ Container read_container(const std::string& path, std::ifstream& in, std::uintma
 // `length` bytes of a file from `at` (a Draco view, a static view of a lazy read).
 std::string file_bytes(std::ifstream& in, const std::string& path, std::size_t at, std::size_t length) {
     std::string out(length, '\0');
-    in.clear();
-    in.seekg(static_cast<std::streamoff>(at));
-    if (!in.read(out.data(), static_cast<std::streamsize>(length))) throw InputError(path + ": cannot read the file");
+    read_at(in, path, at, out.data(), length);
     return out;
 }
 
