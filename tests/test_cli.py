@@ -2190,18 +2190,82 @@ class Convert(unittest.TestCase):
             self.assertEqual(sorted(os.listdir(os.path.join(d, "c-gltf"))), ["animation.bin", "animation.gltf"])
             validate_gltf(self, os.path.join(d, "c-gltf", "animation.gltf"))
 
+    def test_draco_frames_carry_the_far_field_on_exact_lattices(self):
+        # A Draco frame of its own carries the far field's skirt as a second primitive
+        # (docs/far-field.md, "Draco frames"), each on a power-of-two lattice that Draco's
+        # float32 arithmetic decodes exactly. Read back, a frame is one mesh of the run's
+        # vertices, the seam welded (the plain run's one boundary loop), every coordinate
+        # a multiple of 2^-6 m, within half a step of the plain run (the bay: 2^-6 m,
+        # 14 bits over 100 m rounded up to Draco's six printed decimals; the skirt's 2^-5 m,
+        # 80 km each way in fewer than 2^23 steps). Draco orders a frame's points by the
+        # triangles alone, so the frames share an order and the files form converts.
+        with tempfile.TemporaryDirectory() as d:
+            scene = os.path.join(d, "s.json")
+            with open(scene, "w") as f:
+                json.dump(self.SCENE, f)
+            for out, extra in [("plain", ()), ("draco", ("--draco",))]:
+                r = wave("run", scene, "-o", os.path.join(d, out), "-q", "--form", "files", "--frames", "0:3", *extra)
+                self.assertEqual(r.returncode, 0, r.stderr)
+            with open(os.path.join(d, "draco", "report-frames-0-3.json")) as f:
+                surface = json.load(f)["surface"]
+            self.assertIn("far_field", surface)
+            validate_gltf(self, os.path.join(d, "draco", "frames", "frame-0001.glb"))
+            looked = {}
+            for out in ("plain", "draco"):
+                r = wave("inspect", os.path.join(d, out, "frames", "frame-0001.glb"), "--json")
+                self.assertEqual(r.returncode, 0, r.stderr)
+                looked[out] = json.loads(r.stdout)
+            self.assertEqual(looked["draco"]["vertices"], surface["vertices"])
+            self.assertEqual(looked["draco"]["triangles"], surface["triangles"])
+            self.assertEqual(looked["draco"]["unreferenced_vertices"], 0)
+            self.assertEqual([loop["edges"] for loop in looked["draco"]["boundary"]["loops"]],
+                             [loop["edges"] for loop in looked["plain"]["boundary"]["loops"]])
+            r = wave("convert", os.path.join(d, "draco", "index.json"), "-o", os.path.join(d, "c"), "--form", "files")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            got, reference = self.positions(os.path.join(d, "c")), self.positions(os.path.join(d, "plain"))
+            for frame, want in zip(got, reference):
+                self.assertEqual(len(frame), len(want))
+                self.assertTrue(all(float(x * 64).is_integer() for x in frame), "a coordinate off the 2^-6 m lattice")
+                # Draco reorders: each decoded point against the nearest reference point.
+                cells = {}
+                for i in range(0, len(want), 3):
+                    cells.setdefault((math.floor(want[i]), math.floor(want[i + 2])), []).append(i)
+                worst = worst_inside = 0.0
+                for i in range(0, len(frame), 3):
+                    x, y, z = frame[i:i + 3]
+                    near = min(max(abs(want[j] - x), abs(want[j + 1] - y), abs(want[j + 2] - z))
+                               for a in (-1, 0, 1) for b in (-1, 0, 1)
+                               for j in cells.get((math.floor(x) + a, math.floor(z) + b), []))
+                    worst = max(worst, near)
+                    if 1 < x < 99 and -89 < z < -1:  # inside the bay, off its border (glTF z = −y)
+                        worst_inside = max(worst_inside, near)
+                self.assertLessEqual(worst, 2 ** -6)
+                self.assertLessEqual(worst_inside, 2 ** -7)
+
     def test_what_cannot_be_converted_exits_2_without_output(self):
         with tempfile.TemporaryDirectory() as d:
             scene = os.path.join(d, "s.json")
             with open(scene, "w") as f:
                 json.dump(self.SCENE, f)
             self.assertEqual(wave("run", scene, "-o", os.path.join(d, "df"), "-q", "--form", "files", "--draco").returncode, 0)
+            # Draco frames of another mesh (a shorter skirt) in one index: other orders.
+            with open(scene, "w") as f:
+                json.dump({**self.SCENE, "surface": {"far_field": {"distance": 5000}}}, f)
+            self.assertEqual(wave("run", scene, "-o", os.path.join(d, "d3"), "-q", "--form", "files", "--draco",
+                                  "--frames", "0:2").returncode, 0)
+            with open(os.path.join(d, "df", "index.json")) as f:
+                index = json.load(f)
+            index["frames"][1]["file"] = os.path.join("..", "d3", index["frames"][1]["file"])
+            index["frames"][1]["content"] = [{**c, "file": index["frames"][1]["file"]} for c in index["frames"][1]["content"]]
+            mixed = os.path.join(d, "df", "mixed.json")
+            with open(mixed, "w") as f:
+                json.dump(index, f)
             foreign = os.path.join(d, "foreign.glb")
             with open(os.path.join(d, "df", "frames", "frame-0000.glb"), "rb") as f:
                 data = f.read()
             with open(foreign, "wb") as f:  # the same bytes without libwave's asset extras
                 f.write(data.replace(b'"extras":{"libwave"', b'"extrax":{"libwave"'))
-            for src, part in [(os.path.join(d, "df", "index.json"), "Draco-compressed one by one"),
+            for src, part in [(mixed, "Draco-compressed frames of different orders"),
                               (foreign, "not written by libwave"),
                               (os.path.join(d, "missing.glb"), "file not found"),
                               (scene, "not a frame index")]:

@@ -214,6 +214,7 @@ class Animation:
         self.folder = os.path.dirname(self.path)
         self._cache = {}
         self._stored = None  # a Draco file, decoded whole by libwave's module
+        self._draco_files = False  # a files form of Draco frames, each decoded by libwave's module
         self.dressing = None  # the seafloor, camera and sun a single-file form carries
         if os.path.basename(path) == "index.json" or path.endswith(".json"):
             with open(path) as f:
@@ -227,7 +228,13 @@ class Animation:
             self.loop_frames = int(index.get("loop_frames", self.frame_count))
             self.scene = index.get("scene", "")
             doc, buffers = self._frame_file(0)
-            self.triangles = _triangles(doc, buffers, 0)
+            # Draco frames (each decoded by libwave's module) share frame 0's order: Draco
+            # orders a frame's points by the triangles alone.
+            self._draco_files = "KHR_draco_mesh_compression" in doc["meshes"][0]["primitives"][0].get("extensions", {})
+            if self._draco_files:
+                self.triangles = np.asarray(self._draco_frame_file(0)["triangles"]).astype(np.int64).reshape(-1, 3)
+            else:
+                self.triangles = _triangles(doc, buffers, 0)
             self.dressing = Dressing(doc, buffers)  # the loop's frame 0 carries the seafloor, camera and sun
             return
         self.doc, self.buffers = read_gltf(path)
@@ -276,12 +283,22 @@ class Animation:
     def _frame_file(self, k):
         return read_gltf(os.path.join(self.folder, self.files[k]))
 
+    def _draco_frame_file(self, k):
+        stored = _load_draco(os.path.join(self.folder, self.files[k]))
+        if k > 0 and not np.array_equal(np.asarray(stored["triangles"]).reshape(-1, 3), self.triangles):
+            raise LibwaveFileError(f"{self.path}: frame {k}: other triangles than frame 0 (Draco frames of different orders)")
+        return stored
+
     def frame(self, k):
         """Frame k of the file (0 ≤ k < frame_count)."""
         if k in self._cache:
             return self._cache[k]
         if self._stored is not None:
             return self._stored_frame(k)
+        if self.form == "files" and self._draco_files:
+            f = self._stored_frame(0, self._draco_frame_file(k))
+            self._cache = {k: f}
+            return f
         try:
             if self.form == "files":
                 doc, buffers = self._frame_file(k)
@@ -295,8 +312,9 @@ class Animation:
         self._cache = {k: f}  # one frame at a time: the files form streams from disk
         return f
 
-    def _stored_frame(self, k):
-        s, n = self._stored, self._stored["vertex_count"]
+    def _stored_frame(self, k, stored=None):
+        s = self._stored if stored is None else stored
+        n = s["vertex_count"]
 
         def scalar(name):
             a = s.get(name)

@@ -51,6 +51,46 @@ function firstMesh(root) {
   return mesh;
 }
 
+// A Draco frame carries its far-field skirt as a second primitive (docs/far-field.md),
+// and three.js makes a group of one mesh per primitive. Joined into one mesh, the later
+// primitives' copies of the seam's vertices (bit-equal positions) welded onto the
+// first's, as libwave's reader does, a frame is again one mesh of the run's vertices.
+function joinPrimitives(gltf) {
+  const groups = [];
+  gltf.scene.traverse((o) => {
+    const parts = o.children.filter((c) => c.isMesh && (gltf.parser.associations.get(c) || {}).primitives !== undefined);
+    if (parts.length > 1) groups.push([o, parts]);
+  });
+  for (const [group, parts] of groups) {
+    const first = parts[0].geometry, names = Object.keys(first.attributes);
+    const values = Object.fromEntries(names.map((n) => [n, []]));
+    const index = [], firstAt = new Map();
+    let count = 0;
+    parts.forEach((mesh, k) => {
+      const g = mesh.geometry, position = g.attributes.position, remap = new Array(position.count);
+      for (let v = 0; v < position.count; ++v) {
+        const key = `${position.getX(v)},${position.getY(v)},${position.getZ(v)}`;
+        if (k > 0 && firstAt.has(key)) { remap[v] = firstAt.get(key); continue; }
+        if (k === 0) firstAt.set(key, count);
+        remap[v] = count++;
+        for (const n of names) {
+          const a = g.attributes[n];
+          for (let c = 0; c < a.itemSize; ++c) values[n].push(a.getComponent(v, c));
+        }
+      }
+      for (let i = 0; i < g.index.count; ++i) index.push(remap[g.index.getX(i)]);
+    });
+    const geometry = new THREE.BufferGeometry();
+    for (const n of names) geometry.setAttribute(n, new THREE.Float32BufferAttribute(values[n], first.attributes[n].itemSize));
+    geometry.setIndex(index);
+    const joined = new THREE.Mesh(geometry, parts[0].material);
+    joined.name = parts[0].name;
+    for (const mesh of parts) group.remove(mesh);
+    group.add(joined);
+  }
+  return gltf;
+}
+
 // A frame's own attribute: the file's, even where the page replaced `color` by its own.
 function baseAttribute(mesh, name) {
   const original = mesh.geometry.userData.original;
@@ -84,7 +124,7 @@ function describe(json) {
 
 // One .glb/.gltf holding the whole animation (morph or nodes form).
 async function gltfSource(url) {
-  const gltf = await loader.loadAsync(url);
+  const gltf = joinPrimitives(await loader.loadAsync(url));
   const json = gltf.parser.json;
   const libwave = (json.asset.extras || {}).libwave || {};
   const clip = gltf.animations[0];
@@ -174,7 +214,7 @@ async function filesSource(url) {
   const loaded = new Map();
   const group = new THREE.Group();
   const load = (f) => {
-    if (!loaded.has(f)) loaded.set(f, loader.loadAsync(base + frames[f].file).then((g) => {
+    if (!loaded.has(f)) loaded.set(f, loader.loadAsync(base + frames[f].file).then(joinPrimitives).then((g) => {
       const json = g.parser.json;
       const mesh = firstMesh(g.scene);
       return { scene: g.scene, mesh, json };

@@ -12,7 +12,7 @@
 namespace wave::detail {
 
 DracoOutput draco_encode(std::span<const std::uint32_t> triangles, std::size_t n,
-                         const std::vector<DracoInput>& attributes, const DracoOptions& o, bool keep_order) {
+                         const std::vector<DracoInput>& attributes, const DracoOptions& o, bool keep_order, const DracoGrid* position_grid) {
     draco::Mesh mesh;
     mesh.set_num_points(static_cast<draco::PointIndex::ValueType>(n));
     mesh.SetNumFaces(triangles.size() / 3);
@@ -46,7 +46,11 @@ DracoOutput draco_encode(std::span<const std::uint32_t> triangles, std::size_t n
         out.ids[in.name] = static_cast<int>(pa->unique_id());
     }
     draco::Encoder encoder;
-    encoder.SetAttributeQuantization(draco::GeometryAttribute::POSITION, o.position_bits);
+    if (position_grid)
+        encoder.SetAttributeExplicitQuantization(draco::GeometryAttribute::POSITION, position_grid->bits, 3,
+                                                 position_grid->origin.data(), position_grid->range);
+    else
+        encoder.SetAttributeQuantization(draco::GeometryAttribute::POSITION, o.position_bits);
     encoder.SetAttributeQuantization(draco::GeometryAttribute::NORMAL, o.normal_bits);
     encoder.SetAttributeQuantization(draco::GeometryAttribute::TEX_COORD, o.texcoord_bits);
     encoder.SetAttributeQuantization(draco::GeometryAttribute::COLOR, o.color_bits);

@@ -340,6 +340,125 @@ DracoOptions draco_bits_for_reach(const DracoOptions& o, std::span<const float> 
     return wide;
 }
 
+// A Draco frame of its own with a skirt is written as two primitives, the domain and
+// the skirt, each on a lattice of its own (docs/far-field.md, "Draco frames"). Draco
+// quantises q = (p − origin) · (1 / step) + ½ and decodes origin + q · step in float32:
+// with a power-of-two step, an origin on the lattice and q < 2^23 every one of these
+// operations is exact, so a point of the lattice decodes to itself, whatever the
+// frame's extent. A vertex at rest stays put from frame to frame, and the seam's
+// vertices, on the coarser lattice in both primitives, decode bit-equal in both.
+struct SkirtPart {
+    std::vector<std::uint32_t> vertices;   // the frame's vertex of each of the part's
+    std::vector<std::uint32_t> triangles;  // indices into `vertices`
+    std::vector<char> seam;                // per part vertex: a vertex of the other part too
+};
+
+// The domain's part (a triangle whose corners' rest positions, TEXCOORD_0, all lie in
+// [0, 1]²) and the skirt's (every other triangle). None without a skirt.
+std::optional<std::array<SkirtPart, 2>> split_skirt(std::span<const float> texcoords, std::span<const std::uint32_t> triangles,
+                                                    std::size_t n) {
+    std::vector<char> inside(n);
+    for (std::size_t v = 0; v < n; ++v)
+        inside[v] = texcoords[2 * v] >= 0.0f && texcoords[2 * v] <= 1.0f && texcoords[2 * v + 1] >= 0.0f && texcoords[2 * v + 1] <= 1.0f;
+    std::array<std::vector<char>, 2> used{std::vector<char>(n, 0), std::vector<char>(n, 0)};
+    std::vector<char> part_of(triangles.size() / 3);
+    for (std::size_t t = 0; t < part_of.size(); ++t) {
+        const std::uint32_t* c = &triangles[3 * t];
+        part_of[t] = inside[c[0]] && inside[c[1]] && inside[c[2]] ? 0 : 1;
+        for (int k = 0; k < 3; ++k) used[static_cast<std::size_t>(part_of[t])][c[k]] = 1;
+    }
+    if (std::find(part_of.begin(), part_of.end(), 1) == part_of.end()) return std::nullopt;
+    for (std::size_t v = 0; v < n; ++v)  // a vertex no triangle uses goes where its rest position lies
+        if (!used[0][v] && !used[1][v]) used[inside[v] ? 0 : 1][v] = 1;
+    std::array<SkirtPart, 2> parts;
+    std::vector<std::uint32_t> local(n);
+    for (std::size_t k = 0; k < 2; ++k) {
+        for (std::size_t v = 0; v < n; ++v)
+            if (used[k][v]) {
+                local[v] = static_cast<std::uint32_t>(parts[k].vertices.size());
+                parts[k].vertices.push_back(static_cast<std::uint32_t>(v));
+                parts[k].seam.push_back(used[1 - k][v]);
+            }
+        for (std::size_t t = 0; t < part_of.size(); ++t)
+            if (static_cast<std::size_t>(part_of[t]) == k)
+                for (int c = 0; c < 3; ++c) parts[k].triangles.push_back(local[triangles[3 * t + static_cast<std::size_t>(c)]]);
+    }
+    return parts;
+}
+
+// The largest power of two ≤ x, the smallest ≥ x (x > 0), exactly.
+double power_of_two_below(double x) {
+    int e = 0;
+    std::frexp(x, &e);  // x = m · 2^e, m in [½, 1)
+    return std::ldexp(1.0, e - 1);
+}
+double power_of_two_above(double x) {
+    int e = 0;
+    const double m = std::frexp(x, &e);
+    return std::ldexp(1.0, m == 0.5 ? e - 1 : e);
+}
+
+constexpr double kExactSteps = 8388607.0;  // 2^23 − 1: Draco's float32 `q + ½` stays exact below it
+// Draco hands an explicit grid's origin and range through text with six decimals
+// (std::to_string in its Options): multiples of 2^-6 print exactly, finer steps do not.
+constexpr double kDecimalStep = 0.015625;
+
+// The two parts' steps: the domain's the largest power of two at most its extent over
+// 2^bits − 1 (the options' step), but at least 2^-6 m; the skirt's the smallest that
+// keeps its reach under 2^23 steps and never finer than the domain's, so that the
+// seam's points lie on both.
+std::array<double, 2> split_steps(std::span<const float> positions, const std::array<SkirtPart, 2>& parts, int bits) {
+    std::array<double, 2> span{}, magnitude{};
+    for (std::size_t k = 0; k < 2; ++k) {
+        std::array<double, 3> lo, hi;
+        lo.fill(std::numeric_limits<double>::infinity());
+        hi.fill(-std::numeric_limits<double>::infinity());
+        for (const std::uint32_t v : parts[k].vertices)
+            for (std::size_t c = 0; c < 3; ++c) {
+                const double x = positions[3 * v + c];
+                lo[c] = std::min(lo[c], x), hi[c] = std::max(hi[c], x);
+                magnitude[k] = std::max(magnitude[k], std::abs(x));
+            }
+        for (std::size_t c = 0; c < 3; ++c) span[k] = std::max(span[k], hi[c] - lo[c]);
+    }
+    double domain =
+        std::max(kDecimalStep, power_of_two_below(std::max(span[0], 1e-6) / (std::ldexp(1.0, std::clamp(bits, 1, 30)) - 1.0)));
+    double skirt = std::max(domain, power_of_two_above(std::max(span[1], magnitude[1]) / (kExactSteps - 2.0)));
+    // Snapping the seam to the skirt's step widens the domain's extent by up to one of them.
+    while ((std::max(span[0], magnitude[0]) + skirt) / domain >= kExactSteps - 1.0) {
+        domain *= 2.0;
+        skirt = std::max(skirt, domain);
+    }
+    return {domain, skirt};
+}
+
+// Puts a part's positions (3 per vertex) on the lattice of `step` (the seam's on the
+// lattice of `seam_step`, a multiple of it) and returns the grid that holds them.
+detail::DracoGrid snap_to_lattice(std::span<float> positions, const std::vector<char>& seam, double step, double seam_step) {
+    std::array<double, 3> lo, hi;
+    lo.fill(std::numeric_limits<double>::infinity());
+    hi.fill(-std::numeric_limits<double>::infinity());
+    for (std::size_t v = 0; v < seam.size(); ++v) {
+        const double s = seam[v] ? seam_step : step;
+        for (std::size_t c = 0; c < 3; ++c) {
+            const double x = std::round(double{positions[3 * v + c]} / s) * s;
+            positions[3 * v + c] = static_cast<float>(x);  // exact: fewer than 2^24 steps from 0
+            lo[c] = std::min(lo[c], x), hi[c] = std::max(hi[c], x);
+        }
+    }
+    detail::DracoGrid grid;
+    double steps = 0.0;
+    for (std::size_t c = 0; c < 3; ++c) {
+        grid.origin[c] = static_cast<float>(lo[c]);
+        steps = std::max(steps, (hi[c] - lo[c]) / step);
+    }
+    grid.bits = 1;
+    while (std::ldexp(1.0, grid.bits) - 1.0 < steps) ++grid.bits;
+    if (grid.bits > 23) throw RuntimeError("glTF export: a Draco lattice needs more than 23 bits");  // split_steps prevents it
+    grid.range = static_cast<float>((std::ldexp(1.0, grid.bits) - 1.0) * step);
+    return grid;
+}
+
 Quantization quantization_for(const MorphAnimationView& a, bool morph_targets) {
     std::array<double, 3> lo{}, hi{};
     lo.fill(std::numeric_limits<double>::infinity());
@@ -512,11 +631,15 @@ struct ModelWriter {
         std::vector<detail::DracoInput> inputs{{"TEXCOORD_0", 2, a.texcoords}};
         for (const auto& [name, type, values] : frame.attributes)
             inputs.push_back({name, type == TINYGLTF_TYPE_VEC3 ? 3 : type == TINYGLTF_TYPE_VEC2 ? 2 : 1, values});
-        const detail::DracoOutput encoded =
-            detail::draco_encode(a.triangles, a.vertex_count, inputs, draco_bits_for_reach(*a.draco, a.texcoords, inputs), keep_order);
+        return draco_primitive(a.triangles, a.vertex_count, inputs, draco_bits_for_reach(*a.draco, a.texcoords, inputs), keep_order);
+    }
+    tinygltf::Primitive draco_primitive(std::span<const std::uint32_t> triangles, std::size_t vertex_count,
+                                        const std::vector<detail::DracoInput>& inputs, const DracoOptions& options,
+                                        bool keep_order = false, const detail::DracoGrid* grid = nullptr) {
+        const detail::DracoOutput encoded = detail::draco_encode(triangles, vertex_count, inputs, options, keep_order, grid);
         tinygltf::Primitive prim;
         prim.mode = TINYGLTF_MODE_TRIANGLES;
-        prim.indices = b.accessor(-1, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, a.triangles.size(), TINYGLTF_TYPE_SCALAR);
+        prim.indices = b.accessor(-1, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, triangles.size(), TINYGLTF_TYPE_SCALAR);
         tinygltf::Value::Object ids;
         for (const detail::DracoInput& in : inputs) {
             std::vector<double> lo, hi;
@@ -529,7 +652,7 @@ struct ModelWriter {
                 }
             }
             const int type = in.components == 3 ? TINYGLTF_TYPE_VEC3 : in.components == 2 ? TINYGLTF_TYPE_VEC2 : TINYGLTF_TYPE_SCALAR;
-            prim.attributes[in.name] = b.accessor(-1, TINYGLTF_COMPONENT_TYPE_FLOAT, a.vertex_count, type, lo, hi);
+            prim.attributes[in.name] = b.accessor(-1, TINYGLTF_COMPONENT_TYPE_FLOAT, vertex_count, type, lo, hi);
             ids[in.name] = tinygltf::Value(encoded.ids.at(in.name));
         }
         tinygltf::Value::Object ext;
@@ -542,9 +665,48 @@ struct ModelWriter {
         }
         return prim;
     }
-    tinygltf::Primitive frame_primitive(const MorphAnimationView& a, std::size_t f) {
+    // A Draco frame of its own with a far-field skirt: the domain and the skirt as two
+    // primitives, each on a lattice of its own (docs/far-field.md, "Draco frames").
+    std::vector<tinygltf::Primitive> draco_split_primitives(const MorphAnimationView& a, const FrameArrays& frame,
+                                                            const std::array<SkirtPart, 2>& parts) {
+        std::vector<float> all;  // POSITION, glTF axes
+        for (const auto& [name, type, values] : frame.attributes)
+            if (name == "POSITION") all = values;
+        const std::array<double, 2> steps = split_steps(all, parts, a.draco->position_bits);
+        std::vector<tinygltf::Primitive> out;
+        for (std::size_t k = 0; k < 2; ++k) {
+            const SkirtPart& part = parts[k];
+            const std::size_t n = part.vertices.size();
+            std::vector<std::vector<float>> values;  // per input, the part's vertices
+            std::vector<detail::DracoInput> inputs;
+            values.reserve(frame.attributes.size() + 1);
+            const auto gather = [&](std::string name, int components, std::span<const float> source) {
+                std::vector<float>& v = values.emplace_back(static_cast<std::size_t>(components) * n);
+                for (std::size_t i = 0; i < n; ++i)
+                    for (int c = 0; c < components; ++c)
+                        v[static_cast<std::size_t>(components) * i + static_cast<std::size_t>(c)] =
+                            source[static_cast<std::size_t>(components) * part.vertices[i] + static_cast<std::size_t>(c)];
+                inputs.push_back({std::move(name), components, v});
+            };
+            gather("TEXCOORD_0", 2, a.texcoords);
+            for (const auto& [name, type, source] : frame.attributes)
+                gather(name, type == TINYGLTF_TYPE_VEC3 ? 3 : type == TINYGLTF_TYPE_VEC2 ? 2 : 1, source);
+            std::vector<float>& positions = values[static_cast<std::size_t>(std::distance(
+                inputs.begin(), std::find_if(inputs.begin(), inputs.end(), [](const auto& in) { return in.name == "POSITION"; })))];
+            const detail::DracoGrid grid = snap_to_lattice(positions, part.seam, steps[k], steps[1]);
+            DracoOptions options = *a.draco;
+            options.texcoord_bits = draco_bits_for_reach(options, inputs[0].values, inputs).texcoord_bits;
+            out.push_back(draco_primitive(part.triangles, n, inputs, options, false, &grid));
+        }
+        return out;
+    }
+    // A frame of its own (nodes, files): one primitive, or two for a Draco frame with a skirt.
+    std::vector<tinygltf::Primitive> frame_primitives(const MorphAnimationView& a, std::size_t f) {
         const FrameArrays frame = frame_arrays(a, f);
-        return a.draco ? draco_primitive(a, frame) : primitive(frame);
+        if (!a.draco) return {primitive(frame)};
+        if (const std::optional<std::array<SkirtPart, 2>> parts = split_skirt(a.texcoords, a.triangles, a.vertex_count))
+            return draco_split_primitives(a, frame, *parts);
+        return {draco_primitive(a, frame)};
     }
     int node(const std::string& name, int mesh) {
         tinygltf::Node n;
@@ -832,7 +994,7 @@ struct NodesBuilder {
             const std::string name = frame_name(a.first_frame + f);
             tinygltf::Mesh mesh;
             mesh.name = name;
-            mesh.primitives.push_back(w.frame_primitive(a, f));
+            mesh.primitives = w.frame_primitives(a, f);
             w.model.meshes.push_back(std::move(mesh));
             const int mesh_index = static_cast<int>(w.model.meshes.size() - 1);
             if (w.quant) {
@@ -914,7 +1076,7 @@ std::string gltf_frame_glb(const MorphAnimationView& a, std::size_t f) {
     ModelWriter w(one, a.draco ? 0 : 1);
     tinygltf::Mesh mesh;
     mesh.name = a.name;
-    mesh.primitives.push_back(w.frame_primitive(a, f));
+    mesh.primitives = w.frame_primitives(a, f);
     w.model.meshes.push_back(std::move(mesh));
     return glb_bytes(w, {w.node(a.name, 0)});
 }

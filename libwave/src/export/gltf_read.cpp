@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 #include <map>
+#include <optional>
 #include <set>
 
 namespace wave {
@@ -228,6 +229,55 @@ Frame read_frame(const Reader& r, const std::map<std::string, int>& attrs, int m
         }
     }
     return f;
+}
+
+// A frame's mesh of several primitives (a Draco frame and its far-field skirt,
+// docs/far-field.md): their vertices in turn, a later primitive's vertex at the
+// bit-equal position of a first primitive's vertex (the seam) welded onto it.
+struct Joined {
+    std::vector<std::uint32_t> triangles;
+    std::vector<float> texcoords;
+    Frame frame;
+};
+
+Joined join_primitives(const Reader& r, const tinygltf::Mesh& mesh, int mesh_index, ScalarLayout& layout) {
+    Joined j;
+    std::map<std::array<float, 3>, std::uint32_t> first;  // the first primitive's positions
+    std::uint32_t count = 0;
+    bool shading = false, colors = false;  // the first primitive's optional attributes, which every one must hold
+    for (std::size_t k = 0; k < mesh.primitives.size(); ++k) {
+        const tinygltf::Primitive& p = mesh.primitives[k];
+        if (!p.attributes.count("TEXCOORD_0")) r.fail("the mesh has no TEXCOORD_0 (libwave writes the rest position there)");
+        const std::vector<float> uv = r.floats(p.attributes.at("TEXCOORD_0"), 2);
+        const Frame f = read_frame(r, p.attributes, mesh_index, false, layout);
+        const std::size_t n = uv.size() / 2;
+        if (k == 0) shading = !f.foam.empty(), colors = !f.color.empty();
+        if (f.position.size() != 3 * n || f.normal.size() != 3 * n || f.foam.size() != (shading ? n : 0) ||
+            f.reflect.size() != f.foam.size() || f.refract.size() != f.foam.size() || f.color.size() != (colors ? 3 * n : 0))
+            r.fail("the primitives of a frame's mesh hold different attributes or vertex counts");
+        std::vector<std::uint32_t> index(n);
+        for (std::size_t v = 0; v < n; ++v) {
+            const std::array<float, 3> at{f.position[3 * v], f.position[3 * v + 1], f.position[3 * v + 2]};
+            if (k > 0)
+                if (const auto seam = first.find(at); seam != first.end()) {
+                    index[v] = seam->second;
+                    continue;
+                }
+            if (k == 0) first.emplace(at, count);
+            index[v] = count++;
+            const auto take = [v](std::vector<float>& to, const std::vector<float>& from, std::size_t width) {
+                if (!from.empty()) to.insert(to.end(), from.begin() + static_cast<std::ptrdiff_t>(width * v), from.begin() + static_cast<std::ptrdiff_t>(width * (v + 1)));
+            };
+            take(j.texcoords, uv, 2), take(j.frame.position, f.position, 3), take(j.frame.normal, f.normal, 3);
+            take(j.frame.reflect, f.reflect, 1), take(j.frame.refract, f.refract, 1), take(j.frame.foam, f.foam, 1);
+            take(j.frame.color, f.color, 3);
+        }
+        for (const std::uint32_t i : r.indices(p.indices)) {
+            if (i >= n) r.fail("a primitive's index " + std::to_string(i) + " is past its " + std::to_string(n) + " vertices");
+            j.triangles.push_back(index[i]);
+        }
+    }
+    return j;
 }
 
 // A morph frame: base + delta (no delta: the base). A delta of another length than the
@@ -642,12 +692,18 @@ void read_glb_pieces(const std::string& path, const std::function<void(StoredAni
     std::vector<std::size_t> water;
     for (std::size_t i = 0; i < m.meshes.size(); ++i)
         if (m.meshes[i].name != "seafloor") water.push_back(i);
-    if (a.draco_frames && water.size() > 1)
-        r.fail("its frames are Draco-compressed one by one (Draco reorders each frame's points, so frames no longer "
-               "share a vertex order): convert from an uncompressed output, or run the scene again");
-    a.triangles = r.indices(first.indices);
-    if (!first.attributes.count("TEXCOORD_0")) r.fail("the mesh has no TEXCOORD_0 (libwave writes the rest position there)");
-    a.texcoords = r.floats(first.attributes.at("TEXCOORD_0"), 2);
+    // A Draco frame with its skirt as a second primitive (docs/far-field.md): one mesh again.
+    std::optional<Joined> joined;
+    if (path_kind != "weights" && !water.empty() && m.meshes[water[0]].primitives.size() > 1)
+        joined = join_primitives(r, m.meshes[water[0]], static_cast<int>(water[0]), a.layout);
+    if (joined) {
+        a.triangles = joined->triangles;
+        a.texcoords = std::move(joined->texcoords);
+    } else {
+        a.triangles = r.indices(first.indices);
+        if (!first.attributes.count("TEXCOORD_0")) r.fail("the mesh has no TEXCOORD_0 (libwave writes the rest position there)");
+        a.texcoords = r.floats(first.attributes.at("TEXCOORD_0"), 2);
+    }
     a.vertex_count = a.texcoords.size() / 2;
     read_dressing(r, m, a);
     // The file's frames: its weights track's keys (read_morph_frames checks them), or its meshes.
@@ -689,9 +745,21 @@ void read_glb_pieces(const std::string& path, const std::function<void(StoredAni
     } else {  // nodes (a mesh per frame) or one frame file
         for (const std::size_t mesh : water) {
             if (m.meshes[mesh].primitives.empty()) r.fail("a frame's mesh has no primitive");
-            const tinygltf::Primitive& p = m.meshes[mesh].primitives[0];
-            if (r.indices(p.indices) != a.triangles) r.fail("frame " + std::to_string(mesh) + " has other triangles than frame 0");
-            append(a, read_frame(r, p.attributes, static_cast<int>(mesh), false, a.layout));
+            // Draco's edgebreaker orders a frame's points by the triangles alone, so frames
+            // of one run share an order; a file whose frames do not cannot be read as one.
+            const auto other_triangles = [&] {
+                r.fail("frame " + std::to_string(mesh) + " has other triangles than frame 0" +
+                       (a.draco_frames ? " (Draco-compressed frames of different orders: convert from an uncompressed output, or run the scene again)" : ""));
+            };
+            if (m.meshes[mesh].primitives.size() > 1) {
+                const Joined j = mesh == water[0] ? std::move(*joined) : join_primitives(r, m.meshes[mesh], static_cast<int>(mesh), a.layout);
+                if (j.triangles != a.triangles) other_triangles();
+                append(a, j.frame);
+            } else {
+                const tinygltf::Primitive& p = m.meshes[mesh].primitives[0];
+                if (r.indices(p.indices) != a.triangles) other_triangles();
+                append(a, read_frame(r, p.attributes, static_cast<int>(mesh), false, a.layout));
+            }
             ++a.frame_count;
             frame_read();
         }
@@ -756,11 +824,10 @@ void read_animation_pieces(const std::string& path, const std::function<void(Sto
             loop_frames = index.value("loop_frames", f.loop_frames);
             triangles = f.triangles, vertex_count = f.vertex_count, draco = f.draco_frames;
         } else {
-            if (draco || f.draco_frames)
-                throw InputError(path + ": its frames are Draco-compressed one by one (Draco reorders each frame's points, so "
-                                 "frames no longer share a vertex order): convert from an uncompressed output, or run the scene again");
             if (frame != expected) throw InputError(path + ": frame " + std::to_string(expected) + " is missing (next is " + std::to_string(frame) + ")");
-            if (f.triangles != triangles || f.vertex_count != vertex_count) throw InputError(file + ": other triangles than the first frame");
+            if (f.triangles != triangles || f.vertex_count != vertex_count)
+                throw InputError(file + ": other triangles than the first frame" +
+                                 std::string(draco || f.draco_frames ? " (Draco-compressed frames of different orders: convert from an uncompressed output, or run the scene again)" : ""));
         }
         f.first_frame = frame, f.fps = fps, f.loop_frames = loop_frames;
         expected = frame + 1;

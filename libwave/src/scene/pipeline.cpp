@@ -248,15 +248,11 @@ void append_skirt(ScenePlan& p) {
 void plan_far_field_stage(const Scene& scene, ScenePlan& p) {
     const detail::SurfaceModel& model = detail::surface_model(scene.surface_kind);
     if (!scene.far_field || model.far_field_harmonics == 0 || p.camera_grid.vertex_count() > 0) return;
-    // Frames quantised on grids of their own (the nodes and files forms) end at the
-    // domain's border (docs/far-field.md): KHR_mesh_quantization's 16 bits cannot keep
-    // the coastal step over the skirt's reach, and Draco, which decodes to float32 off a
-    // grid whose origin lies at the skirt's edge, would let coastal vertices jitter by
-    // ~1 cm from frame to frame. A Draco morph or pc2 base takes the bits it needs
-    // (draco_bits_for_reach) and its error is the same in every frame; quantised morph
-    // targets keep float base positions and size their steps by the motion.
+    // KHR_mesh_quantization's frames of their own (the nodes and files forms) end at the
+    // domain's border (docs/far-field.md): 16 bits over the skirt's reach cannot keep the
+    // coastal step. Draco frames carry the skirt as a primitive of its own.
     const bool own_grids = scene.form == Scene::Form::nodes || scene.form == Scene::Form::files;
-    if (own_grids && (scene.quantize || scene.draco)) return;
+    if (own_grids && scene.quantize) return;
     const std::vector<std::uint32_t>& triangles = model.triangles(p);
     SeaSkirtOptions o;
     o.distance = skirt_distance(scene, p);
