@@ -57,8 +57,10 @@ function firstMesh(root) {
 // first's, as libwave's reader does, a frame is again one mesh of the run's vertices.
 function joinPrimitives(gltf) {
   const groups = [];
-  gltf.scene.traverse((o) => {
-    const parts = o.children.filter((c) => c.isMesh && (gltf.parser.associations.get(c) || {}).primitives !== undefined);
+  const of = (o) => gltf.parser.associations.get(o) || {};
+  gltf.scene.traverse((o) => {  // a mesh's group: its children are that mesh's primitives
+    if (o.isMesh || of(o).meshes === undefined) return;
+    const parts = o.children.filter((c) => c.isMesh && of(c).meshes === of(o).meshes && of(c).primitives !== undefined);
     if (parts.length > 1) groups.push([o, parts]);
   });
   for (const [group, parts] of groups) {
