@@ -134,8 +134,8 @@ SceneAnimation coarse_bay(std::size_t frames, Scene::Attributes attributes = Sce
     scene.fronts.step = 1.6;
     scene.fronts.split_distance = 4.8;
     scene.attributes = attributes;
-    // The tests below Draco-encode the frames: Draco's position grid spans the mesh, which
-    // a far field would stretch to kilometres (scenes with /outputs/draco leave it out).
+    // The tests below Draco-encode the frames as one primitive each: without the far
+    // field (with it, a Draco frame is two primitives, docs/far-field.md).
     scene.far_field.reset();
     return animate_scene(scene, plan_scene(scene), 2e9, FrameRange{0, frames});
 }
@@ -201,6 +201,61 @@ TEST(Draco, FramesDecodeToTheSameVerticesWithinTheQuantisation) {
     }
     EXPECT_LE(worst, tolerance);
     EXPECT_EQ(std::count(matched.begin(), matched.end(), 1), static_cast<long>(n));
+}
+
+// `glb` with its JSON chunk replaced by `json` (the BIN chunk unchanged).
+std::string with_json(const std::string& glb, const nlohmann::json& doc) {
+    std::uint32_t json_length = 0;
+    std::memcpy(&json_length, glb.data() + 12, 4);
+    std::string json = doc.dump();
+    json.append((4 - json.size() % 4) % 4, ' ');
+    std::string out = glb.substr(0, 12);
+    const auto u32 = [&](std::size_t v) {
+        const auto x = static_cast<std::uint32_t>(v);
+        out.append(reinterpret_cast<const char*>(&x), 4);
+    };
+    u32(json.size());
+    out += "JSON" + json + glb.substr(20 + json_length);
+    const auto total = static_cast<std::uint32_t>(out.size());
+    std::memcpy(&out[8], &total, 4);
+    return out;
+}
+
+TEST(GltfRead, AFramesPrimitivesAreJoinedAndTheSeamWelded) {
+    // A frame's mesh of several primitives (a Draco frame and its far-field skirt,
+    // docs/far-field.md) is read as one mesh: a later primitive's vertex at a first
+    // primitive's bit-equal position is welded onto it. Here a plain frame lists its
+    // primitive twice: every vertex of the copy welds, so the frame keeps its vertices
+    // and holds each triangle twice. A copy without the shading scalars is refused.
+    const SceneAnimation anim = coarse_bay(1, Scene::Attributes::named);
+    const std::string glb = gltf_frame_glb(anim.view(), 0);
+    const auto doc = nlohmann::json::parse(glb_json(glb));
+    const std::filesystem::path file = std::filesystem::temp_directory_path() / "libwave-two-primitives.glb";
+    const auto read_with = [&](const std::function<void(nlohmann::json&)>& edit) {
+        nlohmann::json edited = doc;
+        nlohmann::json copy = edited["meshes"][0]["primitives"][0];
+        edit(copy);
+        edited["meshes"][0]["primitives"].push_back(copy);
+        write_file_atomic(file.string(), with_json(glb, edited));
+        StoredAnimation back = read_animation(file.string());
+        std::filesystem::remove(file);
+        return back;
+    };
+    const StoredAnimation back = read_with([](nlohmann::json&) {});
+    ASSERT_EQ(back.vertex_count, anim.vertex_count);
+    EXPECT_EQ(back.positions, anim.positions);
+    EXPECT_EQ(back.foam, anim.foam);
+    const std::size_t t = anim.triangles.size();
+    ASSERT_EQ(back.triangles.size(), 2 * t);
+    EXPECT_TRUE(std::equal(back.triangles.begin(), back.triangles.begin() + static_cast<std::ptrdiff_t>(t), anim.triangles.begin()));
+    EXPECT_TRUE(std::equal(back.triangles.begin() + static_cast<std::ptrdiff_t>(t), back.triangles.end(), anim.triangles.begin()));
+    try {
+        read_with([](nlohmann::json& p) { p["attributes"].erase("_FOAM"), p["attributes"].erase("_REFLECT"), p["attributes"].erase("_REFRACT"); });
+        ADD_FAILURE() << "a copy without the shading scalars was accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("different attributes"), std::string::npos) << e.what();
+    }
+    std::filesystem::remove(file);
 }
 
 TEST(Draco, MorphBaseKeepsTheVertexOrderOfItsTargets) {
@@ -380,19 +435,7 @@ TEST(MorphTargets, StillVerticesAreStoredSparseAndReadBack) {
     const auto refused = [&](const std::function<void(nlohmann::json&)>& edit, const std::string& message) {
         nlohmann::json bad = doc;
         edit(bad["accessors"][sparse_target]);
-        std::string json = bad.dump();
-        json.append((4 - json.size() % 4) % 4, ' ');
-        const std::size_t bin_at = 20 + json_length;
-        std::string out = glb.substr(0, 12);
-        const auto u32 = [&](std::size_t v) {
-            const auto x = static_cast<std::uint32_t>(v);
-            out.append(reinterpret_cast<const char*>(&x), 4);
-        };
-        u32(json.size());
-        out += "JSON" + json + glb.substr(bin_at);
-        const auto total = static_cast<std::uint32_t>(out.size());
-        std::memcpy(&out[8], &total, 4);
-        write_file_atomic(file.string(), out);
+        write_file_atomic(file.string(), with_json(glb, bad));
         try {
             read_animation(file.string());
             ADD_FAILURE() << "accepted: " << message;
