@@ -267,19 +267,21 @@ struct StoredAnimation {
 
 /// Reads a libwave output: a .glb or .gltf of the morph or nodes form or one frame file,
 /// or the index.json of the files form (its frame files beside it). Plain, quantised
-/// (KHR_mesh_quantization) and Draco-compressed morph bases are decoded; Draco frames
-/// of the nodes and files forms are refused (Draco's edgebreaker reorders each frame's
-/// points, so frames no longer share a vertex order). Positions come back within the
-/// writer's quantisation. Throws InputError naming the file for anything else (not
-/// glTF, not written by libwave, frames whose triangles differ).
+/// (KHR_mesh_quantization) and Draco-compressed meshes are decoded. Draco frames of the
+/// nodes and files forms come back in Draco's point order, which edgebreaker takes
+/// from the triangles alone, so the frames of one run share it; a frame's primitives
+/// (a Draco frame and its far-field skirt) are joined into one mesh, a later
+/// primitive's vertex welded onto the first primitive's vertex at the bit-equal
+/// position. Positions come back within the writer's quantisation. Throws InputError
+/// naming the file for anything else (not glTF, not written by libwave, frames whose
+/// triangles differ).
 StoredAnimation read_animation(const std::string& path);
 
 /// read_animation a piece at a time, so that memory holds one piece: the files form's
 /// frames one by one (each with its frame number, and the index's fps and loop), a
 /// .glb/.gltf whole. `piece` gets them in order, with the frames the input lists in all
 /// (the index's entries; the file's frames). The files form's checks (consecutive frames,
-/// the same triangles, no Draco frames) are read_animation's and throw before the
-/// offending piece.
+/// the same triangles) are read_animation's and throw before the offending piece.
 void read_animation_pieces(const std::string& path, const std::function<void(StoredAnimation&&, std::size_t)>& piece);
 
 /// Quantised morph targets' range (MorphAnimationView::quantize_range): the largest
