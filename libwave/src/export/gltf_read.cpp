@@ -27,6 +27,7 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <unordered_map>
 
 namespace wave {
 namespace {
@@ -234,6 +235,8 @@ Frame read_frame(const Reader& r, const std::map<std::string, int>& attrs, int m
 // A frame's mesh of several primitives (a Draco frame and its far-field skirt,
 // docs/far-field.md): their vertices in turn, a later primitive's vertex at the
 // bit-equal position of a first primitive's vertex (the seam) welded onto it.
+constexpr std::uint32_t kUnjoined = std::numeric_limits<std::uint32_t>::max();
+
 struct Joined {
     std::vector<std::uint32_t> triangles;
     std::vector<float> texcoords;
@@ -241,42 +244,77 @@ struct Joined {
 };
 
 Joined join_primitives(const Reader& r, const tinygltf::Mesh& mesh, int mesh_index, ScalarLayout& layout) {
-    Joined j;
-    std::map<std::array<float, 3>, std::uint32_t> first;  // the first primitive's positions
-    std::uint32_t count = 0;
-    bool shading = false, colors = false;  // the first primitive's optional attributes, which every one must hold
-    for (std::size_t k = 0; k < mesh.primitives.size(); ++k) {
+    struct Part {
+        std::vector<float> uv;
+        Frame frame;
+        std::vector<std::uint32_t> indices, index;  // the primitive's triangles; its vertices' in the joined mesh
+    };
+    std::vector<Part> parts(mesh.primitives.size());
+    for (std::size_t k = 0; k < parts.size(); ++k) {
         const tinygltf::Primitive& p = mesh.primitives[k];
         if (!p.attributes.count("TEXCOORD_0")) r.fail("the mesh has no TEXCOORD_0 (libwave writes the rest position there)");
-        const std::vector<float> uv = r.floats(p.attributes.at("TEXCOORD_0"), 2);
-        const Frame f = read_frame(r, p.attributes, mesh_index, false, layout);
-        const std::size_t n = uv.size() / 2;
-        if (k == 0) shading = !f.foam.empty(), colors = !f.color.empty();
-        if (f.position.size() != 3 * n || f.normal.size() != 3 * n || f.foam.size() != (shading ? n : 0) ||
-            f.reflect.size() != f.foam.size() || f.refract.size() != f.foam.size() || f.color.size() != (colors ? 3 * n : 0))
+        Part& part = parts[k];
+        part.uv = r.floats(p.attributes.at("TEXCOORD_0"), 2);
+        part.frame = read_frame(r, p.attributes, mesh_index, false, layout);
+        part.indices = r.indices(p.indices);
+        const std::size_t n = part.uv.size() / 2;
+        const Frame& f = part.frame, &f0 = parts[0].frame;  // every primitive holds the first's optional attributes
+        if (f.position.size() != 3 * n || f.normal.size() != 3 * n || f.foam.size() != (f0.foam.empty() ? 0 : n) ||
+            f.reflect.size() != f.foam.size() || f.refract.size() != f.foam.size() || f.color.size() != (f0.color.empty() ? 0 : 3 * n))
             r.fail("the primitives of a frame's mesh hold different attributes or vertex counts");
-        std::vector<std::uint32_t> index(n);
-        for (std::size_t v = 0; v < n; ++v) {
-            const std::array<float, 3> at{f.position[3 * v], f.position[3 * v + 1], f.position[3 * v + 2]};
-            if (k > 0)
-                if (const auto seam = first.find(at); seam != first.end()) {
-                    index[v] = seam->second;
-                    continue;
-                }
-            if (k == 0) first.emplace(at, count);
-            index[v] = count++;
-            const auto take = [v](std::vector<float>& to, const std::vector<float>& from, std::size_t width) {
-                if (!from.empty()) to.insert(to.end(), from.begin() + static_cast<std::ptrdiff_t>(width * v), from.begin() + static_cast<std::ptrdiff_t>(width * (v + 1)));
-            };
-            take(j.texcoords, uv, 2), take(j.frame.position, f.position, 3), take(j.frame.normal, f.normal, 3);
-            take(j.frame.reflect, f.reflect, 1), take(j.frame.refract, f.refract, 1), take(j.frame.foam, f.foam, 1);
-            take(j.frame.color, f.color, 3);
-        }
-        for (const std::uint32_t i : r.indices(p.indices)) {
+        for (const std::uint32_t i : part.indices)
             if (i >= n) r.fail("a primitive's index " + std::to_string(i) + " is past its " + std::to_string(n) + " vertices");
-            j.triangles.push_back(index[i]);
+        part.index.assign(n, kUnjoined);
+    }
+    // The later primitives' positions (their bits, −0 as +0), the first vertex at each.
+    using Key = std::array<std::uint32_t, 3>;
+    const auto key = [](const float* p) {
+        Key b{};
+        for (std::size_t c = 0; c < 3; ++c) {
+            const float x = p[c] == 0.0f ? 0.0f : p[c];
+            std::memcpy(&b[c], &x, 4);
+        }
+        return b;
+    };
+    const auto hash = [](const Key& b) {
+        return static_cast<std::size_t>((std::uint64_t{b[0]} * 0x9E3779B97F4A7C15ull) ^ (std::uint64_t{b[1]} * 0xC2B2AE3D27D4EB4Full) ^ b[2]);
+    };
+    std::unordered_map<Key, std::pair<std::size_t, std::uint32_t>, decltype(hash)> later(0, hash);
+    for (std::size_t k = 1; k < parts.size(); ++k)
+        for (std::uint32_t v = 0; v < parts[k].index.size(); ++v) later.emplace(key(&parts[k].frame.position[3 * v]), std::pair{k, v});
+    Joined j;
+    std::size_t total = 0;
+    for (const Part& part : parts) total += part.index.size();
+    const bool shaded = !parts[0].frame.foam.empty(), coloured = !parts[0].frame.color.empty();
+    j.texcoords.reserve(2 * total), j.frame.position.reserve(3 * total), j.frame.normal.reserve(3 * total);
+    j.frame.reflect.reserve(shaded ? total : 0), j.frame.refract.reserve(shaded ? total : 0), j.frame.foam.reserve(shaded ? total : 0);
+    j.frame.color.reserve(coloured ? 3 * total : 0);
+    std::uint32_t count = 0;
+    const auto take = [&](const Part& part, std::size_t v) {
+        const auto copy = [v](std::vector<float>& to, const std::vector<float>& from, std::size_t width) {
+            if (!from.empty())
+                to.insert(to.end(), from.begin() + static_cast<std::ptrdiff_t>(width * v), from.begin() + static_cast<std::ptrdiff_t>(width * (v + 1)));
+        };
+        const Frame& f = part.frame;
+        copy(j.texcoords, part.uv, 2), copy(j.frame.position, f.position, 3), copy(j.frame.normal, f.normal, 3);
+        copy(j.frame.reflect, f.reflect, 1), copy(j.frame.refract, f.refract, 1), copy(j.frame.foam, f.foam, 1);
+        copy(j.frame.color, f.color, 3);
+        return count++;
+    };
+    // The first primitive's vertices in order, each later vertex at one's position
+    // welded onto it; then the later primitives' other vertices.
+    for (std::size_t v = 0; v < parts[0].index.size(); ++v) {
+        parts[0].index[v] = take(parts[0], v);
+        if (const auto seam = later.find(key(&parts[0].frame.position[3 * v])); seam != later.end()) {
+            std::uint32_t& welded = parts[seam->second.first].index[seam->second.second];
+            if (welded == kUnjoined) welded = parts[0].index[v];
         }
     }
+    for (std::size_t k = 1; k < parts.size(); ++k)
+        for (std::size_t v = 0; v < parts[k].index.size(); ++v)
+            if (parts[k].index[v] == kUnjoined) parts[k].index[v] = take(parts[k], v);
+    for (const Part& part : parts)
+        for (const std::uint32_t i : part.indices) j.triangles.push_back(part.index[i]);
     return j;
 }
 
