@@ -237,16 +237,20 @@ Taps periodic_taps(std::size_t n, double spacing, double x, double y) noexcept {
     const double u = x / spacing, v = y / spacing;
     const double fu = std::floor(u), fv = std::floor(v);
     const auto wu = catmull_rom(u - fu), wv = catmull_rom(v - fv);
-    const long N = static_cast<long>(n);
-    const auto wrap = [N](double c, long o) {
-        const long q = (static_cast<long>(std::fmod(c, static_cast<double>(N))) + o) % N;
+    const long long N = static_cast<long long>(n);
+    // The lattice row and column of each tap, wrapped (c is a whole number: c mod N by
+    // integers, as fmod would give it, once per row and column rather than per tap).
+    const auto wrap = [N](double c, long long o) {
+        const long long q = (static_cast<long long>(c) % N + o) % N;
         return static_cast<std::size_t>(q < 0 ? q + N : q);
     };
+    std::array<std::size_t, 4> row{}, col{};
+    for (int k = 0; k < 4; ++k) row[static_cast<std::size_t>(k)] = wrap(fv, k - 1) * n, col[static_cast<std::size_t>(k)] = wrap(fu, k - 1);
     Taps t{};
-    for (int b = 0; b < 4; ++b)
-        for (int a = 0; a < 4; ++a) {
-            t.index[4 * b + a] = wrap(fv, b - 1) * n + wrap(fu, a - 1);
-            t.weight[4 * b + a] = wu[static_cast<std::size_t>(a)] * wv[static_cast<std::size_t>(b)];
+    for (std::size_t b = 0; b < 4; ++b)
+        for (std::size_t a = 0; a < 4; ++a) {
+            t.index[4 * b + a] = row[b] + col[a];
+            t.weight[4 * b + a] = wu[a] * wv[b];
         }
     return t;
 }

@@ -1,6 +1,8 @@
 // Fresnel reflectivity and the reflected / transmitted directions.
 #include "libwave/physics.h"
 
+#include "physics/fresnel_formula.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -13,17 +15,7 @@ double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[
 }  // namespace
 
 double fresnel_reflectivity(double cos_incidence, double n_i, double n_t) noexcept {
-    // Tessendorf eq. 44 written with the s- and p-amplitude coefficients, which is
-    // the same expression but finite at normal incidence (where eq. 44 is 0/0).
-    const double cos_i = std::clamp(cos_incidence, 0.0, 1.0);
-    const double sin_i2 = 1.0 - cos_i * cos_i;
-    const double eta = n_i / n_t;
-    const double sin_t2 = eta * eta * sin_i2;  // Snell, Tessendorf eq. 40
-    if (sin_t2 >= 1.0) return 1.0;             // total internal reflection
-    const double cos_t = std::sqrt(1.0 - sin_t2);
-    const double rs = (n_i * cos_i - n_t * cos_t) / (n_i * cos_i + n_t * cos_t);
-    const double rp = (n_t * cos_i - n_i * cos_t) / (n_t * cos_i + n_i * cos_t);
-    return 0.5 * (rs * rs + rp * rp);
+    return detail::fresnel_reflectivity(cos_incidence, n_i, n_t);
 }
 
 double fresnel_transmissivity(double cos_incidence, double n_i, double n_t) noexcept {

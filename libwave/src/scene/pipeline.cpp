@@ -13,6 +13,8 @@
 #include "surface_model.h"
 
 #include <nlohmann/json.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
 #include <tbb/task_group.h>
 
 #include <algorithm>
@@ -944,10 +946,16 @@ void evaluate_frame(FrameRun& r, const std::vector<std::uint32_t>& coarse_triang
         if (r.adjacency.offsets.empty()) r.adjacency = vertex_faces(n, a.triangles);
         vertex_normals(p, a.triangles, r.adjacency, nr);
     }
-    for (std::size_t v = 0; v < n; ++v) {
-        a.z_min = std::min(a.z_min, p[3 * v + 2]);
-        a.z_max = std::max(a.z_max, p[3 * v + 2]);
-    }
+    // The heights' range, in parallel (min and max are exact in any order).
+    using Range = std::pair<float, float>;
+    const Range z = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, n, 1 << 14), Range{a.z_min, a.z_max},
+        [&](const tbb::blocked_range<std::size_t>& b, Range m) {
+            for (std::size_t v = b.begin(); v < b.end(); ++v) m = {std::min(m.first, p[3 * v + 2]), std::max(m.second, p[3 * v + 2])};
+            return m;
+        },
+        [](const Range& x, const Range& y) { return Range{std::min(x.first, y.first), std::max(x.second, y.second)}; });
+    a.z_min = z.first, a.z_max = z.second;
     if (r.caustics) {
         const std::size_t b = f % 2;
         r.caustic_pngs[b]->wait();  // the map two frames back is encoded: its buffer is free

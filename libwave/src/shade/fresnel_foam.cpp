@@ -2,6 +2,7 @@
 // depth-limited breaking, and Ts'o's baked colour (eq. 4.1).
 #include "libwave/errors.h"
 #include "libwave/shade.h"
+#include "physics/fresnel_formula.h"
 
 #include <tbb/parallel_for.h>
 
@@ -35,7 +36,7 @@ void fresnel_weights(std::span<const float> p, std::span<const float> n, const F
         const double len = std::sqrt(ex * ex + ey * ey + ez * ez);
         double cos_i = len > 0.0 ? (ex * n[3 * v] + ey * n[3 * v + 1] + ez * n[3 * v + 2]) / len : 1.0;
         cos_i = std::min(std::abs(cos_i), 1.0);  // the underside of a lip is seen from its other side
-        const double r = o.model == FresnelModel::exact ? fresnel_reflectivity(cos_i, 1.0, o.water_index)
+        const double r = o.model == FresnelModel::exact ? detail::fresnel_reflectivity(cos_i, 1.0, o.water_index)
                                                         : fresnel_reflectivity_tso(std::acos(cos_i));
         reflect[v] = static_cast<float>(r);
         refract[v] = static_cast<float>(1.0 - r);
