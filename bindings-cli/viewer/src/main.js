@@ -341,13 +341,27 @@ async function showFrame(f) {
   return f;
 }
 
-function fitCamera(object) {
-  const box = new THREE.Box3().setFromObject(object, true);
-  if (box.isEmpty()) return;
+// Frames the domain: the water's vertices whose rest position (TEXCOORD_0) lies in
+// [0, 1]², so that a far-field skirt reaching tens or thousands of km (docs/far-field.md)
+// stays in view without shrinking the coast to a dot; the far plane holds the whole.
+function fitCamera(object, mesh) {
+  const whole = new THREE.Box3().setFromObject(object, true);
+  if (whole.isEmpty()) return;
+  let box = whole;
+  const uv = mesh && mesh.geometry.attributes.uv, position = mesh && mesh.geometry.attributes.position;
+  if (uv && position) {
+    const domain = new THREE.Box3(), v = new THREE.Vector3();
+    mesh.updateWorldMatrix(true, false);
+    for (let i = 0; i < position.count; ++i) {
+      const u = uv.getX(i), w = uv.getY(i);
+      if (u >= 0 && u <= 1 && w >= 0 && w <= 1) domain.expandByPoint(v.fromBufferAttribute(position, i).applyMatrix4(mesh.matrixWorld));
+    }
+    if (!domain.isEmpty()) box = domain;
+  }
   const size = box.getSize(new THREE.Vector3()).length(), center = box.getCenter(new THREE.Vector3());
   camera.position.copy(center).add(new THREE.Vector3(0.15 * size, 0.45 * size, 0.75 * size));
   camera.near = size / 1000;
-  camera.far = size * 20;
+  camera.far = Math.max(size * 20, 2 * whole.getSize(new THREE.Vector3()).length());
   camera.updateProjectionMatrix();
   controls.target.copy(center);
   controls.update();
@@ -369,7 +383,7 @@ async function openOutput(i) {
   }
   $('color-by').value = state.colorBy;
   await showFrame(0);
-  fitCamera(source.object);
+  fitCamera(source.object, state.mesh);
   $('info').textContent = `${o.name}: ${source.form} form, ${source.compression}\n` +
     `${source.frames} frames at ${source.fps} fps (${(source.frames / source.fps).toFixed(2)} s)\n` +
     `${source.vertices} vertices, ${source.triangles} triangles`;
