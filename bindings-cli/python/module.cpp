@@ -396,7 +396,8 @@ PYBIND11_MODULE(_libwave, m) {
         },
         py::arg("path"),
         "Reads an output of wave run (.glb/.gltf of the morph or nodes form, a frame file, or the files form's "
-        "index.json; plain, quantised or a Draco morph base): positions and normals (frames, n, 3) z up, "
+        "index.json; plain, quantised or Draco, a Draco frame's skirt primitive joined to it): positions and "
+        "normals (frames, n, 3) z up, "
         "foam/reflect/refract (frames, n), colors, triangles, fps, frame_count, first_frame, loop_frames, scene");
 
     m.def(
