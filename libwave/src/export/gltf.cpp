@@ -669,7 +669,7 @@ struct ModelWriter {
     // primitives, each on a lattice of its own (docs/far-field.md, "Draco frames").
     std::vector<tinygltf::Primitive> draco_split_primitives(const MorphAnimationView& a, const FrameArrays& frame,
                                                             const std::array<SkirtPart, 2>& parts) {
-        std::vector<float> all;  // POSITION, glTF axes
+        std::span<const float> all;  // POSITION, glTF axes
         for (const auto& [name, type, values] : frame.attributes)
             if (name == "POSITION") all = values;
         const std::array<double, 2> steps = split_steps(all, parts, a.draco->position_bits);
