@@ -1,6 +1,7 @@
 // Tessendorf §3.3–3.7 per frame: h̃(k, t) (eq. 26), height, slope (eq. 20),
 // choppy displacement (eq. 29) and the Jacobian (eqs. 30–34) by inverse real FFTs.
 #include "core/memory.h"
+#include "core/vector_clones.h"
 #include "libwave/errors.h"
 #include "libwave/motion.h"
 #include "libwave/physics.h"
@@ -189,6 +190,44 @@ void ocean_jacobian_field(const OceanPlan& plan, const OceanFields& f, std::span
     });
 }
 
+namespace {
+
+// One row of ocean_patch_frame's lattice: its fields from `in` on.
+struct PatchRow {
+    const float *height, *slope_x, *slope_y, *disp_x, *disp_y, *disp_xx, *disp_yy, *disp_xy;
+};
+
+// `count` vertices of a row from column `col0` on: positions, exact normals and (when
+// jm is not null) J₋. Loops without calls or branches, vectorised (core/vector_clones.h).
+LIBWAVE_VECTOR_CLONES void patch_row(const PatchRow& f, std::size_t count, double d, double row, double lambda,
+                                     float* __restrict positions, float* __restrict normals, float* __restrict jm,
+                                     std::size_t col0 = 0) {
+    const float *__restrict height = f.height, *__restrict sx = f.slope_x, *__restrict sy = f.slope_y;
+    const float *__restrict dx = f.disp_x, *__restrict dy = f.disp_y;
+    const float *__restrict dxx = f.disp_xx, *__restrict dyy = f.disp_yy, *__restrict dxy = f.disp_xy;
+    const int first = static_cast<int>(col0);  // int: its conversion to double vectorises (N ≤ 4096)
+    for (std::size_t c = 0; c < count; ++c) {
+        const double jxx = 1.0 - lambda * dxx[c], jyy = 1.0 - lambda * dyy[c], jxy = -lambda * dxy[c];
+        positions[3 * c] = static_cast<float>(d * static_cast<double>(first + static_cast<int>(c)) - lambda * dx[c]);
+        positions[3 * c + 1] = static_cast<float>(d * row - lambda * dy[c]);
+        positions[3 * c + 2] = height[c];
+        // ∂P/∂x0 = (Jxx, Jxy, ∂h/∂x), ∂P/∂y0 = (Jxy, Jyy, ∂h/∂y): their cross product.
+        const double nx = jxy * sy[c] - sx[c] * jyy, ny = sx[c] * jxy - jxx * sy[c], nz = jxx * jyy - jxy * jxy;
+        const double len = std::sqrt(nx * nx + ny * ny + nz * nz);
+        const double inv = len > 0.0 ? 1.0 / len : 0.0;
+        normals[3 * c] = static_cast<float>(nx * inv);
+        normals[3 * c + 1] = static_cast<float>(ny * inv);
+        normals[3 * c + 2] = len > 0.0 ? static_cast<float>(nz * inv) : 1.0f;
+    }
+    if (!jm) return;
+    for (std::size_t c = 0; c < count; ++c) {  // eq. 32 (the eigenvector is not needed here)
+        const double jxx = 1.0 - lambda * dxx[c], jyy = 1.0 - lambda * dyy[c], jxy = -lambda * dxy[c];
+        jm[c] = static_cast<float>(0.5 * (jxx + jyy) - 0.5 * std::sqrt((jxx - jyy) * (jxx - jyy) + 4.0 * jxy * jxy));
+    }
+}
+
+}  // namespace
+
 void ocean_patch_frame(const OceanPlan& plan, const OceanFields& f, std::span<float> positions,
                        std::span<float> normals, std::span<float> j_minus) {
     const std::size_t n = plan.n, side = n + 1, count = side * side;
@@ -197,25 +236,16 @@ void ocean_patch_frame(const OceanPlan& plan, const OceanFields& f, std::span<fl
         throw InputError("ocean: the patch frame needs (N+1)² vertices: 3 floats each for positions and normals");
     const double d = plan.spacing(), lambda = plan.choppiness;
     tbb::parallel_for(std::size_t{0}, side, [&](std::size_t row) {
-        const std::size_t src_row = (row == n ? 0 : row) * n;  // the last row repeats the first
-        for (std::size_t col = 0; col < side; ++col) {
-            const std::size_t v = row * side + col, s = src_row + (col == n ? 0 : col);
-            const double jxx = 1.0 - lambda * f.disp_xx[s], jyy = 1.0 - lambda * f.disp_yy[s];
-            const double jxy = -lambda * f.disp_xy[s];
-            positions[3 * v] = static_cast<float>(d * static_cast<double>(col) - lambda * f.disp_x[s]);
-            positions[3 * v + 1] = static_cast<float>(d * static_cast<double>(row) - lambda * f.disp_y[s]);
-            positions[3 * v + 2] = f.height[s];
-            // ∂P/∂x0 = (Jxx, Jxy, ∂h/∂x), ∂P/∂y0 = (Jxy, Jyy, ∂h/∂y): their cross product.
-            const double sx = f.slope_x[s], sy = f.slope_y[s];
-            const double nx = jxy * sy - sx * jyy, ny = sx * jxy - jxx * sy, nz = jxx * jyy - jxy * jxy;
-            const double len = std::sqrt(nx * nx + ny * ny + nz * nz);
-            const double inv = len > 0.0 ? 1.0 / len : 0.0;
-            normals[3 * v] = static_cast<float>(nx * inv);
-            normals[3 * v + 1] = static_cast<float>(ny * inv);
-            normals[3 * v + 2] = len > 0.0 ? static_cast<float>(nz * inv) : 1.0f;
-            if (!j_minus.empty())  // eq. 32 (the eigenvector is not needed here)
-                j_minus[v] = static_cast<float>(0.5 * (jxx + jyy) - 0.5 * std::sqrt((jxx - jyy) * (jxx - jyy) + 4.0 * jxy * jxy));
-        }
+        const std::size_t src = (row == n ? 0 : row) * n;  // the last row repeats the first
+        const PatchRow in{f.height.data() + src, f.slope_x.data() + src, f.slope_y.data() + src,
+                          f.disp_x.data() + src, f.disp_y.data() + src, f.disp_xx.data() + src,
+                          f.disp_yy.data() + src, f.disp_xy.data() + src};
+        float* const p = positions.data() + 3 * row * side;
+        float* const nr = normals.data() + 3 * row * side;
+        float* const jm = j_minus.empty() ? nullptr : j_minus.data() + row * side;
+        patch_row(in, n, d, static_cast<double>(row), lambda, p, nr, jm);
+        // the last column repeats the first (its x one patch further)
+        patch_row(in, 1, d, static_cast<double>(row), lambda, p + 3 * n, nr + 3 * n, jm ? jm + n : nullptr, n);
     });
 }
 

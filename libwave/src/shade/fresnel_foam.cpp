@@ -2,11 +2,14 @@
 // depth-limited breaking, and Ts'o's baked colour (eq. 4.1).
 #include "libwave/errors.h"
 #include "libwave/shade.h"
+#include "core/vector_clones.h"
 #include "physics/fresnel_formula.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -20,6 +23,36 @@ void require_size(std::size_t got, std::size_t want, const char* what) {
                          std::to_string(want));
 }
 
+// |cos i| between the unit normal and the direction to the camera: the underside of
+// a lip is seen from its other side; 1 for a vertex at the camera.
+inline double cos_to_camera(const float* p, const float* n, const std::array<double, 3>& camera) noexcept {
+    const double ex = camera[0] - p[0], ey = camera[1] - p[1], ez = camera[2] - p[2];
+    const double len = std::sqrt(ex * ex + ey * ey + ez * ez);
+    const double along = ex * n[0] + ey * n[1] + ez * n[2];
+    return std::min(std::abs(len > 0.0 ? along / len : 1.0), 1.0);
+}
+
+// The exact model's weights of `count` vertices: a loop without calls or branches,
+// vectorised (core/vector_clones.h).
+LIBWAVE_VECTOR_CLONES void exact_weights(const float* __restrict p, const float* __restrict n, std::size_t count,
+                                         const std::array<double, 3>& camera, double water_index,
+                                         float* __restrict reflect, float* __restrict refract) {
+    for (std::size_t v = 0; v < count; ++v) {
+        const double r = detail::fresnel_reflectivity(cos_to_camera(p + 3 * v, n + 3 * v, camera), 1.0, water_index);
+        reflect[v] = static_cast<float>(r);
+        refract[v] = static_cast<float>(1.0 - r);
+    }
+}
+
+void tso_weights(const float* p, const float* n, std::size_t count, const std::array<double, 3>& camera,
+                 float* reflect, float* refract) {
+    for (std::size_t v = 0; v < count; ++v) {
+        const double r = fresnel_reflectivity_tso(std::acos(cos_to_camera(p + 3 * v, n + 3 * v, camera)));
+        reflect[v] = static_cast<float>(r);
+        refract[v] = static_cast<float>(1.0 - r);
+    }
+}
+
 }  // namespace
 
 void fresnel_weights(std::span<const float> p, std::span<const float> n, const FresnelOptions& o,
@@ -30,16 +63,15 @@ void fresnel_weights(std::span<const float> p, std::span<const float> n, const F
     require_size(reflect.size(), count, "reflect");
     require_size(refract.size(), count, "refract");
     if (!(o.water_index >= 1.0)) throw InputError("shade: water_index must be >= 1");
-    // Per vertex alone: parallel, and the same bits for any thread count.
-    tbb::parallel_for(std::size_t{0}, count, [&](std::size_t v) {
-        const double ex = o.camera[0] - p[3 * v], ey = o.camera[1] - p[3 * v + 1], ez = o.camera[2] - p[3 * v + 2];
-        const double len = std::sqrt(ex * ex + ey * ey + ez * ez);
-        double cos_i = len > 0.0 ? (ex * n[3 * v] + ey * n[3 * v + 1] + ez * n[3 * v + 2]) / len : 1.0;
-        cos_i = std::min(std::abs(cos_i), 1.0);  // the underside of a lip is seen from its other side
-        const double r = o.model == FresnelModel::exact ? detail::fresnel_reflectivity(cos_i, 1.0, o.water_index)
-                                                        : fresnel_reflectivity_tso(std::acos(cos_i));
-        reflect[v] = static_cast<float>(r);
-        refract[v] = static_cast<float>(1.0 - r);
+    // Per vertex alone: parallel, and the same bits for any thread count (and CPU).
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const tbb::blocked_range<std::size_t>& b) {
+        const std::size_t first = b.begin(), size = b.size();
+        if (o.model == FresnelModel::exact)
+            exact_weights(p.data() + 3 * first, n.data() + 3 * first, size, o.camera, o.water_index,
+                          reflect.data() + first, refract.data() + first);
+        else
+            tso_weights(p.data() + 3 * first, n.data() + 3 * first, size, o.camera, reflect.data() + first,
+                        refract.data() + first);
     });
 }
 
