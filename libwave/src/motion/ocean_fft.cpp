@@ -82,6 +82,42 @@ void check(const OceanPlan& plan, OceanWorkspace& ws) {
                          std::to_string(plan.n) + "² plan");
 }
 
+// A run of one spectrum row: h̃(k, t) at columns kx[0, count) of the row ky.
+struct SpectrumChunk {
+    static constexpr std::size_t kSize = 256;
+    std::size_t count = 0;
+    const float* kx = nullptr;
+    float ky = 0.0f;
+    float h_re[kSize], h_im[kSize];
+};
+
+// One field's spectrum over a chunk, interleaved (re, im): a loop without calls or
+// branches per field, vectorised (core/vector_clones.h).
+LIBWAVE_VECTOR_CLONES void fill_spectrum(int field, const SpectrumChunk& c, float* __restrict out) {
+    const float* __restrict kxs = c.kx;
+    const float ky = c.ky;
+    // out = factor(kx, 1/k) · h̃, or · i h̃ = (−Im h̃, Re h̃), as the equations write it
+    const auto fill = [&](bool times_i, auto factor) {
+        for (std::size_t q = 0; q < c.count; ++q) {
+            const float kx = kxs[q];
+            const float k = std::sqrt(kx * kx + ky * ky);
+            const float s = factor(kx, k > 0.0f ? 1.0f / k : 0.0f);
+            out[2 * q] = s * (times_i ? -c.h_im[q] : c.h_re[q]);
+            out[2 * q + 1] = s * (times_i ? c.h_re[q] : c.h_im[q]);
+        }
+    };
+    switch (field) {
+        case kHeight: fill(false, [](float, float) { return 1.0f; }); break;  // eq. 19
+        case kSlopeX: fill(true, [](float kx, float) { return kx; }); break;   // eq. 20
+        case kSlopeY: fill(true, [ky](float, float) { return ky; }); break;
+        case kDispX: fill(true, [](float kx, float inv_k) { return -kx * inv_k; }); break;  // eq. 29
+        case kDispY: fill(true, [ky](float, float inv_k) { return -ky * inv_k; }); break;
+        case kDispXX: fill(false, [](float kx, float inv_k) { return kx * kx * inv_k; }); break;  // ∂/∂x of eq. 29
+        case kDispYY: fill(false, [ky](float, float inv_k) { return ky * ky * inv_k; }); break;
+        default: fill(false, [ky](float kx, float inv_k) { return kx * ky * inv_k; }); break;
+    }
+}
+
 // Fills the spectra of the fields in `fields` at time t, then transforms them.
 template <class Fields>
 void transform(const OceanPlan& plan, double t, OceanWorkspace::Impl& w, const Fields& fields) {
@@ -97,32 +133,23 @@ void transform(const OceanPlan& plan, double t, OceanWorkspace::Impl& w, const F
             w.phase_table[m] = std::polar(1.0, -static_cast<double>(m) * omega0 * tt);
     }
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t j) {
-        const float ky = plan.ky[j];
-        for (std::size_t i = 0; i < half; ++i) {
-            const std::size_t e = j * half + i;
-            const std::complex<double> ex =
-                quantised ? w.phase_table[static_cast<std::size_t>(plan.omega_steps[e])] : std::polar(1.0, -plan.omega[e] * tt);
-            const std::complex<float> ef(ex);
-            const std::complex<float> h = plan.h0[e] * ef + plan.h0_minus[e] * std::conj(ef);  // eq. 26
-            const float kx = plan.kx[i];
-            const float k = std::sqrt(kx * kx + ky * ky);
-            const float inv_k = k > 0.0f ? 1.0f / k : 0.0f;
-            const std::complex<float> ih(-h.imag(), h.real());  // i h̃
-            for (int f : fields) {
-                std::complex<float> v;
-                switch (f) {
-                    case kHeight: v = h; break;                               // eq. 19
-                    case kSlopeX: v = kx * ih; break;                         // eq. 20
-                    case kSlopeY: v = ky * ih; break;
-                    case kDispX: v = -kx * inv_k * ih; break;                 // eq. 29
-                    case kDispY: v = -ky * inv_k * ih; break;
-                    case kDispXX: v = kx * kx * inv_k * h; break;             // ∂/∂x of eq. 29
-                    case kDispYY: v = ky * ky * inv_k * h; break;
-                    default: v = kx * ky * inv_k * h; break;
-                }
-                w.spectrum[f][e][0] = v.real();
-                w.spectrum[f][e][1] = v.imag();
+        // A row in chunks: h̃(k, t) into a scratch, then each field's spectrum from it.
+        for (std::size_t i0 = 0; i0 < half; i0 += SpectrumChunk::kSize) {
+            SpectrumChunk c;
+            c.count = std::min(SpectrumChunk::kSize, half - i0);
+            c.kx = plan.kx.data() + i0;
+            c.ky = plan.ky[j];
+            const std::size_t e0 = j * half + i0;
+            for (std::size_t q = 0; q < c.count; ++q) {
+                const std::size_t e = e0 + q;
+                const std::complex<double> ex = quantised ? w.phase_table[static_cast<std::size_t>(plan.omega_steps[e])]
+                                                          : std::polar(1.0, -plan.omega[e] * tt);
+                const std::complex<float> ef(ex);
+                const std::complex<float> h = plan.h0[e] * ef + plan.h0_minus[e] * std::conj(ef);  // eq. 26
+                c.h_re[q] = h.real();
+                c.h_im[q] = h.imag();
             }
+            for (int f : fields) fill_spectrum(f, c, reinterpret_cast<float*>(w.spectrum[f] + e0));
         }
     });
     // One sequential transform per field, the fields in parallel: bits independent of threads.
