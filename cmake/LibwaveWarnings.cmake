@@ -3,8 +3,10 @@ function(libwave_warnings target)
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow
     -Wconversion -Wno-sign-conversion -Wnon-virtual-dtor -Wold-style-cast)
   # No errno from libm and no FP traps assumed: lets per-vertex loops with sqrt and
-  # selects vectorise (core/vector_clones.h). Neither changes a computed value.
-  target_compile_options(${target} PRIVATE -fno-math-errno -fno-trapping-math)
+  # selects vectorise (core/vector_clones.h). Our public functions are not interposed
+  # (the shared libraries call their own): a per-vertex loop may inline one. None of
+  # these changes a computed value.
+  target_compile_options(${target} PRIVATE -fno-math-errno -fno-trapping-math -fno-semantic-interposition)
   if(LIBWAVE_WERROR)
     target_compile_options(${target} PRIVATE -Werror)
   endif()

@@ -56,14 +56,25 @@ FoldSample fold_sample(std::span<const float> j_minus, const FoldFoamOptions& o)
 }
 
 void accumulate_fold_foam(const FoldSample& sample, double age, const FoldFoamOptions& o, std::span<float> foam) {
+    const std::size_t count = sample.vertex.size();
+    if (sample.j_minus.size() != count)
+        throw InputError("shade: a fold sample holds " + std::to_string(count) + " vertices and " +
+                         std::to_string(sample.j_minus.size()) + " J₋ values");
+    if (count > 0) {
+        const std::uint32_t last = *std::max_element(sample.vertex.begin(), sample.vertex.end());
+        if (last >= foam.size())
+            throw InputError("shade: a fold sample's vertex " + std::to_string(last) + " is beyond the foam array");
+    }
     const double w = fold_fade(age, o);
     if (w <= 0.0) return;
-    for (std::size_t i = 0; i < sample.vertex.size(); ++i) {
-        const std::uint32_t v = sample.vertex[i];
-        if (v >= foam.size()) throw InputError("shade: a fold sample's vertex " + std::to_string(v) + " is beyond the foam array");
-        // The same expression as the dense accumulate_fold_foam: the same bits.
-        foam[v] = std::max(foam[v], static_cast<float>(fold_coverage(sample.j_minus[i], o) * w));
-    }
+    // Each vertex once (ascending indices): parallel, the same bits for any thread count.
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const auto& r) {
+        for (std::size_t i = r.begin(); i < r.end(); ++i) {
+            const std::uint32_t v = sample.vertex[i];
+            // The same expression as the dense accumulate_fold_foam: the same bits.
+            foam[v] = std::max(foam[v], static_cast<float>(fold_coverage(sample.j_minus[i], o) * w));
+        }
+    });
 }
 
 double fold_threshold_for_coverage(std::span<const std::vector<float>> past, double step, const FoldFoamOptions& options,
