@@ -25,7 +25,8 @@ addon_utils.enable("libwave_blender", default_set=True)
 source = os.path.join(run, "index.json") if os.path.exists(os.path.join(run, "index.json")) else os.path.join(run, "animation.glb")
 bake = os.environ.get("LIBWAVE_BAKE")
 bpy.ops.import_scene.libwave(filepath=source, caustics=os.environ.get("LIBWAVE_NO_CAUSTICS") != "1", bake=bool(bake),
-                             file_normals=os.environ.get("LIBWAVE_FILE_NORMALS") == "1")
+                             file_normals=os.environ.get("LIBWAVE_FILE_NORMALS") == "1",
+                             visibility=float(os.environ.get("LIBWAVE_VISIBILITY", "40000")))
 scene = bpy.context.scene
 if scene.camera is None:  # the files form carries no camera: one from the open sea
     water = next(o for o in scene.objects if "libwave_source" in o or "libwave_baked" in o)

@@ -16,7 +16,7 @@ import os
 import bpy
 import numpy as np
 from bpy.app.handlers import persistent
-from bpy.props import BoolProperty, StringProperty
+from bpy.props import BoolProperty, FloatProperty, StringProperty
 from bpy_extras.io_utils import ImportHelper
 
 from . import bake as baking
@@ -33,6 +33,8 @@ bl_info = {
 }
 
 _PROP = "libwave_source"  # custom property on the object: the file it plays
+# Haze on the seafloor seen from the camera (m; _add_haze): a clear day, 40 km.
+DEFAULT_VISIBILITY = 40000.0
 _animations = {}  # source path → frames.Animation (reopened after a .blend is loaded)
 
 
@@ -130,6 +132,63 @@ def water_material(baked_colour=False):
     return mat
 
 
+# Koschmieder's law: a dark object's contrast against the horizon sky falls as
+# e^{−σ d}, and the meteorological visibility V is where it reaches 2 %: σ = −ln 0.02 / V.
+_KOSCHMIEDER = -math.log(0.02)
+
+
+def _add_haze(mat, visibility):
+    """Aerial perspective for the seafloor seen straight from the camera: the surface
+    gives way to what lies behind it (the world's sky, at the horizon) by the share
+    1 − e^{−σ d} of Koschmieder's law, d the distance to the camera, σ = 3.912 / V.
+    The land apron that carries a coast's hinterland to the horizon then fades into the
+    sky as a real coast does in haze, instead of ending at the horizon as a flat plain.
+    Only camera rays: the seafloor seen through the water, and shadows, are unchanged.
+    The visibility stays a Value node of the material ("visibility (m)")."""
+    if not visibility > 0.0:
+        return
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    out = nodes.get("Material Output")
+    shader = out.inputs["Surface"].links[0].from_socket
+    camera = nodes.new("ShaderNodeCameraData")
+    v = nodes.new("ShaderNodeValue")
+    v.label = "visibility (m)"
+    v.outputs[0].default_value = float(visibility)
+    ratio = nodes.new("ShaderNodeMath")
+    ratio.operation = "DIVIDE"
+    links.new(camera.outputs["View Distance"], ratio.inputs[0])
+    links.new(v.outputs[0], ratio.inputs[1])
+    optical = nodes.new("ShaderNodeMath")
+    optical.operation = "MULTIPLY"
+    optical.inputs[1].default_value = -_KOSCHMIEDER
+    links.new(ratio.outputs["Value"], optical.inputs[0])
+    kept = nodes.new("ShaderNodeMath")
+    kept.operation = "EXPONENT"
+    links.new(optical.outputs["Value"], kept.inputs[0])
+    gone = nodes.new("ShaderNodeMath")
+    gone.operation = "SUBTRACT"
+    gone.inputs[0].default_value = 1.0
+    links.new(kept.outputs["Value"], gone.inputs[1])
+    path = nodes.new("ShaderNodeLightPath")
+    share = nodes.new("ShaderNodeMath")
+    share.operation = "MULTIPLY"
+    share.label = "haze: (1 − e^(−3.912 d / V)) on camera rays"
+    links.new(gone.outputs["Value"], share.inputs[0])
+    links.new(path.outputs["Is Camera Ray"], share.inputs[1])
+    clear = nodes.new("ShaderNodeBsdfTransparent")
+    mix = nodes.new("ShaderNodeMixShader")
+    links.new(share.outputs["Value"], mix.inputs["Fac"])
+    links.new(shader, mix.inputs[1])
+    links.new(clear.outputs["BSDF"], mix.inputs[2])
+    links.new(mix.outputs["Shader"], out.inputs["Surface"])
+    for i, node in enumerate((camera, ratio, optical, kept, gone, share, mix)):
+        node.location = (-900 + 200 * i, 500)
+    v.location, path.location, clear.location = (-900, 350), (-100, 700), (100, 350)
+    out.location = (500, 300)
+    if hasattr(mat, "blend_method"):  # Eevee (3.x) blends the transparent share by dithering
+        mat.blend_method = "HASHED"
+
+
 def _new_seafloor_material(name):
     """A rough Principled BSDF coloured by the seafloor's "depth colour" attribute:
     (material, its BSDF node, the attribute node)."""
@@ -143,9 +202,13 @@ def _new_seafloor_material(name):
     return mat, bsdf, colour
 
 
-def _seafloor_material():
-    mat = bpy.data.materials.get("libwave seafloor")
-    return mat if mat is not None else _new_seafloor_material("libwave seafloor")[0]
+def _seafloor_material(visibility):
+    name = "libwave seafloor" if not visibility > 0.0 else f"libwave seafloor (visibility {visibility:g} m)"
+    mat = bpy.data.materials.get(name)
+    if mat is None:
+        mat = _new_seafloor_material(name)[0]
+        _add_haze(mat, visibility)
+    return mat
 
 
 def _socket(node, *names):
@@ -154,7 +217,7 @@ def _socket(node, *names):
     return next(node.inputs[n] for n in names if n in node.inputs)
 
 
-def _caustic_material(folder, caustics, sun_irradiance):
+def _caustic_material(folder, caustics, sun_irradiance, visibility):
     """The seafloor material with the caustic maps as an image sequence (docs/underwater.md):
     the floor emits its depth colour × the map's irradiance / π (what a diffuse floor
     lit by it would send back), since Cycles' sun does not
@@ -191,13 +254,15 @@ def _caustic_material(folder, caustics, sun_irradiance):
     for i, node in enumerate((uv, image_node, scale)):
         node.location = (-900 + 250 * i, -300)
     colour.location = (-500, 200)
+    _add_haze(mat, visibility)
     return mat
 
 
-def import_dressing(context, dressing, folder="", caustics=True):
+def import_dressing(context, dressing, folder="", caustics=True, visibility=DEFAULT_VISIBILITY):
     """The seafloor, camera and sun a libwave .glb carries, as Blender objects (the camera
     becomes the scene's); with `caustics`, the caustic maps beside the file (in `folder`)
-    light the seafloor."""
+    light the seafloor; `visibility` (m) hazes the seafloor seen from the camera with
+    distance (Koschmieder's law; 0: none)."""
     from mathutils import Matrix
     made = []
     if dressing.seafloor is not None:
@@ -220,9 +285,9 @@ def import_dressing(context, dressing, folder="", caustics=True):
             if dressing.sun is not None:  # the sun's irradiance on a horizontal plane: energy × sin(elevation)
                 matrix, intensity, _ = dressing.sun
                 sun_irradiance = float(intensity) * max(0.0, float(np.asarray(matrix)[2, 2]))
-            mesh.materials.append(_caustic_material(folder, info, sun_irradiance))
+            mesh.materials.append(_caustic_material(folder, info, sun_irradiance, visibility))
         else:
-            mesh.materials.append(_seafloor_material())
+            mesh.materials.append(_seafloor_material(visibility))
         obj = bpy.data.objects.new("libwave seafloor", mesh)
         context.collection.objects.link(obj)
         made.append(obj)
@@ -256,14 +321,16 @@ def import_dressing(context, dressing, folder="", caustics=True):
     return made
 
 
-def import_animation(context, path, set_scene=True, caustics=True, bake=False, baked_colour=False, file_normals=False):
+def import_animation(context, path, set_scene=True, caustics=True, bake=False, baked_colour=False, file_normals=False,
+                     visibility=DEFAULT_VISIBILITY):
     """Creates the water object for `path` (a .glb/.gltf or index.json); with `set_scene`
     the scene's fps and frame range become the animation's; with `caustics` the caustic
     maps beside it (when the run wrote them) light the seafloor; with `bake` every frame
     is stored in the .blend and played by Blender's own nodes (bake.py), otherwise the
     frames are read from the file on each frame change; with `baked_colour` the water
     shows the file's baked colour (a ValueError when it has none); with `file_normals`
-    (not with `bake`) each frame change also sets the file's normals as custom normals."""
+    (not with `bake`) each frame change also sets the file's normals as custom normals;
+    `visibility` (m) hazes the seafloor with distance (0: none)."""
     anim = _animation(os.path.abspath(path))
     first = anim.frame(0)
     if baked_colour and first.color is None:
@@ -290,7 +357,7 @@ def import_animation(context, path, set_scene=True, caustics=True, bake=False, b
     if _on_frame_change not in bpy.app.handlers.frame_change_post:
         bpy.app.handlers.frame_change_post.append(_on_frame_change)
     if anim.dressing is not None:
-        import_dressing(context, anim.dressing, anim.folder, caustics)
+        import_dressing(context, anim.dressing, anim.folder, caustics, visibility)
     if not bake:
         apply_frame(obj, scene.frame_current)
     return obj
@@ -320,10 +387,15 @@ class ImportLibwave(bpy.types.Operator, ImportHelper):
                                            "(about 0.1 s a frame for 16 000 vertices); off: Blender's smooth normals of "
                                            "the animated positions. Not with the bake")
 
+    visibility: FloatProperty(name="Haze: visibility (m)", default=DEFAULT_VISIBILITY, min=0.0, soft_max=200000.0,
+                              description="Aerial perspective on the seafloor seen from the camera: it fades into the "
+                                          "sky with distance, to 2 % contrast at this distance (Koschmieder); a coast's "
+                                          "land carried to the horizon fades as in haze. 0: none")
+
     def execute(self, context):
         try:
             import_animation(context, self.filepath, self.set_scene, self.caustics, self.bake, self.baked_colour,
-                             self.file_normals)
+                             self.file_normals, self.visibility)
         except (OSError, KeyError, ValueError, frames.LibwaveFileError) as e:
             self.report({"ERROR"}, f"libwave: {e}")
             return {"CANCELLED"}
