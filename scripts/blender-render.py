@@ -6,7 +6,8 @@
 # Blender axes, for close-ups; LIBWAVE_BAKE=FILE.blend imports baked into the .blend
 # and saves it, ready to render, as FILE.blend: `blender -b --factory-startup FILE.blend
 # -o OUT -f FRAME` then renders it without the add-on; LIBWAVE_FILE_NORMALS=1 imports
-# with the file's normals as custom normals.)
+# with the file's normals as custom normals; LIBWAVE_VISIBILITY=M sets the add-on's haze
+# (m, default 40000; 0 for none).)
 # The add-on imports the water (positions, foam, reflect, refract per frame) and the
 # seafloor, camera and sun the .glb carries; this script adds a sky and renders.
 import math
