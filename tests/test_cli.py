@@ -314,6 +314,48 @@ class MainJob(unittest.TestCase):
                 foam_max = max(foam_max, max(frame))
             self.assertGreater(foam_max, 0.5)
 
+    def test_seafloor_apron_closes_on_the_far_rectangle_and_keeps_the_border_slopes_to_a_cell(self):
+        # The seafloor under the far field (docs/far-field.md, the seafloor apron): the
+        # default bay's grid ([0, 100]² m, 0.5 m nodes) continued to the skirt's far
+        # rectangle. Every edge inside is shared by two triangles and the mesh's only
+        # border is that rectangle. A triangle touching the grid's border stays within a
+        # cell or so of it: a renderer's smooth normals carry the border's slopes (and
+        # their light) that far only. A single ring to the far rectangle made 80 km
+        # triangles of them, a bright wedge of land to the horizon (docs/blender.png).
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, "out")
+            r = wave("run", "-o", out, "--frames", "0:1", "--no-quantize")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            with open(os.path.join(out, "report-frames-0-1.json")) as f:
+                reach = json.load(f)["surface"]["far_field"]["distance_m"]
+            doc, binary = read_glb(os.path.join(out, "animation-frames-0-1.glb"))
+            prim = next(m for m in doc["meshes"] if m["name"] == "seafloor")["primitives"][0]
+            g = floats(doc, binary, prim["attributes"]["POSITION"])
+            plan = [(g[i], -g[i + 2]) for i in range(0, len(g), 3)]  # glTF y up: libwave's (x, −z)
+            a = doc["accessors"][prim["indices"]]
+            view = doc["bufferViews"][a["bufferView"]]
+            code = {5125: "I", 5123: "H"}[a["componentType"]]
+            idx = struct.unpack_from("<%d%s" % (a["count"], code), binary, view.get("byteOffset", 0) + a.get("byteOffset", 0))
+            tris = [idx[i:i + 3] for i in range(0, len(idx), 3)]
+            outside = lambda p: max(-p[0], p[0] - 100.0, -p[1], p[1] - 100.0)  # > 0 beyond the grid's rectangle
+            on_border = [abs(outside(p)) < 1e-4 for p in plan]
+            self.assertEqual(sum(on_border), 4 * 200)  # the grid's border nodes
+            uses = {}
+            for t in tris:
+                for e in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0])):
+                    uses[tuple(sorted(e))] = uses.get(tuple(sorted(e)), 0) + 1
+            self.assertLessEqual(max(uses.values()), 2)
+            open_edges = [e for e, n in uses.items() if n == 1]
+            self.assertGreater(len(open_edges), 0)
+            for e in open_edges:
+                for v in e:
+                    self.assertGreater(outside(plan[v]), 0.99 * reach, plan[v])
+            longest = 0.0
+            for t in tris:
+                if any(on_border[v] for v in t):
+                    longest = max(longest, max(math.dist(plan[t[i]], plan[t[(i + 1) % 3]]) for i in range(3)))
+            self.assertLessEqual(longest, 0.5 * math.sqrt(2.0) + 1e-3)
+
     def test_named_attributes_and_colour(self):
         with tempfile.TemporaryDirectory() as d:
             scene, out = os.path.join(d, "s.json"), os.path.join(d, "out")

@@ -1000,7 +1000,11 @@ std::array<float, 3> seafloor_colour(double z, double depth_max) {
 // far rectangle (each border node's elevation along its side's outward normal, a fan
 // to the far corner at each corner), so that the water beyond the domain lies over the
 // same bottom. The grid's nodes are the first cols × rows of `a`'s seafloor vertices.
-void add_seafloor_apron(double R, std::size_t cols, std::size_t rows, double depth_max, SceneAnimation& a) {
+// Two rings: one a grid cell (`cell`) out, then the far rectangle (`reach`). The near
+// ring keeps the border's slopes in the border's own smooth normals: a renderer's
+// normals then turn level within a cell, where one ring would carry each border node's
+// slope (and its light) along a strip to the horizon.
+void add_seafloor_apron(double cell, double reach, std::size_t cols, std::size_t rows, double depth_max, SceneAnimation& a) {
     // The grid's border nodes counter-clockwise, side by side (corners in both sides).
     const std::array<std::vector<std::uint32_t>, 4> sides = [&] {
         std::array<std::vector<std::uint32_t>, 4> s;
@@ -1021,24 +1025,32 @@ void add_seafloor_apron(double R, std::size_t cols, std::size_t rows, double dep
         if (mapped) a.seafloor_texcoords.insert(a.seafloor_texcoords.end(), {a.seafloor_texcoords[2 * from], a.seafloor_texcoords[2 * from + 1]});
         return static_cast<std::uint32_t>(a.seafloor_positions.size() / 3 - 1);
     };
-    std::array<std::uint32_t, 4> first{}, last{};  // each side's outer vertices at its ends
-    for (std::size_t s = 0; s < 4; ++s) {
-        std::uint32_t previous = 0;
-        for (std::size_t j = 0; j < sides[s].size(); ++j) {
-            const std::uint32_t v = sides[s][j];
-            const std::uint32_t q = add(v, a.seafloor_positions[3 * v] + R * normal[s][0], a.seafloor_positions[3 * v + 1] + R * normal[s][1]);
-            if (j == 0) first[s] = q;
-            if (j > 0) a.seafloor_triangles.insert(a.seafloor_triangles.end(), {sides[s][j - 1], previous, q, sides[s][j - 1], q, v});
-            previous = q;
+    // Inner chain → outer chain of the same length: triangles (a, a', b'), (a, b', b).
+    const auto strip = [&](const std::vector<std::uint32_t>& inner, const std::vector<std::uint32_t>& outer) {
+        for (std::size_t j = 1; j < inner.size(); ++j)
+            a.seafloor_triangles.insert(a.seafloor_triangles.end(), {inner[j - 1], outer[j - 1], outer[j], inner[j - 1], outer[j], inner[j]});
+    };
+    std::array<std::vector<std::uint32_t>, 4> inner = sides;
+    std::array<std::uint32_t, 4> inner_corner{};
+    for (int ring = 0; ring < 2; ++ring) {
+        const double d = ring == 0 ? cell : reach;
+        std::array<std::vector<std::uint32_t>, 4> outer;
+        for (std::size_t s = 0; s < 4; ++s) {
+            for (const std::uint32_t v : sides[s])
+                outer[s].push_back(add(v, a.seafloor_positions[3 * v] + d * normal[s][0], a.seafloor_positions[3 * v + 1] + d * normal[s][1]));
+            strip(inner[s], outer[s]);
         }
-        last[s] = previous;
-    }
-    for (std::size_t s = 0; s < 4; ++s) {  // the corner after side s
-        const std::uint32_t c = sides[s].back();
-        const double fx = a.seafloor_positions[3 * c] + R * (normal[s][0] + normal[(s + 1) % 4][0]);
-        const double fy = a.seafloor_positions[3 * c + 1] + R * (normal[s][1] + normal[(s + 1) % 4][1]);
-        const std::uint32_t far = add(c, fx, fy);
-        a.seafloor_triangles.insert(a.seafloor_triangles.end(), {c, last[s], far, c, far, first[(s + 1) % 4]});
+        for (std::size_t s = 0; s < 4; ++s) {  // the corner after side s
+            const std::uint32_t c = sides[s].back(), next = (s + 1) % 4;
+            const std::uint32_t corner = add(c, a.seafloor_positions[3 * c] + d * (normal[s][0] + normal[next][0]),
+                                             a.seafloor_positions[3 * c + 1] + d * (normal[s][1] + normal[next][1]));
+            if (ring == 0)  // a fan from the grid's corner node
+                a.seafloor_triangles.insert(a.seafloor_triangles.end(), {c, outer[s].back(), corner, c, corner, outer[next].front()});
+            else
+                strip({inner[s].back(), inner_corner[s], inner[next].front()}, {outer[s].back(), corner, outer[next].front()});
+            inner_corner[s] = corner;
+        }
+        inner = std::move(outer);
     }
 }
 
@@ -1088,7 +1100,8 @@ void dress_animation(const Scene& scene, const ScenePlan& plan, SceneAnimation& 
             d.caustic_fps = scene.fps;
             d.caustic_full_scale = scene.underwater->full_scale;
         }
-        if (plan.skirt.vertex_count() > 0) add_seafloor_apron(plan.skirt.reach, cols, rows, depth_max, a);
+        if (plan.skirt.vertex_count() > 0)
+            add_seafloor_apron(static_cast<double>(step) * std::min(g.dx, g.dy), plan.skirt.reach, cols, rows, depth_max, a);
     }
     a.dressing = d;
 }
