@@ -151,7 +151,8 @@ struct FoldSample {
 FoldSample fold_sample(std::span<const float> j_minus, const FoldFoamOptions& options);
 
 /// foam = max(foam, coverage · fade(age)) at the sample's vertices; the same result as
-/// accumulate_fold_foam on the J₋ the sample was taken from.
+/// accumulate_fold_foam on the J₋ the sample was taken from. Throws InputError when the
+/// sample's two arrays differ in length or a vertex lies beyond `foam`.
 void accumulate_fold_foam(const FoldSample& sample, double age, const FoldFoamOptions& options, std::span<float> foam);
 
 /// The J₋ threshold at which fold foam covers `coverage` of a surface (the share of

@@ -998,12 +998,12 @@ std::array<float, 3> seafloor_colour(double z, double depth_max) {
 
 // Under the far field's skirt: the seafloor's border continued outwards to the skirt's
 // far rectangle (each border node's elevation along its side's outward normal, a fan
-// to the far corner at each corner), so that the water beyond the domain lies over the
-// same bottom. The grid's nodes are the first cols × rows of `a`'s seafloor vertices.
-// Two rings: one a grid cell (`cell`) out, then the far rectangle (`reach`). The near
-// ring keeps the border's slopes in the border's own smooth normals: a renderer's
-// normals then turn level within a cell, where one ring would carry each border node's
-// slope (and its light) along a strip to the horizon.
+// at each corner), so that the water beyond the domain lies over the same bottom. The
+// grid's nodes are the first cols × rows of `a`'s seafloor vertices. Two rings: one a
+// grid cell (`cell`) out, then the far rectangle (`reach`). The near ring keeps the
+// border's slopes in the border's own smooth normals: a renderer's normals then turn
+// level within a cell, where one ring would carry each border node's slope (and its
+// light) along a strip to the horizon.
 void add_seafloor_apron(double cell, double reach, std::size_t cols, std::size_t rows, double depth_max, SceneAnimation& a) {
     // The grid's border nodes counter-clockwise, side by side (corners in both sides).
     const std::array<std::vector<std::uint32_t>, 4> sides = [&] {
