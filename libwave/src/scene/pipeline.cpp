@@ -1001,9 +1001,9 @@ std::array<float, 3> seafloor_colour(double z, double depth_max) {
 // at each corner), so that the water beyond the domain lies over the same bottom. The
 // grid's nodes are the first cols × rows of `a`'s seafloor vertices. Two rings: one a
 // grid cell (`cell`) out, then the far rectangle (`reach`). The near ring keeps the
-// border's slopes in the border's own smooth normals: a renderer's normals then turn
-// level within a cell, where one ring would carry each border node's slope (and its
-// light) along a strip to the horizon.
+// grid's slopes across the border in the border nodes' own smooth normals: a
+// renderer's normals lose them within a cell, where one ring would carry each border
+// node's slope (and its light) along a strip to the horizon.
 void add_seafloor_apron(double cell, double reach, std::size_t cols, std::size_t rows, double depth_max, SceneAnimation& a) {
     // The grid's border nodes counter-clockwise, side by side (corners in both sides).
     const std::array<std::vector<std::uint32_t>, 4> sides = [&] {
