@@ -7,7 +7,7 @@
 # and saves it, ready to render, as FILE.blend: `blender -b --factory-startup FILE.blend
 # -o OUT -f FRAME` then renders it without the add-on; LIBWAVE_FILE_NORMALS=1 imports
 # with the file's normals as custom normals; LIBWAVE_VISIBILITY=M sets the add-on's haze
-# (m, default 40000; 0 for none).)
+# (m; 0 for none; unset: the add-on's default).)
 # The add-on imports the water (positions, foam, reflect, refract per frame) and the
 # seafloor, camera and sun the .glb carries; this script adds a sky and renders.
 import math
@@ -25,9 +25,9 @@ bpy.ops.preferences.addon_install(filepath=addon_zip, overwrite=True)
 addon_utils.enable("libwave_blender", default_set=True)
 source = os.path.join(run, "index.json") if os.path.exists(os.path.join(run, "index.json")) else os.path.join(run, "animation.glb")
 bake = os.environ.get("LIBWAVE_BAKE")
+haze = {"visibility": float(os.environ["LIBWAVE_VISIBILITY"])} if "LIBWAVE_VISIBILITY" in os.environ else {}
 bpy.ops.import_scene.libwave(filepath=source, caustics=os.environ.get("LIBWAVE_NO_CAUSTICS") != "1", bake=bool(bake),
-                             file_normals=os.environ.get("LIBWAVE_FILE_NORMALS") == "1",
-                             visibility=float(os.environ.get("LIBWAVE_VISIBILITY", "40000")))
+                             file_normals=os.environ.get("LIBWAVE_FILE_NORMALS") == "1", **haze)
 scene = bpy.context.scene
 if scene.camera is None:  # the files form carries no camera: one from the open sea
     water = next(o for o in scene.objects if "libwave_source" in o or "libwave_baked" in o)
