@@ -1,9 +1,9 @@
-# Runs the default scene in the morph, quantised morph, nodes, files and Draco files
-# forms (6 fps to keep it short), then plays each through the Blender add-on
-# (tests/blender_addon.py; Draco frames through libwave's module, its skirt a second
-# primitive joined again).
+# Runs the default scene in the morph, quantised morph, nodes, quantised nodes, files and
+# Draco files forms (6 fps to keep it short), then plays each through the Blender add-on
+# (tests/blender_addon.py; Draco frames through libwave's module; the skirt of Draco and
+# of quantised nodes a second primitive joined again).
 file(REMOVE_RECURSE ${OUT})
-foreach(form morph quant nodes files draco pc2)
+foreach(form morph quant nodes quant-nodes files draco pc2)
   set(args --fps 6)
   if(form STREQUAL "draco")
     list(APPEND args --form files --draco)
@@ -11,6 +11,8 @@ foreach(form morph quant nodes files draco pc2)
     list(APPEND args --no-quantize)  # the default scene's morph file is quantised
   elseif(form STREQUAL "quant")
     list(APPEND args --quantize)
+  elseif(form STREQUAL "quant-nodes")
+    list(APPEND args --form nodes --quantize)
   elseif(form STREQUAL "pc2")
     list(APPEND args --form pc2)
   elseif(NOT form STREQUAL "morph")

@@ -245,15 +245,20 @@ for folder in runs:
     obj = water[0]
     if abs(scene.render.fps / scene.render.fps_base - expected["fps"]) > 1e-6 or scene.frame_end != frames - 1:
         errors.append(f"{path}: fps {scene.render.fps}/{scene.render.fps_base}, frames {scene.frame_start}..{scene.frame_end}")
-    tol = 1e-6 if "quant" not in folder else 2.0 * np.abs(expected["positions"]).max() / 32767.0
     for f in [0, 1, frames // 2, frames + 1]:
         scene.frame_set(f)
         k = f % frames
         co = np.empty(3 * n, np.float32)
         obj.data.vertices.foreach_get("co", co)
-        gap = np.abs(co.reshape(n, 3) - expected["positions"][k]).max()
-        if gap > tol:
-            errors.append(f"{path}: frame {f} (loop frame {k}): positions off by {gap}")
+        # Both decode the same file: float32's rounding apart. Quantised, the add-on adds the
+        # node's translation to its scale times the int16 in float32, so each coordinate is
+        # good to a few of float32's steps at its own size plus the node's (≤ 128 m on the
+        # bay): ~2e-5 m in the bay, 8 mm on the skirt at 80 km.
+        want = np.asarray(expected["positions"][k], np.float32).reshape(n, 3)
+        tol = 1e-6 if "quant" not in folder else 1e-6 + 8.0 * np.spacing(np.abs(want) + np.float32(128.0))
+        gap = np.abs(co.reshape(n, 3) - want) - tol
+        if (gap > 0).any():
+            errors.append(f"{path}: frame {f} (loop frame {k}): positions off by {(gap + tol).max()} (tolerance {np.max(tol)})")
         for name in ("foam", "reflect", "refract"):
             values = np.empty(n, np.float32)
             obj.data.attributes[name].data.foreach_get("value", values)

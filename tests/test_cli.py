@@ -2284,6 +2284,61 @@ class Convert(unittest.TestCase):
                 self.assertLessEqual(worst, 2 ** -6)
                 self.assertLessEqual(worst_inside, 2 ** -7)
 
+    def test_quantised_frames_carry_the_far_field_as_a_float_skirt(self):
+        # KHR_mesh_quantization's frames of their own (nodes, files) carry the skirt too
+        # (docs/far-field.md, "Quantised frames"): the domain's primitive on int16 spanning
+        # the domain only, the skirt's positions as floats in the same node frame, its seam
+        # vertices equal to the domain's decoded int16. Read back, a frame is the plain
+        # run's mesh: its vertex count, one boundary loop of the same length, every vertex
+        # within half an int16 step of the plain run inside the bay (1.53 mm steps: 16 bits
+        # over its 100 m, as without the skirt) and within float32's reach on the skirt
+        # (80 km: 1 cm).
+        with tempfile.TemporaryDirectory() as d:
+            scene = os.path.join(d, "s.json")
+            with open(scene, "w") as f:
+                json.dump(self.SCENE, f)
+            for out, extra in [("plain", ("--no-quantize", "--form", "files")), ("files", ("--quantize", "--form", "files")),
+                               ("nodes", ("--quantize", "--form", "nodes"))]:
+                r = wave("run", scene, "-o", os.path.join(d, out), "-q", "--frames", "0:3", *extra)
+                self.assertEqual(r.returncode, 0, r.stderr)
+            with open(os.path.join(d, "files", "report-frames-0-3.json")) as f:
+                surface = json.load(f)["surface"]
+            self.assertIn("far_field", surface)
+            files = [os.path.join(d, "files", "frames", "frame-0001.glb"), os.path.join(d, "nodes", "animation-frames-0-3.glb")]
+            looked = {}
+            for path in files + [os.path.join(d, "plain", "frames", "frame-0001.glb")]:
+                validate_gltf(self, path)
+                r = wave("inspect", path, "--json")
+                self.assertEqual(r.returncode, 0, r.stderr)
+                looked[path] = json.loads(r.stdout)
+            plain = looked.pop(os.path.join(d, "plain", "frames", "frame-0001.glb"))
+            for path, got in looked.items():
+                doc, _ = read_glb(path)
+                self.assertEqual(len(doc["meshes"][0]["primitives"]), 2, path)
+                self.assertEqual((got["vertices"], got["triangles"], got["unreferenced_vertices"]),
+                                 (surface["vertices"], surface["triangles"], 0), path)
+                self.assertEqual([loop["edges"] for loop in got["boundary"]["loops"]],
+                                 [loop["edges"] for loop in plain["boundary"]["loops"]], path)
+            r = wave("convert", os.path.join(d, "files", "index.json"), "-o", os.path.join(d, "c"), "--form", "files")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            got, reference = self.positions(os.path.join(d, "c")), self.positions(os.path.join(d, "plain"))
+            for frame, want in zip(got, reference):
+                self.assertEqual(len(frame), len(want))
+                cells = {}  # the joined mesh lists the domain's vertices first: each against the nearest reference
+                for i in range(0, len(want), 3):
+                    cells.setdefault((math.floor(want[i]), math.floor(want[i + 2])), []).append(i)
+                worst = worst_inside = 0.0
+                for i in range(0, len(frame), 3):
+                    x, y, z = frame[i:i + 3]
+                    near = min(max(abs(want[j] - x), abs(want[j + 1] - y), abs(want[j + 2] - z))
+                               for a in (-1, 0, 1) for b in (-1, 0, 1)
+                               for j in cells.get((math.floor(x) + a, math.floor(z) + b), []))
+                    worst = max(worst, near)
+                    if 0 <= x <= 100 and -90 <= z <= 0:  # the bay (glTF z = −y)
+                        worst_inside = max(worst_inside, near)
+                self.assertLessEqual(worst, 1e-2)
+                self.assertLessEqual(worst_inside, 100 / 65534 / 2 + 2e-5)
+
     def test_what_cannot_be_converted_exits_2_without_output(self):
         with tempfile.TemporaryDirectory() as d:
             scene = os.path.join(d, "s.json")

@@ -43,8 +43,9 @@ const forms = {
   'nodes-draco': ['--form', 'nodes', '--draco'],
   'nodes-quantized': ['--form', 'nodes', '--quantize'],
 };
-// The default bay without its far field: quantised nodes and files leave the far field out
-// (16 bits over the skirt's reach), and every form must hold the same mesh.
+// The default bay without its far field, so that every form holds the plain files form's
+// mesh in its order (the far field's skirt, a second primitive of Draco and quantised
+// frames, is checked below).
 const bay = path.join(work, 'bay.json');
 fs.writeFileSync(bay, JSON.stringify({
   name: 'viewer test: the default bay', seafloor: { source: 'gonzato-bay' },
@@ -317,11 +318,14 @@ for (const name of Object.keys(forms)) {
 // (docs/far-field.md), which the page joins into one mesh of the run's vertices; the
 // domain within half its lattice's step of the plain files form (2^-6 m: 14 bits over
 // 100 m, rounded up to what Draco's six printed decimals keep), the skirt within half
-// of its own (2^-5 m: 80 km each way in fewer than 2^23 steps).
+// of its own (2^-5 m: 80 km each way in fewer than 2^23 steps). Quantised nodes: the
+// skirt's floats in the int16 node frame, joined likewise; the bay within half an int16
+// step (1.53 mm over its 100 m), the skirt within float32's reach at 80 km (1 cm).
 {
   const far = {};
-  for (const [name, args] of [['far-files', []], ['far-files-draco', ['--draco']]]) {
-    run(['run', '--frames', '0:3', '-q', '--form', 'files', '-o', path.join(work, name), ...args]);
+  for (const [name, args] of [['far-files', ['--form', 'files']], ['far-files-draco', ['--form', 'files', '--draco']],
+    ['far-nodes-quantized', ['--form', 'nodes', '--quantize']]]) {
+    run(['run', '--frames', '0:3', '-q', '-o', path.join(work, name), ...args]);
     const report = JSON.parse(fs.readFileSync(path.join(work, name, 'report-frames-0-3.json'), 'utf8'));
     const { server, info } = await open(name);
     await page.evaluate(() => window.wave.setFrame(2));
@@ -341,6 +345,65 @@ for (const name of Object.keys(forms)) {
     }
     assert.ok(inside.length > 3 * 5000, `${inside.length / 3} vertices inside the bay`);
     matchPoints(inside, plain.positions, 2 ** -7 * 1.01, false);
+  });
+  await check('quantised nodes with the far field: one mesh of the run\'s vertices, the bay on its int16 grid', async () => {
+    const [plain, quantised] = [far['far-files'], far['far-nodes-quantized']];
+    assert.ok(quantised.report.surface.far_field, 'the quantised run keeps the far field');
+    assert.equal(quantised.info.vertices, plain.report.surface.vertices);
+    assert.equal(quantised.info.triangles, plain.report.surface.triangles);
+    matchPoints(quantised.positions, plain.positions, 1e-2);
+    const inside = [];
+    for (let i = 0; i < quantised.positions.length; i += 3) {
+      const [x, , z] = quantised.positions.slice(i, i + 3);
+      if (x >= 0 && x <= 100 && z >= -90 && z <= 0) inside.push(...quantised.positions.slice(i, i + 3));
+    }
+    assert.ok(inside.length > 3 * 5000, `${inside.length / 3} vertices inside the bay`);
+    matchPoints(inside, plain.positions, 100 / 65534 / 2 + 2e-5, false);
+  });
+  // Haze on the seafloor (Koschmieder's law, as in the Blender add-on): from 400 m above
+  // the bay looking inland, the apron's land runs to the horizon 80 km out. Without haze
+  // it meets the background on a hard line; with the default 40 km visibility the rows
+  // just below the horizon (tens of km away) are mostly background, while the near land
+  // (the lowest rows, 1–2 km away: ~15 % haze) keeps most of its colour.
+  await check('haze: the far land fades into the background, the near land does not', async () => {
+    const { server } = await open('far-files');
+    await page.evaluate(() => window.wave.setFrame(0));  // the files form's frame 0 carries the seafloor
+    const shot = async (visibility) => {
+      await page.evaluate((v) => { window.wave.look([50, 400, 300], [50, 0, -6000]); window.wave.haze(v); }, visibility);
+      await page.waitForTimeout(300);
+      // Per row, the mean |colour − background| over the right half (clear of the info panel).
+      return page.evaluate(async (b64) => {
+        const img = new Image();
+        img.src = 'data:image/png;base64,' + b64;
+        await img.decode();
+        const c = document.createElement('canvas');
+        c.width = img.width; c.height = img.height;
+        const ctx = c.getContext('2d');
+        ctx.drawImage(img, 0, 0);
+        const d = ctx.getImageData(0, 0, c.width, c.height).data;
+        const at = (x, y) => 4 * (y * c.width + x), x0 = Math.floor(c.width / 2), x1 = c.width - 10;
+        const bg = d.slice(at(x1, 5), at(x1, 5) + 3);
+        const rows = [];
+        for (let y = 0; y < c.height; ++y) {
+          let sum = 0;
+          for (let x = x0; x < x1; ++x) for (let k = 0; k < 3; ++k) sum += Math.abs(d[at(x, y) + k] - bg[k]);
+          rows.push(sum / (x1 - x0));
+        }
+        return rows;
+      }, (await page.screenshot()).toString('base64'));
+    };
+    const clear = await shot(0), hazy = await shot(40000);
+    assert.equal(await page.evaluate(() => window.wave.haze()), 40000);
+    server.child.kill('SIGTERM');
+    const horizon = clear.findIndex((v) => v > 30);
+    assert.ok(horizon > 0 && horizon < 0.6 * clear.length, `the land's horizon at row ${horizon}`);
+    const mean = (rows, from, to) => rows.slice(from, to).reduce((a, b) => a + b, 0) / (to - from);
+    const far = [mean(clear, horizon, horizon + 8), mean(hazy, horizon, horizon + 8)];
+    const nearRow = Math.floor(0.82 * clear.length);  // above the control bar
+    const near = [mean(clear, nearRow - 8, nearRow), mean(hazy, nearRow - 8, nearRow)];
+    console.log(`     haze: far land ${far[0].toFixed(1)} → ${far[1].toFixed(1)}, near land ${near[0].toFixed(1)} → ${near[1].toFixed(1)} from the background`);
+    assert.ok(far[1] < 0.5 * far[0], `the far land is not hazed: ${far[0]} → ${far[1]}`);
+    assert.ok(near[1] > 0.8 * near[0], `the near land is hazed too: ${near[0]} → ${near[1]}`);
   });
 }
 

@@ -123,17 +123,19 @@ def _node_transform(doc, mesh_index):
     return np.zeros(3, np.float32), np.ones(3, np.float32)
 
 
-def _primitive_frame(doc, buffers, mesh_index, target=None, excess=()):
-    """A frame from a mesh's first primitive (and, for the morph form, one of its targets
+def _primitive_frame(doc, buffers, mesh_index, target=None, excess=(), primitive=0):
+    """A frame from one of a mesh's primitives (and, for the morph form, one of its targets
     and the NORMAL-only targets in `excess` that its key weighs in)."""
-    prim = doc["meshes"][mesh_index]["primitives"][0]
+    prim = doc["meshes"][mesh_index]["primitives"][primitive]
     if "KHR_draco_mesh_compression" in prim.get("extensions", {}):
         raise LibwaveFileError("Draco-compressed")
     attrs = prim["attributes"]
     # Quantised positions (normalised int16 in the frame or in the morph deltas) are undone
     # by their mesh node's transform; plain float positions are final (a nodes-form frame
-    # node's scale only switches it on and off).
-    position_accessors = [attrs["POSITION"]] + [t["POSITION"] for t in prim.get("targets", []) if "POSITION" in t]
+    # node's scale only switches it on and off). A quantised frame's far-field skirt, its
+    # second primitive, holds floats in the same node frame: the first primitive decides.
+    first = doc["meshes"][mesh_index]["primitives"][0]
+    position_accessors = [first["attributes"]["POSITION"]] + [t["POSITION"] for t in first.get("targets", []) if "POSITION" in t]
     if any(doc["accessors"][i].get("normalized") for i in position_accessors[:2]):
         translation, scale = _node_transform(doc, mesh_index)
     else:
@@ -199,11 +201,58 @@ class Dressing:
                 self.sun = (_node_matrix(node), light.get("intensity", 1.0), light.get("color", [1, 1, 1]))
 
 
-def _triangles(doc, buffers, mesh_index):
-    prim = doc["meshes"][mesh_index]["primitives"][0]
+def _triangles(doc, buffers, mesh_index, primitive=0):
+    prim = doc["meshes"][mesh_index]["primitives"][primitive]
     if "indices" not in prim:
         raise LibwaveFileError("a primitive without indices")
     return accessor(doc, buffers, prim["indices"]).astype(np.int64).reshape(-1, 3)
+
+
+def _mesh_triangles(doc, buffers, mesh_index):
+    """A frame's mesh's triangles (its primitives joined, as `_mesh_frame` joins them)."""
+    if len(doc["meshes"][mesh_index]["primitives"]) == 1:
+        return _triangles(doc, buffers, mesh_index)
+    return _mesh_frame(doc, buffers, mesh_index)[1]
+
+
+def _mesh_frame(doc, buffers, mesh_index, target=None, excess=()):
+    """(Frame, triangles (m, 3)) of a frame's mesh: its primitive (triangles None: the
+    file's), or its primitives joined (a quantised frame and its far-field skirt,
+    docs/far-field.md) as libwave's reader joins them: a later primitive's vertex at the
+    bit-equal position of a first primitive's vertex (the seam) welded onto it, then the
+    later primitives' other vertices."""
+    count = len(doc["meshes"][mesh_index]["primitives"])
+    if count == 1:
+        return _primitive_frame(doc, buffers, mesh_index, target, excess), None
+    parts = [(_primitive_frame(doc, buffers, mesh_index, target, excess, k), _triangles(doc, buffers, mesh_index, k))
+             for k in range(count)]
+    bits = np.dtype((np.void, 12))
+
+    def keys(f):  # each vertex's position bits, −0 as +0
+        return np.ascontiguousarray(f.positions.astype(np.float32) + np.float32(0.0)).view(bits).ravel()
+
+    first_keys = keys(parts[0][0])
+    total = len(first_keys)
+    fresh, triangles = [], [parts[0][1]]
+    for f, t in parts[1:]:
+        own = keys(f)
+        _, at_first, at_own = np.intersect1d(first_keys, own, assume_unique=False, return_indices=True)
+        index = np.full(len(own), -1, np.int64)
+        index[at_own] = at_first
+        new = index < 0
+        index[new] = total + np.arange(np.count_nonzero(new))
+        total += np.count_nonzero(new)
+        fresh.append(new)
+        triangles.append(index[t])
+
+    def join(name):
+        values = [getattr(f, name) for f, _ in parts]
+        if values[0] is None:
+            return None
+        return np.concatenate([values[0]] + [v[new] for v, new in zip(values[1:], fresh)])
+
+    frame = Frame(join("positions"), join("foam"), join("reflect"), join("refract"), join("color"), join("normals"))
+    return frame, np.concatenate(triangles)
 
 
 class Animation:
@@ -234,7 +283,7 @@ class Animation:
             if self._draco_files:
                 self.triangles = np.asarray(self._draco_frame_file(0)["triangles"]).astype(np.int64).reshape(-1, 3)
             else:
-                self.triangles = _triangles(doc, buffers, 0)
+                self.triangles = _mesh_triangles(doc, buffers, 0)
             self.dressing = Dressing(doc, buffers)  # the loop's frame 0 carries the seafloor, camera and sun
             return
         self.doc, self.buffers = read_gltf(path)
@@ -277,7 +326,7 @@ class Animation:
         self.fps = float(extras.get("fps", 0)) or (1.0 / float(times[1] - times[0]) if times is not None and len(times) > 1 else 24.0)
         self.loop_frames = int(extras.get("loop_frames", self.frame_count))
         self.first_frame = int(extras.get("first_frame", 0))
-        self.triangles = _triangles(doc, self.buffers, 0)
+        self.triangles = _mesh_triangles(doc, self.buffers, 0)
         self.dressing = Dressing(doc, self.buffers)
 
     def _frame_file(self, k):
@@ -302,11 +351,13 @@ class Animation:
         try:
             if self.form == "files":
                 doc, buffers = self._frame_file(k)
-                f = _primitive_frame(doc, buffers, 0)
+                f, triangles = _mesh_frame(doc, buffers, 0)
             elif self.form == "morph":
-                f = _primitive_frame(self.doc, self.buffers, 0, k, self._excess.get(k, ()))
+                f, triangles = _mesh_frame(self.doc, self.buffers, 0, k, self._excess.get(k, ()))
             else:
-                f = _primitive_frame(self.doc, self.buffers, self.frame_nodes[k]["mesh"])
+                f, triangles = _mesh_frame(self.doc, self.buffers, self.frame_nodes[k]["mesh"])
+            if triangles is not None and not np.array_equal(triangles, self.triangles):
+                raise LibwaveFileError("other triangles than frame 0")
         except LibwaveFileError as e:
             raise LibwaveFileError(f"{self.path}: frame {k}: {e}; re-encode it plainly: wave convert FILE -o OUT") from None
         self._cache = {k: f}  # one frame at a time: the files form streams from disk

@@ -51,10 +51,12 @@ function firstMesh(root) {
   return mesh;
 }
 
-// A Draco frame carries its far-field skirt as a second primitive (docs/far-field.md),
-// and three.js makes a group of one mesh per primitive. Joined into one mesh, the later
-// primitives' copies of the seam's vertices (bit-equal positions) welded onto the
-// first's, as libwave's reader does, a frame is again one mesh of the run's vertices.
+// A Draco or quantised frame carries its far-field skirt as a second primitive
+// (docs/far-field.md), and three.js makes a group of one mesh per primitive. Joined into
+// one mesh, the later primitives' copies of the seam's vertices (bit-equal positions)
+// welded onto the first's, as libwave's reader does, a frame is again one mesh of the
+// run's vertices. Positions are compared as float32: three.js decodes a normalised
+// int16 in double, and the quantised skirt holds that value rounded to float32.
 function joinPrimitives(gltf) {
   const groups = [];
   const of = (o) => gltf.parser.associations.get(o) || {};
@@ -71,7 +73,7 @@ function joinPrimitives(gltf) {
     parts.forEach((mesh, k) => {
       const g = mesh.geometry, position = g.attributes.position, remap = new Array(position.count);
       for (let v = 0; v < position.count; ++v) {
-        const key = `${position.getX(v)},${position.getY(v)},${position.getZ(v)}`;
+        const key = `${Math.fround(position.getX(v))},${Math.fround(position.getY(v))},${Math.fround(position.getZ(v))}`;
         if (k > 0 && firstAt.has(key)) { remap[v] = firstAt.get(key); continue; }
         if (k === 0) firstAt.set(key, count);
         remap[v] = count++;
@@ -87,6 +89,7 @@ function joinPrimitives(gltf) {
     geometry.setIndex(index);
     const joined = new THREE.Mesh(geometry, parts[0].material);
     joined.name = parts[0].name;
+    joined.userData.joined = true;
     for (const mesh of parts) group.remove(mesh);
     group.add(joined);
   }
@@ -107,10 +110,15 @@ function readAttribute(attr) {
 }
 
 // Positions in glTF space: the mesh node's own transform (it undoes the
-// quantisation; the frame switch is on a parent or is 1 on the visible frame).
+// quantisation; the frame switch is on a parent or is 1 on the visible frame). A mesh
+// joined from primitives is the child of the node's group, which holds the transform.
 function transformPositions(values, mesh) {
   mesh.updateMatrix();
-  const m = mesh.matrix, v = new THREE.Vector3();
+  const m = mesh.matrix.clone(), v = new THREE.Vector3();
+  if (mesh.userData.joined) {
+    mesh.parent.updateMatrix();
+    m.premultiply(mesh.parent.matrix);
+  }
   for (let i = 0; i < values.length; i += 3) {
     v.set(values[i], values[i + 1], values[i + 2]).applyMatrix4(m);
     values[i] = v.x; values[i + 1] = v.y; values[i + 2] = v.z;
@@ -127,6 +135,7 @@ function describe(json) {
 // One .glb/.gltf holding the whole animation (morph or nodes form).
 async function gltfSource(url) {
   const gltf = joinPrimitives(await loader.loadAsync(url));
+  hazeSeafloor(gltf.scene);
   const json = gltf.parser.json;
   const libwave = (json.asset.extras || {}).libwave || {};
   const clip = gltf.animations[0];
@@ -217,6 +226,7 @@ async function filesSource(url) {
   const group = new THREE.Group();
   const load = (f) => {
     if (!loaded.has(f)) loaded.set(f, loader.loadAsync(base + frames[f].file).then(joinPrimitives).then((g) => {
+      hazeSeafloor(g.scene);
       const json = g.parser.json;
       const mesh = firstMesh(g.scene);
       return { scene: g.scene, mesh, json };
@@ -276,6 +286,31 @@ sun.position.set(0.4, 1, 0.3);
 scene.add(sun);
 const controls = renderer ? new OrbitControls(camera, renderer.domElement) : null;
 if (renderer) $('view').appendChild(renderer.domElement);
+// Haze on the seafloor, as the Blender add-on's (docs/blender.md): at distance d the
+// seafloor's colour mixes towards the background by a share 1 − e^{−3.912 d / V}
+// (Koschmieder's law, V the visibility; 0 = off), so that the apron's land beyond the
+// domain fades out instead of ending on the horizon. The water is left as it is.
+const haze = { visibility: { value: 40000 }, color: { value: scene.background } };
+function hazeSeafloor(root) {
+  root.traverse((o) => {
+    if (!o.isMesh || o.name !== 'seafloor' || o.material.userData.hazed) return;
+    o.material.userData.hazed = true;
+    o.material.onBeforeCompile = (shader) => {
+      shader.uniforms.hazeVisibility = haze.visibility;
+      shader.uniforms.hazeColor = haze.color;
+      shader.vertexShader = shader.vertexShader.replace('#include <common>', '#include <common>\nvarying vec3 vHazeView;')
+        .replace('#include <project_vertex>', '#include <project_vertex>\nvHazeView = mvPosition.xyz;');
+      // Mixed in the working (linear) space, before tone mapping and the output
+      // encoding, which the background's colour goes through too.
+      shader.fragmentShader = shader.fragmentShader
+        .replace('#include <common>', '#include <common>\nuniform float hazeVisibility;\nuniform vec3 hazeColor;\nvarying vec3 vHazeView;')
+        .replace('#include <tonemapping_fragment>', 'if (hazeVisibility > 0.0) gl_FragColor.rgb = mix(gl_FragColor.rgb, hazeColor, ' +
+          '1.0 - exp(-3.912 * length(vHazeView) / hazeVisibility));\n#include <tonemapping_fragment>');
+    };
+    o.material.needsUpdate = true;
+  });
+  return root;
+}
 const lit = new THREE.MeshLambertMaterial({ vertexColors: true, side: THREE.DoubleSide });
 const unlit = new THREE.MeshBasicMaterial({ vertexColors: true, side: THREE.DoubleSide });
 
@@ -477,4 +512,15 @@ window.wave = {
     return openOutput(i);
   },
   colors() { return Array.from(state.mesh.geometry.attributes.color.array); },
+  // The haze's visibility in metres (0: off); without an argument, the current one.
+  haze(visibility) {
+    if (visibility !== undefined) haze.visibility.value = Math.max(0, Number(visibility));
+    return haze.visibility.value;
+  },
+  // Looks from `eye` at `target` (glTF axes), as the orbit controls would.
+  look(eye, target) {
+    camera.position.set(...eye);
+    controls.target.set(...target);
+    controls.update();
+  },
 };

@@ -14,6 +14,7 @@
 #include "libwave/errors.h"
 #include "libwave/export.h"
 #include "draco_encode.h"
+#include "normalised.h"
 #include "libwave/io.h"
 
 #include <cmath>
@@ -300,6 +301,10 @@ struct Quantization {
     std::array<double, 3> origin{};
     double scale = 1.0;
     bool float_base = false;  // morph targets: base positions float, deltas int16
+    // A position's component c (glTF axes) in the node's frame, and as int16 steps
+    // before rounding.
+    double in_node(double p, std::size_t c) const noexcept { return (p - origin[c]) / scale; }
+    double steps(double p, std::size_t c) const noexcept { return in_node(p, c) * 32767.0; }
 };
 
 // Draco's grids span a primitive's whole extent. A far-field skirt reaches tens of km
@@ -459,7 +464,10 @@ detail::DracoGrid snap_to_lattice(std::span<float> positions, const std::vector<
     return grid;
 }
 
-Quantization quantization_for(const MorphAnimationView& a, bool morph_targets) {
+// `domain`: the vertices whose frames the grid spans (empty: all of them). Frames of
+// their own with a far-field skirt span the domain's part only: the skirt's positions
+// are floats in the same node frame (docs/far-field.md, "Quantised frames").
+Quantization quantization_for(const MorphAnimationView& a, bool morph_targets, std::span<const std::uint32_t> domain = {}) {
     std::array<double, 3> lo{}, hi{};
     lo.fill(std::numeric_limits<double>::infinity());
     hi.fill(-std::numeric_limits<double>::infinity());
@@ -467,7 +475,9 @@ Quantization quantization_for(const MorphAnimationView& a, bool morph_targets) {
     float p[3], p0[3];
     double delta = a.quantize_range.value_or(0.0);
     const bool scan_deltas = morph_targets && !a.quantize_range;
-    for (std::size_t i = 0; i < a.positions.size() / 3; ++i) {
+    const std::size_t per_frame = domain.empty() ? n : domain.size();
+    for (std::size_t k = 0; n > 0 && k < a.positions.size() / 3 / n * per_frame; ++k) {
+        const std::size_t i = domain.empty() ? k : k / per_frame * n + domain[k % per_frame];
         to_y_up(&a.positions[3 * i], p);
         for (std::size_t c = 0; c < 3; ++c) lo[c] = std::min(lo[c], double{p[c]}), hi[c] = std::max(hi[c], double{p[c]});
         if (scan_deltas && i >= n) {
@@ -498,6 +508,10 @@ struct ModelWriter {
     GlbBuilder b{model, sink};
     int indices = -1, texcoord0 = -1;
     std::optional<Quantization> quant;
+    // Quantised frames of their own with a far-field skirt: the domain's part and the
+    // skirt's, each a primitive with its own indices and TEXCOORD_0 (split_primitives).
+    std::optional<std::array<SkirtPart, 2>> split;
+    std::array<int, 2> part_indices{-1, -1}, part_texcoord0{-1, -1};
     std::optional<SceneDressing> dressing;
 
     // `frames`: how many frames' attributes the buffer will hold (reserved up front:
@@ -532,13 +546,32 @@ struct ModelWriter {
         model.asset.extras = tinygltf::Value(extras);
         if (a.draco) return;  // every primitive carries its own compressed indices and UVs
         if (a.quantize) {
-            quant = quantization_for(a, morph_targets);
+            if (!morph_targets) split = split_skirt(a.texcoords, a.triangles, a.vertex_count);
+            quant = quantization_for(a, morph_targets, split ? std::span<const std::uint32_t>((*split)[0].vertices) : std::span<const std::uint32_t>{});
             model.extensionsUsed.push_back("KHR_mesh_quantization");
             model.extensionsRequired.push_back("KHR_mesh_quantization");
+        }
+        if (split) {
+            for (std::size_t k = 0; k < 2; ++k) {
+                const std::vector<std::uint32_t>& t = (*split)[k].triangles;
+                part_indices[k] = b.accessor(b.view(t.data(), t.size() * sizeof(std::uint32_t), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
+                                             TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, t.size(), TINYGLTF_TYPE_SCALAR);
+                const std::vector<float> uv = gather(a.texcoords, 2, (*split)[k].vertices);
+                // The skirt's rest positions lie beyond [0, 1]², which normalised uint16 cannot hold.
+                part_texcoord0[k] = k == 0 ? floats("TEXCOORD_0", TINYGLTF_TYPE_VEC2, uv) : plain(TINYGLTF_TYPE_VEC2, uv);
+            }
+            return;
         }
         indices = b.accessor(b.view(a.triangles.data(), a.triangles.size_bytes(), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
                              TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, a.triangles.size(), TINYGLTF_TYPE_SCALAR);
         texcoord0 = floats("TEXCOORD_0", TINYGLTF_TYPE_VEC2, std::vector<float>(a.texcoords.begin(), a.texcoords.end()));
+    }
+    // `width` components per vertex of `source`, for the vertices listed.
+    static std::vector<float> gather(std::span<const float> source, std::size_t width, const std::vector<std::uint32_t>& vertices) {
+        std::vector<float> out(width * vertices.size());
+        for (std::size_t i = 0; i < vertices.size(); ++i)
+            std::copy_n(source.begin() + static_cast<std::ptrdiff_t>(width * vertices[i]), width, out.begin() + static_cast<std::ptrdiff_t>(width * i));
+        return out;
     }
     // Normalised integers of `width` components padded to `stride` components (vertex
     // elements must start on 4-byte boundaries).
@@ -570,7 +603,7 @@ struct ModelWriter {
             const Quantization& qz = *quant;
             return normalised<std::int16_t>(values, 3, 4, TINYGLTF_COMPONENT_TYPE_SHORT, TINYGLTF_TYPE_VEC3,
                                             [&](std::size_t v, std::size_t c) {
-                                                return (values[3 * v + c] - (target ? 0.0 : qz.origin[c])) / qz.scale * 32767.0;
+                                                return target ? values[3 * v + c] / qz.scale * 32767.0 : qz.steps(values[3 * v + c], c);
                                             }, true, target);
         }
         if (quant && name == "NORMAL" && !target)
@@ -589,18 +622,38 @@ struct ModelWriter {
                                              [&](std::size_t v, std::size_t c) { return values[2 * v + c] * 65535.0; }, false, false);
         }
         if (name == "POSITION" && !target) return b.vec3(values, TINYGLTF_TARGET_ARRAY_BUFFER, true);
-        const std::size_t width = type == TINYGLTF_TYPE_VEC3 ? 3 : type == TINYGLTF_TYPE_VEC2 ? 2 : 1;
-        std::vector<double> lo, hi;
-        if (name == "POSITION") {  // a target's bounds (the validator checks them)
-            lo.assign(3, std::numeric_limits<double>::infinity());
-            hi.assign(3, -std::numeric_limits<double>::infinity());
-            for (std::size_t i = 0; i < values.size(); ++i) {
-                lo[i % 3] = std::min(lo[i % 3], double{values[i]});
-                hi[i % 3] = std::max(hi[i % 3], double{values[i]});
-            }
+        if (name != "POSITION") return plain(type, values, target);
+        // A position target's bounds (the validator checks them).
+        std::vector<double> lo(3, std::numeric_limits<double>::infinity()), hi(3, -std::numeric_limits<double>::infinity());
+        for (std::size_t i = 0; i < values.size(); ++i) {
+            lo[i % 3] = std::min(lo[i % 3], double{values[i]});
+            hi[i % 3] = std::max(hi[i % 3], double{values[i]});
         }
+        return b.stored(values.data(), 3 * sizeof(float), 3 * sizeof(float), values.size() / 3, TINYGLTF_COMPONENT_TYPE_FLOAT,
+                        type, false, std::move(lo), std::move(hi), target);
+    }
+    // Floats as they are, without bounds (not a position).
+    int plain(int type, const std::vector<float>& values, bool target = false) {
+        const std::size_t width = type == TINYGLTF_TYPE_VEC3 ? 3 : type == TINYGLTF_TYPE_VEC2 ? 2 : 1;
         return b.stored(values.data(), width * sizeof(float), width * sizeof(float), values.size() / width,
-                        TINYGLTF_COMPONENT_TYPE_FLOAT, type, false, std::move(lo), std::move(hi), target);
+                        TINYGLTF_COMPONENT_TYPE_FLOAT, type, false, {}, {}, target);
+    }
+    // The skirt's positions (glTF axes) as floats in the quantised node's frame; a seam
+    // vertex's exactly as the domain's int16 decodes (the same rounding, the same
+    // division), so that the two primitives meet bit-equal.
+    int skirt_positions(std::vector<float> values, const std::vector<char>& seam) {
+        const Quantization& qz = *quant;
+        for (std::size_t i = 0; i < values.size(); ++i) {
+            const std::size_t c = i % 3;
+            if (!seam[i / 3]) {
+                values[i] = static_cast<float>(qz.in_node(values[i], c));
+                continue;
+            }
+            const double q = std::clamp(std::round(qz.steps(values[i], c)), double{std::numeric_limits<std::int16_t>::min()},
+                                        double{std::numeric_limits<std::int16_t>::max()});
+            values[i] = static_cast<float>(detail::snorm16(static_cast<std::int16_t>(q)));
+        }
+        return b.vec3(values, TINYGLTF_TARGET_ARRAY_BUFFER, true);
     }
     // A quantised normal delta beyond ±1 (a normal turned by more than 60°): the excess
     // as a NORMAL-only target of its own, sparse, or -1 when no component exceeds 1.
@@ -700,9 +753,29 @@ struct ModelWriter {
         }
         return out;
     }
-    // A frame of its own (nodes, files): one primitive, or two for a Draco frame with a skirt.
+    // A quantised frame with a skirt: the domain's part on the int16 grid, the skirt's
+    // positions and rest positions as floats (docs/far-field.md, "Quantised frames").
+    std::vector<tinygltf::Primitive> split_primitives(const FrameArrays& frame) {
+        std::vector<tinygltf::Primitive> out(2);
+        for (std::size_t k = 0; k < 2; ++k) {
+            const SkirtPart& part = (*split)[k];
+            tinygltf::Primitive& prim = out[k];
+            prim.mode = TINYGLTF_MODE_TRIANGLES;
+            prim.indices = part_indices[k];
+            prim.attributes["TEXCOORD_0"] = part_texcoord0[k];
+            for (const auto& [name, type, values] : frame.attributes) {
+                const std::size_t width = type == TINYGLTF_TYPE_VEC3 ? 3 : type == TINYGLTF_TYPE_VEC2 ? 2 : 1;
+                std::vector<float> v = gather(values, width, part.vertices);
+                prim.attributes[name] = k == 1 && name == "POSITION" ? skirt_positions(std::move(v), part.seam) : floats(name, type, v);
+            }
+        }
+        return out;
+    }
+    // A frame of its own (nodes, files): one primitive, or two for a frame with a skirt
+    // on grids of its own (Draco, quantised).
     std::vector<tinygltf::Primitive> frame_primitives(const MorphAnimationView& a, std::size_t f) {
         const FrameArrays frame = frame_arrays(a, f);
+        if (split) return split_primitives(frame);
         if (!a.draco) return {primitive(frame)};
         if (const std::optional<std::array<SkirtPart, 2>> parts = split_skirt(a.texcoords, a.triangles, a.vertex_count))
             return draco_split_primitives(a, frame, *parts);

@@ -10,6 +10,7 @@
 #include "libwave/export.h"
 #include "core/files.h"
 #include "core/json_input.h"
+#include "normalised.h"
 
 #include <draco/compression/decode.h>
 #include <nlohmann/json.hpp>
@@ -92,7 +93,7 @@ struct Reader {
     double component(const tinygltf::Accessor& a, const unsigned char* p, const std::string& what) const {
         switch (a.componentType) {
             case TINYGLTF_COMPONENT_TYPE_FLOAT: { float f; std::memcpy(&f, p, 4); return f; }
-            case TINYGLTF_COMPONENT_TYPE_SHORT: { std::int16_t q; std::memcpy(&q, p, 2); return a.normalized ? std::max(q / 32767.0, -1.0) : q; }
+            case TINYGLTF_COMPONENT_TYPE_SHORT: { std::int16_t q; std::memcpy(&q, p, 2); return a.normalized ? detail::snorm16(q) : q; }
             case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { std::uint16_t q; std::memcpy(&q, p, 2); return a.normalized ? q / 65535.0 : q; }
             case TINYGLTF_COMPONENT_TYPE_BYTE: { std::int8_t q; std::memcpy(&q, p, 1); return a.normalized ? std::max(q / 127.0, -1.0) : q; }
             case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return a.normalized ? *p / 255.0 : *p;

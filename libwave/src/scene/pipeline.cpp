@@ -250,11 +250,6 @@ void append_skirt(ScenePlan& p) {
 void plan_far_field_stage(const Scene& scene, ScenePlan& p) {
     const detail::SurfaceModel& model = detail::surface_model(scene.surface_kind);
     if (!scene.far_field || model.far_field_harmonics == 0 || p.camera_grid.vertex_count() > 0) return;
-    // KHR_mesh_quantization's frames of their own (the nodes and files forms) end at the
-    // domain's border (docs/far-field.md): 16 bits over the skirt's reach cannot keep the
-    // coastal step. Draco frames carry the skirt as a primitive of its own.
-    const bool own_grids = scene.form == Scene::Form::nodes || scene.form == Scene::Form::files;
-    if (own_grids && scene.quantize) return;
     const std::vector<std::uint32_t>& triangles = model.triangles(p);
     SeaSkirtOptions o;
     o.distance = skirt_distance(scene, p);

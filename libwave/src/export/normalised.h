@@ -1,0 +1,15 @@
+// glTF's normalised integers (KHR_mesh_quantization) as the writer and the reader both
+// decode them: one rule, so that a float written to equal a decoded integer does.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+
+namespace wave::detail {
+
+// A normalised int16 as glTF decodes it: max(q / 32767, −1). In double; cast to float,
+// it is also the correctly rounded float quotient (q / 32767 lies nowhere near a float's
+// rounding midpoint, so rounding twice changes nothing).
+constexpr double snorm16(std::int16_t q) noexcept { return std::max(q / 32767.0, -1.0); }
+
+}  // namespace wave::detail
