@@ -365,7 +365,7 @@ for (const name of Object.keys(forms)) {
   // it meets the background on a hard line; with the default 40 km visibility the rows
   // just below the horizon (tens of km away) are mostly background, while the near land
   // (the lowest rows, 1–2 km away: ~15 % haze) keeps most of its colour.
-  await check('haze: the far land fades into the background, the near land does not', async () => {
+  await check('haze: the far land fades into the background, the near land does not; the seafloor on every frame', async () => {
     const { server } = await open('far-files');
     await page.evaluate(() => window.wave.setFrame(0));  // the files form's frame 0 carries the seafloor
     const shot = async (visibility) => {
@@ -394,7 +394,13 @@ for (const name of Object.keys(forms)) {
     };
     const clear = await shot(0), hazy = await shot(40000);
     assert.equal(await page.evaluate(() => window.wave.haze()), 40000);
+    // The files form's later frames carry the water only: the page keeps frame 0's
+    // seafloor on show (this view holds land only, so frame 2 looks as frame 0 does).
+    await page.evaluate(() => window.wave.setFrame(2));
+    const later = await shot(40000);
     server.child.kill('SIGTERM');
+    const gap = Math.max(...later.map((v, y) => Math.abs(v - hazy[y])));
+    assert.ok(gap < 3, `frame 2 differs from frame 0 by ${gap} per row: the seafloor is not shown`);
     const horizon = clear.findIndex((v) => v > 30);
     assert.ok(horizon > 0 && horizon < 0.6 * clear.length, `the land's horizon at row ${horizon}`);
     const mean = (rows, from, to) => rows.slice(from, to).reduce((a, b) => a + b, 0) / (to - from);

@@ -234,6 +234,12 @@ async function filesSource(url) {
     return loaded.get(f);
   };
   const first = await load(0);
+  // The loop's frame 0 carries the seafloor and the sun, the other frames the water only
+  // (docs/export.md): they move to the source's group and stay while the frames'
+  // scenes are swapped.
+  const dressing = [];
+  first.scene.traverse((o) => { if ((o.isMesh && !isWater(o)) || o.isLight) dressing.push(o); });
+  for (const o of dressing) group.attach(o);
   let current = null;
   const source = {
     form: 'files',
