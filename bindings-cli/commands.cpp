@@ -692,7 +692,7 @@ int run_job(const RunArgs& a) {
     const bool streamed = streamed_form(scene), chunked = files_form || streamed;
     std::size_t chunk = in_range;
     {  // the run's limits, before /refine's subdivision (which alone can take gigabytes)
-        const RunEstimate e = estimate_run(scene, plan, resident_bytes());  // this process holds the plan now
+        const RunEstimate e = estimate_run(scene, plan, resident_bytes(), in_range);  // this process holds the plan now
         if (chunked) chunk = std::min(files_form_chunk(e, max_bytes), in_range);
         check_run_limits(scene, e, chunk, max_bytes);
     }

@@ -1836,6 +1836,26 @@ class Limits(unittest.TestCase):
         err = self.run_limited({"surface": {"kind": "ocean"}, "ocean": {"resolution": 32768}})
         self.assertIn("/ocean/resolution", err)
 
+    def test_a_slice_is_limited_by_its_own_frames(self):
+        # A file written whole (quantised nodes) holds the frames of its run, not of the
+        # loop: the 5 000-frame loop is refused under 2 GB, a slice of 3 of its frames runs
+        # (its estimate was the loop's: 4.3 GB for 2 frames of breaking Okushiri).
+        scene = {"waves": [{"period": 5, "amplitude": 0.3}], "animation": {"fps": 1000},
+                 "outputs": {"form": "nodes", "quantize": True}, "trace": {"ray_spacing": 2},
+                 "fronts": {"step": 0.8, "split_distance": 2.4}}
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "s.json")
+            with open(path, "w") as f:
+                json.dump(scene, f)
+            r = wave("run", path, "-q", "-o", os.path.join(d, "all"), "--max-memory-gb", "2")
+            self.assertEqual(r.returncode, 2, r.stderr)
+            self.assertIn("GB of per-frame arrays", r.stderr)
+            self.assertFalse(os.path.exists(os.path.join(d, "all")))
+            r = wave("run", path, "-q", "-o", os.path.join(d, "slice"), "--max-memory-gb", "2", "--frames", "100:103")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            doc, _ = read_glb(os.path.join(d, "slice", "animation-frames-100-103.glb"))
+            self.assertEqual(sum(1 for n in doc["nodes"] if n["name"].startswith("frame_") and "mesh" not in n), 3)
+
     def test_validate_estimates_the_output_and_the_memory(self):
         scene = os.path.join(EXAMPLES, "gonzato-bay.json")
         r = wave("validate", scene, "--json")

@@ -358,7 +358,8 @@ struct FrameRange {
     std::size_t end = static_cast<std::size_t>(-1);  ///< one past the last (clipped to the loop)
 };
 
-/// What a run of the whole loop would hold and write (`wave validate`), from a plan:
+/// What a run of the whole loop, or of `run_frames` of it (a slice), would hold and
+/// write (`wave validate`, `wave run`), from a plan:
 /// the per-frame float arrays animate_scene keeps (positions, normals, shading,
 /// colour), the files of the scene's form, and the peak memory of `wave run` (the plan,
 /// those arrays, and the encoded files, held until they are published; the constants
@@ -371,8 +372,8 @@ struct RunEstimate {
     std::size_t triangles = 0;  ///< of the exported surface
     std::size_t frames = 0;     ///< in the loop
     double frame_array_bytes = 0.0;  ///< the loop's per-frame arrays held at once
-    double output_bytes = 0.0;       ///< the files written
-    double peak_memory_bytes = 0.0;  ///< of `wave run`, streamed forms holding one chunk
+    double output_bytes = 0.0;       ///< the files the run writes
+    double peak_memory_bytes = 0.0;  ///< of the run, streamed forms holding one chunk
 };
 /// Frames in one loop of the planned animation: round(loop period · fps), at least 1
 /// (SIZE_MAX when it does not fit; /animation/max_frames refuses it).
@@ -383,7 +384,10 @@ std::size_t scene_loop_frames(const Scene& scene, const ScenePlan& plan);
 /// `planned_resident_bytes`: the resident memory of a process that has just planned the
 /// scene (`wave validate` measures its own: the process, its libraries and the plan as
 /// `wave run` will hold them); 0 = modelled from the surface's vertex count.
-RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double planned_resident_bytes = 0.0);
+/// `run_frames`: the frames the run computes (`--frames`); 0 or more than the loop's =
+/// the whole loop.
+RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double planned_resident_bytes = 0.0,
+                         std::size_t run_frames = 0);
 
 /// What a scene needs at least before its plan exists (bytes): an FFT ocean's lattice
 /// and transforms (92 B per lattice point) and, for the open-ocean patch, one frame's

@@ -616,7 +616,7 @@ MorphAnimationView SceneAnimation::view() const {
     return v;
 }
 
-RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double planned_resident_bytes) {
+RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double planned_resident_bytes, std::size_t run_frames) {
     RunEstimate e;
     const Refinement* refined = plan.refinement.fine_vertices > 0 ? &plan.refinement : nullptr;
     const std::size_t coarse_triangles = surface_triangles(scene, plan).size() / 3;
@@ -633,11 +633,14 @@ RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double plann
     }
     const bool fine = scene.refine.has_value();
     e.frames = scene_loop_frames(scene, plan);
-    const double n = static_cast<double>(e.vertices), frames = static_cast<double>(e.frames);
+    const double n = static_cast<double>(e.vertices), loop = static_cast<double>(e.frames);
+    // The frames the run writes: its files and, for a file written whole, the arrays it holds.
+    const double frames = run_frames > 0 ? std::min(loop, static_cast<double>(run_frames)) : loop;
     const bool shaded = scene.attributes != Scene::Attributes::none;
     // animate_scene: positions + normals, reflect/refract/foam, colour (floats).
     const double arrays_per_vertex = 24.0 + (shaded ? 12.0 : 0.0) + (scene.color ? 12.0 : 0.0);
-    e.frame_array_bytes = frames * n * arrays_per_vertex;
+    e.frame_array_bytes = loop * n * arrays_per_vertex;
+    const double run_arrays = frames * n * arrays_per_vertex;
     // The writer: POSITION + NORMAL, TEXCOORD_0, shading (UV maps 2 × vec2, or 3 floats), COLOR_0.
     const double shading = scene.attributes == Scene::Attributes::uv_maps ? 16.0 : scene.attributes == Scene::Attributes::named ? 12.0 : 0.0;
     const double per_frame_vertex = 24.0 + shading + (scene.color ? 12.0 : 0.0);
@@ -697,17 +700,17 @@ RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double plann
     // The ray strips' PLY, written when the frames are done: their OpenMesh TriMesh and
     // the file's bytes (~400 B a strip vertex, measured on Gonzato's island).
     const double ply = 400.0 * static_cast<double>(plan.strips.vertex_count());
-    const double chunk = static_cast<double>(files_form_chunk(e));
+    const double chunk = std::min(frames, static_cast<double>(files_form_chunk(e)));
     if (scene.form == Scene::Form::files) {  // one chunk of frames at a time, each frame encoded and written alone
-        e.peak_memory_bytes = base + std::max(ply, e.frame_array_bytes * chunk / frames + 2.0 * e.output_bytes / frames);
+        e.peak_memory_bytes = base + std::max(ply, run_arrays * chunk / frames + 2.0 * e.output_bytes / frames);
     } else if (streamed_form(scene)) {
         // One chunk of frames, one frame's attributes being encoded (twice: glTF axes and
         // deltas), the one-hot weights or scales (frames² floats) and the glTF JSON's
         // model (~6 kB a frame while tinygltf and nlohmann serialise it at the end).
         const double frame_out = (e.output_bytes - (scene.form == Scene::Form::pc2 ? 2.0 * (n * per_frame_vertex + uv0 + indices) : 0.0)) / frames;
-        e.peak_memory_bytes = base + std::max(ply, e.frame_array_bytes * chunk / frames + 2.0 * frame_out + 4.0 * frames * frames + 6e3 * frames);
+        e.peak_memory_bytes = base + std::max(ply, run_arrays * chunk / frames + 2.0 * frame_out + 4.0 * frames * frames + 6e3 * frames);
     } else {  // every frame's arrays, and the encoded files held until they are published
-        e.peak_memory_bytes = base + e.frame_array_bytes + 2.0 * e.output_bytes + ply;
+        e.peak_memory_bytes = base + run_arrays + 2.0 * e.output_bytes + ply;
     }
     return e;
 }
