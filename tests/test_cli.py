@@ -2304,6 +2304,27 @@ class Convert(unittest.TestCase):
                 self.assertLessEqual(worst, 2 ** -6)
                 self.assertLessEqual(worst_inside, 2 ** -7)
 
+    def test_quantised_normals_read_back_as_unit_normals(self):
+        # A quantised morph frame's normal is its int8 base plus an int16 delta, a few
+        # thousandths off unit length: read back it is scaled to 1, so that a conversion
+        # writes unit normals (the validator refused 38 of them in the quantised nodes
+        # converted from the default run's 4 frames).
+        with tempfile.TemporaryDirectory() as d:
+            r = wave("run", "-o", os.path.join(d, "run"), "-q", "--frames", "0:4")  # the default: a quantised morph file
+            self.assertEqual(r.returncode, 0, r.stderr)
+            source = os.path.join(d, "run", "animation-frames-0-4.glb")
+            for out, extra in [("plain", ()), ("quantised", ("--quantize",))]:
+                r = wave("convert", source, "-o", os.path.join(d, out), "--form", "files", *extra)
+                self.assertEqual(r.returncode, 0, r.stderr)
+                validate_gltf(self, os.path.join(d, out, "frames", "frame-0002.glb"))
+            with open(os.path.join(d, "plain", "index.json")) as f:
+                index = json.load(f)
+            for f in index["frames"]:
+                doc, binary = read_glb(os.path.join(d, "plain", f["file"]))
+                n = floats(doc, binary, doc["meshes"][0]["primitives"][0]["attributes"]["NORMAL"])
+                worst = max(abs(math.sqrt(n[i] ** 2 + n[i + 1] ** 2 + n[i + 2] ** 2) - 1.0) for i in range(0, len(n), 3))
+                self.assertLess(worst, 1e-6, f["file"])
+
     def test_quantised_frames_carry_the_far_field_as_a_float_skirt(self):
         # KHR_mesh_quantization's frames of their own (nodes, files) carry the skirt too
         # (docs/far-field.md, "Quantised frames"): the domain's primitive on int16 spanning

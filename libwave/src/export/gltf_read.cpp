@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <array>
 #include <cstring>
 #include <filesystem>
@@ -201,6 +202,23 @@ struct Frame {
     std::vector<float> position, normal, reflect, refract, foam, color;
 };
 
+// Quantised normals (normalised integers, and a morph frame's int8 base plus its int16
+// delta) decode a few thousandths off unit length: each is scaled back to 1, as a
+// renderer would, so that an output written from them holds unit normals (the glTF
+// validator refuses others).
+void unit_normals(std::vector<float>& n) noexcept {
+    for (std::size_t i = 0; i + 2 < n.size(); i += 3) {
+        const double len = std::sqrt(double{n[i]} * n[i] + double{n[i + 1]} * n[i + 1] + double{n[i + 2]} * n[i + 2]);
+        if (len > 0.0)
+            for (std::size_t c = 0; c < 3; ++c) n[i + c] = static_cast<float>(n[i + c] / len);
+    }
+}
+
+bool quantised(const Reader& r, int accessor) noexcept {
+    return accessor >= 0 && static_cast<std::size_t>(accessor) < r.m.accessors.size() &&
+           r.m.accessors[static_cast<std::size_t>(accessor)].componentType != TINYGLTF_COMPONENT_TYPE_FLOAT;
+}
+
 Frame read_frame(const Reader& r, const std::map<std::string, int>& attrs, int mesh, bool delta, ScalarLayout& layout) {
     Frame f;
     const auto [t, s] = r.transform(mesh);
@@ -213,6 +231,7 @@ Frame read_frame(const Reader& r, const std::map<std::string, int>& attrs, int m
     if (!has("POSITION") || !has("NORMAL")) r.fail("a frame without POSITION or NORMAL");
     append_z_up(f.position, r.floats(at("POSITION"), 3), t, s, !delta);
     append_z_up(f.normal, r.floats(at("NORMAL"), 3), {0, 0, 0}, {1, 1, 1}, false);
+    if (!delta && quantised(r, at("NORMAL"))) unit_normals(f.normal);
     if (has("COLOR_0")) f.color = r.floats(at("COLOR_0"), 3);
     if (has("_REFLECT")) {
         if (!has("_REFRACT") || !has("_FOAM")) r.fail("_REFLECT without _REFRACT and _FOAM");
@@ -378,6 +397,7 @@ void read_morph_frames(const Reader& r, const tinygltf::Model& m, const tinygltf
             f.normal.clear();
             add(r, t, "NORMAL", f.normal, with, excess[t - frames]);
         }
+        if (quantised(r, first.attributes.count("NORMAL") ? first.attributes.at("NORMAL") : -1)) unit_normals(f.normal);
         add(r, k, "reflect weight", f.reflect, base.reflect, d.reflect);
         add(r, k, "refract weight", f.refract, base.refract, d.refract);
         add(r, k, "foam", f.foam, base.foam, d.foam);
