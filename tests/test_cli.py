@@ -2136,6 +2136,25 @@ class Convert(unittest.TestCase):
             out.append(floats(doc, binary, doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"]))
         return out
 
+    @staticmethod
+    def nearest_gaps(frame, want, inside):
+        """The largest distance (per axis) from a point of `frame` to the nearest point of
+        `want` (glTF axes, 1 m cells in x and z), over all points and over those where
+        inside(x, z) holds."""
+        cells = {}
+        for i in range(0, len(want), 3):
+            cells.setdefault((math.floor(want[i]), math.floor(want[i + 2])), []).append(i)
+        worst = worst_inside = 0.0
+        for i in range(0, len(frame), 3):
+            x, y, z = frame[i:i + 3]
+            near = min(max(abs(want[j] - x), abs(want[j + 1] - y), abs(want[j + 2] - z))
+                       for a in (-1, 0, 1) for b in (-1, 0, 1)
+                       for j in cells.get((math.floor(x) + a, math.floor(z) + b), []))
+            worst = max(worst, near)
+            if inside(x, z):
+                worst_inside = max(worst_inside, near)
+        return worst, worst_inside
+
     def normals(self, folder):
         """NORMAL of every frame file of a files-form folder, by frame, as unit triples."""
         out = []
@@ -2289,18 +2308,7 @@ class Convert(unittest.TestCase):
                 self.assertEqual(len(frame), len(want))
                 self.assertTrue(all(float(x * 64).is_integer() for x in frame), "a coordinate off the 2^-6 m lattice")
                 # Draco reorders: each decoded point against the nearest reference point.
-                cells = {}
-                for i in range(0, len(want), 3):
-                    cells.setdefault((math.floor(want[i]), math.floor(want[i + 2])), []).append(i)
-                worst = worst_inside = 0.0
-                for i in range(0, len(frame), 3):
-                    x, y, z = frame[i:i + 3]
-                    near = min(max(abs(want[j] - x), abs(want[j + 1] - y), abs(want[j + 2] - z))
-                               for a in (-1, 0, 1) for b in (-1, 0, 1)
-                               for j in cells.get((math.floor(x) + a, math.floor(z) + b), []))
-                    worst = max(worst, near)
-                    if 1 < x < 99 and -89 < z < -1:  # inside the bay, off its border (glTF z = −y)
-                        worst_inside = max(worst_inside, near)
+                worst, worst_inside = self.nearest_gaps(frame, want, lambda x, z: 1 < x < 99 and -89 < z < -1)
                 self.assertLessEqual(worst, 2 ** -6)
                 self.assertLessEqual(worst_inside, 2 ** -7)
 
@@ -2365,18 +2373,8 @@ class Convert(unittest.TestCase):
             got, reference = self.positions(os.path.join(d, "c")), self.positions(os.path.join(d, "plain"))
             for frame, want in zip(got, reference):
                 self.assertEqual(len(frame), len(want))
-                cells = {}  # the joined mesh lists the domain's vertices first: each against the nearest reference
-                for i in range(0, len(want), 3):
-                    cells.setdefault((math.floor(want[i]), math.floor(want[i + 2])), []).append(i)
-                worst = worst_inside = 0.0
-                for i in range(0, len(frame), 3):
-                    x, y, z = frame[i:i + 3]
-                    near = min(max(abs(want[j] - x), abs(want[j + 1] - y), abs(want[j + 2] - z))
-                               for a in (-1, 0, 1) for b in (-1, 0, 1)
-                               for j in cells.get((math.floor(x) + a, math.floor(z) + b), []))
-                    worst = max(worst, near)
-                    if 0 <= x <= 100 and -90 <= z <= 0:  # the bay (glTF z = −y)
-                        worst_inside = max(worst_inside, near)
+                # The joined mesh lists the domain's vertices first: each against the nearest reference.
+                worst, worst_inside = self.nearest_gaps(frame, want, lambda x, z: 0 <= x <= 100 and -90 <= z <= 0)
                 self.assertLessEqual(worst, 1e-2)
                 self.assertLessEqual(worst_inside, 100 / 65534 / 2 + 2e-5)
 

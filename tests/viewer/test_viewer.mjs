@@ -200,6 +200,21 @@ function matchPoints(decoded, reference, tol, sameCount = true) {
   return worst;
 }
 
+// A screenshot's PNG decoded in the page; `reduce(rgba, width, height)` runs there too
+// and its (small) result comes back.
+async function inPage(png, reduce) {
+  return page.evaluate(`(async (b64) => {
+    const img = new Image();
+    img.src = 'data:image/png;base64,' + b64;
+    await img.decode();
+    const c = document.createElement('canvas');
+    c.width = img.width; c.height = img.height;
+    const ctx = c.getContext('2d');
+    ctx.drawImage(img, 0, 0);
+    return (${reduce.toString()})(ctx.getImageData(0, 0, c.width, c.height).data, c.width, c.height);
+  })(${JSON.stringify(png.toString('base64'))})`);
+}
+
 function range(positions) {
   let r = 0;
   for (let c = 0; c < 3; ++c) {
@@ -289,15 +304,7 @@ for (const name of Object.keys(forms)) {
       await page.waitForTimeout(300);
       const file = path.join(work, `${name}.png`);
       await page.screenshot({ path: file });
-      const stats = await page.evaluate(async (b64) => {
-        const img = new Image();
-        img.src = 'data:image/png;base64,' + b64;
-        await img.decode();
-        const c = document.createElement('canvas');
-        c.width = img.width; c.height = img.height;
-        const ctx = c.getContext('2d');
-        ctx.drawImage(img, 0, 0);
-        const d = ctx.getImageData(0, 0, c.width, c.height).data;
+      const stats = await inPage(fs.readFileSync(file), (d) => {
         const bg = [d[0], d[1], d[2]];  // the top-left corner: background
         let differs = 0;
         const colours = new Set();
@@ -306,7 +313,7 @@ for (const name of Object.keys(forms)) {
           colours.add((d[i] >> 3) << 10 | (d[i + 1] >> 3) << 5 | (d[i + 2] >> 3));
         }
         return { share: differs / (d.length / 4), colours: colours.size };
-      }, fs.readFileSync(file).toString('base64'));
+      });
       assert.ok(stats.share > 0.15, `only ${(100 * stats.share).toFixed(1)} % of the screenshot differs from the background`);
       assert.ok(stats.colours > 50, `only ${stats.colours} colours: a blank or flat image`);
     });
@@ -372,25 +379,17 @@ for (const name of Object.keys(forms)) {
       await page.evaluate((v) => { window.wave.look([50, 400, 300], [50, 0, -6000]); window.wave.haze(v); }, visibility);
       await page.waitForTimeout(300);
       // Per row, the mean |colour − background| over the right half (clear of the info panel).
-      return page.evaluate(async (b64) => {
-        const img = new Image();
-        img.src = 'data:image/png;base64,' + b64;
-        await img.decode();
-        const c = document.createElement('canvas');
-        c.width = img.width; c.height = img.height;
-        const ctx = c.getContext('2d');
-        ctx.drawImage(img, 0, 0);
-        const d = ctx.getImageData(0, 0, c.width, c.height).data;
-        const at = (x, y) => 4 * (y * c.width + x), x0 = Math.floor(c.width / 2), x1 = c.width - 10;
+      return inPage(await page.screenshot(), (d, width, height) => {
+        const at = (x, y) => 4 * (y * width + x), x0 = Math.floor(width / 2), x1 = width - 10;
         const bg = d.slice(at(x1, 5), at(x1, 5) + 3);
         const rows = [];
-        for (let y = 0; y < c.height; ++y) {
+        for (let y = 0; y < height; ++y) {
           let sum = 0;
           for (let x = x0; x < x1; ++x) for (let k = 0; k < 3; ++k) sum += Math.abs(d[at(x, y) + k] - bg[k]);
           rows.push(sum / (x1 - x0));
         }
         return rows;
-      }, (await page.screenshot()).toString('base64'));
+      });
     };
     const clear = await shot(0), hazy = await shot(40000);
     assert.equal(await page.evaluate(() => window.wave.haze()), 40000);
