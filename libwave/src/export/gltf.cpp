@@ -547,7 +547,9 @@ struct ModelWriter {
         if (a.draco) return;  // every primitive carries its own compressed indices and UVs
         if (a.quantize) {
             if (!morph_targets) split = split_skirt(a.texcoords, a.triangles, a.vertex_count);
-            quant = quantization_for(a, morph_targets, split ? std::span<const std::uint32_t>((*split)[0].vertices) : std::span<const std::uint32_t>{});
+            std::span<const std::uint32_t> domain;  // the vertices the grid spans (empty: all)
+            if (split) domain = (*split)[0].vertices;
+            quant = quantization_for(a, morph_targets, domain);
             model.extensionsUsed.push_back("KHR_mesh_quantization");
             model.extensionsRequired.push_back("KHR_mesh_quantization");
         }
@@ -583,10 +585,9 @@ struct ModelWriter {
         std::vector<double> lo(width, std::numeric_limits<double>::infinity()), hi(width, -std::numeric_limits<double>::infinity());
         for (std::size_t v = 0; v < count; ++v)
             for (std::size_t c = 0; c < width; ++c) {
-                const double x = std::clamp(std::round(encode(v, c)), double{std::numeric_limits<Int>::min()},
-                                            double{std::numeric_limits<Int>::max()});
-                q[v * stride + c] = static_cast<Int>(x);
-                lo[c] = std::min(lo[c], x), hi[c] = std::max(hi[c], x);
+                const Int x = detail::nearest<Int>(encode(v, c));
+                q[v * stride + c] = x;
+                lo[c] = std::min(lo[c], static_cast<double>(x)), hi[c] = std::max(hi[c], static_cast<double>(x));
             }
         return b.stored(q.data(), width * sizeof(Int), stride * sizeof(Int), count, component, type, true,
                         bounds ? lo : std::vector<double>{}, bounds ? hi : std::vector<double>{}, target);
@@ -649,9 +650,7 @@ struct ModelWriter {
                 values[i] = static_cast<float>(qz.in_node(values[i], c));
                 continue;
             }
-            const double q = std::clamp(std::round(qz.steps(values[i], c)), double{std::numeric_limits<std::int16_t>::min()},
-                                        double{std::numeric_limits<std::int16_t>::max()});
-            values[i] = static_cast<float>(detail::snorm16(static_cast<std::int16_t>(q)));
+            values[i] = static_cast<float>(detail::snorm16(detail::nearest<std::int16_t>(qz.steps(values[i], c))));
         }
         return b.vec3(values, TINYGLTF_TARGET_ARRAY_BUFFER, true);
     }
