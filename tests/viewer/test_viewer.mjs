@@ -393,6 +393,11 @@ for (const name of Object.keys(forms)) {
     };
     const clear = await shot(0), hazy = await shot(40000);
     assert.equal(await page.evaluate(() => window.wave.haze()), 40000);
+    // The bar's "haze (km)" field sets the same visibility.
+    await page.fill('#haze', '12');
+    await page.dispatchEvent('#haze', 'change');
+    assert.equal(await page.evaluate(() => window.wave.haze()), 12000);
+    await page.evaluate(() => window.wave.haze(40000));
     // The files form's later frames carry the water only: the page keeps frame 0's
     // seafloor on show (this view holds land only, so frame 2 looks as frame 0 does).
     await page.evaluate(() => window.wave.setFrame(2));

@@ -472,6 +472,7 @@ $('frame').addEventListener('input', () => { setPlaying(false); showFrame(Number
 $('loop').addEventListener('change', () => { state.loop = $('loop').checked; });
 $('color-by').addEventListener('change', () => { state.colorBy = $('color-by').value; if (state.mesh) applyColors(state.mesh); });
 $('output').addEventListener('change', () => openOutput(Number($('output').value)).catch((e) => fail(String(e))));
+$('haze').addEventListener('change', () => { window.wave.haze(1000 * (Number($('haze').value) || 0)); });
 
 // The legend of the 0 … 1 ramp.
 {
@@ -520,7 +521,10 @@ window.wave = {
   colors() { return Array.from(state.mesh.geometry.attributes.color.array); },
   // The haze's visibility in metres (0: off); without an argument, the current one.
   haze(visibility) {
-    if (visibility !== undefined) haze.visibility.value = Math.max(0, Number(visibility));
+    if (visibility !== undefined) {
+      haze.visibility.value = Math.max(0, Number(visibility) || 0);
+      $('haze').value = String(haze.visibility.value / 1000);
+    }
     return haze.visibility.value;
   },
   // Looks from `eye` at `target` (glTF axes), as the orbit controls would.
