@@ -257,6 +257,9 @@ struct FrameArrays {
     std::vector<std::tuple<std::string, int, std::vector<float>>> attributes;
 };
 
+// Floats per element of an accessor type (SCALAR, VEC2, VEC3).
+std::size_t components_of(int type) noexcept { return type == TINYGLTF_TYPE_VEC3 ? 3 : type == TINYGLTF_TYPE_VEC2 ? 2 : 1; }
+
 FrameArrays frame_arrays(const MorphAnimationView& a, std::size_t f) {
     const std::size_t n = a.vertex_count;
     FrameArrays out;
@@ -635,7 +638,7 @@ struct ModelWriter {
     }
     // Floats as they are, without bounds (not a position).
     int plain(int type, const std::vector<float>& values, bool target = false) {
-        const std::size_t width = type == TINYGLTF_TYPE_VEC3 ? 3 : type == TINYGLTF_TYPE_VEC2 ? 2 : 1;
+        const std::size_t width = components_of(type);
         return b.stored(values.data(), width * sizeof(float), width * sizeof(float), values.size() / width,
                         TINYGLTF_COMPONENT_TYPE_FLOAT, type, false, {}, {}, target);
     }
@@ -682,7 +685,7 @@ struct ModelWriter {
     tinygltf::Primitive draco_primitive(const MorphAnimationView& a, const FrameArrays& frame, bool keep_order = false) {
         std::vector<detail::DracoInput> inputs{{"TEXCOORD_0", 2, a.texcoords}};
         for (const auto& [name, type, values] : frame.attributes)
-            inputs.push_back({name, type == TINYGLTF_TYPE_VEC3 ? 3 : type == TINYGLTF_TYPE_VEC2 ? 2 : 1, values});
+            inputs.push_back({name, static_cast<int>(components_of(type)), values});
         return draco_primitive(a.triangles, a.vertex_count, inputs, draco_bits_for_reach(*a.draco, a.texcoords, inputs), keep_order);
     }
     tinygltf::Primitive draco_primitive(std::span<const std::uint32_t> triangles, std::size_t vertex_count,
@@ -732,17 +735,12 @@ struct ModelWriter {
             std::vector<std::vector<float>> values;  // per input, the part's vertices
             std::vector<detail::DracoInput> inputs;
             values.reserve(frame.attributes.size() + 1);
-            const auto gather = [&](std::string name, int components, std::span<const float> source) {
-                std::vector<float>& v = values.emplace_back(static_cast<std::size_t>(components) * n);
-                for (std::size_t i = 0; i < n; ++i)
-                    for (int c = 0; c < components; ++c)
-                        v[static_cast<std::size_t>(components) * i + static_cast<std::size_t>(c)] =
-                            source[static_cast<std::size_t>(components) * part.vertices[i] + static_cast<std::size_t>(c)];
-                inputs.push_back({std::move(name), components, v});
+            const auto add = [&](std::string name, std::size_t components, std::span<const float> source) {
+                values.push_back(gather(source, components, part.vertices));  // reserved: earlier spans stay valid
+                inputs.push_back({std::move(name), static_cast<int>(components), values.back()});
             };
-            gather("TEXCOORD_0", 2, a.texcoords);
-            for (const auto& [name, type, source] : frame.attributes)
-                gather(name, type == TINYGLTF_TYPE_VEC3 ? 3 : type == TINYGLTF_TYPE_VEC2 ? 2 : 1, source);
+            add("TEXCOORD_0", 2, a.texcoords);
+            for (const auto& [name, type, source] : frame.attributes) add(name, components_of(type), source);
             std::vector<float>& positions = values[static_cast<std::size_t>(std::distance(
                 inputs.begin(), std::find_if(inputs.begin(), inputs.end(), [](const auto& in) { return in.name == "POSITION"; })))];
             const detail::DracoGrid grid = snap_to_lattice(positions, part.seam, steps[k], steps[1]);
@@ -763,8 +761,7 @@ struct ModelWriter {
             prim.indices = part_indices[k];
             prim.attributes["TEXCOORD_0"] = part_texcoord0[k];
             for (const auto& [name, type, values] : frame.attributes) {
-                const std::size_t width = type == TINYGLTF_TYPE_VEC3 ? 3 : type == TINYGLTF_TYPE_VEC2 ? 2 : 1;
-                std::vector<float> v = gather(values, width, part.vertices);
+                std::vector<float> v = gather(values, components_of(type), part.vertices);
                 prim.attributes[name] = k == 1 && name == "POSITION" ? skirt_positions(std::move(v), part.seam) : floats(name, type, v);
             }
         }
