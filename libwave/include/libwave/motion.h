@@ -416,6 +416,10 @@ struct JeschkeMotionPlan {
     std::vector<float> curl;                    ///< k5 scale of the ray's breaker type
     std::vector<float> foam_yield;              ///< foam a passing broken crest leaves (0 … 1)
     std::vector<RayBreak> rays;  ///< per traced ray
+    /// Per vertex, or empty (all 0): how far (rad) the crests at the vertex trail those at
+    /// phase `phase`, whose life they live. A skirt vertex (continue_jeschke_breakers)
+    /// lives its anchor's life, lag/ω later; a vertex of the surface has none.
+    std::vector<double> lag;
     double omega = 0.0;  ///< ω of the train (rad/s)
     double foam_fade_time = 6.0;  ///< s (JeschkeBreakerOptions)
     double foam_onset = 0.25;     ///< share of the breaking phase
@@ -461,6 +465,44 @@ std::size_t fill_jeschke_gaps(JeschkeMotionPlan& plan, std::span<const std::uint
 /// scale·z − mean. The horizontal move fades with k7 as the wave dies (§4's scaling),
 /// so a dead crest leaves the surface at rest. Parallel; independent of the thread count.
 void evaluate_jeschke_breakers(const JeschkeMotionPlan& plan, double t, std::span<float> positions);
+
+/// The breakers carried beyond the domain onto the far field's skirt
+/// (continue_jeschke_breakers): the skirt vertices near a traced border, each living the
+/// life of its nearest anchor (the surface's border vertex it hangs on) as the crest
+/// reaches it, lag = k D·(p − p_anchor) later. The seafloor beyond the border is the
+/// border's, continued along the outward normal (docs/far-field.md): where it does not
+/// change along N, the wave there is the anchor's, delayed by that lag, exactly.
+struct SkirtBreakers {
+    JeschkeMotionPlan plan;              ///< the carrying skirt vertices (rest positions, anchors' fields, lags)
+    std::vector<std::uint32_t> vertex;   ///< per planned vertex: its index among all vertices (surface's, then skirt's)
+    std::vector<float> weight;           ///< per planned vertex: the breakers' share against the far field's fit, in (0, 1]
+    std::size_t vertex_count() const noexcept { return vertex.size(); }  ///< skirt vertices that carry breakers
+};
+
+/// The wet skirt vertices of `skirt` (over `seafloor` continued, depth_at > 0) within
+/// band_wavelengths of the border, on traced anchors of `plan` (the surface's breakers:
+/// plan.vertex_count() == skirt.surface_vertices), weighted 1 up to a wavelength (the
+/// anchor's W) short of the band, smoothstep to 0 at its end. Empty for
+/// band_wavelengths 0. Throws InputError on a plan of another surface or a band outside
+/// [0, 100].
+SkirtBreakers continue_jeschke_breakers(const JeschkeMotionPlan& plan, const SeaSkirt& skirt, const ElevationGrid& seafloor,
+                                        double band_wavelengths);
+
+/// `size` held at the border's own edge within band_wavelengths of the border where
+/// the breakers break and water lies beyond (the plan's vertices on its bounding
+/// rectangle whose phase lies between a quarter wavelength, and the crests' variation,
+/// before their break and their crests' end, with water a centimetre outside them), the
+/// wavelength being the nearest border vertex's W; beyond, `size` at the distance past
+/// the band. Elsewhere `size` itself.
+SkirtSize breaker_skirt_size(SkirtSize size, const JeschkeMotionPlan& plan, const ElevationGrid& seafloor, double band_wavelengths);
+
+/// The skirt's breakers at time t blended into `positions` (all vertices, 3 floats
+/// each, the far field's skirt already evaluated): p = w · breaker + (1 − w) · p.
+void evaluate_skirt_breakers(const SkirtBreakers& breakers, double t, std::span<float> positions, std::vector<float>& scratch);
+
+/// Their foam (jeschke_foam) times the weight, the largest with what `foam` (all
+/// vertices) holds.
+void skirt_breaker_foam(const SkirtBreakers& breakers, double t, std::span<float> foam, std::vector<float>& scratch);
 
 /// §3.1 foam for any time without history: the time since the last crest passed
 /// each vertex, whether that crest had broken there (its life at the vertex), and a

@@ -116,6 +116,10 @@ struct Scene {
         /// The swell keeps its resolution this many local wavelengths beyond the border,
         /// then fades out where the skirt's edges grow (> 0).
         double swell_wavelengths = 2.0;
+        /// With /breakers: where the border's water breaks, the breakers carry on this
+        /// many local wavelengths beyond it on a skirt as fine as the border, fading
+        /// out over the last one (continue_jeschke_breakers); 0: the fit alone (>= 0).
+        double breaker_wavelengths = 2.0;
     };
     /// Set (the default): traced surfaces continue on a skirt out to the far rectangle
     /// (plan_sea_skirt, plan_far_field); empty (`"far_field": false`, the ocean patch,
@@ -264,6 +268,7 @@ struct ScenePlan {
     WaterMesh water_mesh;       ///< Scene::water_mesh_per_wavelength: the mesh (empty otherwise)
     SeaSkirt skirt;             ///< Scene::far_field: the skirt beyond the domain (no vertices otherwise)
     FarFieldPlan far_field;     ///< … its motion
+    SkirtBreakers skirt_breakers;  ///< … and, with breakers, the breakers carried onto it
     /// With a skirt: the model's own vertices (they come first in rest_x, rest_y) and the
     /// surface's triangles with the skirt's (empty without a skirt).
     std::size_t model_vertices = 0;

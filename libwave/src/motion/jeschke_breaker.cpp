@@ -178,6 +178,14 @@ long long crest_index(double wt_minus_phase) noexcept {
 // Break/end phases of crest n at vertex v, when it stands at phase ψ (the plan's own
 // when crests are alike, or when ψ lies seaward of any crest's break: there every
 // crest is round, and no crest breaks more than variation · 2π early).
+// How far vertex v's crests trail the phase whose life they live (JeschkeMotionPlan::lag).
+double lag_of(const JeschkeMotionPlan& p, std::size_t v) noexcept { return p.lag.empty() ? 0.0 : p.lag[v]; }
+
+void check_lags(const JeschkeMotionPlan& p, const char* what) {
+    if (!p.lag.empty() && p.lag.size() != p.vertex_count())
+        throw InputError(std::string(what) + ": " + std::to_string(p.lag.size()) + " lags for " + std::to_string(p.vertex_count()) + " vertices");
+}
+
 CrestPhases crest_phases(const JeschkeMotionPlan& p, std::size_t v, long long n, double psi) noexcept {
     if (p.loop_periods() == 1 || psi < static_cast<double>(p.break_phase[v]) - p.variation * two_pi)
         return {p.break_phase[v], p.breaking_length[v], p.end_phase[v]};
@@ -445,6 +453,7 @@ void evaluate_jeschke_breakers(const JeschkeMotionPlan& p, double t, std::span<f
     if (positions.size() != 3 * n)
         throw InputError("jeschke breakers: positions hold " + std::to_string(positions.size()) + " floats, expected " +
                          std::to_string(3 * n));
+    check_lags(p, "jeschke breakers");
     const double wt = p.omega * t;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t v = r.begin(); v != r.end(); ++v) {
@@ -454,8 +463,9 @@ void evaluate_jeschke_breakers(const JeschkeMotionPlan& p, double t, std::span<f
                 positions[3 * v + 2] = -p.mean_level[v];
                 continue;
             }
-            // δ ∈ [−π, π): how far the nearest crest ψ = ωt − 2πn has run past this vertex.
-            const double ahead = wt - p.phase[v];
+            // δ ∈ [−π, π): how far the nearest crest ψ = ωt − 2πn has run past this vertex
+            // (past its phase, lag later: the life at phase + δ).
+            const double ahead = wt - p.phase[v] - lag_of(p, v);
             const long long crest = crest_index(ahead);
             const double delta = ahead - two_pi * static_cast<double>(crest);
             const double psi = p.phase[v] + delta, s = 0.5 - delta / two_pi;
@@ -491,10 +501,12 @@ void jeschke_foam(const JeschkeMotionPlan& p, double t, std::span<float> foam) {
     const std::size_t n = p.vertex_count();
     if (foam.size() != n)
         throw InputError("jeschke foam: " + std::to_string(foam.size()) + " values for " + std::to_string(n) + " vertices");
+    check_lags(p, "jeschke foam");
     const double wt = p.omega * t;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t v = r.begin(); v != r.end(); ++v) {
-            const double since = wt - p.phase[v] - two_pi * std::floor((wt - p.phase[v]) / two_pi);
+            const double ahead = wt - p.phase[v] - lag_of(p, v);  // crests at the vertex: its phase's, lag later
+            const double since = ahead - two_pi * std::floor(ahead / two_pi);
             const double tau = since / p.omega;
             if (p.loop_periods() == 1) {
                 // Every crest passes here alike (a periodic swell): the latest one, τ ago,
@@ -510,7 +522,7 @@ void jeschke_foam(const JeschkeMotionPlan& p, double t, std::span<float> foam) {
                 foam[v] = 0.0f;
                 continue;
             }
-            const long long latest = static_cast<long long>(std::floor((wt - p.phase[v]) / two_pi));
+            const long long latest = static_cast<long long>(std::floor(ahead / two_pi));
             const double period = two_pi / p.omega;
             // The crests repeat after loop_periods(): an older copy of a crest has faded
             // more than the newer one, so the newest loop_periods() crests hold the

@@ -254,6 +254,7 @@ void plan_far_field_stage(const Scene& scene, ScenePlan& p) {
     SeaSkirtOptions o;
     o.distance = skirt_distance(scene, p);
     o.size = swell_skirt_size(p.seafloor, shortest_period(scene), scene.far_field->swell_wavelengths);
+    if (model.skirt_size) o.size = model.skirt_size(scene, p, std::move(o.size));
     o.max_vertices = scene.surface.max_vertices;
     try {
         p.skirt = plan_sea_skirt(p.rest_x, p.rest_y, triangles, o);
@@ -266,6 +267,7 @@ void plan_far_field_stage(const Scene& scene, ScenePlan& p) {
     const std::vector<FarFieldWave> waves = far_field_components(scene, p, model.far_field_harmonics);
     const std::vector<double> times = far_field_sample_times(p.loop_period, waves.size());
     p.far_field = plan_far_field(p.skirt, p.seafloor.grid, waves, p.rest_x, p.rest_y, times, sample_model(scene, p, model, times));
+    if (model.plan_skirt) model.plan_skirt(scene, p);
     p.skirted_triangles = triangles;
     append_skirt(p);
 }
@@ -799,7 +801,7 @@ struct FrameRun {
     std::vector<float> coarse_p{}, coarse_nr{}, coarse_foam{}, fine_depth{};
     std::optional<UntanglePlan> untangle{};  // when the coarse vertices move sideways
     UntangleWorkspace untangle_scratch{};
-    std::vector<float> far_field_scratch{};  // the skirt's anchors' residuals
+    std::vector<float> far_field_scratch{};  // the skirt's anchors' residuals, then its breakers
     VertexFaces adjacency{};
     FresnelOptions fresnel{};
     std::optional<CausticPlan> caustics{};  // /underwater: a map per frame
@@ -877,6 +879,7 @@ bool move_coarse(FrameRun& r, double t, std::span<float> pc, std::span<float> nr
         add_gerstner_waves(plan.gerstner, x, y, std::span<const float>(plan.rest_depth.data(), own), t, pc.first(3 * own));
     }
     if (plan.skirt.vertex_count() > 0) evaluate_far_field(plan.far_field, t, pc, r.far_field_scratch);
+    if (plan.skirt_breakers.vertex_count() > 0) evaluate_skirt_breakers(plan.skirt_breakers, t, pc, r.far_field_scratch);
     if (!plan.wind_sea_scale.empty()) {  // a wind sea superposed on the model's surface
         const OceanFields fields = evaluate_ocean(plan.ocean, t, *r.wind_sea.workspace);
         add_ocean_samples(plan.ocean, fields, plan.rest_x, plan.rest_y, plan.wind_sea_scale, pc);
@@ -892,6 +895,7 @@ bool move_coarse(FrameRun& r, double t, std::span<float> pc, std::span<float> nr
 void coarse_foam(FrameRun& r, double t, std::span<float> fc) {
     const ScenePlan& plan = r.plan;
     if (r.model.foam) r.model.foam(r.scene, plan, t, r.state.get(), fc.first(model_vertex_count(plan)));
+    if (plan.skirt_breakers.vertex_count() > 0) skirt_breaker_foam(plan.skirt_breakers, t, fc, r.far_field_scratch);
     if (plan.ocean.n == 0) return;
     const FoldFoamOptions& fold = plan.fold_foam;
     accumulate_fold_foam(r.wind_sea.vertex_j, 0.0, fold, fc);

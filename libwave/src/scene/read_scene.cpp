@@ -181,10 +181,11 @@ void read_surface(const Node& n, Scene& s) {
                       "max_tension", "repeat_time", "max_vertices", "camera_grid", "water_mesh", "far_field"});
     if (switched_on(n, "far_field", "no far field")) {
         const Node f = n["far_field"];
-        f.require_object({"distance", "swell_wavelengths"});
+        f.require_object({"distance", "swell_wavelengths", "breaker_wavelengths"});
         Scene::FarField o;
         if (f.has("distance")) o.distance = f["distance"].number("m");
         if (f.has("swell_wavelengths")) o.swell_wavelengths = f["swell_wavelengths"].number("");
+        if (f.has("breaker_wavelengths")) o.breaker_wavelengths = f["breaker_wavelengths"].number("");
         s.far_field = o;
     } else if (n.has("far_field")) {
         s.far_field.reset();

@@ -79,6 +79,13 @@ struct SurfaceModel {
 
     /// Its foam at time t at the coarse vertices (zeros on entry), or nullptr: none.
     void (*foam)(const Scene& s, const ScenePlan& plan, double t, ModelState* state, std::span<float> foam);
+
+    /// What it carries onto the far field's skirt beside the fit (nullptr: the fit alone).
+    /// `skirt_size`: the skirt's target sizes it needs, given the far field's own;
+    /// `plan_skirt`, once plan.skirt is planned: its share of the skirt's motion
+    /// (plan.skirt_breakers), which the pipeline blends in after the fit.
+    SkirtSize (*skirt_size)(const Scene& s, const ScenePlan& plan, SkirtSize size);
+    void (*plan_skirt)(const Scene& s, ScenePlan& plan);
 };
 
 /// The model of a kind (the one place a kind is looked up).

@@ -107,6 +107,8 @@ extern const SurfaceModel kHeightFieldModel{
     .start = start,
     .move = move,
     .foam = foam,
+    .skirt_size = nullptr,
+    .plan_skirt = nullptr,
 };
 
 }  // namespace wave::detail

@@ -74,6 +74,8 @@ extern const SurfaceModel kOceanPatchModel{
     .start = [](const Scene&, const ScenePlan&, bool) { return std::unique_ptr<ModelState>(); },
     .move = move,
     .foam = nullptr,  // its foam is the fold foam every wind sea carries
+    .skirt_size = nullptr,
+    .plan_skirt = nullptr,
 };
 
 }  // namespace wave::detail

@@ -126,6 +126,18 @@ void foam(const Scene& scene, const ScenePlan& p, double t, ModelState*, std::sp
     else breaking_foam(p.water_strips.vertex_count() > 0 ? p.water_strips : p.strips, p.motion, t, scene.foam, out);
 }
 
+// The breakers carry on beyond the border where its water breaks, on a skirt as fine
+// as the border there (docs/far-field.md "Breakers beyond the border").
+double breaker_band(const Scene& scene) { return scene.breakers && scene.far_field ? scene.far_field->breaker_wavelengths : 0.0; }
+
+SkirtSize skirt_size(const Scene& scene, const ScenePlan& p, SkirtSize size) {
+    return breaker_skirt_size(std::move(size), p.breakers, p.seafloor.grid, breaker_band(scene));
+}
+
+void plan_skirt(const Scene& scene, ScenePlan& p) {
+    if (breaker_band(scene) > 0.0) p.skirt_breakers = continue_jeschke_breakers(p.breakers, p.skirt, p.seafloor.grid, breaker_band(scene));
+}
+
 }  // namespace
 
 extern const SurfaceModel kRayStripsModel{
@@ -144,6 +156,8 @@ extern const SurfaceModel kRayStripsModel{
     .start = [](const Scene&, const ScenePlan&, bool) { return std::unique_ptr<ModelState>(); },
     .move = move,
     .foam = foam,
+    .skirt_size = skirt_size,
+    .plan_skirt = plan_skirt,
 };
 
 }  // namespace wave::detail

@@ -133,6 +133,8 @@ extern const SurfaceModel kWaveFieldModel{
     .start = start,
     .move = move,
     .foam = foam,
+    .skirt_size = nullptr,
+    .plan_skirt = nullptr,
 };
 
 }  // namespace wave::detail

@@ -1,0 +1,165 @@
+// Jeschke's breakers carried beyond the domain onto the far field's skirt
+// (libwave/motion.h, docs/far-field.md "Breakers beyond the border").
+#include "core/format.h"
+#include "core/smoothstep.h"
+#include "libwave/bathymetry.h"
+#include "libwave/errors.h"
+#include "libwave/motion.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace wave {
+namespace {
+
+constexpr double two_pi = 2.0 * std::numbers::pi;
+
+// Whether vertex v of the breakers sees breaking crests: traced, from a quarter
+// wavelength before its earliest varied break to where its crests die.
+bool in_surf_zone(const JeschkeMotionPlan& p, std::size_t v) noexcept {
+    return p.width[v] > 0.0f && std::isfinite(p.break_phase[v]) &&
+           p.phase[v] >= static_cast<double>(p.break_phase[v]) - two_pi * (0.25 + p.variation) &&
+           p.phase[v] <= static_cast<double>(p.end_phase[v]);
+}
+
+// The breakers' border vertices on their bounding rectangle, side by side (0 bottom,
+// 1 right, 2 top, 3 left), sorted along the side: (coordinate along it, band held there).
+struct BorderBands {
+    double x0 = 0.0, y0 = 0.0, x1 = 0.0, y1 = 0.0, tolerance = 0.0;
+    std::array<std::vector<std::pair<double, double>>, 4> sides;
+
+    // The band (m) at the border vertex nearest to the rectangle's point (bx, by) on its
+    // side (at a corner: on either side).
+    double at(double bx, double by) const {
+        double best = 0.0, gap = std::numeric_limits<double>::infinity();
+        const auto look = [&](int side, double along) {
+            const auto& s = sides[static_cast<std::size_t>(side)];
+            auto it = std::lower_bound(s.begin(), s.end(), std::pair{along, -std::numeric_limits<double>::infinity()});
+            for (auto c : {it, it == s.begin() ? it : it - 1})
+                if (c != s.end() && std::abs(c->first - along) < gap) gap = std::abs(c->first - along), best = c->second;
+        };
+        if (std::abs(by - y0) <= tolerance) look(0, bx);
+        if (std::abs(bx - x1) <= tolerance) look(1, by);
+        if (std::abs(by - y1) <= tolerance) look(2, bx);
+        if (std::abs(bx - x0) <= tolerance) look(3, by);
+        return best;
+    }
+};
+
+BorderBands border_bands(const JeschkeMotionPlan& p, const ElevationGrid& seafloor, double band_wavelengths) {
+    BorderBands b;
+    if (p.vertex_count() == 0) return b;
+    const auto [xlo, xhi] = std::minmax_element(p.x.begin(), p.x.end());
+    const auto [ylo, yhi] = std::minmax_element(p.y.begin(), p.y.end());
+    b.x0 = *xlo, b.x1 = *xhi, b.y0 = *ylo, b.y1 = *yhi;
+    b.tolerance = 1e-9 * std::max({1.0, b.x1 - b.x0, b.y1 - b.y0});
+    constexpr double kOut = 0.01;  // m: where the water beyond the border is looked for
+    constexpr std::array<std::array<double, 2>, 4> kNormal{{{0.0, -1.0}, {1.0, 0.0}, {0.0, 1.0}, {-1.0, 0.0}}};
+    for (std::size_t v = 0; v < p.vertex_count(); ++v) {
+        const std::array<bool, 4> on{std::abs(p.y[v] - b.y0) <= b.tolerance, std::abs(p.x[v] - b.x1) <= b.tolerance,
+                                     std::abs(p.y[v] - b.y1) <= b.tolerance, std::abs(p.x[v] - b.x0) <= b.tolerance};
+        for (std::size_t side = 0; side < 4; ++side) {
+            if (!on[side]) continue;
+            const bool wet_beyond = depth_at(seafloor, p.x[v] + kOut * kNormal[side][0], p.y[v] + kOut * kNormal[side][1]) > 0.0;
+            const double band = in_surf_zone(p, v) && wet_beyond ? band_wavelengths * p.width[v] : 0.0;
+            b.sides[side].emplace_back(side % 2 == 0 ? p.x[v] : p.y[v], band);
+        }
+    }
+    for (auto& s : b.sides) std::sort(s.begin(), s.end());
+    return b;
+}
+
+void check_band(double band_wavelengths) {
+    if (!(band_wavelengths >= 0.0 && band_wavelengths <= 100.0))
+        throw InputError("skirt breakers: band_wavelengths must be in [0, 100], got " + detail::format_number(band_wavelengths));
+}
+
+}  // namespace
+
+SkirtBreakers continue_jeschke_breakers(const JeschkeMotionPlan& p, const SeaSkirt& skirt, const ElevationGrid& seafloor,
+                                        double band_wavelengths) {
+    check_band(band_wavelengths);
+    if (p.vertex_count() != skirt.surface_vertices)
+        throw InputError("skirt breakers: the breakers hold " + std::to_string(p.vertex_count()) + " vertices, the skirt's surface " +
+                         std::to_string(skirt.surface_vertices));
+    SkirtBreakers out;
+    if (band_wavelengths == 0.0) return out;
+    JeschkeMotionPlan& q = out.plan;
+    q.omega = p.omega;
+    q.foam_fade_time = p.foam_fade_time;
+    q.foam_onset = p.foam_onset;
+    q.crest_draws = p.crest_draws;
+    q.variation = p.variation;
+    for (std::size_t v = 0; v < skirt.vertex_count(); ++v) {
+        const std::uint32_t a = skirt.anchor_weight[v] >= 0.5f ? skirt.anchor[2 * v] : skirt.anchor[2 * v + 1];
+        const double width = p.width[a];
+        if (width == 0.0 || !(depth_at(seafloor, skirt.x[v], skirt.y[v]) > 0.0)) continue;  // untraced, or over land: the fit alone
+        const double weight = 1.0 - detail::smoothstep(std::max(0.0, band_wavelengths - 1.0) * width, band_wavelengths * width, skirt.distance[v]);
+        if (weight <= 0.0) continue;
+        out.vertex.push_back(static_cast<std::uint32_t>(skirt.surface_vertices + v));
+        out.weight.push_back(static_cast<float>(weight));
+        q.x.push_back(skirt.x[v]);
+        q.y.push_back(skirt.y[v]);
+        q.dir_x.push_back(p.dir_x[a]);
+        q.dir_y.push_back(p.dir_y[a]);
+        q.phase.push_back(p.phase[a]);
+        // The anchor's plane wave carried to the vertex: its crests arrive k D·(p − p_a) later.
+        q.lag.push_back(two_pi / width * (p.dir_x[a] * (skirt.x[v] - p.x[a]) + p.dir_y[a] * (skirt.y[v] - p.y[a])));
+        for (auto [to, from] : {std::pair{&q.width, &p.width}, {&q.scale, &p.scale}, {&q.mean_level, &p.mean_level},
+                                {&q.break_phase, &p.break_phase}, {&q.end_phase, &p.end_phase}, {&q.rise, &p.rise},
+                                {&q.breaking_length, &p.breaking_length}, {&q.curl, &p.curl}, {&q.foam_yield, &p.foam_yield}})
+            to->push_back((*from)[a]);
+    }
+    return out;
+}
+
+SkirtSize breaker_skirt_size(SkirtSize size, const JeschkeMotionPlan& plan, const ElevationGrid& seafloor, double band_wavelengths) {
+    check_band(band_wavelengths);
+    if (!size) throw InputError("skirt breakers: no size function");
+    if (band_wavelengths == 0.0) return size;
+    return [size = std::move(size), bands = border_bands(plan, seafloor, band_wavelengths)](double bx, double by, double d, double edge) {
+        const double band = bands.at(bx, by);
+        return size(bx, by, std::max(0.0, d - band), edge);
+    };
+}
+
+void evaluate_skirt_breakers(const SkirtBreakers& b, double t, std::span<float> positions, std::vector<float>& scratch) {
+    const std::size_t n = b.vertex_count();
+    if (b.weight.size() != n || b.plan.vertex_count() != n)
+        throw InputError("skirt breakers: " + std::to_string(n) + " vertices, " + std::to_string(b.weight.size()) + " weights, " +
+                         std::to_string(b.plan.vertex_count()) + " planned");
+    for (std::uint32_t v : b.vertex)
+        if (3 * static_cast<std::size_t>(v) + 3 > positions.size())
+            throw InputError("skirt breakers: vertex " + std::to_string(v) + " beyond the " + std::to_string(positions.size() / 3) +
+                             " positions");
+    scratch.resize(3 * n);
+    evaluate_jeschke_breakers(b.plan, t, scratch);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            const float w = b.weight[i];
+            float* p = &positions[3 * static_cast<std::size_t>(b.vertex[i])];
+            for (std::size_t c = 0; c < 3; ++c) p[c] = w * scratch[3 * i + c] + (1.0f - w) * p[c];
+        }
+    });
+}
+
+void skirt_breaker_foam(const SkirtBreakers& b, double t, std::span<float> foam, std::vector<float>& scratch) {
+    const std::size_t n = b.vertex_count();
+    for (std::uint32_t v : b.vertex)
+        if (v >= foam.size())
+            throw InputError("skirt breakers: vertex " + std::to_string(v) + " beyond the " + std::to_string(foam.size()) + " foam values");
+    scratch.resize(n);
+    jeschke_foam(b.plan, t, scratch);
+    for (std::size_t i = 0; i < n; ++i) foam[b.vertex[i]] = std::max(foam[b.vertex[i]], b.weight[i] * scratch[i]);
+}
+
+}  // namespace wave
