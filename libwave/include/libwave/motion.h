@@ -488,12 +488,13 @@ struct SkirtBreakers {
 SkirtBreakers continue_jeschke_breakers(const JeschkeMotionPlan& plan, const SeaSkirt& skirt, const ElevationGrid& seafloor,
                                         double band_wavelengths);
 
-/// `size` held at the border's own edge within band_wavelengths of the border where
-/// the breakers break and water lies beyond (the plan's vertices on its bounding
-/// rectangle whose phase lies between a quarter wavelength, and the crests' variation,
-/// before their break and their crests' end, with water a centimetre outside them), the
-/// wavelength being the nearest border vertex's W; beyond, `size` at the distance past
-/// the band. Elsewhere `size` itself.
+/// `size` held at the border's own edge within band_wavelengths − 1 of the border
+/// (where the breakers carry on whole) where the breakers break and water lies beyond
+/// (the plan's vertices on its bounding rectangle whose phase lies between a quarter
+/// wavelength, and the crests' variation, before their break and their crests' end,
+/// with water a centimetre outside them), the wavelength being the nearest border
+/// vertex's W; beyond, `size` at the distance past the held band (the fade's wavelength
+/// grows as the far field's skirt does). Elsewhere `size` itself.
 SkirtSize breaker_skirt_size(SkirtSize size, const JeschkeMotionPlan& plan, const ElevationGrid& seafloor, double band_wavelengths);
 
 /// The skirt's breakers at time t blended into `positions` (all vertices, 3 floats

@@ -70,7 +70,7 @@ BorderBands border_bands(const JeschkeMotionPlan& p, const ElevationGrid& seaflo
         for (std::size_t side = 0; side < 4; ++side) {
             if (!on[side]) continue;
             const bool wet_beyond = depth_at(seafloor, p.x[v] + kOut * kNormal[side][0], p.y[v] + kOut * kNormal[side][1]) > 0.0;
-            const double band = in_surf_zone(p, v) && wet_beyond ? band_wavelengths * p.width[v] : 0.0;
+            const double band = in_surf_zone(p, v) && wet_beyond ? std::max(0.0, band_wavelengths - 1.0) * p.width[v] : 0.0;
             b.sides[side].emplace_back(side % 2 == 0 ? p.x[v] : p.y[v], band);
         }
     }
