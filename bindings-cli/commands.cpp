@@ -399,7 +399,8 @@ json surface_summary(const RunSummary& r) {
                                 {"triangles", plan.skirt.triangles.size() / 3},
                                 {"distance_m", plan.skirt.reach},
                                 {"components", plan.far_field.component_count()},
-                                {"anchors", plan.far_field.anchor_vertex.size()}};
+                                {"anchors", plan.far_field.anchor_vertex.size()},
+                                {"breaker_vertices", plan.skirt_breakers.vertex_count()}};
     if (plan.camera_grid.vertex_count() > 0)
         surface["camera_grid"] = {{"columns", plan.camera_grid.columns}, {"rows", plan.camera_grid.rows}};
     if (scene.refine)
