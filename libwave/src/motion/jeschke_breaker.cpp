@@ -175,9 +175,6 @@ long long crest_index(double wt_minus_phase) noexcept {
     return static_cast<long long>(std::floor((wt_minus_phase + pi) / two_pi));
 }
 
-// Break/end phases of crest n at vertex v, when it stands at phase ψ (the plan's own
-// when crests are alike, or when ψ lies seaward of any crest's break: there every
-// crest is round, and no crest breaks more than variation · 2π early).
 // How far vertex v's crests trail the phase whose life they live (JeschkeMotionPlan::lag).
 double lag_of(const JeschkeMotionPlan& p, std::size_t v) noexcept { return p.lag.empty() ? 0.0 : p.lag[v]; }
 
@@ -186,6 +183,9 @@ void check_lags(const JeschkeMotionPlan& p, const char* what) {
         throw InputError(std::string(what) + ": " + std::to_string(p.lag.size()) + " lags for " + std::to_string(p.vertex_count()) + " vertices");
 }
 
+// Break/end phases of crest n at vertex v, when it stands at phase ψ (the plan's own
+// when crests are alike, or when ψ lies seaward of any crest's break: there every
+// crest is round, and no crest breaks more than variation · 2π early).
 CrestPhases crest_phases(const JeschkeMotionPlan& p, std::size_t v, long long n, double psi) noexcept {
     if (p.loop_periods() == 1 || psi < static_cast<double>(p.break_phase[v]) - p.variation * two_pi)
         return {p.break_phase[v], p.breaking_length[v], p.end_phase[v]};
