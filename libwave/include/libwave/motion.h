@@ -474,7 +474,7 @@ void evaluate_jeschke_breakers(const JeschkeMotionPlan& plan, double t, std::spa
 /// change along N, the wave there is the anchor's, delayed by that lag, exactly.
 struct SkirtBreakers {
     JeschkeMotionPlan plan;              ///< the carrying skirt vertices (rest positions, anchors' fields, lags)
-    std::vector<std::uint32_t> vertex;   ///< per planned vertex: its index among all vertices (surface's, then skirt's)
+    std::vector<std::uint32_t> vertex;   ///< per planned vertex: its index among all vertices (surface's, then skirt's), ascending
     std::vector<float> weight;           ///< per planned vertex: the breakers' share against the far field's fit, in (0, 1]
     std::size_t vertex_count() const noexcept { return vertex.size(); }  ///< skirt vertices that carry breakers
 };

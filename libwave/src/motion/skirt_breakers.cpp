@@ -83,6 +83,17 @@ void check_band(double band_wavelengths) {
         throw InputError("skirt breakers: band_wavelengths must be in [0, 100], got " + detail::format_number(band_wavelengths));
 }
 
+// The carried vertices' sizes agree and their indices (ascending) lie below `count`:
+// one look at the last, not a pass a frame.
+void check_targets(const SkirtBreakers& b, std::size_t count, const char* what) {
+    const std::size_t n = b.vertex_count();
+    if (b.weight.size() != n || b.plan.vertex_count() != n)
+        throw InputError("skirt breakers: " + std::to_string(n) + " vertices, " + std::to_string(b.weight.size()) + " weights, " +
+                         std::to_string(b.plan.vertex_count()) + " planned");
+    if (n > 0 && b.vertex.back() >= count)
+        throw InputError("skirt breakers: vertex " + std::to_string(b.vertex.back()) + " beyond the " + std::to_string(count) + " " + what);
+}
+
 }  // namespace
 
 SkirtBreakers continue_jeschke_breakers(const JeschkeMotionPlan& p, const SeaSkirt& skirt, const ElevationGrid& seafloor,
@@ -134,13 +145,7 @@ SkirtSize breaker_skirt_size(SkirtSize size, const JeschkeMotionPlan& plan, cons
 
 void evaluate_skirt_breakers(const SkirtBreakers& b, double t, std::span<float> positions, std::vector<float>& scratch) {
     const std::size_t n = b.vertex_count();
-    if (b.weight.size() != n || b.plan.vertex_count() != n)
-        throw InputError("skirt breakers: " + std::to_string(n) + " vertices, " + std::to_string(b.weight.size()) + " weights, " +
-                         std::to_string(b.plan.vertex_count()) + " planned");
-    for (std::uint32_t v : b.vertex)
-        if (3 * static_cast<std::size_t>(v) + 3 > positions.size())
-            throw InputError("skirt breakers: vertex " + std::to_string(v) + " beyond the " + std::to_string(positions.size() / 3) +
-                             " positions");
+    check_targets(b, positions.size() / 3, "positions");
     scratch.resize(3 * n);
     evaluate_jeschke_breakers(b.plan, t, scratch);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -154,9 +159,7 @@ void evaluate_skirt_breakers(const SkirtBreakers& b, double t, std::span<float> 
 
 void skirt_breaker_foam(const SkirtBreakers& b, double t, std::span<float> foam, std::vector<float>& scratch) {
     const std::size_t n = b.vertex_count();
-    for (std::uint32_t v : b.vertex)
-        if (v >= foam.size())
-            throw InputError("skirt breakers: vertex " + std::to_string(v) + " beyond the " + std::to_string(foam.size()) + " foam values");
+    check_targets(b, foam.size(), "foam values");
     scratch.resize(n);
     jeschke_foam(b.plan, t, scratch);
     for (std::size_t i = 0; i < n; ++i) foam[b.vertex[i]] = std::max(foam[b.vertex[i]], b.weight[i] * scratch[i]);
