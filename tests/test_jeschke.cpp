@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <numbers>
 #include <vector>
 
@@ -718,4 +719,59 @@ TEST(SkirtBreakers, TheSurfZoneCarriesOnBeyondTheSideWithoutFolds) {
         EXPECT_EQ(m.worst.folds, 0u) << "breaker_wavelengths " << band;
         EXPECT_EQ(m.unreferenced_vertices, 0u);
     }
+}
+
+TEST(JeschkeBreakers, WavesEnteringBrokenAcrossAnUpwaveSideAreMidLife) {
+    // The oblique beach's west side runs into the surf zone. Over the apron beyond it the
+    // waves broke before they reach the side (the tracer's EntryPoint::break_phase), so
+    // the border's vertices foam as those a little inside do. Rays entering there used to
+    // begin a new life on their first vertex: no foam on the border, and the skirt beyond
+    // it carried none either.
+    const Scene scene = parse_scene(oblique_beach(2.0), "beach.json", ".");
+    const ScenePlan plan = plan_scene(scene);
+    const JeschkeMotionPlan& b = plan.breakers;
+    double border = 0.0, inside = 0.0;
+    std::size_t on_border = 0, in_band = 0;
+    for (std::size_t v = 0; v < b.vertex_count(); ++v) {
+        if (b.y[v] < 140.0 || b.y[v] > 155.0) continue;  // the surf zone: breaking at 134 m on the west side
+        if (b.x[v] == 0.0) border += b.foam_yield[v], ++on_border;
+        if (b.x[v] > 4.0 && b.x[v] < 8.0) inside += b.foam_yield[v], ++in_band;
+    }
+    ASSERT_GT(on_border, 5u);
+    ASSERT_GT(in_band, 5u);
+    border /= static_cast<double>(on_border);
+    inside /= static_cast<double>(in_band);
+    EXPECT_GT(inside, 0.3);
+    EXPECT_GT(border, 0.7 * inside) << "border " << border << ", inside " << inside;
+}
+
+TEST(JeschkeBreakers, ARayInsertedInTheSurfZoneBreaksWhereItsNeighboursBroke) {
+    // A ray inserted where its neighbours drifted apart in the surf zone is capped on its
+    // first vertex: its wave broke before, where the rays beside it broke. It used to
+    // start a new breaker there (a lip and a foam streak rising from nothing).
+    const Scene scene = parse_scene(oblique_beach(2.0), "beach.json", ".");
+    const ScenePlan plan = plan_scene(scene);
+    const RayStrips& s = plan.strips;
+    std::map<std::uint32_t, std::uint32_t> first;  // ray → its first vertex
+    for (std::uint32_t v = 0; v < s.vertex_count(); ++v)
+        if (auto [it, fresh] = first.emplace(s.ray[v], v); !fresh && s.step[v] < s.step[it->second]) it->second = v;
+    std::map<std::uint32_t, double> broke;  // ray → break phase
+    for (const RayBreak& r : plan.breakers.rays)
+        if (r.breaks) broke[r.ray] = r.break_phase;
+    std::size_t inherited = 0;
+    for (const auto& [ray, v] : first) {
+        if (!(2.0 * s.amplitude[v] >= kBreakerIndex * s.depth[v]) || !broke.count(ray)) continue;  // unbroken on its first vertex
+        bool neighbour_broke_before = false;
+        for (std::size_t t = 0; t < s.triangles.size(); t += 3)
+            for (std::size_t c = 0; c < 3; ++c)
+                if (s.triangles[t + c] == v)
+                    for (std::size_t d = 1; d < 3; ++d) {
+                        const std::uint32_t other = s.ray[s.triangles[t + (c + d) % 3]];
+                        neighbour_broke_before |= other != ray && broke.count(other) && broke[other] < s.phase[v] - 1e-9;
+                    }
+        if (!neighbour_broke_before) continue;
+        EXPECT_LT(broke[ray], s.phase[v]) << "ray " << ray << " starts a new breaker on its first vertex";
+        ++inherited;
+    }
+    EXPECT_GT(inherited, 3u);
 }

@@ -27,26 +27,39 @@ TEST(Trace, PlanarBeachSnellAtEveryCrossingAndAmplitude) {
     ASSERT_NEAR(std::atan2(train.direction_x, train.direction_y), 30 * kDeg, 1e-12);
     const RaySet rays = trace_rays(beach, iso, std::span(&train, 1), scene.trace);
     ASSERT_GT(rays.ray_count(), 50u);
-    std::size_t checked = 0, aground = 0;
+    // Every ray, including those entering across the shallow west side (x = 0): those
+    // start on the wave the corner's plane wave refracts into over the apron, so the
+    // Snell invariant and K_r are the train's, counted from the up-wave corner (8 m deep).
+    const double omega = 2 * std::numbers::pi / 8.0, cos0 = std::cos(30 * kDeg);
+    const double invariant = std::sin(30 * kDeg) / linear_wave(omega, 8.0).celerity;
+    std::size_t checked = 0, aground = 0, west = 0;
+    double worst_west = 0.0;
     for (std::size_t r = 0; r < rays.ray_count(); ++r) {
         const std::size_t s = rays.offsets[r];
         EXPECT_EQ(rays.event[s], RayEvent::start);
-        // The contour normal is ±y, so sin θ = dir_x; Snell: sin θ / C is invariant.
-        const double invariant = rays.dir_x[s] / rays.celerity[s];
-        const double cos0 = rays.dir_y[s];
+        const bool deep_start = rays.y[s] == 0.0;
+        west += rays.x[s] == 0.0;
+        EXPECT_NEAR(rays.dir_x[s] / rays.celerity[s], invariant, 1e-13 * invariant) << r;
         for (std::size_t i = s + 1; i < rays.offsets[r + 1]; ++i) {
             if (rays.event[i] != RayEvent::refracted) continue;
+            // The contour normal is ±y, so sin θ = dir_x; Snell: sin θ / C is invariant.
             EXPECT_NEAR(rays.dir_x[i] / rays.celerity[i], invariant, 1e-13 * invariant);
             ++checked;
-            // Straight parallel contours: K_r = sqrt(cos θ0 / cos θ) exactly; A = A∞ K_s K_r.
-            // (Only between rays that entered across the deep edge y = 0: rays entering
-            // across the shallow west side start unrefracted, as if that side were open sea.)
-            const auto deep_start = [&](std::size_t q) { return rays.y[rays.offsets[q]] == 0.0; };
-            const bool interior = r > 0 && r + 1 < rays.ray_count() && deep_start(r - 1) && deep_start(r) && deep_start(r + 1);
-            if (interior && !(rays.flags[i] & kAmplitudeCapped)) {
-                EXPECT_NEAR(rays.refraction[i], std::sqrt(cos0 / rays.dir_y[i]), 1e-9);
-                const double ks = shoaling_coefficient(2 * std::numbers::pi / 8.0, rays.depth[i]);
-                EXPECT_NEAR(rays.amplitude[i], 0.4 * ks * std::sqrt(cos0 / rays.dir_y[i]), 1e-9);
+            // Straight parallel contours: K_r = sqrt(cos θ0 / cos θ) exactly between rays
+            // that entered across the deep edge y = 0 (translates of one another). Rays
+            // entering across the west side 4 m apart start in different places within a
+            // band, whose direction is the band's, not the entry depth's: their spacing, so
+            // K_r, is off by a share of a band (measured up to 4.6 % at 1.5 m depth, where
+            // one band turns the ray most; 1.1 % at 6.5 m).
+            if (!(rays.flags[i] & kAmplitudeCapped)) {
+                const double kr = std::sqrt(cos0 / rays.dir_y[i]);
+                const auto deep = [&](std::size_t q) { return rays.y[rays.offsets[q]] == 0.0; };
+                if (deep_start && r > 0 && deep(r - 1) && r + 1 < rays.ray_count() && deep(r + 1)) {
+                    EXPECT_NEAR(rays.refraction[i], kr, 1e-9);
+                    EXPECT_NEAR(rays.amplitude[i], 0.4 * shoaling_coefficient(omega, rays.depth[i]) * kr, 1e-9);
+                } else {
+                    worst_west = std::max(worst_west, std::abs(rays.refraction[i] / kr - 1.0));
+                }
             }
             EXPECT_LE(2 * rays.amplitude[i], kBreakerIndex * rays.depth[i] + 1e-12);
         }
@@ -54,6 +67,8 @@ TEST(Trace, PlanarBeachSnellAtEveryCrossingAndAmplitude) {
         EXPECT_TRUE(end == RayEvent::aground || end == RayEvent::left_domain);
         aground += end == RayEvent::aground;
     }
+    EXPECT_GT(west, 20u);
+    EXPECT_LT(worst_west, 0.05);
     EXPECT_GT(checked, 1000u);
     EXPECT_GT(aground, rays.ray_count() / 2);
     // The phase grows by k Δs along every leg.

@@ -172,7 +172,9 @@ void bind_fronts(py::module_& m) {
         m, "Fronts", "Gonzato's adaptive wave fronts: point arrays, front f at front_offsets[f] .. front_offsets[f+1]");
     def_array(front_class, "x", &wave::FrontSet::x, "x (m) of every point");
     def_array(front_class, "y", &wave::FrontSet::y, "y (m)");
-    def_array(front_class, "phase", &wave::FrontSet::phase, "Σ k Δs (rad)");
+    def_array(front_class, "phase", &wave::FrontSet::phase, "the phase on entry + Σ k Δs (rad)");
+    def_array(front_class, "entry_break_phase", &wave::FrontSet::entry_break_phase,
+              "per ray id: the phase where its wave broke before it entered (over the apron beyond its side), NaN if it entered unbroken");
     def_array(front_class, "k", &wave::FrontSet::k, "wavenumber (rad/m)");
     def_array(front_class, "depth", &wave::FrontSet::depth, "h (m)");
     def_array(front_class, "amplitude", &wave::FrontSet::amplitude, "A (m): A∞ K_s K_r, or the field's after take_field_amplitudes");
@@ -208,7 +210,7 @@ void bind_fronts(py::module_& m) {
         m, "Rays", "Ts'o–Barsky's rays: points of ray r at offsets[r] .. offsets[r+1]");
     def_array(ray_class, "x", &wave::RaySet::x, "x (m) of every point");
     def_array(ray_class, "y", &wave::RaySet::y, "y (m)");
-    def_array(ray_class, "phase", &wave::RaySet::phase, "Σ k Δs plus the plane-wave phase at the start (rad)");
+    def_array(ray_class, "phase", &wave::RaySet::phase, "Σ k Δs plus the phase on entry (rad)");
     def_array(ray_class, "depth", &wave::RaySet::depth, "depth the leg is computed with (m)");
     def_array(ray_class, "amplitude", &wave::RaySet::amplitude, "A = A∞ K_s K_r, capped at caustics (m)");
     def_array(ray_class, "offsets", &wave::RaySet::offsets);

@@ -55,6 +55,9 @@ def test_stage_objects_expose_their_arrays():
     assert len(iso) > 0 and iso.polyline(0).shape[1] == 2 and 0.0 in list(iso.depths)
     fronts = libwave.trace_fronts(sea, 5.0, 0.3, (0, 1), ray_spacing=2, step=0.8, split_distance=2.4)
     assert fronts.front_count > 10 and len(fronts.x) == fronts.front_offsets[-1]
+    # Per ray id; the bay's swell enters across its deep edge unbroken.
+    assert len(fronts.entry_break_phase) == fronts.initial_rays + fronts.inserted_rays
+    assert np.isnan(fronts.entry_break_phase).all()
     strips = libwave.build_ray_strips(fronts)
     assert strips.triangles.shape[1] == 3 and strips.triangles.max() < strips.vertex_count
     motion = libwave.plan_gonzato_motion(strips)

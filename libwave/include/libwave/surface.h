@@ -377,6 +377,7 @@ struct RayStrips {
     std::vector<double> rise;       ///< as in FrontSet
     std::vector<RayFlag> flag;  ///< the ray's state at the vertex
     std::vector<std::uint8_t> caustic;      ///< 1 where rays crossed (FrontSet::caustic)
+    std::vector<double> entry_break_phase;  ///< per ray id (FrontSet::entry_break_phase)
     std::vector<std::uint32_t> triangles;   ///< 3 per triangle, counter-clockwise seen from above
     double omega = 0.0;                     ///< ω of the train (rad/s)
     std::size_t degenerate_skipped = 0;     ///< zero-area cells left out (rays meeting on the shore)

@@ -63,14 +63,14 @@ enum RayPointFlag : std::uint8_t {
 struct RaySet {
     std::vector<std::size_t> offsets{0};  ///< size rays + 1
     std::vector<std::uint32_t> train;     ///< wave train of each ray
-    std::vector<double> spacing_start;    ///< b0 of each ray (m)
+    std::vector<double> spacing_start;    ///< b0 of each ray: its tube's width where the train is a plane wave (m)
 
     std::vector<double> x;  ///< point (m)
     std::vector<double> y;  ///< point (m)
     std::vector<double> dir_x;  ///< unit direction of the leg after the point
     std::vector<double> dir_y;  ///< unit direction of the leg after the point
     std::vector<double> arc_length;       ///< distance travelled from the start (m)
-    std::vector<double> phase;            ///< Σ k Δs plus the plane-wave phase at the start (rad)
+    std::vector<double> phase;            ///< Σ k Δs plus the phase on entry (rad; 0 at the up-wave corner)
     std::vector<double> depth;            ///< depth the leg is computed with (m)
     std::vector<double> k;               ///< wavenumber (rad/m)
     std::vector<double> omega;           ///< ω of the ray's train (rad/s)
@@ -153,7 +153,7 @@ struct FrontSet {
     std::vector<double> y;  ///< point (m)
     std::vector<double> dir_x;  ///< unit direction of travel
     std::vector<double> dir_y;  ///< unit direction of travel
-    std::vector<double> phase;       ///< plane-wave start phase + Σ k Δs (rad)
+    std::vector<double> phase;       ///< the phase on entry + Σ k Δs (rad; 0 at the up-wave corner)
     std::vector<double> k;      ///< wavenumber (rad/m)
     std::vector<double> depth;  ///< h (m)
     std::vector<double> slope;  ///< |∇h| (bottom slope)
@@ -161,6 +161,10 @@ struct FrontSet {
     std::vector<double> amplitude;   ///< A∞ K_s K_r, K_r from the spacing of the neighbours
     std::vector<RayFlag> flag;       ///< the ray's state at the point
     std::vector<std::uint8_t> caustic;  ///< 1 where the ray has crossed a neighbour (order flipped): kept, amplitude capped
+    /// Per ray id: the phase where its wave broke before it entered the domain (over the
+    /// apron beyond an up-wave side that runs into the surf zone), NaN where it entered
+    /// unbroken or was inserted. docs/conventions.md ("Where rays enter").
+    std::vector<double> entry_break_phase;
     double omega = 0.0;                ///< ω of the train (rad/s)
     std::size_t caustic_points = 0;    ///< points with caustic set
     std::size_t initial_rays = 0;      ///< rays started on the upwave side

@@ -226,6 +226,118 @@ CrestPhases vary_crest(double rise, double break_phase, double breaking_length, 
     return {b, breaking_length, e};
 }
 
+namespace {
+
+// One ray's breaker: where it breaks and the lengths of its life (rad along the ray).
+struct RayLife {
+    RayBreak rb;
+    double rise = 0.0, breaking = 0.0, curl = 1.0, end = 0.0;
+    bool breaks_at_start = false;  // capped on its first vertex, with no earlier break given
+};
+
+constexpr double never = std::numeric_limits<double>::infinity();
+
+// The life of the ray through `vs` (its vertices from offshore to its end). A ray
+// capped on its first vertex broke before it: at `before` when that is given (the
+// apron beyond the side it entered across, or its neighbours' break where it was
+// inserted), and it lives the rest of that life here, not a new one from that vertex.
+RayLife ray_life(const RayStrips& strips, std::uint32_t id, const std::vector<std::uint32_t>& vs, double before,
+                 double deep_height, double deep_wavelength, const JeschkeBreakerOptions& o) {
+    // Depth-limited breaking H = 2A >= γh (dry counts): the first crossing of
+    // f = 2A − γh, located between the two vertices by linear interpolation.
+    const auto f = [&](std::uint32_t v) {
+        return strips.depth[v] <= 0.0 ? 1.0 : 2.0 * strips.amplitude[v] - o.breaker_index * strips.depth[v];
+    };
+    RayLife life;
+    RayBreak& rb = life.rb;
+    rb.ray = id;
+    rb.end_phase = strips.phase[vs.back()];
+    std::size_t i = 0;
+    while (i < vs.size() && f(vs[i]) < 0.0) ++i;
+    life.rise = o.rise_wavelengths * two_pi;
+    life.end = never;  // where a crest dies: the ray's end, or later
+    if (i == vs.size()) {
+        rb.break_phase = rb.end_phase = never;
+        return life;
+    }
+    rb.breaks = true;
+    const std::uint32_t b = vs[i];
+    double w = 0.0;  // share of the way from the previous vertex to b
+    if (i > 0) {
+        const double fa = f(vs[i - 1]), fb = f(b);
+        w = fb > fa ? -fa / (fb - fa) : 1.0;
+    }
+    const std::uint32_t a = i > 0 ? vs[i - 1] : b;
+    const auto at = [&](const std::vector<double>& q) { return q[a] + w * (q[b] - q[a]); };
+    rb.break_phase = at(strips.phase);
+    const bool broke_before = i == 0 && before < rb.break_phase;  // false for NaN
+    life.breaks_at_start = i == 0 && !broke_before;
+    if (broke_before) rb.break_phase = before;
+    rb.x = at(strips.x);
+    rb.y = at(strips.y);
+    rb.depth = std::max(0.0, at(strips.depth));
+    rb.height = 2.0 * at(strips.amplitude);
+    // Mean bottom slope over one local wavelength seaward of the break.
+    const double k_b = strips.k[a] > 0.0 && std::isfinite(strips.k[a]) ? strips.k[a] : 2.0 * pi / deep_wavelength;
+    const double wavelength = two_pi / k_b;
+    double run = 0.0, h_back = rb.depth;
+    double px = rb.x, py = rb.y;
+    for (std::size_t j = i; j-- > 0 && run < wavelength;) {
+        run += std::hypot(strips.x[vs[j]] - px, strips.y[vs[j]] - py);
+        px = strips.x[vs[j]];
+        py = strips.y[vs[j]];
+        h_back = strips.depth[vs[j]];
+    }
+    const double slope = run > 0.0 ? std::max(0.0, (h_back - rb.depth) / run) : 0.0;
+    rb.iribarren = iribarren_number(slope, deep_height, deep_wavelength);
+    rb.type = classify_breaker(rb.iribarren, o.thresholds);
+    life.curl = rb.type == BreakerType::spilling     ? o.curl_spilling
+                : rb.type == BreakerType::plunging   ? o.curl_plunging
+                : rb.type == BreakerType::collapsing ? o.curl_collapsing
+                                                     : o.curl_surging;
+    // A steep shore ends the ray a few metres past the break: breaking and collapsing
+    // squeezed into that run moved lip vertices at 13 c (breaking Okushiri's islet).
+    // The crest's life spans at least min_surf_zone_wavelengths; the shore cuts it.
+    life.end = std::max(rb.end_phase, rb.break_phase + o.min_surf_zone_wavelengths * two_pi);
+    life.breaking = std::min(o.breaking_share * (life.end - rb.break_phase), o.max_breaking_wavelengths * two_pi);
+    if (!(life.breaking > 0.0)) life.breaking = 1e-6;  // breaks on its last vertex
+    if (!broke_before) life.rise = std::min(life.rise, rb.break_phase);  // else the rise, too, was before
+    return life;
+}
+
+// Rays capped on their first vertex with no earlier break given — inserted where
+// neighbours drifted apart in the surf zone, or entering where the apron gives none —
+// break where the rays beside their first vertex broke (the mean of those that broke
+// there or before), in order of ray id: an inserted ray's neighbours are older.
+void inherit_breaks(const RayStrips& strips, const std::map<std::uint32_t, std::vector<std::uint32_t>>& rays,
+                    std::map<std::uint32_t, RayLife>& lives, double deep_height, double deep_wavelength,
+                    const JeschkeBreakerOptions& o) {
+    std::map<std::uint32_t, std::vector<std::uint32_t>> beside;  // first vertex → the rays of the vertices beside it
+    for (const auto& [id, life] : lives)
+        if (life.breaks_at_start) beside[rays.at(id).front()];
+    if (beside.empty()) return;
+    for (std::size_t t = 0; t + 2 < strips.triangles.size(); t += 3)
+        for (std::size_t c = 0; c < 3; ++c)
+            if (const auto it = beside.find(strips.triangles[t + c]); it != beside.end())
+                for (std::size_t d = 1; d < 3; ++d) it->second.push_back(strips.ray[strips.triangles[t + (c + d) % 3]]);
+    for (auto& [id, life] : lives) {
+        if (!life.breaks_at_start) continue;
+        const std::uint32_t first = rays.at(id).front();
+        double sum = 0.0;
+        std::size_t count = 0;
+        std::vector<std::uint32_t> others = beside.at(first);
+        std::sort(others.begin(), others.end());
+        others.erase(std::unique(others.begin(), others.end()), others.end());
+        for (const std::uint32_t r : others) {
+            const RayBreak& n = lives.at(r).rb;
+            if (r != id && n.breaks && n.break_phase <= strips.phase[first]) sum += n.break_phase, ++count;
+        }
+        if (count > 0) life = ray_life(strips, id, rays.at(id), sum / static_cast<double>(count), deep_height, deep_wavelength, o);
+    }
+}
+
+}  // namespace
+
 JeschkeMotionPlan plan_jeschke_breakers(const RayStrips& strips, double deep_height, double deep_wavelength,
                                         const JeschkeBreakerOptions& o) {
     check_options(o);
@@ -246,80 +358,30 @@ JeschkeMotionPlan plan_jeschke_breakers(const RayStrips& strips, double deep_hei
     p.dir_y = strips.dir_y;
     p.phase = strips.phase;
 
-    // Each ray's vertices from offshore to its end.
+    // Each ray's vertices from offshore to its end, and its life.
     std::map<std::uint32_t, std::vector<std::uint32_t>> rays;
     for (std::size_t v = 0; v < n; ++v) rays[strips.ray[v]].push_back(static_cast<std::uint32_t>(v));
-    constexpr double never = std::numeric_limits<double>::infinity();
+    std::map<std::uint32_t, RayLife> lives;
+    for (auto& [id, vs] : rays) {
+        std::sort(vs.begin(), vs.end(), [&](std::uint32_t a, std::uint32_t b) { return strips.step[a] < strips.step[b]; });
+        const double before = id < strips.entry_break_phase.size() ? strips.entry_break_phase[id] : std::nan("");
+        lives.emplace(id, ray_life(strips, id, vs, before, deep_height, deep_wavelength, o));
+    }
+    inherit_breaks(strips, rays, lives, deep_height, deep_wavelength, o);
     p.break_phase.resize(n);
     p.end_phase.resize(n);
     p.rise.resize(n);
     p.breaking_length.resize(n);
     p.curl.resize(n);
-    for (auto& [id, vs] : rays) {
-        std::sort(vs.begin(), vs.end(), [&](std::uint32_t a, std::uint32_t b) { return strips.step[a] < strips.step[b]; });
-        // Depth-limited breaking H = 2A >= γh (dry counts): the first crossing of
-        // f = 2A − γh, located between the two vertices by linear interpolation.
-        const auto f = [&](std::uint32_t v) {
-            return strips.depth[v] <= 0.0 ? 1.0 : 2.0 * strips.amplitude[v] - o.breaker_index * strips.depth[v];
-        };
-        RayBreak rb;
-        rb.ray = id;
-        rb.end_phase = strips.phase[vs.back()];
-        std::size_t i = 0;
-        while (i < vs.size() && f(vs[i]) < 0.0) ++i;
-        double rise_len = o.rise_wavelengths * two_pi;
-        double breaking_len = 0.0, curl = 1.0, life_end = never;  // where a crest dies: the ray's end, or later
-        if (i < vs.size()) {
-            rb.breaks = true;
-            const std::uint32_t b = vs[i];
-            double w = 0.0;  // share of the way from the previous vertex to b
-            if (i > 0) {
-                const double fa = f(vs[i - 1]), fb = f(b);
-                w = fb > fa ? -fa / (fb - fa) : 1.0;
-            }
-            const std::uint32_t a = i > 0 ? vs[i - 1] : b;
-            const auto at = [&](const std::vector<double>& q) { return q[a] + w * (q[b] - q[a]); };
-            rb.break_phase = at(strips.phase);
-            rb.x = at(strips.x);
-            rb.y = at(strips.y);
-            rb.depth = std::max(0.0, at(strips.depth));
-            rb.height = 2.0 * at(strips.amplitude);
-            // Mean bottom slope over one local wavelength seaward of the break.
-            const double k_b = strips.k[a] > 0.0 && std::isfinite(strips.k[a]) ? strips.k[a] : 2.0 * pi / deep_wavelength;
-            const double wavelength = two_pi / k_b;
-            double run = 0.0, h_back = rb.depth;
-            double px = rb.x, py = rb.y;
-            for (std::size_t j = i; j-- > 0 && run < wavelength;) {
-                run += std::hypot(strips.x[vs[j]] - px, strips.y[vs[j]] - py);
-                px = strips.x[vs[j]];
-                py = strips.y[vs[j]];
-                h_back = strips.depth[vs[j]];
-            }
-            const double slope = run > 0.0 ? std::max(0.0, (h_back - rb.depth) / run) : 0.0;
-            rb.iribarren = iribarren_number(slope, deep_height, deep_wavelength);
-            rb.type = classify_breaker(rb.iribarren, o.thresholds);
-            curl = rb.type == BreakerType::spilling     ? o.curl_spilling
-                   : rb.type == BreakerType::plunging   ? o.curl_plunging
-                   : rb.type == BreakerType::collapsing ? o.curl_collapsing
-                                                        : o.curl_surging;
-            // A steep shore ends the ray a few metres past the break: breaking and collapsing
-            // squeezed into that run moved lip vertices at 13 c (breaking Okushiri's islet).
-            // The crest's life spans at least min_surf_zone_wavelengths; the shore cuts it.
-            life_end = std::max(rb.end_phase, rb.break_phase + o.min_surf_zone_wavelengths * two_pi);
-            breaking_len = std::min(o.breaking_share * (life_end - rb.break_phase), o.max_breaking_wavelengths * two_pi);
-            if (!(breaking_len > 0.0)) breaking_len = 1e-6;  // breaks on its last vertex
-            rise_len = std::min(rise_len, rb.break_phase);
-        } else {
-            rb.break_phase = rb.end_phase = never;
+    for (const auto& [id, life] : lives) {
+        for (std::uint32_t v : rays.at(id)) {
+            p.break_phase[v] = static_cast<float>(life.rb.break_phase);
+            p.end_phase[v] = static_cast<float>(life.end);
+            p.rise[v] = static_cast<float>(life.rise);
+            p.breaking_length[v] = static_cast<float>(life.breaking);
+            p.curl[v] = static_cast<float>(life.curl);
         }
-        for (std::uint32_t v : vs) {
-            p.break_phase[v] = static_cast<float>(rb.break_phase);
-            p.end_phase[v] = static_cast<float>(life_end);
-            p.rise[v] = static_cast<float>(rise_len);
-            p.breaking_length[v] = static_cast<float>(breaking_len);
-            p.curl[v] = static_cast<float>(curl);
-        }
-        p.rays.push_back(rb);
+        p.rays.push_back(life.rb);
     }
 
     // Shape size per vertex, the still-water mean removed, and the foam a crest leaves.

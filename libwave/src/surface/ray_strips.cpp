@@ -87,6 +87,7 @@ RayStrips build_ray_strips(const FrontSet& f) {
     out.rise = f.rise;
     out.flag = f.flag;
     out.caustic = f.caustic;
+    out.entry_break_phase = f.entry_break_phase;
     out.triangles.reserve(6 * n);
 
     const auto add_face = [&](std::size_t a, std::size_t b, std::size_t c) {

@@ -26,6 +26,7 @@ RayStrips resample_ray_strips(const RayStrips& s, const Seafloor& seafloor, std:
     for (auto* f : {&r.phase, &r.k, &r.amplitude, &r.depth, &r.slope, &r.rise}) f->assign(n, 0.0);
     r.flag.assign(n, RayFlag::alive);
     r.caustic.assign(n, 0);
+    r.entry_break_phase = s.entry_break_phase;  // per ray id, as the resampled vertices' ray ids
     const detail::TriangleLocator locator(s.x, s.y, s.triangles);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
         for (std::size_t v = range.begin(); v != range.end(); ++v) {

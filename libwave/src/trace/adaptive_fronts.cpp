@@ -238,8 +238,8 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
     const double max_turn = o.max_turn_degrees * std::numbers::pi / 180.0;
     // Depths beyond the table (bicubic overshoot) fall back to the exact solver.
     const detail::WaveTable waves(omega, 1.05 * seafloor_stats(seafloor).depth_max, o.dispersion);
-    double phase_origin = 0.0;
-    const auto entries = detail::entry_points(box, dx, dy, o.ray_spacing, o.max_rays, phase_origin);
+    const auto entries =
+        detail::entry_points(g, dx, dy, {omega, t.amplitude, o.breaker_index, o.dispersion}, o.ray_spacing, o.max_rays);
     // Refused up front when even a straight crossing of the domain along the swell needs
     // more fronts, or more points, than the guard rails allow: a tiny step would otherwise
     // run all max_steps fronts before the limit was found.
@@ -260,17 +260,15 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
     FrontSet out;
     out.omega = omega;
     std::vector<Ray> front;
-    std::vector<double> gap_b0;  // deep-water width of the tube between ray i and i+1
-    double last_s = 0.0;
+    std::vector<double> gap_b0;  // the width the tube between ray i and i+1 had in the reference plane wave (EntryPoint)
+    const detail::EntryPoint* last = nullptr;
     for (const auto& e : entries) {
-        const double h = depth_at(g, e.x, e.y);
-        if (!(h > 0.0)) continue;  // entering on land
-        if (!front.empty()) gap_b0.push_back(e.s - last_s);
-        last_s = e.s;
-        const double k = linear_wave(omega, h, o.dispersion).k;
-        Ray r{static_cast<std::uint32_t>(front.size()), e.x, e.y, dx, dy, k * ((e.x * dx + e.y * dy) - phase_origin),
-              RayFlag::alive};
-        r.band = h;
+        if (!(e.depth > 0.0)) continue;  // entering on land
+        if (last) gap_b0.push_back((e.s - last->s) * 0.5 * (e.tube + last->tube));
+        last = &e;
+        Ray r{static_cast<std::uint32_t>(front.size()), e.x, e.y, e.dx, e.dy, e.phase, RayFlag::alive};
+        out.entry_break_phase.push_back(e.break_phase);
+        r.band = e.depth;
         settle(r, g, waves);
         front.push_back(r);
     }
@@ -425,6 +423,7 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
         gap_b0.swap(grown_gaps);
         record();
     }
+    out.entry_break_phase.resize(next_id, std::numeric_limits<double>::quiet_NaN());  // inserted rays: none
     return out;
 }
 

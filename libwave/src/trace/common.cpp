@@ -35,28 +35,179 @@ bool clip(const Box& b, double px, double py, double dx, double dy, double& t0, 
     return slab(px, dx, b.x0, b.x1) && slab(py, dy, b.y0, b.y1);
 }
 
-std::vector<EntryPoint> entry_points(const Box& box, double dx, double dy, double spacing, std::size_t max_rays,
-                                     double& phase_origin) {
+namespace {
+
+// One up-wave side of the box: from the up-wave corner along the unit tangent t (d·t >
+// 0) for `length` metres; n is its outward normal.
+struct UpwaveSide {
+    double cx, cy, tx, ty, nx, ny, length;
+};
+
+// The apron's wave along one side (EntryPoint): the reference wave refracted to the
+// depth at u metres from the corner.
+struct SideWave {
+    struct At {
+        double depth = 0.0, k = 0.0, k_t = 0.0, shoaling = 0.0;  // k_t = 0 over land
+    };
+    const ElevationGrid& grid;
+    const UpwaveSide& side;
+    const EntryWave& train;
+    double k_reference, k_n, k_t_reference;
+    At at(double u) const {
+        At a;
+        a.depth = depth_at(grid, side.cx + u * side.tx, side.cy + u * side.ty);
+        if (!(a.depth > 0.0)) return a;
+        const LinearWave w = linear_wave(train.omega, a.depth, train.dispersion);
+        a.k = w.k;
+        a.k_t = std::sqrt(std::max(0.0, w.k * w.k - k_n * k_n));
+        a.shoaling = w.shoaling;
+        return a;
+    }
+    // The width the tube had in the reference over its width across the train here.
+    double tube(double k_t) const { return k_t > k_t_reference ? k_t_reference / k_t : 1.0; }
+    // Depth-limited breaking, 2 A∞ K_s K_r >= γ h, as the tracers cap the amplitude; over
+    // the apron K_r² = cos θ_ref / cos θ, the angles from the side's tangent.
+    bool broken(const At& a) const {
+        if (!(a.depth > 0.0)) return false;
+        const double kr2 = a.k_t > 0.0 ? (k_t_reference / k_reference) * a.k / a.k_t : HUGE_VAL;
+        return 2.0 * train.deep_amplitude * a.shoaling * std::sqrt(kr2) >= train.breaker_index * a.depth;
+    }
+};
+
+// A walk along a side from where its rays come from, one way, by the midpoint rule on
+// steps of at most `step` metres: the side's phase ∫ k_t, and an apron ray's own phase
+// ∫ k²/k_t (the ray runs k/k_t metres per metre of side, gaining k per metre), with its
+// value where the wave first broke. k_t is smooth but for its 1/√h rise at a shoreline
+// the side crosses, and k²/k_t for its 1/√ rise at a turning point: the midpoints keep
+// both integrals finite.
+struct SideWalk {
+    const SideWave& wave;
+    double u, step;
+    double phase = 0.0, ray_phase = 0.0, ray_phase_at_break = std::numeric_limits<double>::quiet_NaN();
+    void to(double target) {
+        const auto n = static_cast<std::size_t>(std::ceil(std::abs(target - u) / step));
+        const double du = n == 0 ? 0.0 : (target - u) / static_cast<double>(n), length = std::abs(du);
+        for (std::size_t i = 0; i < n; ++i) {
+            const SideWave::At a = wave.at(u + (static_cast<double>(i) + 0.5) * du);
+            phase += a.k_t * length;
+            const double ray = a.k_t > 0.0 ? a.k * a.k / a.k_t * length : 0.0;
+            if (std::isnan(ray_phase_at_break) && wave.broken(a)) ray_phase_at_break = ray_phase + 0.5 * ray;
+            ray_phase += ray;
+        }
+        u = target;
+    }
+};
+
+// The up-wave sides meeting at the corner the unit direction (dx, dy) reaches first:
+// two for an oblique train, one for a train along an axis.
+std::vector<UpwaveSide> upwave_sides(const Box& box, double dx, double dy) {
+    const double cx = dx >= 0.0 ? box.x0 : box.x1, cy = dy >= 0.0 ? box.y0 : box.y1;
+    std::vector<UpwaveSide> sides;
+    if (dx != 0.0)  // the side x = cx, tangent along y away from the corner
+        sides.push_back({cx, cy, 0.0, dy >= 0.0 ? 1.0 : -1.0, dx > 0.0 ? -1.0 : 1.0, 0.0, box.y1 - box.y0});
+    if (dy != 0.0)
+        sides.push_back({cx, cy, dx >= 0.0 ? 1.0 : -1.0, 0.0, 0.0, dy > 0.0 ? -1.0 : 1.0, box.x1 - box.x0});
+    return sides;
+}
+
+}  // namespace
+
+std::vector<EntryPoint> entry_points(const ElevationGrid& grid, double dx, double dy, const EntryWave& train, double spacing,
+                                     std::size_t max_rays) {
+    const Box box = domain_box(grid);
     const double ex = -dy, ey = dx;  // along the start line
-    double s_min = HUGE_VAL, s_max = -HUGE_VAL, t_min = HUGE_VAL;
+    double s_min = HUGE_VAL, s_max = -HUGE_VAL;
     for (const auto& [cx, cy] : {std::pair{box.x0, box.y0}, {box.x1, box.y0}, {box.x1, box.y1}, {box.x0, box.y1}}) {
         s_min = std::min(s_min, cx * ex + cy * ey);
         s_max = std::max(s_max, cx * ex + cy * ey);
-        t_min = std::min(t_min, cx * dx + cy * dy);
     }
-    phase_origin = t_min;
-    std::vector<EntryPoint> out;
     const double n = std::floor((s_max - s_min) / spacing);
     if (n > static_cast<double>(max_rays))
         throw LimitError("trace: " + format_number(n) + " rays would enter, more than the limit of " +
                          std::to_string(max_rays) + " (TraceOptions::max_rays, scene key /trace/max_rays; raise it or widen /trace/ray_spacing)");
+    const std::vector<UpwaveSide> sides = upwave_sides(box, dx, dy);
+    const UpwaveSide& corner = sides.front();
+    const double t_min = corner.cx * dx + corner.cy * dy;
+    std::vector<EntryPoint> out;
     const auto count = static_cast<std::size_t>(n);
     for (std::size_t i = 0; i < count; ++i) {
         const double s = s_min + (static_cast<double>(i) + 0.5) * spacing;
         const double lx = s * ex + t_min * dx, ly = s * ey + t_min * dy;
         double t0 = 0.0, t1 = 0.0;
         if (!clip(box, lx, ly, dx, dy, t0, t1) || t1 <= t0) continue;
-        out.push_back({lx + t0 * dx, ly + t0 * dy, s});
+        EntryPoint e;
+        e.x = lx + t0 * dx;
+        e.y = ly + t0 * dy;
+        e.s = s;
+        e.depth = depth_at(grid, e.x, e.y);
+        e.dx = dx;
+        e.dy = dy;
+        out.push_back(e);
+    }
+    // Each up-wave side's wet entries by their distance from the corner.
+    std::vector<std::vector<std::pair<double, std::size_t>>> on_side(sides.size());
+    for (std::size_t side = 0; side < sides.size(); ++side) {
+        const UpwaveSide& f = sides[side];
+        for (std::size_t i = 0; i < out.size(); ++i) {
+            const double off = (out[i].x - f.cx) * f.nx + (out[i].y - f.cy) * f.ny;
+            if (std::abs(off) <= 1e-9 * (1.0 + f.length) && out[i].depth > 0.0)
+                on_side[side].emplace_back(std::max(0.0, (out[i].x - f.cx) * f.tx + (out[i].y - f.cy) * f.ty), i);
+        }
+        std::sort(on_side[side].begin(), on_side[side].end());
+    }
+    // Each side's deepest point (the first of equals from the corner), sampled on the
+    // integration's steps; the reference depth is the deepest of all. No entry is deeper,
+    // so none lies past a turning point (k < |k_n|), where no wave from the reference
+    // would arrive.
+    const double step = 0.125 * std::min(grid.dx, grid.dy);
+    std::vector<double> deepest_at(sides.size(), 0.0);
+    double h_reference = -HUGE_VAL;
+    for (std::size_t side = 0; side < sides.size(); ++side) {
+        const UpwaveSide& f = sides[side];
+        const auto samples = static_cast<std::size_t>(std::ceil(f.length / step));
+        double deepest = -HUGE_VAL;
+        for (std::size_t j = 0; j <= samples; ++j) {
+            const double u = f.length * static_cast<double>(j) / static_cast<double>(samples);
+            const double h = depth_at(grid, f.cx + u * f.tx, f.cy + u * f.ty);
+            if (h > deepest) deepest = h, deepest_at[side] = u;
+        }
+        h_reference = std::max(h_reference, deepest);
+    }
+    if (!(h_reference > 0.0)) return out;  // the up-wave sides are dry: no ray starts
+    const double k_reference = linear_wave(train.omega, h_reference, train.dispersion).k;
+    const bool wet_corner = depth_at(grid, corner.cx, corner.cy) > 0.0;
+    for (std::size_t side = 0; side < sides.size(); ++side) {
+        const UpwaveSide& f = sides[side];
+        const double along = dx * f.tx + dy * f.ty;
+        const SideWave wave{grid, f, train, k_reference, k_reference * (dx * f.nx + dy * f.ny), k_reference * std::abs(along)};
+        const auto& entries = on_side[side];
+        if (entries.empty()) continue;
+        // Where the side's rays come from: the corner, through the water beyond it; or,
+        // with a dry corner or a train along the side's normal, the side's deepest point,
+        // from which they run both ways.
+        const double u0 = wet_corner && along > 1e-12 ? 0.0 : deepest_at[side];
+        const auto start = [&](const SideWalk& walk, std::size_t i) {
+            EntryPoint& e = out[i];
+            const double k_t = (walk.u >= u0 ? 1.0 : -1.0) * wave.at(walk.u).k_t;
+            const double kx = wave.k_n * f.nx + k_t * f.tx, ky = wave.k_n * f.ny + k_t * f.ty, k = std::hypot(kx, ky);
+            e.dx = kx / k;
+            e.dy = ky / k;
+            e.phase = walk.phase;
+            e.tube = wave.tube(std::abs(k_t));
+            e.break_phase = walk.phase - (walk.ray_phase - walk.ray_phase_at_break);  // NaN: unbroken
+        };
+        // Away from u0 both ways: downstream in order, upstream in reverse.
+        const auto split = std::lower_bound(entries.begin(), entries.end(), std::pair{u0, std::size_t{0}});
+        SideWalk down{wave, u0, step};
+        for (auto it = split; it != entries.end(); ++it) {
+            down.to(it->first);
+            start(down, it->second);
+        }
+        SideWalk up{wave, u0, step};
+        for (auto it = std::make_reverse_iterator(split); it != entries.rend(); ++it) {
+            up.to(it->first);
+            start(up, it->second);
+        }
     }
     return out;
 }

@@ -26,16 +26,42 @@ inline Box domain_box(const ElevationGrid& g) { return {g.x0, g.y0, g.x_max(), g
 /// Slab clipping of the line p + t d against the box: the parameter interval inside.
 bool clip(const Box& b, double px, double py, double dx, double dy, double& t0, double& t1);
 
-/// Entry points of rays travelling along the unit direction (dx, dy), `spacing` apart
-/// across it, where each ray's line enters the box; `s` is the position across the
-/// train (m), and `phase_origin` the position along (dx, dy) of the up-wave corner,
-/// from which the plane-wave start phase k ((x, y)·d − phase_origin) is counted.
+/// Where and how the rays of a train enter the domain: `spacing` apart across the unit
+/// direction (dx, dy), where each ray's line meets the box. The train is a plane wave
+/// of direction (dx, dy) where the up-wave sides (those it enters across) are deepest —
+/// on every shipped scene the up-wave corner, the corner it reaches first. Beyond each
+/// side the seafloor is the side's own, continued along its outward normal n (the apron
+/// the far field assumes too). Over the apron the depth varies only along the side, so
+/// k·n keeps the reference's value (Snell) and the wave at an entry is the reference
+/// wave refracted: direction (k_n n ± k_t t) / k with k_t = √(k² − k_n²), running along
+/// the side away from the corner (or, with a dry corner or a train along the side's
+/// normal, away from the side's deepest point), and phase ∫ k_t dt from there. On a side
+/// of constant depth this is the plane wave k (x·d − corner·d) itself.
+/// docs/conventions.md ("Where rays enter").
 struct EntryPoint {
-    double x, y, s;
+    double x = 0.0, y = 0.0;
+    double s = 0.0;                // position across the train (m)
+    double depth = 0.0;            // m; <= 0 on land (no ray starts there)
+    double dx = 0.0, dy = 0.0;     // unit direction of travel on entry
+    double phase = 0.0;            // rad, 0 at the up-wave corner
+    /// The tube's width in the reference plane wave over its width across the train here
+    /// (k_t of the reference over k_t here): b0 per metre of `s`, for K_r = √(b0 / b). 1
+    /// on a side of constant depth.
+    double tube = 1.0;
+    /// Where the wave already broke over the apron (2 A∞ K_s K_r >= γ h there, as the
+    /// tracers cap it): the phase the entering ray had at that point, phase − ∫ k ds along
+    /// its path over the apron; NaN where the wave enters unbroken.
+    double break_phase = std::numeric_limits<double>::quiet_NaN();
+};
+/// The train as it enters: ω, its deep-water amplitude A∞ and the breaker index γ the
+/// tracers cap amplitudes with.
+struct EntryWave {
+    double omega = 0.0, deep_amplitude = 0.0, breaker_index = 0.0;
+    DispersionOptions dispersion;
 };
 /// Throws LimitError (before allocating) when more than max_rays would enter.
-std::vector<EntryPoint> entry_points(const Box& box, double dx, double dy, double spacing, std::size_t max_rays,
-                                     double& phase_origin);
+std::vector<EntryPoint> entry_points(const ElevationGrid& grid, double dx, double dy, const EntryWave& train, double spacing,
+                                     std::size_t max_rays);
 
 /// The isobath segments a ray standing on its last crossing must not cross again: the
 /// crossed segment, and its neighbours when the crossing was at a shared vertex.

@@ -57,15 +57,14 @@ struct Writer {
 };
 
 // Traces one ray from its entry point; returns false when it enters on land.
-bool trace_one(const IsobathIndex& index, const Box& box, const ElevationGrid& grid,
-               double sx, double sy, double dx, double dy, double omega, double start_phase_origin,
-               const TraceOptions& o, Writer& out) {
-    const double h0 = depth_at(grid, sx, sy);
-    if (!(h0 > 0.0)) return false;
-    LinearWave w = linear_wave(omega, h0, o.dispersion);
-    double px = sx, py = sy, s = 0.0;
-    // Plane-wave phase on entry, so that neighbouring rays start on one wave front.
-    double phase = w.k * ((sx * dx + sy * dy) - start_phase_origin);
+bool trace_one(const IsobathIndex& index, const Box& box,
+               const detail::EntryPoint& entry, double omega, const TraceOptions& o, Writer& out) {
+    if (!(entry.depth > 0.0)) return false;
+    LinearWave w = linear_wave(omega, entry.depth, o.dispersion);
+    double px = entry.x, py = entry.y, s = 0.0, dx = entry.dx, dy = entry.dy;
+    // The entry's phase (the reference plane wave refracted over the apron), so that
+    // neighbouring rays start on one wave front.
+    double phase = entry.phase;
     out.point(px, py, dx, dy, s, phase, w, RayEvent::start, kNone);
     const double scale = std::max(box.x1 - box.x0, box.y1 - box.y0);
     detail::CrossingSkip skip;
@@ -179,19 +178,18 @@ RaySet trace_rays(const Seafloor& seafloor, const DepthContours& isobaths, std::
         const WaveTrain& t = trains[n];
         const double len = std::hypot(t.direction_x, t.direction_y);
         const double dx = t.direction_x / len, dy = t.direction_y / len;
-        double phase_origin = 0.0;
+        const double omega = 2.0 * std::numbers::pi / t.period;
         const std::vector<detail::EntryPoint> entries =
-            detail::entry_points(box, dx, dy, o.ray_spacing, o.max_rays - rays.ray_count(), phase_origin);
+            detail::entry_points(g, dx, dy, {omega, t.amplitude, o.breaker_index, o.dispersion}, o.ray_spacing, o.max_rays - rays.ray_count());
         if (rays.ray_count() + entries.size() > o.max_rays)
             throw LimitError("trace: " + std::to_string(rays.ray_count() + entries.size()) + " rays exceed the limit of " +
                              std::to_string(o.max_rays) + " (TraceOptions::max_rays, scene key /trace/max_rays; raise it or widen /trace/ray_spacing)");
         const std::size_t first_ray = rays.ray_count();
-        const double omega = 2.0 * std::numbers::pi / t.period;
         for (const detail::EntryPoint& e : entries) {
-            if (!trace_one(index, box, g, e.x, e.y, dx, dy, omega, phase_origin, o, out)) continue;
+            if (!trace_one(index, box, e, omega, o, out)) continue;
             rays.offsets.push_back(rays.point_count());
             rays.train.push_back(static_cast<std::uint32_t>(n));
-            rays.spacing_start.push_back(o.ray_spacing);
+            rays.spacing_start.push_back(o.ray_spacing * e.tube);
         }
         amplitudes(rays, contour_at, first_ray, rays.ray_count(), t.amplitude, o);
     }
