@@ -2276,10 +2276,11 @@ class Convert(unittest.TestCase):
         # (docs/far-field.md, "Draco frames"), each on a power-of-two lattice that Draco's
         # float32 arithmetic decodes exactly. Read back, a frame is one mesh of the run's
         # vertices, the seam welded (the plain run's one boundary loop), every coordinate
-        # a multiple of 2^-6 m, within half a step of the plain run (the bay: 2^-6 m,
-        # 14 bits over 100 m rounded up to Draco's six printed decimals; the skirt's 2^-5 m,
-        # 80 km each way in fewer than 2^23 steps). Draco orders a frame's points by the
-        # triangles alone, so the frames share an order and the files form converts.
+        # a multiple of 2^-8 m, within half a step of the plain run (the bay: 2^-8 m,
+        # 14 bits over 100 m, written in quarter metres so that Draco's six printed
+        # decimals keep the step, and the node scaled by ¼; the skirt's 2^-5 m, 80 km each
+        # way in fewer than 2^23 steps). Draco orders a frame's points by the triangles
+        # alone, so the frames share an order and the files form converts.
         with tempfile.TemporaryDirectory() as d:
             scene = os.path.join(d, "s.json")
             with open(scene, "w") as f:
@@ -2306,11 +2307,49 @@ class Convert(unittest.TestCase):
             got, reference = self.positions(os.path.join(d, "c")), self.positions(os.path.join(d, "plain"))
             for frame, want in zip(got, reference):
                 self.assertEqual(len(frame), len(want))
-                self.assertTrue(all(float(x * 64).is_integer() for x in frame), "a coordinate off the 2^-6 m lattice")
+                self.assertTrue(all(float(x * 256).is_integer() for x in frame), "a coordinate off the 2^-8 m lattice")
                 # Draco reorders: each decoded point against the nearest reference point.
                 worst, worst_inside = self.nearest_gaps(frame, want, lambda x, z: 1 < x < 99 and -89 < z < -1)
                 self.assertLessEqual(worst, 2 ** -6)
-                self.assertLessEqual(worst_inside, 2 ** -7)
+                self.assertLessEqual(worst_inside, 2 ** -9)
+
+    def test_draco_frames_of_a_laboratory_basin_keep_its_millimetre_waves(self):
+        # The 1:400 Okushiri basin (5.5 m, waves of 4 mm): Draco takes no step finer than
+        # 2^-6 of a file unit, which in metres flattened every wave (one height left in a
+        # frame). Its frames are written in units of 2^-6 m and the node scales them back:
+        # read back, the domain lies on the 2^-12 m lattice its 14 bits ask for, within half
+        # a step of the plain run, and the waves keep their height.
+        step = 2.0 ** -12
+        with tempfile.TemporaryDirectory() as d:
+            scene = os.path.join(EXAMPLES, "okushiri.json")
+            for out, extra in [("plain", ()), ("draco", ("--draco",))]:
+                r = wave("run", scene, "-o", os.path.join(d, out), "-q", "--form", "files", "--frames", "0:2", *extra)
+                self.assertEqual(r.returncode, 0, r.stderr)
+            validate_gltf(self, os.path.join(d, "draco", "frames", "frame-0001.glb"))
+            r = wave("convert", os.path.join(d, "draco", "index.json"), "-o", os.path.join(d, "c"), "--form", "files")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            got, reference = self.positions(os.path.join(d, "c"))[1], self.positions(os.path.join(d, "plain"))[1]
+            inside = lambda x, z: 0.01 < x < 5.47 and -3.39 < z < -0.01  # glTF axes: the basin, off its border
+            heights = {}
+            for i in range(0, len(reference), 3):
+                x, y, z = reference[i:i + 3]
+                if inside(x, z):
+                    heights[(round(x / step), round(z / step))] = y
+            gaps, draco_heights = [], []
+            for i in range(0, len(got), 3):
+                x, y, z = got[i:i + 3]
+                if not inside(x, z):
+                    continue
+                self.assertTrue(float(x / step).is_integer() and float(y / step).is_integer(), "off the 2^-12 m lattice")
+                draco_heights.append(y)
+                if (round(x / step), round(z / step)) in heights:
+                    gaps.append(abs(y - heights[(round(x / step), round(z / step))]))
+            self.assertGreater(len(gaps), len(heights) // 2)
+            self.assertLessEqual(max(gaps), step / 2 + 1e-9)
+            plain_heights = list(heights.values())
+            spread = lambda v: math.sqrt(sum((h - sum(v) / len(v)) ** 2 for h in v) / len(v))
+            self.assertGreater(spread(plain_heights), 1e-3)  # millimetre waves
+            self.assertAlmostEqual(spread(draco_heights) / spread(plain_heights), 1.0, delta=0.03)
 
     def test_quantised_normals_read_back_as_unit_normals(self):
         # A quantised morph frame's normal is its int8 base plus an int16 delta, a few

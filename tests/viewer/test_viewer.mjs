@@ -323,9 +323,10 @@ for (const name of Object.keys(forms)) {
 
 // The default bay with its far field as Draco files: the skirt is a second primitive
 // (docs/far-field.md), which the page joins into one mesh of the run's vertices; the
-// domain within half its lattice's step of the plain files form (2^-6 m: 14 bits over
-// 100 m, rounded up to what Draco's six printed decimals keep), the skirt within half
-// of its own (2^-5 m: 80 km each way in fewer than 2^23 steps). Quantised nodes: the
+// domain within half its lattice's step of the plain files form (2^-8 m: 14 bits over
+// 100 m, in quarter metres so that Draco's six printed decimals keep it; the node's
+// scale undoes them), the skirt within half of its own (2^-5 m: 80 km each way in fewer
+// than 2^23 steps). Quantised nodes: the
 // skirt's floats in the int16 node frame, joined likewise; the bay within half an int16
 // step (1.53 mm over its 100 m), the skirt within float32's reach at 80 km (1 cm).
 {
@@ -351,7 +352,7 @@ for (const name of Object.keys(forms)) {
       if (x > 1 && x < 99 && z > -89 && z < -1) inside.push(...draco.positions.slice(i, i + 3));
     }
     assert.ok(inside.length > 3 * 5000, `${inside.length / 3} vertices inside the bay`);
-    matchPoints(inside, plain.positions, 2 ** -7 * 1.01, false);
+    matchPoints(inside, plain.positions, 2 ** -9 * 1.01, false);
   });
   await check('quantised nodes with the far field: one mesh of the run\'s vertices, the bay on its int16 grid', async () => {
     const [plain, quantised] = [far['far-files'], far['far-nodes-quantized']];

@@ -411,11 +411,21 @@ constexpr double kExactSteps = 8388607.0;  // 2^23 − 1: Draco's float32 `q + �
 // (std::to_string in its Options): multiples of 2^-6 print exactly, finer steps do not.
 constexpr double kDecimalStep = 0.015625;
 
+// A Draco frame's two lattices, in the file's units: a metre over `unit`, which the
+// frame's node scales back. Draco takes no step finer than 2^-6 of a file unit, so a
+// domain whose step should be finer (a laboratory basin, a small bay) is written in
+// units of a power of two below the metre: its lattice decodes exactly, and the node's
+// power-of-two scale is exact too.
+struct DracoLattice {
+    double domain = 0.0, skirt = 0.0;  // steps (file units)
+    double unit = 1.0;                 // metres per file unit: a power of two, at most 1
+};
+
 // The two parts' steps: the domain's the largest power of two at most its extent over
-// 2^bits − 1 (the options' step), but at least 2^-6 m; the skirt's the smallest that
-// keeps its reach under 2^23 steps and never finer than the domain's, so that the
-// seam's points lie on both.
-std::array<double, 2> split_steps(std::span<const float> positions, const std::array<SkirtPart, 2>& parts, int bits) {
+// 2^bits − 1 (the options' step), in units that make it at least 2^-6; the skirt's the
+// smallest that keeps its reach under 2^23 steps and never finer than the domain's, so
+// that the seam's points lie on both.
+DracoLattice split_steps(std::span<const float> positions, const std::array<SkirtPart, 2>& parts, int bits) {
     std::array<double, 2> span{}, magnitude{};
     for (std::size_t k = 0; k < 2; ++k) {
         std::array<double, 3> lo, hi;
@@ -429,15 +439,18 @@ std::array<double, 2> split_steps(std::span<const float> positions, const std::a
             }
         for (std::size_t c = 0; c < 3; ++c) span[k] = std::max(span[k], hi[c] - lo[c]);
     }
-    double domain =
-        std::max(kDecimalStep, power_of_two_below(std::max(span[0], 1e-6) / (std::ldexp(1.0, std::clamp(bits, 1, 30)) - 1.0)));
-    double skirt = std::max(domain, power_of_two_above(std::max(span[1], magnitude[1]) / (kExactSteps - 2.0)));
+    DracoLattice l;
+    const double wanted = power_of_two_below(std::max(span[0], 1e-6) / (std::ldexp(1.0, std::clamp(bits, 1, 30)) - 1.0));
+    l.unit = std::min(1.0, wanted / kDecimalStep);
+    for (std::size_t k = 0; k < 2; ++k) span[k] /= l.unit, magnitude[k] /= l.unit;
+    l.domain = std::max(kDecimalStep, wanted / l.unit);
+    l.skirt = std::max(l.domain, power_of_two_above(std::max(span[1], magnitude[1]) / (kExactSteps - 2.0)));
     // Snapping the seam to the skirt's step widens the domain's extent by up to one of them.
-    while ((std::max(span[0], magnitude[0]) + skirt) / domain >= kExactSteps - 1.0) {
-        domain *= 2.0;
-        skirt = std::max(skirt, domain);
+    while ((std::max(span[0], magnitude[0]) + l.skirt) / l.domain >= kExactSteps - 1.0) {
+        l.domain *= 2.0;
+        l.skirt = std::max(l.skirt, l.domain);
     }
-    return {domain, skirt};
+    return l;
 }
 
 // Puts a part's positions (3 per vertex) on the lattice of `step` (the seam's on the
@@ -516,6 +529,7 @@ struct ModelWriter {
     std::optional<std::array<SkirtPart, 2>> split;
     std::array<int, 2> part_indices{-1, -1}, part_texcoord0{-1, -1};
     std::optional<SceneDressing> dressing;
+    double frame_unit = 1.0;  // metres per unit of the last frame's positions (a Draco frame with a skirt)
 
     // `frames`: how many frames' attributes the buffer will hold (reserved up front:
     // growing a buffer of hundreds of MB by doubling was a third of the export time).
@@ -727,7 +741,8 @@ struct ModelWriter {
         std::span<const float> all;  // POSITION, glTF axes
         for (const auto& [name, type, values] : frame.attributes)
             if (name == "POSITION") all = values;
-        const std::array<double, 2> steps = split_steps(all, parts, a.draco->position_bits);
+        const DracoLattice lattice = split_steps(all, parts, a.draco->position_bits);
+        frame_unit = lattice.unit;
         std::vector<tinygltf::Primitive> out;
         for (std::size_t k = 0; k < 2; ++k) {
             const SkirtPart& part = parts[k];
@@ -743,7 +758,9 @@ struct ModelWriter {
             for (const auto& [name, type, source] : frame.attributes) add(name, components_of(type), source);
             std::vector<float>& positions = values[static_cast<std::size_t>(std::distance(
                 inputs.begin(), std::find_if(inputs.begin(), inputs.end(), [](const auto& in) { return in.name == "POSITION"; })))];
-            const detail::DracoGrid grid = snap_to_lattice(positions, part.seam, steps[k], steps[1]);
+            for (float& x : positions) x = static_cast<float>(x / lattice.unit);  // exact: a power of two
+            const detail::DracoGrid grid =
+                snap_to_lattice(positions, part.seam, k == 0 ? lattice.domain : lattice.skirt, lattice.skirt);
             DracoOptions options = *a.draco;
             options.texcoord_bits = draco_bits_for_reach(options, inputs[0].values, inputs).texcoord_bits;
             out.push_back(draco_primitive(part.triangles, n, inputs, options, false, &grid));
@@ -771,6 +788,7 @@ struct ModelWriter {
     // on grids of its own (Draco, quantised).
     std::vector<tinygltf::Primitive> frame_primitives(const MorphAnimationView& a, std::size_t f) {
         const FrameArrays frame = frame_arrays(a, f);
+        frame_unit = 1.0;
         if (split) return split_primitives(frame);
         if (!a.draco) return {primitive(frame)};
         if (const std::optional<std::array<SkirtPart, 2>> parts = split_skirt(a.texcoords, a.triangles, a.vertex_count))
@@ -784,6 +802,8 @@ struct ModelWriter {
         if (quant) {  // undoes the position quantisation
             if (!quant->float_base) n.translation = {quant->origin[0], quant->origin[1], quant->origin[2]};
             n.scale = {quant->scale, quant->scale, quant->scale};
+        } else if (frame_unit != 1.0) {  // a Draco frame in units below the metre (DracoLattice)
+            n.scale = {frame_unit, frame_unit, frame_unit};
         }
         model.nodes.push_back(n);
         return static_cast<int>(model.nodes.size() - 1);
@@ -1066,8 +1086,9 @@ struct NodesBuilder {
             mesh.primitives = w.frame_primitives(a, f);
             w.model.meshes.push_back(std::move(mesh));
             const int mesh_index = static_cast<int>(w.model.meshes.size() - 1);
-            if (w.quant) {
-                // The switched node holds the mesh node, whose transform undoes the quantisation.
+            if (w.quant || w.frame_unit != 1.0) {
+                // The switched node holds the mesh node, whose transform undoes the quantisation
+                // (or the Draco frame's unit).
                 const int inner = w.node(name + "_mesh", mesh_index);
                 tinygltf::Node outer;
                 outer.name = name;
