@@ -54,22 +54,26 @@ struct SideWave {
     const EntryWave& train;
     double k_reference, k_n, k_t_reference;
     At at(double u) const {
+        const double h = depth_at(grid, side.cx + u * side.tx, side.cy + u * side.ty);
+        if (h == last.depth) return last;  // a side of constant depth: one dispersion solve
         At a;
-        a.depth = depth_at(grid, side.cx + u * side.tx, side.cy + u * side.ty);
-        if (!(a.depth > 0.0)) return a;
-        const LinearWave w = linear_wave(train.omega, a.depth, train.dispersion);
-        a.k = w.k;
-        a.k_t = std::sqrt(std::max(0.0, w.k * w.k - k_n * k_n));
-        a.shoaling = w.shoaling;
-        return a;
+        a.depth = h;
+        if (h > 0.0) {
+            const LinearWave w = linear_wave(train.omega, h, train.dispersion);
+            a.k = w.k;
+            a.k_t = std::sqrt(std::max(0.0, w.k * w.k - k_n * k_n));
+            a.shoaling = w.shoaling;
+        }
+        return last = a;
     }
+    mutable At last{std::numeric_limits<double>::quiet_NaN()};
     // The width the tube had in the reference over its width across the train here.
     double tube(double k_t) const { return k_t > k_t_reference ? k_t_reference / k_t : 1.0; }
     // Depth-limited breaking, 2 A∞ K_s K_r >= γ h, as the tracers cap the amplitude; over
     // the apron K_r² = cos θ_ref / cos θ, the angles from the side's tangent.
     bool broken(const At& a) const {
         if (!(a.depth > 0.0)) return false;
-        const double kr2 = a.k_t > 0.0 ? (k_t_reference / k_reference) * a.k / a.k_t : HUGE_VAL;
+        const double kr2 = a.k_t > k_t_reference ? (k_t_reference / k_reference) * a.k / a.k_t : 1.0;  // as tube()
         return 2.0 * train.deep_amplitude * a.shoaling * std::sqrt(kr2) >= train.breaker_index * a.depth;
     }
 };
