@@ -159,8 +159,8 @@ TEST(Fronts, RaysEnteringAcrossTheShallowSideStartOnTheRefractedWave) {
     EXPECT_LT(worst_amplitude, 1e-2);
     // The west side runs into the surf zone: rays entering beyond the apron's break
     // point (y = 133.9 m) entered broken, at the phase their wave had there; the others
-    // did not. Measured: 7 rays, 0.013–0.020 rad from the exact phase (the walk's
-    // 6 cm midpoints place the break).
+    // did not. Measured: 7 rays, 0.002–0.009 rad from the exact phase (the walk's
+    // half-metre midpoints, the break between two of them found by bisection).
     const double y_b = exact.break_y(0.4);
     std::size_t broken = 0;
     for (std::size_t i = 0; i < f.front_offsets[1]; ++i) {

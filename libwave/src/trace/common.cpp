@@ -88,17 +88,35 @@ struct SideWalk {
     const SideWave& wave;
     double u, step;
     double phase = 0.0, ray_phase = 0.0, ray_phase_at_break = std::numeric_limits<double>::quiet_NaN();
+    double last_mid = std::numeric_limits<double>::quiet_NaN();  // the last unbroken sample
     void to(double target) {
         const auto n = static_cast<std::size_t>(std::ceil(std::abs(target - u) / step));
         const double du = n == 0 ? 0.0 : (target - u) / static_cast<double>(n), length = std::abs(du);
         for (std::size_t i = 0; i < n; ++i) {
-            const SideWave::At a = wave.at(u + (static_cast<double>(i) + 0.5) * du);
+            const double start = u + static_cast<double>(i) * du, mid = start + 0.5 * du;
+            const SideWave::At a = wave.at(mid);
             phase += a.k_t * length;
-            const double ray = a.k_t > 0.0 ? a.k * a.k / a.k_t * length : 0.0;
-            if (std::isnan(ray_phase_at_break) && wave.broken(a)) ray_phase_at_break = ray_phase + 0.5 * ray;
-            ray_phase += ray;
+            const double per_metre = a.k_t > 0.0 ? a.k * a.k / a.k_t : 0.0;
+            if (std::isnan(ray_phase_at_break)) {
+                if (wave.broken(a)) {
+                    const double at = std::isnan(last_mid) ? mid : where_it_breaks(last_mid, mid);
+                    ray_phase_at_break = ray_phase + (at - start) * (du >= 0.0 ? 1.0 : -1.0) * per_metre;  // from this step's start
+                } else {
+                    last_mid = mid;
+                }
+            }
+            ray_phase += per_metre * length;
         }
         u = target;
+    }
+    // Between an unbroken and a broken sample, where the wave first breaks (bisection
+    // to a thousandth of the step: a break phase to ~1e-3 rad).
+    double where_it_breaks(double unbroken, double broken) const {
+        for (int k = 0; k < 10; ++k) {
+            const double mid = 0.5 * (unbroken + broken);
+            (wave.broken(wave.at(mid)) ? broken : unbroken) = mid;
+        }
+        return 0.5 * (unbroken + broken);
     }
 };
 
@@ -163,7 +181,7 @@ std::vector<EntryPoint> entry_points(const ElevationGrid& grid, double dx, doubl
     // integration's steps; the reference depth is the deepest of all. No entry is deeper,
     // so none lies past a turning point (k < |k_n|), where no wave from the reference
     // would arrive.
-    const double step = 0.125 * std::min(grid.dx, grid.dy);
+    const double step = 0.5 * std::min(grid.dx, grid.dy);
     std::vector<double> deepest_at(sides.size(), 0.0);
     double h_reference = -HUGE_VAL;
     for (std::size_t side = 0; side < sides.size(); ++side) {
