@@ -132,10 +132,10 @@ std::vector<UpwaveSide> upwave_sides(const Box& box, double dx, double dy) {
     return sides;
 }
 
-}  // namespace
-
-std::vector<EntryPoint> entry_points(const ElevationGrid& grid, double dx, double dy, const EntryWave& train, double spacing,
-                                     std::size_t max_rays) {
+// Where each ray's line along (dx, dy), `spacing` apart across it, meets the box: the
+// plane wave of direction d, to be refracted by start_on_side.
+std::vector<EntryPoint> place_entries(const ElevationGrid& grid, const UpwaveSide& corner, double dx, double dy, double spacing,
+                                      std::size_t max_rays) {
     const Box box = domain_box(grid);
     const double ex = -dy, ey = dx;  // along the start line
     double s_min = HUGE_VAL, s_max = -HUGE_VAL;
@@ -147,8 +147,6 @@ std::vector<EntryPoint> entry_points(const ElevationGrid& grid, double dx, doubl
     if (n > static_cast<double>(max_rays))
         throw LimitError("trace: " + format_number(n) + " rays would enter, more than the limit of " +
                          std::to_string(max_rays) + " (TraceOptions::max_rays, scene key /trace/max_rays; raise it or widen /trace/ray_spacing)");
-    const std::vector<UpwaveSide> sides = upwave_sides(box, dx, dy);
-    const UpwaveSide& corner = sides.front();
     const double t_min = corner.cx * dx + corner.cy * dy;
     std::vector<EntryPoint> out;
     const auto count = static_cast<std::size_t>(n);
@@ -166,35 +164,75 @@ std::vector<EntryPoint> entry_points(const ElevationGrid& grid, double dx, doubl
         e.dy = dy;
         out.push_back(e);
     }
-    // Each up-wave side's wet entries by their distance from the corner.
-    std::vector<std::vector<std::pair<double, std::size_t>>> on_side(sides.size());
-    for (std::size_t side = 0; side < sides.size(); ++side) {
-        const UpwaveSide& f = sides[side];
-        for (std::size_t i = 0; i < out.size(); ++i) {
-            const double off = (out[i].x - f.cx) * f.nx + (out[i].y - f.cy) * f.ny;
-            if (std::abs(off) <= 1e-9 * (1.0 + f.length) && out[i].depth > 0.0)
-                on_side[side].emplace_back(std::max(0.0, (out[i].x - f.cx) * f.tx + (out[i].y - f.cy) * f.ty), i);
-        }
-        std::sort(on_side[side].begin(), on_side[side].end());
+    return out;
+}
+
+// The wet entries on a side, by their distance from the corner.
+std::vector<std::pair<double, std::size_t>> entries_on(const UpwaveSide& f, const std::vector<EntryPoint>& entries) {
+    std::vector<std::pair<double, std::size_t>> on;
+    for (std::size_t i = 0; i < entries.size(); ++i) {
+        const double off = (entries[i].x - f.cx) * f.nx + (entries[i].y - f.cy) * f.ny;
+        if (std::abs(off) <= 1e-9 * (1.0 + f.length) && entries[i].depth > 0.0)
+            on.emplace_back(std::max(0.0, (entries[i].x - f.cx) * f.tx + (entries[i].y - f.cy) * f.ty), i);
     }
-    // Each side's deepest point (the first of equals from the corner), sampled on the
-    // integration's steps; the reference depth is the deepest of all. No entry is deeper,
-    // so none lies past a turning point (k < |k_n|), where no wave from the reference
-    // would arrive.
+    std::sort(on.begin(), on.end());
+    return on;
+}
+
+// A side's deepest point (the first of equals from the corner), sampled every `step`
+// metres: its distance from the corner and its depth.
+std::pair<double, double> deepest_point(const ElevationGrid& grid, const UpwaveSide& f, double step) {
+    const auto samples = static_cast<std::size_t>(std::ceil(f.length / step));
+    double deepest = -HUGE_VAL, at = 0.0;
+    for (std::size_t j = 0; j <= samples; ++j) {
+        const double u = f.length * static_cast<double>(j) / static_cast<double>(samples);
+        const double h = depth_at(grid, f.cx + u * f.tx, f.cy + u * f.ty);
+        if (h > deepest) deepest = h, at = u;
+    }
+    return {at, deepest};
+}
+
+// Starts a side's entries on the apron's wave, walking away from `u0` (where the side's
+// rays come from) both ways: downstream in order, upstream in reverse.
+void start_on_side(const SideWave& wave, double u0, double step, const std::vector<std::pair<double, std::size_t>>& on,
+                   std::vector<EntryPoint>& entries) {
+    const UpwaveSide& f = wave.side;
+    const auto start = [&](const SideWalk& walk, std::size_t i) {
+        EntryPoint& e = entries[i];
+        const double k_t = (walk.u >= u0 ? 1.0 : -1.0) * wave.at(walk.u).k_t;
+        const double kx = wave.k_n * f.nx + k_t * f.tx, ky = wave.k_n * f.ny + k_t * f.ty, k = std::hypot(kx, ky);
+        e.dx = kx / k;
+        e.dy = ky / k;
+        e.phase = walk.phase;
+        e.tube = wave.tube(std::abs(k_t));
+        e.break_phase = walk.phase - (walk.ray_phase - walk.ray_phase_at_break);  // NaN: unbroken
+    };
+    const auto split = std::lower_bound(on.begin(), on.end(), std::pair{u0, std::size_t{0}});
+    SideWalk down{wave, u0, step};
+    for (auto it = split; it != on.end(); ++it) {
+        down.to(it->first);
+        start(down, it->second);
+    }
+    SideWalk up{wave, u0, step};
+    for (auto it = std::make_reverse_iterator(split); it != on.rend(); ++it) {
+        up.to(it->first);
+        start(up, it->second);
+    }
+}
+
+}  // namespace
+
+std::vector<EntryPoint> entry_points(const ElevationGrid& grid, double dx, double dy, const EntryWave& train, double spacing,
+                                     std::size_t max_rays) {
+    const std::vector<UpwaveSide> sides = upwave_sides(domain_box(grid), dx, dy);
+    const UpwaveSide& corner = sides.front();
+    std::vector<EntryPoint> out = place_entries(grid, corner, dx, dy, spacing, max_rays);
+    // The reference depth is the deepest of the sides': no entry is deeper, so none lies
+    // past a turning point (k < |k_n|), where no wave from the reference would arrive.
     const double step = 0.5 * std::min(grid.dx, grid.dy);
-    std::vector<double> deepest_at(sides.size(), 0.0);
+    std::vector<std::pair<double, double>> deepest;
     double h_reference = -HUGE_VAL;
-    for (std::size_t side = 0; side < sides.size(); ++side) {
-        const UpwaveSide& f = sides[side];
-        const auto samples = static_cast<std::size_t>(std::ceil(f.length / step));
-        double deepest = -HUGE_VAL;
-        for (std::size_t j = 0; j <= samples; ++j) {
-            const double u = f.length * static_cast<double>(j) / static_cast<double>(samples);
-            const double h = depth_at(grid, f.cx + u * f.tx, f.cy + u * f.ty);
-            if (h > deepest) deepest = h, deepest_at[side] = u;
-        }
-        h_reference = std::max(h_reference, deepest);
-    }
+    for (const UpwaveSide& f : sides) h_reference = std::max(h_reference, deepest.emplace_back(deepest_point(grid, f, step)).second);
     if (!(h_reference > 0.0)) return out;  // the up-wave sides are dry: no ray starts
     const double k_reference = linear_wave(train.omega, h_reference, train.dispersion).k;
     const bool wet_corner = depth_at(grid, corner.cx, corner.cy) > 0.0;
@@ -202,34 +240,11 @@ std::vector<EntryPoint> entry_points(const ElevationGrid& grid, double dx, doubl
         const UpwaveSide& f = sides[side];
         const double along = dx * f.tx + dy * f.ty;
         const SideWave wave{grid, f, train, k_reference, k_reference * (dx * f.nx + dy * f.ny), k_reference * std::abs(along)};
-        const auto& entries = on_side[side];
-        if (entries.empty()) continue;
         // Where the side's rays come from: the corner, through the water beyond it; or,
         // with a dry corner or a train along the side's normal, the side's deepest point,
         // from which they run both ways.
-        const double u0 = wet_corner && along > 1e-12 ? 0.0 : deepest_at[side];
-        const auto start = [&](const SideWalk& walk, std::size_t i) {
-            EntryPoint& e = out[i];
-            const double k_t = (walk.u >= u0 ? 1.0 : -1.0) * wave.at(walk.u).k_t;
-            const double kx = wave.k_n * f.nx + k_t * f.tx, ky = wave.k_n * f.ny + k_t * f.ty, k = std::hypot(kx, ky);
-            e.dx = kx / k;
-            e.dy = ky / k;
-            e.phase = walk.phase;
-            e.tube = wave.tube(std::abs(k_t));
-            e.break_phase = walk.phase - (walk.ray_phase - walk.ray_phase_at_break);  // NaN: unbroken
-        };
-        // Away from u0 both ways: downstream in order, upstream in reverse.
-        const auto split = std::lower_bound(entries.begin(), entries.end(), std::pair{u0, std::size_t{0}});
-        SideWalk down{wave, u0, step};
-        for (auto it = split; it != entries.end(); ++it) {
-            down.to(it->first);
-            start(down, it->second);
-        }
-        SideWalk up{wave, u0, step};
-        for (auto it = std::make_reverse_iterator(split); it != entries.rend(); ++it) {
-            up.to(it->first);
-            start(up, it->second);
-        }
+        const double u0 = wet_corner && along > 1e-12 ? 0.0 : deepest[side].first;
+        start_on_side(wave, u0, step, entries_on(f, out), out);
     }
     return out;
 }
