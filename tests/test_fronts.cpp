@@ -3,6 +3,7 @@
 #include "libwave/errors.h"
 #include "libwave/isobath.h"
 #include "libwave/trace.h"
+#include "planar_beach_wave.h"
 #include "trace/common.h"  // white-box: the tracers' dispersion table
 
 #include <gtest/gtest.h>
@@ -79,49 +80,6 @@ TEST(Fronts, IsobathModeIsExactSnellPerBandWhateverTheStep) {
     }
 }
 
-// The planar beach's exact wave under a 30° swell, from the up-wave corner (0, 0), 8 m
-// deep: k_x = k(8 m) sin 30° everywhere (Snell), k_y = √(k² − k_x²) and the phase
-// k_x x + ∫ k_y dy (depth varies along y only), integrated by the midpoint rule on
-// 1 cm steps.
-struct BeachWave {
-    double omega, kx;
-    std::vector<double> phase_at_y;  // ∫ k_y dy at y = 0, 0.01, 0.02, … m
-    BeachWave(const Seafloor& beach, double omega_) : omega(omega_), kx(linear_wave(omega_, 8.0).k * 0.5), grid(beach.grid) {
-        phase_at_y.push_back(0.0);
-        for (double y = 0.005; y < 200.0; y += 0.01) {
-            const double h = depth_at(beach.grid, 100.0, y);
-            const double k = h > 0.0 ? linear_wave(omega, h).k : kx;
-            phase_at_y.push_back(phase_at_y.back() + 0.01 * std::sqrt(std::max(0.0, k * k - kx * kx)));
-        }
-    }
-    // Where the apron's wave breaks (2 A∞ K_s K_r >= γ h, K_r = √(cos 30° / cos θ)): the
-    // first 1 cm step from the deep edge.
-    double break_y(double amplitude) const {
-        for (double y = 0.005; y < 200.0; y += 0.01) {
-            const LinearWave w = linear_wave(omega, depth(y));
-            const double ky = std::sqrt(std::max(0.0, w.k * w.k - kx * kx));
-            if (2.0 * amplitude * w.shoaling * std::sqrt(std::sqrt(3.0) / 2.0 / (ky / w.k)) >= kBreakerIndex * depth(y)) return y;
-        }
-        return 200.0;
-    }
-    // The phase an apron ray reaching (0, y) had at y_b: phase(0, y) − ∫ k² / k_y dy.
-    double phase_back_to(double y_b, double y) const {
-        double sum = 0.0;
-        for (double u = y_b + 0.005; u < y; u += 0.01) {
-            const double k = linear_wave(omega, depth(u)).k;
-            sum += 0.01 * k * k / std::sqrt(k * k - kx * kx);
-        }
-        return phase(0.0, y) - sum;
-    }
-    double depth(double y) const { return depth_at(grid, 100.0, y); }
-    ElevationGrid grid;
-    double phase(double x, double y) const {
-        const double u = y / 0.01;
-        const auto i = std::min(static_cast<std::size_t>(u), phase_at_y.size() - 2);
-        return kx * x + phase_at_y[i] + (u - static_cast<double>(i)) * (phase_at_y[i + 1] - phase_at_y[i]);
-    }
-};
-
 TEST(Fronts, RaysEnteringAcrossTheShallowSideStartOnTheRefractedWave) {
     // The shipped breaking beach's geometry: an oblique swell enters across the deep
     // edge y = 0 and across the west side x = 0, which runs up the beach to the shore.
@@ -137,7 +95,7 @@ TEST(Fronts, RaysEnteringAcrossTheShallowSideStartOnTheRefractedWave) {
     o.step = 0.2;
     o.split_distance = 3.0;  // new rays between the west side's, as in the example
     const FrontSet f = trace_fronts(beach, t, o);
-    const BeachWave exact(beach, f.omega);
+    const test::BeachWave exact(beach, f.omega, 0.5);
     std::size_t west = 0;
     double worst_phase = 0.0, worst_snell = 0.0, worst_amplitude = 0.0;
     for (std::size_t i = 0; i < f.x.size(); ++i) {
