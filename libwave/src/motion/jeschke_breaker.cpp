@@ -235,7 +235,7 @@ struct RayLife {
     bool breaks_at_start = false;  // capped on its first vertex, with no earlier break given
 };
 
-constexpr double never = std::numeric_limits<double>::infinity();
+constexpr double kNever = std::numeric_limits<double>::infinity();
 
 // The life of the ray through `vs` (its vertices from offshore to its end). A ray
 // capped on its first vertex broke before it: at `before` when that is given (the
@@ -255,9 +255,9 @@ RayLife ray_life(const RayStrips& strips, std::uint32_t id, const std::vector<st
     std::size_t i = 0;
     while (i < vs.size() && f(vs[i]) < 0.0) ++i;
     life.rise = o.rise_wavelengths * two_pi;
-    life.end = never;  // where a crest dies: the ray's end, or later
+    life.end = kNever;  // where a crest dies: the ray's end, or later
     if (i == vs.size()) {
-        rb.break_phase = rb.end_phase = never;
+        rb.break_phase = rb.end_phase = kNever;
         return life;
     }
     rb.breaks = true;
