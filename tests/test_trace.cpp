@@ -32,12 +32,12 @@ TEST(Trace, PlanarBeachSnellAtEveryCrossingAndAmplitude) {
     // Snell invariant and K_r are the train's, counted from the up-wave corner (8 m deep).
     const double omega = 2 * std::numbers::pi / 8.0, cos0 = std::cos(30 * kDeg);
     const double invariant = std::sin(30 * kDeg) / linear_wave(omega, 8.0).celerity;
+    const auto deep = [&](std::size_t q) { return rays.y[rays.offsets[q]] == 0.0; };  // entered across y = 0
     std::size_t checked = 0, aground = 0, west = 0;
     double worst_west = 0.0;
     for (std::size_t r = 0; r < rays.ray_count(); ++r) {
         const std::size_t s = rays.offsets[r];
         EXPECT_EQ(rays.event[s], RayEvent::start);
-        const bool deep_start = rays.y[s] == 0.0;
         west += rays.x[s] == 0.0;
         EXPECT_NEAR(rays.dir_x[s] / rays.celerity[s], invariant, 1e-13 * invariant) << r;
         for (std::size_t i = s + 1; i < rays.offsets[r + 1]; ++i) {
@@ -53,8 +53,7 @@ TEST(Trace, PlanarBeachSnellAtEveryCrossingAndAmplitude) {
             // one band turns the ray most; 1.1 % at 6.5 m).
             if (!(rays.flags[i] & kAmplitudeCapped)) {
                 const double kr = std::sqrt(cos0 / rays.dir_y[i]);
-                const auto deep = [&](std::size_t q) { return rays.y[rays.offsets[q]] == 0.0; };
-                if (deep_start && r > 0 && deep(r - 1) && r + 1 < rays.ray_count() && deep(r + 1)) {
+                if (r > 0 && deep(r - 1) && deep(r) && r + 1 < rays.ray_count() && deep(r + 1)) {
                     EXPECT_NEAR(rays.refraction[i], kr, 1e-9);
                     EXPECT_NEAR(rays.amplitude[i], 0.4 * shoaling_coefficient(omega, rays.depth[i]) * kr, 1e-9);
                 } else {
