@@ -145,7 +145,7 @@ TEST(Fronts, IsobathModeNeedsIsobaths) {
 }
 
 TEST(Fronts, DispersionTableMatchesTheSolver) {
-    // Linear interpolation of k√h and K_s h^{1/4} in s = √h: 1e-9-level over the range,
+    // Linear interpolation of k√h, C/√h and K_s h^{1/4} in s = √h: 1e-9-level over the range,
     // exact below the first node, above the range, and for capillary waves.
     const double omega = 2.0 * std::numbers::pi / 5.0;
     const detail::WaveTable table(omega, 12.0, DispersionOptions{});
@@ -155,6 +155,7 @@ TEST(Fronts, DispersionTableMatchesTheSolver) {
         const detail::WaveTable::Entry e = table.at(h);
         worst = std::max({worst, std::abs(e.k / w.k - 1.0), std::abs(e.celerity / w.celerity - 1.0),
                           std::abs(e.shoaling / w.shoaling - 1.0)});
+        ASSERT_EQ(table.celerity(h), e.celerity) << h;  // the tracers' lookup of C alone
     }
     EXPECT_LT(worst, 1e-8);
     // At the nodes (solved from the last node's root) the table is the solver's to 1e-13.

@@ -88,10 +88,11 @@ bool refract_at_contour(const IsobathCrossing& hit, double celerity_before, doub
 
 /// k, C and K_s of one frequency, tabulated over depth for the tracers' inner loops
 /// (a dispersion solve per query was 40 % of the adaptive tracer's time). In s = √h
-/// the products k√h and K_s h^{1/4} are smooth down to h → 0 (their shallow-water
+/// the products k√h, C/√h and K_s h^{1/4} are smooth down to h → 0 (their shallow-water
 /// limits are finite), so linear interpolation in s is accurate to ~1e-9 relative with
-/// the default nodes. Depths below the first node or above the range, and capillary
-/// waves, go to the exact solver.
+/// the default nodes. C is interpolated too, not ω/k: a lookup costs two square roots
+/// and one division (the three of ω/k and K_s's root were a tenth of a trace). Depths
+/// below the first node or above the range, and capillary waves, go to the exact solver.
 class WaveTable {
 public:
     struct Entry {
@@ -99,13 +100,16 @@ public:
     };
     WaveTable(double omega, double max_depth, const DispersionOptions& options, std::size_t nodes = 4096);
     Entry at(double depth) const;
+    /// at(depth).celerity alone (one square root): Snell's ratios ahead of a ray.
+    double celerity(double depth) const;
 
 private:
     Entry exact(double depth) const;
     double omega_;
     DispersionOptions options_;
-    double ds_ = 0.0, s_max_ = 0.0;
-    std::vector<double> k_root_h_, shoaling_quarter_h_;  // k √h and K_s h^{1/4} at s = i ds
+    double ds_ = 0.0, inverse_ds_ = 0.0, s_max_ = 0.0;
+    // k √h, C / √h and K_s h^{1/4} at s = i ds
+    std::vector<double> k_root_h_, celerity_per_root_h_, shoaling_quarter_h_;
 };
 
 }  // namespace wave::detail
