@@ -797,6 +797,7 @@ struct FrameRun {
     // kept while they are inside the window: each is computed once for a run of frames,
     // and equals what a frame computed alone would compute.
     std::map<long long, FoldSample> fold_past{};
+    std::vector<float> fold_scratch{};  // a new past lattice time's J₋ at the vertices (reused: no fresh pages a frame)
     Refinement frame_refinement{};  // crest sharpness: creases follow each frame's heights
     std::vector<float> coarse_p{}, coarse_nr{}, coarse_foam{}, fine_depth{};
     std::optional<UntanglePlan> untangle{};  // when the coarse vertices move sideways
@@ -905,9 +906,9 @@ void coarse_foam(FrameRun& r, double t, std::span<float> fc) {
         auto it = r.fold_past.find(j);
         if (it == r.fold_past.end()) {
             evaluate_ocean_jacobian(plan.ocean, static_cast<double>(j) * step, *r.wind_sea.workspace, r.wind_sea.lattice_j);
-            std::vector<float> past(plan.rest_x.size());
-            fold_at_vertices(plan, r.wind_sea.lattice_j, past);
-            it = r.fold_past.emplace(j, fold_sample(past, fold)).first;
+            detail::size_for_overwrite(r.fold_scratch, plan.rest_x.size());
+            fold_at_vertices(plan, r.wind_sea.lattice_j, r.fold_scratch);
+            it = r.fold_past.emplace(j, fold_sample(r.fold_scratch, fold)).first;
         }
         accumulate_fold_foam(it->second, t - static_cast<double>(j) * step, fold, fc);
     }
