@@ -145,9 +145,16 @@ void advance(Ray& r, const ElevationGrid& g, const detail::WaveTable& waves, con
         settle(r, g, waves);
         r.ashore = true;
     }
-    // Σ k Δs by the trapezoid rule between the two ends of the step (k counts as 0 on
-    // the shoreline, as on dry land: the shallow-water k diverges there).
-    r.phase += 0.5 * (w1.k + (r.ashore ? 0.0 : r.wave.k)) * run;
+    // Σ k Δs = ∫ ω/C ds with C averaged over the step: 2ω Δs / (C₀ + C₁), the
+    // trapezoid rule on the celerity. It is exact in deep water (C constant) and in
+    // shallow water over a depth that varies linearly along the step (C = √(g h),
+    // ∫ ds/√h = 2 Δs / (√h₀ + √h₁)), up to the shoreline, where C = 0 and the last
+    // step adds 2 k₀ Δs. The trapezoid rule on k (k taken as 0 on the shoreline, where
+    // it diverges) added ½ k₀ Δs there: a ray's phase at landfall was short by up to
+    // 1.5 k₀ Δs depending on how far before the shore its last wet vertex fell, and
+    // Jeschke's breakers, whose lives end at that phase, stepped from ray to ray.
+    const double c_sum = w1.celerity + (r.ashore ? 0.0 : r.wave.celerity);
+    if (c_sum > 0.0) r.phase += 2.0 * waves.omega() * run / c_sum;
 }
 
 // One step of an ALIVE or FLAT ray in isobath mode: straight to each exact isobath

@@ -102,6 +102,7 @@ public:
     Entry at(double depth) const;
     /// at(depth).celerity alone (one square root): Snell's ratios ahead of a ray.
     double celerity(double depth) const;
+    double omega() const noexcept { return omega_; }  ///< the frequency tabulated (rad/s)
 
 private:
     Entry exact(double depth) const;
