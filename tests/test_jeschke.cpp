@@ -807,3 +807,28 @@ TEST(JeschkeBreakers, TheBeachsWaterMeshCarriesTheExactPhaseUpToItsSides) {
     EXPECT_LT(worst, 0.75);
     EXPECT_LE(off, 10u);
 }
+
+TEST(JeschkeBreakers, EveryRayOfAPlaneSlopeBreaksAsOneType) {
+    // On the planar beach (1:20) every crest meets the same slope: Battjes' class is the
+    // same for every ray, plunging (ξ0 = 0.05 / √(0.8 / 99.9) = 0.56 at normal incidence),
+    // including the rays capped on their first vertex — entering broken
+    // across the west side, or inserted in the surf zone — which have no vertex seaward
+    // of their break. Those used to count the slope as 0: spilling, their lips curled
+    // less than their neighbours', a notch in the breaking crest where they run.
+    const Scene scene = parse_scene(oblique_beach(2.0), "beach.json", ".");
+    const ScenePlan plan = plan_scene(scene);
+    std::size_t breaking = 0, at_start = 0;
+    std::map<std::uint32_t, std::uint32_t> first;  // ray → its first vertex
+    for (std::uint32_t v = 0; v < plan.strips.vertex_count(); ++v)
+        if (auto [it, fresh] = first.emplace(plan.strips.ray[v], v); !fresh && plan.strips.step[v] < plan.strips.step[it->second])
+            it->second = v;
+    for (const RayBreak& rb : plan.breakers.rays) {
+        if (!rb.breaks || rb.depth <= 0.0) continue;  // breaking in the water (not reaching the shore unbroken)
+        ++breaking;
+        const std::uint32_t v = first.at(rb.ray);
+        at_start += 2.0 * plan.strips.amplitude[v] >= kBreakerIndex * plan.strips.depth[v];
+        EXPECT_EQ(rb.type, BreakerType::plunging) << "ray " << rb.ray << " at (" << rb.x << ", " << rb.y << "), xi " << rb.iribarren;
+    }
+    EXPECT_GT(breaking, 30u);
+    EXPECT_GT(at_start, 3u);  // the rays this is about
+}

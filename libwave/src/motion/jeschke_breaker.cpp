@@ -288,7 +288,11 @@ RayLife ray_life(const RayStrips& strips, std::uint32_t id, const std::vector<st
         py = strips.y[vs[j]];
         h_back = strips.depth[vs[j]];
     }
-    const double slope = run > 0.0 ? std::max(0.0, (h_back - rb.depth) / run) : 0.0;
+    // A ray capped on its first vertex (it entered broken, or was inserted in the surf
+    // zone) has nothing seaward: the bottom's rise along it there. It used to count as
+    // flat, ξ = 0, a spilling breaker whose lip curled less than its plunging
+    // neighbours': a notch in the lip where such rays run.
+    const double slope = std::max(0.0, run > 0.0 ? (h_back - rb.depth) / run : strips.rise[b]);
     rb.iribarren = iribarren_number(slope, deep_height, deep_wavelength);
     rb.type = classify_breaker(rb.iribarren, o.thresholds);
     life.curl = rb.type == BreakerType::spilling     ? o.curl_spilling
