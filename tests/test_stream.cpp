@@ -13,6 +13,7 @@
 #include <iterator>
 #include <string>
 #include <unistd.h>
+#include <vector>
 
 namespace {
 
@@ -68,11 +69,37 @@ TEST(AnimationStream, ChunksEqualTheWholeRangeBitForBit) {
         for (std::size_t i = 0; i < n * k; ++i) ASSERT_EQ(chunk.foam[i], whole.foam[n * at + i]) << i;
         for (std::size_t f = 0; f < k; ++f) ASSERT_EQ(chunk.caustics[f], whole.caustics[at + f]);
         EXPECT_EQ(chunk.seafloor_positions, whole.seafloor_positions);  // the static parts, not appended twice
+        EXPECT_EQ(chunk.triangles, whole.triangles);
+        EXPECT_EQ(chunk.texcoords, whole.texcoords);
         at += k;
     }
     EXPECT_EQ(at, 7u);
     EXPECT_EQ(stream.frames_left(), 0u);
     EXPECT_THROW(AnimationStream(b.scene, b.plan, FrameRange{500, 501}), InputError);
+}
+
+TEST(AnimationStream, StaticPartsAreSetAgainIntoAReplacedAnimation) {
+    // Later chunks into the same animation leave its triangles, texture coordinates and
+    // seafloor as the first chunk set them (no copy a chunk); an animation whose
+    // triangles or texture coordinates were replaced in between, or another animation,
+    // gets them again.
+    const Bay& b = bay();
+    const SceneAnimation whole = animate_scene(b.scene, b.plan, 2e9, FrameRange{0, 6});
+    AnimationStream stream(b.scene, b.plan, FrameRange{0, 6});
+    SceneAnimation chunk, other;
+    ASSERT_EQ(stream.next(chunk, 2), 2u);
+    chunk.triangles.clear();
+    ASSERT_EQ(stream.next(chunk, 2), 2u);
+    EXPECT_EQ(chunk.triangles, whole.triangles);
+    std::vector<float>().swap(chunk.texcoords);
+    chunk.seafloor_positions.clear();
+    ASSERT_EQ(stream.next(other, 1), 1u);
+    EXPECT_EQ(other.triangles, whole.triangles);
+    EXPECT_EQ(other.seafloor_positions, whole.seafloor_positions);
+    ASSERT_EQ(stream.next(chunk, 1), 1u);
+    EXPECT_EQ(chunk.texcoords, whole.texcoords);
+    EXPECT_EQ(chunk.seafloor_positions, whole.seafloor_positions);
+    EXPECT_EQ(chunk.triangles, whole.triangles);
 }
 
 TEST(AnimationStream, AnErrorMidChunkWaitsForTheMapsStillBeingEncoded) {

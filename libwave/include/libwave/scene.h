@@ -450,9 +450,11 @@ public:
     std::size_t frame_count() const noexcept;   ///< in the range
     std::size_t frames_left() const noexcept;  ///< frames not yet evaluated
     /// The next min(count, frames_left()) frames into `out` (every array resized to them,
-    /// its first_frame, z range and caustics theirs; the static parts — triangles,
-    /// texcoords, dressing — set on every call). Returns how many (0 at the end).
-    /// `progress(done, total)` counts frames of the whole range.
+    /// its first_frame, z range and caustics theirs). The static parts — triangles,
+    /// texcoords, dressing, seafloor — are set on the first call into `out` and left on
+    /// later calls into the same `out` while its triangles are the ones set (not
+    /// replaced or resized; change none of these in place between calls). Returns how
+    /// many (0 at the end). `progress(done, total)` counts frames of the whole range.
     std::size_t next(SceneAnimation& out, std::size_t count,
                      const std::function<void(std::size_t, std::size_t)>& progress = {});
     /// The largest |delta| of any position coordinate from the range's first frame,

@@ -1119,6 +1119,18 @@ struct AnimationStream::State {
     const std::vector<std::uint32_t>& triangles;  // the exported surface's
     std::size_t loop_frames = 0, first = 0, count = 0, done = 0;
     FrameRun run;
+    // The animation whose static parts this stream set last, and its triangles' storage:
+    // a later chunk into it leaves them (24 MB of triangles a chunk at 1024²).
+    const SceneAnimation* dressed = nullptr;
+    const std::uint32_t* dressed_triangles = nullptr;
+    const float* dressed_texcoords = nullptr;
+    std::size_t dressed_texcoord_count = 0;
+    // Whether `a` still holds the static parts set in it (the same object, its triangles
+    // and texture coordinates neither replaced nor resized since).
+    bool holds_static_parts(const SceneAnimation& a) const {
+        return dressed == &a && a.triangles.data() == dressed_triangles && a.triangles.size() == triangles.size() &&
+               a.texcoords.data() == dressed_texcoords && a.texcoords.size() == dressed_texcoord_count;
+    }
 };
 
 AnimationStream::AnimationStream(const Scene& scene, const ScenePlan& plan, FrameRange range) {
@@ -1173,7 +1185,8 @@ std::size_t AnimationStream::next(SceneAnimation& a, std::size_t count, const st
     a.loop_frames = s.loop_frames;
     a.first_frame = s.first + s.done;
     a.frame_count = k;
-    a.triangles = s.triangles;
+    const bool dressed = s.holds_static_parts(a);
+    if (!dressed) a.triangles = s.triangles;
     const std::size_t n = a.vertex_count;
     // Every value is written below (foam is cleared per frame): the first chunk's arrays
     // are fresh memory, advised for huge pages, later chunks reuse them.
@@ -1201,12 +1214,18 @@ std::size_t AnimationStream::next(SceneAnimation& a, std::size_t count, const st
         throw;
     }
     s.done += k;
-    rest_texcoords(s.plan, s.refined, a);
-    a.seafloor_positions.clear();
-    a.seafloor_colors.clear();
-    a.seafloor_triangles.clear();
-    a.seafloor_texcoords.clear();
-    dress_animation(scene, s.plan, a);
+    if (!dressed) {
+        rest_texcoords(s.plan, s.refined, a);
+        a.seafloor_positions.clear();
+        a.seafloor_colors.clear();
+        a.seafloor_triangles.clear();
+        a.seafloor_texcoords.clear();
+        dress_animation(scene, s.plan, a);
+        s.dressed = &a;
+        s.dressed_triangles = a.triangles.data();
+        s.dressed_texcoords = a.texcoords.data();
+        s.dressed_texcoord_count = a.texcoords.size();
+    }
     return k;
 }
 
