@@ -1124,12 +1124,11 @@ struct AnimationStream::State {
     const SceneAnimation* dressed = nullptr;
     const std::uint32_t* dressed_triangles = nullptr;
     const float* dressed_texcoords = nullptr;
-    std::size_t dressed_texcoord_count = 0;
     // Whether `a` still holds the static parts set in it (the same object, its triangles
-    // and texture coordinates neither replaced nor resized since).
+    // and texture coordinates — two per vertex — neither replaced nor resized since).
     bool holds_static_parts(const SceneAnimation& a) const {
         return dressed == &a && a.triangles.data() == dressed_triangles && a.triangles.size() == triangles.size() &&
-               a.texcoords.data() == dressed_texcoords && a.texcoords.size() == dressed_texcoord_count;
+               a.texcoords.data() == dressed_texcoords && a.texcoords.size() == 2 * a.vertex_count;
     }
 };
 
@@ -1224,7 +1223,6 @@ std::size_t AnimationStream::next(SceneAnimation& a, std::size_t count, const st
         s.dressed = &a;
         s.dressed_triangles = a.triangles.data();
         s.dressed_texcoords = a.texcoords.data();
-        s.dressed_texcoord_count = a.texcoords.size();
     }
     return k;
 }

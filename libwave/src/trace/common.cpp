@@ -373,7 +373,7 @@ double lerp(const std::vector<double>& v, TablePlace p) { return (1.0 - p.f) * v
 WaveTable::Entry WaveTable::at(double depth) const {
     if (!(depth > 0.0)) return {};
     const double s = std::sqrt(depth);
-    if (k_root_h_.empty() || s < ds_ || s >= s_max_) return exact(depth);
+    if (!tabulated(s)) return exact(depth);
     const TablePlace p = place(s, inverse_ds_);
     const double inverse_s = 1.0 / s;
     return {lerp(k_root_h_, p) * inverse_s, lerp(celerity_per_root_h_, p) * s,
@@ -383,7 +383,7 @@ WaveTable::Entry WaveTable::at(double depth) const {
 double WaveTable::celerity(double depth) const {
     if (!(depth > 0.0)) return 0.0;
     const double s = std::sqrt(depth);
-    if (k_root_h_.empty() || s < ds_ || s >= s_max_) return exact(depth).celerity;
+    if (!tabulated(s)) return exact(depth).celerity;
     return lerp(celerity_per_root_h_, place(s, inverse_ds_)) * s;
 }
 

@@ -106,6 +106,8 @@ public:
 
 private:
     Entry exact(double depth) const;
+    /// Whether s = √depth lies between the first node and the last (else the exact solver).
+    bool tabulated(double s) const noexcept { return !k_root_h_.empty() && s >= ds_ && s < s_max_; }
     double omega_;
     DispersionOptions options_;
     double ds_ = 0.0, inverse_ds_ = 0.0, s_max_ = 0.0;
