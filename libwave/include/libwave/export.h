@@ -6,6 +6,8 @@
 // the glTF writer maps (x, y, z) → (x, z, −y), nothing else converts.
 #pragma once
 
+#include "libwave/underwater.h"
+
 #include <cstddef>
 #include <cstdint>
 #include <array>
@@ -20,9 +22,13 @@
 
 namespace wave {
 
-/// One triangle mesh as OBJ text: `v x y z` per vertex (3 floats each in `positions`),
-/// `f a b c` per triangle (0-based `triangles`, written 1-based), a comment line first.
-/// Precondition: every index < positions.size() / 3.
+/// A frame's sunlight (evaluate_sun_volume) as an OpenVDB file: one fog-volume float
+/// grid "sunlight", saved as half floats, voxels of 0 inactive, its transform putting
+/// voxel (i, j, k)'s centre at its place in metres, z up. What the sunbeam sequence
+/// beside an animation holds. The same bytes for the same light (the archive's identifier is derived from
+/// the content).
+std::string sun_volume_vdb(const SunVolumePlan& plan, std::span<const float> light);
+
 /// A PC2 point cache (Blender's Mesh Cache modifier, 3ds Max, Maya, Cinema 4D, Houdini):
 /// the 12-byte signature "POINTCACHE2\0", version 1, the point count, the start frame and
 /// the sampling step (frames), the sample count, then every sample's points as float32
@@ -31,6 +37,9 @@ std::string pc2_bytes(std::span<const float> points, std::size_t point_count, st
 /// The 32-byte header alone, for writers that append the samples as they come.
 std::string pc2_header(std::size_t point_count, std::size_t sample_count, float start_frame);
 
+/// One triangle mesh as OBJ text: `v x y z` per vertex (3 floats each in `positions`),
+/// `f a b c` per triangle (0-based `triangles`, written 1-based), a comment line first.
+/// Precondition: every index < positions.size() / 3.
 std::string mesh_to_obj(std::span<const float> positions, std::span<const std::uint32_t> triangles,
                         std::string_view comment);
 

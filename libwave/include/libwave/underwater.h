@@ -78,6 +78,9 @@ struct CausticPlan {
     std::vector<double> tile_slope;
     double max_depth = 0.0;                ///< the floor's greatest depth (m)
     bool flat = false;                     ///< every node at one elevation: rays meet the floor in closed form
+    /// The floor is a level in the water (plan_sun_volume's): a surface vertex at or
+    /// below it passes no light (there the level is in the air).
+    bool level_in_water = false;
     std::array<double, 3> sun{};           ///< unit, towards the sun
 };
 CausticPlan plan_caustics(const ElevationGrid& seafloor, const CausticOptions& options);
@@ -113,6 +116,7 @@ struct CausticWorkspace {
     std::vector<std::uint32_t> chunk_counts;  ///< per chunk of items and band: items filed
     std::vector<std::uint32_t> band_offsets;  ///< per row band: its items' start in band_items
     std::vector<std::uint32_t> band_items;    ///< item indices, by band, each band in item order
+    std::vector<float> level_map;             ///< evaluate_sun_volume: one level's map
 };
 
 /// The irradiance per unit plan area on the seafloor (same unit as I₀), width · height
@@ -131,6 +135,54 @@ void evaluate_caustics(const CausticPlan& plan, const CausticMesh& mesh, std::sp
 void evaluate_caustics(const CausticPlan& plan, std::span<const float> positions, std::span<const float> normals,
                        std::span<const std::uint32_t> triangles, std::span<float> irradiance,
                        CausticWorkspace* workspace = nullptr);
+
+/// Sunlight in the water (sunbeams, Tessendorf 2001 §5.2): the irradiance E / I₀ of the
+/// refracted sun beam at each voxel of a box over the seafloor's rectangle, from its
+/// deepest lit level up to the still water. Each level is a caustic map on a level
+/// plane at the voxels' centre height, traced through the frame's surface exactly as
+/// on the seafloor (flux conserved through every bundle, Fresnel, e^{−c·s} over the
+/// path to the level): where the surface focuses light the beams are bright, and they
+/// lean along the refracted sun. A voxel whose centre lies under the seafloor is dark,
+/// and surface vertices at or below a level light none of it (a trough above the level
+/// is air there). The floor casts no shadow through the water. A renderer's single
+/// scattering towards the eye, b · p(θ) · E per unit length, gives the sunbeams
+/// (docs/underwater.md: the Blender add-on's volume material).
+struct SunVolumeOptions {
+    std::size_t nx = 128;  ///< voxels along x (over the seafloor grid's rectangle)
+    std::size_t ny = 128;  ///< voxels along y
+    std::size_t nz = 32;   ///< voxels along z
+    /// The volume reaches down to the floor's deepest point, or to where the beam has
+    /// fallen below this share of I₀ on its vertical path, whichever is shallower.
+    double darkest = 1e-3;
+};
+
+/// Once per seafloor, caustic plan and options: the voxels' frame and a flat-level
+/// caustic plan per level (the caustic plan's sun, water and flat_water_beyond; maps
+/// of nx × ny). InputError for a side of 0 or above 4 096 voxels or `darkest` not in
+/// (0, 1).
+struct SunVolumePlan {
+    std::size_t nx = 0;  ///< voxels along x
+    std::size_t ny = 0;  ///< voxels along y
+    std::size_t nz = 0;  ///< voxels along z
+    double x0 = 0.0;  ///< the outer corner of voxel (0, 0, 0) (m): the rectangle's least x
+    double y0 = 0.0;  ///< … its least y
+    double z0 = 0.0;  ///< … the volume's bottom
+    double dx = 1.0;  ///< voxel size (m)
+    double dy = 1.0;  ///< voxel size (m)
+    double dz = 1.0;  ///< voxel size (m)
+    std::vector<CausticPlan> levels;  ///< per level k: a flat floor at z0 + (k + ½) dz, its light cut by the level
+    /// Per column (j · nx + i): the first level above the seafloor at the column's centre.
+    std::vector<std::uint32_t> first_wet;
+};
+SunVolumePlan plan_sun_volume(const CausticPlan& caustics, const SunVolumeOptions& options);
+
+/// A frame's sunlight, nx · ny · nz floats (voxel (i, j, k) at (k · ny + j) · nx + i: x
+/// fastest, y up from the rectangle's least y, z up from the bottom), from the frame's
+/// surface as evaluate_caustics takes it. Flat water gives T · I₀ · e^{−c·d / cos θₜ} at
+/// every wet voxel of centre depth d. The same bits for any thread count. InputError
+/// on mismatched sizes.
+void evaluate_sun_volume(const SunVolumePlan& plan, const CausticMesh& mesh, std::span<const float> positions,
+                         std::span<const float> normals, std::span<float> light, CausticWorkspace* workspace = nullptr);
 
 /// A map as a 16-bit greyscale PNG (linear: pixel value 65 535 · E / full_scale,
 /// clamped), what the caustic sequence beside an animation holds.

@@ -271,6 +271,7 @@ void trace_vertex(const CausticPlan& plan, std::span<const float> positions, std
     const double k = eta * cos_i - root;
     Vec3 t{-eta * l.x + k * n.x, -eta * l.y + k * n.y, -eta * l.z + k * n.z};
     double s = 0.0;
+    if (plan.level_in_water && !(p.z > plan.floor.z[0])) weight = 0.0;  // the level is in the air here
     if (t.z < -1e-6) {
         // A flat floor in closed form (depth_at of a constant grid is that constant).
         s = plan.flat ? std::max(0.0, p.z - plan.floor.z[0]) / -t.z : path_to_floor(plan, p, t);
