@@ -430,6 +430,14 @@ json run_report(const RunSummary& r) {
                                 {"attenuation_per_m", o.attenuation}, {"full_scale", r.scene.underwater->full_scale},
                                 {"sun_towards", o.sun}};
     }
+    if (r.scene.underwater && r.scene.underwater->sunbeams) {
+        const SunVolumePlan v = plan_sun_volume(plan_caustics(r.plan.seafloor.grid, scene_caustic_options(r.scene, r.plan)),
+                                                *r.scene.underwater->sunbeams);
+        report["underwater"]["sunbeam_volumes"] = kSunbeamVolumes;
+        report["underwater"]["voxels"] = {v.nx, v.ny, v.nz};
+        report["underwater"]["voxel_size_m"] = {v.dx, v.dy, v.dz};
+        report["underwater"]["volume_bottom_m"] = v.z0;
+    }
     for (const std::string& f : r.animation_names) report["outputs"].push_back(f);
     for (const std::string& f : r.side_files) report["outputs"].push_back(f);
     return report;
@@ -742,7 +750,7 @@ int run_job(const RunArgs& a) {
             r.animation_bytes += bytes;
         }
     } else if (!files_form) {
-        files = encode_animation(anim.view(), scene.form, scene.container, whole, anim.caustics);
+        files = encode_animation(anim.view(), scene.form, scene.container, whole, anim.caustics, anim.sunbeams);
         for (const auto& f : files) {
             r.animation_names.push_back(f.first);
             r.animation_bytes += f.second.size();

@@ -383,9 +383,11 @@ FilesFormRun write_files_form(const Scene& scene, const ScenePlan& plan, const s
                 view.run_key = info.run_key;
                 const std::size_t n = anim.vertex_count;
                 for (std::size_t k = 0; k < anim.frame_count; ++k) {  // each frame encoded and written before the next
-                    const std::span<const std::string> map = anim.caustics.empty() ? std::span<const std::string>()
-                                                                                   : std::span<const std::string>(anim.caustics).subspan(k, 1);
-                    const Files frame_files = encode_animation(frame_subview(view, k, 1), Scene::Form::files, scene.container, false, map);
+                    const auto frame_k = [k](const std::vector<std::string>& each) {  // a frame's underwater file, if any
+                        return each.empty() ? std::span<const std::string>() : std::span<const std::string>(each).subspan(k, 1);
+                    };
+                    const Files frame_files = encode_animation(frame_subview(view, k, 1), Scene::Form::files, scene.container, false,
+                                                               frame_k(anim.caustics), frame_k(anim.sunbeams));
                     for (const auto& [name, bytes] : frame_files) {
                         fs::create_directories((run.partial / name).parent_path());
                         write_file_atomic((run.partial / name).string(), bytes);

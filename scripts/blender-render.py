@@ -1,7 +1,8 @@
 # Renders an output of `wave run` through the libwave add-on with Cycles on the CPU:
 #   blender -b --factory-startup --python scripts/blender-render.py -- ADDON_ZIP RUN_DIR OUT.png [FRAME [SEED]]
 # (SEED: Cycles' sampling seed, default 0; two seeds of one frame measure render noise;
-# LIBWAVE_NO_CAUSTICS=1 imports without the caustic maps, to compare;
+# LIBWAVE_NO_CAUSTICS=1 imports without the caustic maps, LIBWAVE_NO_SUNBEAMS=1 without
+# the sunbeam volumes, to compare (LIBWAVE_SUNBEAM_STRENGTH=S sets their strength);
 # LIBWAVE_CAMERA="x,y,z,tx,ty,tz" puts the camera at x,y,z looking at tx,ty,tz,
 # Blender axes, for close-ups; LIBWAVE_BAKE=FILE.blend imports baked into the .blend
 # and saves it, ready to render, as FILE.blend: `blender -b --factory-startup FILE.blend
@@ -26,8 +27,11 @@ addon_utils.enable("libwave_blender", default_set=True)
 source = os.path.join(run, "index.json") if os.path.exists(os.path.join(run, "index.json")) else os.path.join(run, "animation.glb")
 bake = os.environ.get("LIBWAVE_BAKE")
 haze = {"visibility": float(os.environ["LIBWAVE_VISIBILITY"])} if "LIBWAVE_VISIBILITY" in os.environ else {}
+if "LIBWAVE_SUNBEAM_STRENGTH" in os.environ:
+    haze["sunbeam_strength"] = float(os.environ["LIBWAVE_SUNBEAM_STRENGTH"])
 bpy.ops.import_scene.libwave(filepath=source, caustics=os.environ.get("LIBWAVE_NO_CAUSTICS") != "1", bake=bool(bake),
-                             file_normals=os.environ.get("LIBWAVE_FILE_NORMALS") == "1", **haze)
+                             file_normals=os.environ.get("LIBWAVE_FILE_NORMALS") == "1",
+                             sunbeams=os.environ.get("LIBWAVE_NO_SUNBEAMS") != "1", **haze)
 scene = bpy.context.scene
 if scene.camera is None:  # the files form carries no camera: one from the open sea
     water = next(o for o in scene.objects if "libwave_source" in o or "libwave_baked" in o)

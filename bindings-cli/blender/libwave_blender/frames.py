@@ -184,6 +184,9 @@ class Dressing:
         # The caustic maps beside the file (docs/underwater.md): (uv per seafloor vertex,
         # libwave_caustics of the seafloor material's extras), or None.
         self.caustics = None
+        # The sunbeam volumes beside the file: libwave_sunbeams of the seafloor
+        # material's extras, or None.
+        self.sunbeams = None
         for node in doc.get("nodes", []):
             if node.get("name") == "seafloor" and "mesh" in node:
                 prim = doc["meshes"][node["mesh"]]["primitives"][0]
@@ -193,6 +196,7 @@ class Dressing:
                 extras = doc.get("materials", [{}])[prim["material"]].get("extras", {}) if "material" in prim else {}
                 if "libwave_caustics" in extras and "TEXCOORD_0" in prim["attributes"]:
                     self.caustics = (accessor(doc, buffers, prim["attributes"]["TEXCOORD_0"]), extras["libwave_caustics"])
+                self.sunbeams = extras.get("libwave_sunbeams")
             elif "camera" in node:
                 cam = doc["cameras"][node["camera"]].get("perspective", {})
                 self.camera = (_node_matrix(node), cam.get("yfov", 0.7), cam.get("aspectRatio", 16 / 9))

@@ -85,6 +85,14 @@ struct SceneDressing {
     std::size_t caustic_frames = 0;  ///< maps in the sequence
     double caustic_fps = 24.0;  ///< the sequence's frames per second
     double caustic_full_scale = 1.0;  ///< E / I₀ written as white
+    /// Sunbeam volumes beside the file (docs/underwater.md): with a pattern (e.g.
+    /// "sunbeams/sunbeams-%04d.vdb", by loop frame) the seafloor material's extras name
+    /// the sequence: libwave_sunbeams {volumes, frames, fps, grid, attenuation,
+    /// direction (glTF axes)}.
+    std::string sunbeam_volumes;  ///< printf pattern of the volumes' names, by loop frame (empty: none)
+    std::size_t sunbeam_frames = 0;  ///< volumes in the sequence
+    double sunbeam_attenuation = 0.15;  ///< c (1/m) of the water they were traced in
+    std::array<double, 3> sunbeam_direction{0.0, 0.0, -1.0};  ///< the beam's unit direction under flat water (z up)
 };
 
 /// The glTF node rotation (x, y, z, w in glTF's y-up axes) that turns a camera or a

@@ -72,6 +72,9 @@ struct UnderwaterOptions {
     double attenuation = 0.15;  ///< c (1/m): /underwater/attenuation or /underwater/water_type's
     std::size_t map_size = 512;  ///< pixels along the seafloor's longer side (the other in proportion)
     double full_scale = 4.0;     ///< E / I₀ written as white (65 535) in the PNGs
+    /// /underwater/sunbeams: the sunlight in the water, an OpenVDB volume per frame
+    /// (evaluate_sun_volume; none when empty).
+    std::optional<SunVolumeOptions> sunbeams{};
 };
 
 /// A job: the seafloor, the wave trains, every stage's options and the outputs, as a
@@ -247,6 +250,8 @@ CausticOptions scene_caustic_options(const Scene& scene, const ScenePlan& plan);
 
 /// The caustic maps' names beside an animation, by loop frame (printf pattern).
 inline constexpr char kCausticImages[] = "caustics/caustics-%04d.png";
+/// The sunbeam volumes' names beside an animation, by loop frame (printf pattern).
+inline constexpr char kSunbeamVolumes[] = "sunbeams/sunbeams-%04d.vdb";
 
 /// The scene's trace options with Ts'o's rule applied: when orthogonals_per_grid_line
 /// > 0, ray_spacing = min(surface cell dx, dy) / orthogonals_per_grid_line.
@@ -352,6 +357,9 @@ struct SceneAnimation {
     /// the seafloor's TEXCOORD_0 in the maps' frame (the dressing's seafloor vertices).
     std::vector<std::string> caustics;
     std::vector<float> seafloor_texcoords;  ///< 2 per seafloor vertex
+    /// /underwater/sunbeams: one OpenVDB volume of the sunlight in the water per frame
+    /// (sun_volume_vdb; empty without them).
+    std::vector<std::string> sunbeams;
 
     MorphAnimationView view() const;  ///< a view for the exporters (spans into this)
 };
@@ -428,10 +436,11 @@ using EncodedFiles = std::vector<std::pair<std::string, std::string>>;
 /// animation-frames-A-B.glb for a slice, `whole` = false) for morph and nodes, or
 /// frames/frame-NNNN.glb for files; with the gltf container each .glb becomes
 /// name.gltf + name.bin. With `caustics` (one PNG per frame of the view), the maps as
-/// kCausticImages beside them (in the files form, after each frame's own files). Used
+/// kCausticImages beside them, and with `sunbeams` (one OpenVDB volume per frame) the
+/// volumes as kSunbeamVolumes (in the files form, after each frame's own files). Used
 /// by `wave run`, `wave convert` and the Python module.
 EncodedFiles encode_animation(const MorphAnimationView& view, Scene::Form form, Scene::Container container, bool whole,
-                              std::span<const std::string> caustics = {});
+                              std::span<const std::string> caustics = {}, std::span<const std::string> sunbeams = {});
 
 /// Frames of one loop evaluated a chunk at a time, for runs that must not hold every
 /// frame (the streamed export forms, docs/export.md): constructed once per range (the

@@ -156,6 +156,10 @@ struct SunVolumeOptions {
     double darkest = 1e-3;
 };
 
+/// The sun's beam under flat water: the unit direction it travels in (z < 0), for a
+/// direction towards the sun of any length with z > 0 and the water's index.
+std::array<double, 3> refracted_beam(const std::array<double, 3>& sun, double water_index) noexcept;
+
 /// Once per seafloor, caustic plan and options: the voxels' frame and a flat-level
 /// caustic plan per level (the caustic plan's sun, water and flat_water_beyond; maps
 /// of nx × ny). InputError for a side of 0 or above 4 096 voxels or `darkest` not in

@@ -853,16 +853,28 @@ struct ModelWriter {
             sand.name = "seafloor";
             sand.pbrMetallicRoughness.metallicFactor = 0.0;
             sand.pbrMetallicRoughness.roughnessFactor = 0.9;  // base colour white: COLOR_0 is the colour
+            tinygltf::Value::Object extras;
             if (!d.caustic_images.empty()) {
-                tinygltf::Value::Object caustics, extras;
+                tinygltf::Value::Object caustics;
                 caustics["images"] = tinygltf::Value(d.caustic_images);
                 caustics["frames"] = tinygltf::Value(static_cast<int>(d.caustic_frames));
                 caustics["fps"] = tinygltf::Value(d.caustic_fps);
                 caustics["texCoord"] = tinygltf::Value(0);
                 caustics["full_scale"] = tinygltf::Value(d.caustic_full_scale);
                 extras["libwave_caustics"] = tinygltf::Value(caustics);
-                sand.extras = tinygltf::Value(extras);
             }
+            if (!d.sunbeam_volumes.empty()) {
+                tinygltf::Value::Object sunbeams;
+                sunbeams["volumes"] = tinygltf::Value(d.sunbeam_volumes);
+                sunbeams["frames"] = tinygltf::Value(static_cast<int>(d.sunbeam_frames));
+                sunbeams["fps"] = tinygltf::Value(d.caustic_fps);
+                sunbeams["grid"] = tinygltf::Value(std::string("sunlight"));
+                sunbeams["attenuation"] = tinygltf::Value(d.sunbeam_attenuation);
+                const std::array<double, 3>& t = d.sunbeam_direction;
+                sunbeams["direction"] = tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(t[0]), tinygltf::Value(t[2]), tinygltf::Value(-t[1])});
+                extras["libwave_sunbeams"] = tinygltf::Value(sunbeams);
+            }
+            if (!extras.empty()) sand.extras = tinygltf::Value(extras);
             model.materials.push_back(sand);
             prim.material = static_cast<int>(model.materials.size() - 1);
             tinygltf::Mesh mesh;

@@ -364,27 +364,41 @@ void refine_scene_plan(const Scene& scene, ScenePlan& p) {
 
 namespace {
 
-std::string caustic_file_name(std::size_t frame) {
+// A frame's file of an underwater sequence (kCausticImages, kSunbeamVolumes).
+std::string underwater_file_name(const char* pattern, std::size_t frame) {
     char buffer[48];
-    std::snprintf(buffer, sizeof buffer, kCausticImages, static_cast<int>(frame));
+    std::snprintf(buffer, sizeof buffer, pattern, static_cast<int>(frame));
     return buffer;
 }
 
-// The caustic maps beside the animation, caustics/caustics-NNNN.png by loop frame: in
-// the files form after each frame's own files (a frame's entry lists them together).
-void add_caustic_files(const MorphAnimationView& view, std::span<const std::string> caustics, Scene::Form form, EncodedFiles& files) {
-    if (caustics.empty()) return;
-    const auto name = [&](std::size_t k) { return caustic_file_name(view.first_frame + k); };
-    if (form != Scene::Form::files) {
-        for (std::size_t k = 0; k < caustics.size(); ++k) files.emplace_back(name(k), caustics[k]);
-        return;
+// The frame's underwater files of a chunk beside the animation, by loop frame: its
+// caustic map, then its sunbeam volume (each list empty or one per frame).
+void for_underwater_files(std::size_t first_frame, std::size_t frame_count, std::span<const std::string> caustics,
+                          std::span<const std::string> sunbeams, const std::function<void(std::size_t, std::string, const std::string&)>& file) {
+    for (std::size_t k = 0; k < frame_count; ++k) {
+        if (!caustics.empty()) file(k, underwater_file_name(kCausticImages, first_frame + k), caustics[k]);
+        if (!sunbeams.empty()) file(k, underwater_file_name(kSunbeamVolumes, first_frame + k), sunbeams[k]);
     }
-    const std::size_t per_frame = files.size() / view.frame_count;
+}
+
+// The caustic maps and sunbeam volumes beside the animation: in the files form after
+// each frame's own files (a frame's entry lists them together).
+void add_underwater_files(const MorphAnimationView& view, std::span<const std::string> caustics, std::span<const std::string> sunbeams,
+                          Scene::Form form, EncodedFiles& files) {
+    if (caustics.empty() && sunbeams.empty()) return;
+    const std::size_t per_frame = form == Scene::Form::files ? files.size() / view.frame_count : 0;
     EncodedFiles grouped;
-    for (std::size_t k = 0; k < view.frame_count; ++k) {
-        for (std::size_t i = 0; i < per_frame; ++i) grouped.push_back(std::move(files[k * per_frame + i]));
-        grouped.emplace_back(name(k), caustics[k]);
-    }
+    std::size_t next = 0;  // the next frame whose own files are to be moved
+    const auto keep_frames_up_to = [&](std::size_t k) {
+        for (; next <= k && per_frame > 0; ++next)
+            for (std::size_t i = 0; i < per_frame; ++i) grouped.push_back(std::move(files[next * per_frame + i]));
+    };
+    if (per_frame == 0) grouped.swap(files);
+    for_underwater_files(view.first_frame, view.frame_count, caustics, sunbeams, [&](std::size_t k, std::string name, const std::string& bytes) {
+        keep_frames_up_to(k);
+        grouped.emplace_back(std::move(name), bytes);
+    });
+    keep_frames_up_to(view.frame_count - 1);
     files.swap(grouped);
 }
 
@@ -433,7 +447,7 @@ void split_gltf_container(EncodedFiles& files) {
 }  // namespace
 
 EncodedFiles encode_animation(const MorphAnimationView& view, Scene::Form form, Scene::Container container, bool whole,
-                              std::span<const std::string> caustics) {
+                              std::span<const std::string> caustics, std::span<const std::string> sunbeams) {
     EncodedFiles files;
     const std::string animation_name = animation_file_name(view.first_frame, view.frame_count, whole);
     if (form == Scene::Form::morph) files.emplace_back(animation_name, gltf_morph_glb(view));
@@ -455,7 +469,7 @@ EncodedFiles encode_animation(const MorphAnimationView& view, Scene::Form form, 
             files.emplace_back(name, gltf_frame_glb(view, k));
         }
     if (container == Scene::Container::gltf) split_gltf_container(files);
-    add_caustic_files(view, caustics, form, files);
+    add_underwater_files(view, caustics, sunbeams, form, files);
     return files;
 }
 
@@ -577,7 +591,7 @@ StreamedAnimation stream_animation(AnimationStream& stream, const Scene& scene, 
     out.z_max = -std::numeric_limits<float>::infinity();
     const std::size_t frames = stream.frame_count();
     std::optional<StreamedWriter> writer;
-    std::vector<std::string> maps;  // caustic maps written, in order
+    std::vector<std::string> maps;  // caustic maps and sunbeam volumes written, in order
     SceneAnimation a;
     // Quantised morph targets need their delta range before the first target: a pass
     // over the frames' positions alone finds it.
@@ -594,11 +608,11 @@ StreamedAnimation stream_animation(AnimationStream& stream, const Scene& scene, 
                 out.first = a;
             }
             writer->append(view);
-            for (std::size_t k = 0; k < a.caustics.size(); ++k) {
-                maps.push_back(caustic_file_name(a.first_frame + k));
+            for_underwater_files(a.first_frame, a.frame_count, a.caustics, a.sunbeams, [&](std::size_t, std::string name, const std::string& bytes) {
+                maps.push_back(std::move(name));
                 std::filesystem::create_directories((std::filesystem::path(folder) / maps.back()).parent_path());
-                write_file_atomic(folder + "/" + maps.back(), a.caustics[k]);
-            }
+                write_file_atomic(folder + "/" + maps.back(), bytes);
+            });
             out.z_min = std::min(out.z_min, a.z_min);
             out.z_max = std::max(out.z_max, a.z_max);
         }
@@ -681,6 +695,16 @@ RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double plann
         const double pixels = static_cast<double>(o.width) * static_cast<double>(o.height);
         e.output_bytes += frames * 1.2 * pixels;
         caustic_work = 6.0 * pixels;
+    }
+    // The sunbeam volumes: a VDB per frame of ~kSunbeamBytesPerVoxel a voxel; while a
+    // frame is computed, two volumes in turn (4 bytes a voxel each) and the VDB tree of
+    // the one being encoded with its file (~8).
+    if (scene.underwater && scene.underwater->sunbeams && g.nx >= 2 && g.ny >= 2) {
+        const SunVolumeOptions& o = *scene.underwater->sunbeams;
+        const double voxels = static_cast<double>(o.nx) * static_cast<double>(o.ny) * static_cast<double>(o.nz);
+        constexpr double kSunbeamBytesPerVoxel = 1.0;
+        e.output_bytes += frames * kSunbeamBytesPerVoxel * voxels;
+        caustic_work += 16.0 * voxels;
     }
     // Without a measured plan: ~30 MB of process and libraries, ~1.5 kB per surface
     // vertex of plan (isobaths, fronts, the OpenMesh strips, motion fields), measured on
@@ -805,19 +829,22 @@ struct FrameRun {
     std::vector<float> far_field_scratch{};  // the skirt's anchors' residuals, then its breakers
     VertexFaces adjacency{};
     FresnelOptions fresnel{};
-    std::optional<CausticPlan> caustics{};  // /underwater: a map per frame
+    std::optional<CausticPlan> caustics{};  // /underwater: a map per frame (planned for the sunbeams too)
+    std::optional<SunVolumePlan> sunbeams{};  // /underwater/sunbeams: a volume per frame
     CausticMesh caustic_mesh{};             // the surface's edges, walked once a frame
     CausticWorkspace caustic_scratch{};
-    // A map's PNG is encoded on a task of its own while the frames go on (the encoding
-    // is serial and takes as long as the map): two maps, each with its encoding task.
+    // A map's PNG and a volume's VDB are encoded on a task of their own while the frames
+    // go on (the encoding is serial and takes as long as the map): two maps and volumes,
+    // each pair with its encoding task.
     std::array<std::vector<float>, 2> caustic_maps{};
-    std::array<std::unique_ptr<tbb::task_group>, 2> caustic_pngs{};
+    std::array<std::vector<float>, 2> sun_volumes{};
+    std::array<std::unique_ptr<tbb::task_group>, 2> underwater_encoders{};
 };
 
-// Waits for the caustic maps' PNGs still being encoded: rethrowing their errors, or,
+// Waits for the underwater files still being encoded: rethrowing their errors, or,
 // `quietly` (a frame's own error is unwinding), dropping them.
-void finish_caustic_pngs(FrameRun& r, bool quietly = false) {
-    for (auto& task : r.caustic_pngs) {
+void finish_underwater_files(FrameRun& r, bool quietly = false) {
+    for (auto& task : r.underwater_encoders) {
         if (!task) continue;
         try {
             task->wait();
@@ -852,12 +879,16 @@ void start_run(FrameRun& r, const std::vector<std::uint32_t>& triangles, std::si
     if (r.shaded || r.untangle) r.fold_past.insert(plan.fold_past.begin(), plan.fold_past.end());  // frame 0's foam past
     r.fresnel.camera = scene_camera(r.scene, plan.seafloor);
     r.fresnel.model = r.scene.fresnel;
-    if (r.scene.underwater && r.scene.underwater->caustics) {
-        r.caustics = plan_caustics(plan.seafloor.grid, scene_caustic_options(r.scene, plan));
+    const std::optional<UnderwaterOptions>& u = r.scene.underwater;
+    if (u && (u->caustics || u->sunbeams)) {
+        const CausticPlan caustics = plan_caustics(plan.seafloor.grid, scene_caustic_options(r.scene, plan));
+        if (u->sunbeams) r.sunbeams = plan_sun_volume(caustics, *u->sunbeams);
+        if (u->caustics) r.caustics = caustics;
         r.caustic_mesh = plan_caustic_mesh(triangles, n);
         for (std::size_t b = 0; b < 2; ++b) {
-            r.caustic_maps[b].resize(r.caustics->options.width * r.caustics->options.height);
-            r.caustic_pngs[b] = std::make_unique<tbb::task_group>();
+            if (r.caustics) r.caustic_maps[b].resize(caustics.options.width * caustics.options.height);
+            if (r.sunbeams) r.sun_volumes[b].resize(r.sunbeams->nx * r.sunbeams->ny * r.sunbeams->nz);
+            r.underwater_encoders[b] = std::make_unique<tbb::task_group>();
         }
     }
 }
@@ -959,13 +990,16 @@ void evaluate_frame(FrameRun& r, const std::vector<std::uint32_t>& coarse_triang
         },
         [](const Range& x, const Range& y) { return Range{std::min(x.first, y.first), std::max(x.second, y.second)}; });
     a.z_min = z.first, a.z_max = z.second;
-    if (r.caustics) {
+    if (r.caustics || r.sunbeams) {
         const std::size_t b = f % 2;
-        r.caustic_pngs[b]->wait();  // the map two frames back is encoded: its buffer is free
-        evaluate_caustics(*r.caustics, r.caustic_mesh, p, nr, r.caustic_maps[b], &r.caustic_scratch);
-        r.caustic_pngs[b]->run([&r, &a, b, f] {
-            a.caustics[f] = caustic_png(r.caustic_maps[b], r.caustics->options.width, r.caustics->options.height,
-                                        r.scene.underwater->full_scale);
+        r.underwater_encoders[b]->wait();  // the map and volume two frames back are encoded: their buffers are free
+        if (r.caustics) evaluate_caustics(*r.caustics, r.caustic_mesh, p, nr, r.caustic_maps[b], &r.caustic_scratch);
+        if (r.sunbeams) evaluate_sun_volume(*r.sunbeams, r.caustic_mesh, p, nr, r.sun_volumes[b], &r.caustic_scratch);
+        r.underwater_encoders[b]->run([&r, &a, b, f] {
+            if (r.caustics)
+                a.caustics[f] = caustic_png(r.caustic_maps[b], r.caustics->options.width, r.caustics->options.height,
+                                            r.scene.underwater->full_scale);
+            if (r.sunbeams) a.sunbeams[f] = sun_volume_vdb(*r.sunbeams, r.sun_volumes[b]);
         });
     }
     if (!r.shaded) return;
@@ -1100,9 +1134,16 @@ void dress_animation(const Scene& scene, const ScenePlan& plan, SceneAnimation& 
             }
             d.caustic_images = kCausticImages;
             d.caustic_frames = a.loop_frames;
-            d.caustic_fps = scene.fps;
             d.caustic_full_scale = scene.underwater->full_scale;
         }
+        if (!a.sunbeams.empty()) {
+            d.sunbeam_volumes = kSunbeamVolumes;
+            d.sunbeam_frames = a.loop_frames;
+            d.sunbeam_attenuation = scene.underwater->attenuation;
+            const CausticOptions o = scene_caustic_options(scene, plan);
+            d.sunbeam_direction = refracted_beam(o.sun, o.water_index);
+        }
+        d.caustic_fps = scene.fps;
         if (plan.skirt.vertex_count() > 0)
             add_seafloor_apron(static_cast<double>(step) * std::min(g.dx, g.dy), plan.skirt.reach, cols, rows, depth_max, a);
     }
@@ -1200,6 +1241,7 @@ std::size_t AnimationStream::next(SceneAnimation& a, std::size_t count, const st
     detail::size_for_overwrite(a.foam, shaded ? n * k : 0);
     detail::size_for_overwrite(a.colors, scene.color ? 3 * n * k : 0);
     a.caustics.assign(scene.underwater && scene.underwater->caustics ? k : 0, std::string());
+    a.sunbeams.assign(scene.underwater && scene.underwater->sunbeams ? k : 0, std::string());
     a.z_min = std::numeric_limits<float>::infinity();
     a.z_max = -std::numeric_limits<float>::infinity();
     try {
@@ -1207,9 +1249,9 @@ std::size_t AnimationStream::next(SceneAnimation& a, std::size_t count, const st
             evaluate_frame(s.run, s.coarse_triangles, f, a);
             if (progress) progress(s.done + f + 1, s.count);
         }
-        finish_caustic_pngs(s.run);
+        finish_underwater_files(s.run);
     } catch (...) {
-        finish_caustic_pngs(s.run, true);  // no encoding task may outlive the frames it reads and writes
+        finish_underwater_files(s.run, true);  // no encoding task may outlive the frames it reads and writes
         throw;
     }
     s.done += k;

@@ -337,9 +337,23 @@ void read_preview(const Node& n, Scene& s) {
     }
 }
 
+// "underwater/sunbeams": true, false, or the volume's voxels and darkest light.
+std::optional<SunVolumeOptions> read_sunbeams(const Node& n) {
+    if (n.value().is_boolean()) return n.boolean() ? std::optional<SunVolumeOptions>(SunVolumeOptions{}) : std::nullopt;
+    n.require_object({"voxels", "darkest"});
+    SunVolumeOptions o;
+    if (n.has("voxels")) {
+        const Node v = n["voxels"];
+        if (!v.value().is_array() || v.size() != 3) v.fail("expected 3 voxel counts [x, y, z]");
+        o.nx = v[std::size_t{0}].count(), o.ny = v[std::size_t{1}].count(), o.nz = v[std::size_t{2}].count();
+    }
+    if (n.has("darkest")) o.darkest = n["darkest"].number("share of I0");
+    return o;
+}
+
 // "underwater": caustics on the seafloor under each frame's surface.
 UnderwaterOptions read_underwater(const Node& n) {
-    n.require_object({"caustics", "water_type", "attenuation", "map_size", "full_scale"});
+    n.require_object({"caustics", "water_type", "attenuation", "map_size", "full_scale", "sunbeams"});
     UnderwaterOptions o;
     if (n.has("caustics")) o.caustics = n["caustics"].boolean();
     if (n.has("water_type") && n.has("attenuation"))
@@ -353,6 +367,7 @@ UnderwaterOptions read_underwater(const Node& n) {
     if (n.has("attenuation")) o.attenuation = n["attenuation"].number("1/m");
     if (n.has("map_size")) o.map_size = n["map_size"].count();
     if (n.has("full_scale")) o.full_scale = n["full_scale"].number("E / I0");
+    if (n.has("sunbeams")) o.sunbeams = read_sunbeams(n["sunbeams"]);
     return o;
 }
 

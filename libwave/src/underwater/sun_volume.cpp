@@ -29,12 +29,18 @@ void check_options(const SunVolumeOptions& o) {
 double darkest_depth(const CausticPlan& caustics, double darkest) noexcept {
     const CausticOptions& o = caustics.options;
     if (!(o.attenuation > 0.0)) return std::numeric_limits<double>::infinity();
-    const double eta = 1.0 / o.water_index, lz = caustics.sun[2];
-    const double cos_t = std::sqrt(1.0 - eta * eta * (1.0 - lz * lz));  // the refracted beam's slant
+    const double cos_t = -refracted_beam(caustics.sun, o.water_index)[2];  // the refracted beam's slant
     return std::log(1.0 / darkest) * cos_t / o.attenuation;
 }
 
 }  // namespace
+
+std::array<double, 3> refracted_beam(const std::array<double, 3>& sun, double water_index) noexcept {
+    // Snell with the normal (0, 0, 1): t = −η l + (η cos i − cos t) n, η = 1 / n.
+    const double len = std::hypot(sun[0], sun[1], sun[2]), eta = 1.0 / water_index, cos_i = sun[2] / len;
+    const double cos_t = std::sqrt(1.0 - eta * eta * (1.0 - cos_i * cos_i));
+    return {-eta * sun[0] / len, -eta * sun[1] / len, -cos_t};
+}
 
 SunVolumePlan plan_sun_volume(const CausticPlan& caustics, const SunVolumeOptions& options) {
     check_options(options);
