@@ -1,7 +1,8 @@
 // Caustics per frame (libwave/underwater.h) beside the frame's own surface: a 512²
 // FFT sea (a 40 m patch in a 6 m/s breeze, the waves that net a shallow floor with
 // light) over a flat floor 4 m down (and a sloping, rippled one), caustic maps of 512²
-// and 1024².
+// and 1024²; the sunbeam volume of 128² voxels a level over a floor 8 m down.
+#include "libwave/export.h"
 #include "libwave/motion.h"
 #include "libwave/shade.h"
 #include "libwave/surface.h"
@@ -104,6 +105,45 @@ void BM_caustics_png(benchmark::State& state) {
     for (auto _ : state) benchmark::DoNotOptimize(wave::caustic_png(map, 1024, 1024, 4.0).size());
 }
 BENCHMARK(BM_caustics_png)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The sunbeam volume of one frame under that surface: 128 × 128 voxels a level, the
+// levels (the argument) over a flat floor 8 m down (the surface outside the timing).
+void BM_sun_volume(benchmark::State& state) {
+    Sea sea;
+    wave::CausticOptions o;
+    o.sun = {0.3, 0.2, 0.93};
+    o.attenuation = 0.08;
+    const wave::SunVolumePlan plan = wave::plan_sun_volume(wave::plan_caustics(floor_under(breeze().size, 8.0), o),
+                                                           wave::SunVolumeOptions{128, 128, static_cast<std::size_t>(state.range(0)), 1e-3});
+    const wave::CausticMesh mesh = wave::plan_caustic_mesh(sea.triangles, sea.count);
+    wave::CausticWorkspace workspace;
+    std::vector<float> light(plan.nx * plan.ny * plan.nz);
+    double t = 0.0;
+    for (auto _ : state) {
+        state.PauseTiming();
+        sea.frame(t);
+        state.ResumeTiming();
+        wave::evaluate_sun_volume(plan, mesh, sea.positions, sea.normals, light, &workspace);
+        benchmark::DoNotOptimize(light.data());
+        t += 1.0 / 24.0;
+    }
+}
+BENCHMARK(BM_sun_volume)->Arg(16)->Arg(32)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// A 128 × 128 × 32 sunbeam volume as an OpenVDB file (half floats, one core).
+void BM_sun_volume_vdb(benchmark::State& state) {
+    Sea sea;
+    sea.frame(0.0);
+    wave::CausticOptions o;
+    o.sun = {0.3, 0.2, 0.93};
+    const wave::SunVolumePlan plan =
+        wave::plan_sun_volume(wave::plan_caustics(floor_under(breeze().size, 8.0), o), wave::SunVolumeOptions{128, 128, 32, 1e-3});
+    std::vector<float> light(plan.nx * plan.ny * plan.nz);
+    wave::evaluate_sun_volume(plan, wave::plan_caustic_mesh(sea.triangles, sea.count), sea.positions, sea.normals, light);
+    for (auto _ : state) benchmark::DoNotOptimize(wave::sun_volume_vdb(plan, light).size());
+    state.counters["bytes"] = static_cast<double>(wave::sun_volume_vdb(plan, light).size());
+}
+BENCHMARK(BM_sun_volume_vdb)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // Planning the surface's edges once (512² FFT grid: 263 k vertices, 524 k triangles).
 void BM_caustics_mesh(benchmark::State& state) {

@@ -24,11 +24,11 @@ foreach(form morph quant nodes quant-nodes files draco pc2)
   endif()
   list(APPEND runs ${OUT}/${form})
 endforeach()
-# A 10 m pool under 1 s waves with /underwater: caustic maps beside the animation
-# (no far field: the check frames the maps' rectangle by the seafloor's extent).
+# A 10 m pool under 1 s waves with /underwater: caustic maps and sunbeam volumes beside
+# the animation (no far field: the check frames the maps' rectangle by the seafloor's extent).
 file(WRITE ${OUT}/pool.json [=[{"seafloor": {"source": "pool.asc"}, "waves": [{"period": 1.0, "amplitude": 0.04, "direction": [0, 1]}],
  "trace": {"ray_spacing": 0.1}, "preview": {"sun": {"elevation_degrees": 60, "azimuth_degrees": 100}},
- "underwater": {"map_size": 64, "water_type": "clear-ocean"}, "animation": {"fps": 10}, "outputs": {"color": true},
+ "underwater": {"map_size": 64, "water_type": "clear-ocean", "sunbeams": {"voxels": [20, 20, 8]}}, "animation": {"fps": 10}, "outputs": {"color": true},
  "surface": {"far_field": false}}]=])
 set(pool "ncols 11\nnrows 11\nxllcorner 0\nyllcorner 0\ncellsize 1\n")
 foreach(row RANGE 10)

@@ -51,6 +51,60 @@ def check_point_cache(folder, reference):
     print(f"LIBWAVE-ADDON checked {folder}: the PC2 point cache through Blender's Mesh Cache modifier")
 
 
+def check_sunbeams(folder, scene, frames):
+    """The sunbeam volumes (sunbeams/sunbeams-NNNN.vdb) play as a Volume object's VDB
+    sequence in step with the water (file k at scene frame k, file 0 again at the loop's
+    end), its grid "sunlight" drives the material's emission, and a Cycles render from
+    under the water is brighter with the volume than without it."""
+    obj = bpy.data.objects.get("libwave sunbeams")
+    if obj is None or obj.type != "VOLUME":
+        errors.append(f"{folder}: no sunbeam volume was imported")
+        return
+    volume = obj.data
+    if not volume.is_sequence or volume.frame_duration != frames or volume.sequence_mode != "REPEAT":
+        errors.append(f"{folder}: the sunbeam volume does not play the {frames} files in a loop")
+    for frame, k in [(0, 0), (1, 1), (frames, 0)]:
+        scene.frame_set(frame)
+        grids = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data.grids
+        grids.load()
+        wanted = os.path.join(folder, "sunbeams", "sunbeams-%04d.vdb" % k)
+        if os.path.normpath(bpy.path.abspath(grids.frame_filepath)) != os.path.normpath(wanted) or \
+                [g.name for g in grids] != ["sunlight"]:
+            errors.append(f"{folder}: scene frame {frame} shows {grids.frame_filepath} {[g.name for g in grids]}, not {wanted}")
+    tree = volume.materials[0].node_tree
+    if not any(n.type == "ATTRIBUTE" and n.attribute_name == "sunlight" for n in tree.nodes) or \
+            not any(n.type == "EMISSION" and n.inputs["Strength"].is_linked for n in tree.nodes):
+        errors.append(f"{folder}: the sunbeam material does not emit by the sunlight grid")
+    # From 2 m under the still water in the pool's middle, looking up towards the sun
+    # (the sun lamp's +Z), where the water scatters its beam forwards to the eye.
+    scene.frame_set(0)
+    eye = bpy.data.objects.new("under", bpy.data.cameras.new("under"))
+    scene.collection.objects.link(eye)
+    eye.location = (5.0, 5.0, -2.0)
+    towards_sun = bpy.data.objects["libwave sun"].matrix_world.to_3x3().col[2]
+    eye.rotation_euler = towards_sun.to_track_quat("-Z", "Y").to_euler()
+    kept = scene.camera
+    scene.camera = eye
+    scene.render.engine = "CYCLES"
+    scene.cycles.samples = 4
+    scene.cycles.seed = 0
+    scene.render.resolution_x, scene.render.resolution_y = 48, 32
+
+    def mean(name):
+        scene.render.filepath = os.path.join(folder, name)
+        bpy.ops.render.render(write_still=True)
+        return float(np.array(bpy.data.images.load(scene.render.filepath).pixels[:], np.float32).reshape(32, 48, 4)[:, :, :3].mean())
+
+    lit = mean("under-sunbeams.png")
+    obj.hide_render = True
+    plain = mean("under-plain.png")
+    obj.hide_render = False
+    scene.camera = kept
+    print(f"LIBWAVE-ADDON sunbeams: under the water, mean {lit:.4f} with the volume, {plain:.4f} without")
+    if not lit > 1.05 * plain:
+        errors.append(f"{folder}: the sunbeam volume does not light the water ({lit} against {plain})")
+
+
 def check_caustics(folder, scene, water, frames):
     """The seafloor plays the caustic maps (caustics/caustics-NNNN.png) as an image
     sequence in step with the water: seen from above with only its emission (no sun, no
@@ -67,6 +121,8 @@ def check_caustics(folder, scene, water, frames):
         errors.append(f"{folder}: the seafloor has no caustics UV map")
         return
     bpy.data.objects["libwave sun"].hide_render = True
+    if "libwave sunbeams" in bpy.data.objects:  # only the floor's own emission
+        bpy.data.objects["libwave sunbeams"].hide_render = True
     water.visible_camera = False
     world = bpy.data.worlds.new("black")
     world.use_nodes = True
@@ -278,7 +334,8 @@ for folder in runs:
         errors.append(f"{path}: the material does not read the foam attribute")
     if True:  # every form carries the seafloor, camera and sun (the files form in its frame 0)
         kinds = sorted(o.name for o in scene.objects if "libwave_source" not in o)
-        if kinds != ["libwave camera", "libwave seafloor", "libwave sun"]:
+        beside = ["libwave camera", "libwave seafloor", "libwave sun"] + (["libwave sunbeams"] if folder.endswith("caustics") else [])
+        if kinds != beside:
             errors.append(f"{path}: beside the water: {kinds}")
         elif scene.camera is None or scene.camera.name != "libwave camera":
             errors.append(f"{path}: the file's camera is not the scene's")
@@ -322,6 +379,7 @@ for folder in runs:
     if folder.endswith(("morph", "quant", "files")):  # option "The file's normals": custom normals per frame
         check_file_normals(path, scene, expected)
     if folder.endswith("caustics"):
+        check_sunbeams(folder, scene, frames)
         check_caustics(folder, scene, obj, frames)
         # The option "Ts'o's baked colour": the water emits the colour attribute.
         if bpy.ops.import_scene.libwave(filepath=path, baked_colour=True) != {"FINISHED"}:

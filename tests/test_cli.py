@@ -1075,10 +1075,54 @@ class Underwater(unittest.TestCase):
             self.assertLess(change(maps[-1], maps[0]), 1.5 * step)
             self.assertGreater(change(maps[-1], maps[0]), 0.5 * step)
 
+    def test_a_sunbeam_volume_per_frame_named_on_the_seafloor(self):
+        with tempfile.TemporaryDirectory() as d:
+            out, again = os.path.join(d, "out"), os.path.join(d, "again")
+            doc = dict(self.POOL, underwater=dict(self.POOL["underwater"], caustics=False, sunbeams={"voxels": [20, 24, 10]}))
+            r = wave("run", self.write(d, doc), "-o", out, "--json", "--frames", "0:3")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            report = json.loads(r.stdout)
+            u = report["underwater"]
+            self.assertEqual(u["sunbeam_volumes"], "sunbeams/sunbeams-%04d.vdb")
+            self.assertEqual(u["voxels"], [20, 24, 10])
+            self.assertAlmostEqual(u["volume_bottom_m"], -6.0)  # the pool's deepest point: clear water is still lit there
+            self.assertAlmostEqual(u["voxel_size_m"][2], 0.6)
+            self.assertNotIn("caustic_maps", u)
+            self.assertFalse(os.path.exists(os.path.join(out, "caustics")))
+            names = sorted(os.listdir(os.path.join(out, "sunbeams")))
+            self.assertEqual(names, ["sunbeams-%04d.vdb" % f for f in range(3)])
+            sizes = []
+            for name in names:
+                with open(os.path.join(out, "sunbeams", name), "rb") as f:
+                    data = f.read()
+                self.assertEqual(data[:8], bytes.fromhex("2042445600000000"))  # OpenVDB's magic number
+                self.assertIn(b"sunlight", data)
+                sizes.append(len(data))
+            self.assertGreater(min(sizes), 1000)
+            glb = os.path.join(out, "animation-frames-0-3.glb")
+            validate_gltf(self, glb)
+            doc_, _ = read_glb(glb)
+            floor = next(m for m in doc_["meshes"] if m["name"] == "seafloor")["primitives"][0]
+            extras = doc_["materials"][floor["material"]]["extras"]
+            self.assertNotIn("libwave_caustics", extras)
+            beams = extras["libwave_sunbeams"]
+            self.assertEqual((beams["volumes"], beams["frames"], beams["fps"], beams["grid"], beams["attenuation"]),
+                             ("sunbeams/sunbeams-%04d.vdb", 10, 10.0, "sunlight", 0.03))
+            # The beam refracted from a sun 60° high: down (glTF's −y), at sin θt = cos 60° / 1.33.
+            dx, dy, dz = beams["direction"]
+            self.assertAlmostEqual(dx * dx + dy * dy + dz * dz, 1.0, places=9)
+            self.assertAlmostEqual(math.sqrt(dx * dx + dz * dz), 0.5 / 1.33, places=9)
+            self.assertLess(dy, 0.0)
+            # The same volumes, byte for byte, on another run (no random archive identifier).
+            self.assertEqual(wave("run", self.write(d, doc), "-o", again, "--frames", "0:3").returncode, 0)
+            for name in names:
+                with open(os.path.join(out, "sunbeams", name), "rb") as a, open(os.path.join(again, "sunbeams", name), "rb") as b:
+                    self.assertEqual(a.read(), b.read(), name)
+
     def test_files_form_lists_each_frames_map_with_its_frame(self):
         with tempfile.TemporaryDirectory() as d:
             out = os.path.join(d, "out")
-            doc = dict(self.POOL, outputs={"form": "files"})
+            doc = dict(self.POOL, outputs={"form": "files"}, underwater=dict(self.POOL["underwater"], sunbeams={"voxels": [8, 8, 4]}))
             r = wave("run", self.write(d, doc), "-o", out, "--frames", "2:5")
             self.assertEqual(r.returncode, 0, r.stderr)
             with open(os.path.join(out, "index.json")) as f:
@@ -1086,7 +1130,9 @@ class Underwater(unittest.TestCase):
             for entry in index["frames"]:
                 listed = json.dumps(entry)
                 self.assertIn("caustics/caustics-%04d.png" % entry["frame"], listed)
+                self.assertIn("sunbeams/sunbeams-%04d.vdb" % entry["frame"], listed)
             self.assertEqual(sorted(os.listdir(os.path.join(out, "caustics"))), ["caustics-%04d.png" % f for f in (2, 3, 4)])
+            self.assertEqual(sorted(os.listdir(os.path.join(out, "sunbeams"))), ["sunbeams-%04d.vdb" % f for f in (2, 3, 4)])
 
     def test_bad_underwater_scenes_exit_2_without_output(self):
         with tempfile.TemporaryDirectory() as d:
@@ -1098,6 +1144,12 @@ class Underwater(unittest.TestCase):
                 (bay(map_size=0), "/underwater/map_size"),
                 (bay(full_scale=-1), "/underwater/full_scale"),
                 (bay(colour=True), "/underwater"),
+                (bay(sunbeams="yes"), "/underwater/sunbeams"),
+                (bay(sunbeams={"voxels": [8, 8]}), "/underwater/sunbeams/voxels"),
+                (bay(sunbeams={"voxels": [8, 0, 8]}), "/underwater/sunbeams/voxels/1"),
+                (bay(sunbeams={"voxels": [8, 8, 2000]}), "/underwater/sunbeams/voxels/2"),
+                (bay(sunbeams={"darkest": 1.5}), "/underwater/sunbeams/darkest"),
+                (bay(sunbeams={"glow": 1}), "/underwater/sunbeams"),
                 (dict(self.POOL, preview={"sun": {"elevation_degrees": -5}}), "/preview/sun: caustics need the sun above the horizon"),
                 ({"surface": {"kind": "ocean"}, "underwater": {}}, "/underwater: caustics fall on a seafloor: the ocean surface has none"),
             ]
