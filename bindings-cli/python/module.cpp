@@ -327,6 +327,50 @@ PYBIND11_MODULE(_libwave, m) {
         "`frame` a sequence of frames: (frames, height, width), the seafloor and the mesh's edges planned once "
         "for all of them (planning the edges of a 512² surface takes about as long as four maps)");
 
+    m.def(
+        "sunbeams",
+        [](const wave::Scene& scene, const ScenePlan& plan, const SceneAnimation& a, const py::object& frame,
+           const std::optional<std::array<std::size_t, 3>>& voxels) {
+            const bool one = py::isinstance<py::int_>(frame);
+            const std::vector<std::size_t> frames = one ? std::vector<std::size_t>{frame.cast<std::size_t>()}
+                                                        : frame.cast<std::vector<std::size_t>>();
+            for (std::size_t f : frames)
+                if (f >= a.frame_count) throw wave::InputError("sunbeams: frame " + std::to_string(f) + " of " + std::to_string(a.frame_count));
+            wave::Scene s = scene;
+            if (!s.underwater) s.underwater = wave::UnderwaterOptions{};
+            wave::SunVolumeOptions options = s.underwater->sunbeams.value_or(wave::SunVolumeOptions{});
+            if (voxels) std::tie(options.nx, options.ny, options.nz) = std::tuple((*voxels)[0], (*voxels)[1], (*voxels)[2]);
+            std::vector<float> light;
+            std::optional<wave::SunVolumePlan> vp;
+            {
+                py::gil_scoped_release release;
+                vp = wave::plan_sun_volume(wave::plan_caustics(plan.seafloor.grid, wave::scene_caustic_options(s, plan)), options);
+                const std::size_t n = a.vertex_count, voxel_count = vp->nx * vp->ny * vp->nz;
+                const wave::CausticMesh mesh = wave::plan_caustic_mesh(a.triangles, n);
+                wave::CausticWorkspace workspace;
+                light.resize(frames.size() * voxel_count);
+                for (std::size_t i = 0; i < frames.size(); ++i)
+                    wave::evaluate_sun_volume(*vp, mesh, std::span<const float>(&a.positions[3 * n * frames[i]], 3 * n),
+                                              std::span<const float>(&a.normals[3 * n * frames[i]], 3 * n),
+                                              std::span<float>(light).subspan(i * voxel_count, voxel_count), &workspace);
+            }
+            std::vector<py::ssize_t> shape{static_cast<py::ssize_t>(vp->nz), static_cast<py::ssize_t>(vp->ny), static_cast<py::ssize_t>(vp->nx)};
+            if (!one) shape.insert(shape.begin(), static_cast<py::ssize_t>(frames.size()));
+            py::array_t<float> out(shape);
+            std::copy(light.begin(), light.end(), out.mutable_data());
+            py::dict result;
+            result["light"] = out;
+            result["origin"] = py::make_tuple(vp->x0, vp->y0, vp->z0);
+            result["voxel_size"] = py::make_tuple(vp->dx, vp->dy, vp->dz);
+            return result;
+        },
+        py::arg("scene"), py::arg("plan"), py::arg("animation"), py::arg("frame") = 0, py::arg("voxels") = py::none(),
+        "The sunlight in the water under a frame (index within the animation; docs/underwater.md, \"Sunbeams\"): "
+        "{\"light\": (nz, ny, nx) float32 E / I0 (z up from the bottom, y up from the seafloor's least y), "
+        "\"origin\": the outer corner of voxel (0, 0, 0) (m), \"voxel_size\": (dx, dy, dz) (m)}; the scene's "
+        "/underwater water and sunbeams, or coastal water and 128 x 128 x 32 voxels; voxels = (nx, ny, nz) overrides. "
+        "`frame` a sequence of frames: light (frames, nz, ny, nx), planned once for all of them");
+
     libwave_python::bind_stages(m);
 
     m.def(

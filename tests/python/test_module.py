@@ -1,6 +1,7 @@
 """`import libwave`: the Python module against the C++ pipeline and the CLI it mirrors.
 Run by ctest (`python` test) with PYTHONPATH at the built module and WAVE_EXE at the CLI."""
 import json
+import math
 import os
 import pathlib
 import subprocess
@@ -206,6 +207,34 @@ def test_caustics_of_a_frame_equal_the_maps_wave_run_writes(tmp_path):
     assert not np.array_equal(maps[0], maps[1])
     with pytest.raises(libwave.InputError, match="frame 3 of 3"):
         libwave.caustics(scene, plan, three, [0, 3])
+
+
+def test_sunbeams_dim_with_depth_as_the_water_attenuates_the_beam():
+    # The breaking beach (coastal water, c = 0.15 /m; sun 50° up): its long swell hardly
+    # focuses light, so from level to level the mean light of the columns wet at both
+    # falls as e^(−c Δd / cos θt), θt the beam's angle under the water.
+    path = os.path.join(os.path.dirname(__file__), "..", "..", "examples", "breaking-beach.json")
+    scene = libwave.read_scene(path)
+    plan = libwave.plan(scene)
+    anim = libwave.animate(scene, plan, 0, 2)
+    v = libwave.sunbeams(scene, plan, anim, 0, voxels=(32, 32, 8))
+    light, (x0, y0, z0), (dx, dy, dz) = v["light"], v["origin"], v["voxel_size"]
+    assert light.shape == (8, 32, 32) and light.dtype == np.float32
+    assert (x0, y0) == (0.0, 0.0) and abs(dx - 200.0 / 32) < 1e-12 and abs(z0 + 8 * dz) < 1e-12
+    cos_t = math.sqrt(1.0 - (math.cos(math.radians(50.0)) / 1.33) ** 2)
+    for upper, lower in [(7, 5), (5, 3)]:
+        wet = (light[upper] > 0) & (light[lower] > 0)
+        wet[:, :4] = wet[:, -4:] = False  # away from the sides, whose light comes from beyond the domain
+        assert wet.sum() > 100
+        ratio = float(light[lower][wet].mean() / light[upper][wet].mean())
+        assert abs(ratio / math.exp(-0.15 * (upper - lower) * dz / cos_t) - 1.0) < 0.03, (upper, lower, ratio)
+    assert (light[0] == 0).mean() > 0.5  # the bottom level lies under the beach's floor but offshore
+    both = libwave.sunbeams(scene, plan, anim, [1, 0], voxels=(32, 32, 8))["light"]
+    assert both.shape == (2, 8, 32, 32) and np.array_equal(both[1], light)
+    with pytest.raises(libwave.InputError, match="frame 2 of 2"):
+        libwave.sunbeams(scene, plan, anim, 2)
+    with pytest.raises(libwave.InputError, match="nz = 0"):
+        libwave.sunbeams(scene, plan, anim, 0, voxels=(8, 8, 0))
 
 
 def test_wave_field_matches_wave_field_cli(tmp_path):
