@@ -137,6 +137,20 @@ def water_material(baked_colour=False):
 _KOSCHMIEDER = -math.log(0.02)
 
 
+def _math(tree, operation, *inputs, label=""):
+    """A Math node of `operation` in node tree `tree`, its inputs in order: a socket is
+    linked, a number set."""
+    node = tree.nodes.new("ShaderNodeMath")
+    node.operation = operation
+    node.label = label
+    for socket, value in zip(node.inputs, inputs):
+        if isinstance(value, bpy.types.NodeSocket):
+            tree.links.new(value, socket)
+        else:
+            socket.default_value = value
+    return node
+
+
 def _add_haze(mat, visibility):
     """Aerial perspective for the seafloor seen straight from the camera: the surface
     gives way to what lies behind it (the world's sky, at the horizon) by the share
@@ -147,34 +161,21 @@ def _add_haze(mat, visibility):
     The visibility stays a Value node of the material ("visibility (m)")."""
     if not visibility > 0.0:
         return
-    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    tree = mat.node_tree
+    nodes, links = tree.nodes, tree.links
     out = nodes.get("Material Output")
     shader = out.inputs["Surface"].links[0].from_socket
     camera = nodes.new("ShaderNodeCameraData")
     v = nodes.new("ShaderNodeValue")
     v.label = "visibility (m)"
     v.outputs[0].default_value = float(visibility)
-    ratio = nodes.new("ShaderNodeMath")
-    ratio.operation = "DIVIDE"
-    links.new(camera.outputs["View Distance"], ratio.inputs[0])
-    links.new(v.outputs[0], ratio.inputs[1])
-    optical = nodes.new("ShaderNodeMath")
-    optical.operation = "MULTIPLY"
-    optical.inputs[1].default_value = -_KOSCHMIEDER
-    links.new(ratio.outputs["Value"], optical.inputs[0])
-    kept = nodes.new("ShaderNodeMath")
-    kept.operation = "EXPONENT"
-    links.new(optical.outputs["Value"], kept.inputs[0])
-    gone = nodes.new("ShaderNodeMath")
-    gone.operation = "SUBTRACT"
-    gone.inputs[0].default_value = 1.0
-    links.new(kept.outputs["Value"], gone.inputs[1])
+    ratio = _math(tree, "DIVIDE", camera.outputs["View Distance"], v.outputs[0])
+    optical = _math(tree, "MULTIPLY", ratio.outputs["Value"], -_KOSCHMIEDER)
+    kept = _math(tree, "EXPONENT", optical.outputs["Value"])
+    gone = _math(tree, "SUBTRACT", 1.0, kept.outputs["Value"])
     path = nodes.new("ShaderNodeLightPath")
-    share = nodes.new("ShaderNodeMath")
-    share.operation = "MULTIPLY"
-    share.label = "haze: (1 − e^(−3.912 d / V)) on camera rays"
-    links.new(gone.outputs["Value"], share.inputs[0])
-    links.new(path.outputs["Is Camera Ray"], share.inputs[1])
+    share = _math(tree, "MULTIPLY", gone.outputs["Value"], path.outputs["Is Camera Ray"],
+                  label="haze: (1 − e^(−3.912 d / V)) on camera rays")
     clear = nodes.new("ShaderNodeBsdfTransparent")
     mix = nodes.new("ShaderNodeMixShader")
     links.new(share.outputs["Value"], mix.inputs["Fac"])
@@ -243,13 +244,10 @@ def _caustic_material(folder, caustics, sun_irradiance, visibility):
     user.use_cyclic = True
     user.use_auto_refresh = True
     links.new(uv.outputs["UV"], image_node.inputs["Vector"])
-    scale = nodes.new("ShaderNodeMath")
-    scale.operation = "MULTIPLY"
     # Irradiance E = map × full scale × the sun's on flat water; a diffuse floor of albedo
     # ρ sends back ρ E / π, and Cycles' emission of strength S and colour ρ is ρ S.
-    scale.label = "E / π: map × full scale × sun irradiance / π"
-    scale.inputs[1].default_value = float(caustics["full_scale"]) * sun_irradiance / math.pi
-    links.new(image_node.outputs["Color"], scale.inputs[0])
+    scale = _math(mat.node_tree, "MULTIPLY", image_node.outputs["Color"], float(caustics["full_scale"]) * sun_irradiance / math.pi,
+                  label="E / π: map × full scale × sun irradiance / π")
     links.new(scale.outputs["Value"], bsdf.inputs["Emission Strength"])
     for i, node in enumerate((uv, image_node, scale)):
         node.location = (-900 + 250 * i, -300)
@@ -268,54 +266,35 @@ _SUNBEAM_COLOUR = (0.55, 0.85, 0.95, 1.0)
 _SUNBEAM_G = 0.85
 
 
-def _sunbeam_volume(context, folder, info, sun_irradiance, strength):
-    """The sunlight in the water as a Volume object playing the VDB sequence beside the
-    file (docs/underwater.md): each voxel emits b · p(θ) · E (E = the grid × the sun's
-    irradiance on flat water) per metre, times `strength`, and absorbs c per metre, so
-    that the shafts under focusing crests glow, brightest looking towards the sun, and
-    fade with distance. Looping with the animation, file 0 at scene frame 0."""
-    volume = bpy.data.volumes.new("libwave sunbeams")
-    volume.filepath = os.path.join(folder, info["volumes"] % 0)
-    volume.is_sequence = True
-    volume.frame_duration = int(info["frames"])
-    volume.frame_start = 0
-    volume.frame_offset = -1  # Blender counts the sequence from 1: file 0 at scene frame 0
-    volume.sequence_mode = "REPEAT"
+def _sunbeam_material(info, sun_irradiance, strength):
+    """The sunbeam volume's material: each voxel emits b · p(θ) · E (E = the grid × the
+    sun's irradiance on flat water) per metre, times `strength`, and absorbs c per metre.
+    Henyey–Greenstein: p(θ) = (1 − g²) / (4π (1 + g² − 2g cos θ)^{3/2}), cos θ = the
+    beam's direction · Geometry's Incoming (towards the eye)."""
     mat = bpy.data.materials.new("libwave sunbeams")
     mat.use_nodes = True
-    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    tree = mat.node_tree
+    nodes, links = tree.nodes, tree.links
     nodes.clear()
     out = nodes.new("ShaderNodeOutputMaterial")
     light = nodes.new("ShaderNodeAttribute")
     light.attribute_name = info.get("grid", "sunlight")
     attenuation = float(info.get("attenuation", 0.15))
-    # Henyey–Greenstein: p(θ) = (1 − g²) / (4π (1 + g² − 2g cos θ)^{3/2}), cos θ = beam · incoming.
     view = nodes.new("ShaderNodeNewGeometry")
     beam = nodes.new("ShaderNodeCombineXYZ")
-    x, y, z = (float(c) for c in frames.to_blender(np.array([info.get("direction", [0.0, -1.0, 0.0])], np.float64))[0])
-    beam.inputs[0].default_value, beam.inputs[1].default_value, beam.inputs[2].default_value = x, y, z
+    direction = frames.to_blender(np.array([info.get("direction", [0.0, -1.0, 0.0])], np.float64))[0]
+    for socket, value in zip(beam.inputs, direction):
+        socket.default_value = float(value)
     cos = nodes.new("ShaderNodeVectorMath")
     cos.operation = "DOT_PRODUCT"
     links.new(view.outputs["Incoming"], cos.inputs[0])
     links.new(beam.outputs["Vector"], cos.inputs[1])
     g = _SUNBEAM_G
-    spread = nodes.new("ShaderNodeMath")
-    spread.operation = "MULTIPLY_ADD"
-    spread.inputs[1].default_value, spread.inputs[2].default_value = -2.0 * g, 1.0 + g * g
-    links.new(cos.outputs["Value"], spread.inputs[0])
-    power = nodes.new("ShaderNodeMath")
-    power.operation = "POWER"
-    power.inputs[1].default_value = 1.5
-    links.new(spread.outputs["Value"], power.inputs[0])
-    phase = nodes.new("ShaderNodeMath")
-    phase.operation = "DIVIDE"
-    phase.label = "b · p(θ) × sun irradiance × strength"
-    phase.inputs[0].default_value = (0.5 * attenuation * (1.0 - g * g) / (4.0 * math.pi) * sun_irradiance * float(strength))
-    links.new(power.outputs["Value"], phase.inputs[1])
-    scale = nodes.new("ShaderNodeMath")
-    scale.operation = "MULTIPLY"
-    links.new(light.outputs["Fac"], scale.inputs[0])
-    links.new(phase.outputs["Value"], scale.inputs[1])
+    spread = _math(tree, "MULTIPLY_ADD", cos.outputs["Value"], -2.0 * g, 1.0 + g * g)
+    power = _math(tree, "POWER", spread.outputs["Value"], 1.5)
+    phase = _math(tree, "DIVIDE", 0.5 * attenuation * (1.0 - g * g) / (4.0 * math.pi) * sun_irradiance * float(strength),
+                  power.outputs["Value"], label="b · p(θ) × sun irradiance × strength")
+    scale = _math(tree, "MULTIPLY", light.outputs["Fac"], phase.outputs["Value"])
     glow = nodes.new("ShaderNodeEmission")
     glow.inputs["Color"].default_value = _SUNBEAM_COLOUR
     links.new(scale.outputs["Value"], glow.inputs["Strength"])
@@ -329,7 +308,22 @@ def _sunbeam_volume(context, folder, info, sun_irradiance, strength):
     for i, node in enumerate((view, cos, spread, power, phase, scale, glow, both, out)):
         node.location = (-1600 + 220 * i, 0)
     beam.location, light.location, absorb.location = (-1600, -250), (-500, 250), (-300, -250)
-    volume.materials.append(mat)
+    return mat
+
+
+def _sunbeam_volume(context, folder, info, sun_irradiance, strength):
+    """The sunlight in the water as a Volume object playing the VDB sequence beside the
+    file (docs/underwater.md) with `_sunbeam_material`: the shafts under focusing crests
+    glow, brightest looking towards the sun, and fade with distance. Looping with the
+    animation, file 0 at scene frame 0."""
+    volume = bpy.data.volumes.new("libwave sunbeams")
+    volume.filepath = os.path.join(folder, info["volumes"] % 0)
+    volume.is_sequence = True
+    volume.frame_duration = int(info["frames"])
+    volume.frame_start = 0
+    volume.frame_offset = -1  # Blender counts the sequence from 1: file 0 at scene frame 0
+    volume.sequence_mode = "REPEAT"
+    volume.materials.append(_sunbeam_material(info, sun_irradiance, strength))
     obj = bpy.data.objects.new("libwave sunbeams", volume)
     context.collection.objects.link(obj)
     return obj
