@@ -696,9 +696,10 @@ RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double plann
         e.output_bytes += frames * 1.2 * pixels;
         caustic_work = 6.0 * pixels;
     }
-    // The sunbeam volumes: a VDB per frame of ~kSunbeamBytesPerVoxel a voxel; while a
-    // frame is computed, two volumes in turn (4 bytes a voxel each) and the VDB tree of
-    // the one being encoded with its file (~8).
+    // The sunbeam volumes: a VDB per frame, ~1 byte a voxel (measured 0.87 on
+    // examples/sunbeams-cove.json: half floats, compressed, the ground and air inactive);
+    // while a frame is computed, two volumes in turn (4 bytes a voxel each) and the VDB
+    // tree of the one being encoded with its file (~8).
     if (scene.underwater && scene.underwater->sunbeams && g.nx >= 2 && g.ny >= 2) {
         const SunVolumeOptions& o = *scene.underwater->sunbeams;
         const double voxels = static_cast<double>(o.nx) * static_cast<double>(o.ny) * static_cast<double>(o.nz);
@@ -829,8 +830,8 @@ struct FrameRun {
     std::vector<float> far_field_scratch{};  // the skirt's anchors' residuals, then its breakers
     VertexFaces adjacency{};
     FresnelOptions fresnel{};
-    std::optional<CausticPlan> caustics{};  // /underwater: a map per frame (planned for the sunbeams too)
-    std::optional<SunVolumePlan> sunbeams{};  // /underwater/sunbeams: a volume per frame
+    std::optional<CausticPlan> caustics{};    // /underwater/caustics: a map per frame
+    std::optional<SunVolumePlan> sunbeams{};  // /underwater/sunbeams: a volume per frame (its levels' caustic plans)
     CausticMesh caustic_mesh{};             // the surface's edges, walked once a frame
     CausticWorkspace caustic_scratch{};
     // A map's PNG and a volume's VDB are encoded on a task of their own while the frames
