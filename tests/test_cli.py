@@ -1150,6 +1150,7 @@ class Underwater(unittest.TestCase):
                 (bay(sunbeams={"voxels": [8, 8, 2000]}), "/underwater/sunbeams/voxels/2"),
                 (bay(sunbeams={"darkest": 1.5}), "/underwater/sunbeams/darkest"),
                 (bay(sunbeams={"glow": 1}), "/underwater/sunbeams"),
+                (bay(sunbeams={"voxels": [1024, 1024, 1024]}), "/underwater/sunbeams/voxels [1024, 1024, 1024] need about 17.18 GB"),
                 (dict(self.POOL, preview={"sun": {"elevation_degrees": -5}}), "/preview/sun: caustics need the sun above the horizon"),
                 ({"surface": {"kind": "ocean"}, "underwater": {}}, "/underwater: caustics fall on a seafloor: the ocean surface has none"),
             ]

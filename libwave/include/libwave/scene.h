@@ -409,9 +409,11 @@ RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double plann
 double planned_memory_floor_bytes(const Scene& scene);
 
 /// Refuses, before any planning, a scene whose planned_memory_floor_bytes exceeds
-/// `max_bytes` (LimitError naming /ocean/resolution and `wave run --max-memory-gb`):
-/// `wave run` and `wave validate` call it first, so that a 4096² ocean beyond the limit
-/// is refused at once instead of after planning its lattice.
+/// `max_bytes` (LimitError naming /ocean/resolution and `wave run --max-memory-gb`), or
+/// whose sunbeam volume alone would (16 bytes a voxel while a frame is computed;
+/// naming /underwater/sunbeams/voxels): `wave run` and `wave validate` call it first, so
+/// that a 4096² ocean beyond the limit is refused at once instead of after planning its
+/// lattice.
 void check_plan_limits(const Scene& scene, double max_bytes);
 
 /// The limits of a run, checked by `wave validate`, by `wave run` before the refinement

@@ -632,6 +632,22 @@ MorphAnimationView SceneAnimation::view() const {
     return v;
 }
 
+namespace {
+
+// The sunbeam volumes: a VDB per frame, ~1 byte a voxel (measured 0.87 on
+// examples/sunbeams-cove.json: half floats, compressed, the ground and air inactive);
+// while a frame is computed, two volumes in turn (4 bytes a voxel each) and the VDB tree
+// of the one being encoded with its file (~8).
+constexpr double kSunbeamFileBytesPerVoxel = 1.0, kSunbeamWorkBytesPerVoxel = 16.0;
+
+double sunbeam_voxels(const Scene& scene) {
+    if (!scene.underwater || !scene.underwater->sunbeams) return 0.0;
+    const SunVolumeOptions& o = *scene.underwater->sunbeams;
+    return static_cast<double>(o.nx) * static_cast<double>(o.ny) * static_cast<double>(o.nz);
+}
+
+}  // namespace
+
 RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double planned_resident_bytes, std::size_t run_frames) {
     RunEstimate e;
     const Refinement* refined = plan.refinement.fine_vertices > 0 ? &plan.refinement : nullptr;
@@ -696,16 +712,9 @@ RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double plann
         e.output_bytes += frames * 1.2 * pixels;
         caustic_work = 6.0 * pixels;
     }
-    // The sunbeam volumes: a VDB per frame, ~1 byte a voxel (measured 0.87 on
-    // examples/sunbeams-cove.json: half floats, compressed, the ground and air inactive);
-    // while a frame is computed, two volumes in turn (4 bytes a voxel each) and the VDB
-    // tree of the one being encoded with its file (~8).
-    if (scene.underwater && scene.underwater->sunbeams && g.nx >= 2 && g.ny >= 2) {
-        const SunVolumeOptions& o = *scene.underwater->sunbeams;
-        const double voxels = static_cast<double>(o.nx) * static_cast<double>(o.ny) * static_cast<double>(o.nz);
-        constexpr double kSunbeamBytesPerVoxel = 1.0;
-        e.output_bytes += frames * kSunbeamBytesPerVoxel * voxels;
-        caustic_work += 16.0 * voxels;
+    if (g.nx >= 2 && g.ny >= 2) {  // the sunbeam volumes (kSunbeam…BytesPerVoxel)
+        e.output_bytes += frames * kSunbeamFileBytesPerVoxel * sunbeam_voxels(scene);
+        caustic_work += kSunbeamWorkBytesPerVoxel * sunbeam_voxels(scene);
     }
     // Without a measured plan: ~30 MB of process and libraries, ~1.5 kB per surface
     // vertex of plan (isobaths, fronts, the OpenMesh strips, motion fields), measured on
@@ -769,6 +778,13 @@ double planned_memory_floor_bytes(const Scene& scene) {
 }
 
 void check_plan_limits(const Scene& scene, double max_bytes) {
+    if (const double volume = kSunbeamWorkBytesPerVoxel * sunbeam_voxels(scene); volume > max_bytes) {
+        const SunVolumeOptions& o = *scene.underwater->sunbeams;
+        throw LimitError("scene: /underwater/sunbeams/voxels [" + std::to_string(o.nx) + ", " + std::to_string(o.ny) + ", " +
+                         std::to_string(o.nz) + "] need about " + fmt(std::ceil(volume / 1e7) / 100.0) +
+                         " GB while a frame is computed (16 bytes a voxel), over the limit of " + fmt(max_bytes / 1e9) +
+                         " GB; give fewer voxels, or raise the limit (wave run --max-memory-gb)");
+    }
     const double floor = planned_memory_floor_bytes(scene);
     if (floor > max_bytes)
         throw LimitError("scene: /ocean/resolution " + std::to_string(scene.ocean->resolution) + " needs at least " +
