@@ -1144,7 +1144,7 @@ class Underwater(unittest.TestCase):
                 (bay(map_size=0), "/underwater/map_size"),
                 (bay(full_scale=-1), "/underwater/full_scale"),
                 (bay(colour=True), "/underwater"),
-                (bay(sunbeams="yes"), "/underwater/sunbeams"),
+                (bay(sunbeams="yes"), "/underwater/sunbeams: expected true, false or an object"),
                 (bay(sunbeams={"voxels": [8, 8]}), "/underwater/sunbeams/voxels"),
                 (bay(sunbeams={"voxels": [8, 0, 8]}), "/underwater/sunbeams/voxels/1"),
                 (bay(sunbeams={"voxels": [8, 8, 2000]}), "/underwater/sunbeams/voxels/2"),

@@ -340,6 +340,7 @@ void read_preview(const Node& n, Scene& s) {
 // "underwater/sunbeams": true, false, or the volume's voxels and darkest light.
 std::optional<SunVolumeOptions> read_sunbeams(const Node& n) {
     if (n.value().is_boolean()) return n.boolean() ? std::optional<SunVolumeOptions>(SunVolumeOptions{}) : std::nullopt;
+    if (!n.value().is_object()) n.fail("expected true, false or an object {\"voxels\": [x, y, z], \"darkest\": …}, got " + n.shown());
     n.require_object({"voxels", "darkest"});
     SunVolumeOptions o;
     if (n.has("voxels")) {
