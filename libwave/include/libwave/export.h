@@ -91,6 +91,7 @@ struct SceneDressing {
     /// direction (glTF axes)}.
     std::string sunbeam_volumes;  ///< printf pattern of the volumes' names, by loop frame (empty: none)
     std::size_t sunbeam_frames = 0;  ///< volumes in the sequence
+    double sunbeam_fps = 24.0;       ///< the sequence's frames per second
     double sunbeam_attenuation = 0.15;  ///< c (1/m) of the water they were traced in
     std::array<double, 3> sunbeam_direction{0.0, 0.0, -1.0};  ///< the beam's unit direction under flat water (z up)
 };

@@ -867,7 +867,7 @@ struct ModelWriter {
                 tinygltf::Value::Object sunbeams;
                 sunbeams["volumes"] = tinygltf::Value(d.sunbeam_volumes);
                 sunbeams["frames"] = tinygltf::Value(static_cast<int>(d.sunbeam_frames));
-                sunbeams["fps"] = tinygltf::Value(d.caustic_fps);
+                sunbeams["fps"] = tinygltf::Value(d.sunbeam_fps);
                 sunbeams["grid"] = tinygltf::Value(std::string("sunlight"));
                 sunbeams["attenuation"] = tinygltf::Value(d.sunbeam_attenuation);
                 const std::array<double, 3>& t = d.sunbeam_direction;

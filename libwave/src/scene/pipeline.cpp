@@ -1151,6 +1151,7 @@ void dress_animation(const Scene& scene, const ScenePlan& plan, SceneAnimation& 
             }
             d.caustic_images = kCausticImages;
             d.caustic_frames = a.loop_frames;
+            d.caustic_fps = scene.fps;
             d.caustic_full_scale = scene.underwater->full_scale;
         }
         if (!a.sunbeams.empty()) {
@@ -1159,8 +1160,8 @@ void dress_animation(const Scene& scene, const ScenePlan& plan, SceneAnimation& 
             d.sunbeam_attenuation = scene.underwater->attenuation;
             const CausticOptions o = scene_caustic_options(scene, plan);
             d.sunbeam_direction = refracted_beam(o.sun, o.water_index);
+            d.sunbeam_fps = scene.fps;
         }
-        d.caustic_fps = scene.fps;
         if (plan.skirt.vertex_count() > 0)
             add_seafloor_apron(static_cast<double>(step) * std::min(g.dx, g.dy), plan.skirt.reach, cols, rows, depth_max, a);
     }
