@@ -371,34 +371,27 @@ std::string underwater_file_name(const char* pattern, std::size_t frame) {
     return buffer;
 }
 
-// The frame's underwater files of a chunk beside the animation, by loop frame: its
-// caustic map, then its sunbeam volume (each list empty or one per frame).
-void for_underwater_files(std::size_t first_frame, std::size_t frame_count, std::span<const std::string> caustics,
-                          std::span<const std::string> sunbeams, const std::function<void(std::size_t, std::string, const std::string&)>& file) {
-    for (std::size_t k = 0; k < frame_count; ++k) {
-        if (!caustics.empty()) file(k, underwater_file_name(kCausticImages, first_frame + k), caustics[k]);
-        if (!sunbeams.empty()) file(k, underwater_file_name(kSunbeamVolumes, first_frame + k), sunbeams[k]);
-    }
+// Frame k of a chunk's underwater files beside the animation, named by loop frame: its
+// caustic map, then its sunbeam volume (each list empty or one per frame of the chunk).
+void for_underwater_files(std::size_t first_frame, std::size_t k, std::span<const std::string> caustics,
+                          std::span<const std::string> sunbeams, const std::function<void(std::string, const std::string&)>& file) {
+    if (!caustics.empty()) file(underwater_file_name(kCausticImages, first_frame + k), caustics[k]);
+    if (!sunbeams.empty()) file(underwater_file_name(kSunbeamVolumes, first_frame + k), sunbeams[k]);
 }
 
 // The caustic maps and sunbeam volumes beside the animation: in the files form after
-// each frame's own files (a frame's entry lists them together).
+// each frame's own files (a frame's entry lists them together), else after the file.
 void add_underwater_files(const MorphAnimationView& view, std::span<const std::string> caustics, std::span<const std::string> sunbeams,
                           Scene::Form form, EncodedFiles& files) {
     if (caustics.empty() && sunbeams.empty()) return;
     const std::size_t per_frame = form == Scene::Form::files ? files.size() / view.frame_count : 0;
     EncodedFiles grouped;
-    std::size_t next = 0;  // the next frame whose own files are to be moved
-    const auto keep_frames_up_to = [&](std::size_t k) {
-        for (; next <= k && per_frame > 0; ++next)
-            for (std::size_t i = 0; i < per_frame; ++i) grouped.push_back(std::move(files[next * per_frame + i]));
-    };
-    if (per_frame == 0) grouped.swap(files);
-    for_underwater_files(view.first_frame, view.frame_count, caustics, sunbeams, [&](std::size_t k, std::string name, const std::string& bytes) {
-        keep_frames_up_to(k);
-        grouped.emplace_back(std::move(name), bytes);
-    });
-    keep_frames_up_to(view.frame_count - 1);
+    if (per_frame == 0) grouped.swap(files);  // the animation's files first, whole
+    for (std::size_t k = 0; k < view.frame_count; ++k) {
+        for (std::size_t i = 0; i < per_frame; ++i) grouped.push_back(std::move(files[k * per_frame + i]));
+        for_underwater_files(view.first_frame, k, caustics, sunbeams,
+                             [&](std::string name, const std::string& bytes) { grouped.emplace_back(std::move(name), bytes); });
+    }
     files.swap(grouped);
 }
 
@@ -608,11 +601,12 @@ StreamedAnimation stream_animation(AnimationStream& stream, const Scene& scene, 
                 out.first = a;
             }
             writer->append(view);
-            for_underwater_files(a.first_frame, a.frame_count, a.caustics, a.sunbeams, [&](std::size_t, std::string name, const std::string& bytes) {
-                maps.push_back(std::move(name));
-                std::filesystem::create_directories((std::filesystem::path(folder) / maps.back()).parent_path());
-                write_file_atomic(folder + "/" + maps.back(), bytes);
-            });
+            for (std::size_t k = 0; k < a.frame_count; ++k)
+                for_underwater_files(a.first_frame, k, a.caustics, a.sunbeams, [&](std::string name, const std::string& bytes) {
+                    maps.push_back(std::move(name));
+                    std::filesystem::create_directories((std::filesystem::path(folder) / maps.back()).parent_path());
+                    write_file_atomic(folder + "/" + maps.back(), bytes);
+                });
             out.z_min = std::min(out.z_min, a.z_min);
             out.z_max = std::max(out.z_max, a.z_max);
         }
@@ -898,12 +892,13 @@ void start_run(FrameRun& r, const std::vector<std::uint32_t>& triangles, std::si
     r.fresnel.model = r.scene.fresnel;
     const std::optional<UnderwaterOptions>& u = r.scene.underwater;
     if (u && (u->caustics || u->sunbeams)) {
-        const CausticPlan caustics = plan_caustics(plan.seafloor.grid, scene_caustic_options(r.scene, plan));
+        CausticPlan caustics = plan_caustics(plan.seafloor.grid, scene_caustic_options(r.scene, plan));
         if (u->sunbeams) r.sunbeams = plan_sun_volume(caustics, *u->sunbeams);
-        if (u->caustics) r.caustics = caustics;
+        if (u->caustics) r.caustics = std::move(caustics);  // not a second copy of the seafloor grid
+        const std::size_t map_pixels = r.caustics ? r.caustics->options.width * r.caustics->options.height : 0;
         r.caustic_mesh = plan_caustic_mesh(triangles, n);
         for (std::size_t b = 0; b < 2; ++b) {
-            if (r.caustics) r.caustic_maps[b].resize(caustics.options.width * caustics.options.height);
+            r.caustic_maps[b].resize(map_pixels);
             if (r.sunbeams) r.sun_volumes[b].resize(r.sunbeams->nx * r.sunbeams->ny * r.sunbeams->nz);
             r.underwater_encoders[b] = std::make_unique<tbb::task_group>();
         }
