@@ -15,9 +15,12 @@
 namespace {
 
 // The floor: the eight inverse real N² transforms a frame with chop and foam needs
-// (h, ∇h, D, ∂D), one sequential FFTW_ESTIMATE plan, the eight in parallel on the
-// machine's cores — what evaluate_ocean does without filling the spectra.
+// (h, ∇h, D, ∂D), one sequential plan, the eight in parallel on the machine's cores —
+// what evaluate_ocean does without filling the spectra. The plan is libwave's: the
+// wisdom it ships, imported by its first workspace (range 1: 1), or FFTW_ESTIMATE
+// (range 1: 0, the floor of the twenty-ninth session and before).
 void BM_fftw_floor(benchmark::State& state) {
+    const wave::OceanWorkspace libwave_plan(static_cast<std::size_t>(state.range(0)));
     const auto n = static_cast<int>(state.range(0));
     const std::size_t half = static_cast<std::size_t>(n / 2 + 1), count = static_cast<std::size_t>(n) * half;
     std::vector<fftwf_complex*> in(8);
@@ -26,7 +29,10 @@ void BM_fftw_floor(benchmark::State& state) {
         in[f] = fftwf_alloc_complex(count);
         out[f] = fftwf_alloc_real(static_cast<std::size_t>(n) * n);
     }
-    fftwf_plan plan = fftwf_plan_dft_c2r_2d(n, n, in[0], out[0], FFTW_ESTIMATE);
+    fftwf_plan plan = state.range(1) ? fftwf_plan_dft_c2r_2d(n, n, in[0], out[0], FFTW_MEASURE | FFTW_WISDOM_ONLY) : nullptr;
+    if (state.range(1) && !plan) state.SkipWithError("no wisdom for this size");
+    if (!state.range(1)) fftwf_forget_wisdom();  // the estimate alone (the next workspace imports it again)
+    if (!plan) plan = fftwf_plan_dft_c2r_2d(n, n, in[0], out[0], FFTW_ESTIMATE);
     for (auto _ : state) {
         state.PauseTiming();  // c2r destroys its input: refill outside the timing
         for (int f = 0; f < 8; ++f)
@@ -38,7 +44,7 @@ void BM_fftw_floor(benchmark::State& state) {
     fftwf_destroy_plan(plan);
     for (int f = 0; f < 8; ++f) fftwf_free(in[f]), fftwf_free(out[f]);
 }
-BENCHMARK(BM_fftw_floor)->Arg(256)->Arg(512)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_fftw_floor)->ArgsProduct({{256, 512, 1024}, {1, 0}})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 wave::OceanOptions gale(std::int64_t n) {
     wave::OceanOptions o;

@@ -7,6 +7,7 @@
 #include "libwave/physics.h"
 #include "libwave/shade.h"
 
+#include <fftw3.h>
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
@@ -279,6 +280,35 @@ TEST(OceanFft, SameBitsForAnyThreadCount) {
         for (auto field : {f.height, f.disp_x, f.disp_xy, f.slope_y}) out.insert(out.end(), field.begin(), field.end());
     }
     EXPECT_EQ(one, two);
+}
+
+// The wisdom libwave ships (bench/fftw_wisdom.cpp) holds a plan for every resolution
+// the scene accepts, and a workspace planned after FFTW forgot it (a host may call
+// fftwf_forget_wisdom) computes the same bits: the plan comes from the wisdom alone.
+TEST(OceanFft, ShippedWisdomPlansEveryResolution) {
+    const char* const wisdom =
+#include "motion/ocean_fft_wisdom.inc"
+        ;
+    ASSERT_NE(fftwf_import_wisdom_from_string(wisdom), 0);
+    for (int n = 16; n <= 4096; n *= 2) {
+        const std::size_t count = static_cast<std::size_t>(n) * static_cast<std::size_t>(n / 2 + 1);
+        fftwf_complex* in = fftwf_alloc_complex(count);
+        float* out = fftwf_alloc_real(static_cast<std::size_t>(n) * static_cast<std::size_t>(n));
+        fftwf_plan plan = fftwf_plan_dft_c2r_2d(n, n, in, out, FFTW_MEASURE | FFTW_WISDOM_ONLY);
+        EXPECT_NE(plan, nullptr) << n << "²";
+        if (plan) fftwf_destroy_plan(plan);
+        fftwf_free(in);
+        fftwf_free(out);
+    }
+    const OceanPlan p = plan_ocean(small_ocean());
+    std::vector<float> kept;
+    for (int pass = 0; pass < 2; ++pass) {
+        if (pass == 1) fftwf_forget_wisdom();
+        OceanWorkspace ws(p.n);
+        const OceanFields f = evaluate_ocean(p, 3.25, ws);
+        if (pass == 0) kept.assign(f.disp_xy.begin(), f.disp_xy.end());
+        else EXPECT_EQ(std::memcmp(kept.data(), f.disp_xy.data(), kept.size() * sizeof(float)), 0);
+    }
 }
 
 TEST(OceanFft, SlopesAndNormalsAreExact) {

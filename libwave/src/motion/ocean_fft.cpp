@@ -23,6 +23,23 @@ std::mutex& planner_mutex() {
     return m;
 }
 
+// The inverse N² transform's plan, under the planner's lock. FFTW_ESTIMATE picks by a
+// model of the machine and FFTW_MEASURE by timing (fastest, but another plan, so other
+// bits, from run to run). The wisdom shipped with libwave holds, for every ocean
+// resolution, the plan FFTW's patient planner found once (bench/fftw_wisdom.cpp): every
+// run that finds it there computes the same bits, 1.7× faster at 1024² than the
+// estimate. An FFTW that cannot read it (another version) falls back to the estimate.
+// It is imported before every plan (~0.1 ms): a host that made FFTW forget its wisdom
+// still gets the same bits.
+fftwf_plan plan_inverse(std::size_t n, fftwf_complex* in, float* out) {
+    const bool imported = fftwf_import_wisdom_from_string(
+#include "ocean_fft_wisdom.inc"
+                          ) != 0;
+    const int size = static_cast<int>(n);
+    fftwf_plan plan = imported ? fftwf_plan_dft_c2r_2d(size, size, in, out, FFTW_MEASURE | FFTW_WISDOM_ONLY) : nullptr;
+    return plan ? plan : fftwf_plan_dft_c2r_2d(size, size, in, out, FFTW_ESTIMATE);
+}
+
 enum Field { kHeight, kSlopeX, kSlopeY, kDispX, kDispY, kDispXX, kDispYY, kDispXY, kFieldCount };
 }  // namespace
 
@@ -42,9 +59,7 @@ struct OceanWorkspace::Impl {
             detail::advise_huge_pages(field[f], n * n * sizeof(float));
         }
         const std::lock_guard lock(planner_mutex());
-        // FFTW_ESTIMATE: the plan depends on the size only (no timing), so every run
-        // computes the same bits. FFTW_MEASURE would pick by timing — not reproducible.
-        plan = fftwf_plan_dft_c2r_2d(static_cast<int>(n), static_cast<int>(n), spectrum[0], field[0], FFTW_ESTIMATE);
+        plan = plan_inverse(n, spectrum[0], field[0]);
         if (!plan) release(), throw RuntimeError("ocean: FFTW could not plan a " + std::to_string(n) + "² transform");
     }
     ~Impl() { release(); }
