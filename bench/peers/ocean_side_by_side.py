@@ -18,14 +18,19 @@ peer = {int(m.group(1)): float(m.group(2))
         for m in re.finditer(r"BLENDER-OCEAN grid=(\d+) vertices=\d+ ms_per_frame=([\d.]+)", blender.stdout)}
 if not peer:
     sys.exit("blender produced no measurement:\n" + blender.stdout[-2000:] + blender.stderr[-2000:])
+# Medians of three repetitions: a single one swings by tens of per cent on a shared machine.
 ours = subprocess.run([bench, "--benchmark_filter=BM_fftw_floor|BM_ocean_surface_frame|BM_ocean_stream_frames",
+                       "--benchmark_repetitions=3", "--benchmark_report_aggregates_only=true",
                        "--benchmark_format=json"], capture_output=True, text=True, timeout=1800, check=True)
-times = {b["name"].replace("/real_time", ""): b["real_time"] for b in json.loads(ours.stdout)["benchmarks"]}
+times = {b["run_name"].replace("/real_time", ""): b["real_time"] for b in json.loads(ours.stdout)["benchmarks"]
+         if b.get("aggregate_name") == "median"}
 for grid in sorted(peer):
-    floor = times[f"BM_fftw_floor/{grid}"]
+    floor = times[f"BM_fftw_floor/{grid}/1"]  # libwave's own plan (its shipped wisdom)
+    estimate = times[f"BM_fftw_floor/{grid}/0"]
     surface = times[f"BM_ocean_surface_frame/{grid}"]
     line = (f"grid {grid}²: Blender {peer[grid]:.1f} ms/frame; libwave surface frame {surface:.1f} ms "
-            f"({peer[grid] / surface:.1f}x faster), FFTW floor {floor:.1f} ms ({surface / floor:.2f}x the floor)")
+            f"({peer[grid] / surface:.1f}x faster), FFTW floor {floor:.1f} ms ({surface / floor:.2f}x the floor; "
+            f"FFTW_ESTIMATE's plan {estimate:.1f} ms)")
     # `wave run`'s steady cost per frame (its streamed path, arrays reused from chunk to
     # chunk): a run of F frames minus a run of 1, over F − 1.
     runs = {int(k.split("/")[2]): v for k, v in times.items() if k.startswith(f"BM_ocean_stream_frames/{grid}/")}
