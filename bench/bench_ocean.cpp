@@ -10,6 +10,8 @@
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+#include <span>
 #include <vector>
 
 namespace {
@@ -80,9 +82,19 @@ void BM_ocean_surface_frame(benchmark::State& state) {
     wave::FresnelOptions fresnel;
     fresnel.camera = {500.0, -600.0, 250.0};
     double t = 0.0;
+    const std::size_t block = 8;  // rows: each block's Fresnel weights while it is in cache, as `wave run` does
+    const auto span = [](std::vector<float>& a, std::size_t first, std::size_t size) {
+        return std::span<float>(a).subspan(first, size);
+    };
     for (auto _ : state) {
-        wave::ocean_patch_frame(plan, wave::evaluate_ocean(plan, t, ws), p, nr, jm);
-        wave::fresnel_weights(p, nr, fresnel, r, tr);
+        const wave::OceanFields fields = wave::evaluate_ocean(plan, t, ws);
+        tbb::parallel_for(std::size_t{0}, (side + block - 1) / block, [&](std::size_t b) {
+            const std::size_t first = b * block, rows = std::min(block, side - first), v = first * side, size = rows * side;
+            wave::ocean_patch_rows(plan, fields, first, rows, span(p, 3 * v, 3 * size), span(nr, 3 * v, 3 * size),
+                                   span(jm, v, size));
+            wave::fresnel_weights(span(p, 3 * v, 3 * size), span(nr, 3 * v, 3 * size), fresnel, span(r, v, size),
+                                  span(tr, v, size));
+        });
         std::fill(foam.begin(), foam.end(), 0.0f);
         wave::accumulate_fold_foam(jm, 0.0, {}, foam);
         benchmark::DoNotOptimize(foam.data());

@@ -668,6 +668,14 @@ OceanJacobian ocean_jacobian(double dxx, double dyy, double dxy, double choppine
 void ocean_patch_frame(const OceanPlan& plan, const OceanFields& fields, std::span<float> positions,
                        std::span<float> normals, std::span<float> j_minus);
 
+/// ocean_patch_frame's rows [first_row, first_row + rows) of the (N+1)² lattice alone
+/// (the same bits), into spans that hold just those rows: 3 (N+1) floats a row for
+/// positions and normals, N+1 for j_minus (or empty). Sequential: for a caller that
+/// passes over the patch in blocks of rows and works on each block while it is in
+/// cache. Throws InputError on sizes or rows beyond the lattice.
+void ocean_patch_rows(const OceanPlan& plan, const OceanFields& fields, std::size_t first_row, std::size_t rows,
+                      std::span<float> positions, std::span<float> normals, std::span<float> j_minus);
+
 /// Samples the (periodic) field at arbitrary rest positions (x, y) by bicubic
 /// Catmull–Rom interpolation and adds `scale[v]` × (−λDx, −λDy, h) to `positions`
 /// (3 per vertex; an empty `scale` is 1 everywhere). Parallel over vertices.

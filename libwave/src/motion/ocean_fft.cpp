@@ -7,6 +7,7 @@
 #include "libwave/physics.h"
 
 #include <fftw3.h>
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -48,9 +49,11 @@ struct OceanWorkspace::Impl {
     fftwf_complex* spectrum[kFieldCount]{};
     float* field[kFieldCount]{};
     fftwf_plan plan = nullptr;
-    std::vector<std::complex<double>> phase_table;
+    std::vector<std::complex<float>> phase_table;  // e^{−i m ω0 t} of the frame
+    std::vector<std::complex<float>> h;            // h̃(k, t) of the frame
+    std::vector<float> inv_k;                      // 1/|k| (0 at k = 0)
 
-    explicit Impl(std::size_t size) : n(size), half(size / 2 + 1) {
+    explicit Impl(std::size_t size) : n(size), half(size / 2 + 1), h(size * (size / 2 + 1)), inv_k(size * (size / 2 + 1)) {
         for (int f = 0; f < kFieldCount; ++f) {
             spectrum[f] = fftwf_alloc_complex(n * half);
             field[f] = fftwf_alloc_real(n * n);
@@ -97,28 +100,28 @@ void check(const OceanPlan& plan, OceanWorkspace& ws) {
                          std::to_string(plan.n) + "² plan");
 }
 
-// A run of one spectrum row: h̃(k, t) at columns kx[0, count) of the row ky.
+// A run of one spectrum row: h̃(k, t) and 1/|k| at columns kx[0, count) of the row ky.
 struct SpectrumChunk {
-    static constexpr std::size_t kSize = 256;
     std::size_t count = 0;
     const float* kx = nullptr;
     float ky = 0.0f;
-    float h_re[kSize], h_im[kSize];
+    const std::complex<float>* h = nullptr;  // h̃(k, t), (re, im)
+    const float* inv_k = nullptr;            // 1/|k|, 0 at k = 0
 };
 
 // One field's spectrum over a chunk, interleaved (re, im): a loop without calls or
 // branches per field, vectorised (core/vector_clones.h).
 LIBWAVE_VECTOR_CLONES void fill_spectrum(int field, const SpectrumChunk& c, float* __restrict out) {
     const float* __restrict kxs = c.kx;
+    const float* __restrict h = reinterpret_cast<const float*>(c.h);
+    const float* __restrict inverse_k = c.inv_k;
     const float ky = c.ky;
     // out = factor(kx, 1/k) · h̃, or · i h̃ = (−Im h̃, Re h̃), as the equations write it
     const auto fill = [&](bool times_i, auto factor) {
         for (std::size_t q = 0; q < c.count; ++q) {
-            const float kx = kxs[q];
-            const float k = std::sqrt(kx * kx + ky * ky);
-            const float s = factor(kx, k > 0.0f ? 1.0f / k : 0.0f);
-            out[2 * q] = s * (times_i ? -c.h_im[q] : c.h_re[q]);
-            out[2 * q + 1] = s * (times_i ? c.h_re[q] : c.h_im[q]);
+            const float s = factor(kxs[q], inverse_k[q]);
+            out[2 * q] = s * (times_i ? -h[2 * q + 1] : h[2 * q]);
+            out[2 * q + 1] = s * (times_i ? h[2 * q] : h[2 * q + 1]);
         }
     };
     switch (field) {
@@ -133,9 +136,32 @@ LIBWAVE_VECTOR_CLONES void fill_spectrum(int field, const SpectrumChunk& c, floa
     }
 }
 
-// Fills the spectra of the fields in `fields` at time t, then transforms them.
-template <class Fields>
-void transform(const OceanPlan& plan, double t, OceanWorkspace::Impl& w, const Fields& fields) {
+// 1/|k| over a chunk, as float arithmetic gives it (0 at k = 0).
+LIBWAVE_VECTOR_CLONES void inverse_wavenumbers(const float* __restrict kx, float ky, std::size_t count,
+                                               float* __restrict inv_k) {
+    for (std::size_t q = 0; q < count; ++q) {
+        const float k = std::sqrt(kx[q] * kx[q] + ky * ky);
+        inv_k[q] = k > 0.0f ? 1.0f / k : 0.0f;
+    }
+}
+
+// Eq. 26 over a chunk of a quantised lattice: h̃ = h̃0 e + h̃0₋ ē with e = e^{−i m ω0 t}
+// from the table (re, im) at each element's m; complex products written out in float
+// (as std::complex<float> computes them, without its NaN fallback call).
+LIBWAVE_VECTOR_CLONES void evolve_quantised(const std::int32_t* __restrict steps, const float* __restrict table,
+                                            const float* __restrict h0, const float* __restrict h0m, std::size_t count,
+                                            float* __restrict h) {
+    for (std::size_t q = 0; q < count; ++q) {
+        const std::size_t m = static_cast<std::size_t>(steps[q]);
+        const float c = table[2 * m], d = table[2 * m + 1];
+        const float a = h0[2 * q], b = h0[2 * q + 1], e = h0m[2 * q], f = h0m[2 * q + 1];
+        h[2 * q] = (a * c - b * d) + (e * c + f * d);
+        h[2 * q + 1] = (a * d + b * c) + (f * c - e * d);
+    }
+}
+
+// h̃(k, t) (eq. 26) and 1/|k| over the half lattice into w.h, w.inv_k.
+void fill_h(const OceanPlan& plan, double t, OceanWorkspace::Impl& w) {
     const std::size_t n = plan.n, half = plan.half();
     const double tt = loop_time(plan, t);
     const bool quantised = !plan.omega_steps.empty();
@@ -145,31 +171,41 @@ void transform(const OceanPlan& plan, double t, OceanWorkspace::Impl& w, const F
         const double omega0 = 2.0 * std::numbers::pi / plan.repeat_time;
         w.phase_table.resize(static_cast<std::size_t>(top) + 1);
         for (std::size_t m = 0; m < w.phase_table.size(); ++m)
-            w.phase_table[m] = std::polar(1.0, -static_cast<double>(m) * omega0 * tt);
+            w.phase_table[m] = std::complex<float>(std::polar(1.0, -static_cast<double>(m) * omega0 * tt));
     }
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t j) {
-        // A row in chunks: h̃(k, t) into a scratch, then each field's spectrum from it.
-        for (std::size_t i0 = 0; i0 < half; i0 += SpectrumChunk::kSize) {
-            SpectrumChunk c;
-            c.count = std::min(SpectrumChunk::kSize, half - i0);
-            c.kx = plan.kx.data() + i0;
-            c.ky = plan.ky[j];
-            const std::size_t e0 = j * half + i0;
-            for (std::size_t q = 0; q < c.count; ++q) {
-                const std::size_t e = e0 + q;
-                const std::complex<double> ex = quantised ? w.phase_table[static_cast<std::size_t>(plan.omega_steps[e])]
-                                                          : std::polar(1.0, -plan.omega[e] * tt);
-                const std::complex<float> ef(ex);
-                const std::complex<float> h = plan.h0[e] * ef + plan.h0_minus[e] * std::conj(ef);  // eq. 26
-                c.h_re[q] = h.real();
-                c.h_im[q] = h.imag();
-            }
-            for (int f : fields) fill_spectrum(f, c, reinterpret_cast<float*>(w.spectrum[f] + e0));
+        const std::size_t e0 = j * half;
+        inverse_wavenumbers(plan.kx.data(), plan.ky[j], half, w.inv_k.data() + e0);
+        if (quantised) {
+            evolve_quantised(plan.omega_steps.data() + e0, reinterpret_cast<const float*>(w.phase_table.data()),
+                             reinterpret_cast<const float*>(plan.h0.data() + e0),
+                             reinterpret_cast<const float*>(plan.h0_minus.data() + e0), half,
+                             reinterpret_cast<float*>(w.h.data() + e0));
+            return;
+        }
+        for (std::size_t e = e0; e < e0 + half; ++e) {
+            const std::complex<float> ef(std::polar(1.0, -plan.omega[e] * tt));
+            w.h[e] = plan.h0[e] * ef + plan.h0_minus[e] * std::conj(ef);  // eq. 26
         }
     });
-    // One sequential transform per field, the fields in parallel: bits independent of threads.
+}
+
+// Fills the spectra of the fields in `fields` at time t and transforms them: h̃ once,
+// then each field's spectrum and its transform in one task, so that the spectrum is
+// still in cache when FFTW reads it (a frame's eight spectra together, 34 MB at 1024²,
+// were not).
+template <class Fields>
+void transform(const OceanPlan& plan, double t, OceanWorkspace::Impl& w, const Fields& fields) {
+    const std::size_t n = plan.n, half = plan.half();
+    fill_h(plan, t, w);
+    // One sequential fill and transform per field, the fields in parallel: bits
+    // independent of threads.
     tbb::parallel_for(std::size_t{0}, std::size(fields), [&](std::size_t q) {
         const int f = fields[q];
+        for (std::size_t j = 0; j < n; ++j) {
+            const SpectrumChunk c{half, plan.kx.data(), plan.ky[j], w.h.data() + j * half, w.inv_k.data() + j * half};
+            fill_spectrum(f, c, reinterpret_cast<float*>(w.spectrum[f] + j * half));
+        }
         fftwf_execute_dft_c2r(w.plan, w.spectrum[f], w.field[f]);
     });
 }
@@ -270,25 +306,51 @@ LIBWAVE_VECTOR_CLONES void patch_row(const PatchRow& f, std::size_t count, doubl
 
 }  // namespace
 
+namespace {
+
+// Row `row` of the (N+1)² lattice into p, nr, jm (that row's own storage).
+void patch_lattice_row(const OceanPlan& plan, const OceanFields& f, std::size_t row, float* p, float* nr, float* jm) {
+    const std::size_t n = plan.n;
+    const double d = plan.spacing(), lambda = plan.choppiness;
+    const std::size_t src = (row == n ? 0 : row) * n;  // the last row repeats the first
+    const PatchRow in{f.height.data() + src,  f.slope_x.data() + src, f.slope_y.data() + src,
+                      f.disp_x.data() + src,  f.disp_y.data() + src,  f.disp_xx.data() + src,
+                      f.disp_yy.data() + src, f.disp_xy.data() + src};
+    patch_row(in, n, d, static_cast<double>(row), lambda, p, nr, jm);
+    // the last column repeats the first (its x one patch further)
+    patch_row(in, 1, d, static_cast<double>(row), lambda, p + 3 * n, nr + 3 * n, jm ? jm + n : nullptr, n);
+}
+
+void check_patch(const OceanPlan& plan, const OceanFields& f, std::size_t rows, std::span<float> positions,
+                 std::span<float> normals, std::span<float> j_minus) {
+    const std::size_t side = plan.n + 1, count = rows * side;
+    if (f.n != plan.n || positions.size() != 3 * count || normals.size() != 3 * count ||
+        (!j_minus.empty() && j_minus.size() != count))
+        throw InputError("ocean: the patch frame needs (N+1) vertices a row: 3 floats each for positions and normals");
+}
+
+}  // namespace
+
 void ocean_patch_frame(const OceanPlan& plan, const OceanFields& f, std::span<float> positions,
                        std::span<float> normals, std::span<float> j_minus) {
-    const std::size_t n = plan.n, side = n + 1, count = side * side;
-    if (f.n != n || positions.size() != 3 * count || normals.size() != 3 * count ||
-        (!j_minus.empty() && j_minus.size() != count))
-        throw InputError("ocean: the patch frame needs (N+1)² vertices: 3 floats each for positions and normals");
-    const double d = plan.spacing(), lambda = plan.choppiness;
+    const std::size_t side = plan.n + 1;
+    check_patch(plan, f, side, positions, normals, j_minus);
     tbb::parallel_for(std::size_t{0}, side, [&](std::size_t row) {
-        const std::size_t src = (row == n ? 0 : row) * n;  // the last row repeats the first
-        const PatchRow in{f.height.data() + src, f.slope_x.data() + src, f.slope_y.data() + src,
-                          f.disp_x.data() + src, f.disp_y.data() + src, f.disp_xx.data() + src,
-                          f.disp_yy.data() + src, f.disp_xy.data() + src};
-        float* const p = positions.data() + 3 * row * side;
-        float* const nr = normals.data() + 3 * row * side;
-        float* const jm = j_minus.empty() ? nullptr : j_minus.data() + row * side;
-        patch_row(in, n, d, static_cast<double>(row), lambda, p, nr, jm);
-        // the last column repeats the first (its x one patch further)
-        patch_row(in, 1, d, static_cast<double>(row), lambda, p + 3 * n, nr + 3 * n, jm ? jm + n : nullptr, n);
+        patch_lattice_row(plan, f, row, positions.data() + 3 * row * side, normals.data() + 3 * row * side,
+                          j_minus.empty() ? nullptr : j_minus.data() + row * side);
     });
+}
+
+void ocean_patch_rows(const OceanPlan& plan, const OceanFields& f, std::size_t first_row, std::size_t rows,
+                      std::span<float> positions, std::span<float> normals, std::span<float> j_minus) {
+    const std::size_t side = plan.n + 1;
+    if (first_row > side || rows > side - first_row)
+        throw InputError("ocean: rows " + std::to_string(first_row) + " + " + std::to_string(rows) + " beyond the patch's " +
+                         std::to_string(side));
+    check_patch(plan, f, rows, positions, normals, j_minus);
+    for (std::size_t r = 0; r < rows; ++r)
+        patch_lattice_row(plan, f, first_row + r, positions.data() + 3 * r * side, normals.data() + 3 * r * side,
+                          j_minus.empty() ? nullptr : j_minus.data() + r * side);
 }
 
 namespace {

@@ -910,13 +910,29 @@ std::size_t model_vertex_count(const ScenePlan& plan) {
     return plan.model_vertices > 0 ? plan.model_vertices : plan.rest_x.size();
 }
 
-// The surface's coarse vertices at time t (and their normals when they are exact);
-// returns whether the normals are done.
-bool move_coarse(FrameRun& r, double t, std::span<float> pc, std::span<float> nrc) {
+// What move_coarse says of the frame's coarse vertices.
+struct CoarseFrame {
+    bool normals_done = false;  // their normals are final
+    bool weights_done = false;  // and so are their Fresnel weights
+};
+
+// Whether the model's own output is the frame's final surface, as far as the run's
+// settings tell before the model moves it (move_coarse checks the rest).
+bool model_output_final(const FrameRun& r) {
+    return r.shaded && !r.refined && !r.untangle && r.plan.gerstner.empty() && r.plan.wind_sea_scale.empty() &&
+           model_vertex_count(r.plan) == r.plan.rest_x.size();
+}
+
+// The surface's coarse vertices at time t (and their normals when they are exact; and
+// their Fresnel weights into refl, refr when the model computes them as it goes and
+// nothing moves the vertices after it).
+CoarseFrame move_coarse(FrameRun& r, double t, std::span<float> pc, std::span<float> nrc, std::span<float> refl,
+                        std::span<float> refr) {
     const ScenePlan& plan = r.plan;
     // With a far field the model moves its own vertices, the skirt follows them.
     const std::size_t own = model_vertex_count(plan);
     detail::ModelFrame frame{.positions = pc.first(3 * own), .normals = nrc.first(3 * own), .wind_sea = r.wind_sea};
+    if (model_output_final(r)) frame.fresnel = &r.fresnel, frame.reflect = refl, frame.refract = refr;
     const bool exact_normals = r.model.move(r.scene, plan, t, r.state.get(), frame) && own == plan.rest_x.size();
     if (!plan.gerstner.empty()) {
         const std::span<const double> x(plan.rest_x.data(), own), y(plan.rest_y.data(), own);
@@ -932,7 +948,8 @@ bool move_coarse(FrameRun& r, double t, std::span<float> pc, std::span<float> nr
             fold_at_vertices(plan, r.wind_sea.lattice_j, r.wind_sea.vertex_j);
         }
     }
-    return exact_normals && plan.gerstner.empty() && !r.refined;
+    const bool normals_done = exact_normals && plan.gerstner.empty() && !r.refined;
+    return {normals_done, normals_done && frame.weights_done};
 }
 
 // Foam at the coarse vertices: the model's, then the wind sea's folds fading out.
@@ -965,7 +982,10 @@ void evaluate_frame(FrameRun& r, const std::vector<std::uint32_t>& coarse_triang
     const std::span<float> p(&a.positions[3 * n * f], 3 * n), nr(&a.normals[3 * n * f], 3 * n);
     const std::span<float> pc = r.refined ? std::span<float>(r.coarse_p) : p, nrc = r.refined ? std::span<float>(r.coarse_nr) : nr;
     const double t = static_cast<double>(a.first_frame + f) / r.scene.fps;
-    bool normals_done = move_coarse(r, t, pc, nrc);
+    const std::span<float> refl = r.shaded ? std::span<float>(&a.reflect[n * f], n) : std::span<float>();
+    const std::span<float> refr = r.shaded ? std::span<float>(&a.refract[n * f], n) : std::span<float>();
+    const CoarseFrame coarse = move_coarse(r, t, pc, nrc, refl, refr);
+    bool normals_done = coarse.normals_done;
     // Foam before untangling, which leaves the breaking crests' lips to overturn; foam
     // does not depend on the positions.
     const std::span<float> foam = r.shaded ? std::span<float>(&a.foam[n * f], n) : std::span<float>();
@@ -1015,8 +1035,7 @@ void evaluate_frame(FrameRun& r, const std::vector<std::uint32_t>& coarse_triang
         });
     }
     if (!r.shaded) return;
-    const std::span<float> refl(&a.reflect[n * f], n), refr(&a.refract[n * f], n);
-    fresnel_weights(p, nr, r.fresnel, refl, refr);
+    if (!(coarse.weights_done && normals_done)) fresnel_weights(p, nr, r.fresnel, refl, refr);
     if (r.refined) apply_refinement(*fr, std::span<const float>(fc), 1, foam);
     const std::span<const float> depth = r.refined ? std::span<const float>(r.fine_depth) : std::span<const float>(r.plan.rest_depth);
     if (r.scene.color) water_colour(refl, depth, foam, WaterColours{}, std::span<float>(&a.colors[3 * n * f], 3 * n));

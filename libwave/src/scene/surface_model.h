@@ -36,6 +36,12 @@ struct ModelFrame {
     std::span<float> positions;  ///< 3 per vertex
     std::span<float> normals;    ///< 3 per vertex; written only by a model with exact normals
     WindSeaState& wind_sea;
+    /// Set when the frame is shaded and nothing moves the model's vertices after it:
+    /// a model may compute the Fresnel weights (1 per vertex) in its own pass, while
+    /// its positions and normals are in cache, and say so in `weights_done`.
+    const FresnelOptions* fresnel = nullptr;
+    std::span<float> reflect{}, refract{};
+    bool weights_done = false;
 };
 
 struct SurfaceModel {

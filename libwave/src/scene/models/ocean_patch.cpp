@@ -2,6 +2,10 @@
 // surface is the FFT's own lattice and its normals the FFT's exact ones.
 #include "../surface_model.h"
 
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+
 namespace wave::detail {
 namespace {
 
@@ -52,7 +56,21 @@ void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
 
 bool move(const Scene&, const ScenePlan& p, double t, ModelState*, ModelFrame& frame) {
     const OceanFields fields = evaluate_ocean(p.ocean, t, *frame.wind_sea.workspace);
-    ocean_patch_frame(p.ocean, fields, frame.positions, frame.normals, frame.wind_sea.vertex_j);  // exact normals
+    if (!frame.fresnel) {
+        ocean_patch_frame(p.ocean, fields, frame.positions, frame.normals, frame.wind_sea.vertex_j);  // exact normals
+        return true;
+    }
+    // Blocks of rows: each block's Fresnel weights while its positions and normals are
+    // in cache (a second pass read 24 MB back at 1024²). The same bits as apart.
+    const std::size_t side = p.ocean.n + 1, block = 8;
+    tbb::parallel_for(std::size_t{0}, (side + block - 1) / block, [&](std::size_t b) {
+        const std::size_t first = b * block, rows = std::min(block, side - first);
+        const std::size_t v = first * side, count = rows * side;
+        const auto pos = frame.positions.subspan(3 * v, 3 * count), nr = frame.normals.subspan(3 * v, 3 * count);
+        ocean_patch_rows(p.ocean, fields, first, rows, pos, nr, std::span<float>(frame.wind_sea.vertex_j).subspan(v, count));
+        fresnel_weights(pos, nr, *frame.fresnel, frame.reflect.subspan(v, count), frame.refract.subspan(v, count));
+    });
+    frame.weights_done = true;
     return true;
 }
 
