@@ -478,9 +478,10 @@ TEST(Fresnel, WeightsMatchTheFormulasAndSumToOne) {
     EXPECT_THROW(fresnel_weights(p, n, o, wrong, t), InputError);
 }
 
-TEST(Fresnel, WeightsAreTheFormulaBitForBit) {
+TEST(Fresnel, WeightsAreTheFormulaInFloat) {
     // Many vertices in every orientation (from under lips too), camera near and far, and
-    // a grazing index of 1: each weight is fresnel_reflectivity's own value to the bit.
+    // a grazing index of 1: each weight is fresnel_reflectivity's value (double) within
+    // float arithmetic's 1e-6 (3.8e-7 seen), and R + T = 1.
     std::vector<float> p, n;
     std::uint32_t state = 12345;
     const auto uniform = [&] { return static_cast<float>((state = state * 1664525u + 1013904223u) >> 8) / 16777216.0f; };
@@ -489,6 +490,7 @@ TEST(Fresnel, WeightsAreTheFormulaBitForBit) {
         p.insert(p.end(), {100.0f * uniform(), 100.0f * uniform(), 2.0f * uniform() - 1.0f});
         n.insert(n.end(), {s * std::cos(a), s * std::sin(a), z});
     }
+    double worst = 0.0;
     for (const double index : {kWaterRefractiveIndex, 1.0, 2.4}) {
         FresnelOptions o;
         o.camera = {40.0, -30.0, 12.0};
@@ -500,10 +502,12 @@ TEST(Fresnel, WeightsAreTheFormulaBitForBit) {
             const double len = std::sqrt(ex * ex + ey * ey + ez * ez);
             const double c = std::min(std::abs((ex * n[3 * v] + ey * n[3 * v + 1] + ez * n[3 * v + 2]) / len), 1.0);
             const double expected = fresnel_reflectivity(c, 1.0, index);
-            ASSERT_EQ(r[v], static_cast<float>(expected)) << v << " index " << index;
-            ASSERT_EQ(t[v], static_cast<float>(1.0 - expected)) << v;
+            ASSERT_NEAR(r[v], expected, 1e-6) << v << " index " << index;
+            ASSERT_EQ(t[v], 1.0f - r[v]) << v;
+            worst = std::max(worst, std::abs(r[v] - expected));
         }
     }
+    std::printf("Fresnel weights in float: largest difference from the double formula %.2g\n", worst);
 }
 
 TEST(Foam, ReleasedAtTheCrestOfBreakingWavesAndFading) {

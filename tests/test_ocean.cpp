@@ -311,6 +311,44 @@ TEST(OceanFft, ShippedWisdomPlansEveryResolution) {
     }
 }
 
+// The patch in blocks of rows (as the ocean's frames are made, each block's Fresnel
+// weights beside it) is the whole frame's patch to the bit, the repeated last row
+// included; rows beyond the lattice and spans of the wrong size are refused. The
+// normals and J₋ are computed in float: against the double Jacobian (ocean_jacobian),
+// J₋ within 1e-5 and each normal a unit vector within 1e-6.
+TEST(OceanFft, PatchRowsAreTheFrameBitForBit) {
+    OceanOptions o = small_ocean();
+    o.choppiness = 1.3;
+    const OceanPlan p = plan_ocean(o);
+    OceanWorkspace ws(p.n);
+    const OceanFields f = evaluate_ocean(p, 2.0, ws);
+    const std::size_t side = p.n + 1, count = side * side;
+    std::vector<float> pos(3 * count), nrm(3 * count), jm(count), pos2(3 * count), nrm2(3 * count), jm2(count);
+    ocean_patch_frame(p, f, pos, nrm, jm);
+    for (std::size_t first = 0; first < side; first += 7) {
+        const std::size_t rows = std::min<std::size_t>(7, side - first), v = first * side, size = rows * side;
+        ocean_patch_rows(p, f, first, rows, std::span<float>(pos2).subspan(3 * v, 3 * size),
+                         std::span<float>(nrm2).subspan(3 * v, 3 * size), std::span<float>(jm2).subspan(v, size));
+    }
+    EXPECT_EQ(std::memcmp(pos.data(), pos2.data(), pos.size() * sizeof(float)), 0);
+    EXPECT_EQ(std::memcmp(nrm.data(), nrm2.data(), nrm.size() * sizeof(float)), 0);
+    EXPECT_EQ(std::memcmp(jm.data(), jm2.data(), jm.size() * sizeof(float)), 0);
+    double worst_j = 0.0, worst_unit = 0.0;
+    for (std::size_t row = 0; row < side; ++row)
+        for (std::size_t col = 0; col < side; ++col) {
+            const std::size_t v = row * side + col, i = (row % p.n) * p.n + col % p.n;
+            const auto J = ocean_jacobian(f.disp_xx[i], f.disp_yy[i], f.disp_xy[i], p.choppiness);
+            worst_j = std::max(worst_j, std::abs(jm[v] - J.j_minus));
+            worst_unit = std::max(worst_unit, std::abs(std::hypot(nrm[3 * v], nrm[3 * v + 1], nrm[3 * v + 2]) - 1.0));
+        }
+    EXPECT_LT(worst_j, 1e-5);
+    EXPECT_LT(worst_unit, 1e-6);
+    std::vector<float> one(3 * side), j_one(side);
+    EXPECT_THROW(ocean_patch_rows(p, f, side, 1, one, one, j_one), InputError);       // beyond the last row
+    EXPECT_THROW(ocean_patch_rows(p, f, 0, 2, one, one, j_one), InputError);          // spans for one row
+    EXPECT_NO_THROW(ocean_patch_rows(p, f, side - 1, 1, one, std::span<float>(nrm2).first(3 * side), {}));
+}
+
 TEST(OceanFft, SlopesAndNormalsAreExact) {
     // eq. 20's spectral slope against a central difference of the height on a smooth
     // sea (the cutoff keeps waves > 8 cells long), and the patch normal against the

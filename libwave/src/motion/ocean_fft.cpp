@@ -255,16 +255,32 @@ void evaluate_ocean_jacobian(const OceanPlan& plan, double t, OceanWorkspace& ws
     ocean_jacobian_field(plan, f, j_minus);
 }
 
+namespace {
+
+// The Jacobian of x → x − λD (eq. 30) at a point, and its J₋ (eq. 32), in float: the
+// patch's vertices and the lattice's J₋ for the fold foam's past compute it alike
+// (ocean_jacobian gives the same in double, with the eigenvector).
+struct FloatJacobian {
+    float xx, yy, xy;
+    FloatJacobian(float lambda, float dxx, float dyy, float dxy) : xx(1.0f - lambda * dxx), yy(1.0f - lambda * dyy), xy(-lambda * dxy) {}
+    float minus() const { return 0.5f * (xx + yy) - 0.5f * std::sqrt((xx - yy) * (xx - yy) + 4.0f * xy * xy); }
+};
+
+LIBWAVE_VECTOR_CLONES void j_minus_row(const float* __restrict dxx, const float* __restrict dyy,
+                                       const float* __restrict dxy, std::size_t count, float lambda,
+                                       float* __restrict out) {
+    for (std::size_t i = 0; i < count; ++i) out[i] = FloatJacobian(lambda, dxx[i], dyy[i], dxy[i]).minus();
+}
+
+}  // namespace
+
 void ocean_jacobian_field(const OceanPlan& plan, const OceanFields& f, std::span<float> j_minus) {
     const std::size_t n = plan.n;
     if (f.n != n || j_minus.size() != n * n) throw InputError("ocean: j_minus must hold N² values");
-    const double lambda = plan.choppiness;
+    const auto lambda = static_cast<float>(plan.choppiness);
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t j) {
-        for (std::size_t i = j * n; i < (j + 1) * n; ++i) {
-            // eq. 32 as ocean_jacobian computes it (same bits), without the eigenvector
-            const double jxx = 1.0 - lambda * f.disp_xx[i], jyy = 1.0 - lambda * f.disp_yy[i], jxy = -lambda * f.disp_xy[i];
-            j_minus[i] = static_cast<float>(0.5 * (jxx + jyy) - 0.5 * std::sqrt((jxx - jyy) * (jxx - jyy) + 4.0 * jxy * jxy));
-        }
+        const std::size_t i = j * n;
+        j_minus_row(f.disp_xx.data() + i, f.disp_yy.data() + i, f.disp_xy.data() + i, n, lambda, j_minus.data() + i);
     });
 }
 
@@ -277,6 +293,10 @@ struct PatchRow {
 
 // `count` vertices of a row from column `col0` on: positions, exact normals and (when
 // jm is not null) J₋. Loops without calls or branches, vectorised (core/vector_clones.h).
+// `count` vertices of a row from column `col0` on: positions (in double, then rounded),
+// exact normals and (when jm is not null) J₋ (in float: eight lanes of roots and
+// divisions instead of four). A loop without calls or branches, vectorised
+// (core/vector_clones.h).
 LIBWAVE_VECTOR_CLONES void patch_row(const PatchRow& f, std::size_t count, double d, double row, double lambda,
                                      float* __restrict positions, float* __restrict normals, float* __restrict jm,
                                      std::size_t col0 = 0) {
@@ -284,29 +304,23 @@ LIBWAVE_VECTOR_CLONES void patch_row(const PatchRow& f, std::size_t count, doubl
     const float *__restrict dx = f.disp_x, *__restrict dy = f.disp_y;
     const float *__restrict dxx = f.disp_xx, *__restrict dyy = f.disp_yy, *__restrict dxy = f.disp_xy;
     const int first = static_cast<int>(col0);  // int: its conversion to double vectorises (N ≤ 4096)
+    const auto l = static_cast<float>(lambda);
     for (std::size_t c = 0; c < count; ++c) {
-        const double jxx = 1.0 - lambda * dxx[c], jyy = 1.0 - lambda * dyy[c], jxy = -lambda * dxy[c];
         positions[3 * c] = static_cast<float>(d * static_cast<double>(first + static_cast<int>(c)) - lambda * dx[c]);
         positions[3 * c + 1] = static_cast<float>(d * row - lambda * dy[c]);
         positions[3 * c + 2] = height[c];
         // ∂P/∂x0 = (Jxx, Jxy, ∂h/∂x), ∂P/∂y0 = (Jxy, Jyy, ∂h/∂y): their cross product.
-        const double nx = jxy * sy[c] - sx[c] * jyy, ny = sx[c] * jxy - jxx * sy[c], nz = jxx * jyy - jxy * jxy;
-        const double len = std::sqrt(nx * nx + ny * ny + nz * nz);
-        const double inv = len > 0.0 ? 1.0 / len : 0.0;
-        normals[3 * c] = static_cast<float>(nx * inv);
-        normals[3 * c + 1] = static_cast<float>(ny * inv);
-        normals[3 * c + 2] = len > 0.0 ? static_cast<float>(nz * inv) : 1.0f;
+        const FloatJacobian J(l, dxx[c], dyy[c], dxy[c]);
+        const float nx = J.xy * sy[c] - sx[c] * J.yy, ny = sx[c] * J.xy - J.xx * sy[c], nz = J.xx * J.yy - J.xy * J.xy;
+        const float len = std::sqrt(nx * nx + ny * ny + nz * nz);
+        const float inv = len > 0.0f ? 1.0f / len : 0.0f;
+        normals[3 * c] = nx * inv;
+        normals[3 * c + 1] = ny * inv;
+        normals[3 * c + 2] = len > 0.0f ? nz * inv : 1.0f;
     }
     if (!jm) return;
-    for (std::size_t c = 0; c < count; ++c) {  // eq. 32 (the eigenvector is not needed here)
-        const double jxx = 1.0 - lambda * dxx[c], jyy = 1.0 - lambda * dyy[c], jxy = -lambda * dxy[c];
-        jm[c] = static_cast<float>(0.5 * (jxx + jyy) - 0.5 * std::sqrt((jxx - jyy) * (jxx - jyy) + 4.0 * jxy * jxy));
-    }
+    for (std::size_t c = 0; c < count; ++c) jm[c] = FloatJacobian(l, dxx[c], dyy[c], dxy[c]).minus();
 }
-
-}  // namespace
-
-namespace {
 
 // Row `row` of the (N+1)² lattice into p, nr, jm (that row's own storage).
 void patch_lattice_row(const OceanPlan& plan, const OceanFields& f, std::size_t row, float* p, float* nr, float* jm) {

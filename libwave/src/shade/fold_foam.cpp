@@ -3,11 +3,13 @@
 #include "core/format.h"
 #include "libwave/errors.h"
 #include "libwave/shade.h"
+#include "core/vector_clones.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -33,6 +35,28 @@ std::vector<long long> fold_lattice(double t, const FoldFoamOptions& o, double r
     return out;
 }
 
+namespace {
+
+// fold_coverage(J₋) · w of `count` values (its expression: the same bits), for both
+// accumulate_fold_foam: a loop without calls or branches, vectorised
+// (core/vector_clones.h), apart from the maxima it feeds.
+LIBWAVE_VECTOR_CLONES void weighted_coverage(const float* __restrict j_minus, std::size_t count, double threshold,
+                                             double softness, double w, float* __restrict out) {
+    for (std::size_t i = 0; i < count; ++i)
+        out[i] = static_cast<float>(std::clamp((threshold - j_minus[i]) / softness, 0.0, 1.0) * w);
+}
+
+// out[vertex[q]] = max(out[vertex[q]], value[q]) for distinct vertices: the maxima
+// gathered first, then stored unconditionally (a store only where the value is larger
+// made a branch the CPU could not predict).
+LIBWAVE_VECTOR_CLONES void scatter_max(const std::uint32_t* __restrict vertex, float* __restrict value, std::size_t count,
+                                       float* out) {
+    for (std::size_t q = 0; q < count; ++q) value[q] = std::max(out[vertex[q]], value[q]);
+    for (std::size_t q = 0; q < count; ++q) out[vertex[q]] = value[q];
+}
+
+}  // namespace
+
 void accumulate_fold_foam(std::span<const float> j_minus, double age, const FoldFoamOptions& o, std::span<float> foam) {
     if (j_minus.size() != foam.size())
         throw InputError("shade: j_minus holds " + std::to_string(j_minus.size()) + " values, foam " +
@@ -40,8 +64,12 @@ void accumulate_fold_foam(std::span<const float> j_minus, double age, const Fold
     const double w = fold_fade(age, o);
     if (w <= 0.0) return;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, foam.size(), 4096), [&](const auto& r) {
-        for (std::size_t v = r.begin(); v < r.end(); ++v)
-            foam[v] = std::max(foam[v], static_cast<float>(fold_coverage(j_minus[v], o) * w));
+        float value[256];
+        for (std::size_t v0 = r.begin(); v0 < r.end(); v0 += std::size(value)) {
+            const std::size_t size = std::min(std::size(value), r.end() - v0);
+            weighted_coverage(j_minus.data() + v0, size, o.threshold, o.softness, w, value);
+            for (std::size_t q = 0; q < size; ++q) foam[v0 + q] = std::max(foam[v0 + q], value[q]);
+        }
     });
 }
 
@@ -55,26 +83,38 @@ FoldSample fold_sample(std::span<const float> j_minus, const FoldFoamOptions& o)
     return s;
 }
 
+
 void accumulate_fold_foam(const FoldSample& sample, double age, const FoldFoamOptions& o, std::span<float> foam) {
     const std::size_t count = sample.vertex.size();
     if (sample.j_minus.size() != count)
         throw InputError("shade: a fold sample holds " + std::to_string(count) + " vertices and " +
                          std::to_string(sample.j_minus.size()) + " J₋ values");
-    if (count > 0) {
-        const std::uint32_t last = *std::max_element(sample.vertex.begin(), sample.vertex.end());
-        if (last >= foam.size())
-            throw InputError("shade: a fold sample's vertex " + std::to_string(last) + " is beyond the foam array");
-    }
     const double w = fold_fade(age, o);
-    if (w <= 0.0) return;
+    if (w <= 0.0) {  // nothing to add: the indices checked alone
+        if (count > 0 && *std::max_element(sample.vertex.begin(), sample.vertex.end()) >= foam.size())
+            throw InputError("shade: a fold sample's vertex is beyond the foam array");
+        return;
+    }
     // Each vertex once (ascending indices): parallel, the same bits for any thread count.
+    // A vertex beyond `foam` is found where it is met (a pass of its own over every
+    // sample's indices cost a fifth of the frame's foam); the ones before it are written.
+    std::atomic<std::size_t> beyond{std::numeric_limits<std::size_t>::max()};
+    float* const out = foam.data();
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const auto& r) {
-        for (std::size_t i = r.begin(); i < r.end(); ++i) {
-            const std::uint32_t v = sample.vertex[i];
-            // The same expression as the dense accumulate_fold_foam: the same bits.
-            foam[v] = std::max(foam[v], static_cast<float>(fold_coverage(sample.j_minus[i], o) * w));
+        float value[256];
+        for (std::size_t i0 = r.begin(); i0 < r.end(); i0 += std::size(value)) {
+            const std::size_t size = std::min(std::size(value), r.end() - i0);
+            const std::uint32_t* const vertex = sample.vertex.data() + i0;
+            if (const std::uint32_t top = *std::max_element(vertex, vertex + size); top >= foam.size()) {
+                beyond = top;
+                return;
+            }
+            weighted_coverage(sample.j_minus.data() + i0, size, o.threshold, o.softness, w, value);
+            scatter_max(vertex, value, size, out);
         }
     });
+    if (const std::size_t v = beyond; v != std::numeric_limits<std::size_t>::max())
+        throw InputError("shade: a fold sample's vertex " + std::to_string(v) + " is beyond the foam array");
 }
 
 double fold_threshold_for_coverage(std::span<const std::vector<float>> past, double step, const FoldFoamOptions& options,

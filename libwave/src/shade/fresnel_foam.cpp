@@ -3,7 +3,6 @@
 #include "libwave/errors.h"
 #include "libwave/shade.h"
 #include "core/vector_clones.h"
-#include "physics/fresnel_formula.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -32,15 +31,33 @@ inline double cos_to_camera(const float* p, const float* n, const std::array<dou
     return std::min(std::abs(len > 0.0 ? along / len : 1.0), 1.0);
 }
 
-// The exact model's weights of `count` vertices: a loop without calls or branches,
-// vectorised (core/vector_clones.h).
+// The exact model's weights of `count` vertices, in float (the inputs and the weights
+// are float; eight lanes of roots and divisions where double had four): a loop without
+// calls or branches, vectorised (core/vector_clones.h). The direction to the camera is
+// taken from the vertex (float differences: < 1e-7 of the distance off), and R is
+// fresnel_reflectivity's expression from air (n_i = 1) into water.
 LIBWAVE_VECTOR_CLONES void exact_weights(const float* __restrict p, const float* __restrict n, std::size_t count,
                                          const std::array<double, 3>& camera, double water_index,
                                          float* __restrict reflect, float* __restrict refract) {
+    const auto cx = static_cast<float>(camera[0]), cy = static_cast<float>(camera[1]), cz = static_cast<float>(camera[2]);
+    const auto nt = static_cast<float>(water_index);
+    // cos²θt = 1 − η² sin²θi = (1 − η²) + η² cos²θi, η = 1/n: written so, it keeps its
+    // digits at grazing incidence, where 1 − sin²θt cancels them.
+    const double eta2 = 1.0 / (water_index * water_index);
+    const auto far = static_cast<float>(1.0 - eta2), near = static_cast<float>(eta2);
     for (std::size_t v = 0; v < count; ++v) {
-        const double r = detail::fresnel_reflectivity(cos_to_camera(p + 3 * v, n + 3 * v, camera), 1.0, water_index);
-        reflect[v] = static_cast<float>(r);
-        refract[v] = static_cast<float>(1.0 - r);
+        const float ex = cx - p[3 * v], ey = cy - p[3 * v + 1], ez = cz - p[3 * v + 2];
+        const float len = std::sqrt(ex * ex + ey * ey + ez * ez);
+        const float along = ex * n[3 * v] + ey * n[3 * v + 1] + ez * n[3 * v + 2];
+        const float cos_i = std::min(std::abs(len > 0.0f ? along / len : 1.0f), 1.0f);
+        const float cos_t2 = far + near * (cos_i * cos_i);  // Snell
+        const float cos_t = std::sqrt(cos_t2);
+        const float rs = (cos_i - nt * cos_t) / (cos_i + nt * cos_t);
+        const float rp = (nt * cos_i - cos_t) / (nt * cos_i + cos_t);
+        // grazing with n = 1 (0/0 above): total reflection, as fresnel_reflectivity says
+        const float r = cos_t2 > 0.0f ? 0.5f * (rs * rs + rp * rp) : 1.0f;
+        reflect[v] = r;
+        refract[v] = 1.0f - r;
     }
 }
 
