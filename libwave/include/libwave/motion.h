@@ -622,9 +622,10 @@ struct OceanFields {
     std::span<const float> disp_xy;           ///< ∂Dx/∂y
 };
 
-/// FFTW plans (made once, FFTW_ESTIMATE so the plan — and so every bit of the result —
-/// is the same on every run) and aligned buffers for one OceanPlan's size. Not
-/// thread-safe: one workspace per thread.
+/// FFTW plans (made once, from the wisdom libwave ships — FFTW_ESTIMATE where FFTW
+/// cannot read it — so the plan, and so every bit of the result, is the same on every
+/// run; docs/motion.md) and aligned buffers for one OceanPlan's size. Not thread-safe:
+/// one workspace per thread.
 class OceanWorkspace {
 public:
     explicit OceanWorkspace(std::size_t n);  ///< plans and buffers for N = n
