@@ -517,6 +517,51 @@ TEST(FoldFoam, CoverageFadeAndLattice) {
     EXPECT_EQ(dense, sparse);
 }
 
+// A window of samples at once, over several blocks of vertices (16 384 a block): the
+// same bits as one sample after another, in any order; a sample out of the window
+// adds nothing; vertices that do not ascend, repeat or lie beyond the foam are refused.
+TEST(FoldFoam, AWindowOfSamplesAtOnceIsOneAfterAnother) {
+    const FoldFoamOptions o;
+    const std::size_t n = 50000;
+    std::vector<FoldSample> samples;
+    std::uint32_t state = 7;
+    for (int s = 0; s < 6; ++s) {
+        std::vector<float> j(n);
+        for (auto& v : j) v = static_cast<float>((state = state * 1664525u + 1013904223u) >> 8) / 16777216.0f * 1.6f - 0.6f;
+        samples.push_back(fold_sample(j, o));
+    }
+    const double ages[] = {0.1, 0.6, 1.4, 2.2, 3.9, 5.0};  // the last beyond the 4.5 s window
+    std::vector<float> one_by_one(n, 0.02f), at_once(n, 0.02f), reversed(n, 0.02f);
+    std::vector<AgedFoldSample> window, backwards;
+    for (std::size_t s = 0; s < samples.size(); ++s) {
+        accumulate_fold_foam(samples[s], ages[s], o, one_by_one);
+        window.push_back({&samples[s], ages[s]});
+        backwards.insert(backwards.begin(), {&samples[s], ages[s]});
+    }
+    accumulate_fold_foam(window, o, at_once);
+    accumulate_fold_foam(backwards, o, reversed);
+    EXPECT_EQ(std::memcmp(one_by_one.data(), at_once.data(), n * sizeof(float)), 0);
+    EXPECT_EQ(std::memcmp(one_by_one.data(), reversed.data(), n * sizeof(float)), 0);
+    EXPECT_GT(*std::max_element(at_once.begin(), at_once.end()), 0.5f);
+    std::vector<float> untouched(n, 0.02f);
+    accumulate_fold_foam(samples[5], ages[5], o, untouched);
+    EXPECT_EQ(untouched, std::vector<float>(n, 0.02f));
+    FoldSample bad = samples[0];
+    std::swap(bad.vertex[10], bad.vertex[11]);  // out of order inside a block
+    EXPECT_THROW(accumulate_fold_foam(bad, 0.5, o, at_once), InputError);
+    bad = samples[0];
+    bad.vertex[20] = bad.vertex[19];  // repeated
+    EXPECT_THROW(accumulate_fold_foam(bad, 0.5, o, at_once), InputError);
+    bad = samples[0];
+    std::swap(bad.vertex.front(), bad.vertex.back());  // across blocks
+    EXPECT_THROW(accumulate_fold_foam(bad, 0.5, o, at_once), InputError);
+    bad = samples[0];
+    bad.vertex.back() = static_cast<std::uint32_t>(n);  // beyond the foam
+    EXPECT_THROW(accumulate_fold_foam(bad, 5.0, o, at_once), InputError);  // out of the window: still checked
+    bad.j_minus.pop_back();
+    EXPECT_THROW(accumulate_fold_foam(bad, 0.5, o, at_once), InputError);
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------

@@ -152,8 +152,20 @@ FoldSample fold_sample(std::span<const float> j_minus, const FoldFoamOptions& op
 
 /// foam = max(foam, coverage · fade(age)) at the sample's vertices; the same result as
 /// accumulate_fold_foam on the J₋ the sample was taken from. Throws InputError when the
-/// sample's two arrays differ in length or a vertex lies beyond `foam`.
+/// sample's two arrays differ in length, its vertices do not ascend strictly, or a
+/// vertex lies beyond `foam` (vertices before the one found may have been written).
 void accumulate_fold_foam(const FoldSample& sample, double age, const FoldFoamOptions& options, std::span<float> foam);
+
+/// A fold sample (not owned) and its age at the frame (s).
+struct AgedFoldSample {
+    const FoldSample* sample = nullptr;
+    double age = 0.0;
+};
+
+/// A frame's whole window of samples in one parallel pass over blocks of vertices (a
+/// pass per sample paid a fork and join each, a fifth of a 256² frame): the same bits
+/// as one accumulate_fold_foam per sample, in any order. The same errors.
+void accumulate_fold_foam(std::span<const AgedFoldSample> samples, const FoldFoamOptions& options, std::span<float> foam);
 
 /// The J₋ threshold at which fold foam covers `coverage` of a surface (the share of
 /// points with foam >= 0.1, the threshold `wave inspect` takes for a lip), the other

@@ -962,6 +962,7 @@ void coarse_foam(FrameRun& r, double t, std::span<float> fc) {
     accumulate_fold_foam(r.wind_sea.vertex_j, 0.0, fold, fc);
     double step = 0.0;
     const auto lattice = fold_lattice(t, fold, plan.loop_period, step);
+    std::vector<AgedFoldSample> window;
     for (long long j : lattice) {
         auto it = r.fold_past.find(j);
         if (it == r.fold_past.end()) {
@@ -970,8 +971,9 @@ void coarse_foam(FrameRun& r, double t, std::span<float> fc) {
             fold_at_vertices(plan, r.wind_sea.lattice_j, r.fold_scratch);
             it = r.fold_past.emplace(j, fold_sample(r.fold_scratch, fold)).first;
         }
-        accumulate_fold_foam(it->second, t - static_cast<double>(j) * step, fold, fc);
+        window.push_back({&it->second, t - static_cast<double>(j) * step});
     }
+    accumulate_fold_foam(window, fold, fc);
     if (!lattice.empty()) r.fold_past.erase(r.fold_past.begin(), r.fold_past.lower_bound(lattice.back()));
 }
 

@@ -84,37 +84,81 @@ FoldSample fold_sample(std::span<const float> j_minus, const FoldFoamOptions& o)
 }
 
 
-void accumulate_fold_foam(const FoldSample& sample, double age, const FoldFoamOptions& o, std::span<float> foam) {
-    const std::size_t count = sample.vertex.size();
-    if (sample.j_minus.size() != count)
-        throw InputError("shade: a fold sample holds " + std::to_string(count) + " vertices and " +
-                         std::to_string(sample.j_minus.size()) + " J₋ values");
-    const double w = fold_fade(age, o);
-    if (w <= 0.0) {  // nothing to add: the indices checked alone
-        if (count > 0 && *std::max_element(sample.vertex.begin(), sample.vertex.end()) >= foam.size())
-            throw InputError("shade: a fold sample's vertex is beyond the foam array");
-        return;
+namespace {
+
+// Whether `count` (> 0) vertex indices ascend strictly from above `previous` and stay
+// below `end`: the ends against the bounds, each neighbour against the next.
+LIBWAVE_VECTOR_CLONES bool ascending_below(const std::uint32_t* __restrict vertex, std::size_t count,
+                                           std::int64_t previous, std::int64_t end) {
+    unsigned out_of_order = 0;
+    for (std::size_t q = 0; q + 1 < count; ++q) out_of_order |= vertex[q] >= vertex[q + 1] ? 1u : 0u;
+    return out_of_order == 0 && static_cast<std::int64_t>(vertex[0]) > previous &&
+           static_cast<std::int64_t>(vertex[count - 1]) < end;
+}
+
+}  // namespace
+
+void accumulate_fold_foam(std::span<const AgedFoldSample> samples, const FoldFoamOptions& o, std::span<float> foam) {
+    struct Live {
+        const FoldSample* sample;
+        double w;
+    };
+    std::vector<Live> live;
+    for (const AgedFoldSample& a : samples) {
+        if (!a.sample) throw InputError("shade: a null fold sample");
+        const std::size_t count = a.sample->vertex.size();
+        if (a.sample->j_minus.size() != count)
+            throw InputError("shade: a fold sample holds " + std::to_string(count) + " vertices and " +
+                             std::to_string(a.sample->j_minus.size()) + " J₋ values");
+        live.push_back({a.sample, fold_fade(a.age, o)});  // w = 0 (out of the window): checked, adds nothing
     }
-    // Each vertex once (ascending indices): parallel, the same bits for any thread count.
-    // A vertex beyond `foam` is found where it is met (a pass of its own over every
-    // sample's indices cost a fifth of the frame's foam); the ones before it are written.
-    std::atomic<std::size_t> beyond{std::numeric_limits<std::size_t>::max()};
-    float* const out = foam.data();
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const auto& r) {
+    // Blocks of vertices, in parallel; each sample's entries in a block found by binary
+    // search, and checked where they are used (ascending, inside the block, below the
+    // foam's end) rather than in a pass of their own. The boundaries of one sample are
+    // found first: they must not decrease, so that every entry lies in exactly one block.
+    // Max commutes: the same bits for any thread count and any order of the samples.
+    constexpr std::size_t kBlock = 16384;
+    const std::size_t blocks = std::max<std::size_t>(1, (foam.size() + kBlock - 1) / kBlock);
+    std::vector<std::size_t> bounds(live.size() * (blocks + 1));
+    for (std::size_t i = 0; i < live.size(); ++i) {
+        const auto& vertex = live[i].sample->vertex;
+        std::size_t* const b = bounds.data() + i * (blocks + 1);
+        b[0] = 0;
+        b[blocks] = vertex.size();
+        for (std::size_t k = 1; k < blocks; ++k)
+            b[k] = static_cast<std::size_t>(std::lower_bound(vertex.begin(), vertex.end(), k * kBlock) - vertex.begin());
+        for (std::size_t k = 0; k < blocks; ++k)
+            if (b[k + 1] < b[k]) throw InputError("shade: a fold sample's vertices do not ascend");
+    }
+    std::atomic<bool> bad{false};
+    tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t k) {
+        const auto first = static_cast<std::int64_t>(k * kBlock);
+        const auto end = static_cast<std::int64_t>(k + 1 == blocks ? foam.size() : (k + 1) * kBlock);
         float value[256];
-        for (std::size_t i0 = r.begin(); i0 < r.end(); i0 += std::size(value)) {
-            const std::size_t size = std::min(std::size(value), r.end() - i0);
-            const std::uint32_t* const vertex = sample.vertex.data() + i0;
-            if (const std::uint32_t top = *std::max_element(vertex, vertex + size); top >= foam.size()) {
-                beyond = top;
-                return;
+        for (std::size_t i = 0; i < live.size(); ++i) {
+            const FoldSample& sample = *live[i].sample;
+            const std::size_t* const b = bounds.data() + i * (blocks + 1);
+            std::int64_t previous = first - 1;
+            for (std::size_t e = b[k]; e < b[k + 1]; e += std::size(value)) {
+                const std::size_t size = std::min(std::size(value), b[k + 1] - e);
+                const std::uint32_t* const vertex = sample.vertex.data() + e;
+                if (!ascending_below(vertex, size, previous, end)) {
+                    bad = true;
+                    return;
+                }
+                previous = vertex[size - 1];
+                if (live[i].w <= 0.0) continue;
+                weighted_coverage(sample.j_minus.data() + e, size, o.threshold, o.softness, live[i].w, value);
+                scatter_max(vertex, value, size, foam.data());
             }
-            weighted_coverage(sample.j_minus.data() + i0, size, o.threshold, o.softness, w, value);
-            scatter_max(vertex, value, size, out);
         }
     });
-    if (const std::size_t v = beyond; v != std::numeric_limits<std::size_t>::max())
-        throw InputError("shade: a fold sample's vertex " + std::to_string(v) + " is beyond the foam array");
+    if (bad) throw InputError("shade: a fold sample's vertices do not ascend, or lie beyond the foam array");
+}
+
+void accumulate_fold_foam(const FoldSample& sample, double age, const FoldFoamOptions& o, std::span<float> foam) {
+    const AgedFoldSample one{&sample, age};
+    accumulate_fold_foam(std::span<const AgedFoldSample>(&one, 1), o, foam);
 }
 
 double fold_threshold_for_coverage(std::span<const std::vector<float>> past, double step, const FoldFoamOptions& options,
