@@ -291,8 +291,6 @@ struct PatchRow {
     const float *height, *slope_x, *slope_y, *disp_x, *disp_y, *disp_xx, *disp_yy, *disp_xy;
 };
 
-// `count` vertices of a row from column `col0` on: positions, exact normals and (when
-// jm is not null) J₋. Loops without calls or branches, vectorised (core/vector_clones.h).
 // `count` vertices of a row from column `col0` on: positions (in double, then rounded),
 // exact normals and (when jm is not null) J₋ (in float: eight lanes of roots and
 // divisions instead of four). A loop without calls or branches, vectorised

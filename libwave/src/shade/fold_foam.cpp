@@ -55,6 +55,16 @@ LIBWAVE_VECTOR_CLONES void scatter_max(const std::uint32_t* __restrict vertex, f
     for (std::size_t q = 0; q < count; ++q) out[vertex[q]] = value[q];
 }
 
+// Whether `count` (> 0) vertex indices ascend strictly from above `previous` and stay
+// below `end`: the ends against the bounds, each neighbour against the next.
+LIBWAVE_VECTOR_CLONES bool ascending_below(const std::uint32_t* __restrict vertex, std::size_t count,
+                                           std::int64_t previous, std::int64_t end) {
+    unsigned out_of_order = 0;
+    for (std::size_t q = 0; q + 1 < count; ++q) out_of_order |= vertex[q] >= vertex[q + 1] ? 1u : 0u;
+    return out_of_order == 0 && static_cast<std::int64_t>(vertex[0]) > previous &&
+           static_cast<std::int64_t>(vertex[count - 1]) < end;
+}
+
 }  // namespace
 
 void accumulate_fold_foam(std::span<const float> j_minus, double age, const FoldFoamOptions& o, std::span<float> foam) {
@@ -83,20 +93,6 @@ FoldSample fold_sample(std::span<const float> j_minus, const FoldFoamOptions& o)
     return s;
 }
 
-
-namespace {
-
-// Whether `count` (> 0) vertex indices ascend strictly from above `previous` and stay
-// below `end`: the ends against the bounds, each neighbour against the next.
-LIBWAVE_VECTOR_CLONES bool ascending_below(const std::uint32_t* __restrict vertex, std::size_t count,
-                                           std::int64_t previous, std::int64_t end) {
-    unsigned out_of_order = 0;
-    for (std::size_t q = 0; q + 1 < count; ++q) out_of_order |= vertex[q] >= vertex[q + 1] ? 1u : 0u;
-    return out_of_order == 0 && static_cast<std::int64_t>(vertex[0]) > previous &&
-           static_cast<std::int64_t>(vertex[count - 1]) < end;
-}
-
-}  // namespace
 
 void accumulate_fold_foam(std::span<const AgedFoldSample> samples, const FoldFoamOptions& o, std::span<float> foam) {
     struct Live {
