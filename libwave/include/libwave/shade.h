@@ -158,8 +158,8 @@ void accumulate_fold_foam(const FoldSample& sample, double age, const FoldFoamOp
 
 /// A fold sample (not owned) and its age at the frame (s).
 struct AgedFoldSample {
-    const FoldSample* sample = nullptr;
-    double age = 0.0;
+    const FoldSample* sample = nullptr;  ///< the sample (its owner keeps it alive)
+    double age = 0.0;                    ///< s since its lattice time
 };
 
 /// A frame's whole window of samples in one parallel pass over blocks of vertices (a
