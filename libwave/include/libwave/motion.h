@@ -594,6 +594,7 @@ struct OceanPlan {
     std::vector<std::complex<float>> h0_minus;  ///< conj(h̃0(−k))
     std::vector<float> kx;  ///< per column (rad/m)
     std::vector<float> ky;  ///< per row (rad/m)
+    std::vector<float> inv_k;  ///< 1/|k| per element (0 at k = 0), as float arithmetic gives it
     std::vector<double> omega;                  ///< ω(k), or ω̄(k) when quantised
     std::vector<std::int32_t> omega_steps;      ///< ω̄ / ω0 when quantised (else empty)
 

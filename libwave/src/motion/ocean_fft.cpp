@@ -51,9 +51,8 @@ struct OceanWorkspace::Impl {
     fftwf_plan plan = nullptr;
     std::vector<std::complex<float>> phase_table;  // e^{−i m ω0 t} of the frame
     std::vector<std::complex<float>> h;            // h̃(k, t) of the frame
-    std::vector<float> inv_k;                      // 1/|k| (0 at k = 0)
 
-    explicit Impl(std::size_t size) : n(size), half(size / 2 + 1), h(size * (size / 2 + 1)), inv_k(size * (size / 2 + 1)) {
+    explicit Impl(std::size_t size) : n(size), half(size / 2 + 1), h(size * (size / 2 + 1)) {
         for (int f = 0; f < kFieldCount; ++f) {
             spectrum[f] = fftwf_alloc_complex(n * half);
             field[f] = fftwf_alloc_real(n * n);
@@ -95,12 +94,14 @@ double loop_time(const OceanPlan& plan, double t) {
 
 void check(const OceanPlan& plan, OceanWorkspace& ws) {
     if (plan.n == 0) throw InputError("ocean: the plan is empty (plan_ocean first)");
+    if (plan.inv_k.size() != plan.n * plan.half() || plan.h0.size() != plan.inv_k.size())
+        throw InputError("ocean: the plan's arrays do not hold N × (N/2 + 1) elements (plan_ocean makes them)");
     if (ws.impl().n != plan.n)
         throw InputError("ocean: a workspace for " + std::to_string(ws.impl().n) + "² used with a " +
                          std::to_string(plan.n) + "² plan");
 }
 
-// A run of one spectrum row: h̃(k, t) and 1/|k| at columns kx[0, count) of the row ky.
+// A run of one spectrum row: h̃(k, t) and 1/|k| (the plan's) at columns kx[0, count) of the row ky.
 struct SpectrumChunk {
     std::size_t count = 0;
     const float* kx = nullptr;
@@ -136,15 +137,6 @@ LIBWAVE_VECTOR_CLONES void fill_spectrum(int field, const SpectrumChunk& c, floa
     }
 }
 
-// 1/|k| over a chunk, as float arithmetic gives it (0 at k = 0).
-LIBWAVE_VECTOR_CLONES void inverse_wavenumbers(const float* __restrict kx, float ky, std::size_t count,
-                                               float* __restrict inv_k) {
-    for (std::size_t q = 0; q < count; ++q) {
-        const float k = std::sqrt(kx[q] * kx[q] + ky * ky);
-        inv_k[q] = k > 0.0f ? 1.0f / k : 0.0f;
-    }
-}
-
 // Eq. 26 over a chunk of a quantised lattice: h̃ = h̃0 e + h̃0₋ ē with e = e^{−i m ω0 t}
 // from the table (re, im) at each element's m; complex products written out in float
 // (as std::complex<float> computes them, without its NaN fallback call).
@@ -160,7 +152,7 @@ LIBWAVE_VECTOR_CLONES void evolve_quantised(const std::int32_t* __restrict steps
     }
 }
 
-// h̃(k, t) (eq. 26) and 1/|k| over the half lattice into w.h, w.inv_k.
+// h̃(k, t) (eq. 26) over the half lattice into w.h.
 void fill_h(const OceanPlan& plan, double t, OceanWorkspace::Impl& w) {
     const std::size_t n = plan.n, half = plan.half();
     const double tt = loop_time(plan, t);
@@ -175,7 +167,6 @@ void fill_h(const OceanPlan& plan, double t, OceanWorkspace::Impl& w) {
     }
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t j) {
         const std::size_t e0 = j * half;
-        inverse_wavenumbers(plan.kx.data(), plan.ky[j], half, w.inv_k.data() + e0);
         if (quantised) {
             evolve_quantised(plan.omega_steps.data() + e0, reinterpret_cast<const float*>(w.phase_table.data()),
                              reinterpret_cast<const float*>(plan.h0.data() + e0),
@@ -203,7 +194,7 @@ void transform(const OceanPlan& plan, double t, OceanWorkspace::Impl& w, const F
     tbb::parallel_for(std::size_t{0}, std::size(fields), [&](std::size_t q) {
         const int f = fields[q];
         for (std::size_t j = 0; j < n; ++j) {
-            const SpectrumChunk c{half, plan.kx.data(), plan.ky[j], w.h.data() + j * half, w.inv_k.data() + j * half};
+            const SpectrumChunk c{half, plan.kx.data(), plan.ky[j], w.h.data() + j * half, plan.inv_k.data() + j * half};
             fill_spectrum(f, c, reinterpret_cast<float*>(w.spectrum[f] + j * half));
         }
         fftwf_execute_dft_c2r(w.plan, w.spectrum[f], w.field[f]);

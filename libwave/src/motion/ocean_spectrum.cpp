@@ -189,6 +189,13 @@ OceanPlan plan_ocean(const OceanOptions& o) {
         const long m = static_cast<long>(j) < N / 2 ? static_cast<long>(j) : static_cast<long>(j) - N;
         p.ky[j] = static_cast<float>(dk * static_cast<double>(m));
     }
+    // 1/|k| for the displacement's spectra, in float as the frames use it.
+    p.inv_k.resize(n * half);
+    for (std::size_t j = 0; j < n; ++j)
+        for (std::size_t i = 0; i < half; ++i) {
+            const float k = std::sqrt(p.kx[i] * p.kx[i] + p.ky[j] * p.ky[j]);
+            p.inv_k[j * half + i] = k > 0.0f ? 1.0f / k : 0.0f;
+        }
     p.h0.assign(n * half, {0.0f, 0.0f});
     p.h0_minus.assign(n * half, {0.0f, 0.0f});
     p.omega.assign(n * half, 0.0);
