@@ -18,11 +18,11 @@ namespace {
 
 // The floor: the eight inverse real N² transforms a frame with chop and foam needs
 // (h, ∇h, D, ∂D), one sequential plan, the eight in parallel on the machine's cores —
-// what evaluate_ocean does without filling the spectra. The plan is libwave's: the
-// wisdom it ships, imported by its first workspace (range 1: 1), or FFTW_ESTIMATE
-// (range 1: 0, the floor of the twenty-ninth session and before).
+// the transforms a frame computed before libwave packed them in pairs, without filling
+// the spectra. The plan: FFTW's patient planner's, from the wisdom in
+// bench/fftw_floor_wisdom.inc (range 1: 1), or FFTW_ESTIMATE (range 1: 0, the floor of
+// the twenty-ninth session and before).
 void BM_fftw_floor(benchmark::State& state) {
-    const wave::OceanWorkspace libwave_plan(static_cast<std::size_t>(state.range(0)));
     const auto n = static_cast<int>(state.range(0));
     const std::size_t half = static_cast<std::size_t>(n / 2 + 1), count = static_cast<std::size_t>(n) * half;
     std::vector<fftwf_complex*> in(8);
@@ -31,9 +31,11 @@ void BM_fftw_floor(benchmark::State& state) {
         in[f] = fftwf_alloc_complex(count);
         out[f] = fftwf_alloc_real(static_cast<std::size_t>(n) * n);
     }
-    fftwf_plan plan = state.range(1) ? fftwf_plan_dft_c2r_2d(n, n, in[0], out[0], FFTW_MEASURE | FFTW_WISDOM_ONLY) : nullptr;
+    const bool patient = state.range(1) != 0 && fftwf_import_wisdom_from_string(
+#include "fftw_floor_wisdom.inc"
+                                                     ) != 0;
+    fftwf_plan plan = patient ? fftwf_plan_dft_c2r_2d(n, n, in[0], out[0], FFTW_MEASURE | FFTW_WISDOM_ONLY) : nullptr;
     if (state.range(1) && !plan) state.SkipWithError("no wisdom for this size");
-    if (!state.range(1)) fftwf_forget_wisdom();  // the estimate alone (the next workspace imports it again)
     if (!plan) plan = fftwf_plan_dft_c2r_2d(n, n, in[0], out[0], FFTW_ESTIMATE);
     for (auto _ : state) {
         state.PauseTiming();  // c2r destroys its input: refill outside the timing
@@ -47,6 +49,29 @@ void BM_fftw_floor(benchmark::State& state) {
     for (int f = 0; f < 8; ++f) fftwf_free(in[f]), fftwf_free(out[f]);
 }
 BENCHMARK(BM_fftw_floor)->ArgsProduct({{256, 512, 1024}, {1, 0}})->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The transforms a frame computes now: the same eight fields as four in-place complex
+// N² transforms (two real fields each), libwave's plan from the wisdom it ships.
+void BM_fftw_packed_floor(benchmark::State& state) {
+    const wave::OceanWorkspace libwave_plan(static_cast<std::size_t>(state.range(0)));  // imports libwave's wisdom
+    const auto n = static_cast<int>(state.range(0));
+    const std::size_t count = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
+    std::vector<fftwf_complex*> data(4);
+    for (auto& d : data) d = fftwf_alloc_complex(count);
+    fftwf_plan plan = fftwf_plan_dft_2d(n, n, data[0], data[0], FFTW_BACKWARD, FFTW_MEASURE | FFTW_WISDOM_ONLY);
+    if (!plan) state.SkipWithError("no wisdom for this size");
+    for (auto _ : state) {
+        state.PauseTiming();
+        for (auto* d : data)
+            for (std::size_t i = 0; i < count; ++i) d[i][0] = d[i][1] = 1e-3f * static_cast<float>(i % 7);
+        state.ResumeTiming();
+        if (plan) tbb::parallel_for(0, 4, [&](int f) { fftwf_execute_dft(plan, data[f], data[f]); });
+        benchmark::DoNotOptimize(data[3]);
+    }
+    if (plan) fftwf_destroy_plan(plan);
+    for (auto* d : data) fftwf_free(d);
+}
+BENCHMARK(BM_fftw_packed_floor)->Arg(256)->Arg(512)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 wave::OceanOptions gale(std::int64_t n) {
     wave::OceanOptions o;
@@ -65,7 +90,7 @@ void BM_ocean_fields(benchmark::State& state) {
     wave::OceanWorkspace ws(plan.n);
     double t = 0.0;
     for (auto _ : state) {
-        benchmark::DoNotOptimize(wave::evaluate_ocean(plan, t, ws).height.data());
+        benchmark::DoNotOptimize(wave::evaluate_ocean(plan, t, ws).height.data);
         t += 1.0 / 24.0;
     }
 }

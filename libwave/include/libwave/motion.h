@@ -607,20 +607,34 @@ struct OceanPlan {
 /// direction to travel in). Throws InputError for bad options.
 OceanPlan plan_ocean(const OceanOptions& options);
 
+/// One real field of the N×N lattice, row-major (j, i): value q is data[q · stride].
+/// evaluate_ocean's fields come in pairs from one complex transform each, interleaved
+/// (stride 2).
+struct OceanField {
+    const float* data = nullptr;  ///< the value at lattice point 0
+    std::size_t stride = 1;       ///< floats from one value to the next
+    std::size_t count = 0;        ///< N²
+    float operator[](std::size_t q) const noexcept { return data[q * stride]; }  ///< value q (q < count)
+    std::size_t size() const noexcept { return count; }                          ///< N²
+    std::vector<float> values() const;  ///< the N² values, contiguous (a copy)
+};
+
 /// One frame of the ocean on the N×N lattice x = (i L/N, j L/N), row-major (j, i):
 /// height h (eq. 19), slope ∇h (eq. 20), displacement D (eq. 29) and its derivatives
 /// ∂Dx/∂x, ∂Dy/∂y, ∂Dx/∂y (for the Jacobian, eq. 30). Views into an OceanWorkspace,
-/// valid until its next evaluation.
+/// valid until its next evaluation. Each pair that shares a transform is interleaved
+/// (stride 2, the second one float after the first): (∂Dx/∂x, ∂Dy/∂y), (∂Dx/∂y, h),
+/// (∂h/∂x, ∂h/∂y), (Dx, Dy) — the layout ocean_patch_frame and ocean_jacobian_field read.
 struct OceanFields {
     std::size_t n = 0;  ///< N
-    std::span<const float> height;            ///< h (m)
-    std::span<const float> slope_x;  ///< ∂h/∂x, ∂h/∂y
-    std::span<const float> slope_y;  ///< ∂h/∂x, ∂h/∂y
-    std::span<const float> disp_x;  ///< D (m)
-    std::span<const float> disp_y;  ///< D (m)
-    std::span<const float> disp_xx;  ///< ∂Dx/∂x, ∂Dy/∂y
-    std::span<const float> disp_yy;  ///< ∂Dx/∂x, ∂Dy/∂y
-    std::span<const float> disp_xy;           ///< ∂Dx/∂y
+    OceanField height;   ///< h (m)
+    OceanField slope_x;  ///< ∂h/∂x
+    OceanField slope_y;  ///< ∂h/∂y
+    OceanField disp_x;   ///< Dx (m)
+    OceanField disp_y;   ///< Dy (m)
+    OceanField disp_xx;  ///< ∂Dx/∂x
+    OceanField disp_yy;  ///< ∂Dy/∂y
+    OceanField disp_xy;  ///< ∂Dx/∂y
 };
 
 /// FFTW plans (made once, from the wisdom libwave ships — FFTW_ESTIMATE where FFTW
@@ -643,12 +657,13 @@ private:
 };
 
 /// h̃(k, t) = h̃0(k) e^{−iωt} + conj(h̃0(−k)) e^{iωt} (eq. 26 with t → −t, so that h̃0(k)
-/// is the wave running along +k), then eight inverse real FFTs (in parallel, each one
-/// sequential: the result does not depend on the thread count). With a repeat time, t
-/// is taken modulo T first, so frame T·fps is bit-identical to frame 0.
+/// is the wave running along +k), then four inverse complex FFTs, each the transform of
+/// two real fields at once (the spectrum A + iB over the whole lattice gives a + ib; in
+/// parallel, each one sequential: the result does not depend on the thread count). With
+/// a repeat time, t is taken modulo T first, so frame T·fps is bit-identical to frame 0.
 OceanFields evaluate_ocean(const OceanPlan& plan, double t, OceanWorkspace& workspace);
 
-/// Only what the Jacobian needs (three transforms instead of eight): J₋ (eq. 32) of the
+/// Only what the Jacobian needs (two transforms instead of four): J₋ (eq. 32) of the
 /// map x → x − λD on the lattice, into `j_minus` (N² floats).
 void evaluate_ocean_jacobian(const OceanPlan& plan, double t, OceanWorkspace& workspace, std::span<float> j_minus);
 

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <mutex>
 #include <numbers>
+#include <utility>
 
 namespace wave {
 
@@ -24,44 +25,44 @@ std::mutex& planner_mutex() {
     return m;
 }
 
-// The inverse N² transform's plan, under the planner's lock. FFTW_ESTIMATE picks by a
-// model of the machine and FFTW_MEASURE by timing (fastest, but another plan, so other
-// bits, from run to run). The wisdom shipped with libwave holds, for every ocean
-// resolution, the plan FFTW's patient planner found once (bench/fftw_wisdom.cpp): every
-// run that finds it there computes the same bits, 1.7× faster at 1024² than the
-// estimate. An FFTW that cannot read it (another version) falls back to the estimate.
-// It is imported before every plan (~0.1 ms): a host that made FFTW forget its wisdom
-// still gets the same bits.
-fftwf_plan plan_inverse(std::size_t n, fftwf_complex* in, float* out) {
+// The inverse N² complex transform's plan (in place), under the planner's lock.
+// FFTW_ESTIMATE picks by a model of the machine and FFTW_MEASURE by timing (fastest,
+// but another plan, so other bits, from run to run). The wisdom shipped with libwave
+// holds, for every ocean resolution, the plan FFTW's patient planner found once
+// (bench/fftw_wisdom.cpp): every run that finds it there computes the same bits. An
+// FFTW that cannot read it (another version) falls back to the estimate. It is
+// imported before every plan (~0.1 ms): a host that made FFTW forget its wisdom still
+// gets the same bits.
+fftwf_plan plan_inverse(std::size_t n, fftwf_complex* data) {
     const bool imported = fftwf_import_wisdom_from_string(
 #include "ocean_fft_wisdom.inc"
                           ) != 0;
     const int size = static_cast<int>(n);
-    fftwf_plan plan = imported ? fftwf_plan_dft_c2r_2d(size, size, in, out, FFTW_MEASURE | FFTW_WISDOM_ONLY) : nullptr;
-    return plan ? plan : fftwf_plan_dft_c2r_2d(size, size, in, out, FFTW_ESTIMATE);
+    fftwf_plan plan = imported ? fftwf_plan_dft_2d(size, size, data, data, FFTW_BACKWARD, FFTW_MEASURE | FFTW_WISDOM_ONLY) : nullptr;
+    return plan ? plan : fftwf_plan_dft_2d(size, size, data, data, FFTW_BACKWARD, FFTW_ESTIMATE);
 }
 
-enum Field { kHeight, kSlopeX, kSlopeY, kDispX, kDispY, kDispXX, kDispYY, kDispXY, kFieldCount };
+// The eight real fields in four pairs, each pair one complex transform: the spectrum
+// A + iB of fields a, b transforms to a + ib (both real), so the output holds a and b
+// interleaved. The Jacobian's three fields are the first two pairs.
+enum Pair { kJacobianPair, kShearHeightPair, kSlopePair, kDisplacementPair, kPairCount };
 }  // namespace
 
 struct OceanWorkspace::Impl {
     std::size_t n = 0, half = 0;
-    fftwf_complex* spectrum[kFieldCount]{};
-    float* field[kFieldCount]{};
+    fftwf_complex* pair[kPairCount]{};  // N² each: a pair's spectrum, then (in place) its two fields
     fftwf_plan plan = nullptr;
     std::vector<std::complex<float>> phase_table;  // e^{−i m ω0 t} of the frame
     std::vector<std::complex<float>> h;            // h̃(k, t) of the frame
 
     explicit Impl(std::size_t size) : n(size), half(size / 2 + 1), h(size * (size / 2 + 1)) {
-        for (int f = 0; f < kFieldCount; ++f) {
-            spectrum[f] = fftwf_alloc_complex(n * half);
-            field[f] = fftwf_alloc_real(n * n);
-            if (!spectrum[f] || !field[f]) release(), throw RuntimeError("ocean: out of memory for the FFT buffers");
-            detail::advise_huge_pages(spectrum[f], n * half * sizeof(fftwf_complex));  // first touched by a frame
-            detail::advise_huge_pages(field[f], n * n * sizeof(float));
+        for (int f = 0; f < kPairCount; ++f) {
+            pair[f] = fftwf_alloc_complex(n * n);
+            if (!pair[f]) release(), throw RuntimeError("ocean: out of memory for the FFT buffers");
+            detail::advise_huge_pages(pair[f], n * n * sizeof(fftwf_complex));  // first touched by a frame
         }
         const std::lock_guard lock(planner_mutex());
-        plan = plan_inverse(n, spectrum[0], field[0]);
+        plan = plan_inverse(n, pair[0]);
         if (!plan) release(), throw RuntimeError("ocean: FFTW could not plan a " + std::to_string(n) + "² transform");
     }
     ~Impl() { release(); }
@@ -69,11 +70,9 @@ struct OceanWorkspace::Impl {
         const std::lock_guard lock(planner_mutex());
         if (plan) fftwf_destroy_plan(plan);
         plan = nullptr;
-        for (int f = 0; f < kFieldCount; ++f) {
-            fftwf_free(spectrum[f]);
-            fftwf_free(field[f]);
-            spectrum[f] = nullptr;
-            field[f] = nullptr;
+        for (int f = 0; f < kPairCount; ++f) {
+            fftwf_free(pair[f]);
+            pair[f] = nullptr;
         }
     }
 };
@@ -110,30 +109,49 @@ struct SpectrumChunk {
     const float* inv_k = nullptr;            // 1/|k|, 0 at k = 0
 };
 
-// One field's spectrum over a chunk, interleaved (re, im): a loop without calls or
-// branches per field, vectorised (core/vector_clones.h).
-LIBWAVE_VECTOR_CLONES void fill_spectrum(int field, const SpectrumChunk& c, float* __restrict out) {
+// One row of a pair's spectrum, interleaved (re, im): a loop without calls or branches
+// per pair, vectorised (core/vector_clones.h). Fields a, b have the spectra A = s_a h̃,
+// B = s_b h̃ (or i s_a h̃, i s_b h̃, as the equations write them) with real factors s of
+// k; their pair's spectrum C = A + iB = z h̃ with z = s_a + i s_b (or i z). C holds the
+// whole lattice: row j's columns [0, count) from h̃ there, and, for the columns
+// strictly between 0 and the Nyquist column, the mirror C(−k) = conj(A) + i conj(B) =
+// ±z conj(h̃) at column N − q of row −j (`mirror`, that row's start). Column 0's rows
+// j and −j are both in the half lattice; the Nyquist column and row are 0 (plan_ocean).
+LIBWAVE_VECTOR_CLONES void fill_pair_row(int pair, const SpectrumChunk& c, float* __restrict row, float* __restrict mirror,
+                                         float* __restrict scratch) {
     const float* __restrict kxs = c.kx;
     const float* __restrict h = reinterpret_cast<const float*>(c.h);
     const float* __restrict inverse_k = c.inv_k;
     const float ky = c.ky;
-    // out = factor(kx, 1/k) · h̃, or · i h̃ = (−Im h̃, Re h̃), as the equations write it
-    const auto fill = [&](bool times_i, auto factor) {
+    const std::size_t n = 2 * (c.count - 1);
+    // z(kx, 1/k) as (re, im); `sign` is +1 for fields of real factors (even in k), −1 for i·s (odd).
+    const auto fill = [&](float sign, auto z) {
         for (std::size_t q = 0; q < c.count; ++q) {
-            const float s = factor(kxs[q], inverse_k[q]);
-            out[2 * q] = s * (times_i ? -h[2 * q + 1] : h[2 * q]);
-            out[2 * q + 1] = s * (times_i ? h[2 * q] : h[2 * q + 1]);
+            const auto [zr, zi] = z(kxs[q], inverse_k[q]);
+            row[2 * q] = zr * h[2 * q] - zi * h[2 * q + 1];
+            row[2 * q + 1] = zr * h[2 * q + 1] + zi * h[2 * q];
+            scratch[2 * q] = sign * (zr * h[2 * q] + zi * h[2 * q + 1]);
+            scratch[2 * q + 1] = sign * (zi * h[2 * q] - zr * h[2 * q + 1]);
+        }
+        for (std::size_t col = c.count; col < n; ++col) {  // from q = N/2 − 1 down to 1
+            mirror[2 * col] = scratch[2 * (n - col)];
+            mirror[2 * col + 1] = scratch[2 * (n - col) + 1];
         }
     };
-    switch (field) {
-        case kHeight: fill(false, [](float, float) { return 1.0f; }); break;  // eq. 19
-        case kSlopeX: fill(true, [](float kx, float) { return kx; }); break;   // eq. 20
-        case kSlopeY: fill(true, [ky](float, float) { return ky; }); break;
-        case kDispX: fill(true, [](float kx, float inv_k) { return -kx * inv_k; }); break;  // eq. 29
-        case kDispY: fill(true, [ky](float, float inv_k) { return -ky * inv_k; }); break;
-        case kDispXX: fill(false, [](float kx, float inv_k) { return kx * kx * inv_k; }); break;  // ∂/∂x of eq. 29
-        case kDispYY: fill(false, [ky](float, float inv_k) { return ky * ky * inv_k; }); break;
-        default: fill(false, [ky](float kx, float inv_k) { return kx * ky * inv_k; }); break;
+    using Z = std::pair<float, float>;
+    switch (pair) {
+        case kJacobianPair:  // ∂/∂x of eq. 29's Dx, ∂/∂y of its Dy
+            fill(1.0f, [ky](float kx, float inv_k) { return Z{kx * kx * inv_k, ky * ky * inv_k}; });
+            break;
+        case kShearHeightPair:  // ∂Dx/∂y, and h (eq. 19)
+            fill(1.0f, [ky](float kx, float inv_k) { return Z{kx * ky * inv_k, 1.0f}; });
+            break;
+        case kSlopePair:  // eq. 20: i kx h̃, i ky h̃
+            fill(-1.0f, [ky](float kx, float) { return Z{-ky, kx}; });
+            break;
+        default:  // eq. 29: D = −i k/|k| h̃, both components
+            fill(-1.0f, [ky](float kx, float inv_k) { return Z{ky * inv_k, -kx * inv_k}; });
+            break;
     }
 }
 
@@ -181,37 +199,73 @@ void fill_h(const OceanPlan& plan, double t, OceanWorkspace::Impl& w) {
     });
 }
 
-// Fills the spectra of the fields in `fields` at time t and transforms them: h̃ once,
-// then each field's spectrum and its transform in one task, so that the spectrum is
-// still in cache when FFTW reads it (a frame's eight spectra together, 34 MB at 1024²,
-// were not).
-template <class Fields>
-void transform(const OceanPlan& plan, double t, OceanWorkspace::Impl& w, const Fields& fields) {
+// Fills the spectra of the pairs in `pairs` at time t and transforms them: h̃ once, then
+// each pair's spectrum and its transform in one task, so that the spectrum is still in
+// cache when FFTW reads it.
+template <class Pairs>
+void transform(const OceanPlan& plan, double t, OceanWorkspace::Impl& w, const Pairs& pairs) {
     const std::size_t n = plan.n, half = plan.half();
     fill_h(plan, t, w);
-    // One sequential fill and transform per field, the fields in parallel: bits
+    // One sequential fill and transform per pair, the pairs in parallel: bits
     // independent of threads.
-    tbb::parallel_for(std::size_t{0}, std::size(fields), [&](std::size_t q) {
-        const int f = fields[q];
+    tbb::parallel_for(std::size_t{0}, std::size(pairs), [&](std::size_t q) {
+        const int p = pairs[q];
+        float* out = reinterpret_cast<float*>(w.pair[p]);
+        std::vector<float> scratch(2 * half);  // a row's mirror, before it is written in reverse
         for (std::size_t j = 0; j < n; ++j) {
             const SpectrumChunk c{half, plan.kx.data(), plan.ky[j], w.h.data() + j * half, plan.inv_k.data() + j * half};
-            fill_spectrum(f, c, reinterpret_cast<float*>(w.spectrum[f] + j * half));
+            fill_pair_row(p, c, out + 2 * j * n, out + 2 * ((n - j) % n) * n, scratch.data());
         }
-        fftwf_execute_dft_c2r(w.plan, w.spectrum[f], w.field[f]);
+        fftwf_execute_dft(w.plan, w.pair[p], w.pair[p]);
     });
 }
 
-std::span<const float> view(const OceanWorkspace::Impl& w, int f) { return {w.field[f], w.n * w.n}; }
+// Field `second` (0: a, 1: b) of a pair's output.
+OceanField view(const OceanWorkspace::Impl& w, int pair, std::size_t second) {
+    return {reinterpret_cast<const float*>(w.pair[pair]) + second, 2, w.n * w.n};
+}
+
+// The four pairs' outputs, (a, b) interleaved, as evaluate_ocean lays the fields out —
+// the layout the lattice passes read (the Jacobian's two pairs alone unless `whole`);
+// `what` names the caller in the refusal.
+struct PairRows {
+    const float* jacobian;      // ∂Dx/∂x, ∂Dy/∂y
+    const float* shear_height;  // ∂Dx/∂y, h
+    const float* slope;         // ∂h/∂x, ∂h/∂y
+    const float* displacement;  // Dx, Dy
+};
+PairRows pair_rows(const OceanFields& f, const char* what, bool whole) {
+    const auto pair = [&](const OceanField& a, const OceanField& b) {
+        const std::size_t cells = f.n * f.n;
+        return a.data && a.stride == 2 && b.stride == 2 && b.data == a.data + 1 && a.count == cells && b.count == cells;
+    };
+    if (!pair(f.disp_xx, f.disp_yy) || !pair(f.disp_xy, f.height) || (whole && (!pair(f.slope_x, f.slope_y) || !pair(f.disp_x, f.disp_y))))
+        throw InputError(std::string("ocean: ") + what + " reads the fields as evaluate_ocean lays them out (pairs interleaved)");
+    return {f.disp_xx.data, f.disp_xy.data, f.slope_x.data, f.disp_x.data};
+}
 
 }  // namespace
 
+std::vector<float> OceanField::values() const {
+    std::vector<float> v(count);
+    for (std::size_t q = 0; q < count; ++q) v[q] = data[q * stride];
+    return v;
+}
+
 OceanFields evaluate_ocean(const OceanPlan& plan, double t, OceanWorkspace& ws) {
     check(plan, ws);
-    static constexpr int all[] = {kHeight, kSlopeX, kSlopeY, kDispX, kDispY, kDispXX, kDispYY, kDispXY};
+    static constexpr int all[] = {kJacobianPair, kShearHeightPair, kSlopePair, kDisplacementPair};
     auto& w = ws.impl();
     transform(plan, t, w, all);
-    return {plan.n,           view(w, kHeight), view(w, kSlopeX), view(w, kSlopeY), view(w, kDispX),
-            view(w, kDispY),  view(w, kDispXX), view(w, kDispYY), view(w, kDispXY)};
+    return {plan.n,
+            view(w, kShearHeightPair, 1),
+            view(w, kSlopePair, 0),
+            view(w, kSlopePair, 1),
+            view(w, kDisplacementPair, 0),
+            view(w, kDisplacementPair, 1),
+            view(w, kJacobianPair, 0),
+            view(w, kJacobianPair, 1),
+            view(w, kShearHeightPair, 0)};
 }
 
 OceanJacobian ocean_jacobian(double dxx, double dyy, double dxy, double lambda) noexcept {
@@ -235,14 +289,15 @@ OceanJacobian ocean_jacobian(double dxx, double dyy, double dxy, double lambda) 
 void evaluate_ocean_jacobian(const OceanPlan& plan, double t, OceanWorkspace& ws, std::span<float> j_minus) {
     check(plan, ws);
     if (j_minus.size() != plan.n * plan.n) throw InputError("ocean: j_minus must hold N² values");
-    static constexpr int three[] = {kDispXX, kDispYY, kDispXY};
+    static constexpr int two[] = {kJacobianPair, kShearHeightPair};
     auto& w = ws.impl();
-    transform(plan, t, w, three);
+    transform(plan, t, w, two);
     OceanFields f;
     f.n = plan.n;
-    f.disp_xx = view(w, kDispXX);
-    f.disp_yy = view(w, kDispYY);
-    f.disp_xy = view(w, kDispXY);
+    f.disp_xx = view(w, kJacobianPair, 0);
+    f.disp_yy = view(w, kJacobianPair, 1);
+    f.disp_xy = view(w, kShearHeightPair, 0);
+    f.height = view(w, kShearHeightPair, 1);
     ocean_jacobian_field(plan, f, j_minus);
 }
 
@@ -257,10 +312,11 @@ struct FloatJacobian {
     float minus() const { return 0.5f * (xx + yy) - 0.5f * std::sqrt((xx - yy) * (xx - yy) + 4.0f * xy * xy); }
 };
 
-LIBWAVE_VECTOR_CLONES void j_minus_row(const float* __restrict dxx, const float* __restrict dyy,
-                                       const float* __restrict dxy, std::size_t count, float lambda,
-                                       float* __restrict out) {
-    for (std::size_t i = 0; i < count; ++i) out[i] = FloatJacobian(lambda, dxx[i], dyy[i], dxy[i]).minus();
+// J₋ from a row of the Jacobian's pair (∂Dx/∂x, ∂Dy/∂y) and of (∂Dx/∂y, h).
+LIBWAVE_VECTOR_CLONES void j_minus_row(const float* __restrict jacobian, const float* __restrict shear, std::size_t count,
+                                       float lambda, float* __restrict out) {
+    for (std::size_t i = 0; i < count; ++i)
+        out[i] = FloatJacobian(lambda, jacobian[2 * i], jacobian[2 * i + 1], shear[2 * i]).minus();
 }
 
 }  // namespace
@@ -268,39 +324,36 @@ LIBWAVE_VECTOR_CLONES void j_minus_row(const float* __restrict dxx, const float*
 void ocean_jacobian_field(const OceanPlan& plan, const OceanFields& f, std::span<float> j_minus) {
     const std::size_t n = plan.n;
     if (f.n != n || j_minus.size() != n * n) throw InputError("ocean: j_minus must hold N² values");
+    const PairRows in = pair_rows(f, "ocean_jacobian_field", false);
     const auto lambda = static_cast<float>(plan.choppiness);
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t j) {
         const std::size_t i = j * n;
-        j_minus_row(f.disp_xx.data() + i, f.disp_yy.data() + i, f.disp_xy.data() + i, n, lambda, j_minus.data() + i);
+        j_minus_row(in.jacobian + 2 * i, in.shear_height + 2 * i, n, lambda, j_minus.data() + i);
     });
 }
 
 namespace {
 
-// One row of ocean_patch_frame's lattice: its fields from `in` on.
-struct PatchRow {
-    const float *height, *slope_x, *slope_y, *disp_x, *disp_y, *disp_xx, *disp_yy, *disp_xy;
-};
-
-// `count` vertices of a row from column `col0` on: positions (in double, then rounded),
-// exact normals and (when jm is not null) J₋ (in float: eight lanes of roots and
-// divisions instead of four). A loop without calls or branches, vectorised
-// (core/vector_clones.h).
-LIBWAVE_VECTOR_CLONES void patch_row(const PatchRow& f, std::size_t count, double d, double row, double lambda,
+// `count` vertices of a row from column `col0` on, its pairs from `in` on: positions
+// (in double, then rounded), exact normals and (when jm is not null) J₋ (in float: eight
+// lanes of roots and divisions instead of four). A loop without calls or branches,
+// vectorised (core/vector_clones.h); each pair read as one interleaved stream.
+LIBWAVE_VECTOR_CLONES void patch_row(const PairRows& in, std::size_t count, double d, double row, double lambda,
                                      float* __restrict positions, float* __restrict normals, float* __restrict jm,
                                      std::size_t col0 = 0) {
-    const float *__restrict height = f.height, *__restrict sx = f.slope_x, *__restrict sy = f.slope_y;
-    const float *__restrict dx = f.disp_x, *__restrict dy = f.disp_y;
-    const float *__restrict dxx = f.disp_xx, *__restrict dyy = f.disp_yy, *__restrict dxy = f.disp_xy;
+    const float *__restrict jac = in.jacobian, *__restrict sh = in.shear_height;
+    const float *__restrict slope = in.slope, *__restrict disp = in.displacement;
     const int first = static_cast<int>(col0);  // int: its conversion to double vectorises (N ≤ 4096)
     const auto l = static_cast<float>(lambda);
     for (std::size_t c = 0; c < count; ++c) {
-        positions[3 * c] = static_cast<float>(d * static_cast<double>(first + static_cast<int>(c)) - lambda * dx[c]);
-        positions[3 * c + 1] = static_cast<float>(d * row - lambda * dy[c]);
-        positions[3 * c + 2] = height[c];
+        const std::size_t q = 2 * c;
+        const float dx = disp[q], dy = disp[q + 1], sx = slope[q], sy = slope[q + 1], height = sh[q + 1];
+        positions[3 * c] = static_cast<float>(d * static_cast<double>(first + static_cast<int>(c)) - lambda * dx);
+        positions[3 * c + 1] = static_cast<float>(d * row - lambda * dy);
+        positions[3 * c + 2] = height;
         // ∂P/∂x0 = (Jxx, Jxy, ∂h/∂x), ∂P/∂y0 = (Jxy, Jyy, ∂h/∂y): their cross product.
-        const FloatJacobian J(l, dxx[c], dyy[c], dxy[c]);
-        const float nx = J.xy * sy[c] - sx[c] * J.yy, ny = sx[c] * J.xy - J.xx * sy[c], nz = J.xx * J.yy - J.xy * J.xy;
+        const FloatJacobian J(l, jac[q], jac[q + 1], sh[q]);
+        const float nx = J.xy * sy - sx * J.yy, ny = sx * J.xy - J.xx * sy, nz = J.xx * J.yy - J.xy * J.xy;
         const float len = std::sqrt(nx * nx + ny * ny + nz * nz);
         const float inv = len > 0.0f ? 1.0f / len : 0.0f;
         normals[3 * c] = nx * inv;
@@ -308,28 +361,27 @@ LIBWAVE_VECTOR_CLONES void patch_row(const PatchRow& f, std::size_t count, doubl
         normals[3 * c + 2] = len > 0.0f ? nz * inv : 1.0f;
     }
     if (!jm) return;
-    for (std::size_t c = 0; c < count; ++c) jm[c] = FloatJacobian(l, dxx[c], dyy[c], dxy[c]).minus();
+    for (std::size_t c = 0; c < count; ++c) jm[c] = FloatJacobian(l, jac[2 * c], jac[2 * c + 1], sh[2 * c]).minus();
 }
 
 // Row `row` of the (N+1)² lattice into p, nr, jm (that row's own storage).
-void patch_lattice_row(const OceanPlan& plan, const OceanFields& f, std::size_t row, float* p, float* nr, float* jm) {
+void patch_lattice_row(const OceanPlan& plan, const PairRows& pairs, std::size_t row, float* p, float* nr, float* jm) {
     const std::size_t n = plan.n;
     const double d = plan.spacing(), lambda = plan.choppiness;
-    const std::size_t src = (row == n ? 0 : row) * n;  // the last row repeats the first
-    const PatchRow in{f.height.data() + src,  f.slope_x.data() + src, f.slope_y.data() + src,
-                      f.disp_x.data() + src,  f.disp_y.data() + src,  f.disp_xx.data() + src,
-                      f.disp_yy.data() + src, f.disp_xy.data() + src};
+    const std::size_t src = 2 * (row == n ? 0 : row) * n;  // the last row repeats the first
+    const PairRows in{pairs.jacobian + src, pairs.shear_height + src, pairs.slope + src, pairs.displacement + src};
     patch_row(in, n, d, static_cast<double>(row), lambda, p, nr, jm);
     // the last column repeats the first (its x one patch further)
     patch_row(in, 1, d, static_cast<double>(row), lambda, p + 3 * n, nr + 3 * n, jm ? jm + n : nullptr, n);
 }
 
-void check_patch(const OceanPlan& plan, const OceanFields& f, std::size_t rows, std::span<float> positions,
-                 std::span<float> normals, std::span<float> j_minus) {
+PairRows check_patch(const OceanPlan& plan, const OceanFields& f, std::size_t rows, std::span<float> positions,
+                     std::span<float> normals, std::span<float> j_minus) {
     const std::size_t side = plan.n + 1, count = rows * side;
     if (f.n != plan.n || positions.size() != 3 * count || normals.size() != 3 * count ||
         (!j_minus.empty() && j_minus.size() != count))
         throw InputError("ocean: the patch frame needs (N+1) vertices a row: 3 floats each for positions and normals");
+    return pair_rows(f, "the patch", true);
 }
 
 }  // namespace
@@ -337,9 +389,9 @@ void check_patch(const OceanPlan& plan, const OceanFields& f, std::size_t rows, 
 void ocean_patch_frame(const OceanPlan& plan, const OceanFields& f, std::span<float> positions,
                        std::span<float> normals, std::span<float> j_minus) {
     const std::size_t side = plan.n + 1;
-    check_patch(plan, f, side, positions, normals, j_minus);
+    const PairRows pairs = check_patch(plan, f, side, positions, normals, j_minus);
     tbb::parallel_for(std::size_t{0}, side, [&](std::size_t row) {
-        patch_lattice_row(plan, f, row, positions.data() + 3 * row * side, normals.data() + 3 * row * side,
+        patch_lattice_row(plan, pairs, row, positions.data() + 3 * row * side, normals.data() + 3 * row * side,
                           j_minus.empty() ? nullptr : j_minus.data() + row * side);
     });
 }
@@ -350,9 +402,9 @@ void ocean_patch_rows(const OceanPlan& plan, const OceanFields& f, std::size_t f
     if (first_row > side || rows > side - first_row)
         throw InputError("ocean: rows " + std::to_string(first_row) + " + " + std::to_string(rows) + " beyond the patch's " +
                          std::to_string(side));
-    check_patch(plan, f, rows, positions, normals, j_minus);
+    const PairRows pairs = check_patch(plan, f, rows, positions, normals, j_minus);
     for (std::size_t r = 0; r < rows; ++r)
-        patch_lattice_row(plan, f, first_row + r, positions.data() + 3 * r * side, normals.data() + 3 * r * side,
+        patch_lattice_row(plan, pairs, first_row + r, positions.data() + 3 * r * side, normals.data() + 3 * r * side,
                           j_minus.empty() ? nullptr : j_minus.data() + r * side);
 }
 
@@ -392,7 +444,8 @@ Taps periodic_taps(std::size_t n, double spacing, double x, double y) noexcept {
     return t;
 }
 
-double tap_sum(const Taps& t, std::span<const float> field) noexcept {
+template <class Field>
+double tap_sum(const Taps& t, const Field& field) noexcept {
     double s = 0.0;
     for (int q = 0; q < 16; ++q) s += t.weight[q] * field[t.index[q]];
     return s;
@@ -403,8 +456,12 @@ double tap_sum(const Taps& t, std::span<const float> field) noexcept {
 void add_ocean_samples(const OceanPlan& plan, const OceanFields& f, std::span<const double> x, std::span<const double> y,
                        std::span<const float> scale, std::span<float> positions) {
     const std::size_t count = x.size();
+    const std::size_t cells = plan.n * plan.n;
     if (f.n != plan.n || y.size() != count || positions.size() != 3 * count || (!scale.empty() && scale.size() != count))
         throw InputError("ocean: add_ocean_samples needs x, y (and scale) per vertex and 3 floats of positions per vertex");
+    if (!f.disp_x.data || !f.disp_y.data || !f.height.data || f.disp_x.size() != cells || f.disp_y.size() != cells ||
+        f.height.size() != cells)
+        throw InputError("ocean: add_ocean_samples needs the frame's fields of N² values");
     const double lambda = plan.choppiness, d = plan.spacing();
     tbb::parallel_for(std::size_t{0}, count, [&](std::size_t v) {
         const double s = scale.empty() ? 1.0 : static_cast<double>(scale[v]);

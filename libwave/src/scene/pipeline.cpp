@@ -722,10 +722,10 @@ RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double plann
     // Draco's encoder holds ~650 B a vertex while it compresses a frame (measured: the
     // open ocean, the Okushiri coast).
     // A run's own state beside the plan: the normals' vertex–face adjacency (~32 B a
-    // vertex) and, with an FFT ocean, its transform buffers (8 spectra and fields and
-    // the frame's h̃: ~72 B a lattice cell).
+    // vertex) and, with an FFT ocean, its transform buffers (4 pairs' complex N² and
+    // the frame's h̃: ~40 B a lattice cell).
     const double lattice = static_cast<double>(plan.ocean.n) * static_cast<double>(plan.ocean.n);
-    const double run_state = 32.0 * n + 72.0 * lattice;
+    const double run_state = 32.0 * n + 40.0 * lattice;
     const double base = planned + 12e6 + run_state + (fine ? 96.0 * n : 0.0) + caustic_work + (scene.draco ? 650.0 * n : 0.0);
     // The ray strips' PLY, written when the frames are done: their OpenMesh TriMesh and
     // the file's bytes (~400 B a strip vertex, measured on Gonzato's island).
