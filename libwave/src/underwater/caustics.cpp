@@ -3,6 +3,7 @@
 #include "libwave/underwater.h"
 
 #include "core/format.h"
+#include "core/vector_clones.h"
 #include "libwave/errors.h"
 
 #include <png.h>
@@ -72,23 +73,28 @@ double ramp_share(double i, double x0, double x1, double inverse) noexcept {
 // from pixel to pixel to `acc` (a row of width + 2 per map row of the band); a prefix
 // sum along each row then gives every pixel's covered area times the weight. Work is
 // proportional to the edges' lengths in pixels, not to the area they enclose.
-void add_edge(double ua, double va, double ub, double vb, double weight, std::size_t width, std::size_t row0,
-              std::size_t rows, std::span<double> acc) noexcept {
+[[gnu::always_inline]] inline void add_edge(double ua, double va, double ub, double vb, double weight, std::size_t width,
+                                            std::size_t row0, std::size_t rows, std::span<double> acc) noexcept {
     if (va == vb) return;
     const double dir = va < vb ? weight : -weight;
     if (va > vb) std::swap(ua, ub), std::swap(va, vb);
-    const double dudv = (ub - ua) / (vb - va), end_row = static_cast<double>(row0 + rows);
+    const double dudv = (ub - ua) / (vb - va), end_row = std::min(vb, static_cast<double>(row0 + rows));
     const double per_x = dudv != 0.0 ? dir / std::abs(dudv) : 0.0;  // the edge's signed height per unit of x
-    const std::size_t stride = width + 2;
-    for (double j = std::max(std::floor(va), static_cast<double>(row0)); j < end_row && j < vb; j += 1.0) {
-        const double top = std::max(va, j), bottom = std::min(vb, j + 1.0);
+    const auto stride = static_cast<std::ptrdiff_t>(width + 2);
+    // Rows, columns and their offsets as signed integers (one conversion instruction
+    // each, where an unsigned one branches); every index below is within the band's rows
+    // and the row's width + 2 slots.
+    double* const band = acc.data() - static_cast<std::ptrdiff_t>(row0) * stride;
+    const double limit = static_cast<double>(width);
+    for (auto j = static_cast<std::ptrdiff_t>(std::max(std::floor(va), static_cast<double>(row0))); static_cast<double>(j) < end_row; ++j) {
+        const double top = std::max(va, static_cast<double>(j)), bottom = std::min(vb, static_cast<double>(j) + 1.0);
         if (bottom <= top) continue;
         const double xa = ua + (top - va) * dudv, xb = ua + (bottom - va) * dudv;
         const double x0 = std::min(xa, xb), x1 = std::max(xa, xb), d = dir * (bottom - top);
-        double* row = &acc[(static_cast<std::size_t>(j) - row0) * stride];
+        double* row = band + j * stride;
         // c(i) = d · ramp_share(i): the edge's share of pixel i; 0 left of x0, d right of x1.
-        const double first = std::floor(x0), last = std::floor(x1), limit = static_cast<double>(width);
-        const auto at = [&](double i) -> double& { return row[static_cast<std::size_t>(std::max(i, 0.0))]; };  // left of the map: pixel 0's sum
+        const double first = std::floor(x0), last = std::floor(x1);
+        const auto at = [&](double i) -> double& { return row[static_cast<std::ptrdiff_t>(std::max(i, 0.0))]; };  // left of the map: pixel 0's sum
         if (first >= limit) continue;
         if (first >= 0.0 && last < limit) {
             // On the map: the row's piece of the edge split at each column border, each
@@ -98,14 +104,14 @@ void add_edge(double ua, double va, double ub, double vb, double weight, std::si
             // has no height per unit of x), and the last part takes the rest, so that the
             // row adds d in all. One path for every piece, without branches for the
             // common one and two columns.
-            double* cell = row + static_cast<std::size_t>(first);
-            const auto span = static_cast<std::size_t>(last - first);
+            double* cell = row + static_cast<std::ptrdiff_t>(first);
+            const auto span = static_cast<std::ptrdiff_t>(last - first);
             const double right = std::min(x1, first + 1.0), d0 = span == 0 ? d : per_x * (right - x0);
             const double c0 = d0 * (first + 1.0 - 0.5 * (x0 + right));
             cell[0] += c0;
             cell[1] += d0 - c0;
             double used = d0;
-            for (std::size_t k = 1; k < span; ++k) {  // whole columns: half in theirs, half in the next
+            for (std::ptrdiff_t k = 1; k < span; ++k) {  // whole columns: half in theirs, half in the next
                 cell[k] += 0.5 * per_x;
                 cell[k + 1] += 0.5 * per_x;
                 used += per_x;
@@ -134,6 +140,43 @@ void add_edge(double ua, double va, double ub, double vb, double weight, std::si
             const double c = i > last ? d : d * ramp_share(i, x0, x1, inverse);
             at(i) += c - previous;
             previous = c;
+        }
+    }
+}
+
+// One band of map rows: the items filed in it — each edge, weighted by the difference of
+// its two triangles' densities, and each triangle whose flux goes into one pixel —
+// accumulated into `acc` (a row of width + 2 differences per map row), then summed along
+// each row into the band's irradiance. Compiled for AVX2 too (core/vector_clones.h): its
+// floors are one instruction there, with the same bits.
+struct Band {
+    std::span<const std::uint32_t> items;  // ascending: edges, then triangles (index − edges)
+    std::span<const std::uint32_t> edges;  // the mesh's (from, to, left triangle, right triangle or kNone)
+    std::span<const double> hit, density, direct;
+    std::span<const std::uint32_t> direct_pixel;
+    std::size_t width = 0, row0 = 0, rows = 0;
+    double per_area = 0.0;  // 1 / a pixel's area (m²)
+};
+LIBWAVE_VECTOR_CLONES void accumulate_band(const Band& b, std::span<double> acc, float* irradiance) {
+    const std::size_t width = b.width, stride = width + 2, ne = b.edges.size() / 4;
+    std::fill(acc.begin(), acc.end(), 0.0);
+    for (const std::uint32_t i : b.items) {
+        if (i < ne) {
+            const std::uint32_t from = b.edges[4 * i], to = b.edges[4 * i + 1], back = b.edges[4 * i + 3];
+            const double weight = b.density[b.edges[4 * i + 2]] - (back == CausticMesh::kNone ? 0.0 : b.density[back]);
+            add_edge(b.hit[2 * from], b.hit[2 * from + 1], b.hit[2 * to], b.hit[2 * to + 1], weight, width, b.row0, b.rows, acc);
+        } else {
+            const std::size_t pixel = b.direct_pixel[i - ne];
+            double* cell = &acc[(pixel / width - b.row0) * stride + pixel % width];
+            cell[0] += b.direct[i - ne];
+            cell[1] -= b.direct[i - ne];
+        }
+    }
+    for (std::size_t j = 0; j < b.rows; ++j) {
+        double sum = 0.0;
+        for (std::size_t i = 0; i < width; ++i) {
+            sum += acc[j * stride + i];
+            irradiance[j * width + i] = static_cast<float>(std::max(0.0, sum) * b.per_area);
         }
     }
 }
@@ -594,26 +637,10 @@ void evaluate_caustics(const CausticPlan& plan, const CausticMesh& mesh, std::sp
         std::vector<double> acc(kBandRows * stride);
         for (std::size_t band = r.begin(); band != r.end(); ++band) {
             const std::size_t row0 = band * kBandRows, rows = std::min(kBandRows, height - row0);
-            std::fill(acc.begin(), acc.end(), 0.0);
-            for (std::size_t e = w.band_offsets[band]; e < w.band_offsets[band + 1]; ++e) {
-                const std::size_t i = w.band_items[e];
-                if (i < ne) {
-                    const std::uint32_t a = mesh.edges[4 * i], b = mesh.edges[4 * i + 1];
-                    add_edge(w.hit[2 * a], w.hit[2 * a + 1], w.hit[2 * b], w.hit[2 * b + 1], edge_weight(i), width, row0, rows, acc);
-                } else {
-                    const std::size_t pixel = w.direct_pixel[i - ne];
-                    double* cell = &acc[(pixel / width - row0) * stride + pixel % width];
-                    cell[0] += w.direct[i - ne];
-                    cell[1] -= w.direct[i - ne];
-                }
-            }
-            for (std::size_t j = 0; j < rows; ++j) {
-                double sum = 0.0;
-                for (std::size_t i = 0; i < width; ++i) {
-                    sum += acc[j * stride + i];
-                    irradiance[(row0 + j) * width + i] = static_cast<float>(std::max(0.0, sum) * per_area);
-                }
-            }
+            const std::span<const std::uint32_t> filed_here(w.band_items.data() + w.band_offsets[band],
+                                                            w.band_offsets[band + 1] - w.band_offsets[band]);
+            accumulate_band(Band{filed_here, mesh.edges, w.hit, w.density, w.direct, w.direct_pixel, width, row0, rows, per_area}, acc,
+                            irradiance.data() + row0 * width);
         }
     });
     if (plan.options.flat_water_beyond) add_light_from_beyond(plan, irradiance);
