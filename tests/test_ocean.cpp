@@ -403,6 +403,27 @@ TEST(OceanFft, PatchRowsAreTheFrameBitForBit) {
     EXPECT_THROW(ocean_patch_rows(p, f, side, 1, one, one, j_one), InputError);       // beyond the last row
     EXPECT_THROW(ocean_patch_rows(p, f, 0, 2, one, one, j_one), InputError);          // spans for one row
     EXPECT_NO_THROW(ocean_patch_rows(p, f, side - 1, 1, one, std::span<float>(nrm2).first(3 * side), {}));
+    // Fields not laid out as evaluate_ocean lays them (its pairs interleaved) are
+    // refused, not read out of step: contiguous copies, or the pairs' partners swapped.
+    const std::vector<float> height = f.height.values(), dxx = f.disp_xx.values();
+    OceanFields contiguous = f;
+    contiguous.height = {height.data(), 1, height.size()};
+    std::vector<float> whole_p(3 * side * side), whole_n(3 * side * side), whole_j(side * side), lattice_j(p.n * p.n);
+    EXPECT_THROW(ocean_patch_frame(p, contiguous, whole_p, whole_n, whole_j), InputError);
+    EXPECT_THROW(ocean_jacobian_field(p, contiguous, lattice_j), InputError);
+    OceanFields swapped = f;
+    std::swap(swapped.disp_xx, swapped.disp_yy);
+    EXPECT_THROW(ocean_patch_rows(p, swapped, 0, 1, one, std::span<float>(nrm2).first(3 * side), {}), InputError);
+    EXPECT_THROW(ocean_jacobian_field(p, swapped, lattice_j), InputError);
+    OceanFields only_jacobian;  // what evaluate_ocean_jacobian makes: its two pairs, enough for J₋
+    only_jacobian.n = f.n;
+    only_jacobian.disp_xx = f.disp_xx, only_jacobian.disp_yy = f.disp_yy, only_jacobian.disp_xy = f.disp_xy;
+    only_jacobian.height = f.height;
+    EXPECT_NO_THROW(ocean_jacobian_field(p, only_jacobian, lattice_j));
+    EXPECT_THROW(ocean_patch_frame(p, only_jacobian, whole_p, whole_n, whole_j), InputError);
+    contiguous = f;
+    contiguous.disp_xx = {dxx.data(), 1, dxx.size()};
+    EXPECT_THROW(ocean_jacobian_field(p, contiguous, lattice_j), InputError);
 }
 
 TEST(OceanFft, SlopesAndNormalsAreExact) {

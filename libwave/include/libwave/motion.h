@@ -682,6 +682,8 @@ OceanJacobian ocean_jacobian(double dxx, double dyy, double dxy, double choppine
 /// seam). Positions (x − λDx, y − λDy, h), normals exact from the FFT slopes and
 /// displacement derivatives (the cross product of the two tangents of the displaced
 /// surface: (−∂h/∂x, −∂h/∂y, 1) without chop), J₋ per vertex. Parallel over rows.
+/// Reads the fields as evaluate_ocean lays them out (its pairs interleaved; InputError
+/// otherwise), as do ocean_patch_rows and ocean_jacobian_field.
 void ocean_patch_frame(const OceanPlan& plan, const OceanFields& fields, std::span<float> positions,
                        std::span<float> normals, std::span<float> j_minus);
 

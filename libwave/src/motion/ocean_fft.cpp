@@ -51,12 +51,14 @@ enum Pair { kJacobianPair, kShearHeightPair, kSlopePair, kDisplacementPair, kPai
 struct OceanWorkspace::Impl {
     std::size_t n = 0, half = 0;
     fftwf_complex* pair[kPairCount]{};  // N² each: a pair's spectrum, then (in place) its two fields
+    std::vector<float> mirror[kPairCount];  // a spectrum row's mirror, before it is written in reverse
     fftwf_plan plan = nullptr;
     std::vector<std::complex<float>> phase_table;  // e^{−i m ω0 t} of the frame
     std::vector<std::complex<float>> h;            // h̃(k, t) of the frame
 
     explicit Impl(std::size_t size) : n(size), half(size / 2 + 1), h(size * (size / 2 + 1)) {
         for (int f = 0; f < kPairCount; ++f) {
+            mirror[f].resize(2 * half);
             pair[f] = fftwf_alloc_complex(n * n);
             if (!pair[f]) release(), throw RuntimeError("ocean: out of memory for the FFT buffers");
             detail::advise_huge_pages(pair[f], n * n * sizeof(fftwf_complex));  // first touched by a frame
@@ -211,10 +213,9 @@ void transform(const OceanPlan& plan, double t, OceanWorkspace::Impl& w, const P
     tbb::parallel_for(std::size_t{0}, std::size(pairs), [&](std::size_t q) {
         const int p = pairs[q];
         float* out = reinterpret_cast<float*>(w.pair[p]);
-        std::vector<float> scratch(2 * half);  // a row's mirror, before it is written in reverse
         for (std::size_t j = 0; j < n; ++j) {
             const SpectrumChunk c{half, plan.kx.data(), plan.ky[j], w.h.data() + j * half, plan.inv_k.data() + j * half};
-            fill_pair_row(p, c, out + 2 * j * n, out + 2 * ((n - j) % n) * n, scratch.data());
+            fill_pair_row(p, c, out + 2 * j * n, out + 2 * ((n - j) % n) * n, w.mirror[p].data());
         }
         fftwf_execute_dft(w.plan, w.pair[p], w.pair[p]);
     });
