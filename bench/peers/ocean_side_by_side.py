@@ -28,7 +28,7 @@ times = {b["run_name"].replace("/real_time", ""): b["real_time"] for b in json.l
          if b.get("aggregate_name") == "median"}
 for grid in sorted(peer):
     floor = times[f"BM_fftw_floor/{grid}/1"]  # the eight real transforms, patient plans (bench/fftw_floor_wisdom.inc)
-    packed = times[f"BM_fftw_packed_floor/{grid}"]  # the four complex transforms a frame computes now
+    packed = times[f"BM_fftw_packed_floor/{grid}/1"]  # the four complex transforms a frame computes now
     estimate = times[f"BM_fftw_floor/{grid}/0"]
     surface = times[f"BM_ocean_surface_frame/{grid}"]
     line = (f"grid {grid}²: Blender {peer[grid]:.1f} ms/frame (rounds {rounds[grid]}); libwave surface frame {surface:.2f} ms "
