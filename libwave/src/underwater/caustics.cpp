@@ -84,14 +84,14 @@ double ramp_share(double i, double x0, double x1, double inverse) noexcept {
     // Rows, columns and their offsets as signed integers (one conversion instruction
     // each, where an unsigned one branches); every index below is within the band's rows
     // and the row's width + 2 slots.
-    double* const band = acc.data() - static_cast<std::ptrdiff_t>(row0) * stride;
+    const auto first_row = static_cast<std::ptrdiff_t>(row0);
     const double limit = static_cast<double>(width);
     for (auto j = static_cast<std::ptrdiff_t>(std::max(std::floor(va), static_cast<double>(row0))); static_cast<double>(j) < end_row; ++j) {
         const double top = std::max(va, static_cast<double>(j)), bottom = std::min(vb, static_cast<double>(j) + 1.0);
         if (bottom <= top) continue;
         const double xa = ua + (top - va) * dudv, xb = ua + (bottom - va) * dudv;
         const double x0 = std::min(xa, xb), x1 = std::max(xa, xb), d = dir * (bottom - top);
-        double* row = band + j * stride;
+        double* row = acc.data() + (j - first_row) * stride;
         // c(i) = d · ramp_share(i): the edge's share of pixel i; 0 left of x0, d right of x1.
         const double first = std::floor(x0), last = std::floor(x1);
         const auto at = [&](double i) -> double& { return row[static_cast<std::ptrdiff_t>(std::max(i, 0.0))]; };  // left of the map: pixel 0's sum
