@@ -144,6 +144,13 @@ double ramp_share(double i, double x0, double x1, double inverse) noexcept {
     }
 }
 
+// Edge e's weight: the density of the triangle on its left less that on its right (0
+// where it borders the mesh).
+double edge_weight(std::span<const std::uint32_t> edges, std::span<const double> density, std::size_t e) noexcept {
+    const std::uint32_t back = edges[4 * e + 3];
+    return density[edges[4 * e + 2]] - (back == CausticMesh::kNone ? 0.0 : density[back]);
+}
+
 // One band of map rows: the items filed in it — each edge, weighted by the difference of
 // its two triangles' densities, and each triangle whose flux goes into one pixel —
 // accumulated into `acc` (a row of width + 2 differences per map row), then summed along
@@ -162,9 +169,9 @@ LIBWAVE_VECTOR_CLONES void accumulate_band(const Band& b, std::span<double> acc,
     std::fill(acc.begin(), acc.end(), 0.0);
     for (const std::uint32_t i : b.items) {
         if (i < ne) {
-            const std::uint32_t from = b.edges[4 * i], to = b.edges[4 * i + 1], back = b.edges[4 * i + 3];
-            const double weight = b.density[b.edges[4 * i + 2]] - (back == CausticMesh::kNone ? 0.0 : b.density[back]);
-            add_edge(b.hit[2 * from], b.hit[2 * from + 1], b.hit[2 * to], b.hit[2 * to + 1], weight, width, b.row0, b.rows, acc);
+            const std::uint32_t from = b.edges[4 * i], to = b.edges[4 * i + 1];
+            add_edge(b.hit[2 * from], b.hit[2 * from + 1], b.hit[2 * to], b.hit[2 * to + 1], edge_weight(b.edges, b.density, i),
+                     width, b.row0, b.rows, acc);
         } else {
             const std::size_t pixel = b.direct_pixel[i - ne];
             double* cell = &acc[(pixel / width - b.row0) * stride + pixel % width];
@@ -590,10 +597,6 @@ void evaluate_caustics(const CausticPlan& plan, const CausticMesh& mesh, std::sp
     // Every item's bands — each edge, and each triangle whose flux goes into one pixel —
     // then a counting sort of the items into bands, by fixed chunks of items: each band
     // lists its items in item order, so every pixel sums its shares in one order.
-    const auto edge_weight = [&](std::size_t e) {
-        const std::uint32_t back = mesh.edges[4 * e + 3];
-        return w.density[mesh.edges[4 * e + 2]] - (back == CausticMesh::kNone ? 0.0 : w.density[back]);
-    };
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t c = r.begin(); c != r.end(); ++c) {
             std::uint32_t* count = &w.chunk_counts[c * bands];
@@ -601,7 +604,7 @@ void evaluate_caustics(const CausticPlan& plan, const CausticMesh& mesh, std::sp
                 std::pair<std::uint32_t, std::uint32_t> range{1, 0};
                 if (i < ne) {
                     const std::uint32_t a = mesh.edges[4 * i], b = mesh.edges[4 * i + 1];
-                    range = edge_bands(w.hit[2 * a], w.hit[2 * a + 1], w.hit[2 * b], w.hit[2 * b + 1], edge_weight(i), width, height);
+                    range = edge_bands(w.hit[2 * a], w.hit[2 * a + 1], w.hit[2 * b], w.hit[2 * b + 1], edge_weight(mesh.edges, w.density, i), width, height);
                 } else if (w.direct[i - ne] > 0.0) {
                     range.first = range.second = static_cast<std::uint32_t>(w.direct_pixel[i - ne] / width / kBandRows);
                 }
