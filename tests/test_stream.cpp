@@ -7,7 +7,10 @@
 #include "libwave/scene.h"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -76,6 +79,52 @@ TEST(AnimationStream, ChunksEqualTheWholeRangeBitForBit) {
     EXPECT_EQ(at, 7u);
     EXPECT_EQ(stream.frames_left(), 0u);
     EXPECT_THROW(AnimationStream(b.scene, b.plan, FrameRange{500, 501}), InputError);
+}
+
+// Below 2^18 vertices a chunk's frames run side by side, each lane on a run of its own
+// (model state, FFT workspace, fold-foam samples; docs/motion.md "Frames side by
+// side"). A frame must compute the same bits on any lane as one after another on one
+// thread: the default bay (untangled strips, breaking foam) and an FFT ocean whose
+// fold foam fades over past lattice times that each lane samples for itself.
+TEST(AnimationStream, FramesSideBySideEqualFramesOneAfterAnother) {
+    Scene bay = default_scene();
+    bay.quantize = false;
+    Scene ocean = parse_scene(R"({"surface": {"kind": "ocean"}, "animation": {"fps": 12},
+      "ocean": {"resolution": 64, "size": 200, "wind_speed": 18, "repeat_time": 4, "choppiness": 1.6}})",
+                              "ocean.json", ".");
+    for (const Scene* scene : {&bay, &ocean}) {
+        const ScenePlan plan = plan_scene(*scene);
+        std::vector<SceneAnimation> runs;
+        std::vector<std::vector<std::size_t>> counts;
+        for (int threads : {1, 4}) {  // one lane; four lanes, on any machine
+            const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+            tbb::task_arena arena(threads);
+            AnimationStream stream(*scene, plan, FrameRange{3, 14});
+            SceneAnimation a;
+            counts.emplace_back();
+            arena.execute([&] {
+                ASSERT_EQ(stream.next(a, 11, [&](std::size_t done, std::size_t total) {
+                    EXPECT_EQ(total, 11u);
+                    counts.back().push_back(done);
+                }), 11u);
+            });
+            runs.push_back(std::move(a));
+        }
+        const SceneAnimation &one = runs[0], &side = runs[1];
+        EXPECT_EQ(one.positions, side.positions) << scene->name;
+        EXPECT_EQ(one.normals, side.normals);
+        EXPECT_EQ(one.foam, side.foam);
+        EXPECT_EQ(one.reflect, side.reflect);
+        EXPECT_EQ(one.colors, side.colors);
+        EXPECT_EQ(one.z_min, side.z_min);
+        EXPECT_EQ(one.z_max, side.z_max);
+        EXPECT_GT(*std::max_element(one.foam.begin(), one.foam.end()), 0.5f) << "no foam to compare";
+        // Progress counts every frame once, in order, from either.
+        for (const auto& c : counts) {
+            ASSERT_EQ(c.size(), 11u);
+            for (std::size_t i = 0; i < c.size(); ++i) EXPECT_EQ(c[i], i + 1);
+        }
+    }
 }
 
 TEST(AnimationStream, StaticPartsAreSetAgainIntoAReplacedAnimation) {

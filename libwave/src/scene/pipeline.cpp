@@ -14,11 +14,15 @@
 
 #include <nlohmann/json.hpp>
 #include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
+#include <tbb/task_arena.h>
 #include <tbb/task_group.h>
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -27,6 +31,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <mutex>
 #include <numbers>
 #include <set>
 #include <sstream>
@@ -640,6 +645,25 @@ double sunbeam_voxels(const Scene& scene) {
     return static_cast<double>(o.nx) * static_cast<double>(o.ny) * static_cast<double>(o.nz);
 }
 
+// Frames side by side (docs/motion.md "Frames side by side"). A frame's passes each
+// share their vertices out among the cores and wait for the slowest: at 66 k vertices
+// (a 256² ocean) a frame is ten such joins of 50–100 µs, and on a shared machine each
+// waits for its slowest core. Below kLaneVertices whole frames run at once instead,
+// each on a run of its own (its model state, workspace and fold-foam samples), and a
+// frame's own passes run inside it. A frame computes the same bits on any run, so the
+// output does not depend on how many run side by side. Not with underwater maps or
+// volumes (each frame's map is long and parallel by itself).
+constexpr std::size_t kLaneVertices = std::size_t{1} << 18;
+constexpr std::size_t kMaxLanes = 8;
+
+std::size_t frame_lanes(const Scene& scene, std::size_t vertices, std::size_t frames) {
+    const bool underwater = scene.underwater && (scene.underwater->caustics || scene.underwater->sunbeams);
+    if (underwater || vertices > kLaneVertices || frames < 2) return 1;
+    const auto cores = std::min(static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()),
+                                tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+    return std::clamp<std::size_t>(std::min(cores, frames), 1, kMaxLanes);
+}
+
 }  // namespace
 
 RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double planned_resident_bytes, std::size_t run_frames) {
@@ -725,7 +749,9 @@ RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double plann
     // vertex) and, with an FFT ocean, its transform buffers (4 pairs' complex N² and
     // the frame's h̃: ~40 B a lattice cell).
     const double lattice = static_cast<double>(plan.ocean.n) * static_cast<double>(plan.ocean.n);
-    const double run_state = 32.0 * n + 40.0 * lattice;
+    // Frames side by side below kLaneVertices: a run's state per lane.
+    const double lanes = static_cast<double>(frame_lanes(scene, e.vertices, static_cast<std::size_t>(frames)));
+    const double run_state = lanes * (32.0 * n + 40.0 * lattice);
     const double base = planned + 12e6 + run_state + (fine ? 96.0 * n : 0.0) + caustic_work + (scene.draco ? 650.0 * n : 0.0);
     // The ray strips' PLY, written when the frames are done: their OpenMesh TriMesh and
     // the file's bytes (~400 B a strip vertex, measured on Gonzato's island).
@@ -817,6 +843,19 @@ std::size_t files_form_chunk(const RunEstimate& e, double max_bytes) {
 }
 
 namespace {
+
+// The range of a chunk's heights (min and max are exact in any order).
+struct HeightRange {
+    float low = std::numeric_limits<float>::infinity(), high = -std::numeric_limits<float>::infinity();
+    HeightRange& add(float z) {
+        low = std::min(low, z), high = std::max(high, z);
+        return *this;
+    }
+    HeightRange& add(const HeightRange& o) {
+        low = std::min(low, o.low), high = std::max(high, o.high);
+        return *this;
+    }
+};
 
 // What a run of frames reuses: the model's buffers, the wind sea's, the fold foam's past
 // samples, and with /refine the coarse frame the stencils carry to the refined surface.
@@ -979,7 +1018,8 @@ void coarse_foam(FrameRun& r, double t, std::span<float> fc) {
 
 // Frame f of the animation `a`: positions, normals and, shaded, the Fresnel weights,
 // foam and colour.
-void evaluate_frame(FrameRun& r, const std::vector<std::uint32_t>& coarse_triangles, std::size_t f, SceneAnimation& a) {
+void evaluate_frame(FrameRun& r, const std::vector<std::uint32_t>& coarse_triangles, std::size_t f, SceneAnimation& a,
+                    HeightRange& heights) {
     const std::size_t n = a.vertex_count;
     const std::span<float> p(&a.positions[3 * n * f], 3 * n), nr(&a.normals[3 * n * f], 3 * n);
     const std::span<float> pc = r.refined ? std::span<float>(r.coarse_p) : p, nrc = r.refined ? std::span<float>(r.coarse_nr) : nr;
@@ -1015,15 +1055,13 @@ void evaluate_frame(FrameRun& r, const std::vector<std::uint32_t>& coarse_triang
         vertex_normals(p, a.triangles, r.adjacency, nr);
     }
     // The heights' range, in parallel (min and max are exact in any order).
-    using Range = std::pair<float, float>;
-    const Range z = tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, n, 1 << 14), Range{a.z_min, a.z_max},
-        [&](const tbb::blocked_range<std::size_t>& b, Range m) {
-            for (std::size_t v = b.begin(); v < b.end(); ++v) m = {std::min(m.first, p[3 * v + 2]), std::max(m.second, p[3 * v + 2])};
+    heights = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, n, 1 << 14), heights,
+        [&](const tbb::blocked_range<std::size_t>& b, HeightRange m) {
+            for (std::size_t v = b.begin(); v < b.end(); ++v) m.add(p[3 * v + 2]);
             return m;
         },
-        [](const Range& x, const Range& y) { return Range{std::min(x.first, y.first), std::max(x.second, y.second)}; });
-    a.z_min = z.first, a.z_max = z.second;
+        [](HeightRange x, const HeightRange& y) { return x.add(y); });
     if (r.caustics || r.sunbeams) {
         const std::size_t b = f % 2;
         r.underwater_encoders[b]->wait();  // the map and volume two frames back are encoded: their buffers are free
@@ -1184,6 +1222,13 @@ void dress_animation(const Scene& scene, const ScenePlan& plan, SceneAnimation& 
     a.dressing = d;
 }
 
+// A run of frames of the scene, not started.
+FrameRun scene_run(const Scene& scene, const ScenePlan& plan, const Refinement* refined) {
+    return FrameRun{.scene = scene, .plan = plan, .model = detail::surface_model(scene.surface_kind), .refined = refined,
+                    .shaded = scene.attributes != Scene::Attributes::none,
+                    .creased = refined && scene.refine->crest_sharpness_per_metre > 0.0};
+}
+
 }  // namespace
 
 struct AnimationStream::State {
@@ -1194,6 +1239,7 @@ struct AnimationStream::State {
     const std::vector<std::uint32_t>& triangles;  // the exported surface's
     std::size_t loop_frames = 0, first = 0, count = 0, done = 0;
     FrameRun run;
+    std::vector<std::unique_ptr<FrameRun>> lanes{};  // runs beside `run` when frames go side by side (frame_lanes)
     // The animation whose static parts this stream set last, and its triangles' storage:
     // a later chunk into it leaves them (24 MB of triangles a chunk at 1024²).
     const SceneAnimation* dressed = nullptr;
@@ -1204,6 +1250,52 @@ struct AnimationStream::State {
     bool holds_static_parts(const SceneAnimation& a) const {
         return dressed == &a && a.triangles.data() == dressed_triangles && a.triangles.size() == triangles.size() &&
                a.texcoords.data() == dressed_texcoords && a.texcoords.size() == 2 * a.vertex_count;
+    }
+
+    // Frames 0 … k − 1 of the chunk `a` (sized for them), one after another on `run`, or
+    // side by side on `lanes` runs; returns their heights' range.
+    HeightRange evaluate(SceneAnimation& a, std::size_t k, const std::function<void(std::size_t, std::size_t)>& progress) {
+        HeightRange heights;
+        const std::size_t lanes_now = frame_lanes(scene, a.vertex_count, k);
+        if (lanes_now == 1) {
+            try {
+                for (std::size_t f = 0; f < k; ++f) {
+                    evaluate_frame(run, coarse_triangles, f, a, heights);
+                    if (progress) progress(done + f + 1, count);
+                }
+                finish_underwater_files(run);
+            } catch (...) {
+                finish_underwater_files(run, true);  // no encoding task may outlive the frames it reads and writes
+                throw;
+            }
+            return heights;
+        }
+        while (lanes.size() + 1 < lanes_now) {
+            lanes.push_back(std::make_unique<FrameRun>(scene_run(scene, plan, refined)));
+            start_run(*lanes.back(), triangles, a.vertex_count);
+        }
+        // Each lane takes the next frame not yet taken; a frame's passes run isolated in
+        // it, so a lane waiting for them never picks up another lane's frames meanwhile.
+        std::vector<HeightRange> lane_heights(lanes_now);
+        std::atomic<std::size_t> next_frame{0};
+        std::size_t finished = 0;
+        std::mutex progress_lock;
+        tbb::parallel_for(
+            tbb::blocked_range<std::size_t>(0, lanes_now, 1),
+            [&](const tbb::blocked_range<std::size_t>& r) {
+                for (std::size_t lane = r.begin(); lane != r.end(); ++lane) {
+                    FrameRun& on = lane == 0 ? run : *lanes[lane - 1];
+                    for (std::size_t f = next_frame++; f < k; f = next_frame++) {
+                        tbb::this_task_arena::isolate([&] { evaluate_frame(on, coarse_triangles, f, a, lane_heights[lane]); });
+                        if (!progress) continue;
+                        const std::lock_guard lock(progress_lock);
+                        progress(done + ++finished, count);
+                    }
+                }
+            },
+            tbb::simple_partitioner());
+        for (const HeightRange& h : lane_heights) heights.add(h);
+        return heights;
     }
 };
 
@@ -1216,13 +1308,9 @@ AnimationStream::AnimationStream(const Scene& scene, const ScenePlan& plan, Fram
         throw InputError("scene: the frame range " + std::to_string(range.first) + ":" +
                          (range.end == static_cast<std::size_t>(-1) ? std::string() : std::to_string(range.end)) +
                          " holds no frame of the loop's 0:" + std::to_string(loop_frames));
-    const bool shaded = scene.attributes != Scene::Attributes::none;
     state_.reset(new State{.scene = scene, .plan = plan, .refined = refined, .coarse_triangles = coarse,
                            .triangles = refined ? refined->triangles : coarse, .loop_frames = loop_frames,
-                           .first = range.first, .count = end - range.first,
-                           .run = FrameRun{.scene = scene, .plan = plan, .model = detail::surface_model(scene.surface_kind),
-                                           .refined = refined, .shaded = shaded,
-                                           .creased = refined && scene.refine->crest_sharpness_per_metre > 0.0}});
+                           .first = range.first, .count = end - range.first, .run = scene_run(scene, plan, refined)});
     start_run(state_->run, state_->triangles, refined ? refined->fine_vertices : plan.rest_x.size());
 }
 
@@ -1276,18 +1364,8 @@ std::size_t AnimationStream::next(SceneAnimation& a, std::size_t count, const st
     detail::size_for_overwrite(a.colors, scene.color ? 3 * n * k : 0);
     a.caustics.assign(scene.underwater && scene.underwater->caustics ? k : 0, std::string());
     a.sunbeams.assign(scene.underwater && scene.underwater->sunbeams ? k : 0, std::string());
-    a.z_min = std::numeric_limits<float>::infinity();
-    a.z_max = -std::numeric_limits<float>::infinity();
-    try {
-        for (std::size_t f = 0; f < k; ++f) {
-            evaluate_frame(s.run, s.coarse_triangles, f, a);
-            if (progress) progress(s.done + f + 1, s.count);
-        }
-        finish_underwater_files(s.run);
-    } catch (...) {
-        finish_underwater_files(s.run, true);  // no encoding task may outlive the frames it reads and writes
-        throw;
-    }
+    const HeightRange heights = s.evaluate(a, k, progress);
+    a.z_min = heights.low, a.z_max = heights.high;
     s.done += k;
     if (!dressed) {
         rest_texcoords(s.plan, s.refined, a);
