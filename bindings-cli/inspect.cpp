@@ -40,7 +40,8 @@ void print_text(const std::string& path, const MeshInspection& m, const InspectO
     std::cout << "worst frame: " << w.folds << " folds (frame " << w.frame << "), " << w.lips
               << " overturning lips; at most " << w.facing_down << " triangles facing down\n"
               << "triangles: " << w.degenerate << " degenerate, " << w.slivers << " slivers (< " << o.sliver_angle_deg
-              << "°), smallest angle " << w.smallest_angle_deg << "°\n"
+              << "°; " << w.lip_slivers << " on overturning lips), smallest angle " << w.smallest_angle_deg << "° ("
+              << w.smallest_angle_off_lips_deg << "° off the lips)\n"
               << "edges: longest " << w.longest_edge << " m (median " << w.median_edge << " m), " << w.long_edges
               << " longer than " << o.long_edge_ratio << " × the local spacing (worst " << w.worst_edge_ratio << " ×)\n"
               << "motion: fastest vertex " << w.max_speed << " m/s (vertex " << w.fastest_vertex << ")\n";

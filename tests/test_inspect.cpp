@@ -107,7 +107,18 @@ TEST(Inspect, UnreferencedVerticesNonManifoldEdgesSliversAndLongEdges) {
     EXPECT_EQ(m.unreferenced_vertices, 1u);
     EXPECT_EQ(m.non_manifold_edges, 1u);
     EXPECT_EQ(m.frames[0].slivers, 1u);
+    EXPECT_EQ(m.frames[0].lip_slivers, 0u);
     EXPECT_NEAR(m.frames[0].smallest_angle_deg, std::atan(0.1) * 180.0 / M_PI, 1e-4);
+    EXPECT_NEAR(m.frames[0].smallest_angle_off_lips_deg, std::atan(0.1) * 180.0 / M_PI, 1e-4);
+    // The needle's tip foamy: a sliver on a breaking crest. Off the lips the smallest
+    // angle is then the grid's (45°) or the third triangle's on edge (0, 1).
+    std::vector<float> foam(11, 0.0f);
+    foam[10] = 0.5f;
+    const MeshInspection on_lip = inspect_animation(view_of(g.positions, g.triangles, 11, 1, foam));
+    EXPECT_EQ(on_lip.frames[0].slivers, 1u);
+    EXPECT_EQ(on_lip.frames[0].lip_slivers, 1u);
+    EXPECT_NEAR(on_lip.frames[0].smallest_angle_deg, std::atan(0.1) * 180.0 / M_PI, 1e-4);
+    EXPECT_GT(on_lip.frames[0].smallest_angle_off_lips_deg, 15.0);
     EXPECT_EQ(m.frames[0].facing_down, 0u);  // both run counter-clockwise seen from above
     // A stretched corner: vertex 8 (2, 2) pulled to (9, 9) makes its three edges 10.6 to
     // 11.3 m long where the spacing at their other ends is 1 to 1.4 m.

@@ -465,6 +465,7 @@ PYBIND11_MODULE(_libwave, m) {
         py::arg("per_frame") = true,
         "Checks an animation as a renderer meets it (docs/inspect.md): an Animation, or the path of an output of wave run "
         "(.glb/.gltf or index.json). Returns a dict: topology (unreferenced_vertices, non_manifold_edges, boundary loops), "
-        "worst (folds, lips, slivers, smallest_angle_deg, longest_edge_m, worst_edge_ratio, max_speed_m_s, ...) and "
+        "worst (folds, lips, slivers, lip_slivers, smallest_angle_deg, smallest_angle_off_lips_deg, longest_edge_m, "
+        "worst_edge_ratio, max_speed_m_s, ...) and "
         "per_frame, the same for every frame");
 }

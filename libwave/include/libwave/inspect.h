@@ -44,7 +44,11 @@ struct FrameInspection {
     std::size_t folds = 0;           ///< … the others: defects
     std::size_t degenerate = 0;      ///< triangles of zero area in 3D
     std::size_t slivers = 0;         ///< smallest angle < sliver_angle_deg (3D)
+    std::size_t lip_slivers = 0;     ///< … of them on a breaking crest (a vertex's foam >= lip_foam)
     double smallest_angle_deg = 0.0; ///< over the non-degenerate triangles (3D)
+    /// The same over the triangles off breaking crests (no vertex's foam >= lip_foam);
+    /// 180 when every triangle is on one.
+    double smallest_angle_off_lips_deg = 0.0;
     double longest_edge = 0.0;       ///< m (3D)
     double median_edge = 0.0;        ///< m (3D)
     double worst_edge_ratio = 0.0;   ///< the largest edge length over its local spacing

@@ -82,7 +82,7 @@ double median(std::vector<double>& values) {
 void inspect_triangles(std::span<const std::uint32_t> triangles, std::span<const float> p,
                        std::span<const float> foam, const InspectOptions& options, FrameInspection& out) {
     const double sliver = options.sliver_angle_deg * std::numbers::pi / 180.0;
-    double smallest = std::numbers::pi;
+    double smallest = std::numbers::pi, smallest_off_lips = std::numbers::pi;
     for (std::size_t t = 0; t < triangles.size() / 3; ++t) {
         const std::uint32_t i[3] = {triangles[3 * t], triangles[3 * t + 1], triangles[3 * t + 2]};
         const Vec3 a = point(p, i[0]), b = point(p, i[1]), c = point(p, i[2]);
@@ -92,18 +92,23 @@ void inspect_triangles(std::span<const std::uint32_t> triangles, std::span<const
             ++out.degenerate;
             continue;
         }
+        const bool breaking = !foam.empty() && std::max({foam[i[0]], foam[i[1]], foam[i[2]]}) >= options.lip_foam;
         if (n.z < 0.0) {
             ++out.facing_down;
-            const bool breaking = !foam.empty() && std::max({foam[i[0]], foam[i[1]], foam[i[2]]}) >= options.lip_foam;
             ++(breaking ? out.lips : out.folds);
         }
         const double angle = std::min({std::atan2(norm(n), dot(sub(b, a), sub(c, a))),
                                        std::atan2(norm(n), dot(sub(a, b), sub(c, b))),
                                        std::atan2(norm(n), dot(sub(a, c), sub(b, c)))});
         smallest = std::min(smallest, angle);
-        if (angle < sliver) ++out.slivers;
+        if (!breaking) smallest_off_lips = std::min(smallest_off_lips, angle);
+        if (angle < sliver) {
+            ++out.slivers;
+            if (breaking) ++out.lip_slivers;
+        }
     }
     out.smallest_angle_deg = smallest * 180.0 / std::numbers::pi;
+    out.smallest_angle_off_lips_deg = smallest_off_lips * 180.0 / std::numbers::pi;
 }
 
 // Edge lengths against the local spacing (the smaller of the medians at its two ends).
@@ -204,7 +209,9 @@ FrameInspection worst_of(const std::vector<FrameInspection>& frames) {
         w.folds = std::max(w.folds, f.folds);
         w.degenerate = std::max(w.degenerate, f.degenerate);
         w.slivers = std::max(w.slivers, f.slivers);
+        w.lip_slivers = std::max(w.lip_slivers, f.lip_slivers);
         w.smallest_angle_deg = std::min(w.smallest_angle_deg, f.smallest_angle_deg);
+        w.smallest_angle_off_lips_deg = std::min(w.smallest_angle_off_lips_deg, f.smallest_angle_off_lips_deg);
         w.longest_edge = std::max(w.longest_edge, f.longest_edge);
         w.median_edge = std::max(w.median_edge, f.median_edge);
         w.worst_edge_ratio = std::max(w.worst_edge_ratio, f.worst_edge_ratio);
@@ -275,7 +282,9 @@ Json frame_json(const FrameInspection& f) {
             {"folds", f.folds},
             {"degenerate", f.degenerate},
             {"slivers", f.slivers},
+            {"lip_slivers", f.lip_slivers},
             {"smallest_angle_deg", f.smallest_angle_deg},
+            {"smallest_angle_off_lips_deg", f.smallest_angle_off_lips_deg},
             {"longest_edge_m", f.longest_edge},
             {"median_edge_m", f.median_edge},
             {"worst_edge_ratio", f.worst_edge_ratio},
