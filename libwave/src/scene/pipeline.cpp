@@ -1253,47 +1253,55 @@ struct AnimationStream::State {
     }
 
     // Frames 0 … k − 1 of the chunk `a` (sized for them), one after another on `run`, or
-    // side by side on `lanes` runs; returns their heights' range.
+    // side by side on frame_lanes runs; returns their heights' range.
     HeightRange evaluate(SceneAnimation& a, std::size_t k, const std::function<void(std::size_t, std::size_t)>& progress) {
-        HeightRange heights;
         const std::size_t lanes_now = frame_lanes(scene, a.vertex_count, k);
-        if (lanes_now == 1) {
-            try {
-                for (std::size_t f = 0; f < k; ++f) {
-                    evaluate_frame(run, coarse_triangles, f, a, heights);
-                    if (progress) progress(done + f + 1, count);
-                }
-                finish_underwater_files(run);
-            } catch (...) {
-                finish_underwater_files(run, true);  // no encoding task may outlive the frames it reads and writes
-                throw;
+        return lanes_now == 1 ? in_order(a, k, progress) : side_by_side(a, k, lanes_now, progress);
+    }
+
+    HeightRange in_order(SceneAnimation& a, std::size_t k, const std::function<void(std::size_t, std::size_t)>& progress) {
+        HeightRange heights;
+        try {
+            for (std::size_t f = 0; f < k; ++f) {
+                evaluate_frame(run, coarse_triangles, f, a, heights);
+                if (progress) progress(done + f + 1, count);
             }
-            return heights;
+            finish_underwater_files(run);
+        } catch (...) {
+            finish_underwater_files(run, true);  // no encoding task may outlive the frames it reads and writes
+            throw;
         }
-        while (lanes.size() + 1 < lanes_now) {
+        return heights;
+    }
+
+    // Each lane takes the next frame not yet taken; a frame's passes run isolated in it,
+    // so a lane waiting for them never picks up another lane's frames meanwhile.
+    HeightRange side_by_side(SceneAnimation& a, std::size_t k, std::size_t lane_count,
+                             const std::function<void(std::size_t, std::size_t)>& progress) {
+        while (lanes.size() + 1 < lane_count) {
             lanes.push_back(std::make_unique<FrameRun>(scene_run(scene, plan, refined)));
             start_run(*lanes.back(), triangles, a.vertex_count);
         }
-        // Each lane takes the next frame not yet taken; a frame's passes run isolated in
-        // it, so a lane waiting for them never picks up another lane's frames meanwhile.
-        std::vector<HeightRange> lane_heights(lanes_now);
+        std::vector<HeightRange> lane_heights(lane_count);
         std::atomic<std::size_t> next_frame{0};
         std::size_t finished = 0;
         std::mutex progress_lock;
+        const auto lane_frames = [&](std::size_t lane) {
+            FrameRun& on = lane == 0 ? run : *lanes[lane - 1];
+            for (std::size_t f = next_frame++; f < k; f = next_frame++) {
+                tbb::this_task_arena::isolate([&] { evaluate_frame(on, coarse_triangles, f, a, lane_heights[lane]); });
+                if (!progress) continue;
+                const std::lock_guard lock(progress_lock);
+                progress(done + ++finished, count);
+            }
+        };
         tbb::parallel_for(
-            tbb::blocked_range<std::size_t>(0, lanes_now, 1),
+            tbb::blocked_range<std::size_t>(0, lane_count, 1),
             [&](const tbb::blocked_range<std::size_t>& r) {
-                for (std::size_t lane = r.begin(); lane != r.end(); ++lane) {
-                    FrameRun& on = lane == 0 ? run : *lanes[lane - 1];
-                    for (std::size_t f = next_frame++; f < k; f = next_frame++) {
-                        tbb::this_task_arena::isolate([&] { evaluate_frame(on, coarse_triangles, f, a, lane_heights[lane]); });
-                        if (!progress) continue;
-                        const std::lock_guard lock(progress_lock);
-                        progress(done + ++finished, count);
-                    }
-                }
+                for (std::size_t lane = r.begin(); lane != r.end(); ++lane) lane_frames(lane);
             },
             tbb::simple_partitioner());
+        HeightRange heights;
         for (const HeightRange& h : lane_heights) heights.add(h);
         return heights;
     }
