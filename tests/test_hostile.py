@@ -218,6 +218,29 @@ class Files(unittest.TestCase):
             self.assertEqual(r.returncode, 0, r.stderr)
             self.assertEqual(json.loads(r.stdout)["nodata_count"], 1)
 
+    def test_a_machine_whose_gdal_cannot_load_is_told_so_and_only_a_raster_needs_it(self):
+        # GDAL is loaded on the first raster (docs/build-notes.md): a broken libgdal (here a
+        # file that is no library, first on the loader's path) fails that read with exit 1,
+        # the file and the library named, and nothing else.
+        with tempfile.TemporaryDirectory() as d:
+            broken = os.path.join(d, "lib")
+            os.mkdir(broken)
+            soname = next(line.split()[0] for line in subprocess.run([shutil.which("ldconfig") or "/sbin/ldconfig", "-p"], capture_output=True, text=True).stdout.splitlines()
+                          if line.strip().startswith("libgdal.so."))
+            with open(os.path.join(broken, soname), "w") as f:
+                f.write("not a library\n")
+            env = dict(os.environ, LD_LIBRARY_PATH=broken)
+            grid = os.path.join(d, "grid.asc")
+            with open(grid, "w") as f:
+                f.write("ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 10\n-1 -2\n-1 -2\n")
+            r = subprocess.run([WAVE, "seafloor", "info", grid], capture_output=True, text=True, timeout=120, env=env)
+            self.assertEqual(r.returncode, 1, r.stderr)
+            self.assertIn(grid + ": GDAL (" + soname + ") could not be loaded", r.stderr)
+            # Without a raster nothing asks for GDAL: the default scene validates.
+            r = subprocess.run([WAVE, "validate", os.path.join(EXAMPLES, "gonzato-bay.json")], capture_output=True, text=True,
+                               timeout=120, env=env)
+            self.assertEqual(r.returncode, 0, r.stderr)
+
     def test_a_geotiff_with_absurd_values_is_refused(self):
         gdal_translate = shutil.which("gdal_translate")
         if not gdal_translate:

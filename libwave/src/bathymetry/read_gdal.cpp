@@ -1,17 +1,12 @@
 // Raster seafloors through GDAL: ESRI ASCII, GeoTIFF, NetCDF and every other raster
 // format GDAL reads. Geographic (lon/lat) rasters are reprojected by GDAL's warper to
-// a local metric frame; no hand-written format code here.
+// a local metric frame; no hand-written format code here. GDAL's C API, loaded on the
+// first read (gdal_library.h).
+#include "gdal_library.h"
 #include "grid_fill.h"
 #include "libwave/bathymetry.h"
 #include "libwave/errors.h"
 #include "core/files.h"
-
-#include <cpl_conv.h>
-#include <cpl_error.h>
-#include <cpl_string.h>
-#include <gdal_priv.h>
-#include <gdal_utils.h>
-#include <ogr_spatialref.h>
 
 #include <algorithm>
 #include <cctype>
@@ -21,8 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
-#include <memory>
-#include <mutex>
+#include <utility>
 #include <numbers>
 #include <string_view>
 #include <string>
@@ -31,30 +25,57 @@
 namespace wave {
 namespace {
 
-void register_gdal_once() {
-    static std::once_flag once;
-    std::call_once(once, [] { GDALAllRegister(); });
-}
+using detail::GdalLibrary;
 
 // Silences GDAL's stderr output for the scope; the last message goes into our errors.
 class QuietGdalErrors {
 public:
-    QuietGdalErrors() {
-        CPLPushErrorHandler(CPLQuietErrorHandler);
-        CPLErrorReset();
+    explicit QuietGdalErrors(const GdalLibrary& g) : g_(g) {
+        g_.CPLPushErrorHandler(g_.CPLQuietErrorHandler);
+        g_.CPLErrorReset();
     }
-    ~QuietGdalErrors() { CPLPopErrorHandler(); }
+    ~QuietGdalErrors() { g_.CPLPopErrorHandler(); }
     QuietGdalErrors(const QuietGdalErrors&) = delete;
     QuietGdalErrors& operator=(const QuietGdalErrors&) = delete;
-    static std::string last() {
-        const char* m = CPLGetLastErrorMsg();
+    std::string last() const {
+        const char* m = g_.CPLGetLastErrorMsg();
         return (m && *m) ? std::string(m) : std::string("no further detail from GDAL");
     }
+
+private:
+    const GdalLibrary& g_;
 };
 
-using DatasetPtr = std::unique_ptr<GDALDataset, void (*)(GDALDataset*)>;
-DatasetPtr adopt(GDALDatasetH h) {
-    return DatasetPtr(GDALDataset::FromHandle(h), [](GDALDataset* d) { GDALClose(d); });
+// A GDAL handle closed (or destroyed) by the library's function for it.
+template <typename Handle, typename Close>
+class Owned {
+public:
+    Owned(Handle h, Close close) : h_(h), close_(close) {}
+    Owned(Owned&& o) noexcept : h_(std::exchange(o.h_, nullptr)), close_(o.close_) {}
+    Owned& operator=(Owned&& o) noexcept {
+        std::swap(h_, o.h_);
+        close_ = o.close_;
+        return *this;
+    }
+    ~Owned() {
+        if (h_) close_(h_);
+    }
+    Handle get() const noexcept { return h_; }
+
+private:
+    Handle h_;
+    Close close_;
+};
+using Dataset = Owned<GDALDatasetH, decltype(&GDALClose)>;
+using SpatialRef = Owned<OGRSpatialReferenceH, decltype(&OSRDestroySpatialReference)>;
+Dataset adopt(const GdalLibrary& g, GDALDatasetH h) { return Dataset(h, g.GDALClose); }
+SpatialRef new_srs(const GdalLibrary& g, OGRSpatialReferenceH h) { return SpatialRef(h, g.OSRDestroySpatialReference); }
+
+// A string GDAL allocated, copied and freed.
+std::string take_string(const GdalLibrary& g, char* s) {
+    std::string out = s ? s : "";
+    g.VSIFree(s);
+    return out;
 }
 
 // GDAL's ESRI ASCII reader turns a token it cannot read ("abc", "nan") into 0 or −0
@@ -96,20 +117,17 @@ void check_ascii_grid_tokens(const std::string& path, std::size_t nx, std::size_
     }
 }
 
-DatasetPtr open_raster(const std::string& name, const std::string& path) {
-    GDALDatasetH h = GDALOpenEx(name.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr,
-                                nullptr, nullptr);
-    if (!h)
-        throw InputError(path + ": GDAL cannot read it as a raster grid (" +
-                         QuietGdalErrors::last() + ")");
-    return adopt(h);
+Dataset open_raster(const GdalLibrary& g, const QuietGdalErrors& quiet, const std::string& name, const std::string& path) {
+    GDALDatasetH h = g.GDALOpenEx(name.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr, nullptr, nullptr);
+    if (!h) throw InputError(path + ": GDAL cannot read it as a raster grid (" + quiet.last() + ")");
+    return adopt(g, h);
 }
 
 // NetCDF and HDF files hold several variables as subdatasets: take the elevation
 // variable ("z", "elevation", "Band1", "depth") or else the first one.
-DatasetPtr open_first_grid(DatasetPtr ds, const std::string& path) {
-    if (ds->GetRasterCount() > 0) return ds;
-    char** sub = ds->GetMetadata("SUBDATASETS");
+Dataset open_first_grid(const GdalLibrary& g, const QuietGdalErrors& quiet, Dataset ds, const std::string& path) {
+    if (g.GDALGetRasterCount(ds.get()) > 0) return ds;
+    char** sub = g.GDALGetMetadata(ds.get(), "SUBDATASETS");
     std::vector<std::string> names;
     for (int n = 0; sub && sub[n]; ++n) {
         const std::string entry = sub[n];
@@ -129,7 +147,7 @@ DatasetPtr open_first_grid(DatasetPtr ds, const std::string& path) {
             break;
         }
     }
-    return open_raster(pick, path);
+    return open_raster(g, quiet, pick, path);
 }
 
 // A local azimuthal equidistant frame centred on the raster, and the largest
@@ -142,25 +160,26 @@ struct LocalFrame {
     double lon0, lat0;
 };
 
-LocalFrame local_frame_for(GDALDataset& ds, const OGRSpatialReference& geographic,
-                           const std::string& path) {
+LocalFrame local_frame_for(const GdalLibrary& g, const QuietGdalErrors& quiet, GDALDatasetH ds,
+                           OGRSpatialReferenceH geographic, const std::string& path) {
     double gt[6];
-    ds.GetGeoTransform(gt);
-    const double w = ds.GetRasterXSize(), h = ds.GetRasterYSize();
+    g.GDALGetGeoTransform(ds, gt);
+    const double w = g.GDALGetRasterXSize(ds), h = g.GDALGetRasterYSize(ds);
     const double lon_a = gt[0], lon_b = gt[0] + w * gt[1];
     const double lat_a = gt[3], lat_b = gt[3] + h * gt[5];
     LocalFrame f{};
     f.lon0 = 0.5 * (lon_a + lon_b);
     f.lat0 = 0.5 * (lat_a + lat_b);
 
-    OGRSpatialReference src(geographic);
-    src.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-    OGRSpatialReference dst;
-    dst.CopyGeogCSFrom(&src);
-    dst.SetAE(f.lat0, f.lon0, 0.0, 0.0);
-    dst.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-    std::unique_ptr<OGRCoordinateTransformation> ct(OGRCreateCoordinateTransformation(&src, &dst));
-    if (!ct) throw InputError(path + ": cannot build a local metric frame (" + QuietGdalErrors::last() + ")");
+    const SpatialRef src = new_srs(g, g.OSRClone(geographic));
+    g.OSRSetAxisMappingStrategy(src.get(), OAMS_TRADITIONAL_GIS_ORDER);
+    const SpatialRef dst = new_srs(g, g.OSRNewSpatialReference(nullptr));
+    g.OSRCopyGeogCSFrom(dst.get(), src.get());
+    g.OSRSetAE(dst.get(), f.lat0, f.lon0, 0.0, 0.0);
+    g.OSRSetAxisMappingStrategy(dst.get(), OAMS_TRADITIONAL_GIS_ORDER);
+    const Owned<OGRCoordinateTransformationH, decltype(&OCTDestroyCoordinateTransformation)> ct(
+        g.OCTNewCoordinateTransformation(src.get(), dst.get()), g.OCTDestroyCoordinateTransformation);
+    if (!ct.get()) throw InputError(path + ": cannot build a local metric frame (" + quiet.last() + ")");
 
     const double west = std::min(lon_a, lon_b), east = std::max(lon_a, lon_b);
     const double south = std::min(lat_a, lat_b), north = std::max(lat_a, lat_b);
@@ -170,7 +189,7 @@ LocalFrame local_frame_for(GDALDataset& ds, const OGRSpatialReference& geographi
         const double s = static_cast<double>(n) / kSamples;
         double lx[4] = {west, east, west + s * (east - west), west + s * (east - west)};
         double ly[4] = {south + s * (north - south), south + s * (north - south), south, north};
-        if (!ct->Transform(4, lx, ly))
+        if (!g.OCTTransform(ct.get(), 4, lx, ly, nullptr))
             throw InputError(path + ": GDAL could not project the raster's edges");
         x_west = std::max(x_west, lx[0]);
         x_east = std::min(x_east, lx[1]);
@@ -186,42 +205,37 @@ LocalFrame local_frame_for(GDALDataset& ds, const OGRSpatialReference& geographi
     f.spacing = std::min(std::abs(gt[1]) * deg * std::cos(f.lat0 * std::numbers::pi / 180.0),
                          std::abs(gt[5]) * deg);
     char* wkt = nullptr;
-    dst.exportToWkt(&wkt);
-    f.wkt = wkt;
-    CPLFree(wkt);
-    src.exportToWkt(&wkt);
-    f.source_wkt = wkt;
-    CPLFree(wkt);
+    g.OSRExportToWkt(dst.get(), &wkt);
+    f.wkt = take_string(g, wkt);
+    wkt = nullptr;
+    g.OSRExportToWkt(src.get(), &wkt);
+    f.source_wkt = take_string(g, wkt);
     return f;
 }
 
-DatasetPtr reproject_to_local(GDALDataset& ds, const LocalFrame& f, const std::string& path) {
+Dataset reproject_to_local(const GdalLibrary& g, const QuietGdalErrors& quiet, GDALDatasetH ds, const LocalFrame& f,
+                           const std::string& path) {
     const std::string te[4] = {detail::format_number(f.x_min), detail::format_number(f.y_min),
                                detail::format_number(f.x_max), detail::format_number(f.y_max)};
     const std::string tr = detail::format_number(f.spacing);
-    CPLStringList args;
-    for (const char* a : {"-of", "MEM", "-r", "cubic", "-ot", "Float64", "-s_srs"}) args.AddString(a);
-    args.AddString(f.source_wkt.c_str());
-    args.AddString("-t_srs");
-    args.AddString(f.wkt.c_str());
-    args.AddString("-te");
-    for (const auto& v : te) args.AddString(v.c_str());
-    args.AddString("-tr");
-    args.AddString(tr.c_str());
-    args.AddString(tr.c_str());
-    GDALWarpAppOptions* opts = GDALWarpAppOptionsNew(args.List(), nullptr);
-    GDALDatasetH src = GDALDataset::ToHandle(&ds);
+    std::vector<std::string> words = {"-of", "MEM", "-r", "cubic", "-ot", "Float64", "-s_srs", f.source_wkt,
+                                      "-t_srs", f.wkt, "-te", te[0], te[1], te[2], te[3], "-tr", tr, tr};
+    char** args = nullptr;
+    for (const std::string& w : words) args = g.CSLAddString(args, w.c_str());
+    GDALWarpAppOptions* opts = g.GDALWarpAppOptionsNew(args, nullptr);
+    g.CSLDestroy(args);
+    GDALDatasetH src = ds;
     int usage_error = 0;
-    GDALDatasetH out = GDALWarp("", nullptr, 1, &src, opts, &usage_error);
-    GDALWarpAppOptionsFree(opts);
-    if (!out) throw InputError(path + ": GDAL could not reproject the grid (" + QuietGdalErrors::last() + ")");
-    return adopt(out);
+    GDALDatasetH out = g.GDALWarp("", nullptr, 1, &src, opts, &usage_error);
+    g.GDALWarpAppOptionsFree(opts);
+    if (!out) throw InputError(path + ": GDAL could not reproject the grid (" + quiet.last() + ")");
+    return adopt(g, out);
 }
 
 // CF / COARDS files (GMT, many NetCDF grids) carry no CRS but say "degrees_east" in
 // the units of their x variable: such grids are lon/lat on WGS84.
-bool says_degrees_east(GDALDataset& ds) {
-    char** md = ds.GetMetadata();
+bool says_degrees_east(const GdalLibrary& g, GDALDatasetH ds) {
+    char** md = g.GDALGetMetadata(ds, nullptr);
     for (int n = 0; md && md[n]; ++n) {
         const std::string entry = md[n];
         const auto eq = entry.find('=');
@@ -236,49 +250,50 @@ bool says_degrees_east(GDALDataset& ds) {
 
 Seafloor read_raster_gdal(const std::string& path, const ReadOptions& options) {
     if (!detail::path_exists(path)) throw InputError(path + ": file not found");
-    register_gdal_once();
-    QuietGdalErrors quiet;
-    DatasetPtr ds = open_first_grid(open_raster(path, path), path);
+    const GdalLibrary& g = detail::gdal(path);
+    const QuietGdalErrors quiet(g);
+    Dataset ds = open_first_grid(g, quiet, open_raster(g, quiet, path, path), path);
 
     Seafloor out;
     out.source = path;
     out.frame = "local metres (the file's own x/y)";
     double gt[6] = {0.0, 1.0, 0.0, 0.0, 0.0, -1.0};
-    const bool georeferenced = ds->GetGeoTransform(gt) == CE_None;
+    const bool georeferenced = g.GDALGetGeoTransform(ds.get(), gt) == CE_None;
     if (!georeferenced) out.frame = "pixel units as metres (the file has no georeferencing)";
     if (gt[2] != 0.0 || gt[4] != 0.0)
         throw InputError(path + ": rotated or sheared rasters are not supported; warp it to a "
                                 "north-up grid first (gdalwarp)");
 
-    const OGRSpatialReference* srs = ds->GetSpatialRef();
-    OGRSpatialReference wgs84;
-    wgs84.SetWellKnownGeogCS("WGS84");
-    const bool cf_degrees = !srs && georeferenced && says_degrees_east(*ds);
-    if ((srs && srs->IsGeographic()) || cf_degrees) {
-        const LocalFrame f = local_frame_for(*ds, cf_degrees ? wgs84 : *srs, path);
-        ds = reproject_to_local(*ds, f, path);
-        ds->GetGeoTransform(gt);
+    OGRSpatialReferenceH srs = g.GDALGetSpatialRef(ds.get());  // the dataset's own
+    const SpatialRef wgs84 = new_srs(g, g.OSRNewSpatialReference(nullptr));
+    g.OSRSetWellKnownGeogCS(wgs84.get(), "WGS84");
+    const bool cf_degrees = !srs && georeferenced && says_degrees_east(g, ds.get());
+    if ((srs && g.OSRIsGeographic(srs)) || cf_degrees) {
+        const LocalFrame f = local_frame_for(g, quiet, ds.get(), cf_degrees ? wgs84.get() : srs, path);
+        ds = reproject_to_local(g, quiet, ds.get(), f, path);
+        g.GDALGetGeoTransform(ds.get(), gt);
         out.frame = "azimuthal equidistant about lon " + detail::format_number(f.lon0) +
                     ", lat " + detail::format_number(f.lat0) +
                     " (metres; reprojected from geographic lon/lat" +
                     (cf_degrees ? " (CF units degrees_east, WGS84 assumed)" : "") +
                     " by GDAL, cubic)";
-    } else if (srs && srs->IsProjected()) {
-        const char* name = srs->GetName();
+    } else if (srs && g.OSRIsProjected(srs)) {
+        const char* name = g.OSRGetName(srs);
         out.frame = std::string("projected CRS '") + (name ? name : "?") + "' (metres)";
     }
 
-    const std::size_t nx = static_cast<std::size_t>(ds->GetRasterXSize());
-    const std::size_t ny = static_cast<std::size_t>(ds->GetRasterYSize());
+    const std::size_t nx = static_cast<std::size_t>(g.GDALGetRasterXSize(ds.get()));
+    const std::size_t ny = static_cast<std::size_t>(g.GDALGetRasterYSize(ds.get()));
     detail::check_grid_size(path, nx, ny, options);
 
-    GDALRasterBand* band = ds->GetRasterBand(1);
-    if (ds->GetDriver() && std::string_view(ds->GetDriver()->GetDescription()) == "AAIGrid") check_ascii_grid_tokens(path, nx, ny);
+    GDALRasterBandH band = g.GDALGetRasterBand(ds.get(), 1);
+    GDALDriverH driver = g.GDALGetDatasetDriver(ds.get());
+    const char* driver_name = driver ? g.GDALGetDriverShortName(driver) : nullptr;
+    if (driver_name && std::string_view(driver_name) == "AAIGrid") check_ascii_grid_tokens(path, nx, ny);
     std::vector<double> rows(nx * ny);
-    if (band->RasterIO(GF_Read, 0, 0, static_cast<int>(nx), static_cast<int>(ny), rows.data(),
-                       static_cast<int>(nx), static_cast<int>(ny), GDT_Float64, 0, 0) != CE_None)
-        throw InputError(path + ": reading the grid values failed, the file may be truncated (" +
-                         QuietGdalErrors::last() + ")");
+    if (g.GDALRasterIO(band, GF_Read, 0, 0, static_cast<int>(nx), static_cast<int>(ny), rows.data(), static_cast<int>(nx),
+                       static_cast<int>(ny), GDT_Float64, 0, 0) != CE_None)
+        throw InputError(path + ": reading the grid values failed, the file may be truncated (" + quiet.last() + ")");
 
     // GDAL rows run north to south when dy < 0: flip to j = 0 south.
     const bool north_first = gt[5] < 0.0;
@@ -290,7 +305,7 @@ Seafloor read_raster_gdal(const std::string& path, const ReadOptions& options) {
     }
     std::optional<double> nodata = options.nodata_value;
     int has_nodata = 0;
-    const double file_nodata = band->GetNoDataValue(&has_nodata);
+    const double file_nodata = g.GDALGetRasterNoDataValue(band, &has_nodata);
     if (!nodata && has_nodata) nodata = file_nodata;
     const auto where = [&](std::size_t i, std::size_t j) {
         const std::size_t r = north_first ? ny - 1 - j : j;
@@ -299,16 +314,16 @@ Seafloor read_raster_gdal(const std::string& path, const ReadOptions& options) {
     out.nodata_count = detail::convert_to_elevation(values, nodata, {}, ValueSign::elevation,
                                                     options, path, where, nx);
 
-    ElevationGrid& g = out.grid;
+    ElevationGrid& grid = out.grid;
     const double hs = options.horizontal_scale;
-    g.nx = nx;
-    g.ny = ny;
-    g.dx = std::abs(gt[1]) * hs;
-    g.dy = std::abs(gt[5]) * hs;
+    grid.nx = nx;
+    grid.ny = ny;
+    grid.dx = std::abs(gt[1]) * hs;
+    grid.dy = std::abs(gt[5]) * hs;
     // Node-registered: GDAL's geotransform addresses cell corners, nodes are centres.
-    g.x0 = (gt[0] + 0.5 * gt[1]) * hs;
-    g.y0 = (north_first ? gt[3] + (static_cast<double>(ny) - 0.5) * gt[5] : gt[3] + 0.5 * gt[5]) * hs;
-    g.z = std::move(values);
+    grid.x0 = (gt[0] + 0.5 * gt[1]) * hs;
+    grid.y0 = (north_first ? gt[3] + (static_cast<double>(ny) - 0.5) * gt[5] : gt[3] + 0.5 * gt[5]) * hs;
+    grid.z = std::move(values);
     return out;
 }
 
