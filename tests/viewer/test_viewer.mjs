@@ -299,6 +299,15 @@ for (const name of Object.keys(forms)) {
       await page.waitForFunction(() => window.wave.frame >= 2, null, { timeout: 10000 });
       await page.evaluate(() => window.wave.pause());
     });
+    await check(`${name}: draws only when something changes`, async () => {
+      await page.evaluate(() => window.wave.setFrame(1));
+      await page.waitForTimeout(200);  // the frame's draw
+      const idle = await page.evaluate(() => window.wave.draws);
+      await page.waitForTimeout(500);
+      assert.equal(await page.evaluate(() => window.wave.draws), idle, 'a paused page draws again and again');
+      await page.evaluate(() => window.wave.setFrame(2));
+      await page.waitForFunction((n) => window.wave.draws > n, idle, { timeout: 5000 });
+    });
     await check(`${name}: screenshot shows the surface`, async () => {
       await page.evaluate(() => window.wave.setFrame(2));
       await page.waitForTimeout(300);

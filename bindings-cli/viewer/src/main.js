@@ -292,6 +292,12 @@ sun.position.set(0.4, 1, 0.3);
 scene.add(sun);
 const controls = renderer ? new OrbitControls(camera, renderer.domElement) : null;
 if (renderer) $('view').appendChild(renderer.domElement);
+// Drawn on demand: when a frame, the colours, the camera, the size or the haze change,
+// not on every display refresh. Redrawn sixty times a second, a paused page kept a core
+// busy (software WebGL: the whole core).
+let redraw = true;
+function invalidate() { redraw = true; }
+if (controls) controls.addEventListener('change', invalidate);
 // Haze on the seafloor, as the Blender add-on's (docs/blender.md): at distance d the
 // seafloor's colour mixes towards the background by a share 1 − e^{−3.912 d / V}
 // (Koschmieder's law, V the visibility; 0 = off), so that the apron's land beyond the
@@ -336,6 +342,7 @@ function resize() {
   renderer.domElement.style.height = h + 'px';
   camera.aspect = w / h;
   camera.updateProjectionMatrix();
+  invalidate();
 }
 window.addEventListener('resize', resize);
 
@@ -363,6 +370,7 @@ async function applyColors(mesh, request = latestRequest) {
   if (request !== latestRequest) return;  // a newer frame is on its way
   g.setAttribute('color', new THREE.BufferAttribute(colors, 3));
   mesh.material = mode === 'water' ? unlit : lit;
+  invalidate();
 }
 
 // Requests can overlap (playback and the scrubber, files still loading): only the
@@ -374,6 +382,7 @@ async function showFrame(f) {
   const loaded = await s.load(f);
   if (request !== latestRequest) return state.frame;
   const mesh = s.display(loaded, f);
+  invalidate();
   state.frame = f;
   state.mesh = mesh;
   await applyColors(mesh, request);
@@ -406,6 +415,7 @@ function fitCamera(object, mesh) {
   camera.updateProjectionMatrix();
   controls.target.copy(center);
   controls.update();
+  invalidate();
 }
 
 async function openOutput(i) {
@@ -416,6 +426,7 @@ async function openOutput(i) {
   const source = o.kind === 'index' ? await filesSource(o.url) : await gltfSource(o.url);
   state.source = source;
   scene.add(source.object);
+  invalidate();
   $('frame').max = String(source.frames - 1);
   for (const opt of $('color-by').options) {
     const present = opt.value === 'plain' || !!sourceOf(opt.value === 'water' ? 'reflect' : opt.value);
@@ -458,7 +469,10 @@ function tick(now) {
       showFrame(next).finally(() => { state.busy = false; });
     }
   }
-  if (renderer) renderer.render(scene, camera);
+  if (renderer && redraw) {
+    redraw = false;
+    renderer.render(scene, camera);
+  }
 }
 
 function setPlaying(on) {
@@ -499,6 +513,8 @@ window.wave = {
   ready,
   info,
   get frame() { return state.frame; },
+  // How many times the page has drawn (three.js counts its render calls).
+  get draws() { return renderer ? renderer.info.render.frame : 0; },
   get error() { return state.error; },
   async setFrame(f) { setPlaying(false); return showFrame(f); },
   play() { setPlaying(true); },
@@ -524,6 +540,7 @@ window.wave = {
     if (visibility !== undefined) {
       haze.visibility.value = Math.max(0, Number(visibility) || 0);
       $('haze').value = String(haze.visibility.value / 1000);
+      invalidate();
     }
     return haze.visibility.value;
   },
@@ -532,5 +549,6 @@ window.wave = {
     camera.position.set(...eye);
     controls.target.set(...target);
     controls.update();
+    invalidate();
   },
 };
