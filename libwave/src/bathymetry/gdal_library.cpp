@@ -5,8 +5,8 @@
 
 #include <dlfcn.h>
 
-#include <mutex>
-#include <stdexcept>
+#include <string>
+#include <type_traits>
 
 namespace wave::detail {
 namespace {
