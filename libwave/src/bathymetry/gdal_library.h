@@ -12,7 +12,9 @@
 #include <gdal_utils.h>
 #include <ogr_srs_api.h>
 
+#include <memory>
 #include <string>
+#include <type_traits>
 
 namespace wave::detail {
 
@@ -37,6 +39,11 @@ struct GdalLibrary {
     LIBWAVE_GDAL_FUNCTIONS(LIBWAVE_GDAL_MEMBER)
 #undef LIBWAVE_GDAL_MEMBER
 };
+
+/// A GDAL handle (a pointer type) that `Close`, the library's function for it, closes
+/// or destroys at the end of its scope.
+template <typename Handle, typename Close>
+using GdalOwned = std::unique_ptr<std::remove_pointer_t<Handle>, Close>;
 
 /// GDAL, loaded and its drivers registered the first time (thread-safe). Throws Error
 /// when it cannot be loaded, saying what it was needed for (`purpose`, e.g. a file).

@@ -46,28 +46,8 @@ private:
     const GdalLibrary& g_;
 };
 
-// A GDAL handle closed (or destroyed) by the library's function for it.
-template <typename Handle, typename Close>
-class Owned {
-public:
-    Owned(Handle h, Close close) : h_(h), close_(close) {}
-    Owned(Owned&& o) noexcept : h_(std::exchange(o.h_, nullptr)), close_(o.close_) {}
-    Owned& operator=(Owned&& o) noexcept {
-        std::swap(h_, o.h_);
-        close_ = o.close_;
-        return *this;
-    }
-    ~Owned() {
-        if (h_) close_(h_);
-    }
-    Handle get() const noexcept { return h_; }
-
-private:
-    Handle h_;
-    Close close_;
-};
-using Dataset = Owned<GDALDatasetH, decltype(&GDALClose)>;
-using SpatialRef = Owned<OGRSpatialReferenceH, decltype(&OSRDestroySpatialReference)>;
+using Dataset = detail::GdalOwned<GDALDatasetH, decltype(&GDALClose)>;
+using SpatialRef = detail::GdalOwned<OGRSpatialReferenceH, decltype(&OSRDestroySpatialReference)>;
 Dataset adopt(const GdalLibrary& g, GDALDatasetH h) { return Dataset(h, g.GDALClose); }
 SpatialRef new_srs(const GdalLibrary& g, OGRSpatialReferenceH h) { return SpatialRef(h, g.OSRDestroySpatialReference); }
 
@@ -177,7 +157,7 @@ LocalFrame local_frame_for(const GdalLibrary& g, const QuietGdalErrors& quiet, G
     g.OSRCopyGeogCSFrom(dst.get(), src.get());
     g.OSRSetAE(dst.get(), f.lat0, f.lon0, 0.0, 0.0);
     g.OSRSetAxisMappingStrategy(dst.get(), OAMS_TRADITIONAL_GIS_ORDER);
-    const Owned<OGRCoordinateTransformationH, decltype(&OCTDestroyCoordinateTransformation)> ct(
+    const detail::GdalOwned<OGRCoordinateTransformationH, decltype(&OCTDestroyCoordinateTransformation)> ct(
         g.OCTNewCoordinateTransformation(src.get(), dst.get()), g.OCTDestroyCoordinateTransformation);
     if (!ct.get()) throw InputError(path + ": cannot build a local metric frame (" + quiet.last() + ")");
 

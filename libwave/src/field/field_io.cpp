@@ -20,10 +20,9 @@ std::string field_geotiff(const FieldRaster& r, const Seafloor& seafloor) {
     static std::atomic<unsigned> serial{0};
     const std::string path = "/vsimem/libwave-field-" + std::to_string(serial++) + ".tif";
     {
-        const auto close = [&g](GDALDatasetH d) { g.GDALClose(d); };
-        const std::unique_ptr<void, decltype(close)> ds(
+        const detail::GdalOwned<GDALDatasetH, decltype(&GDALClose)> ds(
             g.GDALCreate(driver, path.c_str(), static_cast<int>(r.nx), static_cast<int>(r.ny), 3, GDT_Float32, nullptr),
-            close);
+            g.GDALClose);
         if (!ds) throw Error("wave field: GDAL could not create the GeoTIFF");
         // Row 0 of a GeoTIFF is the top (north): the raster's last row.
         double transform[6] = {r.x0 - 0.5 * r.spacing, r.spacing, 0.0,
