@@ -225,8 +225,8 @@ class Files(unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             broken = os.path.join(d, "lib")
             os.mkdir(broken)
-            soname = next(line.split()[0] for line in subprocess.run([shutil.which("ldconfig") or "/sbin/ldconfig", "-p"], capture_output=True, text=True).stdout.splitlines()
-                          if line.strip().startswith("libgdal.so."))
+            cache = subprocess.run([shutil.which("ldconfig") or "/sbin/ldconfig", "-p"], capture_output=True, text=True).stdout
+            soname = next(line.split()[0] for line in cache.splitlines() if line.strip().startswith("libgdal.so."))
             with open(os.path.join(broken, soname), "w") as f:
                 f.write("not a library\n")
             env = dict(os.environ, LD_LIBRARY_PATH=broken)
