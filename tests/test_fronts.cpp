@@ -196,7 +196,7 @@ TEST(Fronts, DispersionTableMatchesTheSolver) {
         ASSERT_EQ(table.celerity(h), e.celerity) << h;  // the tracers' lookup of C alone
     }
     EXPECT_LT(worst, 1e-8);
-    // At the nodes (solved from the last node's root) the table is the solver's to 1e-13.
+    // At the nodes (one Newton step from the extrapolated root) the table is the solver's to 1e-13.
     const double ds = std::sqrt(12.0) / 4095.0;
     double at_nodes = 0.0;
     for (int i = 2; i < 4095; i += 7) {

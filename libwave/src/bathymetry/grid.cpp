@@ -94,14 +94,21 @@ DepthSample sample_depth(const ElevationGrid& g, double x, double y) noexcept {
     const CubicWeights wx = catmull_rom(px.t), wy = catmull_rom(py.t);
     const bool inner = interior(g, px.cell, py.cell);
     double z = 0.0, dz_du = 0.0, dz_dv = 0.0;
+    const auto nx = static_cast<std::ptrdiff_t>(g.nx);
     for (int b = 0; b < 4; ++b) {
         double row = 0.0, drow = 0.0;
-        const double* direct = inner ? &g.z[static_cast<std::size_t>((py.cell - 1 + b) * static_cast<std::ptrdiff_t>(g.nx) + px.cell - 1)]
-                                     : nullptr;
-        for (int a = 0; a < 4; ++a) {
-            const double v = direct ? direct[a] : node(g, px.cell - 1 + a, py.cell - 1 + b);
-            row += wx.w[a] * v;
-            drow += wx.dw[a] * v;
+        if (inner) {  // the branch outside the sums: they unroll
+            const double* v = &g.z[static_cast<std::size_t>((py.cell - 1 + b) * nx + px.cell - 1)];
+            for (int a = 0; a < 4; ++a) {
+                row += wx.w[a] * v[a];
+                drow += wx.dw[a] * v[a];
+            }
+        } else {
+            for (int a = 0; a < 4; ++a) {
+                const double v = node(g, px.cell - 1 + a, py.cell - 1 + b);
+                row += wx.w[a] * v;
+                drow += wx.dw[a] * v;
+            }
         }
         z += wy.w[b] * row;
         dz_du += wy.w[b] * drow;

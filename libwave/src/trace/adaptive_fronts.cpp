@@ -30,13 +30,22 @@ struct Ray {
     detail::CrossingSkip skip{};
     bool ashore = false;
     DepthSample here{};  // the seafloor at (x, y), kept from the end of the last step
+    double slope = 0.0;  // |∇h| there
     detail::WaveTable::Entry wave{};  // waves.at(here.depth): k, C and K_s there
 };
+
+// |(x, y)|: hypot's care for overflow only when the squares overflow (gradients,
+// directions and steps are far from it; hypot was a tenth of a trace).
+double norm(double x, double y) {
+    const double r = std::sqrt(x * x + y * y);
+    return r < HUGE_VAL ? r : std::hypot(x, y);
+}
 
 // The seafloor and the wave at the ray's position, kept with it: each step, the front's
 // record and the next step read them (three table lookups of one depth otherwise).
 void settle(Ray& r, const ElevationGrid& g, const detail::WaveTable& waves) {
     r.here = sample_depth(g, r.x, r.y);
+    r.slope = norm(r.here.dh_dx, r.here.dh_dy);
     r.wave = waves.at(r.here.depth);
 }
 
@@ -62,14 +71,36 @@ void validate(const WaveTrain& t, const FrontOptions& o) {
         throw InputError("fronts: max_turn_degrees must be in (0, 720] degrees, got " + detail::format_number(o.max_turn_degrees));
 }
 
-// |(x, y)|: hypot's care for overflow only when the squares overflow (gradients,
-// directions and steps are far from it; hypot was a tenth of a trace).
-double norm(double x, double y) {
-    const double r = std::sqrt(x * x + y * y);
-    return r < HUGE_VAL ? r : std::hypot(x, y);
+bool inside(const detail::Box& b, double x, double y) { return x >= b.x0 && x <= b.x1 && y >= b.y0 && y <= b.y1; }
+
+// Removes the dead rays of a front in place; each dead ray's tube joins the gap before
+// its next living neighbour. gaps[i] is the tube between ray i and ray i + 1.
+void remove_dead(std::vector<Ray>& front, std::vector<double>& gaps) {
+    std::size_t kept = 0;
+    double carry = 0.0;
+    for (std::size_t i = 0; i < front.size(); ++i) {
+        if (front[i].flag == RayFlag::dead) {
+            if (i < gaps.size()) carry += gaps[i];
+            continue;
+        }
+        if (kept > 0) gaps[kept - 1] = carry;  // kept − 1 < i: gaps[i] is still unread
+        carry = i < gaps.size() ? gaps[i] : 0.0;
+        if (kept != i) front[kept] = front[i];
+        ++kept;
+    }
+    front.resize(kept);
+    gaps.resize(kept > 0 ? kept - 1 : 0);
 }
 
-bool inside(const detail::Box& b, double x, double y) { return x >= b.x0 && x <= b.x1 && y >= b.y0 && y <= b.y1; }
+// Room for a trace's points, estimated from the rays entering and the straight
+// crossing: the arrays grow once or not at all.
+void reserve_points(FrontSet& f, std::size_t points) {
+    f.ray.reserve(points);
+    for (std::vector<double>* v : {&f.x, &f.y, &f.dir_x, &f.dir_y, &f.phase, &f.k, &f.depth, &f.slope, &f.rise, &f.amplitude})
+        v->reserve(points);
+    f.flag.reserve(points);
+    f.caustic.reserve(points);
+}
 
 // The signed angle from a direction to the next, given their cross and dot products:
 // atan2, but for the small turns of almost every step (|z| = |cross/dot| ≤ 1/8) its
@@ -86,7 +117,7 @@ double turn_angle(double cross, double dot) {
 // the component along the contour over C constant (Gonzato eq. 8).
 void advance(Ray& r, const ElevationGrid& g, const detail::WaveTable& waves, const FrontOptions& o) {
     const DepthSample& here = r.here;
-    const double slope = norm(here.dh_dx, here.dh_dy);
+    const double slope = r.slope;
     const detail::WaveTable::Entry w1 = r.wave;
     // Near grazing incidence, the direction at mid-step from the ray equation
     // dθ/ds = −(1/C) ∂C/∂m (m the ray's left normal) decides where Snell's "ahead" is. A
@@ -100,7 +131,10 @@ void advance(Ray& r, const ElevationGrid& g, const detail::WaveTable& waves, con
     constexpr double kGrazing = 0.05, kMaxHalfTurn = 0.1;
     double pdx = r.dx, pdy = r.dy;
     if (slope > 1e-12 && here.depth > 0.0) {
-        const double grazing = std::max(0.0, 1.0 - std::abs(r.dx * here.dh_dx + r.dy * here.dh_dy) / slope / kGrazing);
+        // Nearly every step is far from grazing: one product rules it out before the two
+        // divisions (the margin keeps the test's rounding on the safe side).
+        const double across = std::abs(r.dx * here.dh_dx + r.dy * here.dh_dy);
+        const double grazing = across > 1.001 * kGrazing * slope ? 0.0 : std::max(0.0, 1.0 - across / slope / kGrazing);
         if (grazing > 0.0) {
             const double eps = std::max(1e-6, 1e-3 * here.depth);
             const double dlnc_dh = (waves.celerity(here.depth + eps) / w1.celerity - 1.0) / eps;
@@ -254,7 +288,7 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
     const double omega = 2.0 * std::numbers::pi / t.period;
     const double max_turn = o.max_turn_degrees * std::numbers::pi / 180.0;
     // Depths beyond the table (bicubic overshoot) fall back to the exact solver.
-    const detail::WaveTable waves(omega, 1.05 * seafloor_stats(seafloor).depth_max, o.dispersion);
+    const detail::WaveTable waves(omega, 1.05 * detail::deepest(g), o.dispersion);
     const auto entries =
         detail::entry_points(g, dx, dy, {omega, t.amplitude, o.breaker_index, o.dispersion}, o.ray_spacing, o.max_rays);
     // Refused up front when even a straight crossing of the domain along the swell needs
@@ -276,6 +310,8 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
 
     FrontSet out;
     out.omega = omega;
+    const auto points_expected = static_cast<std::size_t>(std::ceil(fronts_needed) + 1.0) * entries.size();
+    reserve_points(out, std::min<std::size_t>(o.max_points, points_expected));
     std::vector<Ray> front;
     std::vector<double> gap_b0;  // the width the tube between ray i and i+1 had in the reference plane wave (EntryPoint)
     const detail::EntryPoint* last = nullptr;
@@ -326,7 +362,7 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
             out.phase.push_back(r.phase);
             out.k.push_back(w.k);
             out.depth.push_back(s.depth);
-            out.slope.push_back(norm(s.dh_dx, s.dh_dy));
+            out.slope.push_back(r.slope);
             out.rise.push_back(-(s.dh_dx * r.dx + s.dh_dy * r.dy));
             out.amplitude.push_back(a);
             out.flag.push_back(r.flag);
@@ -379,33 +415,11 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
             if (front[i].flag == RayFlag::aground && front[i - 1].flag == RayFlag::aground &&
                 front[i + 1].flag == RayFlag::aground)
                 front[i].flag = RayFlag::dead;
-        // Remove the dead; their tubes join a neighbour's.
-        std::vector<Ray>& kept = spare;
-        std::vector<double>& kept_gaps = spare_gaps;
-        kept.clear();
-        kept_gaps.clear();
-        double carry = 0.0;
-        for (std::size_t i = 0; i < front.size(); ++i) {
-            if (front[i].flag == RayFlag::dead) {
-                if (i < gap_b0.size()) carry += gap_b0[i];
-                continue;
-            }
-            if (!kept.empty()) kept_gaps.push_back(carry);
-            carry = i < gap_b0.size() ? gap_b0[i] : 0.0;
-            kept.push_back(front[i]);
-        }
-        front.swap(kept);
-        gap_b0.swap(kept_gaps);
-        // Over-sampling: a new ray midway between neighbours that drifted apart.
-        std::vector<Ray>& grown = spare;
-        std::vector<double>& grown_gaps = spare_gaps;
-        grown.clear();
-        grown_gaps.clear();
-        for (std::size_t i = 0; i < front.size(); ++i) {
-            grown.push_back(front[i]);
-            if (i + 1 == front.size()) break;
-            const Ray& a = front[i];
-            const Ray& b = front[i + 1];
+        remove_dead(front, gap_b0);
+        // Over-sampling: a new ray midway between neighbours that drifted apart. Most
+        // steps insert none, and then the front stays where it is.
+        const double split2 = o.split_distance * o.split_distance;
+        const auto diverged = [&](const Ray& a, const Ray& b) {
             const bool both_flat = a.flag == RayFlag::flat && b.flag == RayFlag::flat;
             const bool both_aground = a.flag == RayFlag::aground && b.flag == RayFlag::aground;
             // Neighbours whose order across the front has flipped have crossed (a caustic,
@@ -413,31 +427,48 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
             // is a gap between rays heading apart by more than a right angle.
             const bool crossed = side * ((b.x - a.x) * a.dy - (b.y - a.y) * a.dx) <= 0.0 ||
                                  a.dx * b.dx + a.dy * b.dy <= 0.0;
-            if (!both_flat && !both_aground && !crossed && norm(b.x - a.x, b.y - a.y) > o.split_distance) {
-                if (out.initial_rays + out.inserted_rays >= o.max_rays)
-                    throw LimitError("fronts: more than " + std::to_string(o.max_rays) +
-                                     " rays (FrontOptions::max_rays, scene key /trace/max_rays; raise it or raise split_distance)");
-                Ray m{next_id++, 0.5 * (a.x + b.x), 0.5 * (a.y + b.y), a.dx + b.dx, a.dy + b.dy,
-                      0.5 * (a.phase + b.phase), RayFlag::alive, 0.5 * (a.turn + b.turn)};
-                m.band = a.band;  // isobath mode: the new ray starts in its neighbour's band
-                settle(m, g, waves);
-                const double l = norm(m.dx, m.dy);
-                m.dx = l > 0.0 ? m.dx / l : a.dx;
-                m.dy = l > 0.0 ? m.dy / l : a.dy;
-                if (m.here.depth <= 0.0) {  // the gap's middle is on land: a new ray on its shore
-                    m.flag = RayFlag::aground;
-                    onto_shore(m, g, waves);
+            if (both_flat || both_aground || crossed) return false;
+            const double ex = b.x - a.x, ey = b.y - a.y;  // most pairs are well inside the split distance
+            return !(ex * ex + ey * ey < 0.999 * split2) && norm(ex, ey) > o.split_distance;
+        };
+        const auto first_gap = std::adjacent_find(front.begin(), front.end(), diverged);
+        if (first_gap != front.end()) {
+            std::vector<Ray>& grown = spare;
+            std::vector<double>& grown_gaps = spare_gaps;
+            const auto unchanged = static_cast<std::size_t>(first_gap - front.begin());
+            grown.assign(front.begin(), first_gap);
+            grown_gaps.assign(gap_b0.begin(), gap_b0.begin() + static_cast<std::ptrdiff_t>(unchanged));
+            for (std::size_t i = unchanged; i < front.size(); ++i) {
+                grown.push_back(front[i]);
+                if (i + 1 == front.size()) break;
+                const Ray& a = front[i];
+                const Ray& b = front[i + 1];
+                if (diverged(a, b)) {
+                    if (out.initial_rays + out.inserted_rays >= o.max_rays)
+                        throw LimitError("fronts: more than " + std::to_string(o.max_rays) +
+                                         " rays (FrontOptions::max_rays, scene key /trace/max_rays; raise it or raise split_distance)");
+                    Ray m{next_id++, 0.5 * (a.x + b.x), 0.5 * (a.y + b.y), a.dx + b.dx, a.dy + b.dy,
+                          0.5 * (a.phase + b.phase), RayFlag::alive, 0.5 * (a.turn + b.turn)};
+                    m.band = a.band;  // isobath mode: the new ray starts in its neighbour's band
+                    settle(m, g, waves);
+                    const double l = norm(m.dx, m.dy);
+                    m.dx = l > 0.0 ? m.dx / l : a.dx;
+                    m.dy = l > 0.0 ? m.dy / l : a.dy;
+                    if (m.here.depth <= 0.0) {  // the gap's middle is on land: a new ray on its shore
+                        m.flag = RayFlag::aground;
+                        onto_shore(m, g, waves);
+                    }
+                    grown_gaps.push_back(0.5 * gap_b0[i]);
+                    grown_gaps.push_back(0.5 * gap_b0[i]);
+                    grown.push_back(m);
+                    ++out.inserted_rays;
+                } else {
+                    grown_gaps.push_back(gap_b0[i]);
                 }
-                grown_gaps.push_back(0.5 * gap_b0[i]);
-                grown_gaps.push_back(0.5 * gap_b0[i]);
-                grown.push_back(m);
-                ++out.inserted_rays;
-            } else {
-                grown_gaps.push_back(gap_b0[i]);
             }
+            front.swap(grown);
+            gap_b0.swap(grown_gaps);
         }
-        front.swap(grown);
-        gap_b0.swap(grown_gaps);
         record();
     }
     out.entry_break_phase.resize(next_id, std::numeric_limits<double>::quiet_NaN());  // inserted rays: none

@@ -6,6 +6,7 @@
 #include "libwave/isobath.h"
 #include "libwave/trace.h"
 
+#include <algorithm>
 #include <limits>
 #include <optional>
 #include <string>
@@ -22,6 +23,12 @@ struct Box {
 };
 
 inline Box domain_box(const ElevationGrid& g) { return {g.x0, g.y0, g.x_max(), g.y_max()}; }
+
+/// The greatest depth over the grid's nodes (m), seafloor_stats' depth_max without the
+/// rest of its statistics; 0 for an empty grid.
+inline double deepest(const ElevationGrid& g) {
+    return g.z.empty() ? 0.0 : -*std::min_element(g.z.begin(), g.z.end());
+}
 
 /// Slab clipping of the line p + t d against the box: the parameter interval inside.
 bool clip(const Box& b, double px, double py, double dx, double dy, double& t0, double& t1);
