@@ -7,7 +7,9 @@
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 #include <filesystem>
 
 namespace {
@@ -103,6 +105,22 @@ TEST(RayStrips, ValidOnTheIslandAndOnARealSeafloor) {
     const FrontSet f = trace_fronts(okushiri, WaveTrain{.period = 10.0, .amplitude = 0.5, .direction_x = 1.0, .direction_y = 0.0}, o);
     EXPECT_GT(f.rays_aground, 0u);
     expect_valid(build_ray_strips(f), "okushiri");
+}
+
+TEST(RayStrips, EveryPointOfTheBreakingBeachsFrontsIsInATriangle) {
+    // The breaking beach's trace (examples/breaking-beach.json). A ray at the end of the
+    // front walked 161 m along the shore beside aground neighbours: its 317 points lay on
+    // no strip, and the exported surface's indices differed from strips.ply's.
+    FrontOptions o;
+    o.ray_spacing = 2.0;
+    o.step = 0.5;
+    o.split_distance = 3.0;
+    const RayStrips s = build_ray_strips(
+        trace_fronts(make_planar_beach(), WaveTrain{.period = 8.0, .amplitude = 0.4, .direction_x = 0.34, .direction_y = 0.94}, o));
+    expect_valid(s, "breaking beach");
+    std::vector<bool> used(s.vertex_count(), false);
+    for (const std::uint32_t v : s.triangles) used[v] = true;
+    EXPECT_EQ(std::count(used.begin(), used.end(), false), 0) << s.vertex_count() << " points";
 }
 
 TEST(RayStrips, PlyKeepsThePropertiesPerVertex) {

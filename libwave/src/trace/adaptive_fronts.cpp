@@ -92,6 +92,20 @@ void remove_dead(std::vector<Ray>& front, std::vector<double>& gaps) {
     gaps.resize(kept > 0 ? kept - 1 : 0);
 }
 
+// Aground rays that mark no shore a neighbour does not: one between two aground rays,
+// and one at an end of the front beside an aground ray. Left to walk, an end ray follows
+// the shoreline with its phase frozen (follow_shore adds none): on the breaking beach a
+// ray entering 0.22 m deep on the west side walked 161 m along the shore.
+void retire_walkers(std::vector<Ray>& front) {
+    const auto aground = [&](std::size_t i) { return front[i].flag == RayFlag::aground; };
+    for (std::size_t i = 1; i + 1 < front.size(); ++i)
+        if (aground(i) && aground(i - 1) && aground(i + 1)) front[i].flag = RayFlag::dead;
+    const std::size_t n = front.size();
+    if (n < 2) return;
+    if (aground(0) && aground(1)) front[0].flag = RayFlag::dead;
+    if (aground(n - 1) && aground(n - 2)) front[n - 1].flag = RayFlag::dead;
+}
+
 // Room for a trace's points, estimated from the rays entering and the straight
 // crossing: the arrays grow once or not at all.
 void reserve_points(FrontSet& f, std::size_t points) {
@@ -411,10 +425,7 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
             }
             if (!inside(box, r.x, r.y)) r.flag = RayFlag::dead;
         }
-        for (std::size_t i = 1; i + 1 < front.size(); ++i)  // aground between two aground rays
-            if (front[i].flag == RayFlag::aground && front[i - 1].flag == RayFlag::aground &&
-                front[i + 1].flag == RayFlag::aground)
-                front[i].flag = RayFlag::dead;
+        retire_walkers(front);
         remove_dead(front, gap_b0);
         // Over-sampling: a new ray midway between neighbours that drifted apart. Most
         // steps insert none, and then the front stays where it is.
