@@ -320,7 +320,7 @@ class MainJob(unittest.TestCase):
                 foam_max = max(foam_max, max(frame))
             self.assertGreater(foam_max, 0.5)
 
-    def test_seafloor_apron_closes_on_the_far_rectangle_and_keeps_the_border_slopes_to_a_cell(self):
+    def test_seafloor_apron_closes_on_the_far_rectangle_and_the_water_meets_sand(self):
         # The seafloor under the far field (docs/far-field.md, the seafloor apron): the
         # default bay's grid ([0, 100]² m, 0.5 m nodes) continued to the skirt's far
         # rectangle. Every edge inside is shared by two triangles and the mesh's only
@@ -361,6 +361,17 @@ class MainJob(unittest.TestCase):
                 if any(on_border[v] for v in t):
                     longest = max(longest, max(math.dist(plan[t[i]], plan[t[(i + 1) % 3]]) for i in range(3)))
             self.assertLessEqual(longest, 0.5 * math.sqrt(2.0) + 1e-3)
+            # The colours blend across each triangle: a grass line at the waterline drew
+            # the grid's diagonals into the water's edge, green teeth a cell apart in a
+            # close-up of the shore. Every triangle the waterline crosses is sand (red over
+            # green) at all its corners; grass (green over red) begins above the beach.
+            colour = floats(doc, binary, prim["attributes"]["COLOR_0"])
+            sand = [colour[3 * v] >= colour[3 * v + 1] for v in range(len(plan))]
+            height = g[1::3]
+            shore = [t for t in tris if min(height[v] for v in t) <= 0.0 < max(height[v] for v in t)]
+            self.assertGreater(len(shore), 100)
+            self.assertEqual([t for t in shore if not all(sand[v] for v in t)], [])
+            self.assertTrue(any(not sand[v] and height[v] > 1.2 for v in range(len(plan))))  # 2 × the 0.3 m swell's height
 
     def test_named_attributes_and_colour(self):
         with tempfile.TemporaryDirectory() as d:

@@ -1096,12 +1096,34 @@ void rest_texcoords(const ScenePlan& plan, const Refinement* refined, SceneAnima
     domain_texcoords(plan.seafloor.grid, refined ? fine_x : plan.rest_x, refined ? fine_y : plan.rest_y, a.texcoords);
 }
 
-// A seafloor colour for an elevation z (m): pale sand at the waterline darkening with
-// depth (the water itself adds the blue), grass above it (linear RGB).
-std::array<float, 3> seafloor_colour(double z, double depth_max) {
-    if (z > 0.0) return {0.16f, 0.2f, 0.08f};
-    const double t = std::clamp(-z / std::max(1e-9, depth_max), 0.0, 1.0);
-    return {static_cast<float>(0.6 - 0.35 * t), static_cast<float>(0.5 - 0.3 * t), static_cast<float>(0.32 - 0.2 * t)};
+// What colours the dressing's seafloor: its greatest depth, and the top of the beach.
+struct FloorPalette {
+    double depth_max = 1e-9;  // m
+    double beach_top = 0.0;   // m above still water: sand below, grass above
+};
+
+// The beach's top: the highest wave's height (2 A) above still water, about where its
+// swash reaches. The colours are per vertex and blend across a grid cell, so a grass line
+// at the waterline itself drew the grid's diagonals into the water's edge: green teeth a
+// cell apart in every close-up of the shore. Sand on both sides of the edge keeps it clean.
+FloorPalette floor_palette(const Scene& scene, const Seafloor& seafloor) {
+    FloorPalette p;
+    p.depth_max = std::max(1e-9, seafloor_stats(seafloor).depth_max);
+    for (const WaveTrain& t : scene.waves) p.beach_top = std::max(p.beach_top, 2.0 * t.amplitude);
+    return p;
+}
+
+// A seafloor colour for an elevation z (m): pale sand up to the beach's top, darkening
+// with depth below the waterline (the water itself adds the blue), turning to grass over
+// as much height again above the beach (a gradient over several cells, not a grass line
+// along the grid's diagonals) (linear RGB).
+std::array<float, 3> seafloor_colour(double z, const FloorPalette& p) {
+    const double wet = std::clamp(-z / p.depth_max, 0.0, 1.0);
+    const double grass = p.beach_top > 0.0 ? std::clamp(z / p.beach_top - 1.0, 0.0, 1.0) : (z > 0.0 ? 1.0 : 0.0);
+    const auto mix = [&](double sand, double deep, double green) {
+        return static_cast<float>((1.0 - grass) * (sand + (deep - sand) * wet) + grass * green);
+    };
+    return {mix(0.6, 0.25, 0.16), mix(0.5, 0.2, 0.2), mix(0.32, 0.12, 0.08)};
 }
 
 // Under the far field's skirt: the seafloor's border continued outwards to the skirt's
@@ -1112,7 +1134,8 @@ std::array<float, 3> seafloor_colour(double z, double depth_max) {
 // grid's slopes across the border in the border nodes' own smooth normals: a
 // renderer's normals lose them within a cell, where one ring would carry each border
 // node's slope (and its light) along a strip to the horizon.
-void add_seafloor_apron(double cell, double reach, std::size_t cols, std::size_t rows, double depth_max, SceneAnimation& a) {
+void add_seafloor_apron(double cell, double reach, std::size_t cols, std::size_t rows, const FloorPalette& palette,
+                        SceneAnimation& a) {
     // The grid's border nodes counter-clockwise, side by side (corners in both sides).
     const std::array<std::vector<std::uint32_t>, 4> sides = [&] {
         std::array<std::vector<std::uint32_t>, 4> s;
@@ -1128,7 +1151,7 @@ void add_seafloor_apron(double cell, double reach, std::size_t cols, std::size_t
     const auto add = [&](std::uint32_t from, double x, double y) {
         const float z = a.seafloor_positions[3 * from + 2];
         a.seafloor_positions.insert(a.seafloor_positions.end(), {static_cast<float>(x), static_cast<float>(y), z});
-        const auto colour = seafloor_colour(z, depth_max);
+        const auto colour = seafloor_colour(z, palette);
         a.seafloor_colors.insert(a.seafloor_colors.end(), colour.begin(), colour.end());
         if (mapped) a.seafloor_texcoords.insert(a.seafloor_texcoords.end(), {a.seafloor_texcoords[2 * from], a.seafloor_texcoords[2 * from + 1]});
         return static_cast<std::uint32_t>(a.seafloor_positions.size() / 3 - 1);
@@ -1184,7 +1207,7 @@ void dress_animation(const Scene& scene, const ScenePlan& plan, SceneAnimation& 
     if (scene.dress_seafloor && surface_kind_traces(scene.surface_kind) != Traced::nothing && g.nx >= 2 && g.ny >= 2) {
         const std::size_t step = std::max<std::size_t>(1, (std::max(g.nx, g.ny) + 255) / 256);
         const std::size_t cols = (g.nx - 1) / step + 1, rows = (g.ny - 1) / step + 1;
-        const double depth_max = std::max(1e-9, seafloor_stats(plan.seafloor).depth_max);
+        const FloorPalette palette = floor_palette(scene, plan.seafloor);
         for (std::size_t r = 0; r < rows; ++r)
             for (std::size_t c = 0; c < cols; ++c) {
                 const std::size_t i = std::min(g.nx - 1, c * step), j = std::min(g.ny - 1, r * step);
@@ -1192,7 +1215,7 @@ void dress_animation(const Scene& scene, const ScenePlan& plan, SceneAnimation& 
                 a.seafloor_positions.insert(a.seafloor_positions.end(),
                                             {static_cast<float>(g.x0 + static_cast<double>(i) * g.dx),
                                              static_cast<float>(g.y0 + static_cast<double>(j) * g.dy), static_cast<float>(z)});
-                const auto colour = seafloor_colour(z, depth_max);
+                const auto colour = seafloor_colour(z, palette);
                 a.seafloor_colors.insert(a.seafloor_colors.end(), colour.begin(), colour.end());
             }
         a.seafloor_triangles = grid_triangles(cols, rows);
@@ -1217,7 +1240,7 @@ void dress_animation(const Scene& scene, const ScenePlan& plan, SceneAnimation& 
             d.sunbeam_fps = scene.fps;
         }
         if (plan.skirt.vertex_count() > 0)
-            add_seafloor_apron(static_cast<double>(step) * std::min(g.dx, g.dy), plan.skirt.reach, cols, rows, depth_max, a);
+            add_seafloor_apron(static_cast<double>(step) * std::min(g.dx, g.dy), plan.skirt.reach, cols, rows, palette, a);
     }
     a.dressing = d;
 }
