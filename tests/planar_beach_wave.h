@@ -8,6 +8,7 @@
 
 #include "libwave/bathymetry.h"
 #include "libwave/physics.h"
+#include "libwave/trace.h"
 
 #include <algorithm>
 #include <cmath>
@@ -56,5 +57,15 @@ struct BeachWave {
         return phase(0.0, y) - sum;
     }
 };
+
+// The breaking beach's trace (examples/breaking-beach.json): the planar beach, an 8 s
+// swell from (0.34, 0.94), rays 2 m apart, steps of 0.5 m.
+inline FrontSet breaking_beach_fronts() {
+    FrontOptions o;
+    o.ray_spacing = 2.0;
+    o.step = 0.5;
+    o.split_distance = 3.0;
+    return trace_fronts(make_planar_beach(), {.period = 8.0, .amplitude = 0.4, .direction_x = 0.34, .direction_y = 0.94}, o);
+}
 
 }  // namespace wave::test

@@ -139,16 +139,6 @@ TEST(Fronts, RaysEnteringAcrossTheShallowSideStartOnTheRefractedWave) {
     for (std::size_t id = f.initial_rays; id < f.entry_break_phase.size(); ++id) EXPECT_TRUE(std::isnan(f.entry_break_phase[id]));
 }
 
-// The breaking beach's trace (examples/breaking-beach.json): the planar beach, an 8 s
-// swell from (0.34, 0.94), rays 2 m apart, steps of 0.5 m.
-FrontSet breaking_beach_fronts() {
-    FrontOptions o;
-    o.ray_spacing = 2.0;
-    o.step = 0.5;
-    o.split_distance = 3.0;
-    return trace_fronts(make_planar_beach(), {.period = 8.0, .amplitude = 0.4, .direction_x = 0.34, .direction_y = 0.94}, o);
-}
-
 // Along the planar beach's straight shore the exact wave's phase is k_x x + ∫ k_y dy to
 // the shore, a line in x: the integral from the corner to the shore (depth 8 − y/20), in
 // s = √h, where k_y s is smooth up to the shore: dy = −40 s ds.
@@ -167,7 +157,7 @@ TEST(Fronts, RaysReachThePlanarBeachsShoreOnTheExactPhase) {
     // taken as 0 there, where it diverges as h^−½) instead of 2 k₀ Δs: the breaking
     // beach's rays landed up to 0.7 rad short, each by where its last wet vertex fell,
     // and Jeschke's lips, whose lives end at that phase, stepped from ray to ray.
-    const FrontSet f = breaking_beach_fronts();
+    const FrontSet f = test::breaking_beach_fronts();
     const test::BeachWave exact(make_planar_beach(), f.omega, 0.34 / std::hypot(0.34, 0.94));
     const double to_shore = phase_to_shore(exact, f.omega);
     std::set<std::uint32_t> landed;
@@ -191,7 +181,7 @@ TEST(Fronts, NoRayWalksAlongTheShoreWithItsPhaseFrozen) {
     // for 161 m, its phase 6 rad behind the wave's. Every aground point, the whole shore
     // included, now carries the exact wave's phase to within the few steps an end ray
     // walks beside a wet neighbour.
-    const FrontSet f = breaking_beach_fronts();
+    const FrontSet f = test::breaking_beach_fronts();
     const test::BeachWave exact(make_planar_beach(), f.omega, 0.34 / std::hypot(0.34, 0.94));
     const double to_shore = phase_to_shore(exact, f.omega);
     double worst = 0.0;

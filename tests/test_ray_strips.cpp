@@ -2,6 +2,7 @@
 // ship, and the PLY file with its per-vertex properties.
 #include "libwave/errors.h"
 #include "libwave/surface.h"
+#include "planar_beach_wave.h"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
@@ -111,12 +112,7 @@ TEST(RayStrips, EveryPointOfTheBreakingBeachsFrontsIsInATriangle) {
     // The breaking beach's trace (examples/breaking-beach.json). A ray at the end of the
     // front walked 161 m along the shore beside aground neighbours: its 317 points lay on
     // no strip, and the exported surface's indices differed from strips.ply's.
-    FrontOptions o;
-    o.ray_spacing = 2.0;
-    o.step = 0.5;
-    o.split_distance = 3.0;
-    const RayStrips s = build_ray_strips(
-        trace_fronts(make_planar_beach(), WaveTrain{.period = 8.0, .amplitude = 0.4, .direction_x = 0.34, .direction_y = 0.94}, o));
+    const RayStrips s = build_ray_strips(test::breaking_beach_fronts());
     expect_valid(s, "breaking beach");
     std::vector<bool> used(s.vertex_count(), false);
     for (const std::uint32_t v : s.triangles) used[v] = true;

@@ -394,6 +394,21 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
     };
 
     record();
+    // Neighbours a new ray goes between: they drifted apart (most pairs are well inside
+    // the split distance, ruled out by the squared distance).
+    const double split2 = o.split_distance * o.split_distance;
+    const auto diverged = [&](const Ray& a, const Ray& b) {
+        const bool both_flat = a.flag == RayFlag::flat && b.flag == RayFlag::flat;
+        const bool both_aground = a.flag == RayFlag::aground && b.flag == RayFlag::aground;
+        // Neighbours whose order across the front has flipped have crossed (a caustic,
+        // kept as it is): the gap between them is not a diverging tube to fill. Nor
+        // is a gap between rays heading apart by more than a right angle.
+        const bool crossed = side * ((b.x - a.x) * a.dy - (b.y - a.y) * a.dx) <= 0.0 ||
+                             a.dx * b.dx + a.dy * b.dy <= 0.0;
+        if (both_flat || both_aground || crossed) return false;
+        const double ex = b.x - a.x, ey = b.y - a.y;
+        return !(ex * ex + ey * ey < 0.999 * split2) && norm(ex, ey) > o.split_distance;
+    };
     std::vector<Ray> spare;  // the next front is built here, then swapped in (no allocation a step)
     std::vector<double> spare_gaps;
     for (std::size_t step = 0;; ++step) {
@@ -429,19 +444,6 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
         remove_dead(front, gap_b0);
         // Over-sampling: a new ray midway between neighbours that drifted apart. Most
         // steps insert none, and then the front stays where it is.
-        const double split2 = o.split_distance * o.split_distance;
-        const auto diverged = [&](const Ray& a, const Ray& b) {
-            const bool both_flat = a.flag == RayFlag::flat && b.flag == RayFlag::flat;
-            const bool both_aground = a.flag == RayFlag::aground && b.flag == RayFlag::aground;
-            // Neighbours whose order across the front has flipped have crossed (a caustic,
-            // kept as it is): the gap between them is not a diverging tube to fill. Nor
-            // is a gap between rays heading apart by more than a right angle.
-            const bool crossed = side * ((b.x - a.x) * a.dy - (b.y - a.y) * a.dx) <= 0.0 ||
-                                 a.dx * b.dx + a.dy * b.dy <= 0.0;
-            if (both_flat || both_aground || crossed) return false;
-            const double ex = b.x - a.x, ey = b.y - a.y;  // most pairs are well inside the split distance
-            return !(ex * ex + ey * ey < 0.999 * split2) && norm(ex, ey) > o.split_distance;
-        };
         const auto first_gap = std::adjacent_find(front.begin(), front.end(), diverged);
         if (first_gap != front.end()) {
             std::vector<Ray>& grown = spare;
