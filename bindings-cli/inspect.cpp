@@ -37,11 +37,14 @@ void print_text(const std::string& path, const MeshInspection& m, const InspectO
         std::cout << "  loop " << i << ": " << l.edges << " edges, " << std::setprecision(6) << l.length << " m, "
                   << l.on_border << " vertices on the domain border, farthest " << l.farthest_inside << " m inside it\n";
     }
+    if (m.shore_vertices)
+        std::cout << "shore: " << m.shore_vertices << " boundary vertices inside the border, moving at most " << m.shore_drift
+                  << " m in plan\n";
     std::cout << "worst frame: " << w.folds << " folds (frame " << w.frame << "), " << w.lips
               << " overturning lips; at most " << w.facing_down << " triangles facing down\n"
               << "triangles: " << w.degenerate << " degenerate, " << w.slivers << " slivers (< " << o.sliver_angle_deg
-              << "°; " << w.lip_slivers << " on overturning lips), smallest angle " << w.smallest_angle_deg << "° ("
-              << w.smallest_angle_off_lips_deg << "° off the lips)\n"
+              << "°; " << w.lip_slivers << " on overturning lips, " << w.shore_slivers << " on the shore), smallest angle "
+              << w.smallest_angle_deg << "° (" << w.smallest_angle_off_lips_deg << "° off the lips and the shore)\n"
               << "edges: longest " << w.longest_edge << " m (median " << w.median_edge << " m), " << w.long_edges
               << " longer than " << o.long_edge_ratio << " × the local spacing (worst " << w.worst_edge_ratio << " ×)\n"
               << "motion: fastest vertex " << w.max_speed << " m/s (vertex " << w.fastest_vertex << ")\n";

@@ -96,6 +96,35 @@ TEST(Inspect, AHoleIsASecondLoopInsideTheBorder) {
     EXPECT_EQ(m.open_boundary_chains, 0u);
 }
 
+TEST(Inspect, TheShoreIsNoBreakingCrestAndItsDriftIsMeasured) {
+    Grid g(5);
+    const std::size_t cell = 2 * 4 + 2;  // the hole of the test above: its corners 12, 13, 17, 18 are the shore
+    g.triangles.erase(g.triangles.begin() + static_cast<std::ptrdiff_t>(6 * cell),
+                      g.triangles.begin() + static_cast<std::ptrdiff_t>(6 * cell + 6));
+    std::vector<float> two = g.positions;
+    two.insert(two.end(), g.positions.begin(), g.positions.end());
+    two[75 + 3 * 12 + 1] = 0.5f;  // frame 1: shore vertex 12 (2, 2) pulled down to (2, 0.5)
+    const std::vector<float> foam(50, 1.0f);  // foamy everywhere, as a breaking crest would be
+    const MeshInspection m = inspect_animation(view_of(two, g.triangles, 25, 2, foam));
+    EXPECT_EQ(m.shore_vertices, 4u);
+    EXPECT_DOUBLE_EQ(m.shore_drift, 1.5);
+    EXPECT_EQ(m.frames[0].facing_down, 0u);
+    // Every triangle turned over has vertex 12, on the shore: folds, not lips.
+    EXPECT_GT(m.frames[1].facing_down, 0u);
+    EXPECT_EQ(m.frames[1].folds, m.frames[1].facing_down);
+    EXPECT_EQ(m.frames[1].lips, 0u);
+    // Away from the shore: vertex 6 (1, 1) pulled down to (1, −0.5) turns the
+    // triangles below it over, and on a breaking crest they are lips.
+    two = g.positions;
+    two.insert(two.end(), g.positions.begin(), g.positions.end());
+    two[75 + 3 * 6 + 1] = -0.5f;
+    const MeshInspection off = inspect_animation(view_of(two, g.triangles, 25, 2, foam));
+    EXPECT_GT(off.frames[1].facing_down, 0u);
+    EXPECT_EQ(off.frames[1].lips, off.frames[1].facing_down);
+    EXPECT_EQ(off.frames[1].folds, 0u);
+    EXPECT_DOUBLE_EQ(off.shore_drift, 0.0);
+}
+
 TEST(Inspect, UnreferencedVerticesNonManifoldEdgesSliversAndLongEdges) {
     Grid g(3);
     // A vertex nothing uses; a needle (0,0)-(0.5,-0.05)-(1,0) below edge (0, 1), angles
@@ -103,7 +132,10 @@ TEST(Inspect, UnreferencedVerticesNonManifoldEdgesSliversAndLongEdges) {
     // then has three triangles.
     g.positions.insert(g.positions.end(), {7.0f, 7.0f, 0.0f, 0.5f, -0.05f, 0.0f});
     g.triangles.insert(g.triangles.end(), {0u, 10u, 1u, 0u, 1u, 3u});
-    const MeshInspection m = inspect_animation(view_of(g.positions, g.triangles, 11, 1));
+    // The needle hangs 5 cm below the grid: with that much tolerance the grid's lower
+    // side is on the border, and the needle is no shore triangle (the next test's are).
+    const InspectOptions loose{.border_tolerance = 0.1};
+    const MeshInspection m = inspect_animation(view_of(g.positions, g.triangles, 11, 1), loose);
     EXPECT_EQ(m.unreferenced_vertices, 1u);
     EXPECT_EQ(m.non_manifold_edges, 1u);
     EXPECT_EQ(m.frames[0].slivers, 1u);
@@ -114,7 +146,7 @@ TEST(Inspect, UnreferencedVerticesNonManifoldEdgesSliversAndLongEdges) {
     // angle is then the grid's (45°) or the third triangle's on edge (0, 1).
     std::vector<float> foam(11, 0.0f);
     foam[10] = 0.5f;
-    const MeshInspection on_lip = inspect_animation(view_of(g.positions, g.triangles, 11, 1, foam));
+    const MeshInspection on_lip = inspect_animation(view_of(g.positions, g.triangles, 11, 1, foam), loose);
     EXPECT_EQ(on_lip.frames[0].slivers, 1u);
     EXPECT_EQ(on_lip.frames[0].lip_slivers, 1u);
     EXPECT_NEAR(on_lip.frames[0].smallest_angle_deg, std::atan(0.1) * 180.0 / M_PI, 1e-4);

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -52,10 +53,10 @@ double smallest_area_ratio(const Grid& g, const std::vector<float>& p) {
 TEST(Untangle, OneTriangleTakesTheAnalyticFactor) {
     // (0,0) (1,0) (0,1): twice the area 1. The top vertex pulled down by 2 m: A(s) = 1 − 2s.
     const std::vector<double> x{0, 1, 0}, y{0, 0, 1};
-    const std::vector<std::uint32_t> tri{0, 1, 2};
+    const std::vector<std::uint32_t> tri{0, 1, 2};  // no border, no shore (hold_shore would hold its long side)
     {
         // The passes alone: A ≥ 0.1 up to s = 0.45; they stay 2 % inside the root: 0.441.
-        const UntanglePlan plan = plan_untangle(x, y, tri, {.pin_border = false, .ramp_slope = 0.0});
+        const UntanglePlan plan = plan_untangle(x, y, tri, {.pin_border = false, .hold_shore = false, .ramp_slope = 0.0});
         std::vector<float> p{0, 0, 0, 1, 0, 0, 0, -1, 0.5f};
         const UntangleReport r = untangle_motion(plan, {}, p);
         EXPECT_EQ(r.damped_vertices, 1u);
@@ -67,7 +68,7 @@ TEST(Untangle, OneTriangleTakesTheAnalyticFactor) {
     // The ramp: the offsets' gradient is diag(0, −2), a compression λ = −2; the bound
     // (1 + sλ)² ≥ 0.3 gives s = (1 − √0.3) / 2, and this one-axis squeeze keeps exactly
     // 1 − 2s = √0.3 of the area (≥ 0.3: no pass needed).
-    const UntanglePlan plan = plan_untangle(x, y, tri, {.pin_border = false});
+    const UntanglePlan plan = plan_untangle(x, y, tri, {.pin_border = false, .hold_shore = false});
     std::vector<float> p{0, 0, 0, 1, 0, 0, 0, -1, 0.5f};
     const UntangleReport r = untangle_motion(plan, {}, p);
     EXPECT_EQ(r.damped_vertices, 1u);
@@ -218,6 +219,61 @@ TEST(Untangle, FoamyCrestsAreLipsLeftToOverturn) {
         between += std::abs(d_half) > std::abs(d_none) + 1e-3 && std::abs(d_half) < std::abs(d) - 1e-3;
     }
     EXPECT_GT(between, g.x.size() / 4);
+}
+
+TEST(Untangle, TheShoreHoldsStillAndNoTriangleFoldsOverIt) {
+    // A 20 m square of water whose land (x + 0.3 y > 14 m) is cut out: a staircase
+    // shoreline off the rectangle's sides. A steep wave runs onto it, foamy everywhere
+    // (every triangle a lip): the vertices next to the shore are carried past it.
+    const Grid g(40, 0.5);
+    std::vector<std::uint32_t> water;
+    for (std::size_t t = 0; t < g.triangles.size() / 3; ++t) {
+        const std::uint32_t* v = &g.triangles[3 * t];
+        const double cx = (g.x[v[0]] + g.x[v[1]] + g.x[v[2]]) / 3.0, cy = (g.y[v[0]] + g.y[v[1]] + g.y[v[2]]) / 3.0;
+        if (cx + 0.3 * cy <= 14.0) water.insert(water.end(), v, v + 3);
+    }
+    const std::vector<float> moved = folded_wave(g, 1.6);
+    const std::vector<float> foam(g.x.size(), 1.0f);
+    const auto area = [&](const std::vector<float>& p, const std::uint32_t* v) {
+        return (double(p[3 * v[1]]) - p[3 * v[0]]) * (double(p[3 * v[2] + 1]) - p[3 * v[0] + 1]) -
+               (double(p[3 * v[1] + 1]) - p[3 * v[0] + 1]) * (double(p[3 * v[2]]) - p[3 * v[0]]);
+    };
+    const std::vector<float> rest = g.rest();
+    const UntanglePlan plan = plan_untangle(g.x, g.y, water);
+    std::size_t shore = 0;
+    std::vector<std::uint8_t> by_shore(g.x.size(), 0);
+    for (std::size_t v = 0; v < g.x.size(); ++v) shore += (plan.pinned[v] & 4) != 0;
+    for (std::size_t t = 0; t < water.size() / 3; ++t)
+        if ((plan.pinned[water[3 * t]] | plan.pinned[water[3 * t + 1]] | plan.pinned[water[3 * t + 2]]) & 4)
+            for (int c = 0; c < 3; ++c) by_shore[water[3 * t + c]] = 1;
+    EXPECT_GT(shore, 40u);  // the staircase: ~27 m of shore in 0.5 m steps
+    // Without holding the shore, the lips fold over it.
+    {
+        std::vector<float> p = moved;
+        untangle_motion(plan_untangle(g.x, g.y, water, {.hold_shore = false}), foam, p);
+        std::size_t down = 0;
+        for (std::size_t t = 0; t < water.size() / 3; ++t) down += by_shore[water[3 * t]] && area(p, &water[3 * t]) < 0.0;
+        EXPECT_GT(down, 10u);
+    }
+    std::vector<float> p = moved;
+    untangle_motion(plan, foam, p);
+    for (std::size_t v = 0; v < g.x.size(); ++v) {
+        if (plan.pinned[v] & 4) {  // the shore: at rest in plan, its height the wave's
+            EXPECT_EQ(p[3 * v], float(g.x[v])) << v;
+            EXPECT_EQ(p[3 * v + 1], float(g.y[v])) << v;
+            EXPECT_EQ(p[3 * v + 2], moved[3 * v + 2]) << v;
+        } else if (!by_shore[v] && plan.pinned[v] == 0) {  // away from it and the sides, the lips overturn as moved
+            EXPECT_EQ(p[3 * v], std::clamp(moved[3 * v], 0.0f, 19.5f)) << v;  // a lip over a side stops at it
+        }
+    }
+    std::size_t kept = 0;  // every triangle on the shore keeps a tenth of its area, facing up
+    for (std::size_t t = 0; t < water.size() / 3; ++t) {
+        const std::uint32_t* v = &water[3 * t];
+        if (!((plan.pinned[v[0]] | plan.pinned[v[1]] | plan.pinned[v[2]]) & 4)) continue;
+        EXPECT_GE(area(p, v), 0.1 * area(rest, v) - 1e-6) << t;
+        ++kept;
+    }
+    EXPECT_GT(kept, 40u);
 }
 
 TEST(Untangle, TheSameBitsOnOneThreadAndOnMany) {

@@ -40,14 +40,17 @@ struct InspectOptions {
 struct FrameInspection {
     std::size_t frame = 0;           ///< number within the loop
     std::size_t facing_down = 0;     ///< triangles with negative signed area in plan (x, y)
-    std::size_t lips = 0;            ///< … of them on a breaking crest (foam >= lip_foam)
+    /// … of them on a breaking crest (a vertex's foam >= lip_foam), off the shore (no
+    /// vertex on a boundary edge inside the border: the waterline is no crest)
+    std::size_t lips = 0;
     std::size_t folds = 0;           ///< … the others: defects
     std::size_t degenerate = 0;      ///< triangles of zero area in 3D
     std::size_t slivers = 0;         ///< smallest angle < sliver_angle_deg (3D)
-    std::size_t lip_slivers = 0;     ///< … of them on a breaking crest (a vertex's foam >= lip_foam)
+    std::size_t lip_slivers = 0;     ///< … of them on a breaking crest (as for lips)
+    std::size_t shore_slivers = 0;   ///< … of them on the shore (a vertex on it): the clip boundary
     double smallest_angle_deg = 0.0; ///< over the non-degenerate triangles (3D)
-    /// The same over the triangles off breaking crests (no vertex's foam >= lip_foam);
-    /// 180 when every triangle is on one.
+    /// The same over the triangles neither on a breaking crest nor on the shore; 180
+    /// when there are none.
     double smallest_angle_off_lips_deg = 0.0;
     double longest_edge = 0.0;       ///< m (3D)
     double median_edge = 0.0;        ///< m (3D)
@@ -79,6 +82,12 @@ struct MeshInspection {
     /// counts its loops greedily; a chain left open is counted here).
     std::size_t open_boundary_chains = 0;
     std::vector<BoundaryLoop> loops;  ///< longest first
+    /// Boundary vertices farther than border_tolerance inside the border at the first
+    /// frame: the shore (the water mesh's shoreline, an island's coast)
+    std::size_t shore_vertices = 0;
+    /// The farthest (m, in plan) a shore vertex moves from its first-frame position
+    /// over the frames: 0 when the water's edge holds on its line
+    double shore_drift = 0.0;
     double border_min_x = 0.0;  ///< the domain rectangle: the first frame's plan bounds (m)
     double border_min_y = 0.0;  ///< the domain rectangle: the first frame's plan bounds (m)
     double border_max_x = 0.0;  ///< the domain rectangle: the first frame's plan bounds (m)

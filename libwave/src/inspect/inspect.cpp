@@ -79,8 +79,8 @@ double median(std::vector<double>& values) {
 }
 
 // Angles, areas and facing of every triangle of one frame.
-void inspect_triangles(std::span<const std::uint32_t> triangles, std::span<const float> p,
-                       std::span<const float> foam, const InspectOptions& options, FrameInspection& out) {
+void inspect_triangles(std::span<const std::uint32_t> triangles, std::span<const float> p, std::span<const float> foam,
+                       std::span<const char> shore, const InspectOptions& options, FrameInspection& out) {
     const double sliver = options.sliver_angle_deg * std::numbers::pi / 180.0;
     double smallest = std::numbers::pi, smallest_off_lips = std::numbers::pi;
     for (std::size_t t = 0; t < triangles.size() / 3; ++t) {
@@ -92,7 +92,8 @@ void inspect_triangles(std::span<const std::uint32_t> triangles, std::span<const
             ++out.degenerate;
             continue;
         }
-        const bool breaking = !foam.empty() && std::max({foam[i[0]], foam[i[1]], foam[i[2]]}) >= options.lip_foam;
+        const bool on_shore = shore[i[0]] || shore[i[1]] || shore[i[2]];
+        const bool breaking = !on_shore && !foam.empty() && std::max({foam[i[0]], foam[i[1]], foam[i[2]]}) >= options.lip_foam;
         if (n.z < 0.0) {
             ++out.facing_down;
             ++(breaking ? out.lips : out.folds);
@@ -101,10 +102,11 @@ void inspect_triangles(std::span<const std::uint32_t> triangles, std::span<const
                                        std::atan2(norm(n), dot(sub(a, b), sub(c, b))),
                                        std::atan2(norm(n), dot(sub(a, c), sub(b, c)))});
         smallest = std::min(smallest, angle);
-        if (!breaking) smallest_off_lips = std::min(smallest_off_lips, angle);
+        if (!breaking && !on_shore) smallest_off_lips = std::min(smallest_off_lips, angle);
         if (angle < sliver) {
             ++out.slivers;
             if (breaking) ++out.lip_slivers;
+            if (on_shore) ++out.shore_slivers;
         }
     }
     out.smallest_angle_deg = smallest * 180.0 / std::numbers::pi;
@@ -145,9 +147,10 @@ void inspect_speed(std::span<const float> p, std::span<const float> next, double
     }
 }
 
-// Boundary loops, walked along their triangles' orientation, measured at frame 0.
+// Boundary loops, walked along their triangles' orientation, measured at frame 0; the
+// shore vertices (on a boundary edge, inside the border) flagged in `shore`.
 void inspect_boundary(const MorphAnimationView& a, const Topology& topo, const InspectOptions& options,
-                      MeshInspection& out) {
+                      MeshInspection& out, std::vector<char>& shore) {
     std::multimap<std::uint32_t, std::uint32_t> next;  // from → to, boundary half-edges
     for (std::size_t t = 0; t < a.triangles.size() / 3; ++t)
         for (std::size_t c = 0; c < 3; ++c)
@@ -171,6 +174,7 @@ void inspect_boundary(const MorphAnimationView& a, const Topology& topo, const I
             loop.length += std::hypot(p[3 * to] - p[3 * at], p[3 * to + 1] - p[3 * at + 1]);
             const double d = border_distance(at);
             if (d <= options.border_tolerance) ++loop.on_border;
+            else shore[at] = 1;
             loop.farthest_inside = std::max(loop.farthest_inside, d);
             at = to;
             if (at == first) {
@@ -210,6 +214,7 @@ FrameInspection worst_of(const std::vector<FrameInspection>& frames) {
         w.degenerate = std::max(w.degenerate, f.degenerate);
         w.slivers = std::max(w.slivers, f.slivers);
         w.lip_slivers = std::max(w.lip_slivers, f.lip_slivers);
+        w.shore_slivers = std::max(w.shore_slivers, f.shore_slivers);
         w.smallest_angle_deg = std::min(w.smallest_angle_deg, f.smallest_angle_deg);
         w.smallest_angle_off_lips_deg = std::min(w.smallest_angle_off_lips_deg, f.smallest_angle_off_lips_deg);
         w.longest_edge = std::max(w.longest_edge, f.longest_edge);
@@ -249,7 +254,9 @@ MeshInspection inspect_animation(const MorphAnimationView& a, const InspectOptio
         out.border_min_y = std::min(out.border_min_y, static_cast<double>(a.positions[3 * v + 1]));
         out.border_max_y = std::max(out.border_max_y, static_cast<double>(a.positions[3 * v + 1]));
     }
-    inspect_boundary(a, topo, options, out);
+    std::vector<char> shore(n, 0);
+    inspect_boundary(a, topo, options, out, shore);
+    out.shore_vertices = static_cast<std::size_t>(std::count(shore.begin(), shore.end(), 1));
 
     out.frames.resize(a.frame_count);
     const bool whole_loop = a.loop_frames == a.frame_count && a.first_frame == 0;
@@ -259,7 +266,7 @@ MeshInspection inspect_animation(const MorphAnimationView& a, const InspectOptio
             fi.frame = a.first_frame + f;
             const auto p = a.positions.subspan(f * 3 * n, 3 * n);
             const auto foam = a.foam.empty() ? std::span<const float>{} : a.foam.subspan(f * n, n);
-            inspect_triangles(a.triangles, p, foam, options, fi);
+            inspect_triangles(a.triangles, p, foam, shore, options, fi);
             inspect_edges(topo, p, n, options, fi);
             if (f + 1 < a.frame_count || (whole_loop && a.frame_count > 1)) {
                 const std::size_t g = (f + 1) % a.frame_count;
@@ -268,6 +275,11 @@ MeshInspection inspect_animation(const MorphAnimationView& a, const InspectOptio
         }
     });
     out.worst = worst_of(out.frames);
+    for (std::size_t f = 1; f < a.frame_count; ++f)
+        for (std::size_t v = 0; v < n; ++v)
+            if (shore[v])
+                out.shore_drift = std::max(out.shore_drift, std::hypot(double(a.positions[3 * (f * n + v)]) - a.positions[3 * v],
+                                                                       double(a.positions[3 * (f * n + v) + 1]) - a.positions[3 * v + 1]));
     return out;
 }
 
@@ -283,6 +295,7 @@ Json frame_json(const FrameInspection& f) {
             {"degenerate", f.degenerate},
             {"slivers", f.slivers},
             {"lip_slivers", f.lip_slivers},
+            {"shore_slivers", f.shore_slivers},
             {"smallest_angle_deg", f.smallest_angle_deg},
             {"smallest_angle_off_lips_deg", f.smallest_angle_off_lips_deg},
             {"longest_edge_m", f.longest_edge},
@@ -308,6 +321,7 @@ std::string inspection_json(const MeshInspection& m, const InspectOptions& o, bo
                 {"unreferenced_vertices", m.unreferenced_vertices},
                 {"non_manifold_edges", m.non_manifold_edges},
                 {"boundary", {{"edges", m.boundary_edges}, {"loops", loops}, {"open_chains", m.open_boundary_chains},
+                              {"shore_vertices", m.shore_vertices}, {"shore_drift_m", m.shore_drift},
                               {"border", {m.border_min_x, m.border_min_y, m.border_max_x, m.border_max_y}}}},
                 {"worst", frame_json(m.worst)}};
     if (per_frame) {

@@ -153,6 +153,39 @@ void ramp_factors(const UntanglePlan& plan, const FoamWeight& foam_weight, Untan
     }
 }
 
+// Flags (4) the vertices of the rest mesh's boundary edges that do not run along a
+// side of its bounding rectangle: the shore.
+void mark_shore(UntanglePlan& p) {
+    const std::size_t m = p.triangles.size() / 3;
+    std::vector<std::uint64_t> edges(3 * m);
+    for (std::size_t t = 0; t < m; ++t)
+        for (int c = 0; c < 3; ++c) {
+            const std::uint64_t a = p.triangles[3 * t + c], b = p.triangles[3 * t + (c + 1) % 3];
+            edges[3 * t + c] = std::min(a, b) << 32 | std::max(a, b);
+        }
+    std::sort(edges.begin(), edges.end());
+    const auto on_side = [&](std::uint32_t a, std::uint32_t b) {
+        const auto same = [](double u, double w, double low, double high) { return u == w && (u == low || u == high); };
+        return same(p.rest_x[a], p.rest_x[b], p.x_min, p.x_max) || same(p.rest_y[a], p.rest_y[b], p.y_min, p.y_max);
+    };
+    for (std::size_t i = 0; i < edges.size();) {
+        std::size_t j = i + 1;
+        while (j < edges.size() && edges[j] == edges[i]) ++j;
+        const auto a = static_cast<std::uint32_t>(edges[i] >> 32), b = static_cast<std::uint32_t>(edges[i] & 0xffffffffu);
+        if (j - i == 1 && !on_side(a, b)) {
+            p.pinned[a] |= 4;
+            p.pinned[b] |= 4;
+        }
+        i = j;
+    }
+    // 8: a vertex of a triangle on the shore.
+    for (std::size_t t = 0; t < m; ++t) {
+        const std::uint32_t* v = &p.triangles[3 * t];
+        if ((p.pinned[v[0]] | p.pinned[v[1]] | p.pinned[v[2]]) & 4)
+            for (int c = 0; c < 3; ++c) p.pinned[v[c]] |= 8;
+    }
+}
+
 }  // namespace
 
 double lip_foam_rise(double phase_to_crest) noexcept {
@@ -188,17 +221,19 @@ UntanglePlan plan_untangle(std::span<const double> rest_x, std::span<const doubl
         const std::uint32_t a = triangles[3 * t], b = triangles[3 * t + 1], c = triangles[3 * t + 2];
         p.rest_area[t] = area2(rest_x[a], rest_y[a], rest_x[b], rest_y[b], rest_x[c], rest_y[c]);
     }
-    if (options.pin_border && n > 0) {
+    if ((options.pin_border || options.hold_shore) && n > 0) {
         const auto [x0, x1] = std::minmax_element(rest_x.begin(), rest_x.end());
         const auto [y0, y1] = std::minmax_element(rest_y.begin(), rest_y.end());
         p.x_min = *x0;
         p.x_max = *x1;
         p.y_min = *y0;
         p.y_max = *y1;
-        p.pinned.resize(n);
-        for (std::size_t v = 0; v < n; ++v)
-            p.pinned[v] = static_cast<std::uint8_t>((rest_x[v] == *x0 || rest_x[v] == *x1 ? 1 : 0) |
-                                                    (rest_y[v] == *y0 || rest_y[v] == *y1 ? 2 : 0));
+        p.pinned.assign(n, 0);
+        if (options.pin_border)
+            for (std::size_t v = 0; v < n; ++v)
+                p.pinned[v] = static_cast<std::uint8_t>((rest_x[v] == *x0 || rest_x[v] == *x1 ? 1 : 0) |
+                                                        (rest_y[v] == *y0 || rest_y[v] == *y1 ? 2 : 0));
+        if (options.hold_shore) mark_shore(p);
     }
     VertexFaces vf = vertex_faces(n, triangles);
     p.face_offsets = std::move(vf.offsets);
@@ -229,13 +264,14 @@ UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> 
         dx[v] = static_cast<double>(positions[3 * v]) - plan.rest_x[v];
         dy[v] = static_cast<double>(positions[3 * v + 1]) - plan.rest_y[v];
         if (plan.pinned.empty() || plan.pinned[v] == 0) continue;
-        if (plan.pinned[v] & 1) dx[v] = 0.0;
-        if (plan.pinned[v] & 2) dy[v] = 0.0;
+        if (plan.pinned[v] & 5) dx[v] = 0.0;
+        if (plan.pinned[v] & 6) dy[v] = 0.0;
     }
     const auto lip = [&](std::uint32_t v) { return !foam.empty() && foam[v] >= o.lip_foam; };
+    const auto shore = [&](std::uint32_t v) { return !plan.pinned.empty() && (plan.pinned[v] & 4) != 0; };
     // Pinned: every vertex but a lip's stays inside the rest rectangle by its factor
     // (a lip is clamped at the end: its triangles are all lips).
-    if (!plan.pinned.empty())
+    if (o.pin_border && !plan.pinned.empty())
         for (std::size_t v = 0; v < n; ++v) {
             if (lip(static_cast<std::uint32_t>(v))) continue;
             const auto room = [](double offset, double to_low, double to_high) {
@@ -246,7 +282,8 @@ UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> 
                                    0.0, 1.0);
         }
     const auto foam_weight = [&](std::size_t v) {
-        return foam.empty() ? 0.0 : detail::smoothstep(o.lip_foam, 1.0, static_cast<double>(foam[v]));
+        if (foam.empty() || (!plan.pinned.empty() && (plan.pinned[v] & 8))) return 0.0;  // no lip by the shore
+        return detail::smoothstep(o.lip_foam, 1.0, static_cast<double>(foam[v]));
     };
     // One ramp: a second on the first's factors found compressions that the first's
     // uneven factors made, and on the default bay its vertices jumped again (10 m/s).
@@ -263,7 +300,7 @@ UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> 
                 const double a0 = plan.rest_area[t];
                 if (!(a0 > 0.0)) continue;
                 const std::uint32_t i = plan.triangles[3 * t], j = plan.triangles[3 * t + 1], k = plan.triangles[3 * t + 2];
-                if (lip(i) || lip(j) || lip(k)) continue;
+                if ((lip(i) || lip(j) || lip(k)) && !shore(i) && !shore(j) && !shore(k)) continue;
                 const Squeeze q = squeeze(plan, t, factor, dx, dy);
                 const double target = o.min_area_ratio * a0;
                 if (q.a1 >= target) continue;
@@ -282,9 +319,9 @@ UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> 
         });
         if (report.passes > kMaxScaledPasses + n) break;  // cannot happen: each last-resort pass zeroes a vertex
     }
-    const bool clip = !plan.pinned.empty();
+    const bool clip = o.pin_border && !plan.pinned.empty();
     for (std::size_t v = 0; v < n; ++v) {
-        const bool pinned = clip && plan.pinned[v] != 0;
+        const bool pinned = !plan.pinned.empty() && plan.pinned[v] != 0;
         double x = plan.rest_x[v] + factor[v] * dx[v], y = plan.rest_y[v] + factor[v] * dy[v];
         if (clip) {  // a lip over a side stops at it
             x = std::clamp(x, plan.x_min, plan.x_max);

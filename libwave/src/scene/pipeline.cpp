@@ -922,8 +922,12 @@ void start_run(FrameRun& r, const std::vector<std::uint32_t>& triangles, std::si
     }
     // Sideways motion by the model, a superposed wind sea or Gerstner waves: untangled
     // every frame against the coarse surface at rest (breaking crests' lips excepted).
+    // The surface's boundary off the domain's sides is the shore and holds still, but
+    // for the traced strips themselves, whose boundary is where their rays end.
     if (r.model.untangle || !plan.wind_sea_scale.empty() || !plan.gerstner.empty()) {
-        r.untangle = plan_untangle(plan.rest_x, plan.rest_y, surface_triangles(r.scene, plan));
+        const bool traced_strips = r.scene.surface_kind == SurfaceKind::ray_strips && !r.scene.water_mesh_per_wavelength &&
+                                   !r.scene.camera_grid;
+        r.untangle = plan_untangle(plan.rest_x, plan.rest_y, surface_triangles(r.scene, plan), {.hold_shore = !traced_strips});
         if (!r.shaded || r.refined) r.coarse_foam.resize(nc);
     }
     if (r.shaded || r.untangle) r.fold_past.insert(plan.fold_past.begin(), plan.fold_past.end());  // frame 0's foam past
