@@ -77,12 +77,12 @@ def main():
                 loops = m["boundary"]["loops"]
                 where = "; ".join("%d edges, %d on the border, %.1f m in" % (l["edges"], l["vertices_on_border"], l["farthest_inside_m"])
                                   for l in loops[:2]) + (" (+%d more)" % (len(loops) - 2) if len(loops) > 2 else "")
-                rows.append("| %s | %s | %s | %d | %s | %s | %s (%s) | %.3g° (%.3g°) | %.3g m (%.2g m) | %s | %.3g m/s | %s |" % (
+                rows.append("| %s | %s | %s | %d | %s | %s | %s (%s / %s) | %.3g° (%.3g°) | %.3g m (%.2g m) | %s | %.3g m/s | %s |" % (
                     label if k == 0 else "", name, n(m["vertices"]), m["unreferenced_vertices"], n(w["folds"]), n(w["lips"]),
-                    n(w["slivers"]), n(w["lip_slivers"]), w["smallest_angle_deg"], w["smallest_angle_off_lips_deg"],
+                    n(w["slivers"]), n(w["lip_slivers"]), n(w["shore_slivers"]), w["smallest_angle_deg"], w["smallest_angle_off_lips_deg"],
                     w["longest_edge_m"], w["median_edge_m"], n(w["long_edges"]), w["max_speed_m_s"], where))
                 costs.append("| %s | %s | %s | %.0f | %.1f |" % (label if k == 0 else "", name, n(m["vertices"]), min(plans), min(frames)))
-    print("| scene | surface | vertices | unreferenced | folds | lips | slivers < 15° (on lips) | smallest angle (off the lips) "
+    print("| scene | surface | vertices | unreferenced | folds | lips | slivers < 15° (on lips / the shore) | smallest angle (off both) "
           "| longest edge (median) "
           "| long edges | fastest vertex | boundary loops |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
