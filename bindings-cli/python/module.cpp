@@ -464,8 +464,8 @@ PYBIND11_MODULE(_libwave, m) {
         py::arg("source"), py::arg("sliver_angle") = 15.0, py::arg("lip_foam") = 0.1, py::arg("long_edge_ratio") = 3.0,
         py::arg("per_frame") = true,
         "Checks an animation as a renderer meets it (docs/inspect.md): an Animation, or the path of an output of wave run "
-        "(.glb/.gltf or index.json). Returns a dict: topology (unreferenced_vertices, non_manifold_edges, boundary loops), "
-        "worst (folds, lips, slivers, lip_slivers, smallest_angle_deg, smallest_angle_off_lips_deg, longest_edge_m, "
+        "(.glb/.gltf or index.json). Returns a dict: topology (unreferenced_vertices, non_manifold_edges, boundary loops, "
+        "shore_vertices, shore_drift_m), worst (folds, lips, slivers, lip_slivers, shore_slivers, smallest_angle_deg, smallest_angle_off_lips_deg, longest_edge_m, "
         "worst_edge_ratio, max_speed_m_s, ...) and "
         "per_frame, the same for every frame");
 }
