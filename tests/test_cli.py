@@ -1246,7 +1246,7 @@ class Inspect(unittest.TestCase):
                 # Slivers (< 15°) lie on the overturning lips, the tip of Jeschke's and
                 # Gonzato's knife-edged lip (bench/RESULTS.md, thirty-third session), or on
                 # the shore, the clip boundary, whose triangles the untangling squeezes
-                # rather than turn over. Elsewhere at most 10, 7 and 2 a frame were
+                # rather than turn over. Elsewhere at most 10, 6 and 2 a frame were
                 # measured, the smallest angle there 9.6°, 11.6° and 12.0°.
                 off_lips = max(f["slivers"] - f["lip_slivers"] - f["shore_slivers"] for f in m["per_frame"])
                 self.assertLessEqual(off_lips, 20, example)

@@ -118,8 +118,10 @@ struct UntangleOptions {
     /// every frame, and the surface never turns over across it. (A crest carried
     /// landward by its breaker or Gonzato's orbit pushed the vertices next to the shore
     /// past it: 5–10 % of the triangles along every example's shore faced down in every
-    /// frame, dark notches in the waterline.) Off for the traced strips themselves,
-    /// whose boundary is where rays end.
+    /// frame, dark notches in the waterline.) The vertices of the shore's triangles keep
+    /// the ramp whatever their foam, and there the ramp damps a stretch beyond twice the
+    /// rest length as well as a squeeze. Off for the traced strips themselves, whose
+    /// boundary is where rays end.
     bool hold_shore = true;
     /// The ramp, before the passes: every triangle compressed so hard that it could
     /// keep less than ramp_area_ratio (> min_area_ratio, < 1) of its rest area gives

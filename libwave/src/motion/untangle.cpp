@@ -14,6 +14,7 @@
 #include <atomic>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <numbers>
 #include <string>
 #include <utility>
@@ -23,6 +24,7 @@ namespace wave {
 namespace {
 
 constexpr std::size_t kMaxScaledPasses = 8;  // then a triangle still too small takes s = 0
+constexpr double kShoreStretch = 2.0;  // the ramp's bound on a shore triangle's stretch (1 + λ_max)
 
 // Twice the signed area of (a, b, c) in plan.
 double area2(double ax, double ay, double bx, double by, double cx, double cy) noexcept {
@@ -82,7 +84,8 @@ Squeeze squeeze(const UntanglePlan& plan, std::size_t t, const std::vector<doubl
 // compression does from λ = −(1 − √ratio) on. (The quadratic's own first root is
 // sharper but jumps where its dip below the target appears or vanishes.)
 double compression_factor(const UntanglePlan& plan, std::size_t t, const std::vector<double>& factor,
-                          const std::vector<double>& dx, const std::vector<double>& dy, double ratio) noexcept {
+                          const std::vector<double>& dx, const std::vector<double>& dy, double ratio,
+                          double stretch = std::numeric_limits<double>::infinity()) noexcept {
     const std::uint32_t i = plan.triangles[3 * t], j = plan.triangles[3 * t + 1], k = plan.triangles[3 * t + 2];
     const double ux1 = plan.rest_x[j] - plan.rest_x[i], uy1 = plan.rest_y[j] - plan.rest_y[i];
     const double ux2 = plan.rest_x[k] - plan.rest_x[i], uy2 = plan.rest_y[k] - plan.rest_y[i];
@@ -93,9 +96,11 @@ double compression_factor(const UntanglePlan& plan, std::size_t t, const std::ve
     const double j11 = (wx1 * uy2 - wx2 * uy1) / det, j12 = (wx2 * ux1 - wx1 * ux2) / det;
     const double j21 = (wy1 * uy2 - wy2 * uy1) / det, j22 = (wy2 * ux1 - wy1 * ux2) / det;
     const double s12 = 0.5 * (j12 + j21);
-    const double lowest = 0.5 * (j11 + j22) - std::hypot(0.5 * (j11 - j22), s12);
+    const double mean = 0.5 * (j11 + j22), spread = std::hypot(0.5 * (j11 - j22), s12);
+    const double lowest = mean - spread, highest = mean + spread;
     const double allowed = 1.0 - std::sqrt(ratio);
-    return lowest < -allowed ? allowed / -lowest : 1.0;
+    const double squeeze = lowest < -allowed ? allowed / -lowest : 1.0;
+    return highest > stretch - 1.0 ? std::min(squeeze, (stretch - 1.0) / highest) : squeeze;
 }
 
 // The ramp (UntangleOptions::ramp_slope): each compressed triangle's
@@ -114,7 +119,10 @@ void ramp_factors(const UntanglePlan& plan, const FoamWeight& foam_weight, Untan
         const double a0 = plan.rest_area[t];
         if (!(a0 > 0.0)) continue;
         const std::uint32_t* v = &plan.triangles[3 * t];
-        const double st = compression_factor(plan, t, w.factor, w.dx, w.dy, o.ramp_area_ratio);
+        // By the held shore, a stretch damps too: the shore cannot follow its neighbours.
+        const bool by_shore = !plan.pinned.empty() && ((plan.pinned[v[0]] | plan.pinned[v[1]] | plan.pinned[v[2]]) & 4);
+        const double st = compression_factor(plan, t, w.factor, w.dx, w.dy, o.ramp_area_ratio,
+                                             by_shore ? kShoreStretch : std::numeric_limits<double>::infinity());
         for (int c = 0; c < 3; ++c) g[v[c]] = std::min(g[v[c]], st);
     }
     auto& heap = w.queue;
