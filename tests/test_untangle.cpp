@@ -266,14 +266,63 @@ TEST(Untangle, TheShoreHoldsStillAndNoTriangleFoldsOverIt) {
             EXPECT_EQ(p[3 * v], std::clamp(moved[3 * v], 0.0f, 19.5f)) << v;  // a lip over a side stops at it
         }
     }
-    std::size_t kept = 0;  // every triangle on the shore keeps a tenth of its area, facing up
+    // Every triangle on the shore keeps a tenth of its area, facing up, and its edges
+    // at most about twice their rest length (the ramp damps its stretch).
+    std::size_t kept = 0;
+    double stretch = 0.0;
     for (std::size_t t = 0; t < water.size() / 3; ++t) {
         const std::uint32_t* v = &water[3 * t];
         if (!((plan.pinned[v[0]] | plan.pinned[v[1]] | plan.pinned[v[2]]) & 4)) continue;
         EXPECT_GE(area(p, v), 0.1 * area(rest, v) - 1e-6) << t;
+        for (int c = 0; c < 3; ++c) {
+            const std::uint32_t a = v[c], b = v[(c + 1) % 3];
+            stretch = std::max(stretch, std::hypot(double(p[3 * b]) - p[3 * a], double(p[3 * b + 1]) - p[3 * a + 1]) /
+                                            std::hypot(g.x[b] - g.x[a], g.y[b] - g.y[a]));
+        }
         ++kept;
     }
     EXPECT_GT(kept, 40u);
+    std::printf("largest stretch of a shore triangle's edge: %.2f\n", stretch);
+    EXPECT_LT(stretch, 2.2);
+}
+
+TEST(Untangle, ByTheHeldShoreAStretchIsDampedToo) {
+    // The backwash: the water of the test above pulled 1 m seawards, all of it, the
+    // shore held. Its triangles' edges (0.5 m) stretched up to 2.3 × their rest length
+    // without the damping; the ramp keeps them at 2 × and fades out seawards, where the
+    // water moves as asked.
+    const Grid g(40, 0.5);
+    std::vector<std::uint32_t> water;
+    for (std::size_t t = 0; t < g.triangles.size() / 3; ++t) {
+        const std::uint32_t* v = &g.triangles[3 * t];
+        const double cx = (g.x[v[0]] + g.x[v[1]] + g.x[v[2]]) / 3.0, cy = (g.y[v[0]] + g.y[v[1]] + g.y[v[2]]) / 3.0;
+        if (cx + 0.3 * cy <= 14.0) water.insert(water.end(), v, v + 3);
+    }
+    const UntanglePlan plan = plan_untangle(g.x, g.y, water);
+    std::vector<float> p = g.rest();
+    for (std::size_t v = 0; v < g.x.size(); ++v) p[3 * v] -= 1.0f;
+    untangle_motion(plan, {}, p);
+    double stretch = 0.0;
+    for (std::size_t t = 0; t < water.size() / 3; ++t) {
+        const std::uint32_t* v = &water[3 * t];
+        if (!((plan.pinned[v[0]] | plan.pinned[v[1]] | plan.pinned[v[2]]) & 4)) continue;
+        for (int c = 0; c < 3; ++c) {
+            const std::uint32_t a = v[c], b = v[(c + 1) % 3];
+            stretch = std::max(stretch, std::hypot(double(p[3 * b]) - p[3 * a], double(p[3 * b + 1]) - p[3 * a + 1]) /
+                                            std::hypot(g.x[b] - g.x[a], g.y[b] - g.y[a]));
+        }
+    }
+    std::printf("largest stretch of a shore triangle's edge in the backwash: %.2f\n", stretch);
+    EXPECT_LT(stretch, 2.1);
+    EXPECT_GT(stretch, 1.5);
+    std::size_t far_moved = 0, far = 0;  // 4 m or more from the shore line and from x = 0 (its own ramp)
+    for (std::size_t v = 0; v < g.x.size(); ++v)
+        if (plan.pinned[v] == 0 && g.x[v] >= 4.0 && g.x[v] + 0.3 * g.y[v] < 14.0 - 4.0 * std::hypot(1.0, 0.3)) {
+            ++far;
+            far_moved += p[3 * v] == float(g.x[v]) - 1.0f;
+        }
+    EXPECT_GT(far, 50u);
+    EXPECT_EQ(far_moved, far);
 }
 
 TEST(Untangle, TheSameBitsOnOneThreadAndOnMany) {
