@@ -441,12 +441,16 @@ void bind_motion(py::module_& m) {
             "damping (docs/inspect.md, untangling). Returns how many vertices were damped");
     m.def(
         "plan_untangle",
-        [](const py::array& x, const py::array& y, const py::array& triangles) {
+        [](const py::array& x, const py::array& y, const py::array& triangles, bool pin_border, bool hold_shore) {
             const auto xs = to_vector<double>(x, 1, "plan_untangle x"), ys = to_vector<double>(y, 1, "plan_untangle y");
             const auto t = to_vector<std::uint32_t>(triangles, 3, "plan_untangle triangles");
-            return std::make_shared<wave::UntanglePlan>(wave::plan_untangle(xs, ys, t));
+            return std::make_shared<wave::UntanglePlan>(
+                wave::plan_untangle(xs, ys, t, {.pin_border = pin_border, .hold_shore = hold_shore}));
         },
-        py::arg("x"), py::arg("y"), py::arg("triangles"), "Plans untangling against the rest positions (m) and triangles");
+        py::arg("x"), py::arg("y"), py::arg("triangles"), py::arg("pin_border") = true, py::arg("hold_shore") = true,
+        "Plans untangling against the rest positions (m) and triangles: with pin_border the sides of their bounding "
+        "rectangle stay straight, with hold_shore the other boundary (the shore) keeps its rest position in plan and "
+        "no triangle on it overturns (docs/inspect.md, untangling)");
 }
 
 void bind_breakers_and_ocean(py::module_& m) {

@@ -70,6 +70,32 @@ def test_stage_objects_expose_their_arrays():
         motion.evaluate(1.0, np.zeros((3, 3), np.float32))
 
 
+def test_untangling_holds_the_water_meshs_shore():
+    # The bay's water mesh pushed towards the beach (+y), foamy: the water 1 m, its edge
+    # 0.3 m. A breaking crest may overturn, but the shore vertices keep their rest
+    # position in plan and no triangle with one faces down; with hold_shore=False the
+    # edge moves and the water runs over it.
+    sea = libwave.procedural_seafloor("gonzato-bay")
+    mesh = libwave.mesh_water(sea, 5.0, 0.3, per_wavelength=8)
+    x, y, tri = mesh.x, mesh.y, mesh.triangles
+    side = (x == x.min()) | (x == x.max()) | (y == y.min()) | (y == y.max())
+    shore = (mesh.boundary != 0) & ~side
+    assert shore.sum() > 50
+    rest = np.stack([x, y, np.zeros_like(x)], axis=1).astype(np.float32)
+    foam = np.ones(len(x), np.float32)
+    held = {}
+    for hold in (True, False):
+        p = rest.copy()
+        p[:, 1] += np.where(shore, 0.3, 1.0).astype(np.float32)
+        libwave.plan_untangle(x, y, tri, hold_shore=hold).apply(p, foam)
+        a = p[tri]
+        area = (a[:, 1, 0] - a[:, 0, 0]) * (a[:, 2, 1] - a[:, 0, 1]) - (a[:, 1, 1] - a[:, 0, 1]) * (a[:, 2, 0] - a[:, 0, 0])
+        on_shore = shore[tri].any(axis=1)
+        held[hold] = (np.array_equal(p[shore, :2], rest[shore, :2]), int((area[on_shore] < 0).sum()))
+    assert held[True] == (True, 0)
+    assert held[False][0] is False and held[False][1] > 0
+
+
 def test_scene_round_trips_through_a_dict_and_is_edited_with_the_files_checks():
     doc = {"waves": [{"period": 5, "amplitude": 0.3}], "trace": {"ray_spacing": 2}}
     s = libwave.Scene(doc)
