@@ -165,26 +165,27 @@ void ramp_factors(const UntanglePlan& plan, const FoamWeight& foam_weight, Untan
 // side of its bounding rectangle: the shore.
 void mark_shore(UntanglePlan& p) {
     const std::size_t m = p.triangles.size() / 3;
-    std::vector<std::uint64_t> edges(3 * m);
-    for (std::size_t t = 0; t < m; ++t)
-        for (int c = 0; c < 3; ++c) {
-            const std::uint64_t a = p.triangles[3 * t + c], b = p.triangles[3 * t + (c + 1) % 3];
-            edges[3 * t + c] = std::min(a, b) << 32 | std::max(a, b);
-        }
-    std::sort(edges.begin(), edges.end());
     const auto on_side = [&](std::uint32_t a, std::uint32_t b) {
         const auto same = [](double u, double w, double low, double high) { return u == w && (u == low || u == high); };
         return same(p.rest_x[a], p.rest_x[b], p.x_min, p.x_max) || same(p.rest_y[a], p.rest_y[b], p.y_min, p.y_max);
     };
-    for (std::size_t i = 0; i < edges.size();) {
-        std::size_t j = i + 1;
-        while (j < edges.size() && edges[j] == edges[i]) ++j;
-        const auto a = static_cast<std::uint32_t>(edges[i] >> 32), b = static_cast<std::uint32_t>(edges[i] & 0xffffffffu);
-        if (j - i == 1 && !on_side(a, b)) {
-            p.pinned[a] |= 4;
-            p.pinned[b] |= 4;
+    // An edge (v, w) on the boundary has one triangle: w is v's neighbour in only one
+    // of the triangles round v.
+    std::vector<std::uint32_t> around;
+    for (std::uint32_t v = 0; v < p.vertex_count(); ++v) {
+        around.clear();
+        for (std::uint32_t f = p.face_offsets[v]; f < p.face_offsets[v + 1]; ++f)
+            for (int c = 0; c < 3; ++c) {
+                const std::uint32_t w = p.triangles[3 * p.faces[f] + c];
+                if (w != v) around.push_back(w);
+            }
+        std::sort(around.begin(), around.end());
+        for (std::size_t k = 0; k < around.size();) {
+            std::size_t e = k + 1;
+            while (e < around.size() && around[e] == around[k]) ++e;
+            if (e - k == 1 && !on_side(v, around[k])) p.pinned[v] |= 4;
+            k = e;
         }
-        i = j;
     }
     // 8: a vertex of a triangle on the shore.
     for (std::size_t t = 0; t < m; ++t) {
@@ -241,11 +242,11 @@ UntanglePlan plan_untangle(std::span<const double> rest_x, std::span<const doubl
             for (std::size_t v = 0; v < n; ++v)
                 p.pinned[v] = static_cast<std::uint8_t>((rest_x[v] == *x0 || rest_x[v] == *x1 ? 1 : 0) |
                                                         (rest_y[v] == *y0 || rest_y[v] == *y1 ? 2 : 0));
-        if (options.hold_shore) mark_shore(p);
     }
     VertexFaces vf = vertex_faces(n, triangles);
     p.face_offsets = std::move(vf.offsets);
     p.faces = std::move(vf.faces);
+    if (options.hold_shore && n > 0) mark_shore(p);
     return p;
 }
 
