@@ -158,7 +158,8 @@ struct UntanglePlan {
     std::vector<std::uint32_t> face_offsets;  ///< vertex v's triangles are faces[face_offsets[v] .. face_offsets[v + 1])
     std::vector<std::uint32_t> faces;         ///< triangle indices, grouped by vertex
     /// per vertex: with pin_border 1 on a side x = const, 2 on a side y = const; with
-    /// hold_shore 4 on the shore (a boundary edge off the rectangle)
+    /// hold_shore 4 on the shore (a boundary edge off the rectangle), 8 a vertex of a
+    /// triangle with a shore vertex
     std::vector<std::uint8_t> pinned;
     double x_min = 0.0;  ///< the rest positions' bounding rectangle: lower corner (m)
     double y_min = 0.0;  ///< the rest positions' bounding rectangle: lower corner (m)

@@ -275,11 +275,15 @@ MeshInspection inspect_animation(const MorphAnimationView& a, const InspectOptio
         }
     });
     out.worst = worst_of(out.frames);
+    std::vector<std::size_t> on_shore;
+    for (std::size_t v = 0; v < n; ++v)
+        if (shore[v]) on_shore.push_back(v);
     for (std::size_t f = 1; f < a.frame_count; ++f)
-        for (std::size_t v = 0; v < n; ++v)
-            if (shore[v])
-                out.shore_drift = std::max(out.shore_drift, std::hypot(double(a.positions[3 * (f * n + v)]) - a.positions[3 * v],
-                                                                       double(a.positions[3 * (f * n + v) + 1]) - a.positions[3 * v + 1]));
+        for (const std::size_t v : on_shore) {
+            const std::size_t at = 3 * (f * n + v);
+            out.shore_drift = std::max(out.shore_drift, std::hypot(double(a.positions[at]) - a.positions[3 * v],
+                                                                   double(a.positions[at + 1]) - a.positions[3 * v + 1]));
+        }
     return out;
 }
 
