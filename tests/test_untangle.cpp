@@ -221,17 +221,24 @@ TEST(Untangle, FoamyCrestsAreLipsLeftToOverturn) {
     EXPECT_GT(between, g.x.size() / 4);
 }
 
-TEST(Untangle, TheShoreHoldsStillAndNoTriangleFoldsOverIt) {
-    // A 20 m square of water whose land (x + 0.3 y > 14 m) is cut out: a staircase
-    // shoreline off the rectangle's sides. A steep wave runs onto it, foamy everywhere
-    // (every triangle a lip): the vertices next to the shore are carried past it.
-    const Grid g(40, 0.5);
+// The triangles of a 20 m grid of 0.5 m cells whose land (x + 0.3 y > 14 m) is cut
+// out: a staircase shoreline off the rectangle's sides.
+std::vector<std::uint32_t> staircase_water(const Grid& g) {
     std::vector<std::uint32_t> water;
     for (std::size_t t = 0; t < g.triangles.size() / 3; ++t) {
         const std::uint32_t* v = &g.triangles[3 * t];
         const double cx = (g.x[v[0]] + g.x[v[1]] + g.x[v[2]]) / 3.0, cy = (g.y[v[0]] + g.y[v[1]] + g.y[v[2]]) / 3.0;
         if (cx + 0.3 * cy <= 14.0) water.insert(water.end(), v, v + 3);
     }
+    return water;
+}
+
+TEST(Untangle, TheShoreHoldsStillAndNoTriangleFoldsOverIt) {
+    // A 20 m square of water whose land (x + 0.3 y > 14 m) is cut out: a staircase
+    // shoreline off the rectangle's sides. A steep wave runs onto it, foamy everywhere
+    // (every triangle a lip): the vertices next to the shore are carried past it.
+    const Grid g(40, 0.5);
+    const std::vector<std::uint32_t> water = staircase_water(g);
     const std::vector<float> moved = folded_wave(g, 1.6);
     const std::vector<float> foam(g.x.size(), 1.0f);
     const auto area = [&](const std::vector<float>& p, const std::uint32_t* v) {
@@ -292,12 +299,7 @@ TEST(Untangle, ByTheHeldShoreAStretchIsDampedToo) {
     // without the damping; the ramp keeps them at 2 × and fades out seawards, where the
     // water moves as asked.
     const Grid g(40, 0.5);
-    std::vector<std::uint32_t> water;
-    for (std::size_t t = 0; t < g.triangles.size() / 3; ++t) {
-        const std::uint32_t* v = &g.triangles[3 * t];
-        const double cx = (g.x[v[0]] + g.x[v[1]] + g.x[v[2]]) / 3.0, cy = (g.y[v[0]] + g.y[v[1]] + g.y[v[2]]) / 3.0;
-        if (cx + 0.3 * cy <= 14.0) water.insert(water.end(), v, v + 3);
-    }
+    const std::vector<std::uint32_t> water = staircase_water(g);
     const UntanglePlan plan = plan_untangle(g.x, g.y, water);
     std::vector<float> p = g.rest();
     for (std::size_t v = 0; v < g.x.size(); ++v) p[3 * v] -= 1.0f;
