@@ -264,15 +264,19 @@ TEST(Untangle, TheShoreHoldsStillAndNoTriangleFoldsOverIt) {
     }
     std::vector<float> p = moved;
     untangle_motion(plan, foam, p);
+    std::size_t away = 0;
     for (std::size_t v = 0; v < g.x.size(); ++v) {
         if (plan.pinned[v] & 4) {  // the shore: at rest in plan, its height the wave's
             EXPECT_EQ(p[3 * v], float(g.x[v])) << v;
             EXPECT_EQ(p[3 * v + 1], float(g.y[v])) << v;
             EXPECT_EQ(p[3 * v + 2], moved[3 * v + 2]) << v;
-        } else if (!by_shore[v] && plan.pinned[v] == 0) {  // away from it and the sides, the lips overturn as moved
+        } else if (plan.shore_ring[v] > plan.options.shore_band_rings && plan.pinned[v] == 0) {
+            // beyond the shore's band and off the sides, the lips overturn as moved
             EXPECT_EQ(p[3 * v], std::clamp(moved[3 * v], 0.0f, 19.5f)) << v;  // a lip over a side stops at it
+            ++away;
         }
     }
+    EXPECT_GT(away, 600u);  // of ~1 100 wet vertices, the band ~3 × 54 wide
     // Every triangle on the shore keeps a tenth of its area, facing up, and its edges
     // at most about twice their rest length (the ramp damps its stretch).
     std::size_t kept = 0;
@@ -349,6 +353,7 @@ TEST(Untangle, WrongSizesAndOptionsAreRefused) {
     EXPECT_THROW(plan_untangle(g.x, g.y, std::vector<std::uint32_t>{0, 1, 9}), InputError);
     EXPECT_THROW(plan_untangle(g.x, g.y, std::vector<std::uint32_t>{0, 1}), InputError);
     EXPECT_THROW(plan_untangle(g.x, g.y, g.triangles, UntangleOptions{.min_area_ratio = 1.0}), InputError);
+    EXPECT_THROW(plan_untangle(g.x, g.y, g.triangles, UntangleOptions{.shore_band_rings = 255}), InputError);
     EXPECT_THROW(plan_untangle(g.x, g.y, g.triangles, UntangleOptions{.ramp_slope = -1.0}), InputError);
     EXPECT_THROW(plan_untangle(g.x, g.y, g.triangles, UntangleOptions{.ramp_slope = NAN}), InputError);
     EXPECT_THROW(plan_untangle(g.x, g.y, g.triangles, UntangleOptions{.ramp_area_ratio = 0.05}), InputError);

@@ -118,11 +118,14 @@ struct UntangleOptions {
     /// every frame, and the surface never turns over across it. (A crest carried
     /// landward by its breaker or Gonzato's orbit pushed the vertices next to the shore
     /// past it: 5–10 % of the triangles along every example's shore faced down in every
-    /// frame, dark notches in the waterline.) The vertices of the shore's triangles keep
-    /// the ramp whatever their foam, and there the ramp damps a stretch beyond twice the
-    /// rest length as well as a squeeze. Off for the traced strips themselves, whose
-    /// boundary is where rays end.
+    /// frame, dark notches in the waterline.) Off for the traced strips themselves,
+    /// whose boundary is where rays end.
     bool hold_shore = true;
+    /// With hold_shore, the band of this many rings of triangles out from the shore
+    /// (≤ 254): its vertices keep the ramp whatever their foam, and there the ramp damps
+    /// a stretch beyond twice the rest length as well as a squeeze, since the held shore
+    /// cannot follow its neighbours (no plunging lip at the waterline: the swash).
+    std::uint8_t shore_band_rings = 3;
     /// The ramp, before the passes: every triangle compressed so hard that it could
     /// keep less than ramp_area_ratio (> min_area_ratio, < 1) of its rest area gives
     /// its vertices the factor that keeps that much by a bound continuous in the
@@ -158,9 +161,11 @@ struct UntanglePlan {
     std::vector<std::uint32_t> face_offsets;  ///< vertex v's triangles are faces[face_offsets[v] .. face_offsets[v + 1])
     std::vector<std::uint32_t> faces;         ///< triangle indices, grouped by vertex
     /// per vertex: with pin_border 1 on a side x = const, 2 on a side y = const; with
-    /// hold_shore 4 on the shore (a boundary edge off the rectangle), 8 a vertex of a
-    /// triangle with a shore vertex
+    /// hold_shore 4 on the shore (a boundary edge off the rectangle)
     std::vector<std::uint8_t> pinned;
+    /// per vertex with hold_shore: rings of triangles to the shore (0 on it), 255 beyond
+    /// shore_band_rings
+    std::vector<std::uint8_t> shore_ring;
     double x_min = 0.0;  ///< the rest positions' bounding rectangle: lower corner (m)
     double y_min = 0.0;  ///< the rest positions' bounding rectangle: lower corner (m)
     double x_max = 0.0;  ///< upper corner (m)
@@ -170,8 +175,8 @@ struct UntanglePlan {
     std::size_t vertex_count() const noexcept { return rest_x.size(); }  ///< vertices planned
 };
 /// Throws InputError when the sizes disagree, an index is out of range,
-/// min_area_ratio is outside (0, 1), ramp_area_ratio outside (min_area_ratio, 1) or
-/// ramp_slope negative or not finite.
+/// min_area_ratio is outside (0, 1), ramp_area_ratio outside (min_area_ratio, 1),
+/// ramp_slope negative or not finite, or shore_band_rings above 254.
 UntanglePlan plan_untangle(std::span<const double> rest_x, std::span<const double> rest_y,
                            std::span<const std::uint32_t> triangles, const UntangleOptions& options = {});
 

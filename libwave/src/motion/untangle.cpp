@@ -119,8 +119,9 @@ void ramp_factors(const UntanglePlan& plan, const FoamWeight& foam_weight, Untan
         const double a0 = plan.rest_area[t];
         if (!(a0 > 0.0)) continue;
         const std::uint32_t* v = &plan.triangles[3 * t];
-        // By the held shore, a stretch damps too: the shore cannot follow its neighbours.
-        const bool by_shore = !plan.pinned.empty() && ((plan.pinned[v[0]] | plan.pinned[v[1]] | plan.pinned[v[2]]) & 4);
+        // In the shore's band, a stretch damps too: the held shore cannot follow its neighbours.
+        const bool by_shore = !plan.shore_ring.empty() &&
+                              std::min({plan.shore_ring[v[0]], plan.shore_ring[v[1]], plan.shore_ring[v[2]]}) < o.shore_band_rings;
         const double st = compression_factor(plan, t, w.factor, w.dx, w.dy, o.ramp_area_ratio,
                                              by_shore ? kShoreStretch : std::numeric_limits<double>::infinity());
         for (int c = 0; c < 3; ++c) g[v[c]] = std::min(g[v[c]], st);
@@ -187,12 +188,16 @@ void mark_shore(UntanglePlan& p) {
             k = e;
         }
     }
-    // 8: a vertex of a triangle on the shore.
-    for (std::size_t t = 0; t < m; ++t) {
-        const std::uint32_t* v = &p.triangles[3 * t];
-        if ((p.pinned[v[0]] | p.pinned[v[1]] | p.pinned[v[2]]) & 4)
-            for (int c = 0; c < 3; ++c) p.pinned[v[c]] |= 8;
-    }
+    // The band: rings of triangles out from the shore.
+    p.shore_ring.assign(p.vertex_count(), std::numeric_limits<std::uint8_t>::max());
+    for (std::uint32_t v = 0; v < p.vertex_count(); ++v)
+        if (p.pinned[v] & 4) p.shore_ring[v] = 0;
+    for (std::uint8_t ring = 1; ring <= p.options.shore_band_rings; ++ring)
+        for (std::size_t t = 0; t < m; ++t) {
+            const std::uint32_t* v = &p.triangles[3 * t];
+            if (std::min({p.shore_ring[v[0]], p.shore_ring[v[1]], p.shore_ring[v[2]]}) != ring - 1) continue;
+            for (int c = 0; c < 3; ++c) p.shore_ring[v[c]] = std::min(p.shore_ring[v[c]], ring);
+        }
 }
 
 }  // namespace
@@ -219,6 +224,8 @@ UntanglePlan plan_untangle(std::span<const double> rest_x, std::span<const doubl
                          std::to_string(options.min_area_ratio) + ", 1)");
     if (!(options.ramp_slope >= 0.0 && std::isfinite(options.ramp_slope)))
         throw InputError("untangle: ramp_slope " + std::to_string(options.ramp_slope) + " is not a finite number >= 0");
+    if (options.shore_band_rings > 254)
+        throw InputError("untangle: shore_band_rings " + std::to_string(options.shore_band_rings) + " is more than 254");
     UntanglePlan p;
     p.rest_x.assign(rest_x.begin(), rest_x.end());
     p.rest_y.assign(rest_y.begin(), rest_y.end());
@@ -291,7 +298,7 @@ UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> 
                                    0.0, 1.0);
         }
     const auto foam_weight = [&](std::size_t v) {
-        if (foam.empty() || (!plan.pinned.empty() && (plan.pinned[v] & 8))) return 0.0;  // no lip by the shore
+        if (foam.empty() || (!plan.shore_ring.empty() && plan.shore_ring[v] <= o.shore_band_rings)) return 0.0;  // no lip by the shore
         return detail::smoothstep(o.lip_foam, 1.0, static_cast<double>(foam[v]));
     };
     // One ramp: a second on the first's factors found compressions that the first's
