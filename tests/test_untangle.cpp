@@ -233,6 +233,17 @@ std::vector<std::uint32_t> staircase_water(const Grid& g) {
     return water;
 }
 
+// The longest of triangle v's edges in plan over its rest length.
+double largest_stretch(const Grid& g, const std::vector<float>& p, const std::uint32_t* v) {
+    double most = 0.0;
+    for (int c = 0; c < 3; ++c) {
+        const std::uint32_t a = v[c], b = v[(c + 1) % 3];
+        most = std::max(most, std::hypot(double(p[3 * b]) - p[3 * a], double(p[3 * b + 1]) - p[3 * a + 1]) /
+                                  std::hypot(g.x[b] - g.x[a], g.y[b] - g.y[a]));
+    }
+    return most;
+}
+
 TEST(Untangle, TheShoreHoldsStillAndNoTriangleFoldsOverIt) {
     // A 20 m square of water whose land (x + 0.3 y > 14 m) is cut out: a staircase
     // shoreline off the rectangle's sides. A steep wave runs onto it, foamy everywhere
@@ -285,11 +296,7 @@ TEST(Untangle, TheShoreHoldsStillAndNoTriangleFoldsOverIt) {
         const std::uint32_t* v = &water[3 * t];
         if (!((plan.pinned[v[0]] | plan.pinned[v[1]] | plan.pinned[v[2]]) & 4)) continue;
         EXPECT_GE(area(p, v), 0.1 * area(rest, v) - 1e-6) << t;
-        for (int c = 0; c < 3; ++c) {
-            const std::uint32_t a = v[c], b = v[(c + 1) % 3];
-            stretch = std::max(stretch, std::hypot(double(p[3 * b]) - p[3 * a], double(p[3 * b + 1]) - p[3 * a + 1]) /
-                                            std::hypot(g.x[b] - g.x[a], g.y[b] - g.y[a]));
-        }
+        stretch = std::max(stretch, largest_stretch(g, p, v));
         ++kept;
     }
     EXPECT_GT(kept, 40u);
@@ -312,11 +319,7 @@ TEST(Untangle, ByTheHeldShoreAStretchIsDampedToo) {
     for (std::size_t t = 0; t < water.size() / 3; ++t) {
         const std::uint32_t* v = &water[3 * t];
         if (!((plan.pinned[v[0]] | plan.pinned[v[1]] | plan.pinned[v[2]]) & 4)) continue;
-        for (int c = 0; c < 3; ++c) {
-            const std::uint32_t a = v[c], b = v[(c + 1) % 3];
-            stretch = std::max(stretch, std::hypot(double(p[3 * b]) - p[3 * a], double(p[3 * b + 1]) - p[3 * a + 1]) /
-                                            std::hypot(g.x[b] - g.x[a], g.y[b] - g.y[a]));
-        }
+        stretch = std::max(stretch, largest_stretch(g, p, v));
     }
     std::printf("largest stretch of a shore triangle's edge in the backwash: %.2f\n", stretch);
     EXPECT_LT(stretch, 2.1);
