@@ -259,18 +259,16 @@ TEST(Untangle, TheShoreHoldsStillAndNoTriangleFoldsOverIt) {
     const std::vector<float> rest = g.rest();
     const UntanglePlan plan = plan_untangle(g.x, g.y, water);
     std::size_t shore = 0;
-    std::vector<std::uint8_t> by_shore(g.x.size(), 0);
     for (std::size_t v = 0; v < g.x.size(); ++v) shore += (plan.pinned[v] & 4) != 0;
-    for (std::size_t t = 0; t < water.size() / 3; ++t)
-        if ((plan.pinned[water[3 * t]] | plan.pinned[water[3 * t + 1]] | plan.pinned[water[3 * t + 2]]) & 4)
-            for (int c = 0; c < 3; ++c) by_shore[water[3 * t + c]] = 1;
+    // A vertex of a triangle on the shore is one ring from it at most.
+    const auto by_shore = [&](std::uint32_t v) { return plan.shore_ring[v] <= 1; };
     EXPECT_GT(shore, 40u);  // the staircase: ~27 m of shore in 0.5 m steps
     // Without holding the shore, the lips fold over it.
     {
         std::vector<float> p = moved;
         untangle_motion(plan_untangle(g.x, g.y, water, {.hold_shore = false}), foam, p);
         std::size_t down = 0;
-        for (std::size_t t = 0; t < water.size() / 3; ++t) down += by_shore[water[3 * t]] && area(p, &water[3 * t]) < 0.0;
+        for (std::size_t t = 0; t < water.size() / 3; ++t) down += by_shore(water[3 * t]) && area(p, &water[3 * t]) < 0.0;
         EXPECT_GT(down, 10u);
     }
     std::vector<float> p = moved;

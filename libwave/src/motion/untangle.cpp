@@ -80,12 +80,14 @@ Squeeze squeeze(const UntanglePlan& plan, std::size_t t, const std::vector<doubl
 // gradient over the triangle and λ the smallest eigenvalue of its symmetric part (the
 // strongest compression), the moved triangle's linear map I + sJ stretches no unit
 // vector by less than 1 + sλ, so its area ratio is at least (1 + sλ)² and it keeps its
-// orientation while 1 + sλ > 0. Stretching and rotation (λ ≥ 0) never damp; a
-// compression does from λ = −(1 − √ratio) on. (The quadratic's own first root is
-// sharper but jumps where its dip below the target appears or vanishes.)
-double compression_factor(const UntanglePlan& plan, std::size_t t, const std::vector<double>& factor,
-                          const std::vector<double>& dx, const std::vector<double>& dy, double ratio,
-                          double stretch = std::numeric_limits<double>::infinity()) noexcept {
+// orientation while 1 + sλ > 0. Rotation never damps, nor does stretching unless
+// `stretch` is finite (the shore's band): then the largest eigenvalue λ' damps from
+// 1 + λ' = stretch on, s = (stretch − 1)/λ'. A compression damps from
+// λ = −(1 − √ratio) on. (The quadratic's own first root is sharper but jumps where its
+// dip below the target appears or vanishes.)
+double strain_factor(const UntanglePlan& plan, std::size_t t, const std::vector<double>& factor,
+                     const std::vector<double>& dx, const std::vector<double>& dy, double ratio,
+                     double stretch = std::numeric_limits<double>::infinity()) noexcept {
     const std::uint32_t i = plan.triangles[3 * t], j = plan.triangles[3 * t + 1], k = plan.triangles[3 * t + 2];
     const double ux1 = plan.rest_x[j] - plan.rest_x[i], uy1 = plan.rest_y[j] - plan.rest_y[i];
     const double ux2 = plan.rest_x[k] - plan.rest_x[i], uy2 = plan.rest_y[k] - plan.rest_y[i];
@@ -104,7 +106,7 @@ double compression_factor(const UntanglePlan& plan, std::size_t t, const std::ve
 }
 
 // The ramp (UntangleOptions::ramp_slope): each compressed triangle's
-// compression_factor at ramp_area_ratio on its vertices, spread outwards by a min-plus
+// strain_factor at ramp_area_ratio on its vertices, spread outwards by a min-plus
 // (Dijkstra) sweep over the edges, rising by ramp_slope × edge / longer offset per
 // edge; a vertex's foam then frees it of the ramp (foam_weight, 0 … 1). Every step is
 // continuous in the offsets (and the foam). Sequential, in (factor, vertex) order: the
@@ -122,8 +124,8 @@ void ramp_factors(const UntanglePlan& plan, const FoamWeight& foam_weight, Untan
         // In the shore's band, a stretch damps too: the held shore cannot follow its neighbours.
         const bool by_shore = !plan.shore_ring.empty() &&
                               std::min({plan.shore_ring[v[0]], plan.shore_ring[v[1]], plan.shore_ring[v[2]]}) < o.shore_band_rings;
-        const double st = compression_factor(plan, t, w.factor, w.dx, w.dy, o.ramp_area_ratio,
-                                             by_shore ? kShoreStretch : std::numeric_limits<double>::infinity());
+        const double st = strain_factor(plan, t, w.factor, w.dx, w.dy, o.ramp_area_ratio,
+                                        by_shore ? kShoreStretch : std::numeric_limits<double>::infinity());
         for (int c = 0; c < 3; ++c) g[v[c]] = std::min(g[v[c]], st);
     }
     auto& heap = w.queue;
