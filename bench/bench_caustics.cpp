@@ -9,7 +9,11 @@
 #include "libwave/underwater.h"
 
 #include <benchmark/benchmark.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -92,6 +96,61 @@ void BM_caustics_map(benchmark::State& state) {
     }
 }
 BENCHMARK(BM_caustics_map)->Args({512, 0})->Args({1024, 0})->Args({1024, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The floor under any method that projects the surface's triangles onto the seafloor,
+// beside BM_caustics_map: each vertex's refracted ray to the flat floor in closed form
+// (Snell; no Fresnel, no attenuation) and each triangle's flux into the one map pixel
+// under its corners' mean, on two halves of the triangles into two maps that are then
+// summed. No footprint area, no coverage: a map of speckle, only the work every such
+// method must do at least. Argument: the map's side.
+void BM_caustics_splat_bound(benchmark::State& state) {
+    Sea sea;
+    const std::size_t side = static_cast<std::size_t>(state.range(0));
+    const double size = breeze().size, depth = 4.0, eta = 1.0 / 1.333;
+    const double sun_norm = std::hypot(0.3, 0.2, 0.93);
+    const std::array<double, 3> down{-0.3 / sun_norm, -0.2 / sun_norm, -0.93 / sun_norm};
+    std::vector<float> u(sea.count), v(sea.count);
+    std::array<std::vector<float>, 2> maps{std::vector<float>(side * side), std::vector<float>(side * side)};
+    const std::size_t triangles = sea.triangles.size() / 3;
+    double t = 0.0;
+    for (auto _ : state) {
+        state.PauseTiming();
+        sea.frame(t);
+        state.ResumeTiming();
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, sea.count, 8192), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                const double nx = sea.normals[3 * i], ny = sea.normals[3 * i + 1], nz = sea.normals[3 * i + 2];
+                const double ci = -(down[0] * nx + down[1] * ny + down[2] * nz);
+                const double k = eta * ci - std::sqrt(std::max(0.0, 1.0 - eta * eta * (1.0 - ci * ci)));
+                const double tx = eta * down[0] + k * nx, ty = eta * down[1] + k * ny, tz = eta * down[2] + k * nz;
+                const double run = (-depth - sea.positions[3 * i + 2]) / tz;
+                u[i] = static_cast<float>((sea.positions[3 * i] + run * tx) / size * static_cast<double>(side));
+                v[i] = static_cast<float>((sea.positions[3 * i + 1] + run * ty) / size * static_cast<double>(side));
+            }
+        });
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, 2, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t half = r.begin(); half != r.end(); ++half) {
+                std::vector<float>& map = maps[half];
+                std::fill(map.begin(), map.end(), 0.0f);
+                for (std::size_t f = half * triangles / 2; f < (half + 1) * triangles / 2; ++f) {
+                    const std::uint32_t* c = &sea.triangles[3 * f];
+                    const float cu = (u[c[0]] + u[c[1]] + u[c[2]]) / 3.0f, cv = (v[c[0]] + v[c[1]] + v[c[2]]) / 3.0f;
+                    const auto wrap = [side](float w) {
+                        const auto k = static_cast<long>(std::floor(w)) % static_cast<long>(side);
+                        return static_cast<std::size_t>(k < 0 ? k + static_cast<long>(side) : k);
+                    };
+                    map[wrap(cv) * side + wrap(cu)] += 1.0f;
+                }
+            }
+        });
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, side * side, 65536), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i) maps[0][i] += maps[1][i];
+        });
+        benchmark::DoNotOptimize(maps[0].data());
+        t += 1.0 / 24.0;
+    }
+}
+BENCHMARK(BM_caustics_splat_bound)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The 16-bit PNG of a 1024² map.
 void BM_caustics_png(benchmark::State& state) {

@@ -106,6 +106,54 @@ TEST(GonzatoProfile, CrestPlungesForwardNearTheShore) {
     }
 }
 
+// A point's speed over its phase speed: k |dO/dφ| (it runs through the phase at ω, the
+// crest at ω/k), by chords over 40 000 steps of one period.
+double fastest_over_phase_speed(const ProfileShape& s, double k) {
+    double fastest = 0.0;
+    const int steps = 40000;
+    const double step = 2.0 * pi / steps;
+    ProfileOffset prev = gonzato_offset(s, s.trough_phase - pi);
+    for (int i = 1; i <= steps; ++i) {
+        const ProfileOffset d = gonzato_offset(s, s.trough_phase - pi + step * i - (i == steps ? 1e-9 : 0.0));
+        fastest = std::max(fastest, k * std::hypot(d.forward - prev.forward, d.up - prev.up) / step);
+        prev = d;
+    }
+    return fastest;
+}
+
+TEST(GonzatoProfile, NoPointOutrunsOneAndAHalfTimesThePhaseSpeed) {
+    // Swell of T = 5 s from 2 m of water to the swash, on slopes up to 1:3: in the
+    // shallowest water the displacement's rise over the rear face threw crest points
+    // forward at up to ~3 × the phase speed.
+    const double omega = 2.0 * pi / 5.0;
+    GonzatoProfileOptions bounded, unbounded;
+    unbounded.max_speed_ratio = 0.0;
+    double worst_unbounded = 0.0;
+    int scaled = 0, kept = 0;
+    for (double h : {0.03, 0.05, 0.1, 0.2, 0.5, 1.0, 2.0})
+        for (double R : {0.05, 0.1, 0.2, 0.3})
+            for (double rise : {0.0, 0.05, 0.33}) {
+                double k = omega / std::sqrt(9.81 * h);
+                for (int i = 0; i < 60; ++i) k = omega * omega / (9.81 * std::tanh(k * h));
+                const ProfileShape b = gonzato_shape(R, k, h, rise, bounded), u = gonzato_shape(R, k, h, rise, unbounded);
+                const double fast_b = fastest_over_phase_speed(b, k), fast_u = fastest_over_phase_speed(u, k);
+                worst_unbounded = std::max(worst_unbounded, fast_u);
+                EXPECT_LE(fast_b, 1.5 * 1.001) << "h " << h << " R " << R << " rise " << rise;
+                if (fast_u <= 1.5) {  // slow enough already: eq. 7 as it is
+                    EXPECT_EQ(b.displacement, u.displacement);
+                    EXPECT_EQ(b.stretch, u.stretch);
+                    ++kept;
+                } else {  // scaled by the largest share within the bound: it reaches it
+                    EXPECT_GT(fast_b, 1.5 * 0.999) << "h " << h << " R " << R << " rise " << rise;
+                    EXPECT_NEAR(b.stretch / u.stretch, b.displacement / u.displacement, 1e-12);
+                    ++scaled;
+                }
+            }
+    EXPECT_GT(worst_unbounded, 2.5);
+    EXPECT_GT(scaled, 10);
+    EXPECT_GT(kept, 40);
+}
+
 TEST(GonzatoMotion, BayStripsHaveDownwardFacingLipsAtSomeFrame) {
     const FrontSet f = trace_fronts(make_gonzato_bay(), WaveTrain{.period = 5.0, .amplitude = 0.3, .direction_x = 0.0, .direction_y = 1.0});
     const RayStrips strips = build_ray_strips(f);

@@ -41,6 +41,14 @@ struct GonzatoProfileOptions {
     double stretch_depth_factor = 0.4;       ///< K_s: stretch fades as e^{−K_s h} (1/m)
     double displacement_depth_factor = 0.4;  ///< K_d: displacement fades as e^{−K_d h} (1/m)
     bool limit_to_disc = true;  ///< major semi-axis R S_x <= 1/k (§2.3; off = Fournier–Reeves)
+    /// No point of the profile moves faster than this many times the local phase speed
+    /// ω/k (≥ 0; 0 = eq. 7 unbounded): where the stretch and the displacement would
+    /// carry a point faster, both are scaled down together, by the largest share that
+    /// keeps every point within the bound. In the shallowest water the displacement's
+    /// rise over the short rear face (a sixteenth of a wave) otherwise threw crest
+    /// points forward at up to 1.8 × the phase speed on the default bay; a breaking
+    /// crest's water moves at about the phase speed, a plunging jet at up to ~1.5 ×.
+    double max_speed_ratio = 1.5;
 };
 
 /// The per-point constants of eq. 7 (everything that does not depend on φ).
@@ -52,6 +60,7 @@ struct ProfileShape {
     double trough_phase = 0.0;                ///< Φ_min: the phase of the lowest point of the ellipse
     double stretch = 0.0;                     ///< St_max · H · e^{−K_s h} (m)
     double displacement = 0.0;                ///< A = H, times e^{−K_d h} (m)
+    /// (stretch and displacement are scaled by the share that keeps max_speed_ratio)
     double bottom_angle = 0.0;                ///< β (rad), >= 0 (§2.4)
 };
 

@@ -16,6 +16,51 @@ namespace wave {
 namespace {
 
 constexpr double pi = std::numbers::pi;
+constexpr int kSpeedSamples = 64;  // points over one period where the profile's speed is checked
+
+// The phases u = φ − Φ_min where the profile's slope jumps: the displacement's ends on
+// the front face and the rear face (see gonzato_offset), and the crest.
+constexpr double kFrontEnd = -pi / 3.0, kBackStart = 7.0 * pi / 8.0;
+
+// The largest share σ ∈ [0, 1] of the stretch and the displacement with which no point
+// of profile s moves faster than `ratio` × the phase speed.
+double speed_share(const ProfileShape& s, double k, double ratio) noexcept {
+    // The offset is O(u) = E(u) + σ X(u): the ellipse E, and the stretch and the
+    // displacement X, both proportional to their size. A point runs through the phase
+    // at ω, so it moves at ω |O'(u)| against the phase speed ω/k: the bound is
+    // k |E'(u) + σ X'(u)| ≤ ratio. O' (each side of a point, for the kinks) at the
+    // samples and the kinks gives the largest σ with |a + σ b| ≤ r, a = E'Δ, b = X'Δ
+    // over a small Δ, r = ratio Δ / k. Between samples the slopes of the smooth pieces
+    // (sines and a parabola) change by little.
+    if (!(s.stretch > 0.0 || s.displacement > 0.0) || !(k > 0.0)) return 1.0;
+    // Most points are slow enough by a bound on the slopes: |E'| ≤ the major semi-axis,
+    // the stretch's ≤ 2 St/π, the displacement's ≤ D w' √(1 + (w dθ/dw)²) with w' ≤ 8/π
+    // (the rear face) and the orientation θ turning by π/4 + β.
+    const double turn = pi / 4.0 + s.bottom_angle;
+    const double slope = s.major + 2.0 * s.stretch / pi + s.displacement * (8.0 / pi) * std::sqrt(1.0 + turn * turn);
+    if (k * slope <= ratio) return 1.0;
+    ProfileShape ellipse = s, rest = s;
+    ellipse.stretch = ellipse.displacement = 0.0;
+    rest.major = rest.minor = 0.0;
+    constexpr double delta = 1e-6;
+    const double r = ratio * delta / k;
+    double share = 1.0;
+    const auto bound = [&](double u0, double u1) {  // the chord from u0 to u1 = u0 + Δ
+        const ProfileOffset e0 = gonzato_offset(ellipse, s.trough_phase + u0), e1 = gonzato_offset(ellipse, s.trough_phase + u1);
+        const ProfileOffset x0 = gonzato_offset(rest, s.trough_phase + u0), x1 = gonzato_offset(rest, s.trough_phase + u1);
+        const double ax = e1.forward - e0.forward, az = e1.up - e0.up, bx = x1.forward - x0.forward, bz = x1.up - x0.up;
+        const double aa = ax * ax + az * az, ab = ax * bx + az * bz, bb = bx * bx + bz * bz;
+        if (aa >= r * r) return 0.0;  // the orbit alone is faster (no disc limit)
+        if (!(bb > 0.0)) return 1.0;
+        // |a + σ b|² = r² at σ = (−ab + √(ab² − bb (aa − r²))) / bb, the positive root.
+        return (-ab + std::sqrt(ab * ab - bb * (aa - r * r))) / bb;
+    };
+    const auto both_sides = [&](double u) { share = std::min({share, bound(u - delta, u), bound(u, u + delta)}); };
+    for (int i = 0; i < kSpeedSamples; ++i) both_sides(-pi + 2.0 * pi * (i + 0.5) / kSpeedSamples);
+    for (double u : {kFrontEnd, kBackStart}) both_sides(u);
+    share = std::min({share, bound(-pi, -pi + delta), bound(pi - delta, pi - 1e-12)});  // the crest, each side
+    return std::clamp(share, 0.0, 1.0);
+}
 
 }  // namespace
 
@@ -39,8 +84,14 @@ ProfileShape gonzato_shape(double R, double k, double h, double rise, const Gonz
     const double height = 2.0 * R;  // the paper's A = 2R
     s.stretch = o.stretch_max * height * std::exp(-o.stretch_depth_factor * h);
     s.displacement = height * std::exp(-o.displacement_depth_factor * h);
+    if (o.max_speed_ratio > 0.0) {
+        const double share = speed_share(s, k, o.max_speed_ratio);
+        s.stretch *= share;
+        s.displacement *= share;
+    }
     return s;
 }
+
 
 ProfileOffset gonzato_offset(const ProfileShape& s, double phi) noexcept {
     // u = φ − Φ_min in [−π, π): the trough at 0, the crest at ±π.
@@ -60,10 +111,9 @@ ProfileOffset gonzato_offset(const ProfileShape& s, double phi) noexcept {
     // (β, 0) at Φ_min − π/3; (β, 0) over the trough; back up the short rear face from
     // Φ_min + 7π/8 to the crest.
     if (s.displacement > 0.0) {
-        constexpr double front_end = -pi / 3.0, back_start = 7.0 * pi / 8.0;
         double w = 0.0;  // share of the displacement, 1 at the crest
-        if (u < front_end) w = (front_end - u) / (front_end + pi);
-        else if (u >= back_start) w = (u - back_start) / (pi - back_start);
+        if (u < kFrontEnd) w = (kFrontEnd - u) / (kFrontEnd + pi);
+        else if (u >= kBackStart) w = (u - kBackStart) / (pi - kBackStart);
         if (w > 0.0) {
             const double orientation = s.bottom_angle + (-pi / 4.0 - s.bottom_angle) * w;
             forward += w * s.displacement * std::cos(orientation);
@@ -84,6 +134,7 @@ GonzatoMotionPlan plan_gonzato_motion(const RayStrips& strips, const GonzatoProf
     check(o.stretch_max, "stretch_max");
     check(o.stretch_depth_factor, "stretch_depth_factor");
     check(o.displacement_depth_factor, "displacement_depth_factor");
+    check(o.max_speed_ratio, "max_speed_ratio");
     if (!(o.kx > 0.0) || !(o.kz > 0.0)) throw InputError("gonzato profile: kx and kz must be > 0 (1/m)");
     GonzatoMotionPlan p;
     const std::size_t n = strips.vertex_count();
@@ -94,8 +145,10 @@ GonzatoMotionPlan plan_gonzato_motion(const RayStrips& strips, const GonzatoProf
     p.dir_y = strips.dir_y;
     p.phase = strips.phase;
     p.shape.resize(n);
-    for (std::size_t v = 0; v < n; ++v)
-        p.shape[v] = gonzato_shape(strips.amplitude[v], strips.k[v], strips.depth[v], strips.rise[v], o);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t v = r.begin(); v != r.end(); ++v)
+            p.shape[v] = gonzato_shape(strips.amplitude[v], strips.k[v], strips.depth[v], strips.rise[v], o);
+    });
     return p;
 }
 
