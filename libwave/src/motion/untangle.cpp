@@ -24,7 +24,7 @@ namespace wave {
 namespace {
 
 constexpr std::size_t kMaxScaledPasses = 8;  // then a triangle still too small takes s = 0
-constexpr double kShoreStretch = 2.0;  // the ramp's bound on a shore triangle's stretch (1 + λ_max)
+constexpr double kShoreStretch = 1.25;  // the ramp's bound on a shore triangle's stretch (1 + λ_max)
 
 // Twice the signed area of (a, b, c) in plan.
 double area2(double ax, double ay, double bx, double by, double cx, double cy) noexcept {
