@@ -139,7 +139,11 @@ struct UntangleOptions {
     /// keep less than ramp_area_ratio (> min_area_ratio, < 1) of its rest area gives
     /// its vertices the factor that keeps that much by a bound continuous in the
     /// offsets (the strongest compression λ of the offsets' gradient: area ≥ (1 + sλ)²
-    /// of rest); from there the factor rises over the mesh by at most ramp_slope ×
+    /// of rest), and every triangle stretched beyond 2.5 × its rest length (the largest
+    /// eigenvalue λ': 1 + sλ' = 2.5; where rays from two sides of an island part, the
+    /// water either side of the seam moved apart and stretched its edges 3.5 ×; a
+    /// bounded Gonzato profile stretches at most 1 + 1.5 = 2.5 ×) does the same; from
+    /// there the factor rises over the mesh by at most ramp_slope ×
     /// (edge length / the longer offset) per edge, so that neighbours' scaled offsets
     /// differ by about ramp_slope × their edge at most. A vertex's foam frees it of the
     /// ramp (smoothly from lip_foam to foam 1). The factors are then a continuous

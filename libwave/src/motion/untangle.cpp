@@ -25,6 +25,7 @@ namespace {
 
 constexpr std::size_t kMaxScaledPasses = 8;  // then a triangle still too small takes s = 0
 constexpr double kShoreStretch = 1.25;  // the ramp's bound on a shore triangle's stretch (1 + λ_max)
+constexpr double kStretch = 2.5;       // … and on any other's (UntangleOptions::ramp_slope)
 
 // Twice the signed area of (a, b, c) in plan.
 double area2(double ax, double ay, double bx, double by, double cx, double cy) noexcept {
@@ -80,14 +81,13 @@ Squeeze squeeze(const UntanglePlan& plan, std::size_t t, const std::vector<doubl
 // gradient over the triangle and λ the smallest eigenvalue of its symmetric part (the
 // strongest compression), the moved triangle's linear map I + sJ stretches no unit
 // vector by less than 1 + sλ, so its area ratio is at least (1 + sλ)² and it keeps its
-// orientation while 1 + sλ > 0. Rotation never damps, nor does stretching unless
-// `stretch` is finite (the shore's band): then the largest eigenvalue λ' damps from
-// 1 + λ' = stretch on, s = (stretch − 1)/λ'. A compression damps from
+// orientation while 1 + sλ > 0. Rotation never damps; stretching does beyond
+// `stretch` (kStretch; kShoreStretch in the shore's band): the largest eigenvalue λ'
+// damps from 1 + λ' = stretch on, s = (stretch − 1)/λ'. A compression damps from
 // λ = −(1 − √ratio) on. (The quadratic's own first root is sharper but jumps where its
 // dip below the target appears or vanishes.)
 double strain_factor(const UntanglePlan& plan, std::size_t t, const std::vector<double>& factor,
-                     const std::vector<double>& dx, const std::vector<double>& dy, double ratio,
-                     double stretch = std::numeric_limits<double>::infinity()) noexcept {
+                     const std::vector<double>& dx, const std::vector<double>& dy, double ratio, double stretch) noexcept {
     const std::uint32_t i = plan.triangles[3 * t], j = plan.triangles[3 * t + 1], k = plan.triangles[3 * t + 2];
     const double ux1 = plan.rest_x[j] - plan.rest_x[i], uy1 = plan.rest_y[j] - plan.rest_y[i];
     const double ux2 = plan.rest_x[k] - plan.rest_x[i], uy2 = plan.rest_y[k] - plan.rest_y[i];
@@ -105,7 +105,7 @@ double strain_factor(const UntanglePlan& plan, std::size_t t, const std::vector<
     return highest > stretch - 1.0 ? std::min(squeeze, (stretch - 1.0) / highest) : squeeze;
 }
 
-// The ramp (UntangleOptions::ramp_slope): each compressed triangle's
+// The ramp (UntangleOptions::ramp_slope): each compressed or stretched triangle's
 // strain_factor at ramp_area_ratio on its vertices, spread outwards by a min-plus
 // (Dijkstra) sweep over the edges, rising by ramp_slope × edge / longer offset per
 // edge; a vertex's foam then frees it of the ramp (foam_weight, 0 … 1). Every step is
@@ -121,11 +121,11 @@ void ramp_factors(const UntanglePlan& plan, const FoamWeight& foam_weight, Untan
         const double a0 = plan.rest_area[t];
         if (!(a0 > 0.0)) continue;
         const std::uint32_t* v = &plan.triangles[3 * t];
-        // In the shore's band, a stretch damps too: the held shore cannot follow its neighbours.
+        // In the shore's band a stretch damps sooner: the held shore cannot follow its neighbours.
         const bool by_shore = !plan.shore_ring.empty() &&
                               std::min({plan.shore_ring[v[0]], plan.shore_ring[v[1]], plan.shore_ring[v[2]]}) < o.shore_band_rings;
         const double st = strain_factor(plan, t, w.factor, w.dx, w.dy, o.ramp_area_ratio,
-                                        by_shore ? kShoreStretch : std::numeric_limits<double>::infinity());
+                                        by_shore ? kShoreStretch : kStretch);
         for (int c = 0; c < 3; ++c) g[v[c]] = std::min(g[v[c]], st);
     }
     auto& heap = w.queue;
