@@ -92,7 +92,6 @@ ProfileShape gonzato_shape(double R, double k, double h, double rise, const Gonz
     return s;
 }
 
-
 ProfileOffset gonzato_offset(const ProfileShape& s, double phi) noexcept {
     // u = φ − Φ_min in [−π, π): the trough at 0, the crest at ±π.
     double u = std::fmod(phi - s.trough_phase + pi, 2.0 * pi);
