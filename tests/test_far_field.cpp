@@ -230,6 +230,42 @@ TEST(FarField, WhatTheWavesDoNotExplainFadesOutOverTheResidualBand) {
     }
 }
 
+TEST(FarField, TheBordersFoamRunsOnWithItsResidual) {
+    // A breaking crest reaches the border: its foam (1 on every border vertex) is carried
+    // into the skirt as its residual motion is, full at the border, none beyond the band.
+    const Surface m(false);
+    const double k = 2.0 * std::numbers::pi / 8.0, omega = std::sqrt(9.81 * k);
+    const SeaSkirt s = plan_sea_skirt(m.x, m.y, m.triangles, options());
+    std::vector<double> times{0.0, 0.5, 1.0, 1.5, 2.0};
+    std::vector<float> samples;
+    for (std::size_t i = 0; i < times.size(); ++i)
+        for (std::size_t v = 0; v < m.x.size(); ++v) samples.insert(samples.end(), {float(m.x[v]), float(m.y[v]), 0.0f});
+    const FarFieldWave wave{.omega = omega, .direction_x = 1.0, .direction_y = 0.0, .k = k};
+    FarFieldOptions o;
+    o.residual_wavelengths = 2.0;  // 16 m
+    const FarFieldPlan p = plan_far_field(s, deep_floor(), std::span(&wave, 1), m.x, m.y, times, samples, o);
+    std::vector<float> foam(m.x.size() + s.vertex_count(), 0.5f);  // the skirt's old values are overwritten
+    for (std::size_t v = 0; v < m.x.size(); ++v) foam[v] = 1.0f;
+    far_field_foam(p, foam);
+    std::size_t near = 0, far = 0;
+    for (std::size_t v = 0; v < s.vertex_count(); ++v) {
+        const float f = foam[m.x.size() + v];
+        EXPECT_NEAR(f, p.residual_weight[v], 1e-6f);
+        if (s.distance[v] >= 16.0) {
+            EXPECT_EQ(f, 0.0f);
+            ++far;
+        }
+        if (s.distance[v] < 2.0) {  // an eighth of the band
+            EXPECT_GT(f, 0.9f);
+            ++near;
+        }
+    }
+    EXPECT_GT(near, 5u);
+    EXPECT_GT(far, 10u);
+    std::vector<float> short_foam(m.x.size());
+    EXPECT_THROW(far_field_foam(p, short_foam), InputError);
+}
+
 TEST(FarField, RefusesTooFewSamplesAndMismatchedSizes) {
     const Surface m(false);
     const SeaSkirt s = plan_sea_skirt(m.x, m.y, m.triangles, options());

@@ -308,6 +308,16 @@ FarFieldPlan plan_far_field(const SeaSkirt& skirt, const ElevationGrid& seafloor
 /// `scratch` (resized to 3 floats per anchor).
 void evaluate_far_field(const FarFieldPlan& plan, double t, std::span<float> positions, std::vector<float>& scratch);
 
+/// The skirt's foam into `foam` after the surface's own (surface_vertices +
+/// vertex_count() values; the surface's must be there already): each skirt vertex takes
+/// its anchors' foam as it takes their residual motion, weighted along the border edge
+/// and faded with residual_weight. A breaking crest's lip that reaches the border runs
+/// on into the skirt there (moved by the residual), and its foam with it: the untangling
+/// frees foamy vertices as lips (without it the skirt held back a border lip and the
+/// edges across stretched to 4.8 × their neighbours on the default bay), and the white
+/// crest no longer stops at the domain's side. Throws InputError on sizes that disagree.
+void far_field_foam(const FarFieldPlan& plan, std::span<float> foam);
+
 // ---------------------------------------------------------------------------------
 // Jeschke, Birkholz & Schumann's procedural breaker (§3–4, table 1)
 // ---------------------------------------------------------------------------------

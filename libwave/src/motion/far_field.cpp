@@ -216,4 +216,15 @@ void evaluate_far_field(const FarFieldPlan& p, double t, std::span<float> positi
     });
 }
 
+void far_field_foam(const FarFieldPlan& p, std::span<float> foam) {
+    const std::size_t n = p.surface_vertices, S = p.vertex_count();
+    if (foam.size() != n + S)
+        throw InputError("far field: foam holds " + std::to_string(foam.size()) + " values, expected " + std::to_string(n + S));
+    for (std::size_t v = 0; v < S; ++v) {
+        const double wa = p.anchor_weight[v];
+        const float a0 = foam[p.anchor_vertex[p.anchor_slot[2 * v]]], a1 = foam[p.anchor_vertex[p.anchor_slot[2 * v + 1]]];
+        foam[n + v] = static_cast<float>(p.residual_weight[v] * (wa * a0 + (1.0 - wa) * a1));
+    }
+}
+
 }  // namespace wave

@@ -999,7 +999,10 @@ CoarseFrame move_coarse(FrameRun& r, double t, std::span<float> pc, std::span<fl
 void coarse_foam(FrameRun& r, double t, std::span<float> fc) {
     const ScenePlan& plan = r.plan;
     if (r.model.foam) r.model.foam(r.scene, plan, t, r.state.get(), fc.first(model_vertex_count(plan)));
+    // The skirt's foam: Jeschke's breakers carried on beyond the border where they run,
+    // otherwise the border's own foam with its residual motion.
     if (plan.skirt_breakers.vertex_count() > 0) skirt_breaker_foam(plan.skirt_breakers, t, fc, r.far_field_scratch);
+    else if (plan.skirt.vertex_count() > 0) far_field_foam(plan.far_field, fc);
     if (plan.ocean.n == 0) return;
     const FoldFoamOptions& fold = plan.fold_foam;
     accumulate_fold_foam(r.wind_sea.vertex_j, 0.0, fold, fc);
