@@ -313,9 +313,9 @@ void evaluate_far_field(const FarFieldPlan& plan, double t, std::span<float> pos
 /// its anchors' foam as it takes their residual motion, weighted along the border edge
 /// and faded with residual_weight. A breaking crest's lip that reaches the border runs
 /// on into the skirt there (moved by the residual), and its foam with it: the untangling
-/// frees foamy vertices as lips (without it the skirt held back a border lip and the
-/// edges across stretched to 4.8 × their neighbours on the default bay), and the white
-/// crest no longer stops at the domain's side. Throws InputError on sizes that disagree.
+/// frees foamy vertices as lips (without it the skirt held back a border lip, and the
+/// edges across stretched to 5.4 × their neighbours on the default bay). Throws
+/// InputError on sizes that disagree.
 void far_field_foam(const FarFieldPlan& plan, std::span<float> foam);
 
 // ---------------------------------------------------------------------------------
