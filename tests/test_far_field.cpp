@@ -199,21 +199,28 @@ TEST(FarField, APlaneWaveRunsOnUnchangedBeyondEveryWetSide) {
         }
 }
 
-TEST(FarField, WhatTheWavesDoNotExplainFadesOutOverTheResidualBand) {
-    const Surface m(false);
+// The far field of a surface whose border stands still at height z in every sample (no
+// wave moves it), for an 8 m wave, with a residual band of 16 m; `at_rest` gets the
+// surface's positions.
+FarFieldPlan still_border_plan(const Surface& m, const SeaSkirt& s, float z, std::vector<float>& at_rest) {
     const double k = 2.0 * std::numbers::pi / 8.0, omega = std::sqrt(9.81 * k);
-    const SeaSkirt s = plan_sea_skirt(m.x, m.y, m.triangles, options());
-    // The border stands 0.2 m up (a set-up no wave explains) and no wave moves it.
-    std::vector<double> times{0.0, 0.5, 1.0, 1.5, 2.0};
-    std::vector<float> one;
-    for (std::size_t v = 0; v < m.x.size(); ++v) one.insert(one.end(), {float(m.x[v]), float(m.y[v]), 0.2f});
+    const std::vector<double> times{0.0, 0.5, 1.0, 1.5, 2.0};
+    at_rest.clear();
+    for (std::size_t v = 0; v < m.x.size(); ++v) at_rest.insert(at_rest.end(), {float(m.x[v]), float(m.y[v]), z});
     std::vector<float> samples;
-    for (std::size_t i = 0; i < times.size(); ++i) samples.insert(samples.end(), one.begin(), one.end());
+    for (std::size_t i = 0; i < times.size(); ++i) samples.insert(samples.end(), at_rest.begin(), at_rest.end());
     const FarFieldWave wave{.omega = omega, .direction_x = 1.0, .direction_y = 0.0, .k = k};
-    const ElevationGrid flat = deep_floor();
     FarFieldOptions o;
     o.residual_wavelengths = 2.0;  // 16 m
-    const FarFieldPlan p = plan_far_field(s, flat, std::span(&wave, 1), m.x, m.y, times, samples, o);
+    return plan_far_field(s, deep_floor(), std::span(&wave, 1), m.x, m.y, times, samples, o);
+}
+
+TEST(FarField, WhatTheWavesDoNotExplainFadesOutOverTheResidualBand) {
+    const Surface m(false);
+    const SeaSkirt s = plan_sea_skirt(m.x, m.y, m.triangles, options());
+    // The border stands 0.2 m up (a set-up no wave explains) and no wave moves it.
+    std::vector<float> one;
+    const FarFieldPlan p = still_border_plan(m, s, 0.2f, one);
     std::vector<float> pos = one, scratch;
     pos[2] = 0.5f;  // now one anchor rises by a further 0.3 m: the skirt follows it near the border
     pos.resize(3 * (m.x.size() + s.vertex_count()));
@@ -234,16 +241,9 @@ TEST(FarField, TheBordersFoamRunsOnWithItsResidual) {
     // A breaking crest reaches the border: its foam (1 on every border vertex) is carried
     // into the skirt as its residual motion is, full at the border, none beyond the band.
     const Surface m(false);
-    const double k = 2.0 * std::numbers::pi / 8.0, omega = std::sqrt(9.81 * k);
     const SeaSkirt s = plan_sea_skirt(m.x, m.y, m.triangles, options());
-    std::vector<double> times{0.0, 0.5, 1.0, 1.5, 2.0};
-    std::vector<float> samples;
-    for (std::size_t i = 0; i < times.size(); ++i)
-        for (std::size_t v = 0; v < m.x.size(); ++v) samples.insert(samples.end(), {float(m.x[v]), float(m.y[v]), 0.0f});
-    const FarFieldWave wave{.omega = omega, .direction_x = 1.0, .direction_y = 0.0, .k = k};
-    FarFieldOptions o;
-    o.residual_wavelengths = 2.0;  // 16 m
-    const FarFieldPlan p = plan_far_field(s, deep_floor(), std::span(&wave, 1), m.x, m.y, times, samples, o);
+    std::vector<float> at_rest;
+    const FarFieldPlan p = still_border_plan(m, s, 0.0f, at_rest);
     std::vector<float> foam(m.x.size() + s.vertex_count(), 0.5f);  // the skirt's old values are overwritten
     for (std::size_t v = 0; v < m.x.size(); ++v) foam[v] = 1.0f;
     far_field_foam(p, foam);
