@@ -8,8 +8,8 @@
 // the water, carries the strips' fields onto the mesh (the field's where no strip passed),
 // continues it to the horizon on a skirt, moves it with Gonzato's plunging profile at
 // frame FRAME (default 3, 25 frames/s) and the skirt with the border's fitted swell,
-// adds the breaking foam, untangles it, computes normals and Fresnel weights, and
-// writes that one frame as a .glb.
+// adds the breaking foam (the skirt takes the border's), untangles it, computes normals
+// and Fresnel weights, and writes that one frame as a .glb.
 //
 // Then it asks the scene pipeline (plan_scene, animate_scene) for the same frame of the
 // same scene and checks that every array is equal bit for bit: the stages below are
@@ -126,6 +126,7 @@ Frame frame_by_stages(const std::string& grid_path, std::size_t frame_number) {
     wave::evaluate_gonzato_motion(motion, t, std::span<float>(f.positions).first(3 * n));
     wave::evaluate_far_field(far, t, f.positions, scratch);
     wave::breaking_foam(on_mesh, motion, t, wave::FoamOptions{}, std::span<float>(f.foam).first(n));
+    wave::far_field_foam(far, f.foam);  // the border's foam carried onto the skirt with its residual motion
     wave::untangle_motion(untangle, f.foam, f.positions);  // breaking lips (foam) may overturn
     wave::vertex_normals(f.positions, f.triangles, adjacency, f.normals);
     wave::FresnelOptions fresnel;

@@ -9,7 +9,7 @@ is traced as Gonzato's adaptive fronts whose heights come from the refraction–
 field, the fronts become ray strips, the water is meshed and takes the strips' fields
 (the field's where no strip passed), a skirt continues it to the horizon, Gonzato's
 profile moves it at frame FRAME (default 3, 25 frames/s) and the skirt follows the
-border's fitted swell, breaking foam is added, the frame is untangled, its normals and Fresnel weights computed, and it is
+border's fitted swell, breaking foam is added (the skirt takes the border's), the frame is untangled, its normals and Fresnel weights computed, and it is
 written as a .glb. The scene pipeline then gives the same frame of the same scene, and
 every array must be equal bit for bit (exit 1 otherwise; 2 on bad input).
 """
@@ -57,6 +57,7 @@ def frame_by_stages(grid_path: str, frame: int) -> Dict[str, Any]:
     far.evaluate(t, positions)
     foam = np.zeros(n + skirt.vertex_count, np.float32)
     foam[:n] = libwave.breaking_foam(on_mesh, motion, t)
+    far.foam(foam)  # the border's foam carried onto the skirt with its residual motion
     untangle.apply(positions, foam)  # breaking lips (foam) may overturn
     normals = libwave.vertex_normals(positions, triangles)
     reflect, refract = libwave.fresnel_weights(positions, normals, CAMERA)

@@ -367,7 +367,18 @@ void bind_far_field(py::module_& m) {
             },
             py::arg("t"), py::arg("positions"),
             "Moves the skirt at time t (s) in place: positions is a writable (surface + skirt vertices, 3) float32 "
-            "array whose first rows hold the surface already moved");
+            "array whose first rows hold the surface already moved")
+        .def(
+            "foam",
+            [](const wave::FarFieldPlan& p, py::array foam) {
+                py::array_t<float> a = writable_floats(foam, p.surface_vertices + p.vertex_count(), "far field foam");
+                std::span<float> s = span_of(a);
+                py::gil_scoped_release release;
+                wave::far_field_foam(p, s);
+            },
+            py::arg("foam"),
+            "The skirt's foam in place: foam is a writable (surface + skirt vertices) float32 array whose first values "
+            "hold the surface's foam; each skirt vertex takes its anchors' foam with their residual motion");
     m.def(
         "plan_far_field",
         [](const wave::SeaSkirt& skirt, const wave::Seafloor& seafloor, const std::vector<py::tuple>& waves,
