@@ -19,7 +19,6 @@ namespace {
 
 using namespace wave;
 
-constexpr double kPi = std::numbers::pi;
 
 // An nx × ny grid of spacing dx × dy from the origin, elevation z(i, j) at node (i, j).
 template <class Elevation>
@@ -40,12 +39,12 @@ ElevationGrid flat_floor(double w, double d, double h) {
 }
 
 // A surface z = a sin(k x) over [0, w] × [0, d], nx × ny vertices, exact unit normals.
-struct Surface {
+struct SineSurface {
     std::vector<float> positions, normals;
     std::vector<std::uint32_t> triangles;
 };
-Surface sine_surface(double w, double d, std::size_t nx, std::size_t ny, double a, double k) {
-    Surface s;
+SineSurface sine_surface(double w, double d, std::size_t nx, std::size_t ny, double a, double k) {
+    SineSurface s;
     for (std::size_t j = 0; j < ny; ++j)
         for (std::size_t i = 0; i < nx; ++i) {
             const double x = w * double(i) / double(nx - 1), y = d * double(j) / double(ny - 1);
@@ -57,14 +56,14 @@ Surface sine_surface(double w, double d, std::size_t nx, std::size_t ny, double 
     return s;
 }
 
-std::vector<float> caustics(const CausticPlan& plan, const Surface& s) {
+std::vector<float> caustics(const CausticPlan& plan, const SineSurface& s) {
     std::vector<float> map(plan.options.width * plan.options.height);
     evaluate_caustics(plan, s.positions, s.normals, s.triangles, map);
     return map;
 }
 
 TEST(Caustics, FlatWaterLightsAFlatFloorUniformlyWithTheTransmittedAttenuatedIrradiance) {
-    const double h = 6.0, c = 0.12, elevation = 55.0 * kPi / 180.0, azimuth = 30.0 * kPi / 180.0;
+    const double h = 6.0, c = 0.12, elevation = 55.0 * std::numbers::pi / 180.0, azimuth = 30.0 * std::numbers::pi / 180.0;
     CausticOptions o;
     o.sun = {std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation)};
     o.attenuation = c;
@@ -100,7 +99,7 @@ TEST(Caustics, FlatWaterLightsAFlatFloorUniformlyWithTheTransmittedAttenuatedIrr
 // Before the focus, at distance s below the crest, the beam under the crest is narrowed
 // by 1 − s/D: the irradiance there is that many times brighter than the mean.
 struct SineCase {
-    double a = 0.05, wavelength = 4.0, k = 2.0 * kPi / 4.0;
+    double a = 0.05, wavelength = 4.0, k = 2.0 * std::numbers::pi / 4.0;
     double focus() const { return kWaterRefractiveIndex / ((kWaterRefractiveIndex - 1.0) * a * k * k); }
     // The map of the sine surface over a floor of depth h: 8 wavelengths, 200 pixels each.
     std::vector<float> map(double h, double attenuation = 0.0) const {
@@ -211,7 +210,7 @@ TEST(Caustics, AnInclinedFloorUnderAnInclinedSunGetsTheLightItsSlopeSpreads) {
     // t meets the floor point x' after s = (H + αx') / −t_z, and a strip dx of surface
     // lands on dx · −t_z / (−t_z − α t_x) of floor, so E(x') = T I₀ e^{−c s} (−t_z − α t_x) / −t_z.
     // The rays are found by the search's secant steps (no closed form on a slope).
-    const double H = 5.0, alpha = 0.2, c = 0.1, elevation = 60.0 * kPi / 180.0;
+    const double H = 5.0, alpha = 0.2, c = 0.1, elevation = 60.0 * std::numbers::pi / 180.0;
     const ElevationGrid g = grid_of(51, 6, 1.0, 1.0, [&](double i, double) { return -H - alpha * i; });
     CausticOptions o;
     o.sun = {std::cos(elevation), 0.0, std::sin(elevation)};
@@ -240,7 +239,7 @@ TEST(Caustics, ANarrowRidgeCastsItsShadowOnTheFloorBehindIt) {
     // The ridge's nodes at x = 23 and 23.5 m: the last cells of tile 5.
     const ElevationGrid g = grid_of(81, 9, 0.5, 0.5, [](double i, double) { return i == 46.0 || i == 47.0 ? -1.0 : -4.0; });
     CausticOptions o;
-    const double elevation = 45.0 * kPi / 180.0;
+    const double elevation = 45.0 * std::numbers::pi / 180.0;
     o.sun = {std::cos(elevation), 0.0, std::sin(elevation)};
     o.attenuation = 0.0;
     o.width = 160;
@@ -351,7 +350,7 @@ TEST(Caustics, APlannedMeshGivesTheSameBitsAsTheTrianglesGivenWithTheFrame) {
     o.height = 64;
     const CausticPlan plan = plan_caustics(g, o);
     ASSERT_FALSE(plan.flat);
-    const Surface s = sine_surface(32.0, 8.0, 161, 41, 0.05, 2.0 * kPi / 4.0);
+    const SineSurface s = sine_surface(32.0, 8.0, 161, 41, 0.05, 2.0 * std::numbers::pi / 4.0);
     const CausticMesh mesh = plan_caustic_mesh(s.triangles, s.positions.size() / 3);
     std::vector<float> planned(256 * 64), given(256 * 64);
     CausticWorkspace workspace;
@@ -384,7 +383,7 @@ TEST(Caustics, BadOptionsAndSizesAreRefused) {
     o.width = 4;
     o.height = 4;
     const CausticPlan plan = plan_caustics(floor, o);
-    Surface s = sine_surface(10.0, 10.0, 3, 3, 0.0, 1.0);
+    SineSurface s = sine_surface(10.0, 10.0, 3, 3, 0.0, 1.0);
     std::vector<float> map(16), small(15);
     EXPECT_THROW(evaluate_caustics(plan, s.positions, s.normals, s.triangles, small), InputError);
     s.triangles[4] = 9;

@@ -243,6 +243,24 @@ EXAMPLES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examp
 # make under ASan, and a sanitizer sees nothing in the comparison: release only.
 UNDER_ASAN = "ASAN_OPTIONS" in os.environ
 same_bytes_test = unittest.skipIf(UNDER_ASAN, "compares two runs' bytes: the release suite's")
+ASAN_SELECTION = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "asan-selection.json")
+
+
+def skip_what_the_sanitizers_reach_elsewhere(prefix, namespace):
+    """Under ASan, skips the test methods of `namespace` (a suite's globals()) that
+    tests/data/asan-selection.json lists: every line of our code they reach is reached
+    under the sanitizers by the unit tests and the methods kept (scripts/asan-selection.py).
+    The release suite runs them all, and so does the selection's own measurement
+    (LIBWAVE_ASAN_SELECTION=off)."""
+    if not UNDER_ASAN or os.environ.get("LIBWAVE_ASAN_SELECTION") == "off":
+        return
+    with open(ASAN_SELECTION) as f:
+        listed = json.load(f)
+    for name, entry in listed["skipped"].items():
+        suite, cls, method = name.split(".")
+        if suite == prefix and hasattr(namespace.get(cls), method):
+            reason = f"its {entry['lines']} lines run under the sanitizers in other tests ({listed['measured']})"
+            setattr(namespace[cls], method, unittest.skip(reason)(getattr(namespace[cls], method)))
 
 
 def read_ply_header(path):
@@ -2552,6 +2570,8 @@ class Convert(unittest.TestCase):
                 self.assertEqual(r.returncode, 2, src + r.stderr)
                 self.assertIn(part, r.stderr)
                 self.assertFalse(os.path.exists(os.path.join(d, "out")))
+
+skip_what_the_sanitizers_reach_elsewhere("cli", globals())
 
 if __name__ == "__main__":
     unittest.main(verbosity=2)

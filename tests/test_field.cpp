@@ -18,19 +18,18 @@ namespace {
 
 using namespace wave;
 using cd = std::complex<double>;
-constexpr double kPi = std::numbers::pi;
 
 using test::grid_seafloor;
 
 // The wrapped difference of two phases, in (−π, π].
-double phase_gap(double a, double b) { return std::remainder(a - b, 2.0 * kPi); }
+double phase_gap(double a, double b) { return std::remainder(a - b, 2.0 * std::numbers::pi); }
 
 TEST(WaveField, FlatBottomCarriesAPlaneWaveUnchanged) {
     // 10 m of water, T = 4 s (L = 23.5 m), travelling at 30° to x over 10+ wavelengths.
     const Seafloor flat = grid_seafloor(400.0, 400.0, 5.0, [](double, double) { return 10.0; });
-    const WaveTrain train{.period = 4.0, .amplitude = 0.2, .direction_x = std::cos(kPi / 6), .direction_y = std::sin(kPi / 6)};
+    const WaveTrain train{.period = 4.0, .amplitude = 0.2, .direction_x = std::cos(std::numbers::pi / 6), .direction_y = std::sin(std::numbers::pi / 6)};
     const WaveField f = solve_wave_field(flat, train);
-    const LinearWave w = linear_wave(2.0 * kPi / train.period, 10.0);
+    const LinearWave w = linear_wave(2.0 * std::numbers::pi / train.period, 10.0);
     const double expected = train.amplitude * w.shoaling;
     const double x0 = 100.0, y0 = 120.0;
     const FieldSample s0 = sample_wave_field(f, x0, y0);
@@ -46,7 +45,7 @@ TEST(WaveField, FlatBottomCarriesAPlaneWaveUnchanged) {
         EXPECT_NEAR(s.dir_y, train.direction_y, 1e-3);
     }
     EXPECT_LT(worst_amp, 0.005);                     // amplitude within 0.5 %
-    EXPECT_LT(worst_phase / (2.0 * kPi), 0.01);      // phase within 1 % of a wavelength over 10
+    EXPECT_LT(worst_phase / (2.0 * std::numbers::pi), 0.01);      // phase within 1 % of a wavelength over 10
 }
 
 TEST(WaveField, PlanarBeachShoalsAndRefractsLikeSnellAndTheRays) {
@@ -55,13 +54,13 @@ TEST(WaveField, PlanarBeachShoalsAndRefractsLikeSnellAndTheRays) {
     const double slope = 0.05, h0 = 15.0;
     const auto depth = [&](double, double y) { return h0 - slope * y; };
     const Seafloor beach = grid_seafloor(700.0, 290.0, 5.0, depth);
-    const double theta0 = kPi / 6;
+    const double theta0 = std::numbers::pi / 6;
     const WaveTrain train{.period = 4.0, .amplitude = 0.1, .direction_x = std::sin(theta0), .direction_y = std::cos(theta0)};
     FieldOptions o;
     o.min_resolved_depth = 1.0;
     o.nodes_per_wavelength = 16.0;
     const WaveField f = solve_wave_field(beach, train, o);
-    const double omega = 2.0 * kPi / train.period;
+    const double omega = 2.0 * std::numbers::pi / train.period;
     const LinearWave deep = linear_wave(omega, 1e6);
     // Snell from deep water: sin θ / C = sin θ∞ / C∞; the wave entered at 15 m along θ∞.
     const double ky = deep.k * std::sin(theta0);
@@ -90,7 +89,7 @@ TEST(WaveField, PlanarBeachShoalsAndRefractsLikeSnellAndTheRays) {
         EXPECT_NEAR(std::atan2(s.dir_x, s.dir_y), std::asin(sin_t), 0.02) << "direction at y = " << y;
     }
     EXPECT_LT(worst_amp, 0.01) << "amplitude against A∞ K_s K_r";
-    EXPECT_LT(worst_phase / (2.0 * kPi), 0.05) << "phase against the ray's ∫ k·ds (over ~25 wavelengths)";
+    EXPECT_LT(worst_phase / (2.0 * std::numbers::pi), 0.05) << "phase against the ray's ∫ k·ds (over ~25 wavelengths)";
 }
 
 // Sommerfeld's solution for a rigid half-plane (the screen along θ = 0, tip at the
@@ -107,8 +106,8 @@ cd fresnel_f(double a) {
         sum += (i % 2 ? 4.0 : 2.0) * std::exp(cd(0.0, m * m));
     }
     const cd from0 = sum * h / 3.0;
-    const cd tail = std::sqrt(kPi) / 2.0 * std::exp(cd(0.0, kPi / 4)) - from0;
-    return std::exp(cd(0.0, -kPi / 4)) / std::sqrt(kPi) * tail;
+    const cd tail = std::sqrt(std::numbers::pi) / 2.0 * std::exp(cd(0.0, std::numbers::pi / 4)) - from0;
+    return std::exp(cd(0.0, -std::numbers::pi / 4)) / std::sqrt(std::numbers::pi) * tail;
 }
 
 cd sommerfeld(double k, double r, double theta, double theta0) {
@@ -128,7 +127,7 @@ TEST(WaveField, DiffractionBehindASemiInfiniteBreakwater) {
     FieldOptions o;
     o.nodes_per_wavelength = 16.0;
     const WaveField f = solve_wave_field(basin, train, o);
-    const LinearWave w = linear_wave(2.0 * kPi / train.period, h);
+    const LinearWave w = linear_wave(2.0 * std::numbers::pi / train.period, h);
     const double a_inc = train.amplitude * w.shoaling;
     // Sanity of the reference solution: lit far from the boundary ≈ 1, deep shadow ≈ 0.
     // Map: screen along y < tip (x = tip_x) → standard frame x' = tip_y − y, y' = x − tip_x;
@@ -136,8 +135,8 @@ TEST(WaveField, DiffractionBehindASemiInfiniteBreakwater) {
     const auto exact = [&](double x, double y) {
         const double xp = tip_y - y, yp = x - tip_x;
         double theta = std::atan2(yp, xp);
-        if (theta < 0.0) theta += 2.0 * kPi;
-        return std::abs(sommerfeld(w.k, std::hypot(xp, yp), theta, 1.5 * kPi));
+        if (theta < 0.0) theta += 2.0 * std::numbers::pi;
+        return std::abs(sommerfeld(w.k, std::hypot(xp, yp), theta, 1.5 * std::numbers::pi));
     };
     ASSERT_NEAR(exact(tip_x + 60.0, tip_y + 120.0), 1.0, 0.1);
     ASSERT_LT(exact(tip_x + 60.0, tip_y - 120.0), 0.1);

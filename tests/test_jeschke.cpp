@@ -27,7 +27,6 @@ using namespace wave;
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 const BreakerPhase kPhases[] = {BreakerPhase::round, BreakerPhase::breaking, BreakerPhase::collapsing};
 
 BreakerShapePoint shape(BreakerPhase phase, double t, double s, double curl = 1.0) {
@@ -56,7 +55,7 @@ TEST(JeschkeShape, RoundPhaseIsARaisedCosine) {
             const double s = i / 100.0;
             const BreakerShapePoint p = shape(BreakerPhase::round, t, s);
             EXPECT_NEAR(p.y, 1.0 - s, 1e-12) << s;
-            EXPECT_NEAR(p.z, 0.8 * t * (1.0 - std::cos(2 * kPi * s)) / 8.0, 1e-12) << s;
+            EXPECT_NEAR(p.z, 0.8 * t * (1.0 - std::cos(2 * std::numbers::pi * s)) / 8.0, 1e-12) << s;
         }
 }
 
@@ -148,7 +147,7 @@ TEST(JeschkeBreakers, PlanarBeachBreaksWhereShoalingReachesGamma) {
     // The analytic answer: linear shoaling at normal incidence on the same 1:20 slope.
     std::vector<double> depth;
     for (double h = 10.0; h > 0.0; h -= 0.01) depth.push_back(h);
-    const double omega = 2 * kPi / 8.0;
+    const double omega = 2 * std::numbers::pi / 8.0;
     const ShoalingProfile analytic = shoal_profile(omega, 0.8, depth, 0.01 / 0.05);
     ASSERT_GE(analytic.break_index, 0);
     std::size_t central = 0;
@@ -159,7 +158,7 @@ TEST(JeschkeBreakers, PlanarBeachBreaksWhereShoalingReachesGamma) {
         EXPECT_NEAR(rb.height / rb.depth, kBreakerIndex, 1e-6) << "ray " << rb.ray;
         EXPECT_NEAR(rb.depth, analytic.break_depth, 0.03 * analytic.break_depth) << "ray " << rb.ray;
         // ξ0 = 0.05 / sqrt(0.8 / 99.9) = 0.56: plunging (Battjes: 0.5 … 3.3).
-        EXPECT_NEAR(rb.iribarren, 0.05 / std::sqrt(0.8 / (kGravity * 64 / (2 * kPi))), 0.02);
+        EXPECT_NEAR(rb.iribarren, 0.05 / std::sqrt(0.8 / (kGravity * 64 / (2 * std::numbers::pi))), 0.02);
         EXPECT_EQ(rb.type, BreakerType::plunging);
         EXPECT_GT(rb.end_phase, rb.break_phase);
     }
@@ -206,7 +205,7 @@ TEST(JeschkeBreakers, NoVertexOutrunsThreeAndAHalfTimesItsPhaseSpeed) {
     const ScenePlan plan = plan_scene(scene);
     const JeschkeMotionPlan& b = plan.breakers;
     const std::size_t n = b.vertex_count();
-    const double period = 2 * kPi / b.omega, dt = period / 960;
+    const double period = 2 * std::numbers::pi / b.omega, dt = period / 960;
     std::vector<float> p0(3 * n), p1(3 * n);
     evaluate_jeschke_breakers(b, 0.0, p1);
     double worst = 0.0;
@@ -230,7 +229,7 @@ TEST(JeschkeBreakers, NoVertexOutrunsThreeAndAHalfTimesItsPhaseSpeed) {
 // speed c = W/T; vertices at rest (W = 0 where a ray ends) and float noise aside.
 double fastest_over_phase_speed(const JeschkeMotionPlan& b) {
     const std::size_t n = b.vertex_count();
-    const double period = 2 * kPi / b.omega, dt = period / 960;
+    const double period = 2 * std::numbers::pi / b.omega, dt = period / 960;
     std::vector<float> p0(3 * n), p1(3 * n);
     evaluate_jeschke_breakers(b, 0.0, p1);
     double worst = 0.0;
@@ -295,8 +294,8 @@ TEST(JeschkeFoam, NoneBeforeTheBreakThenDecayingUntilTheNextCrest) {
         int rise_starts = 0;
         const auto rising = [&](std::size_t f) { return foam[f][v] > foam[(f + 399) % 400][v]; };  // frame 400 is frame 0
         for (std::size_t f = 0; f < 400; ++f) {
-            const double since = std::fmod(b.omega * static_cast<double>(f) * dt - b.phase[v] + 100 * kPi, 2 * kPi) / b.omega;
-            const double lip = lip_foam_rise(2 * kPi - b.omega * since);
+            const double since = std::fmod(b.omega * static_cast<double>(f) * dt - b.phase[v] + 100 * std::numbers::pi, 2 * std::numbers::pi) / b.omega;
+            const double lip = lip_foam_rise(2 * std::numbers::pi - b.omega * since);
             EXPECT_NEAR(foam[f][v], std::max({0.0, 1.0 - since / b.foam_fade_time, lip}), 1e-3);
             if (!rising(f)) continue;
             EXPECT_TRUE(lip > 0.0 || since < dt + 1e-9) << "vertex " << v;  // before the crest, or at it
@@ -428,7 +427,7 @@ TEST(JeschkeVariation, EveryCrestKeepsAWholeLifeCycle) {
                 ASSERT_GE(c.break_phase, rise);
                 ASSERT_LE(c.end_phase, e);
                 ASSERT_GE(c.end_phase - c.break_phase - c.breaking_length, 0.25 * collapse - 1e-12);
-                ASSERT_NEAR(c.break_phase, std::clamp(b + u1 * v * 2 * kPi, rise, b + 0.25 * collapse), 1e-12);
+                ASSERT_NEAR(c.break_phase, std::clamp(b + u1 * v * 2 * std::numbers::pi, rise, b + 0.25 * collapse), 1e-12);
             }
     const CrestPhases never = vary_crest(rise, INFINITY, 0.0, INFINITY, {1.0, 1.0}, 0.5);
     EXPECT_TRUE(std::isinf(never.break_phase));
@@ -447,7 +446,7 @@ TEST(JeschkeVariation, CrestsDifferAndTheLoopIsTheirCount) {
     EXPECT_DOUBLE_EQ(plan.loop_period, 24.0);
     const std::size_t n = b.vertex_count();
     std::vector<float> a(3 * n), one(3 * n), three(3 * n);
-    const double period = 2 * kPi / b.omega;
+    const double period = 2 * std::numbers::pi / b.omega;
     evaluate_jeschke_breakers(b, 1.7, a);
     evaluate_jeschke_breakers(b, 1.7 + period, one);
     evaluate_jeschke_breakers(b, 1.7 + 3 * period, three);
@@ -474,8 +473,8 @@ TEST(JeschkeVariation, CrestsDifferAndTheLoopIsTheirCount) {
     for (const CrestVariation& d : b.crest_draws)
         breaks.push_back(vary_crest(b.rise[v0], b.break_phase[v0], b.breaking_length[v0], b.end_phase[v0], d, b.variation).break_phase);
     const auto [lo, hi] = std::minmax_element(breaks.begin(), breaks.end());
-    EXPECT_GT(*hi - *lo, 0.1 * 2 * kPi) << "crests break at least a tenth of a wavelength apart";
-    for (double x : breaks) EXPECT_LE(std::abs(x - ray->break_phase), 0.25 * 2 * kPi + 1e-4);
+    EXPECT_GT(*hi - *lo, 0.1 * 2 * std::numbers::pi) << "crests break at least a tenth of a wavelength apart";
+    for (double x : breaks) EXPECT_LE(std::abs(x - ray->break_phase), 0.25 * 2 * std::numbers::pi + 1e-4);
 }
 
 TEST(JeschkeVariation, FoamOnlyWhereSomeCrestBrokeAndBoundedByTheFade) {
@@ -508,8 +507,8 @@ TEST(JeschkeVariation, FoamOnlyWhereSomeCrestBrokeAndBoundedByTheFade) {
             if (cur[v] > prev[v]) {
                 // A rise only when a crest has just passed (within one step), or before
                 // the next one as its lip's foam rises (never above that curve).
-                const double since = std::fmod(b.omega * t - b.phase[v] + 1000 * kPi, 2 * kPi) / b.omega;
-                const double rise = lip_foam_rise(2 * kPi - b.omega * since);
+                const double since = std::fmod(b.omega * t - b.phase[v] + 1000 * std::numbers::pi, 2 * std::numbers::pi) / b.omega;
+                const double rise = lip_foam_rise(2 * std::numbers::pi - b.omega * since);
                 if (since >= dt + 1e-9) {
                     ASSERT_GT(rise, 0.0) << "vertex " << v << " t " << t;
                     ASSERT_LE(cur[v], rise + 1e-6) << "vertex " << v << " t " << t;
@@ -683,7 +682,7 @@ TEST(SkirtBreakers, ASkirtVertexLivesItsAnchorsLifeLagLater) {
         if (points < 6 || !(det > 0.0)) continue;
         const double gx = (syy * sxp - sxy * syp) / det, gy = (sxx * syp - sxy * sxp) / det;
         const double expected = gx * (b.plan.x[i] - own.x[a]) + gy * (b.plan.y[i] - own.y[a]);
-        const double plane = 2.0 * kPi / own.width[a] * (own.dir_x[a] * (b.plan.x[i] - own.x[a]) + own.dir_y[a] * (b.plan.y[i] - own.y[a]));
+        const double plane = 2.0 * std::numbers::pi / own.width[a] * (own.dir_x[a] * (b.plan.x[i] - own.x[a]) + own.dir_y[a] * (b.plan.y[i] - own.y[a]));
         ASSERT_NEAR(b.plan.lag[i], plane, 1e-9 * (1.0 + std::abs(plane)));
         worst_lag = std::max(worst_lag, std::abs(b.plan.lag[i] - expected) / (0.1 + 0.35 * std::abs(expected)));
         ++compared;

@@ -23,7 +23,6 @@
 namespace {
 
 using namespace wave;
-constexpr double kPi = std::numbers::pi;
 
 TEST(OceanSpectrum, PiersonMoskowitzVarianceIsAnalytic) {
     // ∫ α g² ω⁻⁵ e^{−β (g/Uω)⁴} dω = α U⁴ / (4 β g²), whatever the spreading.
@@ -45,14 +44,14 @@ TEST(OceanSpectrum, PhillipsVarianceIsAnalytic) {
     // eq. 23 with p = 2, no cutoff: A ∫ e^{−1/(kL)²} k⁻³ dk ∫ cos²θ dθ = A π L² / 2.
     const OceanSpectrum s{.model = OceanSpectrumModel::phillips, .wind_speed = 31.0};
     const double L = 31.0 * 31.0 / kGravity;
-    EXPECT_NEAR(ocean_spectrum_variance(s) / (s.phillips_constant * kPi * L * L / 2.0), 1.0, 1e-6);
+    EXPECT_NEAR(ocean_spectrum_variance(s) / (s.phillips_constant * std::numbers::pi * L * L / 2.0), 1.0, 1e-6);
     // The default A matches Pierson–Moskowitz's tail: F k (per unit k, all directions)
     // = α / (2 k³) far above the peak.
     const double k = 50.0 / L;
     double omni = 0.0;
     for (int i = 0; i < 3600; ++i) {
-        const double th = 2.0 * kPi * (i + 0.5) / 3600.0;
-        omni += ocean_spectrum_density(s, k * std::cos(th), k * std::sin(th)) * k * 2.0 * kPi / 3600.0;
+        const double th = 2.0 * std::numbers::pi * (i + 0.5) / 3600.0;
+        omni += ocean_spectrum_density(s, k * std::cos(th), k * std::sin(th)) * k * 2.0 * std::numbers::pi / 3600.0;
     }
     EXPECT_NEAR(omni / (8.1e-3 / (2.0 * k * k * k)), std::exp(-1.0 / 2500.0), 1e-6);
 }
@@ -91,13 +90,13 @@ TEST(OceanDispersion, ForwardRelationAndQuantisation) {
     for (double h : {0.5, 5.0, 1e6})
         for (double L : {0.0, 2.7e-3})
             for (double T : {0.2, 2.0, 12.0}) {
-                const double omega = 2.0 * kPi / T;
+                const double omega = 2.0 * std::numbers::pi / T;
                 const double k = solve_dispersion(omega, h, {.capillary_length = L}).k;
                 EXPECT_NEAR(dispersion_omega(k, h, L) / omega, 1.0, 1e-12);
             }
     EXPECT_NEAR(dispersion_omega(1.0), std::sqrt(kGravity), 1e-15);
     // eq. 18: whole multiples of ω0 = 2π/T, the nearest one (within ω0/2), at least ω0.
-    const double w0 = 2.0 * kPi / 20.0;
+    const double w0 = 2.0 * std::numbers::pi / 20.0;
     for (double omega : {0.7, 3.3, 0.2 * w0, 1.49 * w0, 1.51 * w0}) {
         const double q = quantize_frequency(omega, 20.0);
         EXPECT_NEAR(q / w0, std::round(q / w0), 1e-12);
@@ -136,7 +135,7 @@ TEST(OceanFft, SampleVarianceMatchesTheSpectrum) {
     // standard deviation sqrt(Σ 4 μ²), computed here from the same lattice.
     OceanOptions o = small_ocean();
     const OceanPlan p0 = plan_ocean(o);
-    const double dk = 2.0 * kPi / o.size;
+    const double dk = 2.0 * std::numbers::pi / o.size;
     double mean = 0.0, var = 0.0;
     const long N = 64;
     for (long m = -N / 2 + 1; m < N / 2; ++m)
@@ -269,7 +268,7 @@ TEST(OceanFft, LoopsBitIdentically) {
     EXPECT_NE(std::memcmp(first.data(), mid.data(), first.size() * sizeof(float)), 0);
     // Every quantised frequency is a multiple of 2π/T.
     for (std::size_t e = 0; e < p.omega.size(); ++e)
-        EXPECT_EQ(p.omega[e], p.omega_steps[e] * (2.0 * kPi / 20.0));
+        EXPECT_EQ(p.omega[e], p.omega_steps[e] * (2.0 * std::numbers::pi / 20.0));
 }
 
 TEST(OceanFft, SameBitsForAnyThreadCount) {
@@ -457,7 +456,7 @@ TEST(OceanFft, SlopesAndNormalsAreExact) {
             angle = std::max(angle, std::acos(std::min(1.0, (cx * nv[0] + cy * nv[1] + cz * nv[2]) / len)));
         }
     EXPECT_LT(slope_err, 0.05 * slope_max);  // central differences: O((k dx)²) with k dx <= 0.35
-    EXPECT_LT(angle, 2.0 * kPi / 180.0);
+    EXPECT_LT(angle, 2.0 * std::numbers::pi / 180.0);
 }
 
 TEST(OceanFft, DispersionRecoveredFromTheAnimation) {
@@ -477,7 +476,7 @@ TEST(OceanFft, DispersionRecoveredFromTheAnimation) {
     for (std::size_t f = 0; f < frames; ++f) {
         h[f] = evaluate_ocean(p, static_cast<double>(f) * dt, ws).height.values();
     }
-    const double dk = 2.0 * kPi / o.size, dw = 2.0 * kPi / (frames * dt);
+    const double dk = 2.0 * std::numbers::pi / o.size, dw = 2.0 * std::numbers::pi / (frames * dt);
     int checked = 0;
     for (long m = -3; m <= 3; ++m)
         for (long q = 1; q <= 5; ++q) {
@@ -487,12 +486,12 @@ TEST(OceanFft, DispersionRecoveredFromTheAnimation) {
                 for (std::size_t j = 0; j < n; ++j)
                     for (std::size_t i = 0; i < n; ++i)
                         c[f] += double(h[f][j * n + i]) *
-                                std::polar(1.0, -2.0 * kPi * (double(q) * double(i) + double(m) * double(j)) / double(n));
+                                std::polar(1.0, -2.0 * std::numbers::pi * (double(q) * double(i) + double(m) * double(j)) / double(n));
             // temporal DFT: the peak over ω
             double best = 0.0, best_w = 0.0;
             for (long b = -long(frames) / 2; b < long(frames) / 2; ++b) {
                 std::complex<double> s;
-                for (std::size_t f = 0; f < frames; ++f) s += c[f] * std::polar(1.0, 2.0 * kPi * double(b) * double(f) / double(frames));
+                for (std::size_t f = 0; f < frames; ++f) s += c[f] * std::polar(1.0, 2.0 * std::numbers::pi * double(b) * double(f) / double(frames));
                 if (std::abs(s) > best) best = std::abs(s), best_w = std::abs(double(b) * dw);
             }
             const double k = dk * std::hypot(double(q), double(m));
@@ -811,7 +810,7 @@ TEST(OceanScene, GerstnerOnThePatch) {
                                 "g.json", ".");
     const ScenePlan p = plan_scene(s);
     ASSERT_EQ(p.gerstner.size(), 1u);
-    EXPECT_NEAR(p.gerstner[0].omega, quantize_frequency(std::sqrt(kGravity * 2 * kPi / 10), 4.0), 1e-12);
+    EXPECT_NEAR(p.gerstner[0].omega, quantize_frequency(std::sqrt(kGravity * 2 * std::numbers::pi / 10), 4.0), 1e-12);
     ASSERT_EQ(p.warnings.size(), 2u);  // V²/g = 2.5 cm under two 2.5 m cells, and kA = 1.07
     EXPECT_NE(p.warnings[1].find("Σ k A = 1.068"), std::string::npos) << p.warnings[1];
 }

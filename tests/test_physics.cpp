@@ -11,13 +11,12 @@
 namespace {
 
 using namespace wave;
-constexpr double kPi = std::numbers::pi;
 
-double deep_wavelength(double period) { return kGravity * period * period / (2.0 * kPi); }
+double deep_wavelength(double period) { return kGravity * period * period / (2.0 * std::numbers::pi); }
 
 TEST(Dispersion, DeepWaterLimitIsExact) {
     for (double T : {1.0, 5.0, 12.0}) {
-        const double omega = 2.0 * kPi / T;
+        const double omega = 2.0 * std::numbers::pi / T;
         const auto s = solve_dispersion(omega, 10.0 * deep_wavelength(T));
         EXPECT_EQ(s.k, deep_water_wavenumber(omega));  // tanh == 1 in double: k∞ exactly
     }
@@ -25,7 +24,7 @@ TEST(Dispersion, DeepWaterLimitIsExact) {
 
 TEST(Dispersion, ShallowWaterLimit) {
     // k h -> 0: k = ω/sqrt(g h) · (1 + (k h)²/6 + O((kh)^4)).
-    const double T = 10.0, omega = 2.0 * kPi / T;
+    const double T = 10.0, omega = 2.0 * std::numbers::pi / T;
     for (double ratio : {1e-4, 1e-3}) {
         const double h = ratio * deep_wavelength(T);
         const double ks = omega / std::sqrt(kGravity * h);
@@ -44,7 +43,7 @@ TEST(Dispersion, PublishedTableOfLOverL0) {
         {0.10, 0.7093},  {0.20, 0.8884},  {0.30, 0.9612}, {0.50, 0.9964}};
     const double T = 8.0, L0 = deep_wavelength(T);
     for (const auto& row : table) {
-        const LinearWave w = linear_wave(2.0 * kPi / T, row.d_over_l0 * L0);
+        const LinearWave w = linear_wave(2.0 * std::numbers::pi / T, row.d_over_l0 * L0);
         EXPECT_NEAR(w.wavelength / L0, row.l_over_l0, 6e-5) << "d/L0 = " << row.d_over_l0;
     }
 }
@@ -52,7 +51,7 @@ TEST(Dispersion, PublishedTableOfLOverL0) {
 TEST(Dispersion, NewtonConvergesEverywhereInAFewSteps) {
     int worst = 0;
     for (double T : {0.3, 2.0, 8.0, 20.0}) {
-        const double omega = 2.0 * kPi / T, L0 = deep_wavelength(T);
+        const double omega = 2.0 * std::numbers::pi / T, L0 = deep_wavelength(T);
         for (int n = 0; n <= 400; ++n) {
             const double ratio = std::pow(10.0, -4.0 + 5.0 * n / 400.0);  // 1e-4 … 10
             const double h = ratio * L0;
@@ -66,7 +65,7 @@ TEST(Dispersion, NewtonConvergesEverywhereInAFewSteps) {
 }
 
 TEST(Dispersion, CapillaryTermMatchesTessendorfEq16) {
-    const double L = 2.7e-3, omega = 2.0 * kPi / 0.1;  // 10 Hz ripples
+    const double L = 2.7e-3, omega = 2.0 * std::numbers::pi / 0.1;  // 10 Hz ripples
     DispersionOptions opt;
     opt.capillary_length = L;
     for (double h : {0.01, 0.1, 5.0}) {
@@ -109,14 +108,14 @@ TEST(GroupVelocity, Limits) {
     EXPECT_DOUBLE_EQ(group_velocity_ratio(1e3), 0.5);
     // Shallow water: C_g = C = sqrt(g h).
     // to second order C_g / sqrt(g h) = 1 − (kh)²/2.
-    const double h = 0.05, omega = 2.0 * kPi / 20.0;
+    const double h = 0.05, omega = 2.0 * std::numbers::pi / 20.0;
     const auto w = linear_wave(omega, h);
     const double kh = w.k * h;
     EXPECT_NEAR(w.group_velocity / std::sqrt(kGravity * h), 1.0 - 0.5 * kh * kh, 0.5 * std::pow(kh, 4));
 }
 
 TEST(Shoaling, DeepUnitMinimumAndGreensLaw) {
-    const double T = 10.0, omega = 2.0 * kPi / T, L0 = deep_wavelength(T);
+    const double T = 10.0, omega = 2.0 * std::numbers::pi / T, L0 = deep_wavelength(T);
     EXPECT_NEAR(shoaling_coefficient(omega, 5.0 * L0), 1.0, 1e-12);
     // The classic minimum K_s = 0.9130 near d/L0 = 0.15 (SPM Table C-1).
     double lowest = 2.0, at = 0.0;
@@ -154,19 +153,23 @@ TEST(Breaking, DepthLimitedAndIribarren) {
     EXPECT_EQ(classify_breaker(3.29), BreakerType::plunging);
     EXPECT_EQ(classify_breaker(3.3), BreakerType::collapsing);
     EXPECT_EQ(classify_breaker(7.0), BreakerType::surging);
+    // The names a run's report counts Jeschke's breaking rays by (breaker_types).
+    EXPECT_STREQ(to_string(BreakerType::spilling), "spilling");
     EXPECT_STREQ(to_string(BreakerType::plunging), "plunging");
+    EXPECT_STREQ(to_string(BreakerType::collapsing), "collapsing");
+    EXPECT_STREQ(to_string(BreakerType::surging), "surging");
 }
 
 TEST(Breaking, ShoalingProfileOnAPlaneSlope) {
     const double T = 8.0, H0 = 1.0, slope = 0.02, dx = 0.5;
     std::vector<double> depth;
     for (double h = 10.0; h > -1.0; h -= slope * dx) depth.push_back(h);
-    const auto p = shoal_profile(2 * kPi / T, H0, depth, dx);
+    const auto p = shoal_profile(2 * std::numbers::pi / T, H0, depth, dx);
     ASSERT_GE(p.break_index, 1);
     const auto b = static_cast<std::size_t>(p.break_index);
     EXPECT_GE(p.height[b], 0.78 * depth[b]);
     EXPECT_LT(p.height[b - 1], 0.78 * depth[b - 1]);  // first breaking sample
-    EXPECT_NEAR(p.break_height, H0 * shoaling_coefficient(2 * kPi / T, depth[b]), 1e-12);
+    EXPECT_NEAR(p.break_height, H0 * shoaling_coefficient(2 * std::numbers::pi / T, depth[b]), 1e-12);
     // ξ0 = 0.02 / sqrt(1/99.9) ≈ 0.2: a gentle beach gives spilling breakers.
     EXPECT_NEAR(p.iribarren, slope / std::sqrt(H0 / deep_wavelength(T)), 1e-9);
     EXPECT_EQ(p.type, BreakerType::spilling);
@@ -188,13 +191,13 @@ TEST(Fresnel, NormalIncidenceGrazingAndEq44) {
     EXPECT_NEAR(fresnel_reflectivity(1.0), 0.02, 1e-3);
     EXPECT_DOUBLE_EQ(fresnel_reflectivity(0.0), 1.0);
     for (double deg = 1.0; deg < 90.0; deg += 0.5) {
-        const double t = deg * kPi / 180.0;
+        const double t = deg * std::numbers::pi / 180.0;
         EXPECT_NEAR(fresnel_reflectivity(std::cos(t)), eq44(t, n), 1e-12) << deg;
         EXPECT_NEAR(fresnel_reflectivity(std::cos(t)) + fresnel_transmissivity(std::cos(t)), 1.0, 1e-15);
     }
     // Brewster's angle: the p-polarised part vanishes, R = rs²/2.
     const double brewster = std::atan(n);
-    const double ci = std::cos(brewster), ct = std::cos(kPi / 2 - brewster);
+    const double ci = std::cos(brewster), ct = std::cos(std::numbers::pi / 2 - brewster);
     const double rs = (ci - n * ct) / (ci + n * ct);
     EXPECT_NEAR(fresnel_reflectivity(ci), 0.5 * rs * rs, 1e-14);
 }
@@ -202,7 +205,7 @@ TEST(Fresnel, NormalIncidenceGrazingAndEq44) {
 TEST(Fresnel, TotalInternalReflectionFromBelow) {
     const double n = kWaterRefractiveIndex;
     const double critical = std::asin(1.0 / n);  // 48.75° (Tessendorf's "Brewster" misnomer)
-    EXPECT_NEAR(critical * 180.0 / kPi, 48.75, 0.01);
+    EXPECT_NEAR(critical * 180.0 / std::numbers::pi, 48.75, 0.01);
     EXPECT_DOUBLE_EQ(fresnel_reflectivity(std::cos(critical + 1e-6), n, 1.0), 1.0);
     EXPECT_LT(fresnel_reflectivity(std::cos(critical - 1e-3), n, 1.0), 1.0);
     EXPECT_NEAR(fresnel_reflectivity(1.0, n, 1.0), fresnel_reflectivity(1.0, 1.0, n), 1e-15);
@@ -210,27 +213,27 @@ TEST(Fresnel, TotalInternalReflectionFromBelow) {
 
 TEST(Fresnel, TsoApproximation) {
     EXPECT_DOUBLE_EQ(fresnel_reflectivity_tso(0.0), 0.02);
-    EXPECT_DOUBLE_EQ(fresnel_reflectivity_tso(kPi / 4), 0.02);  // continuous at the join
-    EXPECT_NEAR(fresnel_reflectivity_tso(kPi / 2), 1.0, 1e-14);
+    EXPECT_DOUBLE_EQ(fresnel_reflectivity_tso(std::numbers::pi / 4), 0.02);  // continuous at the join
+    EXPECT_NEAR(fresnel_reflectivity_tso(std::numbers::pi / 2), 1.0, 1e-14);
     // The approximation is poor near grazing: its largest error against the exact curve
     // is 0.266 at 79.5° (measured here; the paper shows the curves in its figure 11).
     double worst = 0.0, at = 0.0;
     for (int k = 0; k <= 9000; ++k) {
-        const double t = k * (kPi / 2) / 9000.0;
+        const double t = k * (std::numbers::pi / 2) / 9000.0;
         const double e = std::abs(fresnel_reflectivity_tso(t) - fresnel_reflectivity(std::cos(t)));
-        if (e > worst) worst = e, at = t * 180.0 / kPi;
+        if (e > worst) worst = e, at = t * 180.0 / std::numbers::pi;
     }
     EXPECT_NEAR(worst, 0.266, 0.002);
     EXPECT_NEAR(at, 79.5, 0.2);
     // Below 45° the flat 0.02 stays within 0.007 of the exact curve (0.0267 at 44°).
     for (double deg = 0.0; deg < 45.0; deg += 1.0)
-        EXPECT_NEAR(fresnel_reflectivity_tso(deg * kPi / 180), fresnel_reflectivity(std::cos(deg * kPi / 180)), 7e-3);
+        EXPECT_NEAR(fresnel_reflectivity_tso(deg * std::numbers::pi / 180), fresnel_reflectivity(std::cos(deg * std::numbers::pi / 180)), 7e-3);
 }
 
 TEST(Fresnel, DirectionsObeySnellAndMirror) {
     const double n = kWaterRefractiveIndex;
     for (double deg = 0.0; deg < 89.0; deg += 7.0) {
-        const double t = deg * kPi / 180.0;
+        const double t = deg * std::numbers::pi / 180.0;
         const Vec3 down{std::sin(t), 0.0, -std::cos(t)};  // from the air onto z-up water
         for (const Vec3& normal : {Vec3{0, 0, 1}, Vec3{0, 0, -1}}) {  // either orientation
             const Refraction r = refract(down, normal, 1.0, n);

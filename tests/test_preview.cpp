@@ -18,13 +18,12 @@ using namespace wave;
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 
 // Eye 10 m up at the origin looking along +y (azimuth 90°), horizon in the picture.
 PreviewOptions sunset_view() {
     PreviewOptions o;
     o.camera = {0.0, 0.0, 10.0};
-    o.look_at = {0.0, 100.0, 10.0 - 100.0 * std::tan(8.0 * kPi / 180.0)};  // 8° down
+    o.look_at = {0.0, 100.0, 10.0 - 100.0 * std::tan(8.0 * std::numbers::pi / 180.0)};  // 8° down
     o.vertical_fov_degrees = 30.0;
     o.width = 201;
     o.height = 151;
@@ -49,18 +48,18 @@ TEST(Preview, CalmSeaMirrorsTheSunAtTheMirrorAngle) {
     // form of the pinhole's tan). The reflection of a sun 6° up comes from 6° down.
     std::size_t best_i = 0, best_j = 0;
     double best = -1.0;
-    const double tan_v = std::tan(15.0 * kPi / 180.0);
+    const double tan_v = std::tan(15.0 * std::numbers::pi / 180.0);
     for (std::size_t j = 0; j < im.height; ++j)
         for (std::size_t i = 0; i < im.width; ++i) {
             // Only the water: rays below the horizon.
             const double ny = 1.0 - 2.0 * (static_cast<double>(j) + 0.5) / static_cast<double>(im.height);
-            const double pitch = -8.0 * kPi / 180.0 + std::atan(ny * tan_v);
+            const double pitch = -8.0 * std::numbers::pi / 180.0 + std::atan(ny * tan_v);
             if (pitch >= 0.0) continue;
             if (brightness(im, i, j) > best) best = brightness(im, i, j), best_i = i, best_j = j;
         }
     EXPECT_EQ(best_i, 100u) << "under the sun (straight ahead)";
     const double ny = 1.0 - 2.0 * (static_cast<double>(best_j) + 0.5) / static_cast<double>(im.height);
-    const double pitch_deg = (-8.0 * kPi / 180.0 + std::atan(ny * tan_v)) * 180.0 / kPi;
+    const double pitch_deg = (-8.0 * std::numbers::pi / 180.0 + std::atan(ny * tan_v)) * 180.0 / std::numbers::pi;
     EXPECT_NEAR(pitch_deg, -6.0, 0.25) << "the mirror angle (one pixel is 0.2°)";
     EXPECT_GT(best, 3 * 200.0) << "white at 0°";
 }

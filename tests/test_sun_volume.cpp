@@ -22,7 +22,6 @@ namespace {
 
 using namespace wave;
 
-constexpr double kPi = std::numbers::pi;
 
 // A 2 × 2-node grid over [0, w] × [0, d] whose elevation rises linearly from z_left at
 // x = 0 to z_right at x = w.
@@ -57,7 +56,7 @@ std::vector<float> sunlight(const SunVolumePlan& plan, const Surface& s) {
 double voxel_depth(const SunVolumePlan& plan, std::size_t k) { return -(plan.z0 + (double(k) + 0.5) * plan.dz); }
 
 TEST(SunVolume, FlatWaterLightsEveryVoxelWithTheBeamAttenuatedToItsDepth) {
-    const double h = 10.0, c = 0.12, elevation = 55.0 * kPi / 180.0, azimuth = 30.0 * kPi / 180.0;
+    const double h = 10.0, c = 0.12, elevation = 55.0 * std::numbers::pi / 180.0, azimuth = 30.0 * std::numbers::pi / 180.0;
     CausticOptions o;
     o.sun = {std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation)};
     o.attenuation = c;
@@ -117,7 +116,7 @@ TEST(SunVolume, VoxelsUnderTheFloorOrAboveTheWaterAreDark) {
 // (test_caustics.cpp derives it): the volume's brightest level lies there, a little
 // deeper for the off-axis rays, and every level carries the same mean light.
 TEST(SunVolume, ASineCrestGathersItsLightIntoALineAtItsFocalDepth) {
-    const double a = 0.05, wavelength = 4.0, k = 2.0 * kPi / wavelength;
+    const double a = 0.05, wavelength = 4.0, k = 2.0 * std::numbers::pi / wavelength;
     const double focus = kWaterRefractiveIndex / ((kWaterRefractiveIndex - 1.0) * a * k * k);
     CausticOptions o;
     o.attenuation = 0.0;
@@ -146,7 +145,7 @@ TEST(SunVolume, ALevelIsTheCausticMapOfAFloorAtItsHeight) {
     o.sun = {0.3, -0.2, 0.9};
     const CausticPlan caustics = plan_caustics(floor_of(64.0, 48.0, -12.0, -4.0), o);
     const SunVolumePlan plan = plan_sun_volume(caustics, v);
-    const Surface s = sine_surface(64.0, 48.0, 129, 97, 0.3, 2.0 * kPi / 9.0);
+    const Surface s = sine_surface(64.0, 48.0, 129, 97, 0.3, 2.0 * std::numbers::pi / 9.0);
     const std::vector<float> light = sunlight(plan, s);
     const std::size_t level = 5;
     CausticOptions at = o;
@@ -169,7 +168,7 @@ TEST(SunVolume, TheVdbFileHoldsEachVoxelWhereItLies) {
     CausticOptions o;
     o.sun = {0.3, -0.2, 0.9};
     const SunVolumePlan plan = plan_sun_volume(plan_caustics(floor_of(60.0, 30.0, -12.0, -2.0), o), SunVolumeOptions{30, 15, 12, 1e-3});
-    const std::vector<float> light = sunlight(plan, sine_surface(60.0, 30.0, 61, 31, 0.2, 2.0 * kPi / 7.0));
+    const std::vector<float> light = sunlight(plan, sine_surface(60.0, 30.0, 61, 31, 0.2, 2.0 * std::numbers::pi / 7.0));
     const std::string bytes = sun_volume_vdb(plan, light);
     EXPECT_EQ(bytes, sun_volume_vdb(plan, light));  // no random archive identifier
     openvdb::initialize();
