@@ -2571,6 +2571,7 @@ class Convert(unittest.TestCase):
                 self.assertIn(part, r.stderr)
                 self.assertFalse(os.path.exists(os.path.join(d, "out")))
 
+
 skip_what_the_sanitizers_reach_elsewhere("cli", globals())
 
 if __name__ == "__main__":
