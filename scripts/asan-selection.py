@@ -23,6 +23,7 @@ which already skip or shrink themselves under ASan are measured as they run ther
 import argparse
 import concurrent.futures
 import datetime
+import hashlib
 import json
 import os
 import pathlib
@@ -98,15 +99,27 @@ def main():
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--skip-build", action="store_true", help="use the coverage tree as it is")
     ap.add_argument("--reuse", action="store_true",
-                    help="take the last measurement's lines, and measure only the methods it lacks")
+                    help="take the last measurement's lines (of the same code), and measure only the methods it lacks")
     args = ap.parse_args()
     build = pathlib.Path(args.build)
     if not args.skip_build:
         subprocess.run(["cmake", "--preset", "coverage"], cwd=ROOT, check=True, stdout=subprocess.DEVNULL)
         subprocess.run(["cmake", "--build", "--preset", "coverage", "--target", "wave", "libwave_tests"], cwd=ROOT, check=True)
     profiles = build / "asan-selection"
+    # What was measured holds for this code and these tests only: a hash of the files of
+    # libwave/, bindings-cli/ and tests/ (not tests/data, which this script writes) keys
+    # the profiles kept for --reuse.
+    files = subprocess.run(["git", "ls-files", "libwave", "bindings-cli", "tests", ":!tests/data"], cwd=ROOT,
+                           check=True, capture_output=True, text=True).stdout.split()
+    key = hashlib.sha256(b"".join(f.encode() + (ROOT / f).read_bytes() for f in files if (ROOT / f).is_file())).hexdigest()
+    key_file = profiles / "code.key"
+    same_code = key_file.exists() and key_file.read_text() == key
+    if not same_code:
+        shutil.rmtree(profiles, ignore_errors=True)
+    profiles.mkdir(parents=True, exist_ok=True)
+    key_file.write_text(key)
     start = time.monotonic()
-    if not (args.skip_build and list((profiles / "units").glob("*.profraw"))):  # the units' profile of this build
+    if not (same_code and list((profiles / "units").glob("*.profraw"))):  # the units' profile of this code
         shutil.rmtree(profiles / "units", ignore_errors=True)
         (profiles / "units").mkdir(parents=True)
         subprocess.run([build / "tests" / "libwave_tests", "--gtest_brief=1"], check=True, stdout=subprocess.DEVNULL,
