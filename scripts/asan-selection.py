@@ -93,6 +93,28 @@ def run_method(test, build, profiles):
     return test, r.returncode, seconds, reached, r.stderr[-2000:]
 
 
+def choose(units, results):
+    """(every line reached, [(kept method, the lines it added when chosen)], {skipped
+    method: (seconds, lines)}): a greedy cover, by new lines per second, of every line the
+    suites reach beyond the unit tests; then the kept methods the others cover go, the
+    costliest first."""
+    covered = set(units)
+    everything = set().union(units, *(r for _, r in results.values()))
+    kept = []
+    left = dict(results)
+    while covered != everything:
+        test = max(left, key=lambda t: (len(left[t][1] - covered) / max(left[t][0], 0.1), t))
+        added = left[test][1] - covered
+        covered |= left.pop(test)[1]
+        kept.append((test, added))
+    for test, _ in sorted(kept, key=lambda e: -results[e[0]][0]):
+        others = set(units).union(*(results[t][1] for t, _ in kept if t != test))
+        if results[test][1] <= others:
+            kept = [e for e in kept if e[0] != test]
+            left[test] = results[test]
+    return everything, kept, left
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--build", default=str(ROOT / "build" / "coverage"))
@@ -142,22 +164,7 @@ def main():
             print(f"{seconds:7.1f} s {len(reached):6d} lines  {test}", flush=True)
     cache.write_text(json.dumps({t: [s, sorted(r)] for t, (s, r) in results.items()}))
 
-    # Greedy cover of every line the suites reach beyond the unit tests.
-    covered = set(units)
-    everything = set().union(units, *(r for _, r in results.values()))
-    kept = []
-    left = dict(results)
-    while covered != everything:
-        test = max(left, key=lambda t: (len(left[t][1] - covered) / max(left[t][0], 0.1), t))
-        added = left[test][1] - covered
-        covered |= left.pop(test)[1]
-        kept.append((test, added))
-    # A method chosen early can be made redundant by later ones: the costliest go first.
-    for test, _ in sorted(kept, key=lambda e: -results[e[0]][0]):
-        others = set(units).union(*(results[t][1] for t, _ in kept if t != test))
-        if results[test][1] <= others:
-            kept = [e for e in kept if e[0] != test]
-            left[test] = results[test]
+    everything, kept, left = choose(units, results)
     skipped = {test: {"seconds": round(seconds, 1), "lines": len(reached)}
                for test, (seconds, reached) in sorted(left.items())}
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True, text=True).stdout.strip()
