@@ -2,7 +2,11 @@
 // 1:10 beach, as docs/gonzato-profile.png: each row is one wavelength of the surface at
 // one depth (rest level in grey, the section in blue, Gerstner's deep-water trochoid of
 // the same R and k dashed), so the steepening, the running crest and the plunging lip
-// can be compared with the paper's figures 6 and 8.
+// can be compared with the paper's figures 6 and 8. Black dots: the points of a water
+// mesh 16 vertices to the local wavelength (its default), which carry the surface; each
+// label ends with how close the profile packs them: the shortest surface distance
+// between neighbours as a share of their rest spacing, and over what share of a
+// wavelength it is below a half (printed to stdout too).
 //
 //   profile_plot [out.png]
 #include <libwave/motion.h>
@@ -15,6 +19,7 @@
 #include <cstdio>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -40,9 +45,28 @@ int main(int argc, char** argv) {
         const double R = std::min(deep_amplitude * w.shoaling, 0.5 * wave::kBreakerIndex * h);
         const wave::ProfileShape s = wave::gonzato_shape(R, w.k, h, beach_slope, options);
         const double base_y = 40.0 + row_height * (static_cast<double>(row) + 0.55);
-        char label[160];
-        std::snprintf(label, sizeof label, "h = %.1f m   H = %.2f m   L = %.1f m   R Sx = %.2f (1/k = %.2f)", h, 2 * R,
-                      w.wavelength, s.major, 1.0 / w.k);
+        // The surface per unit of rest length, |d(x, z)/dx0|, over one wavelength.
+        const auto section = [&](double x0) {
+            const wave::ProfileOffset d = wave::gonzato_offset(s, w.k * x0 + s.trough_phase + std::numbers::pi);
+            return std::pair{x0 + d.forward, d.up};
+        };
+        constexpr int samples = 20000;
+        double packed = 1e9;
+        int below_half = 0;
+        for (int i = 0; i < samples; ++i) {
+            const double x0 = w.wavelength * i / samples, dx0 = w.wavelength / samples;
+            const auto [xa, za] = section(x0);
+            const auto [xb, zb] = section(x0 + dx0);
+            const double stretch = std::hypot(xb - xa, zb - za) / dx0;
+            packed = std::min(packed, stretch);
+            below_half += stretch < 0.5 ? 1 : 0;
+        }
+        const double share = 100.0 * below_half / samples;
+        char label[200];
+        std::snprintf(label, sizeof label, "h = %.1f m   H = %.2f m   L = %.1f m   R Sx = %.2f (1/k = %.2f)   packed to %.2f, < 0.5 over %.0f %%",
+                      h, 2 * R, w.wavelength, s.major, 1.0 / w.k, packed, share);
+        std::printf("h = %.1f m: surface spacing over rest spacing at least %.3f, below 0.5 over %.1f %% of a wavelength\n", h,
+                    packed, share);
         c.text(10, static_cast<int>(base_y) - row_height / 2 + 6, label);
         c.line(0, base_y, width, base_y, grey, 1);
         // The section: x = x0 + forward(φ = k x0), z = up(φ); crest at the middle.
@@ -59,6 +83,16 @@ int main(int argc, char** argv) {
                 c.line(px, py, x, y, blue, 2);
             }
             px = x, py = y, gx = gxn, gy = gyn;
+        }
+        const unsigned char black[3] = {0, 0, 0};
+        const double spacing = w.wavelength / 16.0;
+        for (double x0 = -std::floor(0.5 * span / spacing) * spacing; x0 < 0.5 * span; x0 += spacing) {
+            const auto [x, z] = section(x0);
+            const int cx = static_cast<int>(std::lround((x + 0.5 * span) * metres_to_px));
+            const int cy = static_cast<int>(std::lround(base_y - z * metres_to_px));
+            for (int dy = -2; dy <= 2; ++dy)
+                for (int dx = -2; dx <= 2; ++dx)
+                    if (dx * dx + dy * dy <= 5) c.dot(cx + dx, cy + dy, black);
         }
     }
     return plot::write_png(c, out) ? 0 : 1;
