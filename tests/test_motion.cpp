@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 #include <numbers>
 
 namespace {
@@ -82,9 +83,11 @@ TEST(GonzatoProfile, NegativeSlopeIsClampedAndDryPointsStayPut) {
 }
 
 TEST(GonzatoProfile, CrestPlungesForwardNearTheShore) {
-    // Near breaking (h = 1 m, H = 0.7 m): the crest is pushed ahead of its own base,
-    // so the section x(φ) is not monotone — an overhang.
-    const ProfileShape s = gonzato_shape(0.35, 0.42, 1.0, 0.1, GonzatoProfileOptions{});
+    // Eq. 7 as drawn (min_packing 0), near breaking (h = 1 m, H = 0.7 m): the crest is
+    // pushed ahead of its own base, so the section x(φ) is not monotone — an overhang.
+    GonzatoProfileOptions eq7;
+    eq7.min_packing = 0.0;
+    const ProfileShape s = gonzato_shape(0.35, 0.42, 1.0, 0.1, eq7);
     bool overhang = false;
     const double k = 0.42;
     double previous_x = -1e9;
@@ -96,7 +99,7 @@ TEST(GonzatoProfile, CrestPlungesForwardNearTheShore) {
     }
     EXPECT_TRUE(overhang);
     // Offshore (h = 15 m) the same wave has no overhang.
-    const ProfileShape deep = gonzato_shape(0.35, 0.17, 15.0, 0.1, GonzatoProfileOptions{});
+    const ProfileShape deep = gonzato_shape(0.35, 0.17, 15.0, 0.1, eq7);
     previous_x = -1e9;
     for (int i = 0; i <= 4000; ++i) {
         const double x0 = -pi / 0.17 + 2.0 * pi / 0.17 * i / 4000.0;
@@ -127,6 +130,7 @@ TEST(GonzatoProfile, NoPointOutrunsOneAndAHalfTimesThePhaseSpeed) {
     // forward at up to ~3 × the phase speed.
     const double omega = 2.0 * pi / 5.0;
     GonzatoProfileOptions bounded, unbounded;
+    bounded.min_packing = unbounded.min_packing = 0.0;  // the speed bound alone (eq. 7's sections)
     unbounded.max_speed_ratio = 0.0;
     double worst_unbounded = 0.0;
     int scaled = 0, kept = 0;
@@ -154,10 +158,82 @@ TEST(GonzatoProfile, NoPointOutrunsOneAndAHalfTimesThePhaseSpeed) {
     EXPECT_GT(kept, 40);
 }
 
+// The section per unit of rest length over 40 000 steps of one period: the smallest
+// |d(x, z)/dx₀| (x = x₀ + forward, z = up; x₀ = φ/k), and the most negative dx/dx₀.
+struct Packing {
+    double least = 1e9, least_dx = 1e9;
+};
+Packing section_packing(const ProfileShape& s, double k) {
+    Packing p;
+    const int steps = 40000;
+    const double step = 2.0 * pi / steps;
+    ProfileOffset prev = gonzato_offset(s, s.trough_phase - pi);
+    for (int i = 1; i <= steps; ++i) {
+        const ProfileOffset d = gonzato_offset(s, s.trough_phase - pi + step * i - (i == steps ? 1e-9 : 0.0));
+        const double dx = 1.0 + k * (d.forward - prev.forward) / step, dz = k * (d.up - prev.up) / step;
+        p.least = std::min(p.least, std::hypot(dx, dz));
+        p.least_dx = std::min(p.least_dx, dx);
+        prev = d;
+    }
+    return p;
+}
+
+TEST(GonzatoProfile, MinPackingKeepsEveryRestSpacingAndEveryHeight) {
+    // The same swell, depths and slopes as the speed bound's test. Eq. 7 packs the mesh's
+    // rest spacing along the ray down to a few percent near breaking and folds; with the
+    // default min_packing (0.6) no spacing is packed below 0.6, nothing folds, and only
+    // the offset along the ray is scaled (by the share the plan reports): every height
+    // and the speed bound stay.
+    const double omega = 2.0 * pi / 5.0;
+    GonzatoProfileOptions bounded, eq7;
+    eq7.min_packing = 0.0;
+    ASSERT_EQ(bounded.min_packing, 0.6);
+    double tightest_eq7 = 1e9;
+    int scaled = 0, kept = 0;
+    for (double h : {0.03, 0.05, 0.1, 0.2, 0.5, 1.0, 2.0, 6.0})
+        for (double R : {0.05, 0.1, 0.2, 0.3})
+            for (double rise : {0.0, 0.05, 0.33}) {
+                double k = omega / std::sqrt(9.81 * h);
+                for (int i = 0; i < 60; ++i) k = omega * omega / (9.81 * std::tanh(k * h));
+                const ProfileShape b = gonzato_shape(R, k, h, rise, bounded), e = gonzato_shape(R, k, h, rise, eq7);
+                const Packing pb = section_packing(b, k), pe = section_packing(e, k);
+                tightest_eq7 = std::min(tightest_eq7, pe.least);
+                const std::string where = "h " + std::to_string(h) + " R " + std::to_string(R) + " rise " + std::to_string(rise);
+                EXPECT_GE(pb.least, 0.6 * 0.999) << where;
+                EXPECT_GT(pb.least_dx, 0.0) << where;  // no fold
+                EXPECT_LE(fastest_over_phase_speed(b, k), 1.5 * 1.001) << where;
+                ASSERT_GE(b.forward_scale, 0.0);
+                ASSERT_LE(b.forward_scale, 1.0);
+                for (double phi = -pi; phi < pi; phi += 0.1) {
+                    const ProfileOffset ob = gonzato_offset(b, phi), oe = gonzato_offset(e, phi);
+                    EXPECT_EQ(ob.up, oe.up) << where;
+                    EXPECT_NEAR(ob.forward, b.forward_scale * oe.forward, 1e-12) << where;
+                }
+                if (pe.least >= 0.6) {  // eq. 7 packs no tighter: left as it is
+                    EXPECT_EQ(b.forward_scale, 1.0) << where;
+                    ++kept;
+                } else {  // scaled by the largest share within the bound: it reaches it
+                    EXPECT_LT(pb.least, 0.6 * 1.02) << where;
+                    ++scaled;
+                }
+            }
+    EXPECT_LT(tightest_eq7, 0.1);  // the witness: eq. 7 alone packs tighter than a tenth
+    EXPECT_GT(scaled, 20);
+    EXPECT_GT(kept, 10);
+    GonzatoProfileOptions bad;
+    bad.min_packing = 1.0;
+    EXPECT_THROW(plan_gonzato_motion(RayStrips{}, bad), InputError);
+    bad.min_packing = -0.1;
+    EXPECT_THROW(plan_gonzato_motion(RayStrips{}, bad), InputError);
+}
+
 TEST(GonzatoMotion, BayStripsHaveDownwardFacingLipsAtSomeFrame) {
+    // Eq. 7's lips (min_packing 0) on the bay's traced strips.
     const FrontSet f = trace_fronts(make_gonzato_bay(), WaveTrain{.period = 5.0, .amplitude = 0.3, .direction_x = 0.0, .direction_y = 1.0});
     const RayStrips strips = build_ray_strips(f);
-    const GonzatoMotionPlan plan = plan_gonzato_motion(strips);
+    GonzatoProfileOptions eq7;
+    eq7.min_packing = 0.0;
+    const GonzatoMotionPlan plan = plan_gonzato_motion(strips, eq7);
     std::vector<float> p(3 * plan.vertex_count()), n(p.size());
     std::size_t downward = 0, downward_offshore = 0;
     for (int frame = 0; frame < 10; ++frame) {

@@ -49,6 +49,20 @@ struct GonzatoProfileOptions {
     /// points forward at up to 1.8 × the phase speed on the default bay; a breaking
     /// crest's water moves at about the phase speed, a plunging jet at up to ~1.5 ×.
     double max_speed_ratio = 1.5;
+    /// The surface packs no rest spacing along the ray tighter than this share of itself
+    /// (0 ≤ p < 1; 0 = eq. 7's sections as drawn): the offset along the ray (the orbit's,
+    /// the stretch's and the displacement's) is scaled by the largest share β ≤ 1 that
+    /// keeps |d(x, z)/dx₀| ≥ p at every phase, where x = x₀ + β·forward and z = up; where
+    /// the section climbs or falls at least that steeply, any β will do. Heights are not
+    /// changed. Near breaking, eq. 7 curls a lip smaller than one spacing of a mesh of 16
+    /// vertices to the wavelength and folds a quarter of the wavelength under it, packed
+    /// to 0.07 of its rest spacing: on the default bay ~300 slivers (< 15°) a frame on the
+    /// lips and vertices at 1.8 × the phase speed, for a curl no render showed. Squeezed
+    /// to 0.6 along the ray, a triangle whose angles are all ≥ 25° keeps every angle
+    /// above 15°. On a section that turns over, a point moves at (1 + packing) × the
+    /// phase speed where the surface faces back, so a curl cannot keep both bounds
+    /// (docs/motion.md); with p > 0 the section leans but does not fold.
+    double min_packing = 0.6;
 };
 
 /// The per-point constants of eq. 7 (everything that does not depend on φ).
@@ -62,6 +76,7 @@ struct ProfileShape {
     double displacement = 0.0;                ///< A = H, times e^{−K_d h} (m)
     /// (stretch and displacement are scaled by the share that keeps max_speed_ratio)
     double bottom_angle = 0.0;                ///< β (rad), >= 0 (§2.4)
+    double forward_scale = 1.0;  ///< the share of the offset along the ray kept (min_packing), in [0, 1]
 };
 
 /// Shape of the profile at a point: R the local orbit radius (half the wave height,

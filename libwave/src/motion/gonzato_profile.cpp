@@ -22,6 +22,14 @@ constexpr int kSpeedSamples = 64;  // points over one period where the profile's
 // the front face and the rear face (see gonzato_offset), and the crest.
 constexpr double kFrontEnd = -pi / 3.0, kBackStart = 7.0 * pi / 8.0;
 
+// A bound on |dO/dΦ| over the whole profile: |E'| ≤ the major semi-axis, the stretch's
+// ≤ 2 St/π, the displacement's ≤ D w' √(1 + (w dθ/dw)²) with w' ≤ 8/π (the rear face)
+// and the orientation θ turning by π/4 + β.
+double offset_slope_bound(const ProfileShape& s) noexcept {
+    const double turn = pi / 4.0 + s.bottom_angle;
+    return s.major + 2.0 * s.stretch / pi + s.displacement * (8.0 / pi) * std::sqrt(1.0 + turn * turn);
+}
+
 // The largest share σ ∈ [0, 1] of the stretch and the displacement with which no point
 // of profile s moves faster than `ratio` × the phase speed.
 double speed_share(const ProfileShape& s, double k, double ratio) noexcept {
@@ -33,12 +41,8 @@ double speed_share(const ProfileShape& s, double k, double ratio) noexcept {
     // over a small Δ, r = ratio Δ / k. Between samples the slopes of the smooth pieces
     // (sines and a parabola) change by little.
     if (!(s.stretch > 0.0 || s.displacement > 0.0) || !(k > 0.0)) return 1.0;
-    // Most points are slow enough by a bound on the slopes: |E'| ≤ the major semi-axis,
-    // the stretch's ≤ 2 St/π, the displacement's ≤ D w' √(1 + (w dθ/dw)²) with w' ≤ 8/π
-    // (the rear face) and the orientation θ turning by π/4 + β.
-    const double turn = pi / 4.0 + s.bottom_angle;
-    const double slope = s.major + 2.0 * s.stretch / pi + s.displacement * (8.0 / pi) * std::sqrt(1.0 + turn * turn);
-    if (k * slope <= ratio) return 1.0;
+    // Most points are slow enough by a bound on the slopes.
+    if (k * offset_slope_bound(s) <= ratio) return 1.0;
     ProfileShape ellipse = s, rest = s;
     ellipse.stretch = ellipse.displacement = 0.0;
     rest.major = rest.minor = 0.0;
@@ -54,6 +58,31 @@ double speed_share(const ProfileShape& s, double k, double ratio) noexcept {
         if (!(bb > 0.0)) return 1.0;
         // |a + σ b|² = r² at σ = (−ab + √(ab² − bb (aa − r²))) / bb, the positive root.
         return (-ab + std::sqrt(ab * ab - bb * (aa - r * r))) / bb;
+    };
+    const auto both_sides = [&](double u) { share = std::min({share, bound(u - delta, u), bound(u, u + delta)}); };
+    for (int i = 0; i < kSpeedSamples; ++i) both_sides(-pi + 2.0 * pi * (i + 0.5) / kSpeedSamples);
+    for (double u : {kFrontEnd, kBackStart}) both_sides(u);
+    share = std::min({share, bound(-pi, -pi + delta), bound(pi - delta, pi - 1e-12)});  // the crest, each side
+    return std::clamp(share, 0.0, 1.0);
+}
+
+// The largest share β ∈ [0, 1] of the offset along the ray with which the section
+// packs its rest spacing no tighter than `pack` (GonzatoProfileOptions::min_packing).
+// Per unit of rest length the section's tangent is (1 + β a, b), a = k dforward/du and
+// b = k dup/du over a small step of phase. Where a < 0 and |b| < pack, |1 + β a| ≥
+// √(pack² − b²) on the branch that does not fold gives β ≤ (1 − √(pack² − b²))/(−a).
+// Sampled as speed_share is (both sides of 64 phases, the kinks, the crest), and taken
+// 2 % inside, which keeps the bound between the samples.
+double packing_share(const ProfileShape& s, double k, double pack) noexcept {
+    if (!(pack > 0.0) || !(k > 0.0)) return 1.0;
+    if (k * s.forward_scale * offset_slope_bound(s) <= 1.0 - pack) return 1.0;  // dx/dx₀ ≥ pack everywhere
+    constexpr double delta = 1e-6;
+    double share = 1.0;
+    const auto bound = [&](double u0, double u1) {
+        const ProfileOffset o0 = gonzato_offset(s, s.trough_phase + u0), o1 = gonzato_offset(s, s.trough_phase + u1);
+        const double a = k * (o1.forward - o0.forward) / (u1 - u0), b = k * (o1.up - o0.up) / (u1 - u0);
+        if (a >= 0.0 || b * b >= pack * pack) return 1.0;
+        return 0.98 * (1.0 - std::sqrt(pack * pack - b * b)) / -a;
     };
     const auto both_sides = [&](double u) { share = std::min({share, bound(u - delta, u), bound(u, u + delta)}); };
     for (int i = 0; i < kSpeedSamples; ++i) both_sides(-pi + 2.0 * pi * (i + 0.5) / kSpeedSamples);
@@ -89,6 +118,8 @@ ProfileShape gonzato_shape(double R, double k, double h, double rise, const Gonz
         s.stretch *= share;
         s.displacement *= share;
     }
+    // Last, on the whole section (the orbit too: at Gerstner's limit 1/k its crest is a cusp).
+    s.forward_scale = packing_share(s, k, o.min_packing);
     return s;
 }
 
@@ -119,7 +150,7 @@ ProfileOffset gonzato_offset(const ProfileShape& s, double phi) noexcept {
             up += w * s.displacement * std::sin(orientation);
         }
     }
-    return {forward, up};
+    return {forward * s.forward_scale, up};
 }
 
 GonzatoMotionPlan plan_gonzato_motion(const RayStrips& strips, const GonzatoProfileOptions& o) {
@@ -134,6 +165,8 @@ GonzatoMotionPlan plan_gonzato_motion(const RayStrips& strips, const GonzatoProf
     check(o.stretch_depth_factor, "stretch_depth_factor");
     check(o.displacement_depth_factor, "displacement_depth_factor");
     check(o.max_speed_ratio, "max_speed_ratio");
+    check(o.min_packing, "min_packing");
+    if (!(o.min_packing < 1.0)) throw InputError("gonzato profile: min_packing must be < 1");
     if (!(o.kx > 0.0) || !(o.kz > 0.0)) throw InputError("gonzato profile: kx and kz must be > 0 (1/m)");
     GonzatoMotionPlan p;
     const std::size_t n = strips.vertex_count();

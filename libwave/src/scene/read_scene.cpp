@@ -255,7 +255,7 @@ void read_fronts(const Node& n, FrontOptions& o) {
 
 void read_profile(const Node& n, GonzatoProfileOptions& o) {
     n.require_object({"profile", "stretch_max", "stretch_depth_factor", "displacement_depth_factor", "limit_to_disc",
-                      "max_speed_ratio", "k0", "kx", "kz"});
+                      "max_speed_ratio", "min_packing", "k0", "kx", "kz"});
     if (n.has("profile")) n["profile"].choice<int>({{"gonzato", 0}});
     if (n.has("stretch_max")) o.stretch_max = n["stretch_max"].number("wave heights");
     if (n.has("stretch_depth_factor")) o.stretch_depth_factor = n["stretch_depth_factor"].number("1/m");
@@ -263,6 +263,7 @@ void read_profile(const Node& n, GonzatoProfileOptions& o) {
         o.displacement_depth_factor = n["displacement_depth_factor"].number("1/m");
     if (n.has("limit_to_disc")) o.limit_to_disc = n["limit_to_disc"].boolean();
     if (n.has("max_speed_ratio")) o.max_speed_ratio = n["max_speed_ratio"].number("phase speeds");
+    if (n.has("min_packing")) o.min_packing = n["min_packing"].number("rest spacings");
     if (n.has("k0")) o.k0 = n["k0"].number("1/m");
     if (n.has("kx")) o.kx = n["kx"].number("1/m");
     if (n.has("kz")) o.kz = n["kz"].number("1/m");
