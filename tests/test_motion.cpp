@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <initializer_list>
 #include <string>
 #include <numbers>
 
@@ -124,35 +125,44 @@ double fastest_over_phase_speed(const ProfileShape& s, double k) {
     return fastest;
 }
 
+// The test swell (T = 5 s) at each of `depths`, at four amplitudes and three bottom
+// slopes, with its wavenumber there: visit(h, R, rise, k).
+template <class Visit>
+void for_each_shoaling_swell(std::initializer_list<double> depths, Visit&& visit) {
+    const double omega = 2.0 * pi / 5.0;
+    for (double h : depths)
+        for (double R : {0.05, 0.1, 0.2, 0.3})
+            for (double rise : {0.0, 0.05, 0.33}) {
+                double k = omega / std::sqrt(9.81 * h);
+                for (int i = 0; i < 60; ++i) k = omega * omega / (9.81 * std::tanh(k * h));
+                visit(h, R, rise, k);
+            }
+}
+
 TEST(GonzatoProfile, NoPointOutrunsOneAndAHalfTimesThePhaseSpeed) {
     // Swell of T = 5 s from 2 m of water to the swash, on slopes up to 1:3: in the
     // shallowest water the displacement's rise over the rear face threw crest points
     // forward at up to ~3 × the phase speed.
-    const double omega = 2.0 * pi / 5.0;
     GonzatoProfileOptions bounded, unbounded;
     bounded.min_packing = unbounded.min_packing = 0.0;  // the speed bound alone (eq. 7's sections)
     unbounded.max_speed_ratio = 0.0;
     double worst_unbounded = 0.0;
     int scaled = 0, kept = 0;
-    for (double h : {0.03, 0.05, 0.1, 0.2, 0.5, 1.0, 2.0})
-        for (double R : {0.05, 0.1, 0.2, 0.3})
-            for (double rise : {0.0, 0.05, 0.33}) {
-                double k = omega / std::sqrt(9.81 * h);
-                for (int i = 0; i < 60; ++i) k = omega * omega / (9.81 * std::tanh(k * h));
-                const ProfileShape b = gonzato_shape(R, k, h, rise, bounded), u = gonzato_shape(R, k, h, rise, unbounded);
-                const double fast_b = fastest_over_phase_speed(b, k), fast_u = fastest_over_phase_speed(u, k);
-                worst_unbounded = std::max(worst_unbounded, fast_u);
-                EXPECT_LE(fast_b, 1.5 * 1.001) << "h " << h << " R " << R << " rise " << rise;
-                if (fast_u <= 1.5) {  // slow enough already: eq. 7 as it is
-                    EXPECT_EQ(b.displacement, u.displacement);
-                    EXPECT_EQ(b.stretch, u.stretch);
-                    ++kept;
-                } else {  // scaled by the largest share within the bound: it reaches it
-                    EXPECT_GT(fast_b, 1.5 * 0.999) << "h " << h << " R " << R << " rise " << rise;
-                    EXPECT_NEAR(b.stretch / u.stretch, b.displacement / u.displacement, 1e-12);
-                    ++scaled;
-                }
-            }
+    for_each_shoaling_swell({0.03, 0.05, 0.1, 0.2, 0.5, 1.0, 2.0}, [&](double h, double R, double rise, double k) {
+        const ProfileShape b = gonzato_shape(R, k, h, rise, bounded), u = gonzato_shape(R, k, h, rise, unbounded);
+        const double fast_b = fastest_over_phase_speed(b, k), fast_u = fastest_over_phase_speed(u, k);
+        worst_unbounded = std::max(worst_unbounded, fast_u);
+        EXPECT_LE(fast_b, 1.5 * 1.001) << "h " << h << " R " << R << " rise " << rise;
+        if (fast_u <= 1.5) {  // slow enough already: eq. 7 as it is
+            EXPECT_EQ(b.displacement, u.displacement);
+            EXPECT_EQ(b.stretch, u.stretch);
+            ++kept;
+        } else {  // scaled by the largest share within the bound: it reaches it
+            EXPECT_GT(fast_b, 1.5 * 0.999) << "h " << h << " R " << R << " rise " << rise;
+            EXPECT_NEAR(b.stretch / u.stretch, b.displacement / u.displacement, 1e-12);
+            ++scaled;
+        }
+    });
     EXPECT_GT(worst_unbounded, 2.5);
     EXPECT_GT(scaled, 10);
     EXPECT_GT(kept, 40);
@@ -184,39 +194,34 @@ TEST(GonzatoProfile, MinPackingKeepsEveryRestSpacingAndEveryHeight) {
     // default min_packing (0.6) no spacing is packed below 0.6, nothing folds, and only
     // the offset along the ray is scaled (by the share the plan reports): every height
     // and the speed bound stay.
-    const double omega = 2.0 * pi / 5.0;
     GonzatoProfileOptions bounded, eq7;
     eq7.min_packing = 0.0;
     ASSERT_EQ(bounded.min_packing, 0.6);
     double tightest_eq7 = 1e9;
     int scaled = 0, kept = 0;
-    for (double h : {0.03, 0.05, 0.1, 0.2, 0.5, 1.0, 2.0, 6.0})
-        for (double R : {0.05, 0.1, 0.2, 0.3})
-            for (double rise : {0.0, 0.05, 0.33}) {
-                double k = omega / std::sqrt(9.81 * h);
-                for (int i = 0; i < 60; ++i) k = omega * omega / (9.81 * std::tanh(k * h));
-                const ProfileShape b = gonzato_shape(R, k, h, rise, bounded), e = gonzato_shape(R, k, h, rise, eq7);
-                const Packing pb = section_packing(b, k), pe = section_packing(e, k);
-                tightest_eq7 = std::min(tightest_eq7, pe.least);
-                const std::string where = "h " + std::to_string(h) + " R " + std::to_string(R) + " rise " + std::to_string(rise);
-                EXPECT_GE(pb.least, 0.6 * 0.999) << where;
-                EXPECT_GT(pb.least_dx, 0.0) << where;  // no fold
-                EXPECT_LE(fastest_over_phase_speed(b, k), 1.5 * 1.001) << where;
-                ASSERT_GE(b.forward_scale, 0.0);
-                ASSERT_LE(b.forward_scale, 1.0);
-                for (double phi = -pi; phi < pi; phi += 0.1) {
-                    const ProfileOffset ob = gonzato_offset(b, phi), oe = gonzato_offset(e, phi);
-                    EXPECT_EQ(ob.up, oe.up) << where;
-                    EXPECT_NEAR(ob.forward, b.forward_scale * oe.forward, 1e-12) << where;
-                }
-                if (pe.least >= 0.6) {  // eq. 7 packs no tighter: left as it is
-                    EXPECT_EQ(b.forward_scale, 1.0) << where;
-                    ++kept;
-                } else {  // scaled by the largest share within the bound: it reaches it
-                    EXPECT_LT(pb.least, 0.6 * 1.02) << where;
-                    ++scaled;
-                }
-            }
+    for_each_shoaling_swell({0.03, 0.05, 0.1, 0.2, 0.5, 1.0, 2.0, 6.0}, [&](double h, double R, double rise, double k) {
+        const ProfileShape b = gonzato_shape(R, k, h, rise, bounded), e = gonzato_shape(R, k, h, rise, eq7);
+        const Packing pb = section_packing(b, k), pe = section_packing(e, k);
+        tightest_eq7 = std::min(tightest_eq7, pe.least);
+        const std::string where = "h " + std::to_string(h) + " R " + std::to_string(R) + " rise " + std::to_string(rise);
+        EXPECT_GE(pb.least, 0.6 * 0.999) << where;
+        EXPECT_GT(pb.least_dx, 0.0) << where;  // no fold
+        EXPECT_LE(fastest_over_phase_speed(b, k), 1.5 * 1.001) << where;
+        ASSERT_GE(b.forward_scale, 0.0);
+        ASSERT_LE(b.forward_scale, 1.0);
+        for (double phi = -pi; phi < pi; phi += 0.1) {
+            const ProfileOffset ob = gonzato_offset(b, phi), oe = gonzato_offset(e, phi);
+            EXPECT_EQ(ob.up, oe.up) << where;
+            EXPECT_NEAR(ob.forward, b.forward_scale * oe.forward, 1e-12) << where;
+        }
+        if (pe.least >= 0.6) {  // eq. 7 packs no tighter: left as it is
+            EXPECT_EQ(b.forward_scale, 1.0) << where;
+            ++kept;
+        } else {  // scaled by the largest share within the bound: it reaches it
+            EXPECT_LT(pb.least, 0.6 * 1.02) << where;
+            ++scaled;
+        }
+    });
     EXPECT_LT(tightest_eq7, 0.1);  // the witness: eq. 7 alone packs tighter than a tenth
     EXPECT_GT(scaled, 20);
     EXPECT_GT(kept, 10);
