@@ -75,7 +75,7 @@ double speed_share(const ProfileShape& s, double k, double ratio) noexcept {
 // 2 % inside, which keeps the bound between the samples.
 double packing_share(const ProfileShape& s, double k, double pack) noexcept {
     if (!(pack > 0.0) || !(k > 0.0)) return 1.0;
-    if (k * s.forward_scale * offset_slope_bound(s) <= 1.0 - pack) return 1.0;  // dx/dx₀ ≥ pack everywhere
+    if (k * offset_slope_bound(s) <= 1.0 - pack) return 1.0;  // dx/dx₀ ≥ 1 − k|dO/dΦ| ≥ pack everywhere
     constexpr double delta = 1e-6;
     double share = 1.0;
     const auto bound = [&](double u0, double u1) {
