@@ -30,6 +30,23 @@ double offset_slope_bound(const ProfileShape& s) noexcept {
     return s.major + 2.0 * s.stretch / pi + s.displacement * (8.0 / pi) * std::sqrt(1.0 + turn * turn);
 }
 
+// The chords of phase over which both shares below are checked (u = φ − Φ_min).
+constexpr double kChord = 1e-6;
+
+// The smallest of bound(u0, u1) ∈ [0, 1] over chords of kChord: each side of 64 phases
+// spread over the period, each side of the kinks, and each side of the crest (u = ±π),
+// clamped to [0, 1]. Between the samples the slopes of the smooth pieces (sines and a
+// parabola) change by little.
+template <class Chord>
+double least_over_chords(const Chord& bound) {
+    double share = 1.0;
+    const auto both_sides = [&](double u) { share = std::min({share, bound(u - kChord, u), bound(u, u + kChord)}); };
+    for (int i = 0; i < kSpeedSamples; ++i) both_sides(-pi + 2.0 * pi * (i + 0.5) / kSpeedSamples);
+    for (double u : {kFrontEnd, kBackStart}) both_sides(u);
+    share = std::min({share, bound(-pi, -pi + kChord), bound(pi - kChord, pi - 1e-12)});  // the crest, each side
+    return std::clamp(share, 0.0, 1.0);
+}
+
 // The largest share σ ∈ [0, 1] of the stretch and the displacement with which no point
 // of profile s moves faster than `ratio` × the phase speed.
 double speed_share(const ProfileShape& s, double k, double ratio) noexcept {
@@ -38,17 +55,14 @@ double speed_share(const ProfileShape& s, double k, double ratio) noexcept {
     // at ω, so it moves at ω |O'(u)| against the phase speed ω/k: the bound is
     // k |E'(u) + σ X'(u)| ≤ ratio. O' (each side of a point, for the kinks) at the
     // samples and the kinks gives the largest σ with |a + σ b| ≤ r, a = E'Δ, b = X'Δ
-    // over a small Δ, r = ratio Δ / k. Between samples the slopes of the smooth pieces
-    // (sines and a parabola) change by little.
+    // over a small Δ (kChord), r = ratio Δ / k, at least_over_chords' chords.
     if (!(s.stretch > 0.0 || s.displacement > 0.0) || !(k > 0.0)) return 1.0;
     // Most points are slow enough by a bound on the slopes.
     if (k * offset_slope_bound(s) <= ratio) return 1.0;
     ProfileShape ellipse = s, rest = s;
     ellipse.stretch = ellipse.displacement = 0.0;
     rest.major = rest.minor = 0.0;
-    constexpr double delta = 1e-6;
-    const double r = ratio * delta / k;
-    double share = 1.0;
+    const double r = ratio * kChord / k;
     const auto bound = [&](double u0, double u1) {  // the chord from u0 to u1 = u0 + Δ
         const ProfileOffset e0 = gonzato_offset(ellipse, s.trough_phase + u0), e1 = gonzato_offset(ellipse, s.trough_phase + u1);
         const ProfileOffset x0 = gonzato_offset(rest, s.trough_phase + u0), x1 = gonzato_offset(rest, s.trough_phase + u1);
@@ -59,11 +73,7 @@ double speed_share(const ProfileShape& s, double k, double ratio) noexcept {
         // |a + σ b|² = r² at σ = (−ab + √(ab² − bb (aa − r²))) / bb, the positive root.
         return (-ab + std::sqrt(ab * ab - bb * (aa - r * r))) / bb;
     };
-    const auto both_sides = [&](double u) { share = std::min({share, bound(u - delta, u), bound(u, u + delta)}); };
-    for (int i = 0; i < kSpeedSamples; ++i) both_sides(-pi + 2.0 * pi * (i + 0.5) / kSpeedSamples);
-    for (double u : {kFrontEnd, kBackStart}) both_sides(u);
-    share = std::min({share, bound(-pi, -pi + delta), bound(pi - delta, pi - 1e-12)});  // the crest, each side
-    return std::clamp(share, 0.0, 1.0);
+    return least_over_chords(bound);
 }
 
 // The largest share β ∈ [0, 1] of the offset along the ray with which the section
@@ -71,24 +81,18 @@ double speed_share(const ProfileShape& s, double k, double ratio) noexcept {
 // Per unit of rest length the section's tangent is (1 + β a, b), a = k dforward/du and
 // b = k dup/du over a small step of phase. Where a < 0 and |b| < pack, |1 + β a| ≥
 // √(pack² − b²) on the branch that does not fold gives β ≤ (1 − √(pack² − b²))/(−a).
-// Sampled as speed_share is (both sides of 64 phases, the kinks, the crest), and taken
-// 2 % inside, which keeps the bound between the samples.
+// Checked at least_over_chords' chords, as the speed bound is, and taken 2 % inside,
+// which keeps the bound between them.
 double packing_share(const ProfileShape& s, double k, double pack) noexcept {
     if (!(pack > 0.0) || !(k > 0.0)) return 1.0;
     if (k * offset_slope_bound(s) <= 1.0 - pack) return 1.0;  // dx/dx₀ ≥ 1 − k|dO/dΦ| ≥ pack everywhere
-    constexpr double delta = 1e-6;
-    double share = 1.0;
     const auto bound = [&](double u0, double u1) {
         const ProfileOffset o0 = gonzato_offset(s, s.trough_phase + u0), o1 = gonzato_offset(s, s.trough_phase + u1);
         const double a = k * (o1.forward - o0.forward) / (u1 - u0), b = k * (o1.up - o0.up) / (u1 - u0);
         if (a >= 0.0 || b * b >= pack * pack) return 1.0;
         return 0.98 * (1.0 - std::sqrt(pack * pack - b * b)) / -a;
     };
-    const auto both_sides = [&](double u) { share = std::min({share, bound(u - delta, u), bound(u, u + delta)}); };
-    for (int i = 0; i < kSpeedSamples; ++i) both_sides(-pi + 2.0 * pi * (i + 0.5) / kSpeedSamples);
-    for (double u : {kFrontEnd, kBackStart}) both_sides(u);
-    share = std::min({share, bound(-pi, -pi + delta), bound(pi - delta, pi - 1e-12)});  // the crest, each side
-    return std::clamp(share, 0.0, 1.0);
+    return least_over_chords(bound);
 }
 
 }  // namespace
