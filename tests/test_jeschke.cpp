@@ -141,6 +141,138 @@ TEST(JeschkeShape, NoTearAlongTheWave) {
         }
 }
 
+// Per label step of a section at `ratio` (5H/W): the packing |d(x, ratio z)/ds| and the
+// speed c |(1 − dx/ds, ratio dz/ds)| of a point of the section moving at c, as extremes.
+struct SectionExtremes {
+    double least_packing = 1e9, fastest = 0.0, least_dx = 1e9;
+};
+SectionExtremes section_extremes(const std::vector<BreakerSectionPoint>& q, double ratio) {
+    SectionExtremes e;
+    const double ds = 1.0 / static_cast<double>(q.size() - 1);
+    for (std::size_t m = 0; m + 1 < q.size(); ++m) {
+        const double tx = (q[m + 1].x - q[m].x) / ds, tz = ratio * (q[m + 1].z - q[m].z) / ds;
+        e.least_packing = std::min(e.least_packing, std::hypot(tx, tz));
+        e.fastest = std::max(e.fastest, std::hypot(1.0 - tx, tz));
+        e.least_dx = std::min(e.least_dx, tx);
+    }
+    return e;
+}
+
+// The section's highest point over x (a wall holds several).
+double section_top(const std::vector<BreakerSectionPoint>& q, double x) {
+    auto m = static_cast<std::size_t>(std::lower_bound(q.begin(), q.end(), x, [](const BreakerSectionPoint& a, double v) { return a.x < v; }) - q.begin());
+    m = std::max<std::size_t>(m, 1) - 1;
+    double top = -1e9;
+    for (; m + 1 < q.size() && q[m].x <= x + 1e-12; ++m) {
+        if (q[m + 1].x < x) continue;
+        const double w = q[m + 1].x > q[m].x ? (x - q[m].x) / (q[m + 1].x - q[m].x) : 1.0;
+        top = std::max({top, q[m].z + w * (q[m + 1].z - q[m].z), q[m + 1].x == q[m].x ? q[m].z : -1e9});
+    }
+    return top;
+}
+
+// Its highest point within h of x.
+double section_top_near(const std::vector<BreakerSectionPoint>& q, double x, double h) {
+    double top = std::max(section_top(q, std::max(0.0, x - h)), section_top(q, std::min(1.0, x + h)));
+    for (const BreakerSectionPoint& p : q)
+        if (std::abs(p.x - x) <= h) top = std::max(top, p.z);
+    return top;
+}
+
+TEST(BreakerSections, TheOuterSectionCoversTheTubeFacesNoWayDownPacksAndKeepsItsSpeed) {
+    // Over the whole life (breaking τ ∈ [0, 1], collapsing [1, 2]), three curls and
+    // height ratios 5H/W from 0.05 to 1, each section at 2 000 labels:
+    // * its edges are the paper's (x 0 and 1 at z 0: a vertex passes from one crest to
+    //   the next without a jump);
+    // * it never runs backwards (no triangle faces down) and covers the paper's curve
+    //   from above to within one of the envelope's 512 columns (the tube is inside it;
+    //   at a hanging lip's tip the chord between two columns passes under it by up to
+    //   0.013 of the unit shape, 6 % of H over W/512);
+    // * frozen and moving at c, it packs every rest spacing to ≥ 0.6 (less the
+    //   columns' rounding: 0.58 measured) and moves no point faster than 1.5 c
+    //   (measured 1.49 c: the labels' spread κ above the 1.2 c asked of each column);
+    // * witness: the paper's curve there packs below 0.05.
+    const BreakerSectionBounds bounds;
+    std::vector<BreakerSectionPoint> q;
+    double least = 1e9, fastest = 0.0, paper_least = 1e9;
+    for (int i = 0; i <= 40; ++i)
+        for (double curl : {0.3, 0.6, 1.0})
+            for (double ratio : {0.05, 0.2, 0.5, 1.0}) {
+                const double life = i / 20.0;
+                outer_section(life, curl, ratio, bounds, 2000, q);
+                SCOPED_TRACE(::testing::Message() << "life " << life << " curl " << curl << " ratio " << ratio);
+                EXPECT_EQ(q.front().x, 0.0);
+                EXPECT_EQ(q.back().x, 1.0);
+                EXPECT_NEAR(q.front().z, 0.0, 1e-12);
+                EXPECT_NEAR(q.back().z, 0.0, 1e-12);
+                const SectionExtremes e = section_extremes(q, ratio);
+                EXPECT_GE(e.least_dx, 0.0);
+                least = std::min(least, e.least_packing);
+                fastest = std::max(fastest, e.fastest);
+                // Above the paper's curve: its points inside (0, 1) lie on or under the section.
+                const BreakerPhase phase = life < 1.0 ? BreakerPhase::breaking : BreakerPhase::collapsing;
+                const double t = std::min(1.0, life < 1.0 ? life : life - 1.0);
+                const double fade = std::min(1.0, 1.25 * jeschke_constants(phase, t, false).k[7]);
+                for (int k = 0; k <= 400; ++k) {
+                    const double s = k / 400.0;
+                    const BreakerShapePoint p = shape(phase, t, s, curl);
+                    const double x = s + fade * (1.0 - p.y - s);
+                    if (x <= 0.0 || x >= 1.0) continue;
+                    EXPECT_GE(section_top_near(q, x, 1.0 / 512.0), p.z - 1e-3) << "at x " << x;
+                    if (k > 0) {
+                        const BreakerShapePoint b = shape(phase, t, (k - 1) / 400.0, curl);
+                        const double bx = (k - 1) / 400.0 + fade * (1.0 - b.y - (k - 1) / 400.0);
+                        if (life > 0.2 && life < 1.8) paper_least = std::min(paper_least, std::hypot(x - bx, ratio * (p.z - b.z)) * 400.0);
+                    }
+                }
+            }
+    EXPECT_GE(least, 0.6 * 0.95);
+    EXPECT_LE(fastest, 1.5);
+    EXPECT_LT(paper_least, 0.05);
+    RecordProperty("least_packing", std::to_string(least));
+    RecordProperty("fastest", std::to_string(fastest));
+    RecordProperty("paper_least_packing", std::to_string(paper_least));
+}
+
+TEST(BreakerSections, TheTableMeetsTheRoundShapeAndStillWaterAndHoldsItsBoundsBetweenSamples) {
+    // τ = 0 is the round crest fully grown (x = s: the paper's round phase moves no point
+    // sideways), τ = 2 still water. Between samples (τ, curl and ratio off the grid) the
+    // interpolated sections never run backwards and keep the speed bound; they pack
+    // less (0.425 measured): where one sample's label lies on a wall and its
+    // neighbour's already past it, the mean of the two tangents is shorter than either.
+    const BreakerSections table = plan_breaker_sections(0.3, 1.0);
+    EXPECT_EQ(table.curl_first, 0.25);
+    EXPECT_EQ(table.curls, 4u);
+    for (double ratio : {0.1, 0.4})
+        for (int i = 0; i <= 100; ++i) {
+            const double s = i / 100.0;
+            const BreakerSectionPoint r = breaker_section(table, 0.0, 1.0, ratio, s), d = breaker_section(table, 2.0, 1.0, ratio, s);
+            EXPECT_NEAR(r.x, s, 1e-5);
+            EXPECT_NEAR(r.z, shape(BreakerPhase::round, 1.0, s).z, 3e-4);  // the 64 labels' chords: 1.1e-4 of a 0.2 crest
+            EXPECT_NEAR(d.x, s, 1e-6);
+            EXPECT_NEAR(d.z, 0.0, 1e-6);
+        }
+    double least = 1e9, fastest = 0.0;
+    std::vector<BreakerSectionPoint> q(641);
+    for (int i = 0; i < 200; ++i)
+        for (double curl : {0.3, 0.6, 0.85})
+            for (double ratio : {0.07, 0.23, 0.61}) {
+                const double life = (i + 0.37) / 100.0;
+                for (std::size_t m = 0; m < q.size(); ++m) q[m] = breaker_section(table, life, curl, ratio, static_cast<double>(m) / 640.0);
+                const SectionExtremes e = section_extremes(q, ratio);
+                EXPECT_GE(e.least_dx, 0.0);
+                least = std::min(least, e.least_packing);
+                fastest = std::max(fastest, e.fastest);
+            }
+    EXPECT_GE(least, 0.4);
+    EXPECT_LE(fastest, 1.5);
+    RecordProperty("least_packing", std::to_string(least));
+    RecordProperty("fastest", std::to_string(fastest));
+    EXPECT_THROW(plan_breaker_sections(0.3, 2.5), InputError);
+    EXPECT_THROW(plan_breaker_sections(0.3, 1.0, {.min_packing = 1.0}), InputError);
+    EXPECT_THROW(plan_breaker_sections(0.3, 1.0, {.frozen_speed = 1.0}), InputError);
+}
+
 TEST(JeschkeBreakers, PlanarBeachBreaksWhereShoalingReachesGamma) {
     const Scene scene = parse_scene(kBeach, "beach.json", ".");
     const ScenePlan plan = plan_scene(scene);
@@ -192,39 +324,6 @@ TEST(JeschkeBreakers, NoVertexJumpsBetweenFrames) {
     for (float v : p1) ASSERT_TRUE(std::isfinite(v));
 }
 
-TEST(JeschkeBreakers, NoVertexOutrunsThreeAndAHalfTimesItsPhaseSpeed) {
-    // Motion-made defects: every vertex, lips included, against c = W/T, its local
-    // phase speed, in steps of T/960 (120 fps on this 8 s swell) over a period.
-    // Stated bound 3.5 c (measured 3.38 c; the issue asks 1.5 c, not met: the plunging
-    // tube's curl sweeps its vertices round at up to 2.7 c with the shape held still,
-    // and the shape's change through the crest's life adds to it). Table 1 read
-    // literally — a fixed 0.03 lip seam across the collapsing jet's gap and powers below
-    // 1 with infinite slopes at the wave's edges and at the phases' starts — reaches
-    // 7.29 c here (over two periods).
-    const Scene scene = parse_scene(kBeach, "beach.json", ".");
-    const ScenePlan plan = plan_scene(scene);
-    const JeschkeMotionPlan& b = plan.breakers;
-    const std::size_t n = b.vertex_count();
-    const double period = 2 * std::numbers::pi / b.omega, dt = period / 960;
-    std::vector<float> p0(3 * n), p1(3 * n);
-    evaluate_jeschke_breakers(b, 0.0, p1);
-    double worst = 0.0;
-    std::size_t outrun = 0;
-    for (double t = 0.0; t < period; t += dt) {
-        p0.swap(p1);
-        evaluate_jeschke_breakers(b, t + dt, p1);
-        for (std::size_t v = 0; v < n; ++v) {
-            const double speed = std::hypot(p1[3 * v] - p0[3 * v], p1[3 * v + 1] - p0[3 * v + 1], p1[3 * v + 2] - p0[3 * v + 2]) / dt;
-            if (b.width[v] == 0.0f || speed < 0.01) continue;  // at rest (W → 0 where a ray ends), to float noise
-            const double c = b.width[v] / period;
-            worst = std::max(worst, speed / c);
-            outrun += speed > c;
-        }
-    }
-    EXPECT_GT(outrun, 0u) << "the lips outrun their crests";
-    EXPECT_LE(worst, 3.5);
-}
-
 // The fastest vertex of `b` over a period (steps of T/960), in units of its local phase
 // speed c = W/T; vertices at rest (W = 0 where a ray ends) and float noise aside.
 double fastest_over_phase_speed(const JeschkeMotionPlan& b) {
@@ -245,6 +344,31 @@ double fastest_over_phase_speed(const JeschkeMotionPlan& b) {
     return worst;
 }
 
+// The beach's breakers with the given "lip" (outer or tube).
+JeschkeMotionPlan beach_breakers(const char* lip) {
+    std::string doc = kBeach;
+    doc.replace(doc.find("\"breakers\": \"jeschke\""), 21, std::string(R"("breakers": {"lip": ")") + lip + "\"}");
+    return plan_scene(parse_scene(doc, "beach.json", ".")).breakers;
+}
+
+TEST(JeschkeBreakers, NoVertexOutrunsOneAndAHalfTimesItsPhaseSpeed) {
+    // Motion-made defects: every vertex, breaking crests included, against c = W/T, its
+    // local phase speed, in steps of T/960 (120 fps on this 8 s swell) over a period.
+    // The outer section (the default) bounds its frozen section at 1.2 c; the crest's
+    // change through its life adds the rest. Witness: the paper's tube sweeps its lip
+    // round at up to 2.7 c with the shape held still (3.38 c in all). Table 1 read
+    // literally — a fixed 0.03 lip seam across the collapsing jet's gap and powers below
+    // 1 with infinite slopes at the wave's edges and at the phases' starts — reached
+    // 7.29 c here.
+    const double outer = fastest_over_phase_speed(beach_breakers("outer"));
+    const double tube = fastest_over_phase_speed(beach_breakers("tube"));
+    EXPECT_LE(outer, 1.5);
+    EXPECT_GT(tube, 3.0);
+    EXPECT_LE(tube, 3.5);
+    RecordProperty("outer", std::to_string(outer));
+    RecordProperty("tube", std::to_string(tube));
+}
+
 TEST(JeschkeBreakers, ASteepShoreDoesNotThrowItsLipsFasterThanAGentleOne) {
     // Breaking Okushiri's islet in miniature: 12 m deep, then a 1:4 slope to the shore,
     // T = 12 s. The ray ends a few metres past its break; a crest living its whole life
@@ -257,8 +381,11 @@ TEST(JeschkeBreakers, ASteepShoreDoesNotThrowItsLipsFasterThanAGentleOne) {
     fronts.ray_spacing = 4.0;
     const RayStrips strips = build_ray_strips(trace_fronts(steep, swell, fronts));
     const double deep_length = deep_water_wavelength(swell.period);
+    // The paper's tube shows it; the outer section, whose frozen shape is bounded, keeps
+    // even the squeezed life below 1.5 c.
     JeschkeBreakerOptions o;
     o.wave_variation = 0.0;
+    o.lip = BreakerLip::tube;
     const JeschkeMotionPlan floored = plan_jeschke_breakers(strips, 2 * swell.amplitude, deep_length, o);
     ASSERT_FALSE(floored.rays.empty());
     EXPECT_TRUE(std::any_of(floored.rays.begin(), floored.rays.end(), [](const RayBreak& r) { return r.breaks; }));
@@ -267,8 +394,12 @@ TEST(JeschkeBreakers, ASteepShoreDoesNotThrowItsLipsFasterThanAGentleOne) {
     const double with_floor = fastest_over_phase_speed(floored), without = fastest_over_phase_speed(squeezed);
     EXPECT_GT(without, 5.0) << "the case does not squeeze the crest's life";  // measured 6.03 c
     EXPECT_LE(with_floor, 3.5);  // measured 3.45 c
+    o.lip = BreakerLip::outer;
+    const double outer_squeezed = fastest_over_phase_speed(plan_jeschke_breakers(strips, 2 * swell.amplitude, deep_length, o));
+    EXPECT_LE(outer_squeezed, 1.5);
     RecordProperty("with_floor", std::to_string(with_floor));
     RecordProperty("without_floor", std::to_string(without));
+    RecordProperty("outer_squeezed", std::to_string(outer_squeezed));
 }
 
 TEST(JeschkeFoam, NoneBeforeTheBreakThenDecayingUntilTheNextCrest) {
@@ -455,7 +586,9 @@ TEST(JeschkeVariation, CrestsDifferAndTheLoopIsTheirCount) {
         differ = std::max(differ, static_cast<double>(std::abs(one[i] - a[i])));
         loop = std::max(loop, static_cast<double>(std::abs(three[i] - a[i])));
     }
-    EXPECT_GT(differ, 0.3) << "the next crest breaks elsewhere (m)";
+    // The next crest breaks elsewhere (m): 0.125 m apart at most with the outer section
+    // (measured), ~0.4 m with the paper's tube, whose lips fly further.
+    EXPECT_GT(differ, 0.08) << "the next crest breaks elsewhere (m)";
     EXPECT_LT(loop, 1e-3) << "the loop repeats after 3 periods (m, float rounding of ωt)";
 
     // Where each crest breaks along one central ray: not all alike, each within the

@@ -367,6 +367,58 @@ struct BreakerShapePoint {
 BreakerShapePoint jeschke_shape(double s, const BreakerConstants& back, const BreakerConstants& front,
                                 double curl = 1.0) noexcept;
 
+/// The breaker's section at the mesh's scale (BreakerLip::outer). At real steepness the
+/// paper's tube is knife-thin: its height is 5H/W ≈ 0.1–0.5 of its width, so the lip,
+/// rotated in the unit shape, is thrown a quarter of a wavelength ahead at a fraction
+/// of a mesh spacing thick, and the shape's labels crowd into it (k1: the lip is a
+/// point where s has no speed). The outer section is what covers the tube: the upper
+/// envelope of the paper's curve (the back, over the crest and the lip, down the lip's
+/// front to the water ahead), relabelled so that a frozen section moving at c packs
+/// every rest spacing to at least `min_packing` and moves no point faster than
+/// `frozen_speed` × c (docs/motion.md, "The outer section").
+struct BreakerSectionPoint {
+    double x = 0.0;  ///< across the section in wavelengths: 0 at the back edge, 1 at the front edge
+    double z = 0.0;  ///< up, in the unit shape's units (× the vertical scale 5H)
+};
+
+/// The outer sections tabulated once per plan: every life τ (0 … 1 breaking, 1 … 2
+/// collapsing) × curl × height ratio 5H/W (log₂-spaced) × label s, each the section at
+/// `labels` + 1 equally spaced labels. Empty = the paper's curve as drawn.
+struct BreakerSections {
+    std::size_t lives = 0;   ///< life samples over [0, 2]
+    std::size_t curls = 0;   ///< curl samples from curl_first, curl_step apart
+    std::size_t ratios = 0;  ///< ratio samples from 2^log2_ratio_first, log2_ratio_step apart
+    std::size_t labels = 0;  ///< label intervals per section
+    double curl_first = 0.0;         ///< the first curl sample
+    double curl_step = 0.25;         ///< between curl samples
+    double log2_ratio_first = -6.0;  ///< log₂ of the first ratio sample
+    double log2_ratio_step = 0.5;    ///< between ratio samples (log₂)
+    std::vector<float> x;  ///< BreakerSectionPoint::x, [life][curl][ratio][label]
+    std::vector<float> z;  ///< BreakerSectionPoint::z, same layout
+    bool empty() const noexcept { return x.empty(); }  ///< no table: the paper's curve
+};
+
+/// Bounds of the outer section (see BreakerSectionPoint).
+struct BreakerSectionBounds {
+    double min_packing = 0.6;   ///< least surface spacing over rest spacing of the frozen section
+    double frozen_speed = 1.2;  ///< fastest point of the frozen section moving at c (× c); > 1
+};
+
+/// Tabulates the outer sections for curls in [curl_min, curl_max] (both in [0, 2]).
+/// Throws InputError for curls out of range or bounds out of range (0 ≤ min_packing < 1,
+/// frozen_speed in (1, 2]).
+BreakerSections plan_breaker_sections(double curl_min, double curl_max, const BreakerSectionBounds& bounds = {});
+
+/// One outer section at life τ ∈ [0, 2] (breaking t, then 1 + collapsing t), straight
+/// from the paper's curve (no table): `samples` points of the curve, its envelope on
+/// `samples` columns. For tests and plots; plan_breaker_sections tabulates it.
+void outer_section(double life, double curl, double ratio, const BreakerSectionBounds& bounds, std::size_t labels,
+                   std::vector<BreakerSectionPoint>& out);
+
+/// The tabulated section at life τ, curl, ratio and label s ∈ [0, 1] (multilinear;
+/// outside the table's ranges the nearest sample).
+BreakerSectionPoint breaker_section(const BreakerSections& table, double life, double curl, double ratio, double s) noexcept;
+
 /// Where a crest is in its life when it stands at phase ψ (rad, Σ k Δs) of a ray that
 /// breaks at phase `break_phase` and ends (aground) at `end_phase`: round over the
 /// first `rise` radians (coming up from still water), breaking from the break point
@@ -376,6 +428,9 @@ struct BreakerLife {
     double t = 1.0;  ///< time parameter within the phase, 0 … 1
 };
 BreakerLife jeschke_life(double psi, double rise, double break_phase, double breaking_length, double end_phase) noexcept;
+
+/// JeschkeBreakerOptions::lip: the section a breaking crest takes.
+enum class BreakerLip { outer, tube };
 
 /// The automatic parametrisation (the paper's "future work") and the options of the
 /// model. The paper's y_end(x) (coastline and crest alignment) is the traced fronts
@@ -419,6 +474,11 @@ struct JeschkeBreakerOptions {
     std::uint32_t varied_waves = 3;  ///< crests that differ before the draws repeat (the loop's periods)
     std::uint64_t variation_seed = 1;  ///< seed of the pseudo-random draws
     BreakerThresholds thresholds{};  ///< Iribarren thresholds of the breaker types
+    /// The section a breaking crest takes: `outer` (the tube's outer surface at the
+    /// mesh's scale, BreakerSections; clean triangles, ≤ 1.5 c) or `tube` (the paper's
+    /// curve as drawn: a knife-thin tube at real steepness, slivers and up to 3.4 c).
+    BreakerLip lip = BreakerLip::outer;
+    BreakerSectionBounds section_bounds{};  ///< the outer section's bounds
 };
 
 /// One crest's break and end (rad along its ray) after the per-wave variation.
@@ -486,6 +546,9 @@ struct JeschkeMotionPlan {
     /// `variation` 0 = every crest alike.
     std::vector<CrestVariation> crest_draws;
     double variation = 0.0;  ///< JeschkeBreakerOptions::wave_variation
+    /// The outer sections breaking crests take (JeschkeBreakerOptions::lip); empty = the
+    /// paper's curve as drawn.
+    BreakerSections sections;
 
     std::size_t vertex_count() const noexcept { return x.size(); }  ///< vertices planned
     /// Swell periods after which the breakers repeat.

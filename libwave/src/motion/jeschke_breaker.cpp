@@ -388,6 +388,11 @@ JeschkeMotionPlan plan_jeschke_breakers(const RayStrips& strips, double deep_hei
         p.rays.push_back(life.rb);
     }
 
+    if (o.lip == BreakerLip::outer) {
+        const auto [lo, hi] = std::minmax({o.curl_spilling, o.curl_plunging, o.curl_collapsing, o.curl_surging});
+        p.sections = plan_breaker_sections(lo, hi, o.section_bounds);
+    }
+
     // Shape size per vertex, the still-water mean removed, and the foam a crest leaves.
     p.width.resize(n);
     p.scale.resize(n);
@@ -418,6 +423,7 @@ JeschkeMotionPlan resample_jeschke_breakers(const JeschkeMotionPlan& src, std::s
     p.foam_onset = src.foam_onset;
     p.crest_draws = src.crest_draws;
     p.variation = src.variation;
+    p.sections = src.sections;
     p.rays = src.rays;
     p.x.assign(x.begin(), x.end());
     p.y.assign(y.begin(), y.end());
@@ -514,6 +520,39 @@ std::size_t fill_jeschke_gaps(JeschkeMotionPlan& p, std::span<const std::uint32_
     return filled;
 }
 
+namespace {
+
+// Vertex v's point of its crest's section at label s: the outer section while the crest
+// breaks or collapses (when the plan has them), else the paper's curve, its horizontal
+// move faded with k7 as the wave dies (§4's scaling; k7 = 1 − t while collapsing: a
+// dead crest leaves every point at rest).
+BreakerSectionPoint section_point(const JeschkeMotionPlan& p, std::size_t v, const BreakerLife& life, double s) noexcept {
+    const bool broken = life.phase == BreakerPhase::breaking || life.phase == BreakerPhase::collapsing;
+    if (broken && !p.sections.empty()) {
+        const double tau = life.phase == BreakerPhase::breaking ? life.t : 1.0 + life.t;
+        return breaker_section(p.sections, tau, p.curl[v], p.scale[v] / p.width[v], s);
+    }
+    // Away from the lip seam only the half holding s is needed (k7, the scale, is the
+    // same in both halves of every phase; the seam is never wider than lip_seam_max,
+    // and the round phase's halves meet).
+    BreakerShapePoint q;
+    double k7 = 0.0;
+    if (std::abs(s - 0.5) < lip_seam_max && life.phase != BreakerPhase::round) {
+        const BreakerConstants back = jeschke_constants(life.phase, life.t, false);
+        q = jeschke_shape(s, back, jeschke_constants(life.phase, life.t, true), p.curl[v]);
+        k7 = back.k[7];
+    } else {
+        const bool is_front = s >= 0.5;
+        const BreakerConstants half = jeschke_constants(life.phase, life.t, is_front);
+        q = is_front ? front_half(std::min(s, 1.0), half, p.curl[v]) : back_half(std::max(s, 0.0), half, p.curl[v]);
+        k7 = half.k[7];
+    }
+    const double fade = std::min(1.0, 1.25 * k7);
+    return {s + (1.0 - q.y - s) * fade, q.z};
+}
+
+}  // namespace
+
 void evaluate_jeschke_breakers(const JeschkeMotionPlan& p, double t, std::span<float> positions) {
     const std::size_t n = p.vertex_count();
     if (positions.size() != 3 * n)
@@ -537,25 +576,8 @@ void evaluate_jeschke_breakers(const JeschkeMotionPlan& p, double t, std::span<f
             const double psi = p.phase[v] + delta, s = 0.5 - delta / two_pi;
             const CrestPhases c = crest_phases(p, v, crest, psi);
             const BreakerLife life = jeschke_life(psi, p.rise[v], c.break_phase, c.breaking_length, c.end_phase);
-            // Away from the lip seam only the half holding s is needed (k7, the scale,
-            // is the same in both halves of every phase; the seam is never wider than
-            // lip_seam_max, and the round phase's halves meet).
-            BreakerShapePoint q;
-            double k7 = 0.0;
-            if (std::abs(s - 0.5) < lip_seam_max && life.phase != BreakerPhase::round) {
-                const BreakerConstants back = jeschke_constants(life.phase, life.t, false);
-                q = jeschke_shape(s, back, jeschke_constants(life.phase, life.t, true), p.curl[v]);
-                k7 = back.k[7];
-            } else {
-                const bool is_front = s >= 0.5;
-                const BreakerConstants half = jeschke_constants(life.phase, life.t, is_front);
-                q = is_front ? front_half(std::min(s, 1.0), half, p.curl[v]) : back_half(std::max(s, 0.0), half, p.curl[v]);
-                k7 = half.k[7];
-            }
-            // §4's scaling fades the horizontal move with k7 as the wave dies (k7 = 1 − t
-            // while collapsing): a dead crest leaves every point at rest.
-            const double fade = std::min(1.0, 1.25 * k7);
-            const double forward = (1.0 - q.y - s) * p.width[v] * fade;
+            const BreakerSectionPoint q = section_point(p, v, life, s);
+            const double forward = (q.x - s) * p.width[v];
             positions[3 * v] = static_cast<float>(p.x[v] + forward * p.dir_x[v]);
             positions[3 * v + 1] = static_cast<float>(p.y[v] + forward * p.dir_y[v]);
             positions[3 * v + 2] = static_cast<float>(p.scale[v] * q.z - p.mean_level[v]);

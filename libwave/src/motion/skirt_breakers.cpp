@@ -110,6 +110,7 @@ SkirtBreakers continue_jeschke_breakers(const JeschkeMotionPlan& p, const SeaSki
     q.foam_onset = p.foam_onset;
     q.crest_draws = p.crest_draws;
     q.variation = p.variation;
+    q.sections = p.sections;
     for (std::size_t v = 0; v < skirt.vertex_count(); ++v) {
         const std::uint32_t a = skirt.anchor_weight[v] >= 0.5f ? skirt.anchor[2 * v] : skirt.anchor[2 * v + 1];
         const double width = p.width[a];

@@ -278,7 +278,8 @@ JeschkeBreakerOptions read_breakers(const Node& n) {
     }
     n.require_object({"model", "breaking_share", "max_breaking_wavelengths", "min_surf_zone_wavelengths",
                       "rise_wavelengths", "foam_fade_time", "foam_onset", "curl_spilling", "curl_plunging",
-                      "curl_collapsing", "curl_surging", "wave_variation", "varied_waves", "variation_seed"});
+                      "curl_collapsing", "curl_surging", "wave_variation", "varied_waves", "variation_seed", "lip",
+                      "min_packing", "frozen_speed"});
     if (n.has("model")) n["model"].choice<int>({{"jeschke", 0}});
     const auto share = [&](const char* key, double& v, const char* unit) {
         if (n.has(key)) v = n[key].number(unit);
@@ -296,6 +297,9 @@ JeschkeBreakerOptions read_breakers(const Node& n) {
     share("wave_variation", o.wave_variation, "local wavelengths / share of the collapse zone");
     if (n.has("varied_waves")) o.varied_waves = static_cast<std::uint32_t>(n["varied_waves"].count());
     if (n.has("variation_seed")) o.variation_seed = n["variation_seed"].count();
+    if (n.has("lip")) o.lip = n["lip"].choice<BreakerLip>({{"outer", BreakerLip::outer}, {"tube", BreakerLip::tube}});
+    share("min_packing", o.section_bounds.min_packing, "rest spacings");
+    share("frozen_speed", o.section_bounds.frozen_speed, "phase speeds");
     return o;
 }
 
