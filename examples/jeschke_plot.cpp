@@ -4,13 +4,62 @@
 // the back half in blue, the front half in red, the lip (s = 0.5) marked. A last row
 // shows the breaking phase with the spilling curl (0.3) for comparison.
 //
-//   jeschke_plot [out.png]
+// The second image (docs/jeschke-outer.png) draws, at a real breaker's proportions
+// (5H/W = 0.2: height and width to the same scale), the paper's curve in grey and the
+// outer section the mesh takes (breakers.lip "outer") in blue, with the points of a mesh
+// of 16 vertices a wavelength on it, through the breaking and collapsing phases.
+//
+//   jeschke_plot [profiles.png] [outer.png]
 #include <libwave/motion.h>
 
 #include "plot_canvas.h"
 
 #include <cstdio>
 #include <string>
+#include <vector>
+#include <algorithm>
+
+namespace {
+
+int draw_outer(const std::string& out) {
+    constexpr double ratio = 0.2, px = 1100.0;
+    constexpr int row_h = 120, top = 40, left = 40;
+    const double lives[] = {0.3, 0.6, 0.8, 1.0, 1.2, 1.5};
+    plot::Canvas c(1200, top + 6 * row_h);
+    c.text(10, 8, "5H/W = 0.2, to scale; grey: the paper's curve; blue: the outer section; red: 16 mesh points a wavelength");
+    const unsigned char grey[3] = {170, 170, 170}, blue[3] = {20, 70, 200}, red[3] = {210, 30, 30};
+    std::vector<wave::BreakerSectionPoint> section;
+    for (int row = 0; row < 6; ++row) {
+        const double life = lives[row];
+        const bool breaking = life < 1.0;
+        const double t = breaking ? life : life - 1.0;
+        const wave::BreakerPhase ph = breaking ? wave::BreakerPhase::breaking : wave::BreakerPhase::collapsing;
+        const wave::BreakerConstants back = wave::jeschke_constants(ph, t, false), front = wave::jeschke_constants(ph, t, true);
+        const double fade = std::min(1.0, 1.25 * back.k[7]), base = top + row * row_h + 0.8 * row_h;
+        char label[64];
+        std::snprintf(label, sizeof label, "%s t = %.1f", breaking ? "breaking" : "collapsing", t);
+        c.text(left, top + row * row_h + 4, label);
+        double lx = 0, ly = 0;
+        for (int i = 0; i <= 4000; ++i) {
+            const double s = i / 4000.0;
+            const wave::BreakerShapePoint p = wave::jeschke_shape(s, back, front, 1.0);
+            const double x = left + (s + fade * (1.0 - p.y - s)) * px, y = base - ratio * p.z * px;
+            if (i > 0) c.line(lx, ly, x, y, grey, 1);
+            lx = x, ly = y;
+        }
+        wave::outer_section(life, 1.0, ratio, {}, 512, section);
+        for (std::size_t m = 1; m < section.size(); ++m)
+            c.line(left + section[m - 1].x * px, base - ratio * section[m - 1].z * px, left + section[m].x * px,
+                   base - ratio * section[m].z * px, blue, 2);
+        for (std::size_t m = 0; m < section.size(); m += 32)
+            for (int d = -2; d <= 2; ++d)
+                c.line(left + section[m].x * px - 2, base - ratio * section[m].z * px + d, left + section[m].x * px + 2,
+                       base - ratio * section[m].z * px + d, red, 1);
+    }
+    return plot::write_png(c, out) ? 0 : 1;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
     const std::string out = argc > 1 ? argv[1] : "jeschke-profiles.png";
@@ -49,5 +98,6 @@ int main(int argc, char** argv) {
                 lx = x, ly = y;
             }
         }
-    return plot::write_png(c, out) ? 0 : 1;
+    if (!plot::write_png(c, out)) return 1;
+    return argc > 2 ? draw_outer(argv[2]) : 0;
 }
