@@ -60,6 +60,26 @@ void BM_jeschke_positions(benchmark::State& state) {
 }
 BENCHMARK(BM_jeschke_positions)->Arg(50000)->Arg(1000000)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// The peer of BM_jeschke_positions: the same plan on the paper's curve (breakers.lip
+// "tube": no outer sections), in the same run.
+void BM_jeschke_positions_tube(benchmark::State& state) {
+    const Fixture& f = fixture(static_cast<int>(state.range(0)));
+    wave::JeschkeMotionPlan tube = f.plan.breakers;
+    tube.sections = {};
+    std::vector<float> p(3 * tube.vertex_count());
+    frames_at_30fps(state, tube.vertex_count(), [&](double t) {
+        wave::evaluate_jeschke_breakers(tube, t, p);
+        benchmark::DoNotOptimize(p.data());
+    });
+}
+BENCHMARK(BM_jeschke_positions_tube)->Arg(1000000)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Tabulating the outer sections once per plan (the default curls: 0.25 … 1).
+void BM_breaker_sections(benchmark::State& state) {
+    for (auto _ : state) benchmark::DoNotOptimize(wave::plan_breaker_sections(0.3, 1.0).x.data());
+}
+BENCHMARK(BM_breaker_sections)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 // §3.1 foam alone (with the per-wave variation: the recent crests' lives at each point).
 void BM_jeschke_foam(benchmark::State& state) {
     const Fixture& f = fixture(static_cast<int>(state.range(0)));

@@ -487,17 +487,22 @@ void bind_breakers_and_ocean(py::module_& m) {
             py::arg("t"), "Foam in [0, 1] per vertex at time t: broken crests' foam fading behind them");
     m.def(
         "plan_jeschke_breakers",
-        [](const wave::RayStrips& strips, double period, double amplitude, double breaker_index, double wave_variation) {
+        [](const wave::RayStrips& strips, double period, double amplitude, double breaker_index, double wave_variation,
+           const std::string& lip) {
             wave::JeschkeBreakerOptions o;
             o.breaker_index = breaker_index, o.wave_variation = wave_variation;
+            if (lip != "outer" && lip != "tube")
+                throw wave::InputError("plan_jeschke_breakers: lip must be \"outer\" or \"tube\", got \"" + lip + "\"");
+            o.lip = lip == "tube" ? wave::BreakerLip::tube : wave::BreakerLip::outer;
             py::gil_scoped_release release;
             return std::make_shared<wave::JeschkeMotionPlan>(
                 wave::plan_jeschke_breakers(strips, 2.0 * amplitude, wave::deep_water_wavelength(period), o));
         },
         py::arg("strips"), py::arg("period"), py::arg("amplitude"), py::arg("breaker_index") = wave::kBreakerIndex,
-        py::arg("wave_variation") = 0.25,
+        py::arg("wave_variation") = 0.25, py::arg("lip") = "outer",
         "Jeschke's breakers for the strips of a train (period s, deep-water amplitude m), parametrised from its rays "
-        "(as the scenes' /breakers)");
+        "(as the scenes' /breakers); lip \"outer\" (the tube's outer section at the mesh's scale) or \"tube\" (the "
+        "paper's curve as drawn)");
 
     py::class_<wave::OceanPlan, std::shared_ptr<wave::OceanPlan>>(
         m, "OceanPatch", "Tessendorf's FFT ocean patch planned once (plan_ocean_patch)")

@@ -169,6 +169,16 @@ def test_jeschke_breakers_and_rays_as_stages():
     assert 0.0 <= foam.min() and foam.max() <= 1.0 and foam.max() > 0.5  # broken crests leave foam
     # A breaking crest stands higher than the offshore swell (shoaling, then the breaker).
     assert p[:, 2].max() > 0.5
+    # The outer section (the default) moves vertices along their rays only on steep faces:
+    # at most 0.30 m over the 24 s loop, where the paper's tube ("lip": "tube") throws its
+    # lips 3.5 m ahead.
+    tube = libwave.plan_jeschke_breakers(strips, 8.0, 0.5, lip="tube")
+    rest = np.stack([strips.x, strips.y], 1)
+    def farthest(b):
+        return max(np.hypot(*(b.evaluate(t)[:, :2] - rest).T).max() for t in np.arange(0.0, 24.0, 0.25))
+    assert farthest(breakers) < 0.5 and farthest(tube) > 3.0
+    with pytest.raises(libwave.InputError, match="lip"):
+        libwave.plan_jeschke_breakers(strips, 8.0, 0.5, lip="barrel")
     iso = libwave.extract_isobaths(beach, spacing=1.0)
     rays = libwave.trace_rays(beach, iso, 8.0, 0.5, (0, 1), ray_spacing=10)
     assert rays.ray_count > 5 and len(rays.x) == rays.offsets[-1]
