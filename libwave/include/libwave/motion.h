@@ -131,6 +131,12 @@ struct UntangleOptions {
     /// A triangle with a vertex this foamy is a breaking crest's lip: left to overturn
     /// (the same threshold as InspectOptions::lip_foam).
     float lip_foam = 0.1f;
+    /// Whether the motion draws crests that turn over (Gonzato's eq. 7 as drawn, Jeschke's
+    /// tube): their foamy triangles are lips, left to overturn and freed of the ramp.
+    /// false for a motion whose sections never turn over (the bounded sections, the
+    /// default): no triangle is a lip, and every one is untangled and ramped, so that
+    /// the shear between neighbours whose rays differ turns none over either.
+    bool lips_overturn = true;
     /// Vertices at rest on a side of the rest positions' bounding rectangle (the
     /// domain's border, for the water mesh) move only along that side, corners not
     /// sideways at all, and no vertex (a lip included) leaves the rectangle: the

@@ -927,7 +927,9 @@ void start_run(FrameRun& r, const std::vector<std::uint32_t>& triangles, std::si
     if (r.model.untangle || !plan.wind_sea_scale.empty() || !plan.gerstner.empty()) {
         const bool traced_strips = r.scene.surface_kind == SurfaceKind::ray_strips && !r.scene.water_mesh_per_wavelength &&
                                    !r.scene.camera_grid;
-        r.untangle = plan_untangle(plan.rest_x, plan.rest_y, surface_triangles(r.scene, plan), {.hold_shore = !traced_strips});
+        const bool lips = r.model.overturns && r.model.overturns(r.scene);
+        r.untangle = plan_untangle(plan.rest_x, plan.rest_y, surface_triangles(r.scene, plan),
+                                   {.lips_overturn = lips, .hold_shore = !traced_strips});
         if (!r.shaded || r.refined) r.coarse_foam.resize(nc);
     }
     if (r.shaded || r.untangle) r.fold_past.insert(plan.fold_past.begin(), plan.fold_past.end());  // frame 0's foam past

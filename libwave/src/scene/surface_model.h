@@ -53,6 +53,9 @@ struct SurfaceModel {
     /// Its motion moves vertices sideways by fields neighbours may disagree on (phases
     /// of crossing rays, breakers): the pipeline untangles every frame (untangle_motion).
     bool untangle;
+    /// Whether its motion, as the scene sets it, draws crests that turn over (the
+    /// untangling then leaves their lips: UntangleOptions::lips_overturn); nullptr: never.
+    bool (*overturns)(const Scene& s);
     /// Harmonics of each wave train its motion holds, which the far field fits at the
     /// border and carries beyond it (plan_far_field): 1 for a linear model, more for a
     /// profile with sharp crests; 0: no far field (the ocean patch tiles instead).

@@ -98,6 +98,7 @@ extern const SurfaceModel kHeightFieldModel{
     .loop_keys = "/surface/repeat_time or the periods in /waves",
     .size_keys = "lower /surface/samples_per_span, /surface/grid or /animation/fps",
     .untangle = false,
+    .overturns = nullptr,
     .far_field_harmonics = 1,
     .read_before = read_before,
     .read_after = [](const Node&, Scene&) {},

@@ -83,6 +83,7 @@ extern const SurfaceModel kOceanPatchModel{
     .loop_keys = "/ocean/repeat_time",
     .size_keys = "lower /ocean/resolution, /ocean/repeat_time or /animation/fps",
     .untangle = false,
+    .overturns = nullptr,
     .far_field_harmonics = 0,
     .read_before = read_before,
     .read_after = [](const Node&, Scene&) {},

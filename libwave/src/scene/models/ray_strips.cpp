@@ -115,6 +115,12 @@ const std::vector<std::uint32_t>& triangles(const ScenePlan& p) {
     return p.water_mesh.vertex_count() > 0 ? p.water_mesh.triangles : p.strips.triangles;
 }
 
+// Crests turn over when the motion draws them as the papers do: Jeschke's tube, or
+// Gonzato's eq. 7 with no packing bound. The bounded sections (the defaults) never do.
+bool overturns(const Scene& scene) {
+    return scene.breakers ? scene.breakers->lip == BreakerLip::tube : scene.profile.min_packing == 0.0;
+}
+
 bool move(const Scene& scene, const ScenePlan& p, double t, ModelState*, ModelFrame& frame) {
     if (scene.breakers) evaluate_jeschke_breakers(p.breakers, t, frame.positions);
     else evaluate_gonzato_motion(p.motion, t, frame.positions);
@@ -147,6 +153,7 @@ extern const SurfaceModel kRayStripsModel{
     .loop_keys = "/waves/0/period",
     .size_keys = "raise /trace/ray_spacing or /fronts/step, or lower /animation/fps",
     .untangle = true,
+    .overturns = overturns,
     .far_field_harmonics = 2,
     .read_before = read_before,
     .read_after = read_after,

@@ -124,6 +124,7 @@ extern const SurfaceModel kWaveFieldModel{
     .loop_keys = "/waves/0/period",
     .size_keys = "lower /field/nodes_per_wavelength or /animation/fps",
     .untangle = false,
+    .overturns = nullptr,
     .far_field_harmonics = 1,
     .read_before = read_before,
     .read_after = [](const Node&, Scene&) {},
