@@ -113,7 +113,8 @@ Frame frame_by_stages(const std::string& grid_path, std::size_t frame_number) {
     f.triangles.insert(f.triangles.end(), skirt.triangles.begin(), skirt.triangles.end());
 
     // Motion and shading of one frame, into caller-owned buffers.
-    const wave::UntanglePlan untangle = wave::plan_untangle(x, y, f.triangles);
+    // Gonzato's sections bounded by their packing (the default) never turn over: no lips.
+    const wave::UntanglePlan untangle = wave::plan_untangle(x, y, f.triangles, {.lips_overturn = false});
     const std::size_t all = x.size();
     const wave::VertexFaces adjacency = wave::vertex_faces(all, f.triangles);
     f.positions.resize(3 * all);
@@ -127,7 +128,7 @@ Frame frame_by_stages(const std::string& grid_path, std::size_t frame_number) {
     wave::evaluate_far_field(far, t, f.positions, scratch);
     wave::breaking_foam(on_mesh, motion, t, wave::FoamOptions{}, std::span<float>(f.foam).first(n));
     wave::far_field_foam(far, f.foam);  // the border's foam carried onto the skirt with its residual motion
-    wave::untangle_motion(untangle, f.foam, f.positions);  // breaking lips (foam) may overturn
+    wave::untangle_motion(untangle, f.foam, f.positions);
     wave::vertex_normals(f.positions, f.triangles, adjacency, f.normals);
     wave::FresnelOptions fresnel;
     fresnel.camera = {2.5, -2.0, 1.2};

@@ -48,7 +48,8 @@ def frame_by_stages(grid_path: str, frame: int) -> Dict[str, Any]:
     far = libwave.plan_far_field(skirt, seafloor, waves, mesh.x, mesh.y, times, np.stack([motion.evaluate(s) for s in times]))
     x, y = np.concatenate([mesh.x, skirt.x]), np.concatenate([mesh.y, skirt.y])
     triangles = np.concatenate([mesh.triangles, skirt.triangles])
-    untangle = libwave.plan_untangle(x, y, triangles)
+    # Gonzato's sections bounded by their packing (the default) never turn over: no lips.
+    untangle = libwave.plan_untangle(x, y, triangles, lips_overturn=False)
 
     t = frame / FPS
     n = mesh.vertex_count
@@ -58,7 +59,7 @@ def frame_by_stages(grid_path: str, frame: int) -> Dict[str, Any]:
     foam = np.zeros(n + skirt.vertex_count, np.float32)
     foam[:n] = libwave.breaking_foam(on_mesh, motion, t)
     far.foam(foam)  # the border's foam carried onto the skirt with its residual motion
-    untangle.apply(positions, foam)  # breaking lips (foam) may overturn
+    untangle.apply(positions, foam)
     normals = libwave.vertex_normals(positions, triangles)
     reflect, refract = libwave.fresnel_weights(positions, normals, CAMERA)
     texcoords = libwave.domain_texcoords(seafloor, x, y)

@@ -1262,15 +1262,16 @@ class Inspect(unittest.TestCase):
                 self.assertEqual([f["folds"] for f in m["per_frame"] if f["folds"]], [], example)
                 # Gonzato's sections pack no rest spacing below 0.6 (motion.min_packing), and
                 # Jeschke's breakers take their tube's outer section (breakers.lip), which packs
-                # none below 0.6 either: they lean and stand steep but do not fold. Eq. 7's
-                # curl, smaller than the mesh, left ~300 slivers and ~600 triangles facing down
-                # a frame on the bay, 100 and 285 on the island, and 8 and 24 edges over 3 × the
+                # none below 0.6 either: they lean and stand steep but do not turn over, so the
+                # untangling frees no lip (UntangleOptions::lips_overturn). Eq. 7's curl,
+                # smaller than the mesh, left ~300 slivers and ~600 triangles facing down a
+                # frame on the bay, 100 and 285 on the island, and 8 and 24 edges over 3 × the
                 # local spacing (2 fps); the beach's knife-thin tube 724 slivers, 1 592 facing
-                # down and 92 long edges. With the bounds at most 6 facing down, 10 slivers and
-                # 1 long edge.
-                self.assertLessEqual(m["worst"]["lips"], 20, example)
-                self.assertLessEqual(m["worst"]["lip_slivers"], 30, example)
-                self.assertLessEqual(m["worst"]["long_edges"], 3, example)
+                # down and 92 long edges. Now none facing down, 4, 4 and 0 slivers on the
+                # breaking crests and 1 long edge.
+                self.assertEqual(m["worst"]["lips"], 0, example)
+                self.assertLessEqual(m["worst"]["lip_slivers"], 10, example)
+                self.assertLessEqual(m["worst"]["long_edges"], 2, example)
                 # Slivers off the lips and the shore (the clip boundary, whose triangles the
                 # untangling squeezes rather than turn over): at most 10, 6 and 2 a frame
                 # were measured, the smallest angle there 9.6°, 11.6° and 12.0°.

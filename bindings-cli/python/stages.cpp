@@ -447,21 +447,25 @@ void bind_motion(py::module_& m) {
                 return wave::untangle_motion(p, f, s).damped_vertices;
             },
             py::arg("positions"), py::arg("foam") = py::none(),
-            "Untangles one frame in place (positions: writable (vertices, 3) float32); triangles with a vertex whose "
-            "foam is >= 0.1 are breaking lips left to overturn, and foam from 0.1 to 1 frees a vertex of the ramp's "
-            "damping (docs/inspect.md, untangling). Returns how many vertices were damped");
+            "Untangles one frame in place (positions: writable (vertices, 3) float32); planned with lips_overturn, "
+            "triangles with a vertex whose foam is >= 0.1 are breaking lips left to overturn, and foam from 0.1 to 1 "
+            "frees a vertex of the ramp's damping (docs/inspect.md, untangling). Returns how many vertices were damped");
     m.def(
         "plan_untangle",
-        [](const py::array& x, const py::array& y, const py::array& triangles, bool pin_border, bool hold_shore) {
+        [](const py::array& x, const py::array& y, const py::array& triangles, bool pin_border, bool hold_shore,
+           bool lips_overturn) {
             const auto xs = to_vector<double>(x, 1, "plan_untangle x"), ys = to_vector<double>(y, 1, "plan_untangle y");
             const auto t = to_vector<std::uint32_t>(triangles, 3, "plan_untangle triangles");
             return std::make_shared<wave::UntanglePlan>(
-                wave::plan_untangle(xs, ys, t, {.pin_border = pin_border, .hold_shore = hold_shore}));
+                wave::plan_untangle(xs, ys, t, {.lips_overturn = lips_overturn, .pin_border = pin_border, .hold_shore = hold_shore}));
         },
         py::arg("x"), py::arg("y"), py::arg("triangles"), py::arg("pin_border") = true, py::arg("hold_shore") = true,
+        py::arg("lips_overturn") = true,
         "Plans untangling against the rest positions (m) and triangles: with pin_border the sides of their bounding "
         "rectangle stay straight, with hold_shore the other boundary (the shore) keeps its rest position in plan and "
-        "no triangle on it overturns (docs/inspect.md, untangling)");
+        "no triangle on it overturns; lips_overturn when the motion draws crests that turn over (Gonzato's eq. 7 as "
+        "drawn, Jeschke's tube): foamy triangles are lips, left to overturn; False for the bounded sections (the "
+        "defaults), which never turn over: every triangle is untangled (docs/inspect.md, untangling)");
 }
 
 void bind_breakers_and_ocean(py::module_& m) {
