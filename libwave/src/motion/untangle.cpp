@@ -121,10 +121,11 @@ void ramp_factors(const UntanglePlan& plan, const FoamWeight& foam_weight, Untan
         const double a0 = plan.rest_area[t];
         if (!(a0 > 0.0)) continue;
         const std::uint32_t* v = &plan.triangles[3 * t];
-        // In the shore's band a stretch damps sooner: the held shore cannot follow its neighbours.
+        // In the shore's band a stretch damps sooner and a squeeze keeps more of the area: the
+        // held shore cannot follow its neighbours.
         const bool by_shore = !plan.shore_ring.empty() &&
                               std::min({plan.shore_ring[v[0]], plan.shore_ring[v[1]], plan.shore_ring[v[2]]}) < o.shore_band_rings;
-        const double st = strain_factor(plan, t, w.factor, w.dx, w.dy, o.ramp_area_ratio,
+        const double st = strain_factor(plan, t, w.factor, w.dx, w.dy, by_shore ? o.shore_band_area_ratio : o.ramp_area_ratio,
                                         by_shore ? kShoreStretch : kStretch);
         for (int c = 0; c < 3; ++c) g[v[c]] = std::min(g[v[c]], st);
     }
@@ -224,6 +225,9 @@ UntanglePlan plan_untangle(std::span<const double> rest_x, std::span<const doubl
     if (!(options.ramp_area_ratio > options.min_area_ratio && options.ramp_area_ratio < 1.0))
         throw InputError("untangle: ramp_area_ratio " + std::to_string(options.ramp_area_ratio) + " is not in (min_area_ratio " +
                          std::to_string(options.min_area_ratio) + ", 1)");
+    if (!(options.shore_band_area_ratio >= options.ramp_area_ratio && options.shore_band_area_ratio < 1.0))
+        throw InputError("untangle: shore_band_area_ratio " + std::to_string(options.shore_band_area_ratio) +
+                         " is not in [ramp_area_ratio " + std::to_string(options.ramp_area_ratio) + ", 1)");
     if (!(options.ramp_slope >= 0.0 && std::isfinite(options.ramp_slope)))
         throw InputError("untangle: ramp_slope " + std::to_string(options.ramp_slope) + " is not a finite number >= 0");
     if (options.shore_band_rings > 254)
