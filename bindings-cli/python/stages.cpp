@@ -31,6 +31,16 @@ namespace {
 
 using Shared = py::object;  // a bound libwave object, the owner of the views it returns
 
+// One of two named values of a keyword argument: `what` is "function: key" for the
+// message, which names both names and the value given.
+template <class Value>
+Value either(const char* what, const std::string& given, const char* first, Value first_value, const char* second,
+             Value second_value) {
+    if (given == first) return first_value;
+    if (given == second) return second_value;
+    throw wave::InputError(std::string(what) + " must be \"" + first + "\" or \"" + second + "\", got \"" + given + "\"");
+}
+
 wave::WaveTrain train(double period, double amplitude, const std::array<double, 2>& direction) {
     return {.period = period, .amplitude = amplitude, .direction_x = direction[0], .direction_y = direction[1]};
 }
@@ -105,11 +115,8 @@ void bind_seafloor(py::module_& m) {
         [](const std::string& path, std::optional<std::string> sign, double vertical_scale, double vertical_offset,
            double horizontal_scale, std::optional<double> nodata) {
             wave::ReadOptions o;
-            if (sign) {
-                if (*sign != "elevation" && *sign != "depth")
-                    throw wave::InputError("read_seafloor: sign must be \"elevation\" or \"depth\", got \"" + *sign + "\"");
-                o.sign = *sign == "depth" ? wave::ValueSign::depth : wave::ValueSign::elevation;
-            }
+            if (sign)
+                o.sign = either("read_seafloor: sign", *sign, "elevation", wave::ValueSign::elevation, "depth", wave::ValueSign::depth);
             o.vertical_scale = vertical_scale, o.vertical_offset = vertical_offset, o.horizontal_scale = horizontal_scale;
             o.nodata_value = nodata;
             py::gil_scoped_release release;
@@ -191,9 +198,8 @@ void bind_fronts(py::module_& m) {
            const wave::DepthContours* isobaths, const std::string& refraction, double ray_spacing, double step,
            double split_distance, double max_turn_degrees, double breaker_index, std::size_t max_rays) {
             wave::FrontOptions o;
-            if (refraction != "gradient" && refraction != "isobath")
-                throw wave::InputError("trace_fronts: refraction must be \"gradient\" or \"isobath\", got \"" + refraction + "\"");
-            o.refraction = refraction == "isobath" ? wave::FrontRefraction::isobath : wave::FrontRefraction::gradient;
+            o.refraction = either("trace_fronts: refraction", refraction, "gradient", wave::FrontRefraction::gradient, "isobath",
+                                  wave::FrontRefraction::isobath);
             o.ray_spacing = ray_spacing, o.step = step, o.split_distance = split_distance;
             o.max_turn_degrees = max_turn_degrees, o.breaker_index = breaker_index, o.max_rays = max_rays;
             py::gil_scoped_release release;
@@ -495,9 +501,7 @@ void bind_breakers_and_ocean(py::module_& m) {
            const std::string& lip) {
             wave::JeschkeBreakerOptions o;
             o.breaker_index = breaker_index, o.wave_variation = wave_variation;
-            if (lip != "outer" && lip != "tube")
-                throw wave::InputError("plan_jeschke_breakers: lip must be \"outer\" or \"tube\", got \"" + lip + "\"");
-            o.lip = lip == "tube" ? wave::BreakerLip::tube : wave::BreakerLip::outer;
+            o.lip = either("plan_jeschke_breakers: lip", lip, "outer", wave::BreakerLip::outer, "tube", wave::BreakerLip::tube);
             py::gil_scoped_release release;
             return std::make_shared<wave::JeschkeMotionPlan>(
                 wave::plan_jeschke_breakers(strips, 2.0 * amplitude, wave::deep_water_wavelength(period), o));
@@ -567,9 +571,7 @@ void bind_shading(py::module_& m) {
         [](const py::array& positions, const py::array& normals, std::array<double, 3> camera, const std::string& model) {
             wave::FresnelOptions o;
             o.camera = camera;
-            if (model != "exact" && model != "tso")
-                throw wave::InputError("fresnel_weights: model must be \"exact\" or \"tso\", got \"" + model + "\"");
-            o.model = model == "tso" ? wave::FresnelModel::tso : wave::FresnelModel::exact;
+            o.model = either("fresnel_weights: model", model, "exact", wave::FresnelModel::exact, "tso", wave::FresnelModel::tso);
             const auto p = to_vector<float>(positions, 3, "fresnel_weights positions");
             const auto n = to_vector<float>(normals, 3, "fresnel_weights normals");
             py::array_t<float> reflect(ssize(p.size() / 3)), refract(ssize(p.size() / 3));

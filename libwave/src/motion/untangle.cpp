@@ -289,7 +289,8 @@ UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> 
         if (plan.pinned[v] & 5) dx[v] = 0.0;
         if (plan.pinned[v] & 6) dy[v] = 0.0;
     }
-    const auto lip = [&](std::uint32_t v) { return o.lips_overturn && !foam.empty() && foam[v] >= o.lip_foam; };
+    const bool lips = o.lips_overturn && !foam.empty();  // foamy crests may turn over
+    const auto lip = [&](std::uint32_t v) { return lips && foam[v] >= o.lip_foam; };
     const auto shore = [&](std::uint32_t v) { return !plan.pinned.empty() && (plan.pinned[v] & 4) != 0; };
     // Pinned: every vertex but a lip's stays inside the rest rectangle by its factor
     // (a lip is clamped at the end: its triangles are all lips).
@@ -304,8 +305,7 @@ UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> 
                                    0.0, 1.0);
         }
     const auto foam_weight = [&](std::size_t v) {
-        if (!o.lips_overturn || foam.empty() || (!plan.shore_ring.empty() && plan.shore_ring[v] <= o.shore_band_rings))
-            return 0.0;  // no lips, or none by the shore
+        if (!lips || (!plan.shore_ring.empty() && plan.shore_ring[v] <= o.shore_band_rings)) return 0.0;  // none by the shore
         return detail::smoothstep(o.lip_foam, 1.0, static_cast<double>(foam[v]));
     };
     // One ramp: a second on the first's factors found compressions that the first's
