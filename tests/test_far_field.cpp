@@ -22,14 +22,15 @@ using namespace wave;
 constexpr double kSide = 10.0, kReach = 200.0;
 
 // A flat grid of 11 × 11 nodes over [0, 10]², optionally without its top-right quarter
-// (x > 5 and y > 5): its border then leaves the rectangle there, like a shore.
+// (x > 5 and y > 5): its border then leaves the rectangle there, like a shore; `graded`:
+// the columns at x = i²/10, so that the border's edges grow from 0.1 m to 1.9 m.
 struct Surface {
     std::vector<double> x, y;
     std::vector<std::uint32_t> triangles;
-    explicit Surface(bool notch) {
+    explicit Surface(bool notch, bool graded = false) {
         for (std::size_t j = 0; j <= 10; ++j)
             for (std::size_t i = 0; i <= 10; ++i) {
-                x.push_back(double(i));
+                x.push_back(graded ? double(i * i) / 10.0 : double(i));
                 y.push_back(double(j));
             }
         const std::vector<std::uint32_t> all = grid_triangles(11, 11);
@@ -87,7 +88,9 @@ TEST(SeaSkirt, SurroundsAnAllWaterSurfaceOutToTheFarRectangle) {
     // The annulus between [0, 10]² and [−R, 10 + R]², exactly.
     const double full = (kSide + 2.0 * kReach) * (kSide + 2.0 * kReach) - kSide * kSide;
     EXPECT_NEAR(area, full, 1e-9 * full);
-    EXPECT_GE(smallest, 15.0);
+    // The refinement's 20° everywhere, also on the border edges it cannot split (each
+    // has its equilateral apex; 17° on the coast before).
+    EXPECT_GE(smallest, 20.0);
     // New vertices lie outside the rectangle; the surface's own ones the skirt uses are
     // on its border; every boundary edge of the skirt lies on the rectangle or the far one.
     for (std::size_t v = 0; v < s.vertex_count(); ++v)
@@ -107,13 +110,27 @@ TEST(SeaSkirt, SurroundsAnAllWaterSurfaceOutToTheFarRectangle) {
     EXPECT_EQ(inner, 40u);  // each of the grid's 40 border edges, shared once
 }
 
+// The apexes are left out where neighbouring border edges differ by more than 2.5 ×
+// (here 3 × at x = 0): two apexes would make 19° there.
+TEST(SeaSkirt, KeepsItsSmallestAngleOnAGradedBorder) {
+    const Surface m(false, true);
+    const SeaSkirt s = plan_sea_skirt(m.x, m.y, m.triangles, options());
+    double smallest = 180.0;
+    for (std::size_t t = 0; t < s.triangles.size(); t += 3) {
+        const Corner a = at(s, s.triangles[t], m), b = at(s, s.triangles[t + 1], m), c = at(s, s.triangles[t + 2], m);
+        smallest = std::min(smallest, smallest_angle_deg(a, b, c));
+    }
+    EXPECT_GE(smallest, 20.0);
+}
+
 TEST(SeaSkirt, EndsOnStraightCutsWhereTheBorderIsDry) {
     const Surface m(true);
     const SeaSkirt s = plan_sea_skirt(m.x, m.y, m.triangles, options());
-    double area = 0.0;
+    double area = 0.0, smallest = 180.0;
     for (std::size_t t = 0; t < s.triangles.size(); t += 3) {
         const Corner a = at(s, s.triangles[t], m), b = at(s, s.triangles[t + 1], m), c = at(s, s.triangles[t + 2], m);
         area += signed_area(a, b, c);
+        smallest = std::min(smallest, smallest_angle_deg(a, b, c));
         const double cx = (a.x + b.x + c.x) / 3.0, cy = (a.y + b.y + c.y) / 3.0;
         // Nothing beyond the dry border (the right side above y = 5, the top right of x = 5, their corner).
         EXPECT_FALSE((cx > kSide && cy > 5.0) || (cy > kSide && cx > 5.0)) << cx << ", " << cy;
@@ -121,6 +138,9 @@ TEST(SeaSkirt, EndsOnStraightCutsWhereTheBorderIsDry) {
     const double full = (kSide + 2.0 * kReach) * (kSide + 2.0 * kReach) - kSide * kSide;
     const double dry = 5.0 * kReach + 5.0 * kReach + kReach * kReach;
     EXPECT_NEAR(area, full - dry, 1e-9 * full);
+    // In the corners where a cut leaves the border too (its first step as long as the
+    // border edge beside it; a quarter of the size made 14°).
+    EXPECT_GE(smallest, 20.0);
     // The anchors are the nearest border edge's ends, weights on [0, 1].
     for (std::size_t v = 0; v < s.vertex_count(); ++v) {
         const double bx = std::clamp(s.x[v], 0.0, kSide), by = std::clamp(s.y[v], 0.0, kSide);

@@ -266,6 +266,9 @@ void bind_surfaces(py::module_& m) {
     def_array(strip_class, "k", &wave::RayStrips::k);
     def_array(strip_class, "amplitude", &wave::RayStrips::amplitude);
     def_array(strip_class, "depth", &wave::RayStrips::depth);
+    def_array(strip_class, "dir_x", &wave::RayStrips::dir_x, "unit direction of travel, x");
+    def_array(strip_class, "dir_y", &wave::RayStrips::dir_y, "unit direction of travel, y");
+    def_array(strip_class, "caustic", &wave::RayStrips::caustic, "1 where rays crossed");
     strip_class.def_property_readonly("triangles", [](Shared self) {
               const auto& s = self.cast<const wave::RayStrips&>();
               return view(s.triangles, {ssize(s.triangle_count()), 3}, self);

@@ -257,40 +257,6 @@ std::size_t take_field_amplitudes(const WaveField& field, FrontSet& fronts) noex
     return taken;
 }
 
-std::size_t fill_strip_gaps(const WaveField& field, const Seafloor& seafloor, RayStrips& strips) {
-    const std::size_t n = strips.vertex_count();
-    // The rays' phase against the field's, where both are.
-    std::complex<double> offset_sum(0.0, 0.0);
-    std::vector<std::size_t> gaps;
-    for (std::size_t v = 0; v < n; ++v) {
-        if (strips.k[v] > 0.0) {
-            const FieldSample s = sample_wave_field(field, strips.x[v], strips.y[v]);
-            if (s.wet && std::abs(s.eta) > 0.0) offset_sum += std::polar(1.0, strips.phase[v] - std::arg(s.eta));
-        } else if (strips.depth[v] > 0.0) {
-            gaps.push_back(v);
-        }
-    }
-    if (gaps.empty() || std::abs(offset_sum) == 0.0) return 0;
-    const double offset = std::arg(offset_sum), period = 2.0 * std::numbers::pi / field.omega;
-    std::size_t filled = 0;
-    for (std::size_t v : gaps) {
-        const FieldSample s = sample_wave_field(field, strips.x[v], strips.y[v]);
-        if (!s.wet || !(std::abs(s.eta) > 0.0)) continue;
-        const DepthSample d = sample_depth(seafloor.grid, strips.x[v], strips.y[v]);
-        if (!(d.depth > 0.0)) continue;
-        strips.amplitude[v] = std::abs(s.eta);
-        strips.phase[v] = std::arg(s.eta) + offset;
-        strips.k[v] = wavenumber_for_period(period, d.depth);
-        strips.depth[v] = d.depth;
-        strips.dir_x[v] = s.dir_x;
-        strips.dir_y[v] = s.dir_y;
-        strips.slope[v] = std::hypot(d.dh_dx, d.dh_dy);
-        strips.rise[v] = -(d.dh_dx * s.dir_x + d.dh_dy * s.dir_y);
-        ++filled;
-    }
-    return filled;
-}
-
 std::size_t take_field_amplitudes(std::span<const WaveField> fields, RaySet& rays) noexcept {
     std::size_t taken = 0;
     for (std::size_t r = 0; r < rays.ray_count(); ++r) {

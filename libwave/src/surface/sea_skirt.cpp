@@ -189,15 +189,16 @@ void check(std::span<const double> x, std::span<const double> y, std::span<const
 }
 
 // Points from `from` to `to` (both included) along a straight line, spaced by the size
-// at each step.
-std::vector<Point> split_line(Point from, Point to, const BorderLookup& lookup, const SkirtSize& size) {
+// at each step; the first step `first` when it is > 0.
+std::vector<Point> split_line(Point from, Point to, const BorderLookup& lookup, const SkirtSize& size, double first = 0.0) {
     std::vector<Point> out{from};
     const double len = std::sqrt(CGAL::squared_distance(from, to));
     double s = 0.0;
     while (true) {
         const double mx = from.x() + (to.x() - from.x()) * s / len, my = from.y() + (to.y() - from.y()) * s / len;
         const BorderLookup::Hit h = lookup.at(mx, my);
-        const double step = 0.25 * size(h.bx, h.by, h.d, h.edge_length);  // constraints are never split: room for the refinement
+        // Constraints are never split: a quarter of the size leaves room for the refinement.
+        const double step = s == 0.0 && first > 0.0 ? first : 0.25 * size(h.bx, h.by, h.d, h.edge_length);
         const double left = len - s;
         if (left <= step) break;
         s += left < 2.0 * step ? 0.5 * left : step;
@@ -301,10 +302,15 @@ SeaSkirt plan_sea_skirt(std::span<const double> x, std::span<const double> y, st
         outer_points.emplace_back(p, q);
     if (!loop)
         for (const Chain& c : chains)
-            for (const auto& [v, side] : {std::pair{edges[c.first].a, edges[c.first].side}, {edges[c.last].b, edges[c.last].side}}) {
+            for (const BorderEdge* e : {&edges[c.first], &edges[c.last]}) {
+                const std::uint32_t v = e == &edges[c.first] ? e->a : e->b;
+                const int side = e->side;
                 const auto n = Rectangle::normal(side);
                 const Point from(x[v], y[v]), to(x[v] + R * n[0], y[v] + R * n[1]);
-                const std::vector<Point> cut = split_line(from, to, lookup, o.size);
+                // The first step as long as the border edge beside it: a right triangle of
+                // two equal legs in the corner (a quarter of the size made 14° there).
+                const double beside = std::hypot(x[e->b] - x[e->a], y[e->b] - y[e->a]);
+                const std::vector<Point> cut = split_line(from, to, lookup, o.size, beside);
                 cdt.insert_constraint(cut.begin(), cut.end());
                 outer_points.emplace_back(far.position(side, to.x(), to.y()), to);
             }
@@ -318,6 +324,30 @@ SeaSkirt plan_sea_skirt(std::span<const double> x, std::span<const double> y, st
     }
     outer.push_back(outer.front());
     cdt.insert_constraint(outer.begin(), outer.end());
+
+    // Each border edge's equilateral apex outside it, where the border is graded gently.
+    // The refinement never splits the border's edges, so it cannot mend a thin triangle
+    // on one (its circumcentre would encroach on the edge): without these, the first
+    // ring had triangles of 17° on the coast, which the motion squeezed to 11°. Left to
+    // the refinement: a chain's end edges (their apex would crowd the cut that starts
+    // there), edges at a corner of the rectangle, and edges more than twice as long or
+    // short as a neighbour (two apexes of edges of ratio 3 make 19°).
+    const auto length = [&](std::size_t i) { return std::hypot(x[edges[i].b] - x[edges[i].a], y[edges[i].b] - y[edges[i].a]); };
+    for (const Chain& c : chains)
+        for (std::size_t i = c.first;; i = (i + 1) % edges.size()) {
+            const std::size_t prev = (i + edges.size() - 1) % edges.size(), next = (i + 1) % edges.size();
+            const bool ends = !loop && (i == c.first || i == c.last);
+            const bool corner = edges[prev].side != edges[i].side || edges[next].side != edges[i].side;
+            const double len = length(i);
+            const auto even = [&](std::size_t j) { return length(j) <= 2.5 * len && len <= 2.5 * length(j); };
+            if (!ends && !corner && even(prev) && even(next)) {
+                const BorderEdge& e = edges[i];
+                const auto n = Rectangle::normal(e.side);
+                const double h = 0.5 * std::sqrt(3.0) * len;
+                cdt.insert(Point(0.5 * (x[e.a] + x[e.b]) + h * n[0], 0.5 * (y[e.a] + y[e.b]) + h * n[1]));
+            }
+            if (i == c.last) break;
+        }
 
     // Water beyond each chain: a seed just outside its first edge.
     std::vector<Point> seeds;
