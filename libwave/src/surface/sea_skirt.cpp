@@ -300,20 +300,27 @@ SeaSkirt plan_sea_skirt(std::span<const double> x, std::span<const double> y, st
     for (const auto& [p, q] : {std::pair{0.0, Point(far.x0, far.y0)}, {far.w(), Point(far.x1, far.y0)},
                                {far.w() + far.h(), Point(far.x1, far.y1)}, {2.0 * far.w() + far.h(), Point(far.x0, far.y1)}})
         outer_points.emplace_back(p, q);
-    if (!loop)
+    if (!loop) {
+        // A cut's first step is as long as the border edge beside it: a right triangle of
+        // two equal legs in the corner (a quarter of the size made 14° there). Where two
+        // chains meet at one vertex (the strips' sawtoothed border), both cuts take the
+        // shorter step, so that they coincide.
+        std::map<std::uint32_t, double> beside;
+        const auto note = [&](std::uint32_t v, const BorderEdge& e) {
+            const double len = std::hypot(x[e.b] - x[e.a], y[e.b] - y[e.a]);
+            const auto [it, fresh] = beside.emplace(v, len);
+            if (!fresh) it->second = std::min(it->second, len);
+        };
+        for (const Chain& c : chains) note(edges[c.first].a, edges[c.first]), note(edges[c.last].b, edges[c.last]);
         for (const Chain& c : chains)
-            for (const BorderEdge* e : {&edges[c.first], &edges[c.last]}) {
-                const std::uint32_t v = e == &edges[c.first] ? e->a : e->b;
-                const int side = e->side;
+            for (const auto& [v, side] : {std::pair{edges[c.first].a, edges[c.first].side}, {edges[c.last].b, edges[c.last].side}}) {
                 const auto n = Rectangle::normal(side);
                 const Point from(x[v], y[v]), to(x[v] + R * n[0], y[v] + R * n[1]);
-                // The first step as long as the border edge beside it: a right triangle of
-                // two equal legs in the corner (a quarter of the size made 14° there).
-                const double beside = std::hypot(x[e->b] - x[e->a], y[e->b] - y[e->a]);
-                const std::vector<Point> cut = split_line(from, to, lookup, o.size, beside);
+                const std::vector<Point> cut = split_line(from, to, lookup, o.size, beside.at(v));
                 cdt.insert_constraint(cut.begin(), cut.end());
                 outer_points.emplace_back(far.position(side, to.x(), to.y()), to);
             }
+    }
     std::sort(outer_points.begin(), outer_points.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     std::vector<Point> outer;
     for (std::size_t i = 0; i < outer_points.size(); ++i) {
