@@ -15,8 +15,8 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
-#include <tuple>
 #include <numbers>
+#include <tuple>
 #include <vector>
 
 namespace wave {
@@ -138,7 +138,7 @@ std::vector<std::uint8_t> tear_band(const RayStrips& s, const VertexFaces& aroun
     std::vector<std::uint8_t> band(n, 0);
     const auto length = [&](std::uint32_t a, std::uint32_t b) { return std::hypot(s.x[a] - s.x[b], s.y[a] - s.y[b]); };
     // (distance, vertex, reach) in a min-heap: a multi-source Dijkstra, each source
-    // reaching half its own wavelength.
+    // reaching its own wavelength.
     using Entry = std::tuple<double, std::uint32_t, double>;
     std::vector<Entry> heap;
     std::vector<double> best(n, std::numeric_limits<double>::infinity());
