@@ -208,6 +208,52 @@ std::vector<Point> split_line(Point from, Point to, const BorderLookup& lookup, 
     return out;
 }
 
+double edge_length(const BorderEdge& e, std::span<const double> x, std::span<const double> y) {
+    return std::hypot(x[e.b] - x[e.a], y[e.b] - y[e.a]);
+}
+
+// Each cut's first step, by the chain end it leaves from: as long as the border edge
+// beside it, so that the corner holds a right triangle of two equal legs (a quarter of
+// the size made 14° there). Where two chains meet at one vertex (the strips'
+// sawtoothed border), both cuts take the shorter step, so that they coincide.
+std::map<std::uint32_t, double> cut_first_steps(const std::vector<BorderEdge>& edges, const std::vector<Chain>& chains,
+                                                std::span<const double> x, std::span<const double> y) {
+    std::map<std::uint32_t, double> out;
+    const auto note = [&](std::uint32_t v, const BorderEdge& e) {
+        const auto [it, fresh] = out.emplace(v, edge_length(e, x, y));
+        if (!fresh) it->second = std::min(it->second, edge_length(e, x, y));
+    };
+    for (const Chain& c : chains) note(edges[c.first].a, edges[c.first]), note(edges[c.last].b, edges[c.last]);
+    return out;
+}
+
+// Each border edge's equilateral apex outside it, where the border is graded gently.
+// The refinement never splits the border's edges, so it cannot mend a thin triangle on
+// one (its circumcentre would encroach on the edge): without these, the first ring had
+// triangles of 17° on the coast, which the motion squeezed to 11°. Left to the
+// refinement: a chain's end edges (their apex would crowd the cut that starts there),
+// edges at a corner of the rectangle, and edges more than 2.5 × as long or as short as
+// a neighbour (two apexes of edges of ratio 3 make 19°).
+void insert_apexes(CDT& cdt, const std::vector<BorderEdge>& edges, const std::vector<Chain>& chains, bool loop,
+                   std::span<const double> x, std::span<const double> y) {
+    const auto length = [&](std::size_t i) { return edge_length(edges[i], x, y); };
+    for (const Chain& c : chains)
+        for (std::size_t i = c.first;; i = (i + 1) % edges.size()) {
+            const std::size_t prev = (i + edges.size() - 1) % edges.size(), next = (i + 1) % edges.size();
+            const bool ends = !loop && (i == c.first || i == c.last);
+            const bool corner = edges[prev].side != edges[i].side || edges[next].side != edges[i].side;
+            const double len = length(i);
+            const auto even = [&](std::size_t j) { return length(j) <= 2.5 * len && len <= 2.5 * length(j); };
+            if (!ends && !corner && even(prev) && even(next)) {
+                const BorderEdge& e = edges[i];
+                const auto n = Rectangle::normal(e.side);
+                const double h = 0.5 * std::sqrt(3.0) * len;
+                cdt.insert(Point(0.5 * (x[e.a] + x[e.b]) + h * n[0], 0.5 * (y[e.a] + y[e.b]) + h * n[1]));
+            }
+            if (i == c.last) break;
+        }
+}
+
 // The skirt's vertex count before meshing: the wet outside area over the target triangle
 // areas (√3/4 s² each, half as many vertices as triangles), integrated outwards from
 // each border edge (a strip of its length) and each wet corner (a quarter disc) on
@@ -301,22 +347,12 @@ SeaSkirt plan_sea_skirt(std::span<const double> x, std::span<const double> y, st
                                {far.w() + far.h(), Point(far.x1, far.y1)}, {2.0 * far.w() + far.h(), Point(far.x0, far.y1)}})
         outer_points.emplace_back(p, q);
     if (!loop) {
-        // A cut's first step is as long as the border edge beside it: a right triangle of
-        // two equal legs in the corner (a quarter of the size made 14° there). Where two
-        // chains meet at one vertex (the strips' sawtoothed border), both cuts take the
-        // shorter step, so that they coincide.
-        std::map<std::uint32_t, double> beside;
-        const auto note = [&](std::uint32_t v, const BorderEdge& e) {
-            const double len = std::hypot(x[e.b] - x[e.a], y[e.b] - y[e.a]);
-            const auto [it, fresh] = beside.emplace(v, len);
-            if (!fresh) it->second = std::min(it->second, len);
-        };
-        for (const Chain& c : chains) note(edges[c.first].a, edges[c.first]), note(edges[c.last].b, edges[c.last]);
+        const std::map<std::uint32_t, double> first_step = cut_first_steps(edges, chains, x, y);
         for (const Chain& c : chains)
             for (const auto& [v, side] : {std::pair{edges[c.first].a, edges[c.first].side}, {edges[c.last].b, edges[c.last].side}}) {
                 const auto n = Rectangle::normal(side);
                 const Point from(x[v], y[v]), to(x[v] + R * n[0], y[v] + R * n[1]);
-                const std::vector<Point> cut = split_line(from, to, lookup, o.size, beside.at(v));
+                const std::vector<Point> cut = split_line(from, to, lookup, o.size, first_step.at(v));
                 cdt.insert_constraint(cut.begin(), cut.end());
                 outer_points.emplace_back(far.position(side, to.x(), to.y()), to);
             }
@@ -332,29 +368,7 @@ SeaSkirt plan_sea_skirt(std::span<const double> x, std::span<const double> y, st
     outer.push_back(outer.front());
     cdt.insert_constraint(outer.begin(), outer.end());
 
-    // Each border edge's equilateral apex outside it, where the border is graded gently.
-    // The refinement never splits the border's edges, so it cannot mend a thin triangle
-    // on one (its circumcentre would encroach on the edge): without these, the first
-    // ring had triangles of 17° on the coast, which the motion squeezed to 11°. Left to
-    // the refinement: a chain's end edges (their apex would crowd the cut that starts
-    // there), edges at a corner of the rectangle, and edges more than twice as long or
-    // short as a neighbour (two apexes of edges of ratio 3 make 19°).
-    const auto length = [&](std::size_t i) { return std::hypot(x[edges[i].b] - x[edges[i].a], y[edges[i].b] - y[edges[i].a]); };
-    for (const Chain& c : chains)
-        for (std::size_t i = c.first;; i = (i + 1) % edges.size()) {
-            const std::size_t prev = (i + edges.size() - 1) % edges.size(), next = (i + 1) % edges.size();
-            const bool ends = !loop && (i == c.first || i == c.last);
-            const bool corner = edges[prev].side != edges[i].side || edges[next].side != edges[i].side;
-            const double len = length(i);
-            const auto even = [&](std::size_t j) { return length(j) <= 2.5 * len && len <= 2.5 * length(j); };
-            if (!ends && !corner && even(prev) && even(next)) {
-                const BorderEdge& e = edges[i];
-                const auto n = Rectangle::normal(e.side);
-                const double h = 0.5 * std::sqrt(3.0) * len;
-                cdt.insert(Point(0.5 * (x[e.a] + x[e.b]) + h * n[0], 0.5 * (y[e.a] + y[e.b]) + h * n[1]));
-            }
-            if (i == c.last) break;
-        }
+    insert_apexes(cdt, edges, chains, loop, x, y);
 
     // Water beyond each chain: a seed just outside its first edge.
     std::vector<Point> seeds;
