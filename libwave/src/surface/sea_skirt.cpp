@@ -74,6 +74,10 @@ struct BorderEdge {
     int side;
 };
 
+double edge_length(const BorderEdge& e, std::span<const double> x, std::span<const double> y) {
+    return std::hypot(x[e.b] - x[e.a], y[e.b] - y[e.a]);
+}
+
 // The surface's boundary edges (one triangle) with both ends on one side.
 std::vector<BorderEdge> border_edges(std::span<const double> x, std::span<const double> y,
                                      std::span<const std::uint32_t> triangles, const Rectangle& r, double tol) {
@@ -170,7 +174,7 @@ struct BorderLookup {
         h.a = best->a;
         h.b = best->b;
         h.weight = static_cast<float>(1.0 - t);
-        h.edge_length = std::hypot(x[best->b] - x[best->a], y[best->b] - y[best->a]);
+        h.edge_length = edge_length(*best, x, y);
         if (h.weight >= 1.0f) h.b = h.a;
         if (h.weight <= 0.0f) h.a = h.b, h.weight = 1.0f;
         return h;
@@ -206,10 +210,6 @@ std::vector<Point> split_line(Point from, Point to, const BorderLookup& lookup, 
     }
     out.push_back(to);
     return out;
-}
-
-double edge_length(const BorderEdge& e, std::span<const double> x, std::span<const double> y) {
-    return std::hypot(x[e.b] - x[e.a], y[e.b] - y[e.a]);
 }
 
 // Each cut's first step, by the chain end it leaves from: as long as the border edge
@@ -275,7 +275,7 @@ double estimate_vertices(const std::vector<BorderEdge>& edges, const std::vector
     };
     double triangles = 0.0;
     for (const BorderEdge& e : edges) {
-        const double len = std::hypot(x[e.b] - x[e.a], y[e.b] - y[e.a]);
+        const double len = edge_length(e, x, y);
         triangles += integrate(0.5 * (x[e.a] + x[e.b]), 0.5 * (y[e.a] + y[e.b]), len, len, false);
     }
     // Corners inside a chain (the chain turns there): the edge that arrives at a corner
@@ -375,7 +375,7 @@ SeaSkirt plan_sea_skirt(std::span<const double> x, std::span<const double> y, st
     for (const Chain& c : chains) {
         const BorderEdge& e = edges[c.first];
         const auto n = Rectangle::normal(e.side);
-        const double len = std::hypot(x[e.b] - x[e.a], y[e.b] - y[e.a]);
+        const double len = edge_length(e, x, y);
         seeds.emplace_back(0.5 * (x[e.a] + x[e.b]) + 0.25 * len * n[0], 0.5 * (y[e.a] + y[e.b]) + 0.25 * len * n[1]);
     }
     const double sine = std::sin(o.min_angle_deg * std::numbers::pi / 180.0);
