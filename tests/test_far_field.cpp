@@ -11,6 +11,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
+#include <cstdio>
 #include <map>
 #include <numbers>
 #include <vector>
@@ -284,6 +286,48 @@ TEST(FarField, TheBordersFoamRunsOnWithItsResidual) {
     EXPECT_GT(far, 10u);
     std::vector<float> short_foam(m.x.size());
     EXPECT_THROW(far_field_foam(p, short_foam), InputError);
+}
+
+TEST(FarField, ABeachMetByTheBorderDoesNotScrambleTheCarriedPhase) {
+    // The border's right side (x = 10) crosses a beach: the depth beyond it rises from
+    // 5 cm at y = 0 to 0.5 m at y = 10, so a 6 s wave's k there falls from 1.5 to
+    // 0.47 rad/m along the side. Carried out along x, its phase k(y)·d varies along y by
+    // (dk/dy)·d: 13 rad/m 20 m out at y = 0, more than the skirt's 0.3 m edges there can
+    // carry. No skirt edge may then join vertices whose carried phases differ by more
+    // than a third of a turn (the fade's limit: three edges a wavelength, the wave's
+    // length taken from the phase's gradient, along the border too).
+    const Surface m(false);
+    SeaSkirtOptions o = options();
+    o.size = [](double bx, double, double d, double edge) { return bx == kSide && d < 25.0 ? 0.3 : std::max(edge, 1.0 + 0.25 * d); };
+    const SeaSkirt s = plan_sea_skirt(m.x, m.y, m.triangles, o);
+    ElevationGrid beach;
+    beach.nx = 2, beach.ny = 11;
+    beach.x0 = -kReach, beach.dx = 2.0 * kReach + kSide, beach.y0 = 0.0, beach.dy = 1.0;
+    for (std::size_t j = 0; j < 11; ++j)
+        for (int i = 0; i < 2; ++i) beach.z.push_back(-(0.05 + 0.045 * double(j)));
+    const double omega = 2.0 * std::numbers::pi / 6.0, k = wavenumber_for_period(6.0, 0.26);
+    const std::vector<double> times{0.0, 0.9, 1.8, 2.7, 3.6, 4.5, 5.4};
+    const std::vector<float> samples = gerstner_frames(m, 0.05, k, omega, times);
+    const FarFieldWave wave{.omega = omega, .direction_x = 1.0, .direction_y = 0.0};
+    const FarFieldPlan p = plan_far_field(s, beach, std::span(&wave, 1), m.x, m.y, times, samples);
+    const auto z_of = [&](std::uint32_t v) -> std::complex<double> {
+        if (v < s.surface_vertices) return 0.0;
+        const float* a = &p.amplitude[6 * (v - s.surface_vertices) + 4];
+        return {a[0], a[1]};
+    };
+    double worst = 0.0;
+    std::size_t carried = 0;
+    for (std::size_t t = 0; t < s.triangles.size(); t += 3)
+        for (int c = 0; c < 3; ++c) {
+            const std::uint32_t u = s.triangles[t + c], v = s.triangles[t + (c + 1) % 3];
+            const std::complex<double> a = z_of(u), b = z_of(v);
+            if (std::abs(a) < 1e-6 || std::abs(b) < 1e-6 || std::min(at(s, u, m).x, at(s, v, m).x) < kSide) continue;
+            worst = std::max(worst, std::abs(std::arg(a * std::conj(b))));
+            ++carried;
+        }
+    std::printf("beyond the beach: %zu edges carry the wave, largest phase step %.2f rad\n", carried / 2, worst);
+    EXPECT_GT(carried, 100u);
+    EXPECT_LT(worst, 2.0 * std::numbers::pi / 3.0);
 }
 
 TEST(FarField, RefusesTooFewSamplesAndMismatchedSizes) {

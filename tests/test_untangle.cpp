@@ -129,8 +129,9 @@ std::vector<float> folded_wave(const Grid& g, double qk, double shift = 0.0) {
 
 TEST(Untangle, AFoldingWaveKeepsEveryTriangleUpAndTheCrestsWhereTheyWere) {
     const Grid g(40, 0.5);
-    // The passes alone (the ramp's own test follows).
-    const UntanglePlan plan = plan_untangle(g.x, g.y, g.triangles, {.ramp_slope = 0.0});
+    // The passes alone (the ramp's own test follows), for the area only (the angle's
+    // tests follow).
+    const UntanglePlan plan = plan_untangle(g.x, g.y, g.triangles, {.ramp_slope = 0.0, .min_angle_degrees = 0.0});
     std::vector<float> p = folded_wave(g, 1.6);
     ASSERT_LT(smallest_area_ratio(g, p), 0.0);  // folded as moved
     const std::vector<float> moved = p;
@@ -403,6 +404,109 @@ TEST(Untangle, WhereRaysPartTheSeamStretchesAtMostTwoAndAHalfTimes) {
     EXPECT_EQ(far_moved, far);
 }
 
+// The smallest angle (degrees, in 3D) over the triangles.
+double smallest_angle(const std::vector<std::uint32_t>& triangles, const std::vector<float>& p) {
+    double lowest = 180.0;
+    for (std::size_t t = 0; t < triangles.size() / 3; ++t)
+        for (int c = 0; c < 3; ++c) {
+            const std::uint32_t a = triangles[3 * t + c], b = triangles[3 * t + (c + 1) % 3], d = triangles[3 * t + (c + 2) % 3];
+            double u[3], w[3];
+            for (int k = 0; k < 3; ++k) u[k] = double(p[3 * b + k]) - p[3 * a + k], w[k] = double(p[3 * d + k]) - p[3 * a + k];
+            const double dot = u[0] * w[0] + u[1] * w[1] + u[2] * w[2];
+            const double cross = std::hypot(u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]);
+            lowest = std::min(lowest, std::atan2(cross, dot) * 180.0 / std::numbers::pi);
+        }
+    return lowest;
+}
+
+TEST(Untangle, AMotionThatThinsTrianglesKeepsSixteenDegrees) {
+    // The grid's right isosceles triangles squeezed to 0.55 along x and stretched 2.4 ×
+    // along y: within the ramp's area and stretch bounds (0.55 > 1 − √0.3, 2.4 < 2.5),
+    // but the 45° angles go to atan(0.55 / 2.4) = 12.9°. Every triangle alike, so every
+    // vertex takes the factor s with (1 − 0.45 s) / (1 + 1.4 s) = tan 16°, 2 % inside.
+    const Grid g(12, 1.0);
+    std::vector<float> moved = g.rest();
+    for (std::size_t v = 0; v < g.x.size(); ++v) {
+        moved[3 * v] += float(-0.45 * (g.x[v] - 5.5));
+        moved[3 * v + 1] += float(1.4 * (g.y[v] - 5.5));
+        moved[3 * v + 2] = 0.1f;
+    }
+    const UntangleOptions free{.pin_border = false, .hold_shore = false};
+    std::vector<float> p = moved;
+    untangle_motion(plan_untangle(g.x, g.y, g.triangles, {.pin_border = false, .hold_shore = false, .min_angle_degrees = 0.0}), {}, p);
+    EXPECT_NEAR(smallest_angle(g.triangles, p), std::atan(0.55 / 2.4) * 180.0 / std::numbers::pi, 1e-3);  // the witness: left alone
+    p = moved;
+    untangle_motion(plan_untangle(g.x, g.y, g.triangles, free), {}, p);
+    const double tan16 = std::tan(16.0 * std::numbers::pi / 180.0), s = 0.98 * (1.0 - tan16) / (0.45 + 1.4 * tan16);
+    for (std::size_t v = 0; v < g.x.size(); ++v) {
+        EXPECT_NEAR(p[3 * v], g.x[v] - 0.45 * s * (g.x[v] - 5.5), 1e-5) << v;
+        EXPECT_NEAR(p[3 * v + 1], g.y[v] + 1.4 * s * (g.y[v] - 5.5), 1e-5) << v;
+        EXPECT_EQ(p[3 * v + 2], 0.1f);  // heights kept
+    }
+    EXPECT_GT(smallest_angle(g.triangles, p), 16.0);
+}
+
+TEST(Untangle, AChoppyWaveKeepsSixteenDegrees) {
+    // The folding wave (Q·k = 1.6) with its crests also pulled along them: squeezed one way
+    // and stretched the other. Over a whole period, no triangle (45° at rest) goes below 16°.
+    const Grid g(40, 0.5);
+    const auto lowest_over_period = [&](const UntangleOptions& options) {
+        const UntanglePlan plan = plan_untangle(g.x, g.y, g.triangles, options);
+        double lowest = 180.0;
+        for (int i = 0; i < 24; ++i) {
+            const double shift = 2.0 * std::numbers::pi * i / 24.0;
+            std::vector<float> p = folded_wave(g, 1.6, shift);
+            for (std::size_t v = 0; v < g.x.size(); ++v)
+                p[3 * v + 1] += float(0.6 * std::cos(2.0 * std::numbers::pi / 8.0 * g.x[v] + 0.3 * g.y[v] - shift));
+            untangle_motion(plan, {}, p);
+            lowest = std::min(lowest, smallest_angle(g.triangles, p));
+        }
+        return lowest;
+    };
+    const double with = lowest_over_period({}), without = lowest_over_period({.min_angle_degrees = 0.0});
+    std::printf("smallest angle over the period: %.2f° (%.2f° without the angle bound)\n", with, without);
+    EXPECT_GT(with, 15.9);
+    EXPECT_LT(without, 15.0) << "the ramp alone no longer thins triangles: this test lost its witness";
+}
+
+TEST(Untangle, TheRampsOwnShearThinsNoTriangleBelowSixteenDegrees) {
+    // Rows of 35°–35°–110° triangles (as the coast's), all moving 1 m down (−y) and
+    // squeezed to 0.7 across the rows, except the first rows, which squeeze hard: the
+    // ramp damps there and rises upwards by 0.2 × edge / offset per edge. A row's lower
+    // vertices are then damped more than its upper ones, which come down onto them: the
+    // spread's own shear flattens the 110° triangles. The angle's later rounds and the
+    // passes keep 16°.
+    const double a = 1.0, b = 0.5 * a * std::tan(35.0 * std::numbers::pi / 180.0);
+    const std::uint32_t nx = 24, ny = 16;
+    std::vector<double> x, y;
+    for (std::size_t j = 0; j < ny; ++j)
+        for (std::size_t i = 0; i < nx; ++i) x.push_back(a * double(i) + (j % 2 ? 0.5 * a : 0.0)), y.push_back(b * double(j));
+    std::vector<std::uint32_t> triangles;
+    for (std::uint32_t j = 0; j + 1 < ny; ++j)
+        for (std::uint32_t i = 0; i + 1 < nx; ++i) {
+            const std::uint32_t l0 = j * nx + i, l1 = l0 + 1, u0 = l0 + nx, u1 = u0 + 1;
+            if (j % 2 == 0) triangles.insert(triangles.end(), {l0, l1, u0, l1, u1, u0});
+            else triangles.insert(triangles.end(), {l0, u1, u0, l0, l1, u1});
+        }
+    std::vector<float> moved;
+    for (std::size_t v = 0; v < x.size(); ++v) {
+        const double row = std::round(y[v] / b);
+        const double squeeze = row <= 2.0 ? 0.85 * b * row : 0.85 * b * 2.0 + 0.3 * (y[v] - 2.0 * b);
+        moved.insert(moved.end(), {float(x[v]), float(y[v] - 1.0 - squeeze), 0.0f});
+    }
+    const auto lowest = [&](const UntangleOptions& options) {
+        std::vector<float> p = moved;
+        untangle_motion(plan_untangle(x, y, triangles, options), {}, p);
+        return smallest_angle(triangles, p);
+    };
+    const double with = lowest({.pin_border = false, .hold_shore = false}),
+                 without = lowest({.pin_border = false, .hold_shore = false, .min_angle_degrees = 0.0});
+    std::printf("smallest angle: %.2f° (%.2f° without the angle bound; %.2f° as moved)\n", with, without,
+                smallest_angle(triangles, moved));
+    EXPECT_GT(with, 15.9);
+    EXPECT_LT(without, 15.0) << "the ramp's spread no longer thins triangles: this test lost its witness";
+}
+
 TEST(Untangle, TheSameBitsOnOneThreadAndOnMany) {
     const Grid g(120, 0.25);
     const UntanglePlan plan = plan_untangle(g.x, g.y, g.triangles);
@@ -430,6 +534,8 @@ TEST(Untangle, WrongSizesAndOptionsAreRefused) {
     EXPECT_THROW(plan_untangle(g.x, g.y, g.triangles, UntangleOptions{.ramp_slope = NAN}), InputError);
     EXPECT_THROW(plan_untangle(g.x, g.y, g.triangles, UntangleOptions{.ramp_area_ratio = 0.05}), InputError);
     EXPECT_THROW(plan_untangle(g.x, g.y, g.triangles, UntangleOptions{.ramp_area_ratio = 1.0}), InputError);
+    EXPECT_THROW(plan_untangle(g.x, g.y, g.triangles, UntangleOptions{.min_angle_degrees = 60.0}), InputError);
+    EXPECT_THROW(plan_untangle(g.x, g.y, g.triangles, UntangleOptions{.min_angle_degrees = -1.0}), InputError);
     const UntanglePlan plan = plan_untangle(g.x, g.y, g.triangles);
     std::vector<float> p(3 * 9 - 1);
     EXPECT_THROW(untangle_motion(plan, {}, p), InputError);

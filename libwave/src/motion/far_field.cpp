@@ -148,17 +148,31 @@ FarFieldPlan plan_far_field(const SeaSkirt& skirt, const ElevationGrid& seafloor
         const std::uint32_t a0 = p.anchor_slot[2 * v], a1 = p.anchor_slot[2 * v + 1];
         const double wa = skirt.anchor_weight[v];
         double first_wavelength = 0.0;
+        // The depth half a skirt edge either way along the border (the foot's where dry).
+        const double step = 0.5 * skirt.size[v];
+        const double depth_minus = depth_at(seafloor, skirt.x[v] - d * nx + step * ny, skirt.y[v] - d * ny - step * nx);
+        const double depth_plus = depth_at(seafloor, skirt.x[v] - d * nx - step * ny, skirt.y[v] - d * ny + step * nx);
         for (std::size_t w = 0; w < W; ++w) {
             const FarFieldWave& c = waves[w];
-            const double k_f = c.k > 0.0 ? c.k : depth > 0.0 ? wavenumber_for_period(kTwoPi / c.omega, depth) : 0.0;
-            const double k = k_f * c.harmonic;
+            const auto wavenumber = [&](double h) {
+                return c.harmonic * (c.k > 0.0 ? c.k : h > 0.0 ? wavenumber_for_period(kTwoPi / c.omega, h) : 0.0);
+            };
+            const double k = wavenumber(depth);
             if (w == 0) first_wavelength = k > 0.0 ? kTwoPi / k : 0.0;
             if (!(k > 0.0)) continue;
-            const double wavelength = kTwoPi / k;
+            const double len = std::hypot(c.direction_x, c.direction_y);
+            const double along_n = (c.direction_x * nx + c.direction_y * ny) / len, along_t = (c.direction_x * -ny + c.direction_y * nx) / len;
+            // The carried phase k(s) (D̂·N) d varies along the border where the depth does:
+            // its gradient there is (dk/ds)(D̂·N) d, which shortens the wave the skirt must
+            // carry (on a beach met by the border, k ∝ 1/√h scrambled the phase between
+            // neighbours a few centimetres apart).
+            const double k_minus = depth_minus > 0.0 ? wavenumber(depth_minus) : k;
+            const double k_plus = depth_plus > 0.0 ? wavenumber(depth_plus) : k;
+            const double dk_ds = (k_plus - k_minus) / (2.0 * step);
+            const double wavelength = kTwoPi / std::hypot(k * along_n, k * along_t + dk_ds * along_n * d);
             const double fade = far_field_share(wavelength, skirt.size[v]);
             if (fade == 0.0) continue;
-            const double len = std::hypot(c.direction_x, c.direction_y);
-            const Complex travel = std::polar(fade, k * (c.direction_x * nx + c.direction_y * ny) / len * d);
+            const Complex travel = std::polar(fade, k * along_n * d);
             for (std::size_t axis = 0; axis < 3; ++axis) {
                 const auto at = [&](std::uint32_t anchor) {
                     const float* q = &p.anchor_amplitude[6 * (anchor * W + w) + 2 * axis];

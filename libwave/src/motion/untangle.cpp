@@ -26,6 +26,7 @@ namespace {
 constexpr std::size_t kMaxScaledPasses = 8;  // then a triangle still too small takes s = 0
 constexpr double kShoreStretch = 1.25;  // the ramp's bound on a shore triangle's stretch (1 + λ_max)
 constexpr double kStretch = 2.5;       // … and on any other's (UntangleOptions::ramp_slope)
+constexpr std::size_t kAngleRounds = 3;  // the ramp's rounds after the first for triangles its spread thinned
 
 // Twice the signed area of (a, b, c) in plan.
 double area2(double ax, double ay, double bx, double by, double cx, double cy) noexcept {
@@ -105,30 +106,55 @@ double strain_factor(const UntanglePlan& plan, std::size_t t, const std::vector<
     return highest > stretch - 1.0 ? std::min(squeeze, (stretch - 1.0) / highest) : squeeze;
 }
 
-// The ramp (UntangleOptions::ramp_slope): each compressed or stretched triangle's
-// strain_factor at ramp_area_ratio on its vertices, spread outwards by a min-plus
-// (Dijkstra) sweep over the edges, rising by ramp_slope × edge / longer offset per
-// edge; a vertex's foam then frees it of the ramp (foam_weight, 0 … 1). Every step is
-// continuous in the offsets (and the foam). Sequential, in (factor, vertex) order: the
-// same bits on any thread count.
-template <class FoamWeight>
-void ramp_factors(const UntanglePlan& plan, const FoamWeight& foam_weight, UntangleWorkspace& w) {
-    const UntangleOptions& o = plan.options;
-    const std::size_t n = plan.vertex_count(), m = plan.rest_area.size();
-    std::vector<double>& g = w.ramp;
-    g.assign(n, 1.0);
-    for (std::size_t t = 0; t < m; ++t) {
-        const double a0 = plan.rest_area[t];
-        if (!(a0 > 0.0)) continue;
-        const std::uint32_t* v = &plan.triangles[3 * t];
-        // In the shore's band a stretch damps sooner and a squeeze keeps more of the area: the
-        // held shore cannot follow its neighbours.
-        const bool by_shore = !plan.shore_ring.empty() &&
-                              std::min({plan.shore_ring[v[0]], plan.shore_ring[v[1]], plan.shore_ring[v[2]]}) < o.shore_band_rings;
-        const double st = strain_factor(plan, t, w.factor, w.dx, w.dy, by_shore ? o.shore_band_area_ratio : o.ramp_area_ratio,
-                                        by_shore ? kShoreStretch : kStretch);
-        for (int c = 0; c < 3; ++c) g[v[c]] = std::min(g[v[c]], st);
+// sin² of triangle t's smallest angle in 3D with its vertices' horizontal offsets
+// (factor · d) scaled by s and their heights z: the smallest angle is opposite the
+// shortest edge and below 60°, where sin rises, so sin² = |a × b|² / (|a|² |b|²) with
+// a, b the two longer edges.
+double thinness(const UntanglePlan& plan, std::size_t t, const std::vector<double>& factor, const std::vector<double>& dx,
+                const std::vector<double>& dy, std::span<const float> positions, double s) noexcept {
+    const std::uint32_t* v = &plan.triangles[3 * t];
+    double p[3][3];
+    for (int c = 0; c < 3; ++c) {
+        p[c][0] = plan.rest_x[v[c]] + s * factor[v[c]] * dx[v[c]];
+        p[c][1] = plan.rest_y[v[c]] + s * factor[v[c]] * dy[v[c]];
+        p[c][2] = positions[3 * v[c] + 2];
     }
+    double e[3][3], len2[3];
+    for (int c = 0; c < 3; ++c) {
+        for (int a = 0; a < 3; ++a) e[c][a] = p[(c + 2) % 3][a] - p[(c + 1) % 3][a];  // the edge opposite corner c
+        len2[c] = e[c][0] * e[c][0] + e[c][1] * e[c][1] + e[c][2] * e[c][2];
+    }
+    const double cx = e[0][1] * e[1][2] - e[0][2] * e[1][1], cy = e[0][2] * e[1][0] - e[0][0] * e[1][2];
+    const double cz = e[0][0] * e[1][1] - e[0][1] * e[1][0];
+    const double shortest = std::min({len2[0], len2[1], len2[2]});
+    const double longer = len2[0] * len2[1] * len2[2] / std::max(shortest, 1e-300);
+    return longer > 0.0 ? (cx * cx + cy * cy + cz * cz) / longer : 0.0;
+}
+
+// The factor on triangle t's offsets that keeps its smallest angle at `min_sin2`
+// (UntangleOptions::min_angle_degrees): 1 when the moved triangle keeps it or when
+// even at rest offsets (s = 0) its heights make it thinner; else the crossing by
+// bisection, a little inside it.
+double angle_factor(const UntanglePlan& plan, std::size_t t, const std::vector<double>& factor, const std::vector<double>& dx,
+                    const std::vector<double>& dy, std::span<const float> positions, double min_sin2) noexcept {
+    if (thinness(plan, t, factor, dx, dy, positions, 1.0) >= min_sin2) return 1.0;
+    if (thinness(plan, t, factor, dx, dy, positions, 0.0) <= min_sin2) return 1.0;
+    double low = 0.0, high = 1.0;  // thin enough at low, too thin at high
+    for (int i = 0; i < 24; ++i) {
+        const double mid = 0.5 * (low + high);
+        (thinness(plan, t, factor, dx, dy, positions, mid) >= min_sin2 ? low : high) = mid;
+    }
+    return 0.98 * low;
+}
+
+// The ramp's spread (UntangleOptions::ramp_slope): the seeds w.ramp rise outwards by a
+// min-plus (Dijkstra) sweep over the edges, by ramp_slope × edge / longer offset per
+// edge; then each vertex's factor takes them, less what its foam frees (foam_weight,
+// 0 … 1). Sequential, in (factor, vertex) order: the same bits on any thread count.
+template <class FoamWeight>
+void spread_ramp(const UntanglePlan& plan, const FoamWeight& foam_weight, UntangleWorkspace& w) {
+    const std::size_t n = plan.vertex_count();
+    std::vector<double>& g = w.ramp;
     auto& heap = w.queue;
     heap.clear();
     for (std::uint32_t v = 0; v < n; ++v)
@@ -149,7 +175,7 @@ void ramp_factors(const UntanglePlan& plan, const FoamWeight& foam_weight, Untan
                 const double longer = std::max(offset(u), offset(v));
                 if (!(longer > 0.0)) continue;
                 const double edge = std::hypot(plan.rest_x[u] - plan.rest_x[v], plan.rest_y[u] - plan.rest_y[v]);
-                const double gu = gv + o.ramp_slope * edge / longer;
+                const double gu = gv + plan.options.ramp_slope * edge / longer;
                 if (gu < g[u]) {
                     g[u] = gu;
                     heap.emplace_back(gu, u);
@@ -162,6 +188,45 @@ void ramp_factors(const UntanglePlan& plan, const FoamWeight& foam_weight, Untan
     for (std::size_t v = 0; v < n; ++v) {
         const double free = foam_weight(v);
         w.factor[v] *= g[v] + (1.0 - g[v]) * free;
+    }
+}
+
+// The ramp: each compressed or stretched triangle's strain_factor (at ramp_area_ratio;
+// in the shore's band at shore_band_area_ratio and kShoreStretch) and each thinned
+// one's angle_factor seed its vertices, and spread_ramp spreads them. The spread's own
+// gradient shears: between neighbours whose factors differ by ramp_slope × edge /
+// offset, a triangle of 35° at rest went to 12.5° on the coast. So up to
+// kAngleRounds more rounds seed the triangles still thinner than
+// min_angle_degrees, on the ramped factors, and spread again. Every step is
+// continuous in the offsets (and the foam).
+template <class FoamWeight>
+void ramp_factors(const UntanglePlan& plan, const FoamWeight& foam_weight, std::span<const float> positions, UntangleWorkspace& w) {
+    const UntangleOptions& o = plan.options;
+    const std::size_t n = plan.vertex_count(), m = plan.rest_area.size();
+    const double min_sin = std::sin(o.min_angle_degrees * std::numbers::pi / 180.0), min_sin2 = min_sin * min_sin;
+    std::vector<double>& g = w.ramp;
+    for (std::size_t round = 0; round <= kAngleRounds; ++round) {
+        g.assign(n, 1.0);
+        bool seeded = false;
+        for (std::size_t t = 0; t < m; ++t) {
+            if (!(plan.rest_area[t] > 0.0)) continue;
+            const std::uint32_t* v = &plan.triangles[3 * t];
+            double keep = min_sin > 0.0 ? angle_factor(plan, t, w.factor, w.dx, w.dy, positions, min_sin2) : 1.0;
+            if (round == 0) {
+                // In the shore's band a stretch damps sooner and a squeeze keeps more of the
+                // area: the held shore cannot follow its neighbours.
+                const bool by_shore = !plan.shore_ring.empty() &&
+                                      std::min({plan.shore_ring[v[0]], plan.shore_ring[v[1]], plan.shore_ring[v[2]]}) < o.shore_band_rings;
+                keep = std::min(keep, strain_factor(plan, t, w.factor, w.dx, w.dy,
+                                                    by_shore ? o.shore_band_area_ratio : o.ramp_area_ratio,
+                                                    by_shore ? kShoreStretch : kStretch));
+            }
+            if (keep >= 1.0) continue;
+            seeded = true;
+            for (int c = 0; c < 3; ++c) g[v[c]] = std::min(g[v[c]], keep);
+        }
+        if (!seeded) return;
+        spread_ramp(plan, foam_weight, w);
     }
 }
 
@@ -230,6 +295,8 @@ UntanglePlan plan_untangle(std::span<const double> rest_x, std::span<const doubl
                          " is not in [ramp_area_ratio " + std::to_string(options.ramp_area_ratio) + ", 1)");
     if (!(options.ramp_slope >= 0.0 && std::isfinite(options.ramp_slope)))
         throw InputError("untangle: ramp_slope " + std::to_string(options.ramp_slope) + " is not a finite number >= 0");
+    if (!(options.min_angle_degrees >= 0.0 && options.min_angle_degrees < 60.0))
+        throw InputError("untangle: min_angle_degrees " + std::to_string(options.min_angle_degrees) + " is not in [0, 60)");
     if (options.shore_band_rings > 254)
         throw InputError("untangle: shore_band_rings " + std::to_string(options.shore_band_rings) + " is more than 254");
     UntanglePlan p;
@@ -310,7 +377,8 @@ UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> 
     };
     // One ramp: a second on the first's factors found compressions that the first's
     // uneven factors made, and on the default bay its vertices jumped again (10 m/s).
-    if (o.ramp_slope > 0.0) ramp_factors(plan, foam_weight, w);
+    if (o.ramp_slope > 0.0) ramp_factors(plan, foam_weight, positions, w);
+    const double min_sin = std::sin(o.min_angle_degrees * std::numbers::pi / 180.0), min_sin2 = min_sin * min_sin;
     UntangleReport report;
     for (std::size_t pass = 0;; ++pass) {
         report.passes = pass + 1;
@@ -326,9 +394,11 @@ UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> 
                 if ((lip(i) || lip(j) || lip(k)) && !shore(i) && !shore(j) && !shore(k)) continue;
                 const Squeeze q = squeeze(plan, t, factor, dx, dy);
                 const double target = o.min_area_ratio * a0;
-                if (q.a1 >= target) continue;
+                const double keep = q.a1 >= target ? 1.0 : restoring_factor(a0, q.b, q.c, target);
+                const double thin = min_sin2 > 0.0 ? angle_factor(plan, t, factor, dx, dy, positions, min_sin2) : 1.0;
+                if (keep >= 1.0 && thin >= 1.0) continue;
                 any = true;
-                s[t] = last_resort ? 0.0 : restoring_factor(a0, q.b, q.c, target);
+                s[t] = last_resort ? 0.0 : std::min(keep, thin);
             }
             if (any) tangled.store(true, std::memory_order_relaxed);
         });
