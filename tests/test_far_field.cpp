@@ -4,6 +4,7 @@
 #include "libwave/errors.h"
 #include "libwave/field.h"
 #include "libwave/motion.h"
+#include "libwave/physics.h"
 #include "libwave/surface.h"
 
 #include <gtest/gtest.h>
@@ -152,6 +153,29 @@ TEST(SeaSkirt, EndsOnStraightCutsWhereTheBorderIsDry) {
         EXPECT_NEAR(w * m.x[a] + (1.0 - w) * m.x[b], bx, 1e-6);
         EXPECT_NEAR(w * m.y[a] + (1.0 - w) * m.y[b], by, 1e-6);
     }
+}
+
+TEST(SeaSkirt, SizesReadTheDepthNoShallowerThanTheBreakingDepth) {
+    // A border point 1 mm deep (a beach met by the border): an 8 s wave's λ there is
+    // 0.79 m, at the breaking depth of a 0.4 m swell (γ = 0.78: 1.03 m) 25 m. The sizes
+    // read the latter, as the water mesh's do: λ/6 over the swell band, then the growth.
+    Seafloor beach;
+    beach.grid.nx = beach.grid.ny = 2;
+    beach.grid.dx = beach.grid.dy = kSide;
+    beach.grid.z.assign(4, -1e-3);
+    const double floor = 2.0 * 0.4 / 0.78, lambda = linear_wave(2.0 * std::numbers::pi / 8.0, floor).wavelength;
+    const SkirtSize size = swell_skirt_size(beach, 8.0, 2.0, floor);
+    EXPECT_DOUBLE_EQ(size(5.0, 0.0, 0.0, 1.0), 1.0);                       // the border edge at the border
+    EXPECT_DOUBLE_EQ(size(5.0, 0.0, 10.0, 1.0), 4.0);                      // growing by 0.3 d …
+    EXPECT_NEAR(size(5.0, 0.0, 30.0, 1.0), lambda / 6.0, 1e-12);           // … to λ/6
+    const double out = 10.0;
+    EXPECT_NEAR(size(5.0, 0.0, 2.0 * lambda + out, 1.0), lambda / 6.0 + 0.08 * out + 0.3 * out * out / (out + 2.0 * lambda), 1e-9);
+    // Without the floor the swell band is 2 × 0.79 m wide and 30 m out the edges have
+    // grown to 11 m (against 4.2 m: the jump the floor removes beside a deeper border).
+    const double shallow = linear_wave(2.0 * std::numbers::pi / 8.0, 1e-3).wavelength, past = 30.0 - 2.0 * shallow;
+    EXPECT_NEAR(swell_skirt_size(beach, 8.0, 2.0)(5.0, 0.0, 30.0, 1.0), 1.0 + 0.08 * past + 0.3 * past * past / (past + 2.0 * shallow), 1e-9);
+    EXPECT_THROW(swell_skirt_size(beach, 8.0, 2.0, 0.0), InputError);
+    EXPECT_THROW(swell_skirt_size(beach, 8.0, 2.0, NAN), InputError);
 }
 
 // A flat floor 100 m down under the grid's square.

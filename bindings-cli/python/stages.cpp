@@ -345,19 +345,19 @@ void bind_far_field(py::module_& m) {
     m.def(
         "plan_sea_skirt",
         [](const wave::Seafloor& seafloor, const py::array& x, const py::array& y, const py::array& triangles, double period,
-           double distance, double swell_wavelengths, std::size_t max_vertices) {
+           double distance, double swell_wavelengths, std::size_t max_vertices, double min_depth) {
             const auto xs = to_vector<double>(x, 1, "plan_sea_skirt x"), ys = to_vector<double>(y, 1, "plan_sea_skirt y");
             const auto t = to_vector<std::uint32_t>(triangles, 3, "plan_sea_skirt triangles");
             wave::SeaSkirtOptions o;
             o.distance = distance, o.max_vertices = max_vertices;
-            o.size = wave::swell_skirt_size(seafloor, period, swell_wavelengths);
+            o.size = wave::swell_skirt_size(seafloor, period, swell_wavelengths, min_depth);
             py::gil_scoped_release release;
             return std::make_shared<wave::SeaSkirt>(wave::plan_sea_skirt(xs, ys, t, o));
         },
         py::arg("seafloor"), py::arg("x"), py::arg("y"), py::arg("triangles"), py::arg("period"), py::arg("distance"),
-        py::arg("swell_wavelengths") = 2.0, py::arg("max_vertices") = 20'000'000,
-        "The skirt of a surface (rest x, y, triangles) sized for the shortest train's period out to `distance` m: the "
-        "scenes' /surface/far_field");
+        py::arg("swell_wavelengths") = 2.0, py::arg("max_vertices") = 20'000'000, py::arg("min_depth") = 1e-3,
+        "The skirt of a surface (rest x, y, triangles) sized for the shortest train's period out to `distance` m, the "
+        "depth taken no shallower than `min_depth` m (the scenes: the breaking depth): the scenes' /surface/far_field");
     m.def("far_field_sample_times", &wave::far_field_sample_times, py::arg("loop_period"), py::arg("components"),
           "The times (s) at which the scenes sample a surface for plan_far_field");
 

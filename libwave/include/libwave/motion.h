@@ -153,7 +153,7 @@ struct UntangleOptions {
     bool hold_shore = true;
     /// With hold_shore, the band of this many rings of triangles out from the shore
     /// (≤ 254): its vertices keep the ramp whatever their foam, and there the ramp damps
-    /// a stretch beyond 1.25 × the rest length as well as a squeeze, since the held shore
+    /// a stretch beyond 1.15 × the rest length as well as a squeeze, since the held shore
     /// cannot follow its neighbours (no plunging lip at the waterline: the swash).
     std::uint8_t shore_band_rings = 3;
     /// The ramp, before the passes: every triangle compressed so hard that it could

@@ -156,9 +156,14 @@ using SkirtSize = std::function<double(double bx, double by, double d, double bo
 /// λ the shortest train's local wavelength at the depth of the nearest border point),
 /// then max(e, λ/6) + 0.08 d′ + 0.3 d′² / (d′ + 2 λ) at d′ past the band: the swell
 /// fades over about two wavelengths, then edges grow by about a third of the distance.
-/// Reads `seafloor`, which must outlive it. Throws InputError unless shortest_period
-/// and swell_wavelengths are > 0.
-SkirtSize swell_skirt_size(const Seafloor& seafloor, double shortest_period, double swell_wavelengths);
+/// The depth is taken no shallower than `min_depth` (the scenes: the highest train's
+/// breaking depth H/γ, as the water mesh's sizing): towards a beach met by the border,
+/// λ ∝ √h shrank to nothing at the waterline, and the skirt's sizes jumped between the
+/// strip beside it and the quadrant round the shore's corner (edges 3.25 × their
+/// neighbours on the breaking beach).
+/// Reads `seafloor`, which must outlive it. Throws InputError unless shortest_period,
+/// swell_wavelengths and min_depth are > 0.
+SkirtSize swell_skirt_size(const Seafloor& seafloor, double shortest_period, double swell_wavelengths, double min_depth = 1e-3);
 
 /// Options of plan_sea_skirt.
 struct SeaSkirtOptions {

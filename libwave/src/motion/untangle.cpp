@@ -24,7 +24,7 @@ namespace wave {
 namespace {
 
 constexpr std::size_t kMaxScaledPasses = 8;  // then a triangle still too small takes s = 0
-constexpr double kShoreStretch = 1.25;  // the ramp's bound on a shore triangle's stretch (1 + λ_max)
+constexpr double kShoreStretch = 1.15;  // the ramp's bound on a shore triangle's stretch (1 + λ_max)
 constexpr double kStretch = 2.5;       // … and on any other's (UntangleOptions::ramp_slope)
 constexpr std::size_t kAngleRounds = 3;  // the ramp's rounds after the first for triangles its spread thinned
 

@@ -195,6 +195,13 @@ double shortest_period(const Scene& scene) {
     return period;
 }
 
+// The depth where the highest train breaks (H/γ): no wave shallower is unbroken.
+double breaking_depth(const Scene& scene) {
+    double depth = 1e-3;
+    for (const WaveTrain& w : scene.waves) depth = std::max(depth, 2.0 * w.amplitude / scene.trace.breaker_index);
+    return depth;
+}
+
 // How far the skirt reaches: the scene's distance, or far enough that its edge is
 // within 1/2000 rad of the horizon from the scene's camera.
 double skirt_distance(const Scene& scene, const ScenePlan& p) {
@@ -258,7 +265,7 @@ void plan_far_field_stage(const Scene& scene, ScenePlan& p) {
     const std::vector<std::uint32_t>& triangles = model.triangles(p);
     SeaSkirtOptions o;
     o.distance = skirt_distance(scene, p);
-    o.size = swell_skirt_size(p.seafloor, shortest_period(scene), scene.far_field->swell_wavelengths);
+    o.size = swell_skirt_size(p.seafloor, shortest_period(scene), scene.far_field->swell_wavelengths, breaking_depth(scene));
     if (model.skirt_size) o.size = model.skirt_size(scene, p, std::move(o.size));
     o.max_vertices = scene.surface.max_vertices;
     try {

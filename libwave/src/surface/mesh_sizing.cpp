@@ -26,14 +26,16 @@ EdgeSize wavelength_edge_size(const Seafloor& seafloor, const WaveTrain& train, 
     };
 }
 
-SkirtSize swell_skirt_size(const Seafloor& seafloor, double shortest_period, double swell_wavelengths) {
+SkirtSize swell_skirt_size(const Seafloor& seafloor, double shortest_period, double swell_wavelengths, double min_depth) {
     if (!(shortest_period > 0.0) || !std::isfinite(shortest_period))
         throw InputError("sea skirt: the shortest period must be > 0 s, got " + detail::format_number(shortest_period));
     if (!(swell_wavelengths > 0.0) || !std::isfinite(swell_wavelengths))
         throw InputError("sea skirt: swell_wavelengths must be > 0, got " + detail::format_number(swell_wavelengths));
+    if (!(min_depth > 0.0) || !std::isfinite(min_depth))
+        throw InputError("sea skirt: min_depth must be > 0 m, got " + detail::format_number(min_depth));
     const ElevationGrid* grid = &seafloor.grid;
-    return [grid, shortest_period, swell_wavelengths](double bx, double by, double d, double edge) {
-        const double depth = std::max(depth_at(*grid, bx, by), 1e-3);
+    return [grid, shortest_period, swell_wavelengths, min_depth](double bx, double by, double d, double edge) {
+        const double depth = std::max(depth_at(*grid, bx, by), min_depth);
         const double wavelength = 2.0 * std::numbers::pi / wavenumber_for_period(shortest_period, depth);
         const double base = std::max(edge, wavelength / 6.0), band = swell_wavelengths * wavelength;
         if (d <= band) return std::min(edge + 0.3 * d, base);
