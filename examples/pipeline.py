@@ -41,7 +41,9 @@ def frame_by_stages(grid_path: str, frame: int) -> Dict[str, Any]:
     # The far field: a skirt to the horizon (2000 camera heights, at least ten domains),
     # moved by the swell's fundamental and first overtone fitted at the border.
     size = max(np.ptp(mesh.x), np.ptp(mesh.y))
-    skirt = libwave.plan_sea_skirt(seafloor, mesh.x, mesh.y, mesh.triangles, PERIOD, max(2000 * CAMERA[2], 10 * size))
+    # Its sizes read the depth no shallower than where the swell breaks (H/γ, γ = 0.78).
+    skirt = libwave.plan_sea_skirt(seafloor, mesh.x, mesh.y, mesh.triangles, PERIOD, max(2000 * CAMERA[2], 10 * size),
+                                   min_depth=2 * AMPLITUDE / 0.78)
     omega = 2 * np.pi / PERIOD
     waves = [(omega, h, DIRECTION, 0.0) for h in (1, 2)]
     times = libwave.far_field_sample_times(PERIOD, len(waves))
