@@ -245,6 +245,10 @@ struct UntangleWorkspace {
     std::vector<double> s;       ///< per triangle: the factor that restores it
     std::vector<double> ramp;    ///< per vertex: the ramp's factor
     std::vector<std::pair<double, std::uint32_t>> queue;  ///< the ramp's heap (factor, vertex)
+    /// per vertex: 1 when the last step (the ramp's last round, the last pass) lowered
+    /// its factor, 2 when the ramp did in any round: only their triangles' angles are
+    /// looked at again
+    std::vector<std::uint8_t> lowered;
 };
 
 /// Untangles one frame in place: `positions` (3 floats per vertex, z up) are the moved

@@ -188,7 +188,14 @@ void spread_ramp(const UntanglePlan& plan, const FoamWeight& foam_weight, Untang
     for (std::size_t v = 0; v < n; ++v) {
         const double free = foam_weight(v);
         w.factor[v] *= g[v] + (1.0 - g[v]) * free;
+        w.lowered[v] = g[v] < 1.0 ? 3 : w.lowered[v] & 2;
     }
+}
+
+// Whether triangle t has a vertex whose `lowered` flags hold `bit`.
+bool touches(const UntanglePlan& plan, const std::vector<std::uint8_t>& lowered, std::size_t t, std::uint8_t bit) noexcept {
+    const std::uint32_t* v = &plan.triangles[3 * t];
+    return ((lowered[v[0]] | lowered[v[1]] | lowered[v[2]]) & bit) != 0;
 }
 
 // The ramp: each compressed or stretched triangle's strain_factor (at ramp_area_ratio;
@@ -197,8 +204,9 @@ void spread_ramp(const UntanglePlan& plan, const FoamWeight& foam_weight, Untang
 // gradient shears: between neighbours whose factors differ by ramp_slope × edge /
 // offset, a triangle of 35° at rest went to 12.5° on the coast. So up to
 // kAngleRounds more rounds seed the triangles still thinner than
-// min_angle_degrees, on the ramped factors, and spread again. Every step is
-// continuous in the offsets (and the foam).
+// min_angle_degrees, on the ramped factors, and spread again (only triangles round
+// the vertices the last round lowered can have changed). Every step is continuous in
+// the offsets (and the foam).
 template <class FoamWeight>
 void ramp_factors(const UntanglePlan& plan, const FoamWeight& foam_weight, std::span<const float> positions, UntangleWorkspace& w) {
     const UntangleOptions& o = plan.options;
@@ -209,7 +217,7 @@ void ramp_factors(const UntanglePlan& plan, const FoamWeight& foam_weight, std::
         g.assign(n, 1.0);
         bool seeded = false;
         for (std::size_t t = 0; t < m; ++t) {
-            if (!(plan.rest_area[t] > 0.0)) continue;
+            if (!(plan.rest_area[t] > 0.0) || (round > 0 && !touches(plan, w.lowered, t, 1))) continue;
             const std::uint32_t* v = &plan.triangles[3 * t];
             double keep = min_sin > 0.0 ? angle_factor(plan, t, w.factor, w.dx, w.dy, positions, min_sin2) : 1.0;
             if (round == 0) {
@@ -377,7 +385,11 @@ UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> 
     };
     // One ramp: a second on the first's factors found compressions that the first's
     // uneven factors made, and on the default bay its vertices jumped again (10 m/s).
+    // The ramp looks at every triangle's angle first; the passes then only at those whose
+    // vertices it lowered (2), and after a pass at those whose vertices that pass lowered.
+    w.lowered.assign(n, o.ramp_slope > 0.0 ? 0 : 2);
     if (o.ramp_slope > 0.0) ramp_factors(plan, foam_weight, positions, w);
+    std::uint8_t look = 2;
     const double min_sin = std::sin(o.min_angle_degrees * std::numbers::pi / 180.0), min_sin2 = min_sin * min_sin;
     UntangleReport report;
     for (std::size_t pass = 0;; ++pass) {
@@ -395,7 +407,8 @@ UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> 
                 const Squeeze q = squeeze(plan, t, factor, dx, dy);
                 const double target = o.min_area_ratio * a0;
                 const double keep = q.a1 >= target ? 1.0 : restoring_factor(a0, q.b, q.c, target);
-                const double thin = min_sin2 > 0.0 ? angle_factor(plan, t, factor, dx, dy, positions, min_sin2) : 1.0;
+                const double thin =
+                    min_sin2 > 0.0 && touches(plan, w.lowered, t, look) ? angle_factor(plan, t, factor, dx, dy, positions, min_sin2) : 1.0;
                 if (keep >= 1.0 && thin >= 1.0) continue;
                 any = true;
                 s[t] = last_resort ? 0.0 : std::min(keep, thin);
@@ -408,8 +421,10 @@ UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> 
                 double lowest = 1.0;
                 for (std::uint32_t q = plan.face_offsets[v]; q < plan.face_offsets[v + 1]; ++q) lowest = std::min(lowest, s[plan.faces[q]]);
                 factor[v] *= lowest;
+                w.lowered[v] = lowest < 1.0 ? 1 : 0;
             }
         });
+        look = 1;
         if (report.passes > kMaxScaledPasses + n) break;  // cannot happen: each last-resort pass zeroes a vertex
     }
     const bool clip = o.pin_border && !plan.pinned.empty();
