@@ -96,6 +96,38 @@ def test_untangling_holds_the_water_meshs_shore():
     assert held[False][0] is False and held[False][1] > 0
 
 
+def _smallest_angles(p, tri):
+    a = p[tri].astype(np.float64)
+    out = []
+    for i in range(3):
+        u, w = a[:, (i + 1) % 3] - a[:, i], a[:, (i + 2) % 3] - a[:, i]
+        out.append(np.degrees(np.arctan2(np.linalg.norm(np.cross(u, w), axis=1), (u * w).sum(axis=1))))
+    return np.min(out, axis=0)
+
+
+def test_untangling_keeps_the_smallest_angle_it_is_given():
+    # A 0.5 m grid squeezed to 0.55 along x and stretched 2.4 × along y about its centre:
+    # within the area's and the stretch's bounds, but its 45° angles go to 12.9°. With
+    # the default bound every triangle keeps 16°; with 0, none is touched.
+    n = 12
+    x, y = [a.ravel().astype(np.float64) for a in np.meshgrid(np.arange(n), np.arange(n))]
+    tri = libwave.grid_triangles(n, n)
+    rest = np.stack([x, y, np.full_like(x, 0.1)], axis=1).astype(np.float32)
+    moved = rest.copy()
+    moved[:, 0] -= (0.45 * (x - 5.5)).astype(np.float32)
+    moved[:, 1] += (1.4 * (y - 5.5)).astype(np.float32)
+    free = moved.copy()
+    libwave.plan_untangle(x, y, tri, pin_border=False, hold_shore=False, min_angle_degrees=0).apply(free)
+    assert np.array_equal(free, moved)
+    assert abs(_smallest_angles(free, tri).min() - np.degrees(np.arctan(0.55 / 2.4))) < 1e-3
+    bounded = moved.copy()
+    libwave.plan_untangle(x, y, tri, pin_border=False, hold_shore=False).apply(bounded)
+    assert _smallest_angles(bounded, tri).min() > 16.0
+    assert np.array_equal(bounded[:, 2], moved[:, 2])  # heights kept
+    with pytest.raises(libwave.InputError, match="min_angle_degrees"):
+        libwave.plan_untangle(x, y, tri, min_angle_degrees=60)
+
+
 def test_scene_round_trips_through_a_dict_and_is_edited_with_the_files_checks():
     doc = {"waves": [{"period": 5, "amplitude": 0.3}], "trace": {"ray_spacing": 2}}
     s = libwave.Scene(doc)

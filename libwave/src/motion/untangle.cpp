@@ -208,10 +208,10 @@ bool touches(const UntanglePlan& plan, const std::vector<std::uint8_t>& lowered,
 // the vertices the last round lowered can have changed). Every step is continuous in
 // the offsets (and the foam).
 template <class FoamWeight>
-void ramp_factors(const UntanglePlan& plan, const FoamWeight& foam_weight, std::span<const float> positions, UntangleWorkspace& w) {
+void ramp_factors(const UntanglePlan& plan, const FoamWeight& foam_weight, std::span<const float> positions, double min_sin2,
+                  UntangleWorkspace& w) {
     const UntangleOptions& o = plan.options;
     const std::size_t n = plan.vertex_count(), m = plan.rest_area.size();
-    const double min_sin = std::sin(o.min_angle_degrees * std::numbers::pi / 180.0), min_sin2 = min_sin * min_sin;
     std::vector<double>& g = w.ramp;
     for (std::size_t round = 0; round <= kAngleRounds; ++round) {
         g.assign(n, 1.0);
@@ -219,7 +219,7 @@ void ramp_factors(const UntanglePlan& plan, const FoamWeight& foam_weight, std::
         for (std::size_t t = 0; t < m; ++t) {
             if (!(plan.rest_area[t] > 0.0) || (round > 0 && !touches(plan, w.lowered, t, 1))) continue;
             const std::uint32_t* v = &plan.triangles[3 * t];
-            double keep = min_sin > 0.0 ? angle_factor(plan, t, w.factor, w.dx, w.dy, positions, min_sin2) : 1.0;
+            double keep = min_sin2 > 0.0 ? angle_factor(plan, t, w.factor, w.dx, w.dy, positions, min_sin2) : 1.0;
             if (round == 0) {
                 // In the shore's band a stretch damps sooner and a squeeze keeps more of the
                 // area: the held shore cannot follow its neighbours.
@@ -387,10 +387,10 @@ UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> 
     // uneven factors made, and on the default bay its vertices jumped again (10 m/s).
     // The ramp looks at every triangle's angle first; the passes then only at those whose
     // vertices it lowered (2), and after a pass at those whose vertices that pass lowered.
-    w.lowered.assign(n, o.ramp_slope > 0.0 ? 0 : 2);
-    if (o.ramp_slope > 0.0) ramp_factors(plan, foam_weight, positions, w);
-    std::uint8_t look = 2;
     const double min_sin = std::sin(o.min_angle_degrees * std::numbers::pi / 180.0), min_sin2 = min_sin * min_sin;
+    w.lowered.assign(n, o.ramp_slope > 0.0 ? 0 : 2);
+    if (o.ramp_slope > 0.0) ramp_factors(plan, foam_weight, positions, min_sin2, w);
+    std::uint8_t look = 2;
     UntangleReport report;
     for (std::size_t pass = 0;; ++pass) {
         report.passes = pass + 1;
