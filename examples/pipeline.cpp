@@ -96,6 +96,7 @@ Frame frame_by_stages(const std::string& grid_path, std::size_t frame_number) {
     wave::SeaSkirtOptions skirt_options;
     skirt_options.distance = std::max(2000.0 * 1.2, 10.0 * std::max(g.x_max() - g.x0, g.y_max() - g.y0));
     skirt_options.size = wave::swell_skirt_size(seafloor, swell.period, 2.0, 2.0 * swell.amplitude / wave::kBreakerIndex);
+    skirt_options.seafloor = &g;  // no sea carried on over the land beyond a shore that is a whole side
     const wave::SeaSkirt skirt = wave::plan_sea_skirt(mesh.x, mesh.y, mesh.triangles, skirt_options);
     const double omega = 2.0 * std::numbers::pi / swell.period;
     const std::vector<wave::FarFieldWave> waves{{.omega = omega, .harmonic = 1, .direction_x = 1.0, .direction_y = 0.15},

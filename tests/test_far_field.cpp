@@ -49,9 +49,12 @@ struct Surface {
 SeaSkirtOptions options() {
     SeaSkirtOptions o;
     o.distance = kReach;
-    o.size = [](double, double, double d, double edge) { return std::max(edge, 1.0 + 0.25 * d); };
+    o.size = [](const SkirtSite& s) { return std::max(s.border_edge, 1.0 + 0.25 * s.d); };
     return o;
 }
+
+// A site d m below the bottom side's point (bx, 0), on a border edge `edge` long.
+SkirtSite below(double bx, double d, double edge) { return {bx, -d, bx, 0.0, d, edge}; }
 
 struct Corner {
     double x, y;
@@ -126,6 +129,37 @@ TEST(SeaSkirt, KeepsItsSmallestAngleOnAGradedBorder) {
     EXPECT_GE(smallest, 20.0);
 }
 
+TEST(SeaSkirt, SizesFollowTheBorderSpacingWithoutSteps) {
+    // Columns 1 m apart up to x = 5, then 0.5 m (a border edge halved, as the water
+    // mesh's refinement does): the border's spacing at a vertex is the mean of its two
+    // edges (0.75 m at x = 5), linear along each edge. The sizes used to step from 1 m to
+    // 0.5 m there: a 2.7 m border edge met triangles sized for its 1.4 m neighbour.
+    Surface m(false);
+    m.x.clear(), m.y.clear();
+    std::vector<double> columns;
+    for (int i = 0; i <= 5; ++i) columns.push_back(i);
+    for (int i = 11; i <= 20; ++i) columns.push_back(0.5 * i);
+    for (std::size_t j = 0; j <= 10; ++j)
+        for (double c : columns) m.x.push_back(c), m.y.push_back(double(j));
+    m.triangles = grid_triangles(columns.size(), 11);
+    SeaSkirtOptions o = options();
+    o.size = [](const SkirtSite& site) { return site.border_edge + 0.25 * site.d; };
+    const SeaSkirt s = plan_sea_skirt(m.x, m.y, m.triangles, o);
+    const auto spacing = [](double x) {  // along the bottom side
+        if (x <= 4.0) return 1.0;
+        if (x <= 5.0) return 1.0 - 0.25 * (x - 4.0);
+        if (x <= 5.5) return 0.75 - 0.5 * (x - 5.0);
+        return 0.5;
+    };
+    std::size_t checked = 0;
+    for (std::size_t v = 0; v < s.vertex_count(); ++v) {
+        if (s.y[v] >= 0.0 || s.x[v] <= 0.5 || s.x[v] >= 9.5) continue;  // below the bottom side, away from its corners
+        EXPECT_NEAR(s.size[v], spacing(s.x[v]) + 0.25 * s.distance[v], 1e-9) << s.x[v] << ", " << s.y[v];
+        checked += s.x[v] > 4.0 && s.x[v] < 5.5;
+    }
+    EXPECT_GT(checked, 3u);
+}
+
 TEST(SeaSkirt, EndsOnStraightCutsWhereTheBorderIsDry) {
     const Surface m(true);
     const SeaSkirt s = plan_sea_skirt(m.x, m.y, m.triangles, options());
@@ -155,6 +189,32 @@ TEST(SeaSkirt, EndsOnStraightCutsWhereTheBorderIsDry) {
     }
 }
 
+TEST(SeaSkirt, StopsAtAShoreThatIsAWholeSide) {
+    // The surface reaches the waterline y = 10 along its whole top side, with land
+    // beyond (a planar beach meshed up to its shore). Given the seafloor, the skirt ends
+    // on cuts along the shore's line at the top corners: no sea beyond the top side.
+    // Without it, the skirt carried the sea on over the land.
+    Seafloor beach;
+    beach.grid.nx = beach.grid.ny = 3;
+    beach.grid.dx = beach.grid.dy = kSide;
+    beach.grid.z = {-1.0, -1.0, -1.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0};  // rows y = 0, 10, 20: elevation
+    const Surface m(false);
+    SeaSkirtOptions o = options();
+    const SeaSkirt sea_everywhere = plan_sea_skirt(m.x, m.y, m.triangles, o);
+    o.seafloor = &beach.grid;
+    const SeaSkirt s = plan_sea_skirt(m.x, m.y, m.triangles, o);
+    const auto highest = [](const SeaSkirt& k) { return *std::max_element(k.y.begin(), k.y.end()); };
+    EXPECT_GT(highest(sea_everywhere), kSide + 100.0);
+    EXPECT_LE(highest(s), kSide);
+    std::size_t on_cut = 0, beyond_sides = 0;
+    for (std::size_t v = 0; v < s.vertex_count(); ++v) {
+        on_cut += s.y[v] == kSide;
+        beyond_sides += s.y[v] > 0.0 && (s.x[v] < 0.0 || s.x[v] > kSide);
+    }
+    EXPECT_GT(on_cut, 10u) << "the cuts along the shore's line";
+    EXPECT_GT(beyond_sides, 100u) << "the sea beyond the wet sides is kept";
+}
+
 TEST(SeaSkirt, SizesReadTheDepthNoShallowerThanTheBreakingDepth) {
     // A border point 1 mm deep (a beach met by the border): an 8 s wave's λ there is
     // 0.79 m, at the breaking depth of a 0.4 m swell (γ = 0.78: 1.03 m) 25 m. The sizes
@@ -165,15 +225,15 @@ TEST(SeaSkirt, SizesReadTheDepthNoShallowerThanTheBreakingDepth) {
     beach.grid.z.assign(4, -1e-3);
     const double floor = 2.0 * 0.4 / 0.78, lambda = linear_wave(2.0 * std::numbers::pi / 8.0, floor).wavelength;
     const SkirtSize size = swell_skirt_size(beach, 8.0, 2.0, floor);
-    EXPECT_DOUBLE_EQ(size(5.0, 0.0, 0.0, 1.0), 1.0);                       // the border edge at the border
-    EXPECT_DOUBLE_EQ(size(5.0, 0.0, 10.0, 1.0), 4.0);                      // growing by 0.3 d …
-    EXPECT_NEAR(size(5.0, 0.0, 30.0, 1.0), lambda / 6.0, 1e-12);           // … to λ/6
+    EXPECT_DOUBLE_EQ(size(below(5.0, 0.0, 1.0)), 1.0);                       // the border edge at the border
+    EXPECT_DOUBLE_EQ(size(below(5.0, 10.0, 1.0)), 4.0);                      // growing by 0.3 d …
+    EXPECT_NEAR(size(below(5.0, 30.0, 1.0)), lambda / 6.0, 1e-12);           // … to λ/6
     const double out = 10.0;
-    EXPECT_NEAR(size(5.0, 0.0, 2.0 * lambda + out, 1.0), lambda / 6.0 + 0.08 * out + 0.3 * out * out / (out + 2.0 * lambda), 1e-9);
+    EXPECT_NEAR(size(below(5.0, 2.0 * lambda + out, 1.0)), lambda / 6.0 + 0.08 * out + 0.3 * out * out / (out + 2.0 * lambda), 1e-9);
     // Without the floor the swell band is 2 × 0.79 m wide and 30 m out the edges have
     // grown to 11 m (against 4.2 m: the jump the floor removes beside a deeper border).
     const double shallow = linear_wave(2.0 * std::numbers::pi / 8.0, 1e-3).wavelength, past = 30.0 - 2.0 * shallow;
-    EXPECT_NEAR(swell_skirt_size(beach, 8.0, 2.0)(5.0, 0.0, 30.0, 1.0), 1.0 + 0.08 * past + 0.3 * past * past / (past + 2.0 * shallow), 1e-9);
+    EXPECT_NEAR(swell_skirt_size(beach, 8.0, 2.0)(below(5.0, 30.0, 1.0)), 1.0 + 0.08 * past + 0.3 * past * past / (past + 2.0 * shallow), 1e-9);
     EXPECT_THROW(swell_skirt_size(beach, 8.0, 2.0, 0.0), InputError);
     EXPECT_THROW(swell_skirt_size(beach, 8.0, 2.0, NAN), InputError);
 }
@@ -211,7 +271,7 @@ TEST(FarField, APlaneWaveRunsOnUnchangedBeyondEveryWetSide) {
     const Surface m(true);
     const double A = 0.05, k = 2.0 * std::numbers::pi / 8.0, omega = std::sqrt(9.81 * k);
     SeaSkirtOptions o = options();
-    o.size = [](double, double, double d, double edge) { return d < 30.0 ? std::max(edge, 0.5) : 0.5 + 0.3 * (d - 30.0); };
+    o.size = [](const SkirtSite& s) { return s.d < 30.0 ? std::max(s.border_edge, 0.5) : 0.5 + 0.3 * (s.d - 30.0); };
     const SeaSkirt s = plan_sea_skirt(m.x, m.y, m.triangles, o);
     const std::vector<double> times{0.0, 0.37, 0.74, 1.11, 1.48, 1.85, 2.22};
     const std::vector<float> samples = gerstner_frames(m, A, k, omega, times);
@@ -322,7 +382,7 @@ TEST(FarField, ABeachMetByTheBorderDoesNotScrambleTheCarriedPhase) {
     // length taken from the phase's gradient, along the border too).
     const Surface m(false);
     SeaSkirtOptions o = options();
-    o.size = [](double bx, double, double d, double edge) { return bx == kSide && d < 25.0 ? 0.3 : std::max(edge, 1.0 + 0.25 * d); };
+    o.size = [](const SkirtSite& s) { return s.bx == kSide && s.d < 25.0 ? 0.3 : std::max(s.border_edge, 1.0 + 0.25 * s.d); };
     const SeaSkirt s = plan_sea_skirt(m.x, m.y, m.triangles, o);
     ElevationGrid beach;
     beach.nx = 2, beach.ny = 11;

@@ -856,6 +856,49 @@ TEST(SkirtBreakers, TheSurfZoneCarriesOnBeyondTheSideWithoutFolds) {
     }
 }
 
+TEST(SkirtBreakers, SizesGrowFromTheHeldBandsSidesAsFromItsEnd) {
+    // Along a line 2 m beyond the oblique beach's west side, across the surf zone's end:
+    // the size is held inside the band and grows by 0.3 m per metre of the distance to
+    // it, also along the side. It used to step from 1 m to 1.6 m between two points a few
+    // centimetres apart (the size at 2 m beyond the border, not at the band): edges
+    // 3.11 × their neighbours on breaking Okushiri's skirt.
+    const Scene scene = parse_scene(oblique_beach(2.0), "beach.json", ".");
+    const ScenePlan plan = plan_scene(scene);
+    const SkirtSize size =
+        breaker_skirt_size([](const SkirtSite& s) { return 1.0 + 0.3 * s.d; }, plan.breakers, plan.seafloor.grid, 2.0);
+    const double x0 = *std::min_element(plan.breakers.x.begin(), plan.breakers.x.end());
+    const double y0 = *std::min_element(plan.breakers.y.begin(), plan.breakers.y.end());
+    const double y1 = *std::max_element(plan.breakers.y.begin(), plan.breakers.y.end());
+    constexpr double kOut = 2.0, kStep = 0.05;
+    const auto at = [&](double y) { return size(SkirtSite{x0 - kOut, y, x0, y, kOut, 1.0}); };
+    double steepest = 0.0, first_held = NAN, last_held = NAN;
+    std::size_t held = 0, free = 0;
+    for (double y = y0; y <= y1; y += kStep) {
+        const double here = at(y);
+        if (y > y0) steepest = std::max(steepest, std::abs(here - at(y - kStep)) / kStep);
+        if (here == 1.0) {
+            ++held;
+            if (std::isnan(first_held)) first_held = y;
+            last_held = y;
+        } else {
+            ++free;
+        }
+    }
+    ASSERT_GT(held, 10u) << "the surf zone reaches the west side";
+    ASSERT_GT(free, 10u) << "and ends on it";
+    EXPECT_LE(steepest, 0.3 * (1.0 + 1e-9));
+    // Beyond the held band's ends along the side: the distance to it is the gap along the
+    // side (below kOut, the distance to the rectangle).
+    for (double gap : {0.5, 1.5}) {
+        if (first_held - gap > y0) {
+            EXPECT_NEAR(at(first_held - gap), 1.0 + 0.3 * gap, 0.3 * kStep + 1e-9);
+        }
+        if (last_held + gap < y1) {
+            EXPECT_NEAR(at(last_held + gap), 1.0 + 0.3 * gap, 0.3 * kStep + 1e-9);
+        }
+    }
+}
+
 TEST(JeschkeBreakers, WavesEnteringBrokenAcrossAnUpwaveSideAreMidLife) {
     // The oblique beach's west side runs into the surf zone. Over the apron beyond it the
     // waves broke before they reach the side (the tracer's EntryPoint::break_phase), so

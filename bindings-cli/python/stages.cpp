@@ -351,6 +351,7 @@ void bind_far_field(py::module_& m) {
             wave::SeaSkirtOptions o;
             o.distance = distance, o.max_vertices = max_vertices;
             o.size = wave::swell_skirt_size(seafloor, period, swell_wavelengths, min_depth);
+            o.seafloor = &seafloor.grid;
             py::gil_scoped_release release;
             return std::make_shared<wave::SeaSkirt>(wave::plan_sea_skirt(xs, ys, t, o));
         },

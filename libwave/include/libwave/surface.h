@@ -147,9 +147,19 @@ WaterMesh mesh_water(const Seafloor& seafloor, const EdgeSize& size, const Water
 // The sea skirt (CGAL): the surface continued beyond the domain to the horizon
 // ---------------------------------------------------------------------------------
 
-/// Target edge length (m, > 0, finite) of the skirt at distance `d` (m) beyond the
-/// border point (bx, by), where the surface's border edge is `border_edge` long.
-using SkirtSize = std::function<double(double bx, double by, double d, double border_edge)>;
+/// A point of the skirt where its size is asked, with its nearest point on the
+/// surface's rectangle.
+struct SkirtSite {
+    double x = 0.0;            ///< the point (m), outside the rectangle
+    double y = 0.0;            ///< the point (m)
+    double bx = 0.0;           ///< its nearest point on the rectangle (m)
+    double by = 0.0;           ///< its nearest point on the rectangle (m)
+    double d = 0.0;            ///< the distance between the two (m)
+    double border_edge = 0.0;  ///< the length of the surface's border edge that holds (bx, by) (m)
+};
+
+/// Target edge length (m, > 0, finite) of the skirt at a site.
+using SkirtSize = std::function<double(const SkirtSite& site)>;
 
 /// The scenes' skirt sizing (/surface/far_field): the border's own edge length `e`
 /// growing by 0.3 d to λ/6 over the swell band (swell_wavelengths · λ beyond the border,
@@ -173,6 +183,13 @@ struct SeaSkirtOptions {
     /// surface's border edges keep those edges (they are never split) and may stay below it.
     double min_angle_deg = 20.0;
     std::size_t max_vertices = 2'000'000;  ///< refused (LimitError) when the refinement would exceed it
+    /// The seafloor, continued beyond its grid (depth_at), or none. When given, a border
+    /// edge with land a quarter of its length beyond its midpoint is not continued: a
+    /// straight shore that is a whole side of the surface's rectangle (a planar beach
+    /// meshed up to its waterline) ends the skirt on cuts at its corners. Without it,
+    /// the skirt carried the sea on over the land beyond such a shore, and the shore's
+    /// vertices were not on the surface's boundary, so the untangling did not hold them.
+    const ElevationGrid* seafloor = nullptr;
 };
 
 /// A skirt around a surface whose border runs along its bounding rectangle (the water

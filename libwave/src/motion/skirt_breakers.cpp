@@ -12,7 +12,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
+#include <iterator>
 #include <numbers>
 #include <string>
 #include <utility>
@@ -31,26 +31,34 @@ bool in_surf_zone(const JeschkeMotionPlan& p, std::size_t v) noexcept {
            p.phase[v] <= static_cast<double>(p.end_phase[v]);
 }
 
-// The breakers' border vertices on their bounding rectangle, side by side (0 bottom,
-// 1 right, 2 top, 3 left), sorted along the side: (coordinate along it, band held there).
-struct BorderBands {
-    double x0 = 0.0, y0 = 0.0, x1 = 0.0, y1 = 0.0, tolerance = 0.0;
-    std::array<std::vector<std::pair<double, double>>, 4> sides;
+// The bands held beyond the breakers' bounding rectangle: per side (0 bottom, 1 right,
+// 2 top, 3 left), boxes reaching `band` m out from the side over the stretch of it
+// nearest to one border vertex, sorted along the side (only bands > 0).
+struct BandBox {
+    double lo, hi, band;
+};
 
-    // The band (m) at the border vertex nearest to the rectangle's point (bx, by) on its
-    // side (at a corner: on either side).
-    double at(double bx, double by) const {
-        double best = 0.0, gap = std::numeric_limits<double>::infinity();
-        const auto look = [&](int side, double along) {
-            const auto& s = sides[static_cast<std::size_t>(side)];
-            auto it = std::lower_bound(s.begin(), s.end(), std::pair{along, -std::numeric_limits<double>::infinity()});
-            for (auto c : {it, it == s.begin() ? it : it - 1})
-                if (c != s.end() && std::abs(c->first - along) < gap) gap = std::abs(c->first - along), best = c->second;
-        };
-        if (std::abs(by - y0) <= tolerance) look(0, bx);
-        if (std::abs(bx - x1) <= tolerance) look(1, by);
-        if (std::abs(by - y1) <= tolerance) look(2, bx);
-        if (std::abs(bx - x0) <= tolerance) look(3, by);
+struct BorderBands {
+    double x0 = 0.0, y0 = 0.0, x1 = 0.0, y1 = 0.0;
+    std::array<std::vector<BandBox>, 4> sides;
+
+    // The distance from (px, py) to the nearest held band, or `d` (its distance to the
+    // rectangle) when that is nearer. The boxes of a side are disjoint and sorted, and a
+    // box is no nearer than its gap along the side: the scan stops at the first gap
+    // past the best.
+    double distance(double px, double py, double d) const {
+        double best = d;
+        for (std::size_t side = 0; side < 4; ++side) {
+            const std::vector<BandBox>& boxes = sides[side];
+            const double along = side % 2 == 0 ? px : py;
+            const double out = side == 0 ? y0 - py : side == 1 ? px - x1 : side == 2 ? py - y1 : x0 - px;
+            const auto to = [&](const BandBox& b) {
+                return std::hypot(std::max({0.0, b.lo - along, along - b.hi}), std::max({0.0, out - b.band, -out}));
+            };
+            const auto first = std::lower_bound(boxes.begin(), boxes.end(), along, [](const BandBox& b, double v) { return b.hi < v; });
+            for (auto it = first; it != boxes.end() && it->lo - along < best; ++it) best = std::min(best, to(*it));
+            for (auto it = first; it != boxes.begin() && along - std::prev(it)->hi < best; --it) best = std::min(best, to(*std::prev(it)));
+        }
         return best;
     }
 };
@@ -61,20 +69,30 @@ BorderBands border_bands(const JeschkeMotionPlan& p, const ElevationGrid& seaflo
     const auto [xlo, xhi] = std::minmax_element(p.x.begin(), p.x.end());
     const auto [ylo, yhi] = std::minmax_element(p.y.begin(), p.y.end());
     b.x0 = *xlo, b.x1 = *xhi, b.y0 = *ylo, b.y1 = *yhi;
-    b.tolerance = 1e-9 * std::max({1.0, b.x1 - b.x0, b.y1 - b.y0});
+    const double tolerance = 1e-9 * std::max({1.0, b.x1 - b.x0, b.y1 - b.y0});
     constexpr double kOut = 0.01;  // m: where the water beyond the border is looked for
     constexpr std::array<std::array<double, 2>, 4> kNormal{{{0.0, -1.0}, {1.0, 0.0}, {0.0, 1.0}, {-1.0, 0.0}}};
+    std::array<std::vector<std::pair<double, double>>, 4> held;  // per side: (coordinate along it, band)
     for (std::size_t v = 0; v < p.vertex_count(); ++v) {
-        const std::array<bool, 4> on{std::abs(p.y[v] - b.y0) <= b.tolerance, std::abs(p.x[v] - b.x1) <= b.tolerance,
-                                     std::abs(p.y[v] - b.y1) <= b.tolerance, std::abs(p.x[v] - b.x0) <= b.tolerance};
+        const std::array<bool, 4> on{std::abs(p.y[v] - b.y0) <= tolerance, std::abs(p.x[v] - b.x1) <= tolerance,
+                                     std::abs(p.y[v] - b.y1) <= tolerance, std::abs(p.x[v] - b.x0) <= tolerance};
         for (std::size_t side = 0; side < 4; ++side) {
             if (!on[side]) continue;
             const bool wet_beyond = depth_at(seafloor, p.x[v] + kOut * kNormal[side][0], p.y[v] + kOut * kNormal[side][1]) > 0.0;
             const double band = in_surf_zone(p, v) && wet_beyond ? std::max(0.0, band_wavelengths - 1.0) * p.width[v] : 0.0;
-            b.sides[side].emplace_back(side % 2 == 0 ? p.x[v] : p.y[v], band);
+            held[side].emplace_back(side % 2 == 0 ? p.x[v] : p.y[v], band);
         }
     }
-    for (auto& s : b.sides) std::sort(s.begin(), s.end());
+    // Each vertex holds the side from half way to its neighbour before to half way to the next.
+    for (std::size_t side = 0; side < 4; ++side) {
+        std::vector<std::pair<double, double>>& h = held[side];
+        std::sort(h.begin(), h.end());
+        const double start = side % 2 == 0 ? b.x0 : b.y0, end = side % 2 == 0 ? b.x1 : b.y1;
+        for (std::size_t i = 0; i < h.size(); ++i)
+            if (h[i].second > 0.0)
+                b.sides[side].push_back({i == 0 ? start : 0.5 * (h[i - 1].first + h[i].first),
+                                         i + 1 == h.size() ? end : 0.5 * (h[i].first + h[i + 1].first), h[i].second});
+    }
     return b;
 }
 
@@ -138,9 +156,10 @@ SkirtSize breaker_skirt_size(SkirtSize size, const JeschkeMotionPlan& plan, cons
     check_band(band_wavelengths);
     if (!size) throw InputError("skirt breakers: no size function");
     if (band_wavelengths == 0.0) return size;
-    return [size = std::move(size), bands = border_bands(plan, seafloor, band_wavelengths)](double bx, double by, double d, double edge) {
-        const double band = bands.at(bx, by);
-        return size(bx, by, std::max(0.0, d - band), edge);
+    return [size = std::move(size), bands = border_bands(plan, seafloor, band_wavelengths)](const SkirtSite& site) {
+        SkirtSite past = site;
+        past.d = bands.distance(site.x, site.y, site.d);
+        return size(past);
     };
 }
 

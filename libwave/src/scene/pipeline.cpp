@@ -268,6 +268,7 @@ void plan_far_field_stage(const Scene& scene, ScenePlan& p) {
     o.size = swell_skirt_size(p.seafloor, shortest_period(scene), scene.far_field->swell_wavelengths, breaking_depth(scene));
     if (model.skirt_size) o.size = model.skirt_size(scene, p, std::move(o.size));
     o.max_vertices = scene.surface.max_vertices;
+    o.seafloor = &p.seafloor.grid;
     try {
         p.skirt = plan_sea_skirt(p.rest_x, p.rest_y, triangles, o);
     } catch (const LimitError& e) {

@@ -34,8 +34,8 @@ SkirtSize swell_skirt_size(const Seafloor& seafloor, double shortest_period, dou
     if (!(min_depth > 0.0) || !std::isfinite(min_depth))
         throw InputError("sea skirt: min_depth must be > 0 m, got " + detail::format_number(min_depth));
     const ElevationGrid* grid = &seafloor.grid;
-    return [grid, shortest_period, swell_wavelengths, min_depth](double bx, double by, double d, double edge) {
-        const double depth = std::max(depth_at(*grid, bx, by), min_depth);
+    return [grid, shortest_period, swell_wavelengths, min_depth](const SkirtSite& site) {
+        const double depth = std::max(depth_at(*grid, site.bx, site.by), min_depth), d = site.d, edge = site.border_edge;
         const double wavelength = 2.0 * std::numbers::pi / wavenumber_for_period(shortest_period, depth);
         const double base = std::max(edge, wavelength / 6.0), band = swell_wavelengths * wavelength;
         if (d <= band) return std::min(edge + 0.3 * d, base);

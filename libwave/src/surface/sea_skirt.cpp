@@ -16,6 +16,7 @@
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -78,9 +79,10 @@ double edge_length(const BorderEdge& e, std::span<const double> x, std::span<con
     return std::hypot(x[e.b] - x[e.a], y[e.b] - y[e.a]);
 }
 
-// The surface's boundary edges (one triangle) with both ends on one side.
+// The surface's boundary edges (one triangle) with both ends on one side and water beyond.
 std::vector<BorderEdge> border_edges(std::span<const double> x, std::span<const double> y,
-                                     std::span<const std::uint32_t> triangles, const Rectangle& r, double tol) {
+                                     std::span<const std::uint32_t> triangles, const Rectangle& r, double tol,
+                                     const ElevationGrid* seafloor) {
     std::map<std::pair<std::uint32_t, std::uint32_t>, int> count;
     for (std::size_t t = 0; t < triangles.size(); t += 3)
         for (int e = 0; e < 3; ++e) {
@@ -95,6 +97,13 @@ std::vector<BorderEdge> border_edges(std::span<const double> x, std::span<const 
             default: return std::abs(x[v] - r.x0) <= tol;
         }
     };
+    // Land beyond an edge: the side there is a shore (checked a quarter of the edge out).
+    const auto dry_beyond = [&](std::uint32_t a, std::uint32_t b, int side) {
+        if (seafloor == nullptr) return false;
+        const auto n = Rectangle::normal(side);
+        const double out = 0.25 * std::hypot(x[b] - x[a], y[b] - y[a]);
+        return !(depth_at(*seafloor, 0.5 * (x[a] + x[b]) + out * n[0], 0.5 * (y[a] + y[b]) + out * n[1]) > 0.0);
+    };
     std::vector<BorderEdge> out;
     for (const auto& [edge, n] : count) {
         if (n != 1) continue;
@@ -103,7 +112,7 @@ std::vector<BorderEdge> border_edges(std::span<const double> x, std::span<const 
             double pa = r.position(side, x[edge.first], y[edge.first]), pb = r.position(side, x[edge.second], y[edge.second]);
             std::uint32_t a = edge.first, b = edge.second;
             if (pa > pb) std::swap(pa, pb), std::swap(a, b);
-            if (pb - pa > tol) out.push_back({pa, pb, a, b, side});
+            if (pb - pa > tol && !dry_beyond(a, b, side)) out.push_back({pa, pb, a, b, side});
             break;
         }
     }
@@ -134,15 +143,34 @@ std::vector<Chain> chains_of(const std::vector<BorderEdge>& e, bool& loop) {
     return out;
 }
 
+// Per border edge, the border's spacing at its two ends: the mean of the two edges that
+// meet there (the edge's own length at a chain's end).
+std::vector<std::array<double, 2>> end_spacings(const std::vector<BorderEdge>& e, std::span<const double> x,
+                                                std::span<const double> y) {
+    const std::size_t n = e.size();
+    std::vector<std::array<double, 2>> out(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const BorderEdge &prev = e[(i + n - 1) % n], &next = e[(i + 1) % n];
+        const double len = edge_length(e[i], x, y);
+        out[i] = {prev.b == e[i].a ? 0.5 * (len + edge_length(prev, x, y)) : len,
+                  next.a == e[i].b ? 0.5 * (len + edge_length(next, x, y)) : len};
+    }
+    return out;
+}
+
 // The nearest point on the rectangle of a point outside it, and what the skirt needs
-// there: the border edge (or corner vertex) that holds it.
+// there: the border edge (or corner vertex) that holds it, and the border's spacing,
+// linear along that edge between its ends' spacings (the border edges' own lengths
+// step by 2 where the water mesh's refinement halved one, and the skirt's sizes beside
+// them stepped too: a 2.7 m border edge met triangles sized for its 1.4 m neighbour).
 struct BorderLookup {
     const Rectangle& r;
     const std::vector<BorderEdge>& edges;
     std::span<const double> x, y;
+    std::vector<std::array<double, 2>> spacing = end_spacings(edges, x, y);
 
     struct Hit {
-        double bx, by, d, nx, ny, edge_length;
+        double bx, by, d, nx, ny, edge_length;  // edge_length: the border's spacing there
         std::uint32_t a, b;
         float weight;  // of a
     };
@@ -174,11 +202,15 @@ struct BorderLookup {
         h.a = best->a;
         h.b = best->b;
         h.weight = static_cast<float>(1.0 - t);
-        h.edge_length = edge_length(*best, x, y);
+        const std::array<double, 2>& s = spacing[static_cast<std::size_t>(best - edges.data())];
+        h.edge_length = (1.0 - t) * s[0] + t * s[1];
         if (h.weight >= 1.0f) h.b = h.a;
         if (h.weight <= 0.0f) h.a = h.b, h.weight = 1.0f;
         return h;
     }
+
+    // Where the size is asked: the point and what the lookup found for it.
+    static SkirtSite site(double px, double py, const Hit& h) { return {px, py, h.bx, h.by, h.d, h.edge_length}; }
 };
 
 void check(std::span<const double> x, std::span<const double> y, std::span<const std::uint32_t> triangles,
@@ -202,7 +234,7 @@ std::vector<Point> split_line(Point from, Point to, const BorderLookup& lookup, 
         const double mx = from.x() + (to.x() - from.x()) * s / len, my = from.y() + (to.y() - from.y()) * s / len;
         const BorderLookup::Hit h = lookup.at(mx, my);
         // Constraints are never split: a quarter of the size leaves room for the refinement.
-        const double step = s == 0.0 && first > 0.0 ? first : 0.25 * size(h.bx, h.by, h.d, h.edge_length);
+        const double step = s == 0.0 && first > 0.0 ? first : 0.25 * size(BorderLookup::site(mx, my, h));
         const double left = len - s;
         if (left <= step) break;
         s += left < 2.0 * step ? 0.5 * left : step;
@@ -262,11 +294,11 @@ double estimate_vertices(const std::vector<BorderEdge>& edges, const std::vector
                          const BorderLookup& lookup, const SkirtSize& size, double reach, std::span<const double> x,
                          std::span<const double> y) {
     constexpr int kSteps = 96;
-    const auto integrate = [&](double bx, double by, double edge, double width, bool corner) {
+    const auto integrate = [&](double bx, double by, double nx, double ny, double edge, double width, bool corner) {
         double triangles = 0.0, d0 = 0.0;
         for (int i = 1; i <= kSteps; ++i) {
             const double d1 = reach * std::pow(1e-6, 1.0 - double(i) / kSteps);
-            const double dm = 0.5 * (d0 + d1), s = size(bx, by, dm, edge);
+            const double dm = 0.5 * (d0 + d1), s = size({bx + dm * nx, by + dm * ny, bx, by, dm, edge});
             const double area = corner ? 0.5 * std::numbers::pi * dm * (d1 - d0) : width * (d1 - d0);
             triangles += area / (std::sqrt(3.0) / 4.0 * s * s);
             d0 = d1;
@@ -276,7 +308,8 @@ double estimate_vertices(const std::vector<BorderEdge>& edges, const std::vector
     double triangles = 0.0;
     for (const BorderEdge& e : edges) {
         const double len = edge_length(e, x, y);
-        triangles += integrate(0.5 * (x[e.a] + x[e.b]), 0.5 * (y[e.a] + y[e.b]), len, len, false);
+        const auto n = Rectangle::normal(e.side);
+        triangles += integrate(0.5 * (x[e.a] + x[e.b]), 0.5 * (y[e.a] + y[e.b]), n[0], n[1], len, len, false);
     }
     // Corners inside a chain (the chain turns there): the edge that arrives at a corner
     // and the next one lie on different sides.
@@ -285,7 +318,9 @@ double estimate_vertices(const std::vector<BorderEdge>& edges, const std::vector
             const std::size_t next = (i + 1) % edges.size();
             if ((i != c.last || loop) && edges[next].side != edges[i].side) {
                 const std::uint32_t v = edges[i].b;
-                triangles += integrate(x[v], y[v], lookup.at(x[v], y[v]).edge_length, 0.0, true);
+                const auto n = Rectangle::normal(edges[i].side), m = Rectangle::normal(edges[next].side);
+                triangles += integrate(x[v], y[v], std::sqrt(0.5) * (n[0] + m[0]), std::sqrt(0.5) * (n[1] + m[1]),
+                                       lookup.at(x[v], y[v]).edge_length, 0.0, true);
             }
             if (i == c.last) break;
         }
@@ -307,7 +342,7 @@ SeaSkirt plan_sea_skirt(std::span<const double> x, std::span<const double> y, st
     out.x0 = r.x0, out.y0 = r.y0, out.x1 = r.x1, out.y1 = r.y1;
     if (!(r.w() > 0.0 && r.h() > 0.0)) return out;
     const double tol = 1e-9 * std::max({1.0, r.w(), r.h()});
-    const std::vector<BorderEdge> edges = border_edges(x, y, triangles, r, tol);
+    const std::vector<BorderEdge> edges = border_edges(x, y, triangles, r, tol, o.seafloor);
     if (edges.empty()) return out;
     bool loop = false;
     const std::vector<Chain> chains = chains_of(edges, loop);
@@ -381,7 +416,7 @@ SeaSkirt plan_sea_skirt(std::span<const double> x, std::span<const double> y, st
     const double sine = std::sin(o.min_angle_deg * std::numbers::pi / 180.0);
     const std::function<double(double, double)> size_at = [&](double px, double py) {
         const BorderLookup::Hit h = lookup.at(px, py);
-        return o.size(h.bx, h.by, h.d, h.edge_length);
+        return o.size(BorderLookup::site(px, py, h));
     };
     using Criteria = detail::CentroidSizeCriteria<CDT>;
     CGAL::Delaunay_mesher_no_edge_refinement_2<CDT, Criteria> mesher(cdt, Criteria(sine * sine, size_at));
@@ -405,7 +440,7 @@ SeaSkirt plan_sea_skirt(std::span<const double> x, std::span<const double> y, st
                 out.distance.push_back(h.d);
                 out.normal_x.push_back(h.nx);
                 out.normal_y.push_back(h.ny);
-                out.size.push_back(o.size(h.bx, h.by, h.d, h.edge_length));
+                out.size.push_back(o.size(BorderLookup::site(v->point().x(), v->point().y(), h)));
             }
             out.triangles.push_back(v->info().index);
         }
