@@ -642,8 +642,10 @@ SkirtBreakers continue_jeschke_breakers(const JeschkeMotionPlan& plan, const Sea
 /// (the plan's vertices on its bounding rectangle whose phase lies between a quarter
 /// wavelength, and the crests' variation, before their break and their crests' end,
 /// with water a centimetre outside them), the wavelength being the nearest border
-/// vertex's W; beyond, `size` at the distance past the held band (the fade's wavelength
-/// grows as the far field's skirt does). Elsewhere `size` itself.
+/// vertex's W; beyond, `size` at the distance to the nearest held band (the fade's
+/// wavelength grows as the far field's skirt does), so the sizes grow from the band's
+/// sides along the border as from its far end. Elsewhere `size` itself. The band is held
+/// over the stretch of the side nearest to each such border vertex.
 SkirtSize breaker_skirt_size(SkirtSize size, const JeschkeMotionPlan& plan, const ElevationGrid& seafloor, double band_wavelengths);
 
 /// The skirt's breakers at time t blended into `positions` (all vertices, 3 floats

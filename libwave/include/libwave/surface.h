@@ -155,13 +155,15 @@ struct SkirtSite {
     double bx = 0.0;           ///< its nearest point on the rectangle (m)
     double by = 0.0;           ///< its nearest point on the rectangle (m)
     double d = 0.0;            ///< the distance between the two (m)
-    double border_edge = 0.0;  ///< the length of the surface's border edge that holds (bx, by) (m)
+    /// the border's spacing at (bx, by) (m): linear along the border edge that holds it,
+    /// between its ends' spacings, each the mean of the two border edges that meet there
+    double border_edge = 0.0;
 };
 
 /// Target edge length (m, > 0, finite) of the skirt at a site.
 using SkirtSize = std::function<double(const SkirtSite& site)>;
 
-/// The scenes' skirt sizing (/surface/far_field): the border's own edge length `e`
+/// The scenes' skirt sizing (/surface/far_field): the border's spacing `e` (site.border_edge)
 /// growing by 0.3 d to λ/6 over the swell band (swell_wavelengths · λ beyond the border,
 /// λ the shortest train's local wavelength at the depth of the nearest border point),
 /// then max(e, λ/6) + 0.08 d′ + 0.3 d′² / (d′ + 2 λ) at d′ past the band: the swell
