@@ -358,7 +358,8 @@ void bind_far_field(py::module_& m) {
         py::arg("seafloor"), py::arg("x"), py::arg("y"), py::arg("triangles"), py::arg("period"), py::arg("distance"),
         py::arg("swell_wavelengths") = 2.0, py::arg("max_vertices") = 20'000'000, py::arg("min_depth") = 1e-3,
         "The skirt of a surface (rest x, y, triangles) sized for the shortest train's period out to `distance` m, the "
-        "depth taken no shallower than `min_depth` m (the scenes: the breaking depth): the scenes' /surface/far_field");
+        "depth taken no shallower than `min_depth` m (the scenes: the breaking depth), and no sea carried on beyond a "
+        "straight shore that is a whole side of the surface's rectangle: the scenes' /surface/far_field");
     m.def("far_field_sample_times", &wave::far_field_sample_times, py::arg("loop_period"), py::arg("components"),
           "The times (s) at which the scenes sample a surface for plan_far_field");
 
