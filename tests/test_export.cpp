@@ -4,6 +4,7 @@
 #include "libwave/io.h"
 #include "libwave/scene.h"
 #include "libwave/shade.h"
+#include "libwave/surface.h"
 
 #include <draco/compression/decode.h>
 #include <nlohmann/json.hpp>
@@ -589,6 +590,35 @@ TEST(Foam, HeightFieldNodesReleaseFoamAndVerticesBlendIt) {
     EXPECT_NEAR(foam[0], std::exp(-1.0 / (0.3 * 2.0 * std::numbers::pi)), 1e-6);  // τ = 0.3 T, T = 2π s
     std::vector<float> wrong(3);
     EXPECT_THROW(height_field_foam(plan, depth, 0.0, o, nodes, wrong), InputError);
+}
+
+TEST(HeightFieldScene, TheWaterStaysBelowTheLandItCovers) {
+    // Ts'o and Barsky's beach: the height field spans the whole grid, land included, and
+    // its spline's heights spill past the wet control nodes. Over the flat beach at the
+    // waterline the water stood level with the sand, or above it (the witness below), and
+    // Cycles drew dark wedges of either across the beach. The scene keeps the water a
+    // twentieth of the highest amplitude (0.2 m) below the land there.
+    Scene scene = read_scene(std::string(LIBWAVE_EXAMPLES_DIR) + "/tso-barsky.json");
+    scene.fps = 2.0;
+    const ScenePlan plan = plan_scene(scene);
+    const SceneAnimation anim = animate_scene(scene, plan, 2e9, FrameRange{0, 6});
+    const std::size_t n = anim.vertex_count, own = plan.surface.vertex_count();
+    std::vector<float> heights(plan.surface.control_count()), raw(3 * own);
+    std::size_t on_land = 0, level_or_above = 0;
+    double highest = -1.0;  // the water over land, above its land (m)
+    for (std::size_t f = 0; f < anim.frame_count; ++f) {
+        evaluate_height_field(plan.surface, static_cast<double>(f) / scene.fps, heights, raw);
+        for (std::size_t v = 0; v < own; ++v) {
+            const double depth = depth_at(plan.seafloor.grid, plan.rest_x[v], plan.rest_y[v]);
+            if (depth > 0.0) continue;
+            ++on_land;
+            level_or_above += raw[3 * v + 2] >= -depth;
+            highest = std::max(highest, anim.positions[3 * (f * n + v) + 2] + depth);
+        }
+    }
+    ASSERT_GT(on_land, 1000u);
+    EXPECT_GT(level_or_above, 100u) << "the spline alone";
+    EXPECT_LE(highest, -0.05 * 0.2 + 1e-6);
 }
 
 TEST(Foam, PlanarBeachHeightFieldFoamsInTheSurfZoneOnly) {

@@ -4,6 +4,8 @@
 
 #include "libwave/physics.h"
 
+#include <algorithm>
+#include <limits>
 #include <numbers>
 
 namespace wave::detail {
@@ -61,12 +63,32 @@ void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
 struct State : ModelState {
     std::vector<float> heights;                // the control nodes' heights of a frame
     std::vector<float> node_depth, node_foam;  // foam is computed at the control nodes
+    // Per vertex: the highest the water may stand, a twentieth of the highest train's
+    // amplitude below the land where the vertex lies on land (depth_at ≤ 0); +∞ over
+    // water. The spline's heights spill past the wet control nodes, and over a flat beach
+    // at the waterline the water stood level with the sand: Cycles drew wedges of either
+    // (dark slashes across Ts'o and Barsky's beach from the default camera).
+    std::vector<float> ceiling;
 };
 
-std::unique_ptr<ModelState> start(const Scene&, const ScenePlan& p, bool shaded) {
+// Land elevations less the margin at the vertices over land (see State::ceiling).
+std::vector<float> water_ceiling(const Scene& scene, const ScenePlan& p) {
+    double highest = 0.0;
+    for (const WaveTrain& w : scene.waves) highest = std::max(highest, w.amplitude);
+    const double margin = 0.05 * highest;
+    std::vector<float> out(p.surface.vertex_count());
+    for (std::size_t v = 0; v < out.size(); ++v) {
+        const double depth = depth_at(p.seafloor.grid, p.rest_x[v], p.rest_y[v]);
+        out[v] = depth > 0.0 ? std::numeric_limits<float>::infinity() : static_cast<float>(-depth - margin);
+    }
+    return out;
+}
+
+std::unique_ptr<ModelState> start(const Scene& scene, const ScenePlan& p, bool shaded) {
     auto s = std::make_unique<State>();
     const HeightFieldPlan& sp = p.surface;
     s->heights.resize(sp.control_count());
+    s->ceiling = water_ceiling(scene, p);
     if (shaded) {
         const ElevationGrid& g = p.seafloor.grid;
         s->node_depth.resize(sp.control_count());
@@ -80,7 +102,9 @@ std::unique_ptr<ModelState> start(const Scene&, const ScenePlan& p, bool shaded)
 }
 
 bool move(const Scene&, const ScenePlan& p, double t, ModelState* state, ModelFrame& frame) {
-    evaluate_height_field(p.surface, t, static_cast<State*>(state)->heights, frame.positions);
+    State& s = *static_cast<State*>(state);
+    evaluate_height_field(p.surface, t, s.heights, frame.positions);
+    for (std::size_t v = 0; v < s.ceiling.size(); ++v) frame.positions[3 * v + 2] = std::min(frame.positions[3 * v + 2], s.ceiling[v]);
     return false;
 }
 
