@@ -167,10 +167,10 @@ struct BorderLookup {
     const Rectangle& r;
     const std::vector<BorderEdge>& edges;
     std::span<const double> x, y;
-    std::vector<std::array<double, 2>> spacing = end_spacings(edges, x, y);
+    std::vector<std::array<double, 2>> end_spacing = end_spacings(edges, x, y);
 
     struct Hit {
-        double bx, by, d, nx, ny, edge_length;  // edge_length: the border's spacing there
+        double bx, by, d, nx, ny, spacing;  // spacing: the border's, at (bx, by)
         std::uint32_t a, b;
         float weight;  // of a
     };
@@ -202,15 +202,15 @@ struct BorderLookup {
         h.a = best->a;
         h.b = best->b;
         h.weight = static_cast<float>(1.0 - t);
-        const std::array<double, 2>& s = spacing[static_cast<std::size_t>(best - edges.data())];
-        h.edge_length = (1.0 - t) * s[0] + t * s[1];
+        const std::array<double, 2>& s = end_spacing[static_cast<std::size_t>(best - edges.data())];
+        h.spacing = (1.0 - t) * s[0] + t * s[1];
         if (h.weight >= 1.0f) h.b = h.a;
         if (h.weight <= 0.0f) h.a = h.b, h.weight = 1.0f;
         return h;
     }
 
     // Where the size is asked: the point and what the lookup found for it.
-    static SkirtSite site(double px, double py, const Hit& h) { return {px, py, h.bx, h.by, h.d, h.edge_length}; }
+    static SkirtSite site(double px, double py, const Hit& h) { return {px, py, h.bx, h.by, h.d, h.spacing}; }
 };
 
 void check(std::span<const double> x, std::span<const double> y, std::span<const std::uint32_t> triangles,
@@ -320,7 +320,7 @@ double estimate_vertices(const std::vector<BorderEdge>& edges, const std::vector
                 const std::uint32_t v = edges[i].b;
                 const auto n = Rectangle::normal(edges[i].side), m = Rectangle::normal(edges[next].side);
                 triangles += integrate(x[v], y[v], std::sqrt(0.5) * (n[0] + m[0]), std::sqrt(0.5) * (n[1] + m[1]),
-                                       lookup.at(x[v], y[v]).edge_length, 0.0, true);
+                                       lookup.at(x[v], y[v]).spacing, 0.0, true);
             }
             if (i == c.last) break;
         }
