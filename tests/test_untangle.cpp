@@ -114,6 +114,36 @@ TEST(Untangle, BorderVerticesSlideAlongTheirSideOnly) {
     }
 }
 
+TEST(Untangle, AWholeSideInsideTheDomainIsShoreNotBorder) {
+    // The 8 × 8 grid's top row (y = 7) is a straight shore: the domain reaches on to
+    // y = 20. Given the domain, that row is held still as shore (flag 4) and the rows by
+    // it are the shore's band; the other sides still slide along themselves. Without it
+    // the row slid along y = 7 as a side of the bounding rectangle.
+    const Grid g(8, 1.0);
+    const UntanglePlan bare = plan_untangle(g.x, g.y, g.triangles);
+    const UntanglePlan plan = plan_untangle(g.x, g.y, g.triangles, UntangleOptions{.border_rectangle = {0.0, 0.0, 7.0, 20.0}});
+    EXPECT_EQ(plan.y_max, 20.0);
+    EXPECT_EQ(plan.x_max, 7.0);
+    for (std::size_t v = 0; v < g.x.size(); ++v) {
+        if (g.y[v] != 7.0) continue;
+        EXPECT_EQ(bare.pinned[v] & 6, 2) << v;
+        EXPECT_TRUE(plan.pinned[v] & 4) << v;
+        EXPECT_FALSE(plan.pinned[v] & 2) << v;
+    }
+    std::vector<float> p = g.rest();
+    for (std::size_t v = 0; v < g.x.size(); ++v) p[3 * v] += 0.3f;
+    untangle_motion(plan, {}, p);
+    for (std::size_t v = 0; v < g.x.size(); ++v) {
+        const bool held = g.y[v] == 7.0 || g.x[v] == 0.0 || g.x[v] == 7.0;  // the shore, and the sides across x
+        if (held) {
+            EXPECT_EQ(p[3 * v], float(g.x[v])) << v;
+        }
+    }
+    const double nan = NAN;
+    EXPECT_THROW(plan_untangle(g.x, g.y, g.triangles, UntangleOptions{.border_rectangle = {0.0, 0.0, 6.0, 20.0}}), InputError);
+    EXPECT_THROW(plan_untangle(g.x, g.y, g.triangles, UntangleOptions{.border_rectangle = {0.0, 0.0, 7.0, nan}}), InputError);
+}
+
 // A steep Gerstner-like wave on a grid: the offset x + Q·sin(kx) folds where Q·k > 1;
 // `shift` moves it along (radians of phase).
 std::vector<float> folded_wave(const Grid& g, double qk, double shift = 0.0) {

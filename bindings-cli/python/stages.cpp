@@ -464,21 +464,25 @@ void bind_motion(py::module_& m) {
     m.def(
         "plan_untangle",
         [](const py::array& x, const py::array& y, const py::array& triangles, bool pin_border, bool hold_shore,
-           bool lips_overturn, double min_angle_degrees) {
+           bool lips_overturn, double min_angle_degrees, std::optional<std::array<double, 4>> border_rectangle) {
             const auto xs = to_vector<double>(x, 1, "plan_untangle x"), ys = to_vector<double>(y, 1, "plan_untangle y");
             const auto t = to_vector<std::uint32_t>(triangles, 3, "plan_untangle triangles");
-            return std::make_shared<wave::UntanglePlan>(wave::plan_untangle(
-                xs, ys, t,
-                {.lips_overturn = lips_overturn, .pin_border = pin_border, .hold_shore = hold_shore, .min_angle_degrees = min_angle_degrees}));
+            wave::UntangleOptions o{.lips_overturn = lips_overturn, .pin_border = pin_border, .hold_shore = hold_shore,
+                                    .min_angle_degrees = min_angle_degrees};
+            if (border_rectangle) o.border_rectangle = *border_rectangle;
+            return std::make_shared<wave::UntanglePlan>(wave::plan_untangle(xs, ys, t, o));
         },
         py::arg("x"), py::arg("y"), py::arg("triangles"), py::arg("pin_border") = true, py::arg("hold_shore") = true,
         py::arg("lips_overturn") = true, py::arg("min_angle_degrees") = wave::UntangleOptions{}.min_angle_degrees,
+        py::arg("border_rectangle") = py::none(),
         "Plans untangling against the rest positions (m) and triangles: with pin_border the sides of their bounding "
         "rectangle stay straight, with hold_shore the other boundary (the shore) keeps its rest position in plan and "
         "no triangle on it overturns; lips_overturn when the motion draws crests that turn over (Gonzato's eq. 7 as "
         "drawn, Jeschke's tube): foamy triangles are lips, left to overturn; False for the bounded sections (the "
         "defaults), which never turn over: every triangle is untangled; min_angle_degrees: the smallest angle the "
-        "motion may leave a triangle (0: no bound; the traced strips take 0) (docs/inspect.md, untangling)");
+        "motion may leave a triangle (0: no bound; the traced strips take 0); border_rectangle: the domain "
+        "(x0, y0, x1, y1) holding every rest position, or None for their bounding rectangle: a side of that rectangle "
+        "inside the domain (a straight shore that is a whole side) is shore, not border (docs/inspect.md, untangling)");
 }
 
 void bind_breakers_and_ocean(py::module_& m) {

@@ -128,6 +128,26 @@ def test_untangling_keeps_the_smallest_angle_it_is_given():
         libwave.plan_untangle(x, y, tri, min_angle_degrees=60)
 
 
+def test_a_whole_side_inside_the_given_domain_is_held_as_shore():
+    # A 1 m grid shifted 0.3 m along x: its top row (y = 7) slides along itself as a side
+    # of its bounding rectangle, but with the domain reaching on to y = 20 it is a shore
+    # and holds still.
+    n = 8
+    x, y = [a.ravel().astype(np.float64) for a in np.meshgrid(np.arange(n), np.arange(n))]
+    tri = libwave.grid_triangles(n, n)
+    moved = np.stack([x + 0.3, y, np.zeros_like(x)], axis=1).astype(np.float32)
+    top = y == 7
+    side = moved.copy()
+    libwave.plan_untangle(x, y, tri).apply(side)
+    inner = top & (x > 0) & (x < 7)  # the corners do not move sideways either way
+    assert np.all(side[inner, 0] != x[inner])
+    shore = moved.copy()
+    libwave.plan_untangle(x, y, tri, border_rectangle=(0.0, 0.0, 7.0, 20.0)).apply(shore)
+    assert np.array_equal(shore[top, 0], x[top].astype(np.float32))
+    with pytest.raises(libwave.InputError, match="border_rectangle"):
+        libwave.plan_untangle(x, y, tri, border_rectangle=(0.0, 0.0, 6.0, 20.0))
+
+
 def test_scene_round_trips_through_a_dict_and_is_edited_with_the_files_checks():
     doc = {"waves": [{"period": 5, "amplitude": 0.3}], "trace": {"ray_spacing": 2}}
     s = libwave.Scene(doc)

@@ -142,6 +142,16 @@ struct UntangleOptions {
     /// sideways at all, and no vertex (a lip included) leaves the rectangle: the
     /// surface's sides stay straight on the border in every frame.
     bool pin_border = true;
+    /// The domain's rectangle {x0, y0, x1, y1} (m) that holds every rest position, or
+    /// all NaN (the default: the rest positions' bounding rectangle). A side of the
+    /// bounding rectangle that lies inside it (by more than 1e-9 of its size) is not a
+    /// border: its boundary edges are shore (hold_shore). The scenes give the water's
+    /// domain, or the far field's outer rectangle when a skirt surrounds the surface: a
+    /// straight shore that is a whole side of the water's rectangle is then held as a
+    /// shore, not slid along as a side (one random seafloor kept triangles of 12.7° in
+    /// the swash there).
+    std::array<double, 4> border_rectangle{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN(),
+                                           std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
     /// Vertices on the rest mesh's other boundary edges (off the rectangle: the water
     /// mesh's shoreline, an island's coast) keep their rest position in plan, and no
     /// triangle with such a vertex is a lip: the water's edge stays on the shore line in
@@ -223,7 +233,8 @@ struct UntanglePlan {
 
     std::size_t vertex_count() const noexcept { return rest_x.size(); }  ///< vertices planned
 };
-/// Throws InputError when the sizes disagree, an index is out of range,
+/// Throws InputError when the sizes disagree, an index is out of range, border_rectangle
+/// is neither four finite numbers holding every rest position nor all NaN,
 /// min_area_ratio is outside (0, 1), ramp_area_ratio outside (min_area_ratio, 1),
 /// ramp_slope negative or not finite, shore_band_rings above 254, or
 /// min_angle_degrees outside [0, 60).

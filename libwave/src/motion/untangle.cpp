@@ -2,6 +2,7 @@
 // over in plan (libwave/motion.h).
 #include "libwave/motion.h"
 
+#include "core/format.h"
 #include "core/smoothstep.h"
 
 #include "libwave/errors.h"
@@ -11,6 +12,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <functional>
@@ -238,8 +240,30 @@ void ramp_factors(const UntanglePlan& plan, const FoamWeight& foam_weight, std::
     }
 }
 
+// The border: the rest positions' bounding rectangle, each side moved out to the
+// domain's (`domain`, when given) where it lies inside it; a side moved out has no
+// vertex on it, so its boundary edges are shore.
+void set_border(UntanglePlan& p, const std::array<double, 4>& domain) {
+    const auto [x0, x1] = std::minmax_element(p.rest_x.begin(), p.rest_x.end());
+    const auto [y0, y1] = std::minmax_element(p.rest_y.begin(), p.rest_y.end());
+    p.x_min = *x0, p.y_min = *y0, p.x_max = *x1, p.y_max = *y1;
+    const std::size_t finite = static_cast<std::size_t>(std::count_if(domain.begin(), domain.end(), [](double v) { return std::isfinite(v); }));
+    if (finite == 0) return;
+    const auto text = [&] {
+        return "{" + detail::format_number(domain[0]) + ", " + detail::format_number(domain[1]) + ", " +
+               detail::format_number(domain[2]) + ", " + detail::format_number(domain[3]) + "}";
+    };
+    if (finite != 4 || !(domain[0] <= p.x_min && domain[1] <= p.y_min && domain[2] >= p.x_max && domain[3] >= p.y_max))
+        throw InputError("untangle: border_rectangle " + text() + " is not four finite numbers holding every rest position");
+    const double tol = 1e-9 * std::max({1.0, domain[2] - domain[0], domain[3] - domain[1]});
+    if (p.x_min > domain[0] + tol) p.x_min = domain[0];
+    if (p.y_min > domain[1] + tol) p.y_min = domain[1];
+    if (p.x_max < domain[2] - tol) p.x_max = domain[2];
+    if (p.y_max < domain[3] - tol) p.y_max = domain[3];
+}
+
 // Flags (4) the vertices of the rest mesh's boundary edges that do not run along a
-// side of its bounding rectangle: the shore.
+// side of its border rectangle: the shore.
 void mark_shore(UntanglePlan& p) {
     const std::size_t m = p.triangles.size() / 3;
     const auto on_side = [&](std::uint32_t a, std::uint32_t b) {
@@ -319,17 +343,12 @@ UntanglePlan plan_untangle(std::span<const double> rest_x, std::span<const doubl
         p.rest_area[t] = area2(rest_x[a], rest_y[a], rest_x[b], rest_y[b], rest_x[c], rest_y[c]);
     }
     if ((options.pin_border || options.hold_shore) && n > 0) {
-        const auto [x0, x1] = std::minmax_element(rest_x.begin(), rest_x.end());
-        const auto [y0, y1] = std::minmax_element(rest_y.begin(), rest_y.end());
-        p.x_min = *x0;
-        p.x_max = *x1;
-        p.y_min = *y0;
-        p.y_max = *y1;
+        set_border(p, options.border_rectangle);
         p.pinned.assign(n, 0);
         if (options.pin_border)
             for (std::size_t v = 0; v < n; ++v)
-                p.pinned[v] = static_cast<std::uint8_t>((rest_x[v] == *x0 || rest_x[v] == *x1 ? 1 : 0) |
-                                                        (rest_y[v] == *y0 || rest_y[v] == *y1 ? 2 : 0));
+                p.pinned[v] = static_cast<std::uint8_t>((rest_x[v] == p.x_min || rest_x[v] == p.x_max ? 1 : 0) |
+                                                        (rest_y[v] == p.y_min || rest_y[v] == p.y_max ? 2 : 0));
     }
     VertexFaces vf = vertex_faces(n, triangles);
     p.face_offsets = std::move(vf.offsets);

@@ -912,6 +912,24 @@ void finish_underwater_files(FrameRun& r, bool quietly = false) {
     }
 }
 
+// The rectangle the untangling borders on: the far field's outer one round a skirt, else
+// the seafloor's (the water mesh's domain). A whole side of the water's own rectangle
+// that is a straight shore lies inside it, and is held as shore. None (NaN) when it
+// does not hold the rest positions (a camera grid reaching the horizon).
+std::array<double, 4> border_rectangle(const ScenePlan& p) {
+    constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+    const ElevationGrid& g = p.seafloor.grid;
+    std::array<double, 4> r{nan, nan, nan, nan};
+    if (p.skirt.vertex_count() > 0)
+        r = {p.skirt.x0 - p.skirt.reach, p.skirt.y0 - p.skirt.reach, p.skirt.x1 + p.skirt.reach, p.skirt.y1 + p.skirt.reach};
+    else if (g.nx >= 2 && g.ny >= 2)
+        r = {g.x0, g.y0, g.x_max(), g.y_max()};
+    const auto [x0, x1] = std::minmax_element(p.rest_x.begin(), p.rest_x.end());
+    const auto [y0, y1] = std::minmax_element(p.rest_y.begin(), p.rest_y.end());
+    const bool holds = !p.rest_x.empty() && r[0] <= *x0 && r[1] <= *y0 && r[2] >= *x1 && r[3] >= *y1;
+    return holds ? r : std::array<double, 4>{nan, nan, nan, nan};
+}
+
 void start_run(FrameRun& r, const std::vector<std::uint32_t>& triangles, std::size_t n) {
     const ScenePlan& plan = r.plan;
     const std::size_t nc = plan.rest_x.size();
@@ -941,6 +959,7 @@ void start_run(FrameRun& r, const std::vector<std::uint32_t>& triangles, std::si
         // angles only damped them unevenly (the bay's strips 5 → 48 ms a frame, vertices
         // 1.8 → 2.6 m/s).
         if (traced_strips) options.min_angle_degrees = 0.0;
+        else options.border_rectangle = border_rectangle(plan);
         r.untangle = plan_untangle(plan.rest_x, plan.rest_y, surface_triangles(r.scene, plan), options);
         if (!r.shaded || r.refined) r.coarse_foam.resize(nc);
     }
