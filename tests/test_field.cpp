@@ -50,6 +50,24 @@ TEST(WaveField, FlatBottomCarriesAPlaneWaveUnchanged) {
     EXPECT_LT(worst_phase / (2.0 * std::numbers::pi), 0.01);      // phase within 1 % of a wavelength over 10
 }
 
+TEST(WaveField, APointOnTheGridsEdgeByARoundingErrorIsOnIt) {
+    // The swell's grid is rotated to cover the domain, whose corners it just touches; a
+    // corner computed another way can land 1e-16 m outside it. Such a point samples the
+    // wave of the edge (one random seafloor's corner took none and stood still while the
+    // water round it moved 1 m); a point a hundredth of a cell outside stays dry.
+    const Seafloor flat = grid_seafloor(400.0, 400.0, 5.0, [](double, double) { return 10.0; });
+    const WaveTrain train{.period = 4.0, .amplitude = 0.2, .direction_x = std::cos(std::numbers::pi / 6), .direction_y = std::sin(std::numbers::pi / 6)};
+    const WaveField f = solve_wave_field(flat, train);
+    const FieldSample corner = sample_wave_field(f, f.x0, f.y0);
+    ASSERT_TRUE(corner.wet);
+    for (const double out : {1e-12, 1e-10 * f.dx}) {  // back along the swell: s < 0 by out / dx
+        const FieldSample s = sample_wave_field(f, f.x0 - out * f.ux, f.y0 - out * f.uy);
+        ASSERT_TRUE(s.wet) << out;
+        EXPECT_NEAR(std::abs(s.eta - corner.eta), 0.0, 1e-9) << out;
+    }
+    EXPECT_FALSE(sample_wave_field(f, f.x0 - 0.01 * f.dx * f.ux, f.y0 - 0.01 * f.dx * f.uy).wet);
+}
+
 TEST(WaveField, PlanarBeachShoalsAndRefractsLikeSnellAndTheRays) {
     // Straight parallel contours (depth falls towards +y), 15 m (nearly deep for T = 4 s)
     // to 1 m at a 1:20 slope, the swell at 30° to the shore normal.

@@ -215,8 +215,15 @@ FieldSample sample_wave_field(const WaveField& f, double x, double y) noexcept {
     FieldSample out;
     if (f.nx < 2 || f.ny < 2) return out;
     const double rx = x - f.x0, ry = y - f.y0;
-    const double s = (rx * f.ux + ry * f.uy) / f.dx, t = (-rx * f.uy + ry * f.ux) / f.dy;
-    if (!(s >= 0.0 && t >= 0.0 && s <= static_cast<double>(f.nx - 1) && t <= static_cast<double>(f.ny - 1))) return out;
+    double s = (rx * f.ux + ry * f.uy) / f.dx, t = (-rx * f.uy + ry * f.ux) / f.dy;
+    // Points on the grid's edge by construction (the domain's corners, which the swell's
+    // rotated grid just covers) may land a rounding error outside it: taken as on it.
+    // (The corner of one random seafloor took no wave and stood still in a 1 m sea.)
+    constexpr double kEdge = 1e-9;  // in cells
+    const double last_s = static_cast<double>(f.nx - 1), last_t = static_cast<double>(f.ny - 1);
+    if (!(s >= -kEdge && t >= -kEdge && s <= last_s + kEdge && t <= last_t + kEdge)) return out;
+    s = std::clamp(s, 0.0, last_s);
+    t = std::clamp(t, 0.0, last_t);
     const std::size_t i = std::min(static_cast<std::size_t>(s), f.nx - 2), j = std::min(static_cast<std::size_t>(t), f.ny - 2);
     const double fs = s - static_cast<double>(i), ft = t - static_cast<double>(j);
     const auto at = [&](std::size_t ii, std::size_t jj) { return std::complex<double>(f.envelope[jj * f.nx + ii]); };
