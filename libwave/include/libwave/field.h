@@ -81,7 +81,9 @@ struct FieldSample {
 };
 
 /// Samples the field: the envelope bilinearly, the reference phase linearly (exact for
-/// a plane wave along the swell). Outside the grid: wet = false, η̂ = 0.
+/// a plane wave along the swell). Outside the grid: wet = false, η̂ = 0; a point within
+/// 1e-9 of a cell outside it (a domain corner the rotated grid just covers, computed
+/// another way) samples the grid's edge.
 FieldSample sample_wave_field(const WaveField& field, double x, double y) noexcept;
 
 /// Gives the fronts' points their amplitude from the field (|η̂| where the field has
