@@ -225,8 +225,10 @@ struct UntanglePlan {
     /// per vertex with hold_shore: rings of triangles to the shore (0 on it), 255 beyond
     /// shore_band_rings
     std::vector<std::uint8_t> shore_ring;
-    double x_min = 0.0;  ///< the rest positions' bounding rectangle: lower corner (m)
-    double y_min = 0.0;  ///< the rest positions' bounding rectangle: lower corner (m)
+    /// the border rectangle: the rest positions' bounding rectangle, a side moved out to
+    /// UntangleOptions::border_rectangle's where it lies inside it; lower corner (m)
+    double x_min = 0.0;
+    double y_min = 0.0;  ///< the border rectangle: lower corner (m)
     double x_max = 0.0;  ///< upper corner (m)
     double y_max = 0.0;  ///< upper corner (m)
     UntangleOptions options;  ///< as planned

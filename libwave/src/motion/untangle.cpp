@@ -342,8 +342,8 @@ UntanglePlan plan_untangle(std::span<const double> rest_x, std::span<const doubl
         const std::uint32_t a = triangles[3 * t], b = triangles[3 * t + 1], c = triangles[3 * t + 2];
         p.rest_area[t] = area2(rest_x[a], rest_y[a], rest_x[b], rest_y[b], rest_x[c], rest_y[c]);
     }
+    if (n > 0) set_border(p, options.border_rectangle);  // refuses a bad border_rectangle whatever the flags
     if ((options.pin_border || options.hold_shore) && n > 0) {
-        set_border(p, options.border_rectangle);
         p.pinned.assign(n, 0);
         if (options.pin_border)
             for (std::size_t v = 0; v < n; ++v)
