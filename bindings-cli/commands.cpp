@@ -290,9 +290,9 @@ std::string run_key(const RunArgs& a, const Scene& scene, const ScenePlan& plan)
     }
     char overrides[256];
     const DracoOptions d = scene.draco.value_or(DracoOptions{});
-    std::snprintf(overrides, sizeof overrides, "\nfps %a container %d quantize %d draco %d %d %d %d %d %d %d\n", scene.fps,
+    std::snprintf(overrides, sizeof overrides, "\nfps %a container %d quantize %d draco %d %d %d %d %d %d %d%s\n", scene.fps,
                   static_cast<int>(scene.container), scene.quantize ? 1 : 0, scene.draco ? 1 : 0, d.position_bits,
-                  d.normal_bits, d.texcoord_bits, d.color_bits, d.generic_bits, d.encode_speed);
+                  d.normal_bits, d.texcoord_bits, d.color_bits, d.generic_bits, d.encode_speed, scene.meshopt ? " meshopt" : "");
     text += overrides;
     const ElevationGrid& g = plan.seafloor.grid;
     char grid[160];
@@ -325,6 +325,18 @@ Scene run_scene(const RunArgs& a) {
     const bool other_form = !a.form.empty() && scene.form != Scene::Form::morph;
     if (a.no_quantize || ((a.draco || other_form) && !a.quantize)) scene.quantize = false;
     if (scene.draco && scene.quantize) throw InputError("choose --draco or --quantize, not both (Draco quantises itself)");
+    // --no-draco / --no-quantize ask for plain floats: no codec chosen by size either.
+    if (a.no_draco || a.no_quantize || a.draco || a.quantize) scene.codec_auto = scene.meshopt = false;
+    if (!a.codec.empty()) {
+        scene.codec_auto = a.codec == "auto";
+        scene.meshopt = a.codec == "meshopt";
+        scene.quantize = a.codec == "quantize";
+        if (a.codec == "draco") {
+            if (!scene.draco) scene.draco = DracoOptions{};
+        } else {
+            scene.draco.reset();
+        }
+    }
     if (!a.container.empty()) scene.container = container_from_name(a.container);
     if (!a.frames.empty() && !a.slice.empty()) throw InputError("choose --frames or --slice, not both");
     if (a.resume && scene.form != Scene::Form::files)
@@ -359,6 +371,11 @@ struct RunSummary {
     bool resumed = false;  ///< --resume: say what was kept
 };
 
+// The codec a (resolved) scene's glTF output uses, as /outputs/codec names it.
+const char* codec_name(const Scene& scene) {
+    return scene.meshopt ? "meshopt" : scene.draco ? "draco" : scene.quantize ? "quantize" : scene.codec_auto ? "auto" : "none";
+}
+
 json surface_summary(const RunSummary& r) {
     const Scene& scene = r.scene;
     const ScenePlan& plan = r.plan;
@@ -373,6 +390,7 @@ json surface_summary(const RunSummary& r) {
                  {"form", form_name(scene.form)},
                  {"draco", scene.draco.has_value()},
                  {"quantized", scene.quantize},
+                 {"codec", codec_name(scene)},
                  {"shading", scene.attributes == Scene::Attributes::none ? "none"
                              : scene.attributes == Scene::Attributes::named ? "named" : "uv-maps"},
                  {"height_range_m", {r.z_min, r.z_max}}};
@@ -683,7 +701,7 @@ int run_job(const RunArgs& a) {
     // so the files do not depend on the count.
     std::optional<tbb::global_control> threads;
     if (a.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(a.threads));
-    const Scene scene = run_scene(a);
+    Scene scene = run_scene(a);
     FrameRange range = parse_frames(a.frames);
     const std::string out_dir = run_out_dir(a);
     check_out_dir(out_dir);
@@ -701,7 +719,11 @@ int run_job(const RunArgs& a) {
     const bool streamed = streamed_form(scene), chunked = files_form || streamed;
     std::size_t chunk = in_range;
     {  // the run's limits, before /refine's subdivision (which alone can take gigabytes)
-        const RunEstimate e = estimate_run(scene, plan, resident_bytes(), in_range);  // this process holds the plan now
+        RunEstimate e = estimate_run(scene, plan, resident_bytes(), in_range);  // this process holds the plan now
+        if (scene.codec_auto) {  // the codec chosen by the whole loop's plain size, the same for every slice
+            scene = resolve_codec(scene, estimate_run(scene, plan));
+            e = estimate_run(scene, plan, resident_bytes(), in_range);
+        }
         if (chunked) chunk = std::min(files_form_chunk(e, max_bytes), in_range);
         check_run_limits(scene, e, chunk, max_bytes);
     }
@@ -801,17 +823,18 @@ int run_job(const RunArgs& a) {
 }
 
 int run_validate(const std::string& path, bool as_json, double max_memory_gb) {
-    const Scene scene = read_scene(path);
-    const Seafloor sea = scene_seafloor(scene);
-    const auto camera = scene_camera(scene, sea);
+    const Scene read = read_scene(path);
+    const Seafloor sea = scene_seafloor(read);
+    const auto camera = scene_camera(read, sea);
     const SeafloorStats st = seafloor_stats(sea);
-    const std::string_view kind = surface_kind_name(scene.surface_kind);
+    const std::string_view kind = surface_kind_name(read.surface_kind);
     // The plan (tracing, surfaces; every limit is checked here, before the frames) gives
     // what a run would hold and write; /refine's subdivision is predicted, not built, and
     // the run's own limits are checked as `wave run` checks them.
     const double max_bytes = max_memory_gb * 1e9;
-    check_plan_limits(scene, max_bytes);
-    const ScenePlan plan = plan_scene(scene, PlanStages::surface);
+    check_plan_limits(read, max_bytes);
+    const ScenePlan plan = plan_scene(read, PlanStages::surface);
+    const Scene scene = resolve_codec(read, estimate_run(read, plan));  // the codec a run would choose
     const RunEstimate e = estimate_run(scene, plan, resident_bytes());  // this process now holds what wave run's plan holds
     check_run_limits(scene, e, scene.form == Scene::Form::files || streamed_form(scene) ? files_form_chunk(e, max_bytes) : e.frames, max_bytes);
     const std::string_view form = form_name(scene.form);
@@ -819,7 +842,7 @@ int run_validate(const std::string& path, bool as_json, double max_memory_gb) {
         std::cout << json{{"scene", scene.name}, {"valid", true}, {"surface", kind}, {"waves", scene.waves.size()},
                           {"seafloor", sea.source}, {"camera", camera}, {"fps", scene.fps},
                           {"estimate", {{"vertices", e.vertices}, {"triangles", e.triangles}, {"frames", e.frames}, {"form", form},
-                                        {"output_bytes", e.output_bytes}, {"frame_array_bytes", e.frame_array_bytes},
+                                        {"output_bytes", e.output_bytes}, {"codec", codec_name(scene)}, {"frame_array_bytes", e.frame_array_bytes},
                                         {"peak_memory_bytes", e.peak_memory_bytes}}}}
                          .dump(2)
                   << '\n';
@@ -829,7 +852,7 @@ int run_validate(const std::string& path, bool as_json, double max_memory_gb) {
               << " wave train(s) over " << sea.source << " (" << st.nx << " x " << st.ny << " nodes), camera at ["
               << camera[0] << ", " << camera[1] << ", " << camera[2] << "], " << scene.fps << " fps\n"
               << "estimate: " << e.vertices << " vertices, " << e.triangles << " triangles, " << e.frames << " frames; "
-              << form << " output ~" << e.output_bytes / 1e6 << " MB; peak memory of wave run ~" << e.peak_memory_bytes / 1e9
+              << form << " output ~" << e.output_bytes / 1e6 << " MB (codec " << codec_name(scene) << "); peak memory of wave run ~" << e.peak_memory_bytes / 1e9
               << " GB\n";
     return 0;
 }
@@ -848,6 +871,7 @@ MorphAnimationView output_view(const StoredAnimation& piece, const ConvertArgs& 
     MorphAnimationView view = piece.view();
     if (a.draco) view.draco = DracoOptions{};
     view.quantize = a.quantize;
+    view.meshopt = a.meshopt;
     return view;
 }
 
@@ -927,7 +951,7 @@ Converted convert_whole(const ConvertArgs& a, Scene::Form form, Scene::Container
 }  // namespace
 
 int run_convert(const ConvertArgs& a) {
-    if (a.draco && a.quantize) throw InputError("convert: choose --draco or --quantize, not both (Draco quantises itself)");
+    if (a.draco + a.quantize + a.meshopt > 1) throw InputError("convert: choose one of --draco, --quantize and --meshopt");
     check_out_dir(a.out_dir);
     const Scene::Form form = form_from_name(a.form.empty() ? "morph" : a.form);
     const Scene::Container container = container_from_name(a.container.empty() ? "glb" : a.container);
@@ -959,7 +983,7 @@ int run_convert(const ConvertArgs& a) {
     for (const auto& f : held) bytes += f.second.size(), outputs.push_back(f.first);
     json summary{{"input", a.input}, {"frames", c.frames}, {"first_frame", c.first_frame},
                  {"vertices", c.vertices}, {"fps", c.fps}, {"form", a.form.empty() ? "morph" : a.form},
-                 {"draco", a.draco}, {"quantized", a.quantize}, {"bytes", bytes}, {"outputs", outputs}};
+                 {"draco", a.draco}, {"quantized", a.quantize}, {"meshopt", a.meshopt}, {"bytes", bytes}, {"outputs", outputs}};
     if (a.json) std::cout << summary.dump(2) << '\n';
     else if (!a.quiet)
         std::cout << "converted " << a.input << " (" << c.frames << " frames of " << c.vertices << " vertices) -> " << a.out_dir

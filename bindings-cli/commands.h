@@ -70,6 +70,8 @@ struct RunArgs {
     bool no_quantize = false;  ///< float attributes (whatever the scene says)
     std::string container;  ///< glb | gltf; empty = the scene's
     bool quantize = false;  ///< KHR_mesh_quantization
+    /// auto | none | meshopt | draco | quantize; empty = the scene's (docs/export.md, "Which codec")
+    std::string codec;
     bool quiet = false;  ///< no progress bar and no text report
     bool json = false;
     bool preview = false;  ///< also write preview.png: a contact sheet of four frames
@@ -138,7 +140,7 @@ struct ConvertArgs {
     std::string input, out_dir;
     std::string form = "morph";  ///< morph | nodes | files
     std::string container = "glb";
-    bool draco = false, quantize = false, quiet = false, json = false;
+    bool draco = false, quantize = false, meshopt = false, quiet = false, json = false;
 };
 int run_convert(const ConvertArgs& a);
 
@@ -158,6 +160,9 @@ struct InspectArgs {
     std::string path;
     InspectOptions options;
     bool json = false;
+    /// --against REF: compare the positions of `path` (e.g. a compressed output) with
+    /// REF's (a float run of the same scene), frame by frame, instead of inspecting.
+    std::string against;
 };
 int run_inspect(const InspectArgs& a);
 

@@ -7,9 +7,16 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <limits>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
 
 namespace wave::cli {
 namespace {
@@ -50,9 +57,142 @@ void print_text(const std::string& path, const MeshInspection& m, const InspectO
               << "motion: fastest vertex " << w.max_speed << " m/s (vertex " << w.fastest_vertex << ")\n";
 }
 
+// What compression did to one frame's positions, against the float run's.
+struct FrameError {
+    std::size_t frame = 0;
+    double height = 0.0;      // the largest |Δz| over the domain's vertices (m)
+    double horizontal = 0.0;  // the largest horizontal error over the domain's vertices (m)
+    double relative = 0.0;    // the largest horizontal error over the shortest edge at the vertex
+    double skirt_height = 0.0;  // the largest |Δz| beyond the domain (far-field skirt)
+    std::size_t distinct_heights = 0;  // distinct z among the domain's vertices of the compared output
+    std::size_t reference_heights = 0; // the same in the float run
+};
+
+// For each vertex of `test`, its vertex in `ref`: the same index when both share the
+// triangles, else (Draco's own point order) the vertex with the same rest position
+// (TEXCOORD_0) — the nearest within 2^-10 of the domain, or InputError.
+std::vector<std::uint32_t> match_vertices(const StoredAnimation& test, const StoredAnimation& ref, const std::string& path) {
+    std::vector<std::uint32_t> to(test.vertex_count);
+    if (test.vertex_count == ref.vertex_count && test.triangles == ref.triangles) {
+        for (std::size_t v = 0; v < to.size(); ++v) to[v] = static_cast<std::uint32_t>(v);
+        return to;
+    }
+    if (test.vertex_count != ref.vertex_count)
+        throw InputError("inspect --against: " + path + " has " + std::to_string(test.vertex_count) + " vertices, the reference " +
+                         std::to_string(ref.vertex_count) + ": not the same scene's mesh");
+    constexpr double cell = 1.0 / 1024.0;
+    std::unordered_map<long long, std::vector<std::uint32_t>> grid;
+    const auto key = [](double u, double v) {
+        return (static_cast<long long>(std::floor(u / cell)) << 32) ^ static_cast<long long>(std::floor(v / cell) + 2147483648.0);
+    };
+    for (std::size_t v = 0; v < ref.vertex_count; ++v) grid[key(ref.texcoords[2 * v], ref.texcoords[2 * v + 1])].push_back(static_cast<std::uint32_t>(v));
+    for (std::size_t v = 0; v < test.vertex_count; ++v) {
+        const double u = test.texcoords[2 * v], w = test.texcoords[2 * v + 1];
+        double best = cell * cell;
+        bool found = false;
+        for (int du = -1; du <= 1; ++du)
+            for (int dw = -1; dw <= 1; ++dw) {
+                const auto it = grid.find(key(u + du * cell, w + dw * cell));
+                if (it == grid.end()) continue;
+                for (const std::uint32_t r : it->second) {
+                    const double d = std::pow(ref.texcoords[2 * r] - u, 2) + std::pow(ref.texcoords[2 * r + 1] - w, 2);
+                    if (d <= best) best = d, to[v] = r, found = true;
+                }
+            }
+        if (!found)
+            throw InputError("inspect --against: vertex " + std::to_string(v) + " of " + path + " has no vertex of the reference at its rest position");
+    }
+    return to;
+}
+
+std::vector<FrameError> compare_positions(const StoredAnimation& test, const StoredAnimation& ref, const std::string& path) {
+    if (test.first_frame != ref.first_frame || test.frame_count != ref.frame_count)
+        throw InputError("inspect --against: " + path + " holds frames " + std::to_string(test.first_frame) + " … " +
+                         std::to_string(test.first_frame + test.frame_count) + ", the reference " + std::to_string(ref.first_frame) +
+                         " … " + std::to_string(ref.first_frame + ref.frame_count));
+    const std::vector<std::uint32_t> to = match_vertices(test, ref, path);
+    const std::size_t n = ref.vertex_count;
+    std::vector<char> domain(n);
+    for (std::size_t v = 0; v < n; ++v) {
+        const float u = ref.texcoords[2 * v], w = ref.texcoords[2 * v + 1];
+        domain[v] = u >= 0.0f && u <= 1.0f && w >= 0.0f && w <= 1.0f;
+    }
+    std::vector<FrameError> out;
+    std::vector<double> shortest(n);
+    for (std::size_t f = 0; f < ref.frame_count; ++f) {
+        const float* p = &ref.positions[3 * n * f];
+        const float* q = &test.positions[3 * n * f];
+        std::fill(shortest.begin(), shortest.end(), std::numeric_limits<double>::infinity());
+        for (std::size_t t = 0; t + 2 < ref.triangles.size(); t += 3)
+            for (std::size_t k = 0; k < 3; ++k) {
+                const std::uint32_t i = ref.triangles[t + k], j = ref.triangles[t + (k + 1) % 3];
+                const double d = std::sqrt(std::pow(p[3 * i] - p[3 * j], 2) + std::pow(p[3 * i + 1] - p[3 * j + 1], 2) +
+                                           std::pow(p[3 * i + 2] - p[3 * j + 2], 2));
+                shortest[i] = std::min(shortest[i], d), shortest[j] = std::min(shortest[j], d);
+            }
+        FrameError e;
+        e.frame = ref.first_frame + f;
+        std::unordered_set<float> heights, ref_heights;
+        for (std::size_t v = 0; v < test.vertex_count; ++v) {
+            const std::size_t r = to[v];
+            const double dz = std::abs(double{q[3 * v + 2]} - p[3 * r + 2]);
+            if (!domain[r]) {
+                e.skirt_height = std::max(e.skirt_height, dz);
+                continue;
+            }
+            const double dh = std::hypot(double{q[3 * v]} - p[3 * r], double{q[3 * v + 1]} - p[3 * r + 1]);
+            e.height = std::max(e.height, dz);
+            e.horizontal = std::max(e.horizontal, dh);
+            if (shortest[r] > 0.0 && std::isfinite(shortest[r])) e.relative = std::max(e.relative, dh / shortest[r]);
+            heights.insert(q[3 * v + 2]);
+            ref_heights.insert(p[3 * r + 2]);
+        }
+        e.distinct_heights = heights.size();
+        e.reference_heights = ref_heights.size();
+        out.push_back(e);
+    }
+    return out;
+}
+
+int run_against(const InspectArgs& a) {
+    const std::string path = animation_path(a.path), reference = animation_path(a.against);
+    const StoredAnimation test = read_animation(path);
+    const StoredAnimation ref = read_animation(reference);
+    const std::vector<FrameError> errors = compare_positions(test, ref, path);
+    FrameError worst;
+    worst.distinct_heights = std::numeric_limits<std::size_t>::max();
+    for (const FrameError& e : errors) {
+        worst.height = std::max(worst.height, e.height);
+        worst.horizontal = std::max(worst.horizontal, e.horizontal);
+        worst.relative = std::max(worst.relative, e.relative);
+        worst.skirt_height = std::max(worst.skirt_height, e.skirt_height);
+        worst.distinct_heights = std::min(worst.distinct_heights, e.distinct_heights);
+    }
+    if (a.json) {
+        nlohmann::ordered_json frames = nlohmann::ordered_json::array();
+        for (const FrameError& e : errors)
+            frames.push_back({{"frame", e.frame}, {"height_error_m", e.height}, {"horizontal_error_m", e.horizontal},
+                              {"horizontal_error_per_edge", e.relative}, {"skirt_height_error_m", e.skirt_height},
+                              {"distinct_heights", e.distinct_heights}, {"reference_distinct_heights", e.reference_heights}});
+        nlohmann::ordered_json doc{{"input", path}, {"against", reference}, {"vertices", test.vertex_count}, {"frames", errors.size()},
+                                   {"height_error_m", worst.height}, {"horizontal_error_m", worst.horizontal},
+                                   {"horizontal_error_per_edge", worst.relative}, {"skirt_height_error_m", worst.skirt_height},
+                                   {"fewest_distinct_heights", worst.distinct_heights}, {"per_frame", frames}};
+        std::cout << doc.dump(2) << '\n';
+        return 0;
+    }
+    std::cout << path << " against " << reference << ": " << test.vertex_count << " vertices, " << errors.size() << " frame(s)\n"
+              << "domain: heights within " << worst.height * 1e3 << " mm, horizontal within " << worst.horizontal * 1e3
+              << " mm (" << worst.relative * 100.0 << " % of the shortest edge at a vertex); at least "
+              << worst.distinct_heights << " distinct heights in a frame\n"
+              << "far field: heights within " << worst.skirt_height * 1e3 << " mm\n";
+    return 0;
+}
+
 }  // namespace
 
 int run_inspect(const InspectArgs& a) {
+    if (!a.against.empty()) return run_against(a);
     const std::string path = animation_path(a.path);
     const StoredAnimation stored = read_animation(path);
     const MeshInspection m = inspect_animation(stored.view(), a.options);

@@ -96,6 +96,8 @@ int main(int argc, char** argv) {
     auto* draco_opt = run_cmd->add_flag("--draco", run.draco, "Draco-compress the meshes (morph: the base mesh only; default quantisation: positions 14 bits)");
     run_cmd->add_flag("--no-draco", run.no_draco, "plain meshes even where the scene asks for Draco (Blender's own glTF importer reads no Draco)")
         ->excludes(draco_opt);
+    run_cmd->add_option("--codec", run.codec, "compression of the animation, overriding the scene's /outputs/codec: auto (meshopt above 32 MB of plain output, else none), none (plain floats: Blender's own importer, any glTF client), meshopt (EXT_meshopt_compression: fast, heights within 0.12 mm), draco, quantize")
+        ->check(CLI::IsMember({"auto", "none", "meshopt", "draco", "quantize"}))->excludes(draco_opt)->excludes(quantize_opt);
     run_cmd->add_option("--fps", run.fps, "frames per second (overrides the scene's)")->check(positive);
     run_cmd->add_flag("-q,--quiet", run.quiet, "no progress bar and no report on stdout");
     CLI::Option* resume_opt = run_cmd->add_flag("--resume", run.resume, "files form: continue an interrupted run — keep the frames whose files match the index (size and SHA-256), compute the rest");
@@ -126,6 +128,8 @@ int main(int argc, char** argv) {
     batch_cmd->add_flag("--quantize", batch_quantize, "as for run");
     bool batch_no_quantize = false;
     batch_cmd->add_flag("--no-quantize", batch_no_quantize, "as for run");
+    std::string batch_codec;
+    batch_cmd->add_option("--codec", batch_codec, "as for run")->check(CLI::IsMember({"auto", "none", "meshopt", "draco", "quantize"}));
     batch_cmd->add_option("--threads", batch_threads, "worker threads of each scene's run")->check(positive);
     batch_cmd->add_flag("-q,--quiet", batch.quiet, "no line per scene");
     batch_cmd->add_flag("--json", batch.json, "print the summary as JSON");
@@ -138,6 +142,7 @@ int main(int argc, char** argv) {
     convert_cmd->add_option("--container", convert.container, "glb (default) or gltf")->check(CLI::IsMember({"glb", "gltf"}));
     convert_cmd->add_flag("--draco", convert.draco, "Draco-compress (morph: the base mesh)");
     convert_cmd->add_flag("--quantize", convert.quantize, "KHR_mesh_quantization");
+    convert_cmd->add_flag("--meshopt", convert.meshopt, "EXT_meshopt_compression (fast; heights within 0.12 mm)");
     convert_cmd->add_flag("-q,--quiet", convert.quiet, "print nothing");
     convert_cmd->add_flag("--json", convert.json, "print a JSON summary");
 
@@ -194,6 +199,7 @@ int main(int argc, char** argv) {
     inspect_cmd->add_option("--long-edge", inspect.options.long_edge_ratio, "edge length over the local spacing counted as long")
         ->capture_default_str()->check(CLI::Range(1.0, 1e6));
     inspect_cmd->add_flag("--json", inspect.json, "print everything as JSON, every frame included");
+    inspect_cmd->add_option("--against", inspect.against, "REF: compare the positions with REF, a float run of the same scene (--codec none): the largest height and horizontal errors per frame, and the distinct heights of the domain (terraces)");
 
     cli::TraceArgs trace;
     auto* trace_cmd = app.add_subcommand("trace", "Trace a scene's wave trains: rays or fronts as CSV, ray strips as PLY, a summary");
@@ -265,6 +271,7 @@ int main(int argc, char** argv) {
             if (batch_no_draco) batch.run_args.push_back("--no-draco");
             if (batch_quantize) batch.run_args.push_back("--quantize");
             if (batch_no_quantize) batch.run_args.push_back("--no-quantize");
+            if (!batch_codec.empty()) batch.run_args.insert(batch.run_args.end(), {"--codec", batch_codec});
             return cli::run_batch(batch);
         }
         if (*validate_cmd) return cli::run_validate(validate_scene, validate_json, validate_max_memory_gb);

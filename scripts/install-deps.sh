@@ -7,7 +7,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build ccache pkg-config git
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev
-  libopenmesh-dev libosd-dev libdraco-dev libtinygltf-dev libstb-dev
+  libopenmesh-dev libosd-dev libdraco-dev libmeshoptimizer-dev libtinygltf-dev libstb-dev
   libfftw3-dev libtbb-dev libeigen3-dev libembree-dev liblapack-dev libpng-dev libopenvdb-dev
   nlohmann-json3-dev libcli11-dev
   libgdal-dev gdal-bin

@@ -142,6 +142,16 @@ struct MorphAnimationView {
     /// (AnimationFileWriter streams quantised morph targets only with it); none = found
     /// from the frames given. Deltas beyond it are clamped.
     std::optional<double> quantize_range;
+    /// EXT_meshopt_compression (not with Draco or quantize; docs/export.md, "Meshopt
+    /// compression"): every vertex attribute and index view through meshoptimizer's
+    /// codecs, float attributes through its exponential filter with an exponent per
+    /// value, so that precision follows each axis: heights within min(2^-17 m, the
+    /// horizontal step / 2), horizontal positions within 1/256 of the frame's shortest
+    /// edge (and 2^-24 of a coordinate beyond 2^23 steps, a far skirt's), normals 2^-15,
+    /// shading 2^-17, TEXCOORD_0 2^-21. Morph targets are dense (zeros cost nearly
+    /// nothing in the codec). Decoded by read_animation, three.js's MeshoptDecoder,
+    /// gltfpack; not by Blender's own importer.
+    bool meshopt = false;
     /// The seafloor, camera, sun and water material (morph and nodes forms; in the files
     /// form the loop's frame 0 carries them).
     std::optional<SceneDressing> dressing;

@@ -183,6 +183,11 @@ struct Scene {
     };
     Form form = Form::morph;  ///< /outputs/form
     bool quantize = false;  ///< KHR_mesh_quantization (not with Draco)
+    /// EXT_meshopt_compression (MorphAnimationView::meshopt; not with Draco or quantize).
+    bool meshopt = false;
+    /// /outputs/codec "auto" (the default, when the scene names no codec): the run
+    /// chooses with resolve_codec, meshopt for a big output, plain floats for a small one.
+    bool codec_auto = true;
     /// Binary .glb, or text .gltf with an external .bin.
     enum class Container {
         glb,   ///< binary
@@ -342,6 +347,7 @@ struct SceneAnimation {
     ScalarLayout layout = ScalarLayout::blender34;  ///< how the exporters lay out the scalars
     std::optional<DracoOptions> draco;  ///< the scene's Draco options
     bool quantize = false;  ///< KHR_mesh_quantization
+    bool meshopt = false;   ///< EXT_meshopt_compression
     float z_min = 0;  ///< height range over all frames (m)
     float z_max = 0;  ///< height range over all frames (m)
     double fps = 24.0;  ///< frames per second
@@ -401,6 +407,15 @@ std::size_t scene_loop_frames(const Scene& scene, const ScenePlan& plan);
 /// the whole loop.
 RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double planned_resident_bytes = 0.0,
                          std::size_t run_frames = 0);
+
+/// The plain output size above which /outputs/codec "auto" compresses (bytes).
+inline constexpr double kAutoCodecBytes = 32e6;
+/// /outputs/codec "auto" decided (docs/export.md, "Which codec"): a glTF output
+/// (morph, nodes, files) whose plain estimate (`plain`: estimate_run of the scene
+/// without a codec) exceeds kAutoCodecBytes gets EXT_meshopt_compression; smaller ones
+/// and PC2 stay plain floats, which every glTF client reads. A scene that names a codec
+/// keeps it. Returns the scene with codec_auto cleared.
+Scene resolve_codec(Scene scene, const RunEstimate& plain);
 
 /// What a scene needs at least before its plan exists (bytes): an FFT ocean's lattice
 /// and transforms (92 B per lattice point) and, for the open-ocean patch, one frame's

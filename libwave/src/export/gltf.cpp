@@ -14,6 +14,7 @@
 #include "libwave/errors.h"
 #include "libwave/export.h"
 #include "draco_encode.h"
+#include "meshopt_codec.h"
 #include "normalised.h"
 #include "libwave/io.h"
 
@@ -63,6 +64,30 @@ struct BinSink {
 struct GlbBuilder {
     tinygltf::Model& model;
     BinSink& bytes;
+    // EXT_meshopt_compression: compressed views' bytes go to buffer 0 and the views
+    // themselves lie in buffer 1, the extension's fallback buffer, which has no data.
+    bool meshopt = false;
+    std::size_t fallback = 0;  // buffer 1's length so far
+    std::vector<std::pair<int, nlohmann::json>> view_extensions{};  // tinygltf writes no bufferView extensions
+
+    // `count` elements of `stride` bytes compressed by meshoptimizer (`encoded`) as a view.
+    int compressed_view(const std::string& encoded, std::size_t count, std::size_t stride, int target,
+                        detail::MeshoptMode mode, detail::MeshoptFilter filter) {
+        bytes.pad4();
+        tinygltf::BufferView v;
+        v.buffer = 1;
+        v.byteOffset = fallback;
+        v.byteLength = count * stride;
+        v.target = target;
+        nlohmann::json ext{{"buffer", 0}, {"byteOffset", bytes.size}, {"byteLength", encoded.size()},
+                           {"byteStride", stride}, {"count", count}, {"mode", detail::meshopt_mode_name(mode)}};
+        if (filter != detail::MeshoptFilter::none) ext["filter"] = detail::meshopt_filter_name(filter);
+        bytes.append(encoded.data(), encoded.size());
+        fallback += (count * stride + 3) / 4 * 4;
+        model.bufferViews.push_back(v);
+        view_extensions.emplace_back(static_cast<int>(model.bufferViews.size() - 1), std::move(ext));
+        return static_cast<int>(model.bufferViews.size() - 1);
+    }
 
     int view(const void* data, std::size_t size, int target, std::size_t stride = 0) {
         bytes.pad4();
@@ -182,6 +207,8 @@ void check(const MorphAnimationView& a, std::size_t first = 0, std::size_t count
         throw InputError("glTF export: give reflect, refract and foam together (or none)");
     if (a.quantize && a.draco)
         throw InputError("glTF export: choose Draco or KHR_mesh_quantization, not both (Draco quantises itself)");
+    if (a.meshopt && (a.draco || a.quantize))
+        throw InputError("glTF export: EXT_meshopt_compression goes with neither Draco nor KHR_mesh_quantization (it filters the floats itself)");
     if (a.triangles.empty() || a.triangles.size() % 3) throw InputError("glTF export: the index list is not whole triangles");
     for (std::uint32_t v : a.triangles)
         if (v >= n) throw InputError("glTF export: triangle index " + std::to_string(v) + " >= vertex count " + std::to_string(n));
@@ -516,6 +543,38 @@ Quantization quantization_for(const MorphAnimationView& a, bool morph_targets, s
     return q;
 }
 
+// EXT_meshopt_compression's exponential filter: the step (log2 of metres) of each
+// POSITION component in glTF axes. Horizontally the largest power of two at most
+// 1/256 of the shortest horizontal edge of the view's first frame (the error, half a
+// step, under 0.2 % of any edge); heights the finer of 2^-16 m and that step. A value
+// too large for 24 bits at its step gets a coarser exponent of its own (a far skirt).
+std::array<int, 3> meshopt_position_steps(const MorphAnimationView& a) {
+    double shortest = std::numeric_limits<double>::infinity();
+    for (std::size_t t = 0; t + 2 < a.triangles.size(); t += 3)
+        for (std::size_t k = 0; k < 3; ++k) {
+            const float* p = &a.positions[3 * std::size_t{a.triangles[t + k]}];
+            const float* q = &a.positions[3 * std::size_t{a.triangles[t + (k + 1) % 3]}];
+            const double dx = double{p[0]} - q[0], dy = double{p[1]} - q[1], d2 = dx * dx + dy * dy;
+            if (d2 > 0.0) shortest = std::min(shortest, d2);
+        }
+    shortest = std::sqrt(shortest);
+    const int h = std::isfinite(shortest) ? std::clamp(static_cast<int>(std::floor(std::log2(shortest / 256.0))), -60, 40) : -12;
+    const int z = std::min(-16, h);
+    return {h, z, h};
+}
+
+// The triangles through meshoptimizer's index codec, encoded once for the frames of a
+// files form that share them (the last list seen by this thread, compared whole).
+const std::string& encoded_triangles(std::span<const std::uint32_t> triangles) {
+    thread_local std::vector<std::uint32_t> last;
+    thread_local std::string encoded;
+    if (last.size() != triangles.size() || !std::equal(last.begin(), last.end(), triangles.begin())) {
+        encoded = detail::meshopt_encode_triangles(triangles);
+        last.assign(triangles.begin(), triangles.end());
+    }
+    return encoded;
+}
+
 // A model with one buffer, the shared index and TEXCOORD_0 accessors, and helpers.
 struct ModelWriter {
     tinygltf::Model model;
@@ -530,6 +589,7 @@ struct ModelWriter {
     std::array<int, 2> part_indices{-1, -1}, part_texcoord0{-1, -1};
     std::optional<SceneDressing> dressing;
     double frame_unit = 1.0;  // metres per unit of the last frame's positions (a Draco frame with a skirt)
+    std::array<int, 3> position_steps{};  // EXT_meshopt_compression: meshopt_position_steps
 
     // `frames`: how many frames' attributes the buffer will hold (reserved up front:
     // growing a buffer of hundreds of MB by doubling was a third of the export time).
@@ -562,6 +622,18 @@ struct ModelWriter {
         extras["libwave"] = tinygltf::Value(info);
         model.asset.extras = tinygltf::Value(extras);
         if (a.draco) return;  // every primitive carries its own compressed indices and UVs
+        if (a.meshopt) {
+            b.meshopt = true;
+            position_steps = meshopt_position_steps(a);
+            model.extensionsUsed.push_back("EXT_meshopt_compression");
+            model.extensionsRequired.push_back("EXT_meshopt_compression");
+            indices = b.accessor(b.compressed_view(encoded_triangles(a.triangles), a.triangles.size(), 4,
+                                                   TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER, detail::MeshoptMode::triangles,
+                                                   detail::MeshoptFilter::none),
+                                 TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, a.triangles.size(), TINYGLTF_TYPE_SCALAR);
+            texcoord0 = floats("TEXCOORD_0", TINYGLTF_TYPE_VEC2, std::vector<float>(a.texcoords.begin(), a.texcoords.end()));
+            return;
+        }
         if (a.quantize) {
             if (!morph_targets) split = split_skirt(a.texcoords, a.triangles, a.vertex_count);
             std::span<const std::uint32_t> domain;  // the vertices the grid spans (empty: all)
@@ -609,8 +681,31 @@ struct ModelWriter {
         return b.stored(q.data(), width * sizeof(Int), stride * sizeof(Int), count, component, type, true,
                         bounds ? lo : std::vector<double>{}, bounds ? hi : std::vector<double>{}, target);
     }
+    // An attribute through EXT_meshopt_compression: the exponential filter at the
+    // attribute's steps (positions: position_steps), then the vertex codec; a position's
+    // bounds are those of the values as they decode. Morph targets stay dense.
+    int meshopt_floats(const std::string& name, int type, const std::vector<float>& values) {
+        const std::size_t width = components_of(type), count = values.size() / width;
+        std::array<int, 3> steps = position_steps;
+        if (name != "POSITION") steps.fill(name == "NORMAL" ? -15 : name == "TEXCOORD_0" ? -21 : -17);
+        std::vector<std::uint32_t> words(values.size());
+        std::vector<float> decoded(values.size());
+        detail::encode_exponential(values, width, std::span<const int>(steps.data(), width), words, decoded);
+        std::vector<double> lo, hi;
+        if (name == "POSITION") {
+            lo.assign(3, std::numeric_limits<double>::infinity());
+            hi.assign(3, -std::numeric_limits<double>::infinity());
+            for (std::size_t i = 0; i < decoded.size(); ++i)
+                lo[i % 3] = std::min(lo[i % 3], double{decoded[i]}), hi[i % 3] = std::max(hi[i % 3], double{decoded[i]});
+        }
+        const int view = b.compressed_view(detail::meshopt_encode_attributes(words.data(), count, 4 * width), count, 4 * width,
+                                           TINYGLTF_TARGET_ARRAY_BUFFER, detail::MeshoptMode::attributes,
+                                           detail::MeshoptFilter::exponential);
+        return b.accessor(view, TINYGLTF_COMPONENT_TYPE_FLOAT, count, type, std::move(lo), std::move(hi));
+    }
     // An attribute's accessor; `target` = a morph delta.
     int floats(const std::string& name, int type, const std::vector<float>& values, bool target = false) {
+        if (b.meshopt) return meshopt_floats(name, type, values);
         if (quant && name == "POSITION" && quant->float_base && !target) {
             std::vector<float> scaled(values.size());
             for (std::size_t i = 0; i < values.size(); ++i)
@@ -936,6 +1031,10 @@ struct ModelWriter {
         std::memcpy(&length, glb.data() + 12, 4);
         nlohmann::json doc = nlohmann::json::parse(glb.substr(20, length));
         doc["buffers"][0]["byteLength"] = sink.size;
+        if (b.meshopt) {
+            for (auto& [view, ext] : b.view_extensions) doc["bufferViews"][static_cast<std::size_t>(view)]["extensions"]["EXT_meshopt_compression"] = ext;
+            doc["buffers"].push_back({{"byteLength", b.fallback}, {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}});
+        }
         return doc.dump();
     }
 };

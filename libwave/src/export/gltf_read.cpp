@@ -9,8 +9,10 @@
 #include "libwave/errors.h"
 #include "libwave/export.h"
 #include "core/files.h"
+#include "core/format.h"
 #include "core/json_input.h"
 #include "normalised.h"
+#include "meshopt_codec.h"
 
 #include <draco/compression/decode.h>
 #include <nlohmann/json.hpp>
@@ -29,6 +31,7 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <span>
 #include <unordered_map>
 
 namespace wave {
@@ -44,10 +47,27 @@ void read_at(std::ifstream& in, const std::string& path, std::size_t at, char* i
     if (!in.read(into, static_cast<std::streamsize>(length))) throw InputError(path + ": cannot read the file");
 }
 
+// A view compressed by EXT_meshopt_compression, as its extension describes it (the
+// view itself then points at the compressed bytes: unpack_meshopt).
+struct MeshoptView {
+    detail::MeshoptMode mode = detail::MeshoptMode::attributes;
+    detail::MeshoptFilter filter = detail::MeshoptFilter::none;
+    std::size_t count = 0, stride = 0;
+};
+
+// The decoded bytes of a compressed view, or InputError naming the file and the view.
+std::vector<unsigned char> decode_meshopt(const std::string& path, int view, const MeshoptView& m, std::span<const unsigned char> compressed) {
+    std::vector<unsigned char> out(m.count * m.stride);
+    const std::string error = detail::meshopt_decode(m.mode, m.filter, m.count, m.stride, compressed, out);
+    if (!error.empty()) throw InputError(path + ": bufferView " + std::to_string(view) + " (EXT_meshopt_compression): " + error);
+    return out;
+}
+
 struct LazyViews {
     std::string file;      // where buffer 0's bytes are: the .glb, or a .gltf's .bin
     std::size_t base = 0;  // the file offset of buffer 0's first byte
     std::map<int, std::pair<std::size_t, std::size_t>> where{};  // view → (byteOffset, byteLength) in buffer 0
+    std::map<int, MeshoptView> meshopt{};  // the views of `where` that are compressed
     mutable std::ifstream in{};
     mutable std::map<int, std::vector<unsigned char>> loaded{};
 
@@ -58,6 +78,7 @@ struct LazyViews {
         if (fresh) {
             slot->second.resize(it->second.second);
             read_at(in, path, base + it->second.first, reinterpret_cast<char*>(slot->second.data()), it->second.second);
+            if (const auto m = meshopt.find(view); m != meshopt.end()) slot->second = decode_meshopt(path, view, m->second, slot->second);
         }
         return &slot->second;
     }
@@ -661,6 +682,102 @@ std::set<int> frame_views(const nlohmann::json& doc) {
     return lazy;
 }
 
+// EXT_meshopt_compression: each compressed view is pointed at its compressed bytes
+// (the extension's buffer, offset and length) and its decoding recorded, the fallback
+// buffers (no data) are dropped, so that the layout checks and the lazy reading see
+// plain views of one buffer; the bytes are decoded as they are read. Every field is
+// checked first: a view's decoded size must be count × byteStride and within what the
+// codecs can expand its compressed bytes to (no allocation a stream cannot fill).
+std::map<int, MeshoptView> unpack_meshopt(const std::string& path, nlohmann::json& doc) {
+    std::map<int, MeshoptView> out;
+    const auto listed = [&](const char* key) {
+        if (!doc.contains(key) || !doc[key].is_array()) return false;
+        for (const auto& e : doc[key])
+            if (e == "EXT_meshopt_compression") return true;
+        return false;
+    };
+    if (!listed("extensionsUsed")) return out;
+    const auto fail = [&](const std::string& what) { throw InputError(path + ": EXT_meshopt_compression: " + what); };
+    if (!doc.contains("buffers") || !doc["buffers"].is_array()) fail("no buffers");
+    nlohmann::json& buffers = doc["buffers"];
+    std::vector<char> fallback(buffers.size(), 0);
+    for (std::size_t b = 0; b < buffers.size(); ++b) {
+        const nlohmann::json& buffer = buffers[b];
+        if (buffer.is_object() && buffer.contains("extensions") && buffer["extensions"].is_object() &&
+            buffer["extensions"].contains("EXT_meshopt_compression")) {
+            const nlohmann::json& e = buffer["extensions"]["EXT_meshopt_compression"];
+            fallback[b] = e.is_object() && e.value("fallback", false) == true;
+        }
+    }
+    std::size_t data_buffers = 0;  // the fallback buffers must come after every buffer with data
+    while (data_buffers < fallback.size() && !fallback[data_buffers]) ++data_buffers;
+    for (std::size_t b = data_buffers; b < fallback.size(); ++b)
+        if (!fallback[b]) fail("buffer " + std::to_string(b) + " has data but follows a fallback buffer");
+    if (!doc.contains("bufferViews") || !doc["bufferViews"].is_array()) return out;
+    nlohmann::json& views = doc["bufferViews"];
+    const auto whole = [&](const nlohmann::json& o, const char* key, std::size_t dflt, double most, const std::string& what) {
+        if (!o.contains(key)) return dflt;
+        const nlohmann::json& x = o[key];
+        if (!x.is_number_integer() || x.get<double>() < 0.0 || x.get<double>() > most)
+            fail(what + ": " + key + " is not a whole number in [0, " + detail::format_number(most) + "]");
+        return x.get<std::size_t>();
+    };
+    for (std::size_t v = 0; v < views.size(); ++v) {
+        nlohmann::json& view = views[v];
+        const std::string what = "bufferView " + std::to_string(v);
+        if (!view.is_object()) fail(what + " is not an object");
+        const bool compressed = view.contains("extensions") && view["extensions"].is_object() &&
+                                view["extensions"].contains("EXT_meshopt_compression");
+        if (!compressed) {
+            if (whole(view, "buffer", 0, 1e9, what) >= data_buffers) fail(what + " lies in a fallback buffer, which has no data");
+            continue;
+        }
+        const nlohmann::json e = view["extensions"]["EXT_meshopt_compression"];
+        if (!e.is_object()) fail(what + ": the extension is not an object");
+        MeshoptView m;
+        const std::size_t buffer = whole(e, "buffer", std::size_t(-1), 1e9, what);
+        if (buffer >= data_buffers) fail(what + ": its compressed bytes are not in a buffer with data");
+        const std::size_t offset = whole(e, "byteOffset", 0, 4294967295.0, what);
+        const std::size_t length = whole(e, "byteLength", std::size_t(-1), 4294967295.0, what);
+        m.stride = whole(e, "byteStride", std::size_t(-1), 256, what);
+        m.count = whole(e, "count", std::size_t(-1), 4294967295.0, what);
+        if (!e.contains("mode") || !e["mode"].is_string()) fail(what + ": no mode");
+        const std::string mode = e["mode"].get<std::string>(), filter = e.value("filter", std::string("NONE"));
+        if (mode == "ATTRIBUTES") m.mode = detail::MeshoptMode::attributes;
+        else if (mode == "TRIANGLES") m.mode = detail::MeshoptMode::triangles;
+        else if (mode == "INDICES") m.mode = detail::MeshoptMode::indices;
+        else fail(what + ": unknown mode \"" + mode + "\"");
+        if (filter == "NONE") m.filter = detail::MeshoptFilter::none;
+        else if (filter == "OCTAHEDRAL") m.filter = detail::MeshoptFilter::octahedral;
+        else if (filter == "QUATERNION") m.filter = detail::MeshoptFilter::quaternion;
+        else if (filter == "EXPONENTIAL") m.filter = detail::MeshoptFilter::exponential;
+        else fail(what + ": unknown filter \"" + filter + "\"");
+        const std::size_t decoded = m.count * m.stride;
+        if (whole(view, "byteLength", std::size_t(-1), 4294967295.0, what) != decoded)
+            fail(what + ": byteLength " + std::to_string(view.value("byteLength", std::size_t{0})) + " is not count " + std::to_string(m.count) +
+                 " × byteStride " + std::to_string(m.stride));
+        // The vertex codec packs at most 64 bytes per byte (a stream of zeros), the index
+        // codecs less: a larger declared size is not what the stream holds.
+        if (decoded > 64 * length + 4096)
+            fail(what + ": declares " + std::to_string(decoded) + " bytes for a stream of " + std::to_string(length));
+        view["buffer"] = buffer;
+        view["byteOffset"] = offset;
+        view["byteLength"] = length;
+        view["extensions"].erase("EXT_meshopt_compression");
+        if (view["extensions"].empty()) view.erase("extensions");
+        out[static_cast<int>(v)] = m;
+    }
+    buffers.erase(buffers.begin() + static_cast<std::ptrdiff_t>(data_buffers), buffers.end());
+    for (const char* key : {"extensionsUsed", "extensionsRequired"})
+        if (doc.contains(key) && doc[key].is_array()) {
+            nlohmann::json kept = nlohmann::json::array();
+            for (const auto& e : doc[key])
+                if (e != "EXT_meshopt_compression") kept.push_back(e);
+            doc[key] = kept;
+        }
+    return out;
+}
+
 // Loads one of libwave's glTF files into `m`. When buffer 0 is a .glb's BIN chunk or a
 // .gltf's external .bin (every layout libwave writes), tinygltf parses the JSON with a
 // buffer of the static views alone, moved together, and the frames' views stay in the
@@ -674,6 +791,7 @@ void load_model(const std::string& path, tinygltf::Model& m, LazyViews& lazy) {
     if (ec || !in) throw InputError(path + ": cannot read the file");
     const Container c = read_container(path, in, size, binary);
     nlohmann::json doc = detail::parse_json_input(c.json, path);  // nesting bounded before tinygltf parses it
+    const std::map<int, MeshoptView> meshopt = unpack_meshopt(path, doc);
     check_layout(path, doc, c, binary, in);
     const std::string base_dir = std::filesystem::path(path).parent_path().string();  // a .gltf's .bin lies beside it
     tinygltf::TinyGLTF loader;
@@ -684,6 +802,7 @@ void load_model(const std::string& path, tinygltf::Model& m, LazyViews& lazy) {
     const bool in_bin_file = !binary && one_buffer && uri.is_string() && uri.get<std::string>().rfind("data:", 0) != 0;
     const bool views_listed = !doc.contains("bufferViews") || doc["bufferViews"].is_array();
     if ((!in_bin_chunk && !in_bin_file) || !views_listed) {
+        if (!meshopt.empty()) throw InputError(path + ": EXT_meshopt_compression with its data elsewhere than the GLB's chunk or one .bin");
         in.clear();
         in.seekg(0);
         const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -706,14 +825,25 @@ void load_model(const std::string& path, tinygltf::Model& m, LazyViews& lazy) {
     for (std::size_t v = 0; v < views.size(); ++v) {
         nlohmann::json& view = views[v];
         const std::size_t offset = view.value("byteOffset", std::size_t{0}), length = view.value("byteLength", std::size_t{0});
+        const auto compressed = meshopt.find(static_cast<int>(v));
+        if (compressed != meshopt.end()) view["byteLength"] = compressed->second.count * compressed->second.stride;
         if (deferred.count(static_cast<int>(v))) {
             lazy.where[static_cast<int>(v)] = {offset, length};
+            if (compressed != meshopt.end()) lazy.meshopt[static_cast<int>(v)] = compressed->second;
             view["byteOffset"] = 0;  // tinygltf does not read it; the reader asks `lazy`
             continue;
         }
         bin.resize((bin.size() + 3) & ~std::size_t{3}, '\0');
         view["byteOffset"] = bin.size();
-        bin += file_bytes(lazy.in, path, lazy.base + offset, length);
+        if (compressed == meshopt.end()) {
+            bin += file_bytes(lazy.in, path, lazy.base + offset, length);
+        } else {
+            const std::string packed = file_bytes(lazy.in, path, lazy.base + offset, length);
+            const std::vector<unsigned char> plain = decode_meshopt(
+                path, static_cast<int>(v), compressed->second,
+                std::span<const unsigned char>(reinterpret_cast<const unsigned char*>(packed.data()), packed.size()));
+            bin.append(reinterpret_cast<const char*>(plain.data()), plain.size());
+        }
     }
     doc["buffers"][0] = nlohmann::json{{"byteLength", bin.size()}};
     std::string json = doc.dump();

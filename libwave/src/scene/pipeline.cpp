@@ -636,6 +636,7 @@ MorphAnimationView SceneAnimation::view() const {
     MorphAnimationView v = animation_view(*this);
     v.draco = draco;
     v.quantize = quantize;
+    v.meshopt = meshopt;
     return v;
 }
 
@@ -674,6 +675,13 @@ std::size_t frame_lanes(const Scene& scene, std::size_t vertices, std::size_t fr
 
 }  // namespace
 
+Scene resolve_codec(Scene scene, const RunEstimate& plain) {
+    if (scene.codec_auto && !scene.draco && !scene.quantize && !scene.meshopt)
+        scene.meshopt = scene.form != Scene::Form::pc2 && plain.output_bytes > kAutoCodecBytes;
+    scene.codec_auto = false;
+    return scene;
+}
+
 RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double planned_resident_bytes, std::size_t run_frames) {
     RunEstimate e;
     const Refinement* refined = plan.refinement.fine_vertices > 0 ? &plan.refinement : nullptr;
@@ -703,18 +711,19 @@ RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double plann
     const double shading = scene.attributes == Scene::Attributes::uv_maps ? 16.0 : scene.attributes == Scene::Attributes::named ? 12.0 : 0.0;
     const double per_frame_vertex = 24.0 + shading + (scene.color ? 12.0 : 0.0);
     const double indices = 12.0 * static_cast<double>(e.triangles), uv0 = 8.0 * n;
+    constexpr double kMeshoptShare = 0.6;  // EXT_meshopt_compression's bytes over the floats' (measured: docs/export.md)
     const double draco_frame = 9.2 * n;  // measured: default scene (the water mesh), 14-bit positions (see RunEstimate)
     switch (scene.form) {
         case Scene::Form::morph:
             e.output_bytes = (scene.draco ? draco_frame : n * per_frame_vertex + uv0 + indices) +
-                             frames * n * per_frame_vertex * (scene.quantize ? 0.6 : 1.0);
+                             frames * n * per_frame_vertex * (scene.quantize ? 0.6 : scene.meshopt ? kMeshoptShare : 1.0);
             break;
         case Scene::Form::nodes:  // meshes share the indices and TEXCOORD_0
             e.output_bytes = scene.draco ? frames * draco_frame
-                                         : indices + uv0 + frames * n * per_frame_vertex * (scene.quantize ? 0.7 : 1.0);
+                                         : indices + uv0 + frames * n * per_frame_vertex * (scene.quantize ? 0.7 : scene.meshopt ? kMeshoptShare : 1.0);
             break;
         case Scene::Form::files:
-            e.output_bytes = frames * (scene.draco ? draco_frame : indices + uv0 + n * per_frame_vertex * (scene.quantize ? 0.7 : 1.0));
+            e.output_bytes = frames * (scene.draco ? draco_frame : indices + uv0 + n * per_frame_vertex * (scene.quantize ? 0.7 : scene.meshopt ? kMeshoptShare : 1.0));
             break;
         case Scene::Form::pc2:  // positions and the shading as float triples per frame, the base mesh twice
             e.output_bytes = frames * n * (12.0 + (shaded ? 12.0 : 0.0)) + 2.0 * (n * per_frame_vertex + uv0 + indices);
@@ -1428,6 +1437,7 @@ std::size_t AnimationStream::next(SceneAnimation& a, std::size_t count, const st
     a.layout = scene.attributes == Scene::Attributes::named ? ScalarLayout::custom : ScalarLayout::blender34;
     a.draco = scene.draco;
     a.quantize = scene.quantize;
+    a.meshopt = scene.meshopt;
     const bool shaded = scene.attributes != Scene::Attributes::none;
     detail::size_for_overwrite(a.reflect, shaded ? n * k : 0);
     detail::size_for_overwrite(a.refract, shaded ? n * k : 0);

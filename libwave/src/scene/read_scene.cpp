@@ -568,7 +568,18 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     }
     if (root.has("outputs")) {
         const Node o = root["outputs"];
-        o.require_object({"attributes", "color", "form", "draco", "container", "quantize", "seafloor", "camera", "sun", "material"});
+        o.require_object({"attributes", "color", "form", "codec", "draco", "container", "quantize", "seafloor", "camera", "sun", "material"});
+        if (o.has("codec")) {  // docs/export.md, "Which codec"
+            const std::string codec = o["codec"].choice<std::string>(
+                {{"auto", "auto"}, {"none", "none"}, {"meshopt", "meshopt"}, {"draco", "draco"}, {"quantize", "quantize"}});
+            s.codec_auto = codec == "auto";
+            s.meshopt = codec == "meshopt";
+            if (codec == "draco") s.draco = DracoOptions{};
+            if (codec == "quantize") s.quantize = true;
+            const bool named = o.has("draco") || o.has("quantize");
+            if (named && codec != "draco" && codec != "quantize")
+                o["codec"].fail("\"" + codec + "\" with /outputs/draco or /outputs/quantize: name the codec once");
+        }
         if (o.has("seafloor")) s.dress_seafloor = o["seafloor"].boolean();
         if (o.has("camera")) s.dress_camera = o["camera"].boolean();
         if (o.has("sun")) s.dress_sun = o["sun"].boolean();
@@ -601,6 +612,7 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
             }
             if (s.draco && s.quantize) d.fail("choose Draco or /outputs/quantize, not both (Draco quantises itself)");
         }
+        if (s.draco || s.quantize) s.codec_auto = false;
         if (s.color && s.attributes == Scene::Attributes::none) o["color"].fail("a baked colour needs the shading: set attributes to uv-maps or named");
     }
     s.foam.breaker_index = s.trace.breaker_index;
