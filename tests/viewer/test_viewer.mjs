@@ -34,14 +34,16 @@ function run(args, expectCode = 0) {
 
 // The outputs: every form, plain / quantised / Draco, glb and gltf containers.
 const forms = {
-  files: ['--form', 'files'],
+  files: ['--form', 'files', '--codec', 'none'],
   'files-draco': ['--form', 'files', '--draco'],
-  morph: ['--form', 'morph'],
+  morph: ['--form', 'morph', '--codec', 'none'],
   'morph-quantized': ['--form', 'morph', '--quantize'],
   'morph-draco-gltf': ['--form', 'morph', '--draco', '--container', 'gltf'],
-  nodes: ['--form', 'nodes'],
+  nodes: ['--form', 'nodes', '--codec', 'none'],
   'nodes-draco': ['--form', 'nodes', '--draco'],
   'nodes-quantized': ['--form', 'nodes', '--quantize'],
+  'files-meshopt': ['--form', 'files', '--codec', 'meshopt'],
+  'morph-meshopt': ['--form', 'morph', '--codec', 'meshopt'],
 };
 // The default bay without its far field, so that every form holds the plain files form's
 // mesh in its order (the far field's skirt, a second primitive of Draco and quantised
@@ -244,7 +246,8 @@ for (const name of Object.keys(forms)) {
   await check(`${name}: counts`, async () => {
     const expected = name.split('-')[0];
     assert.equal(info.form, expected);
-    assert.equal(info.compression, name.includes('draco') ? 'Draco' : name.includes('quantized') ? 'quantised' : 'plain');
+    assert.equal(info.compression, name.includes('draco') ? 'Draco' : name.includes('quantized') ? 'quantised'
+      : name.includes('meshopt') ? 'meshopt' : 'plain');
     assert.equal(info.frames, FRAMES);
     assert.equal(info.vertices, reports[name].surface.vertices);
     assert.equal(info.triangles, reports[name].surface.triangles);
@@ -269,7 +272,10 @@ for (const name of Object.keys(forms)) {
       } else {
         // Plain: float sums only; quantised: int16 steps of the morph/position range
         // (the morph form's Draco base is decoded in order, 14 bits).
-        const tol = name === 'morph' || name === 'nodes' ? 1e-4 : name === 'morph-draco-gltf' ? span / ((1 << 14) - 1) * 1.01 : span / 32767 * 2.02;
+        // meshopt: the exponential filter's steps (docs/export.md: heights 2^-17 m,
+        // horizontal 1/512 of the shortest edge), far under a millimetre on the bay.
+        const tol = name === 'morph' || name === 'nodes' ? 1e-4 : name.includes('meshopt') ? 1e-3
+          : name === 'morph-draco-gltf' ? span / ((1 << 14) - 1) * 1.01 : span / 32767 * 2.02;
         const d = maxDiff(frames[f], reference[f]);
         assert.ok(d <= tol, `frame ${f}: ${d} m from the plain files form (tolerance ${tol})`);
       }
@@ -330,6 +336,50 @@ for (const name of Object.keys(forms)) {
   server.child.kill('SIGTERM');
 }
 
+// The default scene as a user runs it (its quantised morph file, with the far field)
+// and as meshopt files must draw as its plain float run does: the page fits the same
+// camera to the domain, so the screenshots match pixel for pixel but for rounding. (The
+// quantised morph file once clamped the skirt's TEXCOORD_0 into [0, 1]: the page framed
+// 160 km of skirt and drew a white striped rectangle.)
+{
+  const outs = { plain: ['--codec', 'none'], quantized: [], meshopt: ['--form', 'files', '--codec', 'meshopt'] };
+  const shots = {};
+  for (const [name, args] of Object.entries(outs)) {
+    run(['run', '--frames', '0:3', '-q', '-o', path.join(work, `default-${name}`), ...args]);
+    const { server } = await open(`default-${name}`);
+    await page.evaluate(() => window.wave.setFrame(2));
+    await page.waitForTimeout(300);
+    shots[name] = await page.screenshot();
+    server.child.kill('SIGTERM');
+  }
+  for (const name of ['quantized', 'meshopt']) {
+    await check(`the default scene, ${name}: draws as its plain float run`, async () => {
+      const share = await page.evaluate(`(async (a, b) => {
+        const pixels = async (b64) => {
+          const img = new Image();
+          img.src = 'data:image/png;base64,' + b64;
+          await img.decode();
+          const c = document.createElement('canvas');
+          c.width = img.width; c.height = img.height;
+          const ctx = c.getContext('2d');
+          ctx.drawImage(img, 0, 0);
+          return ctx.getImageData(0, 0, c.width, c.height);
+        };
+        const [x, y] = [await pixels(a), await pixels(b)];
+        let differ = 0, counted = 0;
+        for (let row = 90; row < x.height - 90; ++row)  // not the info box nor the controls
+          for (let col = 0; col < x.width; ++col) {
+            const i = 4 * (row * x.width + col);
+            ++counted;
+            if (Math.abs(x.data[i] - y.data[i]) + Math.abs(x.data[i + 1] - y.data[i + 1]) + Math.abs(x.data[i + 2] - y.data[i + 2]) > 40) ++differ;
+          }
+        return differ / counted;
+      })(${JSON.stringify(shots[name].toString('base64'))}, ${JSON.stringify(shots.plain.toString('base64'))})`);
+      assert.ok(share < 0.02, `${(100 * share).toFixed(1)} % of the pixels differ from the plain run's screenshot`);
+    });
+  }
+}
+
 // The default bay with its far field as Draco files: the skirt is a second primitive
 // (docs/far-field.md), which the page joins into one mesh of the run's vertices; the
 // domain within half its lattice's step of the plain files form (2^-8 m: 14 bits over
@@ -340,7 +390,7 @@ for (const name of Object.keys(forms)) {
 // step (1.53 mm over its 100 m), the skirt within float32's reach at 80 km (1 cm).
 {
   const far = {};
-  for (const [name, args] of [['far-files', ['--form', 'files']], ['far-files-draco', ['--form', 'files', '--draco']],
+  for (const [name, args] of [['far-files', ['--form', 'files', '--codec', 'none']], ['far-files-draco', ['--form', 'files', '--draco']],
     ['far-nodes-quantized', ['--form', 'nodes', '--quantize']]]) {
     run(['run', '--frames', '0:3', '-q', '-o', path.join(work, name), ...args]);
     const report = JSON.parse(fs.readFileSync(path.join(work, name, 'report-frames-0-3.json'), 'utf8'));

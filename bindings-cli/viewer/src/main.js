@@ -1,13 +1,15 @@
 // wave view: plays libwave's exported animations (docs/export.md) with three.js.
 // Three forms: `morph` (one mesh, one morph target per frame, a STEP weights track),
 // `nodes` (one child node per frame, its scale switched 0/1 by STEP keys) and `files`
-// (index.json + one .glb per frame); plain, KHR_mesh_quantization or Draco. The page
+// (index.json + one .glb per frame); plain, KHR_mesh_quantization, EXT_meshopt_compression
+// (three.js's MeshoptDecoder) or Draco. The page
 // reads each frame's attributes itself (three.js keeps only POSITION, NORMAL and
 // COLOR_0 morph targets), so it can colour by _FOAM/_REFLECT/_REFRACT in every form.
 // window.wave is the page's API for tests and scripts.
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { DRACOLoader } from 'three/addons/loaders/DRACOLoader.js';
+import { MeshoptDecoder } from 'three/addons/libs/meshopt_decoder.module.js';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
 const $ = (id) => document.getElementById(id);
@@ -35,7 +37,7 @@ function ramp(v, out) {
 
 const dracoLoader = new DRACOLoader().setDecoderPath('draco/');
 dracoLoader.setDecoderConfig({ type: 'wasm' });
-const loader = new GLTFLoader().setDRACOLoader(dracoLoader);
+const loader = new GLTFLoader().setDRACOLoader(dracoLoader).setMeshoptDecoder(MeshoptDecoder);
 
 // ---------------------------------------------------------------------------------
 // Frame sources: every form answers the same questions.
@@ -129,6 +131,7 @@ function transformPositions(values, mesh) {
 function describe(json) {
   const used = json.extensionsUsed || [];
   return used.includes('KHR_draco_mesh_compression') ? 'Draco'
+    : used.includes('EXT_meshopt_compression') ? 'meshopt'
     : used.includes('KHR_mesh_quantization') ? 'quantised' : 'plain';
 }
 

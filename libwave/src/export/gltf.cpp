@@ -655,7 +655,12 @@ struct ModelWriter {
         }
         indices = b.accessor(b.view(a.triangles.data(), a.triangles.size_bytes(), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
                              TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, a.triangles.size(), TINYGLTF_TYPE_SCALAR);
-        texcoord0 = floats("TEXCOORD_0", TINYGLTF_TYPE_VEC2, std::vector<float>(a.texcoords.begin(), a.texcoords.end()));
+        // A far-field skirt's rest positions lie beyond [0, 1]², which normalised uint16
+        // would clamp onto the domain's edge (the quantised morph form's skirt then read
+        // as domain: the viewer framed 160 km of it): they stay float.
+        std::vector<float> uv(a.texcoords.begin(), a.texcoords.end());
+        const bool beyond = std::any_of(uv.begin(), uv.end(), [](float t) { return t < 0.0f || t > 1.0f; });
+        texcoord0 = quant && beyond ? plain(TINYGLTF_TYPE_VEC2, uv) : floats("TEXCOORD_0", TINYGLTF_TYPE_VEC2, uv);
     }
     // `width` components per vertex of `source`, for the vertices listed.
     static std::vector<float> gather(std::span<const float> source, std::size_t width, const std::vector<std::uint32_t>& vertices) {
