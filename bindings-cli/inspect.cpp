@@ -69,38 +69,55 @@ struct FrameError {
 };
 
 // For each vertex of `test`, its vertex in `ref`: the same index when both share the
-// triangles, else (Draco's own point order) the vertex with the same rest position
-// (TEXCOORD_0) — the nearest within 2^-10 of the domain, or InputError.
+// triangles (each possibly rotated: meshopt's triangle codec), else (Draco's own point
+// order) the nearest vertex of the first frame, positions within the codec's error of
+// each other and far closer than the mesh's spacing; InputError when none is near.
 std::vector<std::uint32_t> match_vertices(const StoredAnimation& test, const StoredAnimation& ref, const std::string& path) {
     std::vector<std::uint32_t> to(test.vertex_count);
-    if (test.vertex_count == ref.vertex_count && test.triangles == ref.triangles) {
+    // Each triangle from its smallest index (meshopt's triangle codec may rotate corners).
+    const auto canonical = [](std::vector<std::uint32_t> t) {
+        for (std::size_t i = 0; i + 2 < t.size(); i += 3)
+            while (t[i] > t[i + 1] || t[i] > t[i + 2])
+                std::rotate(t.begin() + static_cast<std::ptrdiff_t>(i), t.begin() + static_cast<std::ptrdiff_t>(i + 1), t.begin() + static_cast<std::ptrdiff_t>(i + 3));
+        return t;
+    };
+    if (test.vertex_count == ref.vertex_count && canonical(test.triangles) == canonical(ref.triangles)) {
         for (std::size_t v = 0; v < to.size(); ++v) to[v] = static_cast<std::uint32_t>(v);
         return to;
     }
-    if (test.vertex_count != ref.vertex_count)
+    if (test.vertex_count != ref.vertex_count || ref.frame_count == 0)
         throw InputError("inspect --against: " + path + " has " + std::to_string(test.vertex_count) + " vertices, the reference " +
                          std::to_string(ref.vertex_count) + ": not the same scene's mesh");
-    constexpr double cell = 1.0 / 1024.0;
+    // A grid of the domain's average spacing over the reference's first frame (the far
+    // skirt's few vertices share its outer cells).
+    const std::size_t n = ref.vertex_count;
+    const float* p = ref.positions.data();
+    double lo[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+    double hi[2] = {-lo[0], -lo[1]};
+    for (std::size_t v = 0; v < n; ++v)
+        if (ref.texcoords[2 * v] >= 0.0f && ref.texcoords[2 * v] <= 1.0f && ref.texcoords[2 * v + 1] >= 0.0f && ref.texcoords[2 * v + 1] <= 1.0f)
+            for (int c = 0; c < 2; ++c) lo[c] = std::min(lo[c], double{p[3 * v + c]}), hi[c] = std::max(hi[c], double{p[3 * v + c]});
+    const double cell = std::max(1e-9, std::sqrt(std::max(1e-18, (hi[0] - lo[0]) * (hi[1] - lo[1])) / static_cast<double>(n)));
+    const auto index = [&](double x) { return static_cast<long long>(std::floor(x / cell)); };
+    const auto key = [](long long i, long long j) { return (i << 32) ^ (j & 0xFFFFFFFFLL); };
     std::unordered_map<long long, std::vector<std::uint32_t>> grid;
-    const auto key = [](double u, double v) {
-        return (static_cast<long long>(std::floor(u / cell)) << 32) ^ static_cast<long long>(std::floor(v / cell) + 2147483648.0);
-    };
-    for (std::size_t v = 0; v < ref.vertex_count; ++v) grid[key(ref.texcoords[2 * v], ref.texcoords[2 * v + 1])].push_back(static_cast<std::uint32_t>(v));
+    for (std::size_t v = 0; v < n; ++v) grid[key(index(p[3 * v]), index(p[3 * v + 1]))].push_back(static_cast<std::uint32_t>(v));
+    const float* q = test.positions.data();
     for (std::size_t v = 0; v < test.vertex_count; ++v) {
-        const double u = test.texcoords[2 * v], w = test.texcoords[2 * v + 1];
-        double best = cell * cell;
-        bool found = false;
-        for (int du = -1; du <= 1; ++du)
-            for (int dw = -1; dw <= 1; ++dw) {
-                const auto it = grid.find(key(u + du * cell, w + dw * cell));
+        double best = std::numeric_limits<double>::infinity();
+        const long long i0 = index(q[3 * v]), j0 = index(q[3 * v + 1]);
+        for (long long i = i0 - 1; i <= i0 + 1; ++i)
+            for (long long j = j0 - 1; j <= j0 + 1; ++j) {
+                const auto it = grid.find(key(i, j));
                 if (it == grid.end()) continue;
                 for (const std::uint32_t r : it->second) {
-                    const double d = std::pow(ref.texcoords[2 * r] - u, 2) + std::pow(ref.texcoords[2 * r + 1] - w, 2);
-                    if (d <= best) best = d, to[v] = r, found = true;
+                    const double d = std::pow(double{p[3 * r]} - q[3 * v], 2) + std::pow(double{p[3 * r + 1]} - q[3 * v + 1], 2) +
+                                     std::pow(double{p[3 * r + 2]} - q[3 * v + 2], 2);
+                    if (d < best) best = d, to[v] = r;
                 }
             }
-        if (!found)
-            throw InputError("inspect --against: vertex " + std::to_string(v) + " of " + path + " has no vertex of the reference at its rest position");
+        if (!std::isfinite(best))
+            throw InputError("inspect --against: vertex " + std::to_string(v) + " of " + path + " has no vertex of the reference near it");
     }
     return to;
 }

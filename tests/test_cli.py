@@ -399,7 +399,7 @@ class MainJob(unittest.TestCase):
                            "fronts": {"step": 0.8, "split_distance": 2.4},
                            "outputs": {"attributes": "named", "color": True},
                            "shade": {"fresnel": "tso"}, "camera": {"position": [50, -20, 30]}}, f)
-            r = wave("run", scene, "-o", out, "--json")
+            r = wave("run", scene, "-o", out, "--json", "--codec", "none")  # floats, read by hand below
             self.assertEqual(r.returncode, 0, r.stderr)
             glb = os.path.join(out, "animation.glb")
             validate_gltf(self, glb)
@@ -450,8 +450,9 @@ class MainJob(unittest.TestCase):
                 self.assertEqual(base[3 * v:3 * v + 3], (f32(x), f32(z), f32(-y)))
 
     def run_example(self, name, out):
-        """Runs an example scene into `out`, checks its animation, returns the report."""
-        r = wave("run", os.path.join(EXAMPLES, name), "-o", out, "--json")
+        """Runs an example scene into `out` as plain floats (check_animation reads them by
+        hand), checks its animation, returns the report."""
+        r = wave("run", os.path.join(EXAMPLES, name), "-o", out, "--json", "--codec", "none")
         self.assertEqual(r.returncode, 0, r.stderr)
         report = json.loads(r.stdout)
         self.check_animation(out, report)
@@ -794,7 +795,7 @@ class OutputForms(unittest.TestCase):
             for form in ["morph", "nodes", "files"]:
                 for quantize in [False, True]:
                     out = os.path.join(d, f"{form}-{quantize}")
-                    args = ["run", scene, "-o", out, "--form", form, "--fps", "6", "-q"] + (["--quantize"] if quantize else [])
+                    args = ["run", scene, "-o", out, "--form", form, "--fps", "6", "-q"] + (["--quantize"] if quantize else ["--codec", "none"])
                     self.assertEqual(wave(*args).returncode, 0)
                     path = os.path.join(out, "frames", "frame-0003.glb") if form == "files" else os.path.join(out, "animation.glb")
                     validate_gltf(self, path)
@@ -868,6 +869,102 @@ class OutputForms(unittest.TestCase):
                 self.assertEqual(r.returncode, 2, bad)
                 self.assertIn("frame", r.stderr)
                 self.assertFalse(os.path.exists(os.path.join(d, "bad")))
+
+
+class Codecs(unittest.TestCase):
+    """The codec rule and EXT_meshopt_compression as users meet them (docs/export.md,
+    "Meshopt compression" and "Which codec")."""
+
+    def against(self, out, reference):
+        r = wave("inspect", out, "--against", reference, "--json")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        return json.loads(r.stdout)
+
+    def test_a_real_coast_by_default_keeps_its_heights(self):
+        # Breaking Okushiri (2.2 km, 151 k vertices) as a user runs it: its plain output
+        # is over 32 MB, so meshopt frames, every height within 1 mm of the float run's
+        # (measured: 7.6 µm), no terraces (Draco's one step for all axes left 22
+        # distinct heights in a frame; at least 10 000 here), horizontal error under 1 %
+        # of the shortest edge at each vertex; the files validate and inspect finds them
+        # whole.
+        with tempfile.TemporaryDirectory() as d:
+            scene = os.path.join(EXAMPLES, "breaking-okushiri.json")
+            r = wave("run", scene, "-o", os.path.join(d, "default"), "--frames", "0:2", "--json")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertEqual(json.loads(r.stdout)["surface"]["codec"], "meshopt")
+            r = wave("run", scene, "-o", os.path.join(d, "float"), "--frames", "0:2", "-q", "--no-draco", "--no-quantize")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            validate_gltf(self, os.path.join(d, "default", "frames", "frame-0001.glb"))
+            doc, _ = read_glb(os.path.join(d, "default", "frames", "frame-0001.glb"))
+            self.assertEqual(doc["extensionsRequired"], ["EXT_meshopt_compression"])
+            c = self.against(os.path.join(d, "default"), os.path.join(d, "float"))
+            self.assertEqual(c["frames"], 2)
+            self.assertLessEqual(c["height_error_m"], 1e-3)
+            self.assertGreaterEqual(c["fewest_distinct_heights"], 10000)
+            self.assertLess(c["horizontal_error_per_edge"], 0.01)
+            self.assertLessEqual(c["skirt_height_error_m"], 1e-3)
+            sizes = [sum(p.stat().st_size for p in pathlib.Path(d, out, "frames").iterdir()) for out in ("default", "float")]
+            self.assertLess(sizes[0], 0.65 * sizes[1])
+            r = wave("validate", scene, "--json")
+            self.assertEqual(json.loads(r.stdout)["estimate"]["codec"], "meshopt")
+
+    def test_the_codec_rule_and_its_overrides(self):
+        # auto: plain floats for a small output, meshopt above 32 MB; --codec, --no-draco
+        # and the scene's key override it; a scene naming a codec twice is refused.
+        with tempfile.TemporaryDirectory() as d:
+            small = write_scene(d, {"waves": [{"period": 5, "amplitude": 0.3}], "trace": {"ray_spacing": 4},
+                                    "fronts": {"step": 1.6, "split_distance": 4.8}, "surface": {"far_field": False},
+                                    "animation": {"fps": 4}}, "small.json")
+            cases = [((small,), "none"), ((small, "--codec", "meshopt"), "meshopt"), ((), "quantize"),
+                     ((os.path.join(EXAMPLES, "gonzato-bay.json"),), "meshopt"),
+                     ((os.path.join(EXAMPLES, "gonzato-bay.json"), "--no-draco"), "none"),
+                     ((os.path.join(EXAMPLES, "gonzato-bay.json"), "--codec", "draco"), "draco")]
+            for k, (args, codec) in enumerate(cases):
+                r = wave("run", *args, "-o", os.path.join(d, str(k)), "--frames", "0:1", "--json")
+                self.assertEqual(r.returncode, 0, r.stderr)
+                self.assertEqual(json.loads(r.stdout)["surface"]["codec"], codec, args)
+            bad = write_scene(d, {"waves": [{"period": 5}], "outputs": {"codec": "meshopt", "draco": True}}, "bad.json")
+            r = wave("run", bad, "-o", os.path.join(d, "bad"))
+            self.assertEqual(r.returncode, 2)
+            self.assertIn("/outputs/codec", r.stderr)
+            self.assertFalse(os.path.exists(os.path.join(d, "bad")))
+
+    def test_draco_says_what_it_loses_and_inspect_matches_its_order(self):
+        with tempfile.TemporaryDirectory() as d:
+            scene = os.path.join(EXAMPLES, "breaking-okushiri.json")
+            r = wave("run", scene, "-o", os.path.join(d, "draco"), "--frames", "0:1", "--draco")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertIn("note: Draco puts positions on a 0.125 m lattice", r.stderr)
+            self.assertEqual(wave("run", scene, "-o", os.path.join(d, "float"), "--frames", "0:1", "-q", "--codec", "none").returncode, 0)
+            c = self.against(os.path.join(d, "draco"), os.path.join(d, "float"))  # Draco's own point order, matched
+            # Half the domain's 0.125 m step, half the skirt's coarser one at its seam (measured 0.25 m).
+            self.assertLessEqual(c["height_error_m"], 0.5)
+            self.assertGreater(c["height_error_m"], 0.05)
+            self.assertLess(c["fewest_distinct_heights"], 100)  # the terraces (measured: 22)
+
+    def test_a_hostile_meshopt_stream_is_refused_naming_the_file(self):
+        # A frame whose compressed positions are cut short: convert and inspect say so
+        # (exit 2, the file and the view named) and write nothing.
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, "m")
+            self.assertEqual(wave("run", "-o", out, "--form", "files", "--frames", "0:1", "--codec", "meshopt", "-q").returncode, 0)
+            frame = os.path.join(out, "frames", "frame-0000.glb")
+            doc, binary = read_glb(frame)
+            view = doc["accessors"][doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"]]["bufferView"]
+            doc["bufferViews"][view]["extensions"]["EXT_meshopt_compression"]["byteLength"] //= 3
+            text = json.dumps(doc).encode()
+            text += b" " * ((4 - len(text) % 4) % 4)
+            glb = struct.pack("<4sII", b"glTF", 2, 12 + 8 + len(text) + 8 + len(binary)) + struct.pack("<I4s", len(text), b"JSON") + text
+            glb += struct.pack("<I4s", len(binary), b"BIN\0") + binary
+            bad = os.path.join(d, "bad.glb")
+            with open(bad, "wb") as f:
+                f.write(glb)
+            for args in (("convert", bad, "-o", os.path.join(d, "c")), ("inspect", bad)):
+                r = wave(*args)
+                self.assertEqual(r.returncode, 2, r.stderr)
+                self.assertIn(bad, r.stderr)
+                self.assertIn("bufferView %d (EXT_meshopt_compression)" % view, r.stderr)
+            self.assertFalse(os.path.exists(os.path.join(d, "c")))
 
 
 class WindWaves(unittest.TestCase):
@@ -951,12 +1048,14 @@ class WindWaves(unittest.TestCase):
                 self.assertGreater(b["breaking_rays"], 0.3 * b["rays"])
                 self.assertLessEqual(set(b["breaker_types"]), types | {"collapsing", "surging"})
                 self.assertGreater(b["break_depth_m"][1], 0.5)
-                # The beach: quantised morph targets (Blender 3.4 imports them); Okushiri: Draco frames.
+                # The beach: quantised morph targets (Blender 3.4 imports them); Okushiri:
+                # meshopt frames (its plain output is over 32 MB: docs/export.md, "Which codec").
                 frame = os.path.join(d, "animation-frames-0-2.glb" if name == "breaking-beach.json" else "frames/frame-0001.glb")
                 validate_gltf(self, frame)
                 doc, _ = read_glb(frame)
-                self.assertIn("KHR_mesh_quantization" if name == "breaking-beach.json" else "KHR_draco_mesh_compression",
+                self.assertIn("KHR_mesh_quantization" if name == "breaking-beach.json" else "EXT_meshopt_compression",
                               doc["extensionsRequired"])
+                self.assertEqual(report["surface"]["codec"], "quantize" if name == "breaking-beach.json" else "meshopt")
 
     def test_open_ocean_example(self):
         # Two frames of the 512² gale: the patch, the analytic significant height, valid files.
@@ -1414,7 +1513,7 @@ class WaveField(unittest.TestCase):
 
     def test_berkhoff_shoal_as_a_surface_and_a_geotiff(self):
         with tempfile.TemporaryDirectory() as d:
-            r = wave("run", os.path.join(EXAMPLES, "berkhoff-shoal.json"), "-o", d, "--json")
+            r = wave("run", os.path.join(EXAMPLES, "berkhoff-shoal.json"), "-o", d, "--json", "--codec", "none")
             self.assertEqual(r.returncode, 0, r.stderr)
             report = json.loads(r.stdout)
             MainJob.check_animation(self, d, report)  # the Khronos glTF validator included
@@ -2067,7 +2166,9 @@ class Streaming(unittest.TestCase):
         with open(path, "w") as f:
             json.dump(self.SCENE, f)
         out = os.path.join(d, "out-" + "-".join(a.strip("-") for a in extra))
-        return self.capped("run", path, "-q", "--threads", "2", "-o", out, *extra), out
+        # Plain floats unless asked: the point is output far bigger than the cap.
+        codec = () if "--codec" in extra else ("--codec", "none")
+        return self.capped("run", path, "-q", "--threads", "2", "-o", out, *codec, *extra), out
 
     def test_a_long_animation_streams_under_a_memory_cap_far_below_its_size(self):
         if UNDER_ASAN:
@@ -2362,8 +2463,8 @@ class Convert(unittest.TestCase):
             with open(scene, "w") as f:
                 json.dump(self.SCENE, f)
             run = lambda out, *args: self.assertEqual(wave("run", scene, "-o", os.path.join(d, out), "-q", *args).returncode, 0)
-            run("files", "--form", "files")
-            run("morph")
+            run("files", "--form", "files", "--codec", "none")
+            run("morph", "--codec", "none")
             run("quantized", "--quantize")
             run("draco", "--draco")
             convert = lambda src, out, *args: wave("convert", os.path.join(d, src), "-o", os.path.join(d, out), "--json", *args)
@@ -2446,7 +2547,7 @@ class Convert(unittest.TestCase):
             scene = os.path.join(d, "s.json")
             with open(scene, "w") as f:
                 json.dump(self.SCENE, f)
-            for out, extra in [("plain", ()), ("draco", ("--draco",))]:
+            for out, extra in [("plain", ("--codec", "none")), ("draco", ("--draco",))]:
                 r = wave("run", scene, "-o", os.path.join(d, out), "-q", "--form", "files", "--frames", "0:3", *extra)
                 self.assertEqual(r.returncode, 0, r.stderr)
             with open(os.path.join(d, "draco", "report-frames-0-3.json")) as f:
@@ -2483,7 +2584,7 @@ class Convert(unittest.TestCase):
         step = 2.0 ** -12
         with tempfile.TemporaryDirectory() as d:
             scene = os.path.join(EXAMPLES, "okushiri.json")
-            for out, extra in [("plain", ()), ("draco", ("--draco",))]:
+            for out, extra in [("plain", ("--codec", "none")), ("draco", ("--draco",))]:
                 r = wave("run", scene, "-o", os.path.join(d, out), "-q", "--form", "files", "--frames", "0:2", *extra)
                 self.assertEqual(r.returncode, 0, r.stderr)
             validate_gltf(self, os.path.join(d, "draco", "frames", "frame-0001.glb"))

@@ -19,6 +19,7 @@
 #include <filesystem>
 #include <functional>
 #include <limits>
+#include <span>
 #include <vector>
 
 namespace {
@@ -452,6 +453,155 @@ TEST(MorphTargets, StillVerticesAreStoredSparseAndReadBack) {
         a.erase("sparse");
         a["count"] = 1 << 30;
     }, "claims");
+}
+
+// The largest |a − b| over `count` values of each, from the given offsets.
+double worst_difference(std::span<const float> a, std::span<const float> b) {
+    EXPECT_EQ(a.size(), b.size());
+    double w = 0.0;
+    for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) w = std::max(w, std::abs(double{a[i]} - b[i]));
+    return w;
+}
+
+// Each triangle rotated so that its smallest index comes first (the winding kept).
+std::vector<std::uint32_t> canonical_triangles(std::vector<std::uint32_t> t) {
+    for (std::size_t i = 0; i + 2 < t.size(); i += 3)
+        while (t[i] > t[i + 1] || t[i] > t[i + 2]) std::rotate(t.begin() + static_cast<std::ptrdiff_t>(i), t.begin() + static_cast<std::ptrdiff_t>(i + 1), t.begin() + static_cast<std::ptrdiff_t>(i + 3));
+    return t;
+}
+
+TEST(Meshopt, EveryFormReadsBackWithinTheFilterSteps) {
+    // EXT_meshopt_compression (docs/export.md, "Meshopt compression"): positions through
+    // the exponential filter with an exponent per value — heights on 2^-16 m steps,
+    // horizontal steps the largest power of two ≤ 1/256 of the shortest horizontal
+    // edge — so that one vertex 50 km out (a far skirt's corner) coarsens only itself,
+    // and the heights keep their own precision (no terraces: Draco's one step for all
+    // axes gave 22 heights on a 2.2 km coast).
+    SceneAnimation anim = coarse_bay(4);
+    const std::size_t n = anim.vertex_count;
+    for (std::size_t f = 0; f < anim.frame_count; ++f) anim.positions[3 * (f * n)] += 50000.0f;
+    double shortest = std::numeric_limits<double>::infinity();
+    for (std::size_t t = 0; t < anim.triangles.size(); t += 3)
+        for (std::size_t k = 0; k < 3; ++k) {
+            const float* p = &anim.positions[3 * anim.triangles[t + k]];
+            const float* q = &anim.positions[3 * anim.triangles[t + (k + 1) % 3]];
+            const double d = std::hypot(double{p[0]} - q[0], double{p[1]} - q[1]);
+            if (d > 0.0) shortest = std::min(shortest, d);
+        }
+    const double horizontal_step = std::exp2(std::floor(std::log2(shortest / 256.0)));
+    MorphAnimationView view = anim.view();
+    view.meshopt = true;
+    const std::filesystem::path file = std::filesystem::temp_directory_path() / "libwave-meshopt.glb";
+    for (const char* form : {"morph", "nodes", "frame"}) {
+        const std::string glb = std::string(form) == "morph"   ? gltf_morph_glb(view)
+                                : std::string(form) == "nodes" ? gltf_nodes_glb(view)
+                                                               : gltf_frame_glb(view, 2);
+        const auto doc = nlohmann::json::parse(glb_json(glb));
+        ASSERT_EQ(doc["extensionsRequired"], nlohmann::json::array({"EXT_meshopt_compression"})) << form;
+        ASSERT_EQ(doc["buffers"].size(), 2u);
+        EXPECT_TRUE(doc["buffers"][1]["extensions"]["EXT_meshopt_compression"]["fallback"].get<bool>());
+        EXPECT_FALSE(doc["buffers"][1].contains("uri"));
+        if (std::string(form) == "nodes") {
+            EXPECT_LT(static_cast<double>(glb.size()), 0.75 * static_cast<double>(gltf_nodes_glb(anim.view()).size()));
+        }
+        write_file_atomic(file.string(), glb);
+        const StoredAnimation back = read_animation(file.string());
+        std::filesystem::remove(file);
+        const std::size_t first = std::string(form) == "frame" ? 2 : 0, frames = back.frame_count;
+        ASSERT_EQ(back.vertex_count, n) << form;
+        // The triangle codec may rotate a triangle's corners (its winding kept).
+        ASSERT_EQ(canonical_triangles(back.triangles), canonical_triangles(anim.triangles)) << form;
+        double height = 0.0, across = 0.0, far = 0.0;
+        for (std::size_t f = 0; f < frames; ++f)
+            for (std::size_t v = 0; v < n; ++v) {
+                const float* p = &anim.positions[3 * ((first + f) * n + v)];
+                const float* q = &back.positions[3 * (f * n + v)];
+                if (v == 0) {
+                    far = std::max(far, std::abs(double{q[0]} - p[0]));
+                    continue;
+                }
+                // The morph form adds two roundings (base and delta) and a float sum.
+                height = std::max(height, std::abs(double{q[2]} - p[2]));
+                across = std::max({across, std::abs(double{q[0]} - p[0]), std::abs(double{q[1]} - p[1])});
+            }
+        const double sums = std::string(form) == "morph" ? 2.0 : 1.0;
+        EXPECT_LE(height, sums * 0.5 * std::exp2(-16) + 1e-7) << form;
+        EXPECT_LE(across, sums * 0.5 * horizontal_step + 1e-5) << form;
+        EXPECT_LT(across, 0.01 * shortest) << form;
+        EXPECT_LE(far, 50100.0 * std::exp2(-23)) << form;  // its own exponent: 24 bits of its value
+        const auto frames_of = [&](const std::vector<float>& all, std::size_t width) {
+            return std::span<const float>(all).subspan(width * first * n, width * frames * n);
+        };
+        EXPECT_LE(worst_difference(back.normals, frames_of(anim.normals, 3)), sums * std::exp2(-16) + 1e-7) << form;
+        EXPECT_LE(worst_difference(back.foam, frames_of(anim.foam, 1)), sums * std::exp2(-18) + 1e-7) << form;
+        EXPECT_LE(worst_difference(back.reflect, frames_of(anim.reflect, 1)), sums * std::exp2(-18) + 1e-7) << form;
+        EXPECT_LE(worst_difference(back.texcoords, anim.texcoords), std::exp2(-22)) << form;
+    }
+    view.quantize = true;
+    EXPECT_THROW(gltf_frame_glb(view, 0), InputError);  // meshopt or quantisation, not both
+}
+
+TEST(Meshopt, HostileStreamsAreRefusedNamingTheFile) {
+    // A compressed view whose stream is cut short, whose count is not the stream's, or
+    // that declares far more bytes than its stream can hold: InputError naming the file
+    // and the view, before anything is decoded out of bounds or allocated for nothing.
+    SceneAnimation anim = coarse_bay(1);
+    MorphAnimationView view = anim.view();
+    view.meshopt = true;
+    const std::string glb = gltf_frame_glb(view, 0);
+    const auto doc = nlohmann::json::parse(glb_json(glb));
+    const int position_view = doc["accessors"][doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"].get<int>()]["bufferView"];
+    const int index_view = doc["accessors"][doc["meshes"][0]["primitives"][0]["indices"].get<int>()]["bufferView"];
+    const std::filesystem::path file = std::filesystem::temp_directory_path() / "libwave-meshopt-hostile.glb";
+    const auto refused = [&](int target, const std::function<void(nlohmann::json&, nlohmann::json&)>& edit, const std::string& message) {
+        nlohmann::json bad = doc;
+        auto& v = bad["bufferViews"][static_cast<std::size_t>(target)];
+        edit(v, v["extensions"]["EXT_meshopt_compression"]);
+        write_file_atomic(file.string(), with_json(glb, bad));
+        try {
+            read_animation(file.string());
+            ADD_FAILURE() << "accepted: " << message;
+        } catch (const InputError& e) {
+            const std::string what = e.what();
+            EXPECT_NE(what.find(message), std::string::npos) << message << ": " << what;
+            EXPECT_NE(what.find(file.string()), std::string::npos) << what;
+        }
+        std::filesystem::remove(file);
+    };
+    refused(position_view, [](nlohmann::json&, nlohmann::json& e) { e["byteLength"] = e["byteLength"].get<int>() / 2; }, "does not decode");
+    refused(index_view, [](nlohmann::json&, nlohmann::json& e) { e["byteLength"] = e["byteLength"].get<int>() - 7; }, "does not decode");
+    refused(position_view, [](nlohmann::json& v, nlohmann::json& e) {
+        e["count"] = e["count"].get<int>() + 16;
+        v["byteLength"] = e["count"].get<int>() * 12;
+    }, "does not decode");
+    refused(position_view, [](nlohmann::json&, nlohmann::json& e) { e["count"] = e["count"].get<int>() + 1; }, "is not count");
+    refused(position_view, [](nlohmann::json& v, nlohmann::json& e) {
+        e["count"] = 1 << 28;
+        v["byteLength"] = std::int64_t{12} << 28;
+    }, "declares");
+    refused(position_view, [](nlohmann::json& v, nlohmann::json& e) {
+        e["byteStride"] = 6;
+        v["byteLength"] = e["count"].get<int>() * 6;
+    }, "multiple of 4");
+    refused(index_view, [](nlohmann::json&, nlohmann::json& e) { e["mode"] = "STRIPS"; }, "unknown mode");
+    refused(position_view, [](nlohmann::json&, nlohmann::json& e) { e["byteOffset"] = 1 << 30; }, "outside its buffer");
+    refused(position_view, [](nlohmann::json&, nlohmann::json& e) { e["buffer"] = 1; }, "not in a buffer with data");
+}
+
+TEST(Quantization, TheMorphFormKeepsAFarSkirtsRestPositions) {
+    // TEXCOORD_0 beyond [0, 1]² (a far-field skirt's rest positions) stays float in the
+    // quantised morph form: normalised uint16 clamped it onto the domain's edge, and
+    // every reader then took the skirt for domain (the viewer framed 160 km of it).
+    SceneAnimation anim = coarse_bay(2);
+    anim.texcoords[0] = 37.5f;
+    anim.texcoords[1] = -12.25f;
+    MorphAnimationView view = anim.view();
+    view.quantize = true;
+    const std::filesystem::path file = std::filesystem::temp_directory_path() / "libwave-quantised-skirt-uv.glb";
+    write_file_atomic(file.string(), gltf_morph_glb(view));
+    const StoredAnimation back = read_animation(file.string());
+    std::filesystem::remove(file);
+    EXPECT_EQ(back.texcoords, anim.texcoords);
 }
 
 TEST(Fresnel, WeightsMatchTheFormulasAndSumToOne) {

@@ -8,6 +8,8 @@ libwave Python module (`libwave.read_frame`), which decodes them.
 Arrays come back in Blender's axes (z up): glTF's (x, y, z) is Blender's (x, −z, y).
 """
 import base64
+import concurrent.futures
+import importlib
 import json
 import os
 import struct
@@ -267,7 +269,9 @@ class Animation:
         self.folder = os.path.dirname(self.path)
         self._cache = {}
         self._stored = None  # a Draco file, decoded whole by libwave's module
-        self._draco_files = False  # a files form of Draco frames, each decoded by libwave's module
+        self._draco_files = False  # a files form of Draco or meshopt frames, each decoded by libwave's module
+        self._ahead = {}  # frame → its decoding on the worker (compressed files form)
+        self._worker = None
         self.dressing = None  # the seafloor, camera and sun a single-file form carries
         if os.path.basename(path) == "index.json" or path.endswith(".json"):
             with open(path) as f:
@@ -283,7 +287,7 @@ class Animation:
             doc, buffers = self._frame_file(0)
             # Draco frames (each decoded by libwave's module) share frame 0's order: Draco
             # orders a frame's points by the triangles alone.
-            self._draco_files = "KHR_draco_mesh_compression" in doc["meshes"][0]["primitives"][0].get("extensions", {})
+            self._draco_files = _compressed(doc)
             if self._draco_files:
                 self.triangles = np.asarray(self._draco_frame_file(0)["triangles"]).astype(np.int64).reshape(-1, 3)
             else:
@@ -292,7 +296,7 @@ class Animation:
             return
         self.doc, self.buffers = read_gltf(path)
         doc = self.doc
-        if "KHR_draco_mesh_compression" in doc["meshes"][0]["primitives"][0].get("extensions", {}):
+        if _compressed(doc):
             self._stored = _load_draco(path)
             self.form = "morph"
             self.fps = float(self._stored["fps"])
@@ -342,6 +346,20 @@ class Animation:
             raise LibwaveFileError(f"{self.path}: frame {k}: other triangles than frame 0 (Draco frames of different orders)")
         return stored
 
+    def _decoded_frame(self, k):
+        """Frame k of a compressed files form: from the bounded cache, else decoded now;
+        then frame k + 1 is decoded ahead on a worker thread (libwave's module releases the
+        GIL while it reads), so sequential playback finds each frame ready."""
+        future = self._ahead.pop(k, None)
+        f = future.result() if future is not None else self._stored_frame(0, self._draco_frame_file(k))
+        self._ahead = {j: fu for j, fu in self._ahead.items() if abs(j - k) <= 2}  # bounded: a jump drops the rest
+        nxt = (k + 1) % self.frame_count
+        if nxt not in self._ahead and nxt != k:
+            if self._worker is None:
+                self._worker = concurrent.futures.ThreadPoolExecutor(max_workers=1, thread_name_prefix="libwave-decode")
+            self._ahead[nxt] = self._worker.submit(lambda j=nxt: self._stored_frame(0, self._draco_frame_file(j)))
+        return f
+
     def frame(self, k):
         """Frame k of the file (0 ≤ k < frame_count)."""
         if k in self._cache:
@@ -349,7 +367,7 @@ class Animation:
         if self._stored is not None:
             return self._stored_frame(k)
         if self.form == "files" and self._draco_files:
-            f = self._stored_frame(0, self._draco_frame_file(k))
+            f = self._decoded_frame(k)
             self._cache = {k: f}
             return f
         try:
@@ -382,13 +400,29 @@ class Animation:
                      None if normals is None or len(normals) == 0 else np.asarray(normals[k]).reshape(n, 3))
 
 
+def _compressed(doc):
+    """Whether a file's meshes need libwave's module: Draco or EXT_meshopt_compression."""
+    return ("EXT_meshopt_compression" in doc.get("extensionsUsed", [])
+            or "KHR_draco_mesh_compression" in doc["meshes"][0]["primitives"][0].get("extensions", {}))
+
+
+def _libwave_module():
+    """libwave's Python module: the copy the add-on's zip carries (libwave_blender/libwave,
+    built for Debian 12's Python 3.11), else one on Blender's path. ImportError says why
+    neither loads (another Python, a missing system library)."""
+    if __package__ and os.path.isdir(os.path.join(os.path.dirname(os.path.abspath(__file__)), "libwave")):
+        return importlib.import_module(__package__ + ".libwave")  # the zip's copy
+    return importlib.import_module("libwave")
+
+
 def _load_draco(path):
-    """The whole animation through libwave's module (Draco decoding), or a message saying how to get it."""
+    """The whole animation through libwave's module (Draco or meshopt decoding), or a message saying how to get it."""
     try:
-        import libwave
-    except ImportError:
+        libwave = _libwave_module()
+    except ImportError as e:
         raise LibwaveFileError(
-            f"{path} is Draco-compressed, which Blender's Python cannot decode by itself: put libwave's Python module "
-            "on Blender's path (docs/blender.md), or re-encode the run without Draco (wave convert FILE -o OUT, "
-            "or wave run --no-draco)") from None
+            f"{path} is compressed (Draco or EXT_meshopt_compression), which Blender's Python cannot decode by itself, "
+            f"and libwave's Python module does not load here ({e}): the add-on carries it for Debian 12's Blender 3.4 "
+            "(Python 3.11); put a module built for this Blender's Python on its path (docs/blender.md), or re-encode "
+            "the run plainly (wave convert FILE -o OUT, or wave run --codec none)") from None
     return libwave.read_animation(path)

@@ -711,7 +711,7 @@ RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double plann
     const double shading = scene.attributes == Scene::Attributes::uv_maps ? 16.0 : scene.attributes == Scene::Attributes::named ? 12.0 : 0.0;
     const double per_frame_vertex = 24.0 + shading + (scene.color ? 12.0 : 0.0);
     const double indices = 12.0 * static_cast<double>(e.triangles), uv0 = 8.0 * n;
-    constexpr double kMeshoptShare = 0.6;  // EXT_meshopt_compression's bytes over the floats' (measured: docs/export.md)
+    constexpr double kMeshoptShare = 0.5;  // EXT_meshopt_compression's bytes over the floats' (measured: docs/export.md)
     const double draco_frame = 9.2 * n;  // measured: default scene (the water mesh), 14-bit positions (see RunEstimate)
     switch (scene.form) {
         case Scene::Form::morph:
