@@ -35,6 +35,8 @@ def scenes():
     yield "default-nodes-quantized", ["--form", "nodes", "--quantize"]
     yield "default-files-gltf", ["--form", "files", "--container", "gltf"]
     yield "default-morph-draco", ["--draco"]
+    yield "default-files-meshopt", ["--form", "files", "--codec", "meshopt"]
+    yield "default-morph-meshopt", ["--codec", "meshopt"]
     for path in sorted((ROOT / "examples").glob("*.json")):
         yield path.stem, [str(path)]
 

@@ -230,22 +230,24 @@ PYBIND11_MODULE(_libwave, m) {
             py::arg("path"), py::arg("form") = "morph");
     m.def(
         "animate",
-        [](const wave::Scene& scene, const ScenePlan& plan, std::size_t first, py::object end) {
+        [](const wave::Scene& read, const ScenePlan& plan, std::size_t first, py::object end) {
             wave::FrameRange range{first, end.is_none() ? static_cast<std::size_t>(-1) : end.cast<std::size_t>()};
             py::gil_scoped_release release;
+            const wave::Scene scene = wave::resolve_codec(read, wave::estimate_run(read, plan));  // as wave run chooses
             return std::make_shared<SceneAnimation>(wave::animate_scene(scene, plan, 2e9, range));
         },
         py::arg("scene"), py::arg("plan"), py::arg("first") = 0, py::arg("end") = py::none(),
-        "Evaluates frames [first, end) of the loop: positions, normals, shading");
+        "Evaluates frames [first, end) of the loop: positions, normals, shading; the export codec as wave run chooses it (/outputs/codec auto: meshopt above 32 MB of plain output)");
 
     m.def(
         "write_animation",
-        [](const wave::Scene& scene, const ScenePlan& plan, const std::string& folder, std::size_t first, py::object end,
+        [](const wave::Scene& read, const ScenePlan& plan, const std::string& folder, std::size_t first, py::object end,
            std::size_t chunk) {
             wave::FrameRange range{first, end.is_none() ? static_cast<std::size_t>(-1) : end.cast<std::size_t>()};
             std::vector<std::pair<std::string, std::size_t>> files;
             {
                 py::gil_scoped_release release;
+                const wave::Scene scene = wave::resolve_codec(read, wave::estimate_run(read, plan));  // as wave run chooses
                 wave::AnimationStream stream(scene, plan, range);
                 const bool whole = stream.first_frame() == 0 && stream.frame_count() == wave::scene_loop_frames(scene, plan);
                 if (chunk == 0) chunk = wave::files_form_chunk(wave::estimate_run(scene, plan));

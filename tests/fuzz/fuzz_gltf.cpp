@@ -1,5 +1,6 @@
 // Our glTF re-reader (read_animation, behind `wave convert`): .glb containers, the
-// libwave extras, morph targets, quantised and Draco-compressed primitives.
+// libwave extras, morph targets, quantised, Draco- and meshopt-compressed primitives
+// (EXT_meshopt_compression: its views, counts and streams).
 // Seeds: tests/fuzz/seeds/gltf (small outputs of wave run).
 #include "fuzz_input.h"
 #include "libwave/export.h"
