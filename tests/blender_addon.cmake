@@ -3,10 +3,12 @@
 # (tests/blender_addon.py; Draco frames through libwave's module; the skirt of Draco and
 # of quantised nodes a second primitive joined again).
 file(REMOVE_RECURSE ${OUT})
-foreach(form morph quant nodes quant-nodes files draco pc2)
+foreach(form morph quant nodes quant-nodes files draco meshopt pc2)
   set(args --fps 6)
   if(form STREQUAL "draco")
     list(APPEND args --form files --draco)
+  elseif(form STREQUAL "meshopt")
+    list(APPEND args --form files --codec meshopt)  # decoded by the libwave module the zip carries
   elseif(form STREQUAL "morph")
     list(APPEND args --no-quantize)  # the default scene's morph file is quantised
   elseif(form STREQUAL "quant")
@@ -67,3 +69,14 @@ foreach(step save check)
     message(FATAL_ERROR "The baked .blend (${step}) failed (${rc}):\n${out}\n${err}")
   endif()
 endforeach()
+
+# The zip alone, with no PYTHONPATH (an artist's install): its own libwave module decodes
+# the meshopt files form.
+get_filename_component(bundled_tests ${SCRIPT} DIRECTORY)
+execute_process(COMMAND ${CMAKE_COMMAND} -E env --unset=PYTHONPATH
+                        ${BLENDER} -b --factory-startup --python-exit-code 1 --python ${bundled_tests}/blender_addon_bundled.py
+                        -- ${ADDON} ${OUT}/meshopt/index.json 30
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0 OR NOT out MATCHES "LIBWAVE-BUNDLED ok")
+  message(FATAL_ERROR "The add-on's own libwave module (no PYTHONPATH) failed (${rc}):\n${out}\n${err}")
+endif()

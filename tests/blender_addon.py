@@ -3,6 +3,7 @@
 # folder's animation (morph/nodes .glb, or the files form's index.json) and checks at
 # frames 0, 1, k and k + loop (the loop repeats) that every vertex's position and its
 # foam/reflect/refract equal the file's frame values as libwave's own reader gives them.
+import math
 import os
 import sys
 
@@ -287,11 +288,35 @@ for folder in runs:
     for obj in list(bpy.data.objects):
         bpy.data.objects.remove(obj)
     path = source(folder)
+    # The sky: made where the scene has no world (factory settings: none), kept where the
+    # artist has one (the nodes run), its sun where the file's sun lamp is.
+    artist = None
+    if folder.endswith("nodes"):
+        artist = bpy.data.worlds.new("artist's world")
+        bpy.context.scene.world = artist
+    else:
+        bpy.context.scene.world = None
     result = bpy.ops.import_scene.libwave(filepath=path)
     if result != {"FINISHED"}:
         errors.append(f"{path}: import {result}")
         continue
     scene = bpy.context.scene
+    if artist is not None:
+        if scene.world != artist:
+            errors.append(f"{path}: the artist's world was replaced by {scene.world}")
+    elif scene.world is None or not scene.world.name.startswith("libwave sky"):
+        errors.append(f"{path}: no sky world made ({scene.world})")
+    else:
+        skies = [nd for nd in scene.world.node_tree.nodes if nd.type == "TEX_SKY"]
+        sun = bpy.data.objects.get("libwave sun")
+        if len(skies) != 1 or skies[0].sky_type != "NISHITA" or sun is None:
+            errors.append(f"{path}: the sky world has no Nishita sky texture, or there is no sun lamp")
+        else:  # the sky's sun direction is the lamp's (its +Z: it shines along −Z)
+            e, r = skies[0].sun_elevation, skies[0].sun_rotation
+            to_sun = np.array([-math.cos(e) * math.sin(r), math.cos(e) * math.cos(r), math.sin(e)])
+            lamp = np.array(sun.matrix_world.col[2][:3])
+            if np.linalg.norm(to_sun - lamp / np.linalg.norm(lamp)) > 1e-4:
+                errors.append(f"{path}: the sky's sun points to {to_sun}, the lamp's to {lamp}")
     water = [o for o in scene.objects if o.type == "MESH" and "libwave_source" in o]
     expected = libwave.read_animation(path)
     frames, n = expected["frame_count"], expected["vertex_count"]

@@ -16,7 +16,7 @@ import os
 import bpy
 import numpy as np
 from bpy.app.handlers import persistent
-from bpy.props import BoolProperty, FloatProperty, StringProperty
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, StringProperty
 from bpy_extras.io_utils import ImportHelper
 
 from . import bake as baking
@@ -401,8 +401,74 @@ def import_dressing(context, dressing, folder="", caustics=True, visibility=DEFA
     return made
 
 
+# The world: Blender's physical sky (the Sky Texture node's Nishita model in 3.x and
+# 4.x) with its sun where the file's sun is, or an HDRI; the sun lamp lights the scene
+# directly, so the sky draws no sun disc of its own (no second sun).
+SKY_STRENGTH = 0.3  # the Nishita sky's radiance is absolute: a third keeps the lamp's light in proportion
+
+
+def _default_world(world):
+    """Whether `world` is Blender's untouched default (a grey background, no nodes of the artist's)."""
+    if world is None:
+        return True
+    if world.name != "World" or (world.use_nodes and world.node_tree is not None and
+                                 any(n.type not in {"BACKGROUND", "OUTPUT_WORLD"} for n in world.node_tree.nodes)):
+        return False
+    return True
+
+
+def sun_angles(matrix):
+    """The Sky Texture's (sun_elevation, sun_rotation) for a sun lamp's world matrix: the
+    direction to the sun is the lamp's +Z (it shines along −Z); the sky puts its sun at
+    (−cos e · sin r, cos e · cos r, sin e)."""
+    d = np.asarray(matrix)[:3, 2]
+    d = d / max(np.linalg.norm(d), 1e-12)
+    return math.asin(max(-1.0, min(1.0, float(d[2])))), math.atan2(-float(d[0]), float(d[1]))
+
+
+def make_world(context, dressing, mode="AUTO", hdri=""):
+    """A world for the scene (docs/blender.md, "Sky"): with `mode` AUTO only where the
+    scene has none or Blender's untouched default, REPLACE always, KEEP never. The sky is
+    Blender's physical sky with the sun where the file's is (30° up without one), or the
+    HDRI image `hdri` when given. Returns the world made, or None."""
+    scene = context.scene
+    if mode == "KEEP" or (mode == "AUTO" and not _default_world(scene.world)):
+        return None
+    world = bpy.data.worlds.new("libwave sky")
+    world.use_nodes = True
+    tree = world.node_tree
+    tree.nodes.clear()
+    out = tree.nodes.new("ShaderNodeOutputWorld")
+    background = tree.nodes.new("ShaderNodeBackground")
+    background.location = (-250, 0)
+    tree.links.new(background.outputs["Background"], out.inputs["Surface"])
+    if hdri:
+        env = tree.nodes.new("ShaderNodeTexEnvironment")
+        env.location = (-550, 0)
+        env.image = bpy.data.images.load(os.path.abspath(bpy.path.abspath(hdri)), check_existing=True)
+        tree.links.new(env.outputs["Color"], background.inputs["Color"])
+        background.inputs["Strength"].default_value = 1.0
+    else:
+        sky = tree.nodes.new("ShaderNodeTexSky")
+        sky.location = (-550, 0)
+        types = [item.identifier for item in sky.bl_rna.properties["sky_type"].enum_items]
+        sky.sky_type = "NISHITA" if "NISHITA" in types else types[-1]  # guarded: a later Blender may rename it
+        if dressing is not None and dressing.sun is not None:
+            elevation, rotation = sun_angles(dressing.sun[0])
+        else:
+            elevation, rotation = math.radians(30.0), 0.0
+        for name, value in (("sun_elevation", max(elevation, 0.0)), ("sun_rotation", rotation % (2.0 * math.pi)),
+                            ("sun_disc", False), ("altitude", 0.0)):
+            if hasattr(sky, name):
+                setattr(sky, name, value)
+        tree.links.new(sky.outputs["Color"], background.inputs["Color"])
+        background.inputs["Strength"].default_value = SKY_STRENGTH
+    scene.world = world
+    return world
+
+
 def import_animation(context, path, set_scene=True, caustics=True, bake=False, baked_colour=False, file_normals=False,
-                     visibility=DEFAULT_VISIBILITY, sunbeams=True, sunbeam_strength=1.0):
+                     visibility=DEFAULT_VISIBILITY, sunbeams=True, sunbeam_strength=1.0, world="AUTO", hdri=""):
     """Creates the water object for `path` (a .glb/.gltf or index.json); with `set_scene`
     the scene's fps and frame range become the animation's; with `caustics` the caustic
     maps beside it (when the run wrote them) light the seafloor; with `bake` every frame
@@ -412,7 +478,8 @@ def import_animation(context, path, set_scene=True, caustics=True, bake=False, b
     (not with `bake`) each frame change also sets the file's normals as custom normals;
     `visibility` (m) hazes the seafloor with distance (0: none); with `sunbeams` the
     sunbeam volumes beside it (when the run wrote them) glow in the water,
-    `sunbeam_strength` times the single-scattering estimate."""
+    `sunbeam_strength` times the single-scattering estimate; `world` and `hdri` as
+    make_world takes them (the sky over the scene)."""
     anim = _animation(os.path.abspath(path))
     first = anim.frame(0)
     if baked_colour and first.color is None:
@@ -440,6 +507,7 @@ def import_animation(context, path, set_scene=True, caustics=True, bake=False, b
         bpy.app.handlers.frame_change_post.append(_on_frame_change)
     if anim.dressing is not None:
         import_dressing(context, anim.dressing, anim.folder, caustics, visibility, sunbeams, sunbeam_strength)
+    make_world(context, anim.dressing, world, hdri)
     if not bake:
         apply_frame(obj, scene.frame_current)
     return obj
@@ -482,10 +550,20 @@ class ImportLibwave(bpy.types.Operator, ImportHelper):
                                     description="Times the single-scattering estimate (b = c / 2, isotropic); real "
                                                 "water scatters forwards, so views towards the sun may want more")
 
+    world: EnumProperty(name="Sky", default="AUTO",
+                        items=[("AUTO", "Sky where none", "A physical sky with the file's sun where the scene has no "
+                                                          "world or Blender's default grey one"),
+                               ("REPLACE", "Replace the world", "A new sky world even where the scene has one"),
+                               ("KEEP", "Keep the scene's world", "Make no world")])
+    hdri: StringProperty(name="HDRI", default="", subtype="FILE_PATH",
+                         description="An environment image for the sky instead of the physical sky (with Sky: where "
+                                     "none or replace)")
+
     def execute(self, context):
         try:
             import_animation(context, self.filepath, self.set_scene, self.caustics, self.bake, self.baked_colour,
-                             self.file_normals, self.visibility, self.sunbeams, self.sunbeam_strength)
+                             self.file_normals, self.visibility, self.sunbeams, self.sunbeam_strength, self.world,
+                             self.hdri)
         except (OSError, KeyError, ValueError, frames.LibwaveFileError) as e:
             self.report({"ERROR"}, f"libwave: {e}")
             return {"CANCELLED"}

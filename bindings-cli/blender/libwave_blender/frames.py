@@ -13,6 +13,7 @@ import importlib
 import json
 import os
 import struct
+import sys
 
 import numpy as np
 
@@ -410,8 +411,16 @@ def _libwave_module():
     """libwave's Python module: the copy the add-on's zip carries (libwave_blender/libwave,
     built for Debian 12's Python 3.11), else one on Blender's path. ImportError says why
     neither loads (another Python, a missing system library)."""
+    if "libwave" in sys.modules:  # already loaded from Blender's path: one copy per process (pybind11's types)
+        return sys.modules["libwave"]
     if __package__ and os.path.isdir(os.path.join(os.path.dirname(os.path.abspath(__file__)), "libwave")):
-        return importlib.import_module(__package__ + ".libwave")  # the zip's copy
+        try:
+            return importlib.import_module(__package__ + ".libwave")  # the zip's copy
+        except ImportError as bundled:
+            try:
+                return importlib.import_module("libwave")
+            except ImportError:
+                raise bundled from None
     return importlib.import_module("libwave")
 
 
