@@ -234,6 +234,11 @@ WaveField solve_wave_field(const Seafloor& seafloor, const WaveTrain& train, con
     // of the one it reaches (for the amplitude of the last pass).
     std::vector<double> k_here(f.ny), k_next(f.ny);
     std::vector<cd> b_start(f.ny), reference_start(f.ny);
+    // Per row: cos φ, φ the angle between the wave's local direction and the march (from
+    // the phase the last step advanced). Dally, Dean & Dalrymple's loss acts per unit
+    // area, (K/h) C_g (E − E_s), along the wave's own direction: per metre of the march
+    // it is (K/h)/cos φ, whatever direction the march takes.
+    std::vector<double> cos_dir(f.ny, 1.0);
     Column here = column_at(g, f, 0.0, omega);
     const auto amplitude_k = [&](const Column& c, std::size_t j, double a) {
         return o.amplitude_dispersion ? nonlinear_k(omega, c.depth[j], c.k[j], c.f1d[j], c.f2[j], a) : c.k[j];
@@ -270,7 +275,7 @@ WaveField solve_wave_field(const Seafloor& seafloor, const WaveTrain& train, con
         // Breaking rows lose energy over the step, half before it and half after
         // (Strang splitting around the step's shoaling and refraction).
         for (std::size_t j = 0; j < f.ny; ++j)
-            if (surf[j]) dissipate(b[j], here.flux[j], here.depth[j], o.stable_index, o.breaking_decay, 0.5 * f.dx);
+            if (surf[j]) dissipate(b[j], here.flux[j], here.depth[j], o.stable_index, o.breaking_decay, 0.5 * f.dx / cos_dir[j]);
         for (std::size_t j = 0; j < f.ny; ++j)
             k_next[j] = next.k[j] > 0.0 && here.k[j] > 0.0 ? amplitude_k(next, j, std::abs(b[j]) / here.flux[j]) : next.k[j];
         b_start = b;
@@ -306,9 +311,14 @@ WaveField solve_wave_field(const Seafloor& seafloor, const WaveTrain& train, con
         for (std::size_t j = 0; j < f.ny; ++j) {
             if (!(next.depth[j] > 0.0 && here.depth[j] > 0.0)) {
                 reference_surf[j] = 0;
+                cos_dir[j] = 1.0;
                 continue;
             }
-            if (surf[j]) dissipate(b[j], next.flux[j], next.depth[j], o.stable_index, o.breaking_decay, 0.5 * f.dx);
+            // The wavenumber along the march, k̄ + ∂_x arg B, over the local k: cos φ,
+            // kept within the wide-angle form's reach (φ ≤ 60°).
+            if (std::norm(b[j]) > 0.0 && std::norm(b_start[j]) > 0.0)
+                cos_dir[j] = std::clamp((kbar + std::arg(b[j] * std::conj(b_start[j])) / f.dx) / km[j], 0.5, 1.0);
+            if (surf[j]) dissipate(b[j], next.flux[j], next.depth[j], o.stable_index, o.breaking_decay, 0.5 * f.dx / cos_dir[j]);
             if (reference_surf[j])
                 dissipate(reference[j], next.flux[j], 0.5 * (here.depth[j] + next.depth[j]), o.stable_index, o.breaking_decay, f.dx);
             surf_zone(reference[j], next.flux[j], next.depth[j], o, reference_surf[j]);
