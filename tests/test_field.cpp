@@ -1,6 +1,9 @@
 // The refraction–diffraction field against analytic solutions: a plane wave on a flat
 // bottom, a planar beach (shoaling and refraction, and the rays' phase), diffraction
-// behind a semi-infinite breakwater (Sommerfeld's half-plane, Penney & Price 1952).
+// behind a semi-infinite breakwater (Sommerfeld's half-plane, Penney & Price 1952); the
+// surf-zone physics: Kirby & Dalrymple's composite dispersion, Dally, Dean & Dalrymple's
+// decay on a plane slope (their closed form) and over a bar (a 1-D RK4 integration);
+// and Berkhoff, Booij & Radder's shoal against the measured transects (data/berkhoff).
 #include "grid_seafloor.h"
 #include "libwave/bathymetry.h"
 #include "libwave/errors.h"

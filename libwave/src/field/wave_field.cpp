@@ -106,11 +106,12 @@ Column column_at(const ElevationGrid& g, const WaveField& f, double s, double om
 // The wavenumber of Kirby & Dalrymple (1986)'s composite dispersion relation
 // ω² = g k [1 + f1 (k|A|)² D] tanh(k h + f2 k|A|) for amplitude a = |A| (f1 D and f2 at
 // the linear kh, as in REF/DIF). The height adds to ω at a fixed k, so the root lies in
-// (0, k_linear]: Newton's iteration, kept inside that bracket.
-double nonlinear_k(double omega, double h, double k_linear, double f1d, double f2, double a) {
+// (0, k_linear]: Newton's iteration from `guess` (a neighbour's root), kept inside that
+// bracket.
+double nonlinear_k(double omega, double h, double k_linear, double f1d, double f2, double a, double guess) {
     if (!(a > 0.0) || !(k_linear > 0.0)) return k_linear;
     const double c1 = f1d * a * a, c2 = f2 * a, w2 = omega * omega;
-    double lo = 0.0, hi = k_linear, k = k_linear;
+    double lo = 0.0, hi = k_linear, k = guess > 0.0 && guess < k_linear ? guess : k_linear;
     for (int it = 0; it < 20; ++it) {
         const double s = 1.0 + c1 * k * k, t = std::tanh(k * (h + c2));
         const double g = kGravity * k * s * t - w2;
@@ -240,8 +241,8 @@ WaveField solve_wave_field(const Seafloor& seafloor, const WaveTrain& train, con
     // it is (K/h)/cos φ, whatever direction the march takes.
     std::vector<double> cos_dir(f.ny, 1.0);
     Column here = column_at(g, f, 0.0, omega);
-    const auto amplitude_k = [&](const Column& c, std::size_t j, double a) {
-        return o.amplitude_dispersion ? nonlinear_k(omega, c.depth[j], c.k[j], c.f1d[j], c.f2[j], a) : c.k[j];
+    const auto amplitude_k = [&](const Column& c, std::size_t j, double a, double guess) {
+        return o.amplitude_dispersion ? nonlinear_k(omega, c.depth[j], c.k[j], c.f1d[j], c.f2[j], a, guess) : c.k[j];
     };
     const auto store = [&](std::size_t i, const Column& c) {
         for (std::size_t j = 0; j < f.ny; ++j) {
@@ -264,7 +265,7 @@ WaveField solve_wave_field(const Seafloor& seafloor, const WaveTrain& train, con
     store(0, here);
     for (std::size_t j = 0; j < f.ny; ++j) {
         f.incident_height = std::max(f.incident_height, 2.0 * static_cast<double>(std::abs(f.envelope[j * f.nx])));
-        k_here[j] = here.k[j] > 0.0 ? amplitude_k(here, j, std::abs(b[j]) / here.flux[j]) : 0.0;
+        k_here[j] = here.k[j] > 0.0 ? amplitude_k(here, j, std::abs(b[j]) / here.flux[j], here.k[j]) : 0.0;
         if (here.depth[j] > 0.0) surf_zone(reference[j], here.flux[j], here.depth[j], o, reference_surf[j]);
     }
     // With amplitude dispersion, a predictor (column i+1's k from column i's |A|) and a
@@ -277,14 +278,16 @@ WaveField solve_wave_field(const Seafloor& seafloor, const WaveTrain& train, con
         for (std::size_t j = 0; j < f.ny; ++j)
             if (surf[j]) dissipate(b[j], here.flux[j], here.depth[j], o.stable_index, o.breaking_decay, 0.5 * f.dx / cos_dir[j]);
         for (std::size_t j = 0; j < f.ny; ++j)
-            k_next[j] = next.k[j] > 0.0 && here.k[j] > 0.0 ? amplitude_k(next, j, std::abs(b[j]) / here.flux[j]) : next.k[j];
+            k_next[j] = next.k[j] > 0.0 && here.k[j] > 0.0
+                            ? amplitude_k(next, j, std::abs(b[j]) / here.flux[j], next.k[j] * (k_here[j] / here.k[j]))
+                            : next.k[j];
         b_start = b;
         reference_start = reference;
         double kbar = 0.0;
         for (int pass = 0; pass < passes; ++pass) {
             if (pass > 0) {
                 for (std::size_t j = 0; j < f.ny; ++j)
-                    if (next.k[j] > 0.0 && here.k[j] > 0.0) k_next[j] = amplitude_k(next, j, std::abs(b[j]) / next.flux[j]);
+                    if (next.k[j] > 0.0 && here.k[j] > 0.0) k_next[j] = amplitude_k(next, j, std::abs(b[j]) / next.flux[j], k_next[j]);
                 b = b_start;
                 reference = reference_start;
             }
@@ -326,7 +329,7 @@ WaveField solve_wave_field(const Seafloor& seafloor, const WaveTrain& train, con
         f.phase_ref[i + 1] = f.phase_ref[i] + kbar * f.dx;
         store(i + 1, next);
         for (std::size_t j = 0; j < f.ny; ++j)
-            k_here[j] = next.k[j] > 0.0 ? amplitude_k(next, j, std::abs(b[j]) / next.flux[j]) : 0.0;
+            k_here[j] = next.k[j] > 0.0 ? amplitude_k(next, j, std::abs(b[j]) / next.flux[j], k_next[j]) : 0.0;
         here = next;
     }
     return f;
