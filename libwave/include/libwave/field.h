@@ -28,7 +28,8 @@ struct FieldOptions {
     /// γ: breaking starts where H > γh (and H never exceeds γh).
     double breaker_index = 0.78;
     /// Γ: breaking stops where H falls below Γh (Dally, Dean & Dalrymple's stable height
-    /// H_s = Γh, towards which the broken wave decays). In (0, breaker_index].
+    /// H_s = Γh, towards which the broken wave decays). In (0, 2]; taken as breaker_index
+    /// where larger (the stop never above the onset).
     double stable_index = 0.4;
     /// K: Dally, Dean & Dalrymple's decay coefficient, d(E C_g)/dx = −(K/h)(E C_g − E_s C_g)
     /// in the surf zone. 0: no dissipation (saturated breaking alone, H = γh). In [0, 1].

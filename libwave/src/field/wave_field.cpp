@@ -193,14 +193,16 @@ void surf_zone(cd& u, double flux, double h, const FieldOptions& o, std::uint8_t
 
 }  // namespace
 
-WaveField solve_wave_field(const Seafloor& seafloor, const WaveTrain& train, const FieldOptions& o) {
+WaveField solve_wave_field(const Seafloor& seafloor, const WaveTrain& train, const FieldOptions& options) {
+    // Breaking stops at Γ ≤ γ: a scene that lowers the onset γ below Γ lowers Γ with it.
+    FieldOptions o = options;
+    o.stable_index = std::min(o.stable_index, o.breaker_index);
     if (!(o.nodes_per_wavelength >= 4.0 && o.nodes_per_wavelength <= 200.0))
         throw InputError("wave field: nodes_per_wavelength must be in [4, 200], got " + detail::format_number(o.nodes_per_wavelength));
     if (!(o.breaker_index > 0.0 && o.breaker_index <= 2.0))
         throw InputError("wave field: breaker_index must be in (0, 2], got " + detail::format_number(o.breaker_index));
-    if (!(o.stable_index > 0.0 && o.stable_index <= o.breaker_index))
-        throw InputError("wave field: stable_index must be in (0, breaker_index = " + detail::format_number(o.breaker_index) +
-                         "], got " + detail::format_number(o.stable_index));
+    if (!(options.stable_index > 0.0 && options.stable_index <= 2.0))
+        throw InputError("wave field: stable_index must be in (0, 2], got " + detail::format_number(options.stable_index));
     if (!(o.breaking_decay >= 0.0 && o.breaking_decay <= 1.0))
         throw InputError("wave field: breaking_decay must be in [0, 1], got " + detail::format_number(o.breaking_decay));
     if (!(train.period > 0.0 && train.amplitude > 0.0 && std::hypot(train.direction_x, train.direction_y) > 0.0))
