@@ -60,7 +60,7 @@ int run_field(const FieldArgs& a) {
     std::cout << std::setprecision(4) << "field      " << field.nx << " x " << field.ny << " nodes, " << field.dx
               << " m apart (wide-angle parabolic mild-slope, marched along the swell) in " << ms << " ms\n"
               << "heights    H0 " << field.incident_height << " m; H/H0 up to " << raster.ratio_max << "; "
-              << field.broken_nodes << " nodes limited by breaking (H = γh)\n";
+              << field.broken_nodes << " nodes in the surf zone (breaking: onset H > γh, stop H < Γh)\n";
     if (!a.output.empty()) std::cout << "wrote      " << a.output << " (bands H/H0, phase, direction)\n";
     if (!a.png.empty()) std::cout << "wrote      " << a.png << '\n';
     return 0;

@@ -139,6 +139,18 @@ TEST(Procedural, ConicalIslandOfBriggs) {
     EXPECT_NEAR(d.dh_dx, 0.25, 1e-9);  // 1:4
 }
 
+TEST(Procedural, BarredBeachBarTroughChannelAndShore) {
+    const Seafloor s = make_barred_beach();
+    // The plane slope 6 m → 0 at x = 180 m, minus the bar (2 m at x = 70 m, σ = 10 m).
+    EXPECT_NEAR(depth_at(s.grid, 0.0, 20.0), 6.0 - 2.0 * std::exp(-0.5 * 49.0), 1e-6);
+    EXPECT_NEAR(depth_at(s.grid, 70.0, 20.0), 6.0 * 110.0 / 180.0 - 2.0, 1e-6);  // crest ≈ 1.67 m
+    EXPECT_GT(depth_at(s.grid, 95.0, 20.0), 2.6);                                  // the trough behind it
+    EXPECT_NEAR(depth_at(s.grid, 70.0, 80.0), 6.0 * 110.0 / 180.0 - 0.6, 1e-6);   // the rip channel: 30 % of the bar
+    EXPECT_NEAR(depth_at(s.grid, 180.0, 20.0), 0.0, 1e-6);                        // the shoreline
+    EXPECT_NEAR(depth_at(s.grid, 200.0, 20.0), -2.0 / 3.0, 1e-6);                 // land, rising at the slope
+    EXPECT_THROW(make_barred_beach({.bar_width = 0.0}), InputError);
+}
+
 TEST(Procedural, BayIslandAndTsoContours) {
     const Seafloor bay = make_gonzato_bay();
     EXPECT_EQ(bay.grid.nx, 201u);

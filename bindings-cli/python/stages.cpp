@@ -240,15 +240,20 @@ void bind_fronts(py::module_& m) {
     m.def(
         "solve_wave_field",
         [](const wave::Seafloor& seafloor, double period, double amplitude, std::array<double, 2> direction,
-           double nodes_per_wavelength, double breaker_index, bool reflecting_edges) {
+           double nodes_per_wavelength, double breaker_index, bool reflecting_edges, bool amplitude_dispersion,
+           double breaking_decay, double stable_index) {
             wave::FieldOptions o;
             o.nodes_per_wavelength = nodes_per_wavelength, o.breaker_index = breaker_index, o.reflecting_edges = reflecting_edges;
+            o.amplitude_dispersion = amplitude_dispersion, o.breaking_decay = breaking_decay, o.stable_index = stable_index;
             py::gil_scoped_release release;
             return std::make_shared<wave::WaveField>(wave::solve_wave_field(seafloor, train(period, amplitude, direction), o));
         },
         py::arg("seafloor"), py::arg("period"), py::arg("amplitude"), py::arg("direction"),
         py::arg("nodes_per_wavelength") = 12.0, py::arg("breaker_index") = wave::kBreakerIndex,
-        py::arg("reflecting_edges") = false, "Solves the parabolic mild-slope field of one train (as the scene's /field)");
+        py::arg("reflecting_edges") = false, py::arg("amplitude_dispersion") = wave::FieldOptions{}.amplitude_dispersion,
+        py::arg("breaking_decay") = wave::FieldOptions{}.breaking_decay, py::arg("stable_index") = wave::FieldOptions{}.stable_index,
+        "Solves the parabolic mild-slope field of one train (as the scene's /field): amplitude dispersion and breaking "
+        "dissipation (Dally, Dean & Dalrymple) on by default");
     m.def(
         "take_field_amplitudes",
         [](const wave::WaveField& field, wave::FrontSet& fronts) { return wave::take_field_amplitudes(field, fronts); },

@@ -274,12 +274,35 @@ struct ConicalIslandParams {
 };
 Seafloor make_conical_island(const ConicalIslandParams& p = {});
 
+/// A plane beach with an offshore bar (a surf-zone case, docs/wave-field.md): waves come
+/// from x = 0, the plane slope runs from offshore_depth at x = 0 to the shoreline at
+/// x = shore_x and on up the land (at most land_height); a bar of Gaussian section,
+/// h −= bar_height · exp(−½((x − bar_x)/bar_width)²), lies along y, cut by a rip channel
+/// at y = gap_y where it keeps 30 % of its height (Gaussian in y, gap_width; 0: none).
+/// With the defaults a 8 s swell of 1.2 m breaks on the bar (crest ≈ 1.7 m deep),
+/// re-forms in the trough behind it (≈ 2.7 m) and breaks again on the beach.
+struct BarredBeachParams {
+    double size_x = 200.0;        ///< domain [0, size_x] × [0, size_y] (m)
+    double size_y = 120.0;        ///< domain [0, size_x] × [0, size_y] (m)
+    double spacing = 1.0;         ///< node spacing (m)
+    double offshore_depth = 6.0;  ///< depth at x = 0 (m)
+    double shore_x = 180.0;       ///< the plane slope's shoreline (m)
+    double land_height = 2.0;     ///< highest land (m)
+    double bar_x = 70.0;          ///< the bar's crest line (m)
+    double bar_height = 2.0;      ///< above the plane slope (m)
+    double bar_width = 10.0;      ///< the bar's Gaussian half-width σ (m)
+    double gap_y = 80.0;          ///< the rip channel's centre (m)
+    double gap_width = 10.0;      ///< its Gaussian half-width σ (m); 0: no channel
+};
+Seafloor make_barred_beach(const BarredBeachParams& p = {});
+
 /// Names accepted by make_named_seafloor, in a stable order.
 const std::vector<std::string>& procedural_seafloor_names();
 
 /// A procedural seafloor with default parameters, by name (for the CLI and scene
 /// files): "planar-beach", "gonzato-bay", "gonzato-island", "tso-contours",
-/// "berkhoff-shoal", "conical-island". Throws InputError listing the valid names.
+/// "berkhoff-shoal", "conical-island", "barred-beach". Throws InputError listing the
+/// valid names.
 Seafloor make_named_seafloor(const std::string& name);
 
 }  // namespace wave

@@ -25,7 +25,18 @@ struct FieldOptions {
     /// Grid nodes per wavelength at the resolved depth (the shallowest depth the incident
     /// wave reaches before it breaks: H∞/γ, or min_resolved_depth when larger).
     double nodes_per_wavelength = 12.0;
-    double breaker_index = 0.78;  ///< γ: the height is limited to H = γh (saturated breaking)
+    /// γ: breaking starts where H > γh (and H never exceeds γh).
+    double breaker_index = 0.78;
+    /// Γ: breaking stops where H falls below Γh (Dally, Dean & Dalrymple's stable height
+    /// H_s = Γh, towards which the broken wave decays). In (0, 2]; taken as breaker_index
+    /// where larger (the stop never above the onset).
+    double stable_index = 0.4;
+    /// K: Dally, Dean & Dalrymple's decay coefficient, d(E C_g)/dx = −(K/h)(E C_g − E_s C_g)
+    /// in the surf zone. 0: no dissipation (saturated breaking alone, H = γh). In [0, 1].
+    double breaking_decay = 0.15;
+    /// Kirby & Dalrymple (1986)'s composite nonlinear dispersion (the wave's own height
+    /// speeds it up over shallow water), iterated per step; false: linear dispersion.
+    bool amplitude_dispersion = true;
     double min_resolved_depth = 0.0;  ///< m; shallower water is computed on the same grid
     /// The lateral edges of the marching grid: absorbing (a sponge two wavelengths wide,
     /// open sea beside the domain) or reflecting (walls, as in a wave basin).
@@ -36,7 +47,7 @@ struct FieldOptions {
 /// Node flags.
 enum : std::uint8_t {
     kFieldWet = 1,     ///< water (depth > 0)
-    kFieldBroken = 2,  ///< the height was limited to γh here (breaking)
+    kFieldBroken = 2,  ///< in the surf zone: breaking (between onset H > γh and stop H < Γh)
 };
 
 /// One train's field on a grid aligned with the swell: node (i, j) lies at
@@ -60,15 +71,21 @@ struct WaveField {
     /// H0: the incident height where the wave enters the grid (the deepest node of the
     /// first column: 2 A∞ K_s there), the reference of H/H0.
     double incident_height = 0.0;
-    std::size_t broken_nodes = 0;  ///< nodes where breaking limited the height
+    std::size_t broken_nodes = 0;  ///< nodes in the surf zone (flagged kFieldBroken)
 };
 
 /// Solves the field of `train` over `seafloor` (Kirby's wide-angle parabolic mild-slope
 /// model in Padé (1,1) form, marched with Crank–Nicolson; each row a tridiagonal solve
 /// by LAPACK). The grid covers the seafloor's rectangle; outside it the edge depths
 /// extend, so the incident wave enters from every upwave side. Land damps the wave
-/// (no reflection); heights above γh are limited to γh and flagged. Throws InputError
-/// for bad options or a dry seafloor, LimitError above max_nodes.
+/// (no reflection). With amplitude_dispersion, k at each node follows Kirby &
+/// Dalrymple's composite relation for the node's own |η̂| (a predictor–corrector per
+/// column). Breaking: a row starts to break where H > γh, loses energy by Dally, Dean &
+/// Dalrymple's law while it breaks, and stops where H < Γh (it re-forms behind a bar);
+/// H never exceeds γh. Surf-zone nodes are flagged. The train is solved alone: with
+/// several trains, each one's nonlinearity and breaking see its own height only
+/// (docs/wave-field.md). Throws InputError for bad options or a dry seafloor, LimitError
+/// above max_nodes.
 WaveField solve_wave_field(const Seafloor& seafloor, const WaveTrain& train, const FieldOptions& options = {});
 
 /// The field at a point of the seafloor's plane.

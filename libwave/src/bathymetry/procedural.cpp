@@ -136,9 +136,22 @@ Seafloor make_conical_island(const ConicalIslandParams& p) {
     return named("conical-island (Briggs et al. 1995)", std::move(grid));
 }
 
+Seafloor make_barred_beach(const BarredBeachParams& p) {
+    require(p.offshore_depth > 0.0 && p.shore_x > 0.0, "barred-beach: offshore_depth and shore_x must be > 0");
+    require(p.bar_width > 0.0 && p.gap_width >= 0.0, "barred-beach: bar_width must be > 0 and gap_width >= 0");
+    const double slope = p.offshore_depth / p.shore_x;
+    auto grid = sample_grid("barred-beach", 0.0, p.size_x, 0.0, p.size_y, p.spacing, [&](double x, double y) {
+        const double bx = (x - p.bar_x) / p.bar_width, gy = p.gap_width > 0.0 ? (y - p.gap_y) / p.gap_width : 1e9;
+        const double bar = p.bar_height * std::exp(-0.5 * bx * bx) * (1.0 - 0.7 * std::exp(-0.5 * gy * gy));
+        return std::min(-slope * (p.shore_x - x) + bar, p.land_height);
+    });
+    return named("barred-beach (slope " + fmt(slope) + ", a bar " + fmt(p.bar_height) + " m high at x = " + fmt(p.bar_x) + " m)",
+                 std::move(grid));
+}
+
 const std::vector<std::string>& procedural_seafloor_names() {
-    static const std::vector<std::string> names{"planar-beach", "gonzato-bay", "gonzato-island",
-                                                "tso-contours", "berkhoff-shoal", "conical-island"};
+    static const std::vector<std::string> names{"planar-beach", "gonzato-bay", "gonzato-island", "tso-contours",
+                                                "berkhoff-shoal", "conical-island", "barred-beach"};
     return names;
 }
 
@@ -149,6 +162,7 @@ Seafloor make_named_seafloor(const std::string& name) {
     if (name == "tso-contours") return make_tso_contours();
     if (name == "berkhoff-shoal") return make_berkhoff_shoal();
     if (name == "conical-island") return make_conical_island();
+    if (name == "barred-beach") return make_barred_beach();
     std::string valid;
     for (const auto& n : procedural_seafloor_names()) valid += (valid.empty() ? "" : ", ") + n;
     throw InputError("unknown procedural seafloor '" + name + "'; valid names: " + valid);

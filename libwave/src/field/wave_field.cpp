@@ -67,14 +67,16 @@ WaveField field_grid(const ElevationGrid& g, const WaveTrain& train, double spac
     return f;
 }
 
-// Per node of one column: the wavenumber and the flux factor √(ω C_g) (0 on land).
+// Per node of one column: the wavenumber and the flux factor √(ω C_g) (0 on land),
+// and the coefficients of Kirby & Dalrymple's composite dispersion at the linear kh:
+// f1·D and f2 (see nonlinear_k).
 struct Column {
-    std::vector<double> k, flux, depth;
+    std::vector<double> k, flux, depth, f1d, f2;
 };
 
 Column column_at(const ElevationGrid& g, const WaveField& f, double s, double omega) {
     Column c;
-    c.k.resize(f.ny), c.flux.resize(f.ny), c.depth.resize(f.ny);
+    c.k.resize(f.ny), c.flux.resize(f.ny), c.depth.resize(f.ny), c.f1d.resize(f.ny), c.f2.resize(f.ny);
     for (std::size_t j = 0; j < f.ny; ++j) {
         const double t = static_cast<double>(j) * f.dy;
         const double x = f.x0 + s * f.ux - t * f.uy, y = f.y0 + s * f.uy + t * f.ux;
@@ -84,8 +86,56 @@ Column column_at(const ElevationGrid& g, const WaveField& f, double s, double om
         const LinearWave w = linear_wave(omega, h);
         c.k[j] = w.k;
         c.flux[j] = std::sqrt(omega * w.group_velocity);
+        // Kirby & Dalrymple (1986): f1 = tanh⁵ kh, f2 = (kh / sinh kh)⁴,
+        // D = (cosh 4kh + 8 − 2 tanh² kh) / (8 sinh⁴ kh). Deep water (kh > 10): f1 D → 1
+        // (Stokes), f2 → 0 (and cosh 4kh would overflow further out).
+        const double kh = w.k * h;
+        if (kh > 10.0) {
+            c.f1d[j] = 1.0;
+            c.f2[j] = 0.0;
+            continue;
+        }
+        const double th = std::tanh(kh), sh = std::sinh(kh), sh2 = sh * sh, th2 = th * th;
+        c.f1d[j] = th2 * th2 * th * (std::cosh(4.0 * kh) + 8.0 - 2.0 * th2) / (8.0 * sh2 * sh2);
+        const double r = kh / sh;
+        c.f2[j] = r * r * r * r;
     }
     return c;
+}
+
+// The wavenumber of Kirby & Dalrymple (1986)'s composite dispersion relation
+// ω² = g k [1 + f1 (k|A|)² D] tanh(k h + f2 k|A|) for amplitude a = |A| (f1 D and f2 at
+// the linear kh, as in REF/DIF). The height adds to ω at a fixed k, so the root lies in
+// (0, k_linear]: Newton's iteration from `guess` (a neighbour's root), kept inside that
+// bracket.
+double nonlinear_k(double omega, double h, double k_linear, double f1d, double f2, double a, double guess) {
+    if (!(a > 0.0) || !(k_linear > 0.0)) return k_linear;
+    const double c1 = f1d * a * a, c2 = f2 * a, w2 = omega * omega;
+    double lo = 0.0, hi = k_linear, k = guess > 0.0 && guess < k_linear ? guess : k_linear;
+    for (int it = 0; it < 20; ++it) {
+        const double s = 1.0 + c1 * k * k, t = std::tanh(k * (h + c2));
+        const double g = kGravity * k * s * t - w2;
+        (g > 0.0 ? hi : lo) = k;
+        const double dg = kGravity * ((1.0 + 3.0 * c1 * k * k) * t + k * s * (1.0 - t * t) * (h + c2));
+        double next = dg > 0.0 ? k - g / dg : 0.5 * (lo + hi);
+        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+        const bool done = std::abs(next - k) <= 1e-9 * k;
+        k = next;
+        if (done) break;
+    }
+    return k;
+}
+
+// Dally, Dean & Dalrymple (1985) over a distance dx of a breaking row: the flux
+// F = |u|² ∝ E C_g relaxes towards the stable flux F_s (H_s = Γh) by
+// dF/dx = −(K/h)(F − F_s), integrated exactly for the node's h: F − F_s shrinks by
+// e^{−K dx / h}. Below F_s nothing happens (breaking stops there).
+void dissipate(cd& u, double flux, double h, double stable_index, double decay, double dx) {
+    if (!(h > 0.0) || decay <= 0.0) return;
+    const double f = std::norm(u), hs = 0.5 * stable_index * h, fs = flux * flux * hs * hs;
+    if (!(f > fs)) return;
+    const double after = fs + (f - fs) * std::exp(-decay * dx / h);
+    u *= std::sqrt(after / f);
 }
 
 // The sponge's damping per metre at node j (absorbing edges): 0 inside, rising
@@ -128,13 +178,33 @@ void step(const WaveField& f, std::span<const double> km, std::span<const std::u
     b.swap(rhs);
 }
 
+// The surf zone's onset and stop at a node of depth h > 0 (u in flux units, surf the
+// row's state): a row starts breaking where H > γh, and H never exceeds γh (the onset,
+// or a slope too steep for the decay to keep up); it stops where H < Γh.
+void surf_zone(cd& u, double flux, double h, const FieldOptions& o, std::uint8_t& surf) {
+    const double a = std::abs(u) / flux, limit = 0.5 * o.breaker_index * h;
+    if (a > limit) {
+        u *= limit / a;
+        surf = 1;
+    } else if (surf && 2.0 * a < o.stable_index * h) {
+        surf = 0;  // the wave re-forms (behind a bar, in a trough)
+    }
+}
+
 }  // namespace
 
-WaveField solve_wave_field(const Seafloor& seafloor, const WaveTrain& train, const FieldOptions& o) {
+WaveField solve_wave_field(const Seafloor& seafloor, const WaveTrain& train, const FieldOptions& options) {
+    // Breaking stops at Γ ≤ γ: a scene that lowers the onset γ below Γ lowers Γ with it.
+    FieldOptions o = options;
+    o.stable_index = std::min(o.stable_index, o.breaker_index);
     if (!(o.nodes_per_wavelength >= 4.0 && o.nodes_per_wavelength <= 200.0))
         throw InputError("wave field: nodes_per_wavelength must be in [4, 200], got " + detail::format_number(o.nodes_per_wavelength));
     if (!(o.breaker_index > 0.0 && o.breaker_index <= 2.0))
         throw InputError("wave field: breaker_index must be in (0, 2], got " + detail::format_number(o.breaker_index));
+    if (!(options.stable_index > 0.0 && options.stable_index <= 2.0))
+        throw InputError("wave field: stable_index must be in (0, 2], got " + detail::format_number(options.stable_index));
+    if (!(o.breaking_decay >= 0.0 && o.breaking_decay <= 1.0))
+        throw InputError("wave field: breaking_decay must be in [0, 1], got " + detail::format_number(o.breaking_decay));
     if (!(train.period > 0.0 && train.amplitude > 0.0 && std::hypot(train.direction_x, train.direction_y) > 0.0))
         throw InputError("wave field: a wave train needs a period > 0, an amplitude > 0 and a direction");
     const ElevationGrid& g = seafloor.grid;
@@ -160,20 +230,34 @@ WaveField solve_wave_field(const Seafloor& seafloor, const WaveTrain& train, con
     // The undisturbed wave at each row: shoaled along the march, neither refracted nor
     // diffracted; the absorbing edges relax towards it.
     std::vector<cd> reference = b;
+    // Per row: breaking now (between the onset H > γh and the stop H < Γh); the same
+    // for the undisturbed wave, which breaks as the field does.
+    std::vector<std::uint8_t> surf(f.ny, 0), reference_surf(f.ny, 0);
+    // The wavenumbers of the column the step leaves (nonlinear for its own |A|) and
+    // of the one it reaches (for the amplitude of the last pass).
+    std::vector<double> k_here(f.ny), k_next(f.ny);
+    std::vector<cd> b_start(f.ny), reference_start(f.ny);
+    // Per row: cos φ, φ the angle between the wave's local direction and the march (from
+    // the phase the last step advanced). Dally, Dean & Dalrymple's loss acts per unit
+    // area, (K/h) C_g (E − E_s), along the wave's own direction: per metre of the march
+    // it is (K/h)/cos φ, whatever direction the march takes.
+    std::vector<double> cos_dir(f.ny, 1.0);
     Column here = column_at(g, f, 0.0, omega);
+    const auto amplitude_k = [&](const Column& c, std::size_t j, double a, double guess) {
+        return o.amplitude_dispersion ? nonlinear_k(omega, c.depth[j], c.k[j], c.f1d[j], c.f2[j], a, guess) : c.k[j];
+    };
     const auto store = [&](std::size_t i, const Column& c) {
         for (std::size_t j = 0; j < f.ny; ++j) {
             const std::size_t n = j * f.nx + i;
             if (c.depth[j] <= 0.0) {  // land: the wave is absorbed
                 b[j] = 0.0;
+                surf[j] = 0;
                 continue;
             }
             f.flags[n] = kFieldWet;
-            cd a = b[j] / c.flux[j];
-            const double limit = 0.5 * o.breaker_index * c.depth[j];
-            if (std::abs(a) > limit) {  // saturated breaking: the energy above γh is lost
-                a *= limit / std::abs(a);
-                b[j] = a * c.flux[j];
+            surf_zone(b[j], c.flux[j], c.depth[j], o, surf[j]);
+            const cd a = b[j] / c.flux[j];
+            if (surf[j]) {
                 f.flags[n] |= kFieldBroken;
                 ++f.broken_nodes;
             }
@@ -181,31 +265,73 @@ WaveField solve_wave_field(const Seafloor& seafloor, const WaveTrain& train, con
         }
     };
     store(0, here);
-    for (std::size_t j = 0; j < f.ny; ++j)
+    for (std::size_t j = 0; j < f.ny; ++j) {
         f.incident_height = std::max(f.incident_height, 2.0 * static_cast<double>(std::abs(f.envelope[j * f.nx])));
+        k_here[j] = here.k[j] > 0.0 ? amplitude_k(here, j, std::abs(b[j]) / here.flux[j], here.k[j]) : 0.0;
+        if (here.depth[j] > 0.0) surf_zone(reference[j], here.flux[j], here.depth[j], o, reference_surf[j]);
+    }
+    // With amplitude dispersion, a predictor (column i+1's k from column i's |A|) and a
+    // corrector (from the predicted |A| at i+1).
+    const int passes = o.amplitude_dispersion ? 2 : 1;
     for (std::size_t i = 0; i + 1 < f.nx; ++i) {
         const Column next = column_at(g, f, static_cast<double>(i + 1) * f.dx, omega);
-        double ksum = 0.0;
-        std::size_t wet = 0;
-        for (std::size_t j = 0; j < f.ny; ++j) {
-            const bool water = here.k[j] > 0.0 && next.k[j] > 0.0;
-            km[j] = water ? 0.5 * (here.k[j] + next.k[j]) : 0.0;
-            if (water) ksum += km[j], ++wet;
-        }
-        for (std::size_t j = 0; j + 1 < f.ny; ++j) link[j] = km[j] > 0.0 && km[j + 1] > 0.0;
-        const double kbar = wet > 0 ? ksum / static_cast<double>(wet) : 2.0 * std::numbers::pi / spacing;
-        for (std::size_t j = 0; j < f.ny; ++j) {
-            if (km[j] == 0.0) {  // land: its nodes are reset to zero after the step
-                km[j] = kbar;
-                reference[j] = 0.0;  // the undisturbed wave stops here too
+        // Breaking rows lose energy over the step, half before it and half after
+        // (Strang splitting around the step's shoaling and refraction).
+        for (std::size_t j = 0; j < f.ny; ++j)
+            if (surf[j]) dissipate(b[j], here.flux[j], here.depth[j], o.stable_index, o.breaking_decay, 0.5 * f.dx / cos_dir[j]);
+        for (std::size_t j = 0; j < f.ny; ++j)
+            k_next[j] = next.k[j] > 0.0 && here.k[j] > 0.0
+                            ? amplitude_k(next, j, std::abs(b[j]) / here.flux[j], next.k[j] * (k_here[j] / here.k[j]))
+                            : next.k[j];
+        b_start = b;
+        reference_start = reference;
+        double kbar = 0.0;
+        for (int pass = 0; pass < passes; ++pass) {
+            if (pass > 0) {
+                for (std::size_t j = 0; j < f.ny; ++j)
+                    if (next.k[j] > 0.0 && here.k[j] > 0.0) k_next[j] = amplitude_k(next, j, std::abs(b[j]) / next.flux[j], k_next[j]);
+                b = b_start;
+                reference = reference_start;
             }
-            reference[j] *= std::polar(1.0, (km[j] - kbar) * f.dx);
-            // Open edges: the disturbance (B − reference) is damped, the undisturbed wave kept.
-            if (!o.reflecting_edges) b[j] = reference[j] + (b[j] - reference[j]) * std::exp(-sponge(f, j, sponge_width, kbar) * f.dx);
+            double ksum = 0.0;
+            std::size_t wet = 0;
+            for (std::size_t j = 0; j < f.ny; ++j) {
+                const bool water = here.k[j] > 0.0 && next.k[j] > 0.0;
+                km[j] = water ? 0.5 * (k_here[j] + k_next[j]) : 0.0;
+                if (water) ksum += km[j], ++wet;
+            }
+            for (std::size_t j = 0; j + 1 < f.ny; ++j) link[j] = km[j] > 0.0 && km[j + 1] > 0.0;
+            kbar = wet > 0 ? ksum / static_cast<double>(wet) : 2.0 * std::numbers::pi / spacing;
+            for (std::size_t j = 0; j < f.ny; ++j) {
+                if (km[j] == 0.0) {  // land: its nodes are reset to zero after the step
+                    km[j] = kbar;
+                    reference[j] = 0.0;  // the undisturbed wave stops here too
+                }
+                reference[j] *= std::polar(1.0, (km[j] - kbar) * f.dx);
+                // Open edges: the disturbance (B − reference) is damped, the undisturbed wave kept.
+                if (!o.reflecting_edges) b[j] = reference[j] + (b[j] - reference[j]) * std::exp(-sponge(f, j, sponge_width, kbar) * f.dx);
+            }
+            step(f, km, link, kbar, b, dl, d, du, rhs);
         }
-        step(f, km, link, kbar, b, dl, d, du, rhs);
+        for (std::size_t j = 0; j < f.ny; ++j) {
+            if (!(next.depth[j] > 0.0 && here.depth[j] > 0.0)) {
+                reference_surf[j] = 0;
+                cos_dir[j] = 1.0;
+                continue;
+            }
+            // The wavenumber along the march, k̄ + ∂_x arg B, over the local k: cos φ,
+            // kept within the wide-angle form's reach (φ ≤ 60°).
+            if (std::norm(b[j]) > 0.0 && std::norm(b_start[j]) > 0.0)
+                cos_dir[j] = std::clamp((kbar + std::arg(b[j] * std::conj(b_start[j])) / f.dx) / km[j], 0.5, 1.0);
+            if (surf[j]) dissipate(b[j], next.flux[j], next.depth[j], o.stable_index, o.breaking_decay, 0.5 * f.dx / cos_dir[j]);
+            if (reference_surf[j])
+                dissipate(reference[j], next.flux[j], 0.5 * (here.depth[j] + next.depth[j]), o.stable_index, o.breaking_decay, f.dx);
+            surf_zone(reference[j], next.flux[j], next.depth[j], o, reference_surf[j]);
+        }
         f.phase_ref[i + 1] = f.phase_ref[i] + kbar * f.dx;
         store(i + 1, next);
+        for (std::size_t j = 0; j < f.ny; ++j)
+            k_here[j] = next.k[j] > 0.0 ? amplitude_k(next, j, std::abs(b[j]) / next.flux[j], k_next[j]) : 0.0;
         here = next;
     }
     return f;

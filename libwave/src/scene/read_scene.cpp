@@ -232,12 +232,16 @@ void read_surface(const Node& n, Scene& s) {
 
 void read_field(const Node& n, Scene& s) {
     FieldOptions& o = s.field;
-    n.require_object({"nodes_per_wavelength", "min_resolved_depth", "edges", "max_nodes", "amplitudes"});
+    n.require_object({"nodes_per_wavelength", "min_resolved_depth", "edges", "max_nodes", "amplitudes", "amplitude_dispersion",
+                      "breaking_decay", "stable_index"});
     if (n.has("amplitudes")) s.amplitudes_from_field = n["amplitudes"].choice<bool>({{"field", true}, {"rays", false}});
     if (n.has("nodes_per_wavelength")) o.nodes_per_wavelength = n["nodes_per_wavelength"].number("nodes");
     if (n.has("min_resolved_depth")) o.min_resolved_depth = n["min_resolved_depth"].number("m");
     if (n.has("edges")) o.reflecting_edges = n["edges"].choice<bool>({{"open", false}, {"walls", true}});
     if (n.has("max_nodes")) o.max_nodes = n["max_nodes"].count();
+    if (n.has("amplitude_dispersion")) o.amplitude_dispersion = n["amplitude_dispersion"].boolean();
+    if (n.has("breaking_decay")) o.breaking_decay = n["breaking_decay"].number("1");
+    if (n.has("stable_index")) o.stable_index = n["stable_index"].number("H/h");
 }
 
 void read_fronts(const Node& n, FrontOptions& o) {
