@@ -414,11 +414,13 @@ PYBIND11_MODULE(_libwave, m) {
 
     m.def(
         "read_animation",
-        [](const std::string& path) {
+        [](const std::string& path, std::size_t first, py::object count) {
             wave::StoredAnimation a;
+            const bool window = first > 0 || !count.is_none();
+            const std::size_t wanted = count.is_none() ? static_cast<std::size_t>(-1) : count.cast<std::size_t>();
             {
                 py::gil_scoped_release release;
-                a = wave::read_animation(path);
+                a = window ? wave::read_animation_frames(path, first, wanted) : wave::read_animation(path);
             }
             const auto frames = static_cast<py::ssize_t>(a.frame_count), n = static_cast<py::ssize_t>(a.vertex_count);
             const auto copy = [](const auto& v, std::vector<py::ssize_t> shape) {
@@ -440,11 +442,13 @@ PYBIND11_MODULE(_libwave, m) {
             d["loop_frames"] = a.loop_frames, d["fps"] = a.fps, d["scene"] = a.scene;
             return d;
         },
-        py::arg("path"),
+        py::arg("path"), py::arg("first") = 0, py::arg("count") = py::none(),
         "Reads an output of wave run (.glb/.gltf of the morph or nodes form, a frame file, or the files form's "
-        "index.json; plain, quantised or Draco, a Draco frame's skirt primitive joined to it): positions and "
+        "index.json; plain, quantised, meshopt or Draco, a Draco frame's skirt primitive joined to it): positions and "
         "normals (frames, n, 3) z up, "
-        "foam/reflect/refract (frames, n), colors, triangles, fps, frame_count, first_frame, loop_frames, scene");
+        "foam/reflect/refract (frames, n), colors, triangles, fps, frame_count, first_frame, loop_frames, scene. "
+        "With `first` or `count` (a .glb/.gltf only): frames [first, first + count) of the file alone, the others "
+        "neither read nor decoded (a player's one frame of a compressed file)");
 
     m.def(
         "inspect",

@@ -26,29 +26,62 @@ class LibwaveFileError(Exception):
 
 
 def read_gltf(path):
-    """(document, [buffer bytes]) of a .glb or .gltf (external or data-URI buffers)."""
+    """(document, [buffer]) of a .glb or .gltf (external or data-URI buffers). A .glb's
+    buffer stays in the file (_FileBuffer): a reader reads the ranges it asks for (a
+    compressed file's dressing, one frame of a plain one), not the whole file."""
     with open(path, "rb") as f:
-        data = f.read()
+        head = f.read(20)
+        if head[:4] == b"glTF" and len(head) == 20:
+            length = struct.unpack_from("<I", head, 12)[0]
+            doc = json.loads(f.read(length))
+            size = os.fstat(f.fileno()).st_size
+            offset = 20 + length
+            binary = b""
+            if offset + 8 <= size:
+                chunk = struct.unpack_from("<I", os.pread(f.fileno(), 4, offset))[0]
+                binary = _FileBuffer(path, offset + 8, min(chunk, size - offset - 8))
+            return doc, [binary]
+        data = head + f.read()
     if data[:4] == b"glTF":
-        length = struct.unpack_from("<I", data, 12)[0]
-        doc = json.loads(data[20:20 + length])
-        offset = 20 + length
-        binary = b""
-        if offset + 8 <= len(data):
-            chunk = struct.unpack_from("<I", data, offset)[0]
-            binary = data[offset + 8:offset + 8 + chunk]
-        buffers = [binary]
-    else:
-        doc = json.loads(data)
-        buffers = []
-        for b in doc.get("buffers", []):
-            uri = b.get("uri", "")
-            if uri.startswith("data:"):
-                buffers.append(base64.b64decode(uri.split(",", 1)[1]))
-            else:
-                with open(os.path.join(os.path.dirname(path), uri), "rb") as f:
-                    buffers.append(f.read())
+        raise LibwaveFileError(f"{path}: a truncated GLB")
+    doc = json.loads(data)
+    buffers = []
+    for b in doc.get("buffers", []):
+        uri = b.get("uri", "")
+        if not uri:  # EXT_meshopt_compression's fallback buffer: no data (libwave's module decodes)
+            buffers.append(b"")
+        elif uri.startswith("data:"):
+            buffers.append(base64.b64decode(uri.split(",", 1)[1]))
+        else:
+            with open(os.path.join(os.path.dirname(path), uri), "rb") as f:
+                buffers.append(f.read())
     return doc, buffers
+
+
+class _FileBuffer:
+    """A .glb's BIN chunk left in its file: `read` takes a range when it is asked for."""
+
+    def __init__(self, path, offset, length):
+        self.path, self.offset, self.length = path, offset, length
+
+    def __len__(self):
+        return self.length
+
+    def read(self, start, n):
+        if start < 0 or n < 0 or start + n > self.length:
+            raise LibwaveFileError(f"{self.path}: an accessor runs past its buffer")
+        with open(self.path, "rb") as f:
+            data = os.pread(f.fileno(), n, self.offset + start)
+        if len(data) != n:
+            raise LibwaveFileError(f"{self.path}: the file ends inside its buffer")
+        return data
+
+
+def _from_buffer(raw, dtype, count, start):
+    """`count` values of `dtype` from byte `start` of a buffer (bytes or a _FileBuffer)."""
+    if isinstance(raw, _FileBuffer):
+        return np.frombuffer(raw.read(start, count * dtype.itemsize), dtype, count)
+    return np.frombuffer(raw, dtype, count, start)
 
 
 def accessor(doc, buffers, index):
@@ -63,10 +96,12 @@ def accessor(doc, buffers, index):
         start = view.get("byteOffset", 0) + a.get("byteOffset", 0)
         stride = view.get("byteStride", dtype.itemsize * width)
         if stride == dtype.itemsize * width:
-            values = np.frombuffer(raw, dtype, count * width, start).reshape(count, width)
+            values = _from_buffer(raw, dtype, count * width, start).reshape(count, width)
         else:
-            values = np.lib.stride_tricks.as_strided(np.frombuffer(raw, np.uint8, len(raw) - start, start).view(dtype),
-                                                     (count, width), (stride, dtype.itemsize))
+            span = ((count - 1) * stride + dtype.itemsize * width) if count else 0
+            span += (-span) % dtype.itemsize
+            window = _from_buffer(raw, np.dtype(np.uint8), span, start)
+            values = np.lib.stride_tricks.as_strided(window.view(dtype), (count, width), (stride, dtype.itemsize))
         values = values.astype(np.float32)
     else:  # zeros, unless sparse
         values = np.zeros((count, width), np.float32)
@@ -75,8 +110,8 @@ def accessor(doc, buffers, index):
         def packed(part, part_dtype, part_width):
             view = doc["bufferViews"][part["bufferView"]]
             start = view.get("byteOffset", 0) + part.get("byteOffset", 0)
-            return np.frombuffer(buffers[view.get("buffer", 0)], part_dtype, sparse["count"] * part_width,
-                                 start).reshape(sparse["count"], part_width)
+            return _from_buffer(buffers[view.get("buffer", 0)], part_dtype, sparse["count"] * part_width,
+                                start).reshape(sparse["count"], part_width)
         indices = packed(sparse["indices"], np.dtype(_COMPONENTS[sparse["indices"]["componentType"]]), 1)[:, 0]
         values[indices.astype(np.int64)] = packed(sparse["values"], dtype, width).astype(np.float32)
     if a.get("normalized"):
@@ -269,8 +304,8 @@ class Animation:
         self.path = os.path.abspath(path)
         self.folder = os.path.dirname(self.path)
         self._cache = {}
-        self._stored = None  # a Draco file, decoded whole by libwave's module
         self._draco_files = False  # a files form of Draco or meshopt frames, each decoded by libwave's module
+        self._module_frames = False  # a compressed .glb/.gltf, each frame decoded alone by libwave's module
         self._ahead = {}  # frame → its decoding on the worker (compressed files form)
         self._worker = None
         self.dressing = None  # the seafloor, camera and sun a single-file form carries
@@ -297,16 +332,11 @@ class Animation:
             return
         self.doc, self.buffers = read_gltf(path)
         doc = self.doc
-        if _compressed(doc):
-            self._stored = _load_draco(path)
-            self.form = "morph"
-            self.fps = float(self._stored["fps"])
-            self.frame_count = int(self._stored["frame_count"])
-            self.loop_frames = int(self._stored["loop_frames"])
-            self.first_frame = int(self._stored["first_frame"])
-            self.scene = self._stored["scene"]
-            self.triangles = np.asarray(self._stored["triangles"]).astype(np.int64).reshape(-1, 3)
-            return
+        # Compressed meshes (Draco, meshopt): each frame decoded alone by libwave's module
+        # (read_animation(path, k, 1): the other frames' views are not even read), one
+        # ahead on a worker; the rest of the file (its JSON, the weights track, the
+        # seafloor, camera and sun) is plain and read here as for any file.
+        self._module_frames = _compressed(doc)
         extras = doc.get("asset", {}).get("extras", {}).get("libwave", {})
         if not extras and doc.get("asset", {}).get("generator") != "libwave":
             raise LibwaveFileError(f"{path}: not written by libwave (no asset.extras.libwave)")
@@ -335,7 +365,10 @@ class Animation:
         self.fps = float(extras.get("fps", 0)) or (1.0 / float(times[1] - times[0]) if times is not None and len(times) > 1 else 24.0)
         self.loop_frames = int(extras.get("loop_frames", self.frame_count))
         self.first_frame = int(extras.get("first_frame", 0))
-        self.triangles = _mesh_triangles(doc, self.buffers, 0)
+        if self._module_frames:
+            self.triangles = np.asarray(self._module_frame_file(0)["triangles"]).astype(np.int64).reshape(-1, 3)
+        else:
+            self.triangles = _mesh_triangles(doc, self.buffers, 0)
         self.dressing = Dressing(doc, self.buffers)
 
     def _frame_file(self, k):
@@ -347,27 +380,37 @@ class Animation:
             raise LibwaveFileError(f"{self.path}: frame {k}: other triangles than frame 0 (Draco frames of different orders)")
         return stored
 
+    def _module_frame_file(self, k):
+        """Frame k of a compressed .glb/.gltf alone, through libwave's module."""
+        stored = _load_draco(self.path, k)
+        if k > 0 and not np.array_equal(np.asarray(stored["triangles"]).reshape(-1, 3), self.triangles):
+            raise LibwaveFileError(f"{self.path}: frame {k}: other triangles than frame 0")
+        return stored
+
+    def _decode(self, k):
+        stored = self._draco_frame_file(k) if self.form == "files" else self._module_frame_file(k)
+        return self._stored_frame(0, stored)
+
     def _decoded_frame(self, k):
-        """Frame k of a compressed files form: from the bounded cache, else decoded now;
-        then frame k + 1 is decoded ahead on a worker thread (libwave's module releases the
-        GIL while it reads), so sequential playback finds each frame ready."""
+        """Frame k of a compressed output (files form or one file): from the bounded cache,
+        else decoded now; then frame k + 1 is decoded ahead on a worker thread (libwave's
+        module releases the GIL while it reads), so sequential playback finds each frame
+        ready."""
         future = self._ahead.pop(k, None)
-        f = future.result() if future is not None else self._stored_frame(0, self._draco_frame_file(k))
+        f = future.result() if future is not None else self._decode(k)
         self._ahead = {j: fu for j, fu in self._ahead.items() if abs(j - k) <= 2}  # bounded: a jump drops the rest
         nxt = (k + 1) % self.frame_count
         if nxt not in self._ahead and nxt != k:
             if self._worker is None:
                 self._worker = concurrent.futures.ThreadPoolExecutor(max_workers=1, thread_name_prefix="libwave-decode")
-            self._ahead[nxt] = self._worker.submit(lambda j=nxt: self._stored_frame(0, self._draco_frame_file(j)))
+            self._ahead[nxt] = self._worker.submit(self._decode, nxt)
         return f
 
     def frame(self, k):
         """Frame k of the file (0 ≤ k < frame_count)."""
         if k in self._cache:
             return self._cache[k]
-        if self._stored is not None:
-            return self._stored_frame(k)
-        if self.form == "files" and self._draco_files:
+        if (self.form == "files" and self._draco_files) or self._module_frames:
             f = self._decoded_frame(k)
             self._cache = {k: f}
             return f
@@ -386,8 +429,8 @@ class Animation:
         self._cache = {k: f}  # one frame at a time: the files form streams from disk
         return f
 
-    def _stored_frame(self, k, stored=None):
-        s = self._stored if stored is None else stored
+    def _stored_frame(self, k, stored):
+        s = stored
         n = s["vertex_count"]
 
         def scalar(name):
@@ -424,8 +467,9 @@ def _libwave_module():
     return importlib.import_module("libwave")
 
 
-def _load_draco(path):
-    """The whole animation through libwave's module (Draco or meshopt decoding), or a message saying how to get it."""
+def _load_draco(path, frame=None):
+    """The animation through libwave's module (Draco or meshopt decoding) — the whole
+    file, or with `frame` that frame alone —, or a message saying how to get it."""
     try:
         libwave = _libwave_module()
     except ImportError as e:
@@ -434,4 +478,4 @@ def _load_draco(path):
             f"and libwave's Python module does not load here ({e}): the add-on carries it for Debian 12's Blender 3.4 "
             "(Python 3.11); put a module built for this Blender's Python on its path (docs/blender.md), or re-encode "
             "the run plainly (wave convert FILE -o OUT, or wave run --codec none)") from None
-    return libwave.read_animation(path)
+    return libwave.read_animation(path) if frame is None else libwave.read_animation(path, frame, 1)

@@ -305,6 +305,13 @@ struct StoredAnimation {
 /// triangles differ).
 StoredAnimation read_animation(const std::string& path);
 
+/// Frames [first, first + count) of a .glb/.gltf of the morph or nodes form (counted
+/// from the file's first frame), as read_animation reads them: the other frames' views
+/// are neither read nor decoded, so a player takes one frame of a compressed file at the
+/// cost of that frame (first_frame is the first one read). Throws InputError as
+/// read_animation does, and when the file has no frame `first` or `path` is an index.
+StoredAnimation read_animation_frames(const std::string& path, std::size_t first, std::size_t count);
+
 /// read_animation a piece at a time, so that memory holds one piece: the files form's
 /// frames one by one (each with its frame number, and the index's fps and loop), a
 /// .glb/.gltf whole. `piece` gets them in order, with the frames the input lists in all

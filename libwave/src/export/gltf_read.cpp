@@ -382,8 +382,14 @@ void append(StoredAnimation& a, const Frame& f) {
 // libwave writes target k for frame k (weight 1) and, in quantised files, NORMAL-only
 // targets after the frames' holding a normal's excess beyond ±1 (weight 1 in their
 // frame's row); other weights are refused.
+// The frames of a file to read: [first, first + count) of its own (0-based).
+struct FrameWindow {
+    std::size_t first = 0, count = std::numeric_limits<std::size_t>::max();
+    bool has(std::size_t k) const noexcept { return k >= first && k - first < count; }
+};
+
 void read_morph_frames(const Reader& r, const tinygltf::Model& m, const tinygltf::Primitive& first, StoredAnimation& a,
-                       const std::function<void()>& frame_read) {
+                       const std::function<void()>& frame_read, const FrameWindow& window) {
     const tinygltf::Animation& anim = m.animations[0];
     const int s = anim.channels[0].sampler;
     if (s < 0 || static_cast<std::size_t>(s) >= anim.samplers.size()) r.fail("the weights channel has no sampler");
@@ -407,6 +413,10 @@ void read_morph_frames(const Reader& r, const tinygltf::Model& m, const tinygltf
             if (wk != (t == k ? 1.0f : 0.0f) && (t < frames || wk != 1.0f || ++excess_weighed > 1))
                 r.fail("frame " + std::to_string(k) + " weighs morph target " + std::to_string(t) + " by " + std::to_string(wk) +
                        " (libwave's frames weigh their own target and at most one normals' excess by 1, others by 0)");
+        }
+        if (!window.has(k)) {  // a frame before the window moves the pieces' first frame on
+            if (k < window.first) ++a.first_frame;
+            continue;
         }
         const Frame d = read_frame(r, first.targets[k], 0, true, a.layout);
         Frame f;
@@ -860,7 +870,8 @@ void load_model(const std::string& path, tinygltf::Model& m, LazyViews& lazy) {
         throw InputError(path + ": not a readable glTF 2.0 file: " + err);
 }
 
-void read_glb_pieces(const std::string& path, const std::function<void(StoredAnimation&&, std::size_t)>& piece) {
+void read_glb_pieces(const std::string& path, const std::function<void(StoredAnimation&&, std::size_t)>& piece,
+                     const FrameWindow& window = {}) {
     tinygltf::Model m;
     LazyViews lazy;
     load_model(path, m, lazy);
@@ -930,9 +941,14 @@ void read_glb_pieces(const std::string& path, const std::function<void(StoredAni
         if (a.frame_count == per_piece) hand_on();
     };
     if (path_kind == "weights") {
-        read_morph_frames(r, m, first, a, frame_read);
+        read_morph_frames(r, m, first, a, frame_read, window);
     } else {  // nodes (a mesh per frame) or one frame file
-        for (const std::size_t mesh : water) {
+        for (std::size_t k = 0; k < water.size(); ++k) {
+            const std::size_t mesh = water[k];
+            if (!window.has(k)) {  // its views stay in the file, unread
+                if (k < window.first) ++a.first_frame;
+                continue;
+            }
             if (m.meshes[mesh].primitives.empty()) r.fail("a frame's mesh has no primitive");
             // Draco's edgebreaker orders a frame's points by the triangles alone, so frames
             // of one run share an order; a file whose frames do not cannot be read as one.
@@ -1027,6 +1043,15 @@ void read_animation_pieces(const std::string& path, const std::function<void(Sto
 StoredAnimation read_animation(const std::string& path) {
     StoredAnimation a;
     read_animation_pieces(path, [&](StoredAnimation&& f, std::size_t) { append_piece(a, std::move(f)); });
+    return a;
+}
+
+StoredAnimation read_animation_frames(const std::string& path, std::size_t first, std::size_t count) {
+    if (std::filesystem::path(path).extension() == ".json")
+        throw InputError(path + ": read_animation_frames reads a .glb or .gltf (the files form: read its frame files)");
+    StoredAnimation a;
+    read_glb_pieces(path, [&](StoredAnimation&& f, std::size_t) { append_piece(a, std::move(f)); }, FrameWindow{first, count});
+    if (a.frame_count == 0) throw InputError(path + ": no frame " + std::to_string(first) + " in the file");
     return a;
 }
 
