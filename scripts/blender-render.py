@@ -9,8 +9,9 @@
 # -o OUT -f FRAME` then renders it without the add-on; LIBWAVE_FILE_NORMALS=1 imports
 # with the file's normals as custom normals; LIBWAVE_VISIBILITY=M sets the add-on's haze
 # (m; 0 for none; unset: the add-on's default).)
-# The add-on imports the water (positions, foam, reflect, refract per frame) and the
-# seafloor, camera and sun the .glb carries; this script adds a sky and renders.
+# The add-on imports the water (positions, foam, reflect, refract per frame), the
+# seafloor, camera and sun the .glb carries and its physical sky; this script renders
+# (LIBWAVE_FLAT_SKY=1: a flat blue background instead of the add-on's sky, as before).
 import math
 import os
 import sys
@@ -49,11 +50,12 @@ if os.environ.get("LIBWAVE_CAMERA"):
     scene.camera.location = (x, y, z)
     scene.camera.rotation_euler = (Vector((tx, ty, tz)) - Vector((x, y, z))).to_track_quat("-Z", "Y").to_euler()
     scene.camera.data.clip_start = 1e-3 * (Vector((tx, ty, tz)) - Vector((x, y, z))).length
-world = bpy.data.worlds.new("sky")
-world.use_nodes = True
-world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.45, 0.6, 0.8, 1.0)
-world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.8
-scene.world = world
+if os.environ.get("LIBWAVE_FLAT_SKY") == "1" or scene.world is None:  # the add-on's own sky otherwise
+    world = bpy.data.worlds.new("sky")
+    world.use_nodes = True
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.45, 0.6, 0.8, 1.0)
+    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.8
+    scene.world = world
 scene.render.engine = "CYCLES"
 scene.cycles.device = "CPU"
 scene.cycles.samples = 16
