@@ -205,16 +205,26 @@ function matchPoints(decoded, reference, tol, sameCount = true) {
 // A screenshot's PNG decoded in the page; `reduce(rgba, width, height)` runs there too
 // and its (small) result comes back.
 async function inPage(png, reduce) {
-  return page.evaluate(`(async (b64) => {
-    const img = new Image();
-    img.src = 'data:image/png;base64,' + b64;
-    await img.decode();
-    const c = document.createElement('canvas');
-    c.width = img.width; c.height = img.height;
-    const ctx = c.getContext('2d');
-    ctx.drawImage(img, 0, 0);
-    return (${reduce.toString()})(ctx.getImageData(0, 0, c.width, c.height).data, c.width, c.height);
-  })(${JSON.stringify(png.toString('base64'))})`);
+  return inPageAll([png], `(images) => (${reduce.toString()})(images[0].data, images[0].width, images[0].height)`);
+}
+
+// Several screenshots' ImageData decoded in the page; `reduce(images)` (a function, or
+// its source) runs there too.
+async function inPageAll(pngs, reduce) {
+  return page.evaluate(`(async (list) => {
+    const images = [];
+    for (const b64 of list) {
+      const img = new Image();
+      img.src = 'data:image/png;base64,' + b64;
+      await img.decode();
+      const c = document.createElement('canvas');
+      c.width = img.width; c.height = img.height;
+      const ctx = c.getContext('2d');
+      ctx.drawImage(img, 0, 0);
+      images.push(ctx.getImageData(0, 0, c.width, c.height));
+    }
+    return (${typeof reduce === 'string' ? reduce : reduce.toString()})(images);
+  })(${JSON.stringify(pngs.map((p) => p.toString('base64')))})`);
 }
 
 function range(positions) {
@@ -354,18 +364,7 @@ for (const name of Object.keys(forms)) {
   }
   for (const name of ['quantized', 'meshopt']) {
     await check(`the default scene, ${name}: draws as its plain float run`, async () => {
-      const share = await page.evaluate(`(async (a, b) => {
-        const pixels = async (b64) => {
-          const img = new Image();
-          img.src = 'data:image/png;base64,' + b64;
-          await img.decode();
-          const c = document.createElement('canvas');
-          c.width = img.width; c.height = img.height;
-          const ctx = c.getContext('2d');
-          ctx.drawImage(img, 0, 0);
-          return ctx.getImageData(0, 0, c.width, c.height);
-        };
-        const [x, y] = [await pixels(a), await pixels(b)];
+      const share = await inPageAll([shots[name], shots.plain], ([x, y]) => {
         let differ = 0, counted = 0;
         for (let row = 90; row < x.height - 90; ++row)  // not the info box nor the controls
           for (let col = 0; col < x.width; ++col) {
@@ -374,7 +373,7 @@ for (const name of Object.keys(forms)) {
             if (Math.abs(x.data[i] - y.data[i]) + Math.abs(x.data[i + 1] - y.data[i + 1]) + Math.abs(x.data[i + 2] - y.data[i + 2]) > 40) ++differ;
           }
         return differ / counted;
-      })(${JSON.stringify(shots[name].toString('base64'))}, ${JSON.stringify(shots.plain.toString('base64'))})`);
+      });
       assert.ok(share < 0.02, `${(100 * share).toFixed(1)} % of the pixels differ from the plain run's screenshot`);
     });
   }
