@@ -23,6 +23,7 @@
 #include <cctype>
 #include <cstring>
 #include <cmath>
+#include <sstream>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -713,6 +714,17 @@ int run_job(const RunArgs& a) {
     const bool files_form = scene.form == Scene::Form::files;
     const std::size_t loop_frames = scene_loop_frames(scene, plan);
     if (!a.slice.empty()) range = slice_frames(a.slice, loop_frames);
+    // A shot longer than the loop is never cut short in silence (it wrote the loop's
+    // frames alone, exit 0): the loop's length is the scene's to change.
+    if (!a.frames.empty() && range.end > loop_frames)
+    {
+        std::ostringstream why;
+        why << "--frames " << a.frames << ": the loop has " << loop_frames << " frames (" << plan.loop_period << " s at "
+            << scene.fps << " fps: the waves' periods, /surface/repeat_time or /ocean/repeat_time and /animation/fps set "
+            << "it); frames past it repeat the loop: render --frames A:" << loop_frames
+            << " and repeat it in the DCC, or lengthen the loop (/surface/repeat_time, /ocean/repeat_time)";
+        throw InputError(why.str());
+    }
     const std::size_t range_end = std::min(range.end, loop_frames), in_range = range.first < range_end ? range_end - range.first : 0;
     // The files form and the streamed forms compute a chunk of frames at a time; the
     // others (quantised single files) hold every frame of the range.

@@ -87,7 +87,7 @@ int main(int argc, char** argv) {
     run_cmd->add_flag("--json", run.json, "print the report as JSON");
     run_cmd->add_option("--form", run.form, "animation form: morph (one .glb of shape keys), nodes (one object per frame), files (one .glb per frame + index.json), pc2 (a base .glb/.obj + PC2 point caches for Blender's Mesh Cache modifier, Maya, 3ds Max, Houdini)")
         ->check(CLI::IsMember({"morph", "nodes", "files", "pc2"}));
-    run_cmd->add_option("--frames", run.frames, "A:B: only frames A … B-1 of the loop (slices of one animation can run on different machines; the files form merges them in index.json)");
+    run_cmd->add_option("--frames", run.frames, "A:B: only frames A … B-1 of the loop, B at most the loop's frame count (slices of one animation can run on different machines; the files form merges them in index.json)");
     run_cmd->add_option("--slice", run.slice, "I/N: slice I (0-based) of N equal slices of the loop, e.g. a Slurm array task's $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT");
     run_cmd->add_option("--container", run.container, "glb (binary, default) or gltf (JSON + external .bin)")
         ->check(CLI::IsMember({"glb", "gltf"}));

@@ -864,11 +864,16 @@ class OutputForms(unittest.TestCase):
             self.assertLessEqual(times[0], 10 / 24)
             self.assertGreater(times[0], 10 / 24 - 1e-6)
             self.assertEqual(doc["meshes"][0]["extras"]["targetNames"][0], "frame_0010")
-            for bad in ["5:3", "abc", "200:300"]:
+            for bad in ["5:3", "abc", "200:300", "0:10000", "100:121"]:
                 r = wave("run", scene, "-o", os.path.join(d, "bad"), "--frames", bad)
                 self.assertEqual(r.returncode, 2, bad)
                 self.assertIn("frame", r.stderr)
                 self.assertFalse(os.path.exists(os.path.join(d, "bad")))
+            # A shot past the 120-frame loop is never cut short in silence: the message
+            # says the loop's length and the keys that set it.
+            r = wave("run", scene, "-o", os.path.join(d, "bad"), "--frames", "0:10000")
+            self.assertIn("the loop has 120 frames", r.stderr)
+            self.assertIn("/ocean/repeat_time", r.stderr)
 
 
 class Codecs(unittest.TestCase):
