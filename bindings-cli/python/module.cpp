@@ -125,10 +125,12 @@ PYBIND11_MODULE(_libwave, m) {
         .def(
             "set",
             [](wave::Scene& s, const std::string& pointer, const py::object& value) {
-                s = scene_with(s, pointer, json_text(value));
+                // The value as Python holds it: a str is a JSON string ("files"), not JSON text.
+                s = scene_with(s, pointer, py::module_::import("json").attr("dumps")(value).cast<std::string>());
             },
             py::arg("pointer"), py::arg("value"),
-            "Sets the value at a JSON pointer (e.g. \"/waves/0/period\", \"/outputs/form\") and validates the "
+            "Sets the value at a JSON pointer to a Python value (e.g. set(\"/waves/0/period\", 8.0), "
+            "set(\"/outputs/form\", \"files\"), set(\"/outputs\", {\"codec\": \"meshopt\"})) and validates the "
             "scene again; on an error (InputError naming the key) the scene is unchanged")
         .def("__repr__", [](const wave::Scene& s) { return "libwave.Scene(" + s.document + ")"; });
     m.def("default_scene", &wave::default_scene, "The built-in default scene (Gonzato's bay with a swell)");

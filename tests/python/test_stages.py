@@ -158,6 +158,13 @@ def test_scene_round_trips_through_a_dict_and_is_edited_with_the_files_checks():
     assert s.get("/waves/0/period") == 8.0 and s.to_dict()["waves"][0]["period"] == 8.0
     s.set("/animation", {"fps": 12})
     assert s.fps == 12
+    # A str is the JSON string it says (the docstring's own example), not JSON text.
+    s.set("/outputs/form", "files")
+    assert s.get("/outputs/form") == "files" and s.to_dict()["outputs"]["form"] == "files"
+    s.set("/outputs/codec", "meshopt")
+    assert s.to_dict()["outputs"]["codec"] == "meshopt"
+    with pytest.raises(libwave.InputError, match="/outputs/codec"):
+        s.set("/outputs/codec", "zip")
     with pytest.raises(libwave.InputError, match=r"/waves/0/period.*-1"):
         s.set("/waves/0/period", -1)
     assert s.get("/waves/0/period") == 8.0  # unchanged by the refused edit
