@@ -127,6 +127,76 @@ void bind_seafloor(py::module_& m) {
         "Reads a seafloor file (GDAL rasters, SWAN .bot needs the scene route, meshes, contour JSON; "
         "docs/formats.md); raises InputError naming the file and what is wrong");
     m.def(
+        "seafloor_from_grid",
+        [](const py::object& values, std::array<double, 2> origin, py::object spacing, std::optional<std::string> sign,
+           std::optional<double> nodata, const py::object& mask, const std::string& name) {
+            // Shapes and types are the caller's input: InputError (a libwave.Error), not ValueError.
+            const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(values);
+            if (!a || a.ndim() != 2)
+                throw wave::InputError("seafloor_from_grid: values must be a 2-D array of numbers (rows of y, columns of x)");
+            wave::ElevationGrid g;
+            g.ny = static_cast<std::size_t>(a.shape(0)), g.nx = static_cast<std::size_t>(a.shape(1));
+            g.x0 = origin[0], g.y0 = origin[1];
+            std::array<double, 2> step{};
+            try {
+                step = py::isinstance<py::sequence>(spacing) ? spacing.cast<std::array<double, 2>>()
+                                                             : std::array<double, 2>{spacing.cast<double>(), spacing.cast<double>()};
+            } catch (const py::cast_error&) {
+                throw wave::InputError("seafloor_from_grid: spacing must be a number or (dx, dy)");
+            }
+            g.dx = step[0], g.dy = step[1];
+            g.z.assign(a.data(), a.data() + a.size());
+            std::vector<char> missing;
+            if (!mask.is_none()) {
+                const auto b = py::array_t<bool, py::array::c_style | py::array::forcecast>::ensure(mask);
+                if (!b || b.ndim() != 2 || b.shape(0) != a.shape(0) || b.shape(1) != a.shape(1))
+                    throw wave::InputError("seafloor_from_grid: mask must be a boolean array of the values' shape");
+                missing.assign(b.data(), b.data() + b.size());
+            }
+            wave::ReadOptions o;
+            if (sign)
+                o.sign = either("seafloor_from_grid: sign", *sign, "elevation", wave::ValueSign::elevation, "depth", wave::ValueSign::depth);
+            o.nodata_value = nodata;
+            py::gil_scoped_release release;
+            return std::make_shared<wave::Seafloor>(wave::seafloor_from_grid(g, missing, o, name));
+        },
+        py::arg("values"), py::arg("origin") = std::array<double, 2>{0.0, 0.0}, py::arg("spacing") = 1.0,
+        py::arg("sign") = py::none(), py::arg("nodata") = py::none(), py::arg("mask") = py::none(),
+        py::arg("name") = "<numpy grid>",
+        "A seafloor from a 2-D array (rows of y from `origin`'s y northwards, columns of x eastwards; node (0, 0) at "
+        "`origin`, a node and not a cell corner), `spacing` a number or (dx, dy) in metres; `sign` 'elevation' "
+        "(default) or 'depth'; `nodata` a value and `mask` a boolean array marking nodes without data (filled as "
+        "land); validated as the file readers validate: raises InputError naming what is wrong");
+    m.def(
+        "seafloor_from_mesh",
+        [](const py::object& vertices, const py::object& triangles, double spacing, std::optional<std::string> sign,
+           const std::string& name) {
+            const auto v = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(vertices);
+            const auto t = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(triangles);
+            if (!v || v.ndim() != 2 || v.shape(1) != 3) throw wave::InputError("seafloor_from_mesh: vertices must be an (n, 3) array");
+            if (!t || t.ndim() != 2 || t.shape(1) != 3) throw wave::InputError("seafloor_from_mesh: triangles must be a (t, 3) array of indices");
+            std::vector<std::uint32_t> indices(static_cast<std::size_t>(t.size()));
+            for (py::ssize_t i = 0; i < t.size(); ++i) {
+                const std::int64_t k = t.data()[i];
+                if (k < 0 || k >= v.shape(0))
+                    throw wave::InputError("seafloor_from_mesh: triangle " + std::to_string(i / 3 + 1) + " names vertex " +
+                                           std::to_string(k) + " of " + std::to_string(v.shape(0)));
+                indices[static_cast<std::size_t>(i)] = static_cast<std::uint32_t>(k);
+            }
+            std::vector<double> xyz(v.data(), v.data() + v.size());
+            wave::ReadOptions o;
+            if (sign)
+                o.sign = either("seafloor_from_mesh: sign", *sign, "elevation", wave::ValueSign::elevation, "depth", wave::ValueSign::depth);
+            o.resample_spacing = spacing;
+            py::gil_scoped_release release;
+            return std::make_shared<wave::Seafloor>(wave::seafloor_from_mesh(xyz, indices, o, name));
+        },
+        py::arg("vertices"), py::arg("triangles"), py::arg("spacing") = 0.0, py::arg("sign") = py::none(),
+        py::arg("name") = "<numpy mesh>",
+        "A seafloor from a triangle mesh's (n, 3) vertices (x, y, z in metres, z elevation unless sign='depth') and "
+        "(t, 3) triangles, resampled to a grid of `spacing` (0: about a node per vertex) as mesh files are, the mesh "
+        "kept for the isobaths; raises InputError naming what is wrong");
+    m.def(
         "procedural_seafloor", [](const std::string& name) { return std::make_shared<wave::Seafloor>(wave::make_named_seafloor(name)); },
         py::arg("name"), "A built-in seafloor by name: gonzato-bay, gonzato-island, planar-beach, ...");
     m.def(

@@ -242,3 +242,35 @@ def test_jeschke_breakers_and_rays_as_stages():
     rays = libwave.trace_rays(beach, iso, 8.0, 0.5, (0, 1), ray_spacing=10)
     assert rays.ray_count > 5 and len(rays.x) == rays.offsets[-1]
     assert np.nanmax(rays.amplitude) > 0.5  # shoaling raises the deep-water amplitude before the break
+
+
+def test_a_seafloor_from_arrays_equals_the_one_read_from_its_file():
+    # The Okushiri basin read from its ESRI grid, and the same values handed over as a
+    # NumPy array with the reader's origin and spacing: the same depths everywhere (no
+    # half-cell shift), as a depth grid too; a mesh from vertex/index arrays resamples
+    # as a mesh file does; bad arrays are libwave errors naming what is wrong.
+    read = libwave.read_seafloor(str(OKUSHIRI))
+    z = np.array(read.elevation)
+    mine = libwave.seafloor_from_grid(z, origin=read.origin, spacing=read.spacing)
+    depths = libwave.seafloor_from_grid(-z, origin=read.origin, spacing=read.spacing[0], sign="depth")
+    rng = np.random.default_rng(1)
+    (x0, y0), (dx, dy) = read.origin, read.spacing
+    x = rng.uniform(x0, x0 + dx * (z.shape[1] - 1), 500)
+    y = rng.uniform(y0, y0 + dy * (z.shape[0] - 1), 500)
+    assert np.array_equal(mine.depth_at(x, y), read.depth_at(x, y))
+    assert np.array_equal(depths.depth_at(x, y), read.depth_at(x, y))
+    masked = libwave.seafloor_from_grid(z, origin=read.origin, spacing=read.spacing, mask=z > 0.1)
+    assert masked.stats()["nodata_count"] == int((z > 0.1).sum()) > 0
+    # A plane as a mesh of two triangles: the grid it resamples to holds the plane.
+    vertices = np.array([[0, 0, -2.0], [10, 0, -1.0], [10, 10, -1.0], [0, 10, -2.0]])
+    plane = libwave.seafloor_from_mesh(vertices, [[0, 1, 2], [0, 2, 3]], spacing=1.0)
+    assert np.allclose(plane.depth_at(np.array([2.5, 7.5]), np.array([5.0, 1.0])), [1.75, 1.25])
+    for call, match in [(lambda: libwave.seafloor_from_grid(z[0]), "2-D"),
+                        (lambda: libwave.seafloor_from_grid(z, spacing=0.0), "spacing along x"),
+                        (lambda: libwave.seafloor_from_grid(z, spacing="a"), "spacing"),
+                        (lambda: libwave.seafloor_from_grid(np.full((3, 3), np.nan)), "not a finite elevation"),
+                        (lambda: libwave.seafloor_from_grid(z, mask=np.zeros((2, 2), bool)), "mask"),
+                        (lambda: libwave.seafloor_from_mesh(vertices[:, :2], [[0, 1, 2]]), r"\(n, 3\)"),
+                        (lambda: libwave.seafloor_from_mesh(vertices, [[0, 1, 7]]), "names vertex 7")]:
+        with pytest.raises(libwave.InputError, match=match):
+            call()

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <span>
 #include <vector>
 
 namespace wave {
@@ -164,6 +165,27 @@ struct ReadOptions {
 /// Throws InputError naming the file and what is wrong (missing, truncated, NaN/Inf
 /// value with its row/column, empty, no triangles, non-numeric depth, …).
 Seafloor read_seafloor(const std::string& path, const ReadOptions& options = {});
+
+/// A seafloor from values in memory (a NumPy array, a DCC's terrain), validated as the
+/// file readers validate theirs: `values` holds nx × ny values, row j (y = y0 + j·dy,
+/// south to north) after row, node (0, 0) at (x0, y0) — a node, not a cell's corner: a
+/// raster whose values stand for cells starts half a cell in. The values are read as
+/// `options` say (sign: elevation unless options.sign says depth; vertical scale and
+/// offset; horizontal_scale on x0, y0, dx, dy); nodes equal to options.nodata_value or
+/// flagged in `missing` (empty, or one per value) are NODATA, filled per
+/// options.nodata_policy. `name` names the source in messages and in Seafloor::source.
+/// Throws InputError for a spacing that is not > 0, a non-finite origin or value, a
+/// size mismatch, fewer than 2 nodes along an axis; LimitError above max_nodes.
+Seafloor seafloor_from_grid(const ElevationGrid& values, const std::vector<char>& missing = {},
+                            const ReadOptions& options = {}, const std::string& name = "<grid in memory>");
+
+/// A seafloor from a triangle mesh in memory (3 coordinates per vertex, 3 indices per
+/// triangle, counter-clockwise or not), resampled to a grid as read_mesh_file does (its
+/// spacing options.resample_spacing, else about one node per vertex; nodes no triangle
+/// covers are NODATA), the mesh kept for the isobath stage. Throws InputError for a
+/// NaN/Inf coordinate, an index out of range, no triangle, no horizontal extent.
+Seafloor seafloor_from_mesh(std::span<const double> xyz, std::span<const std::uint32_t> triangles,
+                            const ReadOptions& options = {}, const std::string& name = "<mesh in memory>");
 
 /// Individual readers (read_seafloor dispatches to these).
 Seafloor read_raster_gdal(const std::string& path, const ReadOptions& options = {});

@@ -236,4 +236,33 @@ std::size_t convert_to_elevation(std::vector<double>& values, std::optional<doub
 }
 
 }  // namespace detail
+
+Seafloor seafloor_from_grid(const ElevationGrid& values, const std::vector<char>& missing, const ReadOptions& o,
+                            const std::string& name) {
+    const std::string& path = name;
+    for (const auto& [value, what] : {std::pair{values.x0, "the origin's x"}, std::pair{values.y0, "the origin's y"}})
+        if (!std::isfinite(value)) throw InputError(path + ": " + what + " is " + detail::format_number(value) + ", not finite");
+    for (const auto& [value, what] : {std::pair{values.dx, "the spacing along x"}, std::pair{values.dy, "the spacing along y"}})
+        if (!(value > 0.0 && std::isfinite(value)))
+            throw InputError(path + ": " + what + " is " + detail::format_number(value) + " m; it must be > 0");
+    detail::check_grid_size(path, values.nx, values.ny, o);
+    if (values.z.size() != values.nx * values.ny)
+        throw InputError(path + ": " + std::to_string(values.z.size()) + " values for a grid of " + std::to_string(values.nx) +
+                         " × " + std::to_string(values.ny) + " nodes");
+    if (!missing.empty() && missing.size() != values.z.size())
+        throw InputError(path + ": the NODATA mask has " + std::to_string(missing.size()) + " entries for " +
+                         std::to_string(values.z.size()) + " nodes");
+    Seafloor out;
+    out.source = path;
+    out.frame = "local metres";
+    out.grid = values;
+    ElevationGrid& g = out.grid;
+    g.x0 *= o.horizontal_scale, g.y0 *= o.horizontal_scale, g.dx *= o.horizontal_scale, g.dy *= o.horizontal_scale;
+    const auto where = [&](std::size_t i, std::size_t j) {
+        return "node (column " + std::to_string(i) + ", row " + std::to_string(j) + ")";
+    };
+    out.nodata_count = detail::convert_to_elevation(g.z, o.nodata_value, missing, ValueSign::elevation, o, path, where, g.nx);
+    return out;
+}
+
 }  // namespace wave

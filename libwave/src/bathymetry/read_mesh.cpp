@@ -446,20 +446,10 @@ Seafloor read_mesh_file(const std::string& path, const ReadOptions& o) {
     }
     if (!read) throw InputError(path + ": not a readable OFF/OBJ/PLY/STL triangle mesh");
 
-    const ValueSign sign = o.sign.value_or(ValueSign::elevation);
-    const double s = sign == ValueSign::elevation ? 1.0 : -1.0;
-    Seafloor out;
-    out.source = path;
-    out.frame = "local metres (the mesh's own x/y)";
-    SeafloorMesh& m = out.mesh;
-    m.xyz.reserve(3 * points.size());
-    for (std::size_t v = 0; v < points.size(); ++v) {
-        const auto& p = points[v];
-        if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z()))
-            throw InputError(path + ": vertex " + std::to_string(v + 1) + " has a NaN or infinite coordinate");
-        m.xyz.insert(m.xyz.end(), {p.x() * o.horizontal_scale, p.y() * o.horizontal_scale,
-                                   s * (p.z() * o.vertical_scale + o.vertical_offset)});
-    }
+    std::vector<double> xyz;
+    xyz.reserve(3 * points.size());
+    for (const auto& p : points) xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
+    std::vector<std::uint32_t> triangles;
     for (std::size_t f = 0; f < polygons.size(); ++f) {
         const auto& poly = polygons[f];
         for (std::size_t v : poly)
@@ -467,11 +457,41 @@ Seafloor read_mesh_file(const std::string& path, const ReadOptions& o) {
                 throw InputError(path + ": face " + std::to_string(f + 1) + " names vertex " +
                                  std::to_string(v + 1) + " of " + std::to_string(points.size()));
         for (std::size_t k = 1; k + 1 < poly.size(); ++k)  // fan-triangulate polygons
-            m.triangles.insert(m.triangles.end(), {static_cast<std::uint32_t>(poly[0]),
-                                                   static_cast<std::uint32_t>(poly[k]),
-                                                   static_cast<std::uint32_t>(poly[k + 1])});
+            triangles.insert(triangles.end(), {static_cast<std::uint32_t>(poly[0]),
+                                               static_cast<std::uint32_t>(poly[k]),
+                                               static_cast<std::uint32_t>(poly[k + 1])});
     }
+    Seafloor out = seafloor_from_mesh(xyz, triangles, o, path);
+    out.frame = "local metres (the mesh's own x/y)";
+    return out;
+}
+
+Seafloor seafloor_from_mesh(std::span<const double> xyz, std::span<const std::uint32_t> triangles, const ReadOptions& o,
+                            const std::string& name) {
+    const std::string& path = name;
+    if (xyz.size() % 3 != 0) throw InputError(path + ": vertex coordinates come in threes, got " + std::to_string(xyz.size()));
+    if (triangles.size() % 3 != 0) throw InputError(path + ": triangle indices come in threes, got " + std::to_string(triangles.size()));
+    const std::size_t vertices = xyz.size() / 3;
+    const ValueSign sign = o.sign.value_or(ValueSign::elevation);
+    const double s = sign == ValueSign::elevation ? 1.0 : -1.0;
+    Seafloor out;
+    out.source = path;
+    out.frame = "local metres";
+    SeafloorMesh& m = out.mesh;
+    m.xyz.reserve(xyz.size());
+    for (std::size_t v = 0; v < vertices; ++v) {
+        const double x = xyz[3 * v], y = xyz[3 * v + 1], z = xyz[3 * v + 2];
+        if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z))
+            throw InputError(path + ": vertex " + std::to_string(v + 1) + " has a NaN or infinite coordinate");
+        m.xyz.insert(m.xyz.end(), {x * o.horizontal_scale, y * o.horizontal_scale, s * (z * o.vertical_scale + o.vertical_offset)});
+    }
+    for (std::size_t t = 0; t < triangles.size(); ++t)
+        if (triangles[t] >= vertices)
+            throw InputError(path + ": triangle " + std::to_string(t / 3 + 1) + " names vertex " + std::to_string(triangles[t] + 1) +
+                             " of " + std::to_string(vertices));
+    m.triangles.assign(triangles.begin(), triangles.end());
     if (m.triangles.empty()) throw InputError(path + ": the mesh has no triangles");
+    const std::size_t point_count = vertices;
 
     double x_lo = HUGE_VAL, x_hi = -HUGE_VAL, y_lo = HUGE_VAL, y_hi = -HUGE_VAL;
     for (std::size_t v = 0; v < m.xyz.size(); v += 3) {
@@ -487,7 +507,7 @@ Seafloor read_mesh_file(const std::string& path, const ReadOptions& o) {
     // cropped the far edges, and with them a mesh's highest ground.
     const double spacing = o.resample_spacing > 0.0
         ? o.resample_spacing
-        : std::sqrt((x_hi - x_lo) * (y_hi - y_lo) / static_cast<double>(points.size()));
+        : std::sqrt((x_hi - x_lo) * (y_hi - y_lo) / static_cast<double>(point_count));
     const std::size_t nx = detail::nodes_spanning(path, x_hi - x_lo, spacing, o);
     const std::size_t ny = detail::nodes_spanning(path, y_hi - y_lo, spacing, o);
     detail::check_grid_size(path, nx, ny, o);
