@@ -711,6 +711,7 @@ int run_job(const RunArgs& a) {
     check_plan_limits(scene, max_bytes);
     ScenePlan plan = plan_scene(scene, PlanStages::surface);
     const bool files_form = scene.form == Scene::Form::files;
+    if (files_form) check_files_form_places(out_dir);
     const std::size_t loop_frames = scene_loop_frames(scene, plan);
     if (!a.slice.empty()) range = slice_frames(a.slice, loop_frames);
     const std::size_t range_end = std::min(range.end, loop_frames), in_range = range.first < range_end ? range_end - range.first : 0;
@@ -1002,7 +1003,7 @@ int run_convert(const ConvertArgs& a) {
 
 // asset.extras.libwave of a .glb or .gltf, from its JSON alone (the binary is not read).
 json frame_metadata(const std::string& path) {
-    if (std::filesystem::is_directory(path)) throw InputError(path + ": a directory, not a file");
+    require_input_file(path);
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(path + ": cannot open the file");
     std::string text;
@@ -1106,6 +1107,7 @@ int run_merge(const MergeArgs& a) {
     namespace fs = std::filesystem;
     const fs::path frames = fs::path(a.out_dir) / "frames";
     if (!fs::is_directory(frames)) throw InputError(a.out_dir + ": no frames/ folder (the files form's output)");
+    path_inside(a.out_dir, "frames", a.out_dir + ": its");  // a link to frames elsewhere is not this folder's
     std::map<std::size_t, std::string> files;
     bool gltf = false;
     for (const auto& e : fs::directory_iterator(frames)) {
@@ -1115,6 +1117,7 @@ int run_merge(const MergeArgs& a) {
         if (std::sscanf(name.c_str(), "frame-%zu.%7s", &frame, ext) != 2 || (std::strcmp(ext, "glb") && std::strcmp(ext, "gltf")))
             continue;
         gltf = std::strcmp(ext, "gltf") == 0;
+        path_inside(a.out_dir, "frames/" + name, a.out_dir + ": a frame");
         files[frame] = "frames/" + name;
     }
     if (files.empty()) throw InputError(frames.string() + ": no frame files");
@@ -1152,7 +1155,7 @@ int run_merge(const MergeArgs& a) {
     std::vector<json> entries;
     for (const auto& [frame, file] : files) {
         Files content;
-        const auto add = [&](const std::string& name) { content.emplace_back(name, read_input_bytes(fs::path(a.out_dir) / name)); };
+        const auto add = [&](const std::string& name) { content.emplace_back(name, read_input_bytes(path_inside(a.out_dir, name, a.out_dir + ": a frame"))); };
         add(file);
         if (file.ends_with(".gltf")) add(file.substr(0, file.size() - 5) + ".bin");
         json entry = frame_entry(frame, fps, content);

@@ -4,6 +4,7 @@ corruption, unbounded work, recovery and messages (docs/hardening.md). Every ref
 exits 2 with a message naming the scene key or the file (with row and column), writes
 no output, and — for what used to hang — comes back at once; and a property test draws
 scene files with every numeric key of the schema at extreme values."""
+import base64
 import json
 import math
 import os
@@ -405,6 +406,202 @@ class Recovery(unittest.TestCase):
             ref = os.path.join(d, "ref")
             self.assertEqual(self.run_files(scene, ref).returncode, 0)
             self.assertEqual(self.frame_bytes(moved), self.frame_bytes(ref))
+
+
+def files_run(d, name="ref", frames="0:2"):
+    """A small files-form output (the coarse bay, two frames) in d/name; its path."""
+    scene = os.path.join(d, "bay.json")
+    with open(scene, "w") as f:
+        json.dump(SMALL_BAY, f)
+    out = os.path.join(d, name)
+    r = wave("run", scene, "-q", "--form", "files", "--frames", frames, "-o", out)
+    assert r.returncode == 0, r.stderr
+    return out
+
+
+def gltf_output(d, ref):
+    """ref converted to d/g/animation.gltf + animation.bin (the morph form); d/g."""
+    g = os.path.join(d, "g")
+    r = wave("convert", os.path.join(ref, "index.json"), "-q", "--form", "morph", "--container", "gltf", "-o", g)
+    assert r.returncode == 0, r.stderr
+    stem = [n for n in os.listdir(g) if n.endswith(".gltf")][0][:-5]
+    doc = json.loads(pathlib.Path(g, stem + ".gltf").read_text())
+    doc["buffers"][0]["uri"] = "animation.bin"
+    os.rename(os.path.join(g, stem + ".bin"), os.path.join(g, "animation.bin"))
+    os.remove(os.path.join(g, stem + ".gltf"))
+    pathlib.Path(g, "animation.gltf").write_text(json.dumps(doc))
+    return g
+
+
+class SpecialFiles(unittest.TestCase):
+    """A FIFO (or device) where a file is read is refused by its type before any open:
+    it blocked the reader for ever (docs/hardening.md, "Special files")."""
+
+    def refused_at_once(self, args, *expected):
+        rc, _, err, seconds, _ = measured(args, timeout=20)
+        self.assertEqual(rc, 2, f"{args}: {err}")
+        for e in expected:
+            self.assertIn(e, err)
+        self.assertLess(seconds, 10, err)
+        return err
+
+    def test_a_fifo_is_never_opened(self):
+        with tempfile.TemporaryDirectory() as d:
+            for ext in ("tif", "asc", "off", "json"):  # GDAL, mesh and contour readers
+                fifo = os.path.join(d, "floor." + ext)
+                os.mkfifo(fifo)
+                scene = os.path.join(d, f"s-{ext}.json")
+                with open(scene, "w") as f:
+                    json.dump({"seafloor": {"source": "floor." + ext}, "waves": WAVE_TRAIN}, f)
+                self.refused_at_once(["validate", scene], fifo, "a FIFO (named pipe), not a regular file")
+            os.mkfifo(os.path.join(d, "scene.json"))
+            self.refused_at_once(["validate", os.path.join(d, "scene.json")], "a FIFO")
+            os.mkfifo(os.path.join(d, "in.glb"))
+            self.refused_at_once(["convert", os.path.join(d, "in.glb"), "-o", os.path.join(d, "c")], "in.glb: a FIFO")
+            self.assertFalse(os.path.exists(os.path.join(d, "c")))
+            # Named by an index entry, for convert and inspect; inside frames/ for merge.
+            out = files_run(d)
+            fifo = os.path.join(out, "frames", "frame-0001.glb")
+            os.remove(fifo)
+            os.mkfifo(fifo)
+            self.refused_at_once(["convert", os.path.join(out, "index.json"), "-o", os.path.join(d, "c")], "frame-0001.glb: a FIFO")
+            self.refused_at_once(["inspect", out], "frame-0001.glb: a FIFO")
+            self.refused_at_once(["merge", out], "frame-0001.glb: a FIFO")
+            self.assertFalse(os.path.exists(os.path.join(d, "c")))
+
+
+class PathsOutside(unittest.TestCase):
+    """A path read from a file (an index entry, a buffer URI, a folder's frames/) stays
+    inside its folder: relative, no .., no link out — the rule --resume and the viewer
+    already kept (docs/hardening.md, "Paths read from files")."""
+
+    def test_index_entries_and_buffer_uris_stay_in_their_folder(self):
+        with tempfile.TemporaryDirectory() as d:
+            ref = files_run(d)
+            victim = os.path.join(d, "victim")
+            os.makedirs(victim)
+            shutil.copy(os.path.join(ref, "frames", "frame-0000.glb"), os.path.join(victim, "frame.glb"))
+            cases = [("../victim/frame.glb", "goes up a folder"), (os.path.join(victim, "frame.glb"), "an absolute path"),
+                     ("frames/../../victim/frame.glb", "goes up a folder"), ("away/frame.glb", "a link leads out of the folder")]
+            for name, why in cases:
+                with self.subTest(name=name):
+                    out = os.path.join(d, "out")
+                    shutil.rmtree(out, True)
+                    shutil.copytree(ref, out)
+                    os.symlink("../victim", os.path.join(out, "away"))
+                    index = json.loads(pathlib.Path(out, "index.json").read_text())
+                    index["frames"][1]["file"] = name
+                    pathlib.Path(out, "index.json").write_text(json.dumps(index))
+                    for args in (["convert", os.path.join(out, "index.json"), "-o", os.path.join(d, "c")], ["inspect", out]):
+                        r = wave(*args)
+                        self.assertEqual(r.returncode, 2, r.stderr)
+                        self.assertIn("index.json: frames[1].file '" + name + "'", r.stderr)
+                        self.assertIn(why, r.stderr)
+                        self.assertFalse(os.path.exists(os.path.join(d, "c")))
+            # A .gltf's buffer: its URI (percent-decoded, as tinygltf reads it) inside its folder.
+            g = gltf_output(d, ref)
+            secret = os.path.join(d, "secret")
+            shutil.copytree(g, secret)
+            doc = json.loads(pathlib.Path(g, "animation.gltf").read_text())
+            for uri, why in (("../secret/animation.bin", "goes up a folder"), (os.path.join(secret, "animation.bin"), "an absolute path"),
+                             ("%2E%2E/secret/animation.bin", "goes up a folder"), ("away/animation.bin", "a link leads out")):
+                with self.subTest(uri=uri):
+                    h = os.path.join(d, "h")
+                    shutil.rmtree(h, True)
+                    os.makedirs(h)
+                    os.symlink("../secret", os.path.join(h, "away"))
+                    doc["buffers"][0]["uri"] = uri
+                    pathlib.Path(h, "animation.gltf").write_text(json.dumps(doc))
+                    for args in (["convert", os.path.join(h, "animation.gltf"), "-o", os.path.join(d, "c")], ["inspect", h]):
+                        r = wave(*args)
+                        self.assertEqual(r.returncode, 2, r.stderr)
+                        self.assertIn("animation.gltf: buffer 0's uri", r.stderr)
+                        self.assertIn(why, r.stderr)
+                        self.assertFalse(os.path.exists(os.path.join(d, "c")))
+
+    def test_merge_and_the_files_form_neither_read_nor_write_through_a_link_out(self):
+        with tempfile.TemporaryDirectory() as d:
+            ref = files_run(d)
+            m = os.path.join(d, "m")
+            os.makedirs(m)
+            os.symlink(os.path.join(ref, "frames"), os.path.join(m, "frames"))
+            r = wave("merge", m)
+            self.assertEqual(r.returncode, 2, r.stderr)
+            self.assertIn("'frames': a link leads out of the folder", r.stderr)
+            self.assertFalse(os.path.exists(os.path.join(m, "index.json")))
+            # A frame file linked out of the folder is not indexed either.
+            shutil.rmtree(m)
+            shutil.copytree(ref, m)
+            os.remove(os.path.join(m, "index.json"))
+            os.remove(os.path.join(m, "frames", "frame-0001.glb"))
+            os.symlink(os.path.join(ref, "frames", "frame-0001.glb"), os.path.join(m, "frames", "frame-0001.glb"))
+            r = wave("merge", m)
+            self.assertEqual(r.returncode, 2, r.stderr)
+            self.assertIn("'frames/frame-0001.glb': a link leads out of the folder", r.stderr)
+            # The files form does not write its frames through such a link.
+            elsewhere = os.path.join(d, "elsewhere")
+            os.makedirs(elsewhere)
+            o = os.path.join(d, "o")
+            os.makedirs(o)
+            os.symlink(elsewhere, os.path.join(o, "frames"))
+            rc, _, err, seconds, _ = measured(["run", os.path.join(d, "bay.json"), "-q", "--form", "files", "-o", o])
+            self.assertEqual(rc, 2, err)
+            self.assertIn("'frames': a link leads out of the folder", err)
+            self.assertEqual(os.listdir(elsewhere), [])
+            self.assertEqual(sorted(os.listdir(o)), ["frames"], "no partial folder left")
+            self.assertLess(seconds, 5, "refused before any frame is computed")
+
+
+class GltfBounds(unittest.TestCase):
+    """Every accessor within its bufferView, strides as glTF allows them, embedded data:
+    buffers read, the asset extras checked as numbers (docs/hardening.md)."""
+
+    def test_strides_data_uris_and_extras(self):
+        with tempfile.TemporaryDirectory() as d:
+            ref = files_run(d)
+            g = gltf_output(d, ref)
+            doc = json.loads(pathlib.Path(g, "animation.gltf").read_text())
+            position = doc["accessors"][doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"]]["bufferView"]
+
+            def converted(edit, name):
+                h = os.path.join(d, name)
+                shutil.rmtree(h, True)
+                shutil.copytree(g, h)
+                bad = json.loads(json.dumps(doc))
+                edit(bad)
+                pathlib.Path(h, "animation.gltf").write_text(json.dumps(bad))
+                out = os.path.join(d, "c-" + name)
+                return wave("convert", os.path.join(h, "animation.gltf"), "-o", out), out
+
+            def refused(edit, *expected):
+                r, out = converted(edit, "h")
+                self.assertEqual(r.returncode, 2, r.stderr)
+                self.assertIn("animation.gltf: ", r.stderr)
+                for e in expected:
+                    self.assertIn(e, r.stderr)
+                self.assertFalse(os.path.exists(out))
+
+            refused(lambda j: j["bufferViews"][position].update(byteStride=16), f"runs past its bufferView {position}")
+            refused(lambda j: j["bufferViews"][position].update(byteStride=252), "runs past its bufferView")
+            refused(lambda j: j["bufferViews"][position].update(byteStride=-8), "byteStride -8 is not a multiple of 4 in [4, 252]")
+            for value in (2 ** 40, 2 ** 64 - 1, -1, 1.5, "20"):
+                refused(lambda j: j["asset"]["extras"]["libwave"].update(loop_frames=value),
+                        "asset.extras.libwave.loop_frames is not a whole number in [0, 10000000]")
+            refused(lambda j: j["asset"]["extras"]["libwave"].update(fps=0), "asset.extras.libwave.fps is 0")
+            refused(lambda j: j["buffers"][0].update(uri="data:text/html,hello"),
+                    "buffer 0: an embedded data: URI other than base64 of application/octet-stream or application/gltf-buffer is not supported")
+            # An embedded data: buffer (valid glTF) is read, to the same output.
+            payload = base64.b64encode(pathlib.Path(g, "animation.bin").read_bytes()).decode()
+            r, embedded = converted(lambda j: j["buffers"][0].update(uri="data:application/octet-stream;base64," + payload), "e")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            r, plain = converted(lambda j: None, "p")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            glb = [n for n in os.listdir(plain) if n.endswith(".glb")]
+            self.assertEqual(len(glb), 1)
+            self.assertEqual(pathlib.Path(embedded, glb[0]).read_bytes(), pathlib.Path(plain, glb[0]).read_bytes())
+            r, _ = converted(lambda j: j["buffers"][0].update(uri="data:application/octet-stream;base64," + payload[:-8]), "t")
+            self.assertEqual(r.returncode, 2, r.stderr)
+            self.assertIn("its data: URI holds", r.stderr)
 
 
 class Messages(unittest.TestCase):
