@@ -312,6 +312,23 @@ class Physics(unittest.TestCase):
             self.assertLess(results[0]["caustic_points"], 0.01 * results[0]["points"])
 
 
+    def test_the_axis_constants_never_raise_the_swell(self):
+        # /motion/kx at the low end of its range made a 0.3 m swell ±5.55 m high.
+        with tempfile.TemporaryDirectory() as d:
+            heights = {}
+            for kx in (0.11, 1e-3, 1e-9):
+                path = os.path.join(d, f"kx-{kx}.json")
+                with open(path, "w") as f:
+                    json.dump({**SMALL_BAY, "motion": {"kx": kx}}, f)
+                out = os.path.join(d, f"out-{kx}")
+                r = wave("run", path, "-q", "--frames", "0:2", "-o", out)
+                self.assertEqual(r.returncode, 0, r.stderr)
+                report = json.loads(pathlib.Path(out, "report-frames-0-2.json").read_text())
+                heights[kx] = report["surface"]["height_range_m"]
+            for kx, (low, high) in heights.items():
+                self.assertLess(max(-low, high), 4 * 0.3, f"kx {kx}: {low} .. {high} m")
+
+
 class Recovery(unittest.TestCase):
     """Resume and merge never mix versions, and rebuild what they can check."""
 
