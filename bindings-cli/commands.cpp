@@ -708,6 +708,8 @@ int run_job(const RunArgs& a) {
 
     auto clock = std::chrono::steady_clock::now();
     const double max_bytes = a.max_memory_gb * 1e9;
+    scene.fronts.max_bytes = max_bytes;  // the front points and a wave field's grid within the run's memory limit
+    scene.field.max_bytes = max_bytes;
     check_plan_limits(scene, max_bytes);
     ScenePlan plan = plan_scene(scene, PlanStages::surface);
     const bool files_form = scene.form == Scene::Form::files;
@@ -833,7 +835,9 @@ int run_job(const RunArgs& a) {
 }
 
 int run_validate(const std::string& path, bool as_json, double max_memory_gb) {
-    const Scene read = read_scene(path);
+    Scene read = read_scene(path);
+    read.fronts.max_bytes = max_memory_gb * 1e9;  // the front points and a wave field's grid within the run's memory limit
+    read.field.max_bytes = max_memory_gb * 1e9;
     const Seafloor sea = scene_seafloor(read);
     const auto camera = scene_camera(read, sea);
     const SeafloorStats st = seafloor_stats(sea);

@@ -188,6 +188,8 @@ int main(int argc, char** argv) {
     field_cmd->add_option("--png", field.png, "PNG plot of H/H0 with the depth contours and a labelled colour scale");
     field_cmd->add_option("--train", field.train, "which wave train of /waves (default 0)");
     field_cmd->add_flag("--json", field.json, "print a JSON summary");
+    field_cmd->add_option("--max-memory-gb", field.max_memory_gb, "refuse a grid that would need more memory (GB, default 2), before it is allocated")
+        ->check(CLI::Range(0.001, 1e6));
 
     cli::InspectArgs inspect;
     auto* inspect_cmd = app.add_subcommand("inspect", "Check an output of wave run as a renderer meets it, every frame: folds and overturning lips, slivers, long edges, boundary loops, unreferenced vertices, vertex speeds");

@@ -450,6 +450,47 @@ def gltf_output(d, ref):
     return g
 
 
+class MemoryLimits(unittest.TestCase):
+    """Every limit fires before its memory is allocated, naming the key that drives it:
+    `wave validate` stays far below 1 GB on the scenes it refuses."""
+
+    def refused(self, args, *expected, files=None):
+        with tempfile.TemporaryDirectory() as d:
+            paths = []
+            for name, doc in (files or {}).items():
+                paths.append(os.path.join(d, name))
+                with open(paths[-1], "w") as f:
+                    json.dump(doc, f)
+            rc, _, err, seconds, peak = measured([a.format(d=d) for a in args], timeout=60)
+            self.assertEqual(rc, 2, err)
+            for e in expected:
+                self.assertIn(e, err)
+            self.assertNotIn("bad_alloc", err)
+            self.assertLess(peak, 400e6, err)
+            if not UNDER_ASAN:
+                self.assertLess(seconds, 5, err)
+            return err
+
+    def test_schema_maxima_are_refused_before_they_are_allocated(self):
+        # The camera grid at the schema's 10^8 pixels and step 1: 13.4 GB over 99 s, then
+        # a refusal naming /trace/ray_spacing, /fronts/step and the fps.
+        self.refused(["validate", "{d}/s.json"], "/surface/camera_grid/image [10000, 10000]", "/surface/camera_grid/pixel_step 1",
+                     "100000000 vertices", files={"s.json": {"waves": WAVE_TRAIN, "breakers": "jeschke",
+                                                             "surface": {"camera_grid": {"image": [10000, 10000], "pixel_step": 1}}}})
+        # /fronts/max_points at its maximum: a raw std::bad_alloc reserving 10^9 points.
+        self.refused(["validate", "{d}/s.json"], "/fronts/max_points 1000000000 lowered to the 2 GB memory limit",
+                     files={"s.json": {"waves": WAVE_TRAIN, "trace": {"ray_spacing": 0.01},
+                                       "fronts": {"max_points": 10 ** 9, "step": 0.01, "max_steps": 10 ** 7}}})
+        # 200 wave trains: past 120 s and 3.5 GB.
+        self.refused(["validate", "{d}/s.json"], "/waves: 200 wave trains; at most 16",
+                     files={"s.json": {"surface": {"kind": "wave-field"}, "waves": [{"period": 5, "amplitude": 0.3}] * 200}})
+        # wave field: an estimate and --max-memory-gb (it went to 3.6 GB at 75 M nodes).
+        self.refused(["field", "{d}/s.json", "--json", "--max-memory-gb", "0.05"], "wave field: 1488 x 1488 nodes",
+                     "over the 0.05 GB it may take", "--max-memory-gb",
+                     files={"s.json": {"waves": WAVE_TRAIN, "field": {"nodes_per_wavelength": 200}}})
+        self.refused(["field", "-o", "{d}/missing/field.tif"], "missing/field.tif: its folder", "does not exist")
+
+
 class SpecialFiles(unittest.TestCase):
     """A FIFO (or device) where a file is read is refused by its type before any open:
     it blocked the reader for ever (docs/hardening.md, "Special files")."""

@@ -140,9 +140,16 @@ struct FrontOptions {
     /// Guard rail on the points of all fronts together (the strips' vertices): rays ×
     /// steps, which max_rays and max_steps bound only one at a time (~100 bytes each).
     std::size_t max_points = 10'000'000;
+    /// The memory the points may take (bytes; the run's limit, `wave run --max-memory-gb`,
+    /// 2 GB by default): max_points is lowered to what fits, checked before the points
+    /// are reserved (kFrontPointBytes each).
+    double max_bytes = 2e9;
     double breaker_index = kBreakerIndex;  ///< amplitude cap γ h / 2
     DispersionOptions dispersion{};  ///< how k(ω, h) is solved
 };
+
+/// The bytes a front point takes in FrontSet (its ray id, ten doubles, flag, caustic).
+inline constexpr double kFrontPointBytes = 4.0 + 10.0 * 8.0 + 4.0 + 1.0;
 
 /// Fronts as rows: front f holds the live rays after f steps, in order along the
 /// front, at points front_offsets[f] .. front_offsets[f+1]−1 (structure of arrays).

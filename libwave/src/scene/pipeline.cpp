@@ -793,6 +793,8 @@ namespace {
 // What lowers a run's memory, or raises its limit: the end of both memory refusals.
 std::string memory_advice(const Scene& scene) {
     return (scene.refine ? std::string("lower /refine/level, or ") : std::string()) +
+           (scene.camera_grid ? std::string("raise /surface/camera_grid/pixel_step or lower /surface/camera_grid/image, or ")
+                              : std::string()) +
            (scene.quantize && scene.form != Scene::Form::morph
                 ? std::string("use the morph form or drop /outputs/quantize (quantised nodes files are written whole), or ")
                 : std::string()) +
@@ -815,6 +817,26 @@ double planned_memory_floor_bytes(const Scene& scene) {
 }
 
 void check_plan_limits(const Scene& scene, double max_bytes) {
+    // A camera grid's vertices, from the scene alone: every pixel_step-th pixel of every
+    // row (rows that miss the water are dropped later; a bound, not a guess). Each holds
+    // its rest position twice (the grid, the plan), two triangles and one frame's
+    // positions and normals while it is planned: ~80 bytes. At the schema's 10⁸ pixels
+    // and step 1, validate built 13 GB of plan before a limit named other keys.
+    if (scene.camera_grid && scene.camera_grid->pixel_step > 0) {
+        const GridCamera& c = *scene.camera_grid;
+        const double columns = std::ceil(static_cast<double>(c.image_width) / static_cast<double>(c.pixel_step)),
+                     rows = std::ceil(static_cast<double>(c.image_height) / static_cast<double>(c.pixel_step));
+        const bool shaded = scene.attributes != Scene::Attributes::none;
+        const double per_vertex = 16.0 + 16.0 + 24.0 + 24.0 + (shaded ? 12.0 : 0.0) + (scene.color ? 12.0 : 0.0);
+        if (const double bytes = columns * rows * per_vertex; bytes > max_bytes)
+            throw LimitError("scene: /surface/camera_grid/image [" + std::to_string(c.image_width) + ", " + std::to_string(c.image_height) +
+                             "] at /surface/camera_grid/pixel_step " + std::to_string(c.pixel_step) + " samples up to " +
+                             detail::format_count(static_cast<std::size_t>(columns * rows)) + " vertices, about " +
+                             fmt(std::ceil(bytes / 1e7) / 100.0) + " GB while the surface is planned (" + fmt(per_vertex) +
+                             " bytes a vertex), over the limit of " + fmt(max_bytes / 1e9) +
+                             " GB; raise /surface/camera_grid/pixel_step or lower /surface/camera_grid/image, or raise the limit "
+                             "(wave run --max-memory-gb)");
+    }
     if (const double volume = kSunbeamWorkBytesPerVoxel * sunbeam_voxels(scene); volume > max_bytes) {
         const SunVolumeOptions& o = *scene.underwater->sunbeams;
         throw LimitError("scene: /underwater/sunbeams/voxels [" + std::to_string(o.nx) + ", " + std::to_string(o.ny) + ", " +

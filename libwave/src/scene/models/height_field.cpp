@@ -44,7 +44,9 @@ void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
     p.isobaths = extract_isobaths(p.seafloor, scene.isobaths);
     p.rays = trace_rays(p.seafloor, p.isobaths, scene.waves, trace);
     if (scene.amplitudes_from_field) {  // rays keep direction and phase; the fields give the heights
-        for (const WaveTrain& w : scene.waves) p.wave_fields.push_back(solve_wave_field(p.seafloor, w, scene.field));
+        FieldOptions share = scene.field;  // every train's grid is held: the memory limit is shared
+        share.max_bytes /= static_cast<double>(scene.waves.size());
+        for (const WaveTrain& w : scene.waves) p.wave_fields.push_back(solve_wave_field(p.seafloor, w, share));
         take_field_amplitudes(p.wave_fields, p.rays);
     }
     if (stages == PlanStages::trace) return;

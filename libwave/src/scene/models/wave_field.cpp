@@ -32,7 +32,9 @@ void read_before(const Node& root, Scene&) {
 // shorter than the finest field's node spacing (what the field resolves).
 void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
     p.isobaths = extract_isobaths(p.seafloor, scene.isobaths);
-    for (const WaveTrain& w : scene.waves) p.wave_fields.push_back(solve_wave_field(p.seafloor, w, scene.field));
+    FieldOptions share = scene.field;  // every train's grid is held: the memory limit is shared
+    share.max_bytes /= static_cast<double>(scene.waves.size());
+    for (const WaveTrain& w : scene.waves) p.wave_fields.push_back(solve_wave_field(p.seafloor, w, share));
     if (stages == PlanStages::trace) return;
     double shortest = scene.waves[0].period;
     for (const WaveTrain& w : scene.waves) shortest = std::min(shortest, w.period);
