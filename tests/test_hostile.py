@@ -166,8 +166,9 @@ class Refusals(unittest.TestCase):
         land = "ncols 3\nnrows 3\nxllcorner 0\nyllcorner 0\ncellsize 10\nNODATA_value -9999\n" + "1 2 3\n" * 3
         nodata = "ncols 3\nnrows 3\nxllcorner 0\nyllcorner 0\ncellsize 10\nNODATA_value -9999\n" + "-9999 -9999 -9999\n" * 3
         for command in ("validate", "run"):
-            self.refused({"seafloor": {"source": "land.asc"}, "waves": WAVE_TRAIN}, "land.asc: the seafloor has no water",
-                         command=command, files={"land.asc": land})
+            for kind in ("ray-strips", "height-field", "wave-field"):
+                self.refused({"seafloor": {"source": "land.asc"}, "waves": WAVE_TRAIN, "surface": {"kind": kind}},
+                             "land.asc: the seafloor is all land", command=command, files={"land.asc": land})
             self.refused({"seafloor": {"source": "nodata.asc"}, "waves": WAVE_TRAIN}, "NODATA read as land",
                          command=command, files={"nodata.asc": nodata})
             # (found after slicing the bay's isobaths and starting the fronts: real work,
@@ -176,6 +177,14 @@ class Refusals(unittest.TestCase):
                          "the swell travels towards [0, -1] (/waves/0/direction)", command=command, max_seconds=3.0)
             self.refused({"waves": WAVE_TRAIN, "trace": {"ray_spacing": 500}},
                          "/trace/ray_spacing 500 m leaves fewer than two rays", command=command)
+            # The other traced surfaces said nothing: an empty animation, "heights 0 .. 0 m".
+            from_land = [{"period": 5, "amplitude": 0.3, "direction": [0, -1]}]
+            self.refused({"waves": from_land, "surface": {"kind": "height-field"}, "animation": {"fps": 2}},
+                         "no ray enters the water", "/waves/0/direction", command=command, max_seconds=3.0)
+            self.refused({"waves": WAVE_TRAIN, "surface": {"kind": "height-field"}, "trace": {"ray_spacing": 500}, "animation": {"fps": 2}},
+                         "no ray enters the water", "/trace/ray_spacing 500 m leaves fewer than two rays", command=command, max_seconds=3.0)
+            self.refused({"waves": from_land, "surface": {"kind": "wave-field"}, "animation": {"fps": 2}},
+                         "no wave enters the water", "/waves/0/direction", command=command, max_seconds=3.0)
 
     def test_huge_values_are_echoed_cut(self):
         big = "a" * 1000000
@@ -660,6 +669,35 @@ class GltfBounds(unittest.TestCase):
             r, _ = converted(lambda j: j["buffers"][0].update(uri="data:application/octet-stream;base64," + payload[:-8]), "t")
             self.assertEqual(r.returncode, 2, r.stderr)
             self.assertIn("its data: URI holds", r.stderr)
+
+
+class ResumeObstacles(unittest.TestCase):
+    """An index.json that is a folder or a frames that is a file, under --resume: refused
+    before any frame is computed (exit 2, naming it), no partial folder left — it used to
+    compute every frame and fail with the file system's message (exit 1)."""
+
+    def test_what_stands_where_the_files_form_writes_is_named_up_front(self):
+        with tempfile.TemporaryDirectory() as d:
+            ref = files_run(d)
+            for name, make, message in (("index.json", os.makedirs, "index.json: a folder, where the files form writes its index"),
+                                        ("frames", lambda p: pathlib.Path(p).write_text("x"),
+                                         "frames: a file, where the files form writes its frames' folder")):
+                with self.subTest(name=name):
+                    out = os.path.join(d, "out")
+                    shutil.rmtree(out, True)
+                    shutil.copytree(ref, out)
+                    target = os.path.join(out, name)
+                    if os.path.isdir(target):
+                        shutil.rmtree(target)
+                    else:
+                        os.remove(target)
+                    make(target)
+                    rc, _, err, seconds, _ = measured(["run", os.path.join(d, "bay.json"), "-q", "--form", "files", "-o", out, "--resume"])
+                    self.assertEqual(rc, 2, err)
+                    self.assertIn(message, err)
+                    self.assertEqual([n for n in os.listdir(out) if n.startswith(".wave-")], [])
+                    if not UNDER_ASAN:
+                        self.assertLess(seconds, 3, "refused before the frames are computed")
 
 
 class Messages(unittest.TestCase):

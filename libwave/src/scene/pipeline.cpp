@@ -327,9 +327,23 @@ void plan_fold_foam(const Scene& scene, ScenePlan& p) {
 
 }  // namespace
 
+// A seafloor without water gives every traced surface nothing to move: said once, for
+// every kind (the height field said its isobath set was empty; the wave field, that
+// the seafloor had no water).
+void refuse_all_land(const Scene& scene, const Seafloor& seafloor) {
+    if (surface_kind_traces(scene.surface_kind) == Traced::nothing) return;
+    const SeafloorStats st = seafloor_stats(seafloor);
+    if (st.depth_max > 0.0) return;
+    throw InputError("scene: no water surface to animate over " + seafloor.source +
+                     ": the seafloor is all land (no node below the water level" +
+                     (st.nodata_count > 0 ? std::string("; NODATA read as land: /seafloor/nodata_policy") : std::string()) +
+                     "); check /seafloor/sign and /seafloor/vertical_offset");
+}
+
 ScenePlan plan_scene(const Scene& scene, PlanStages stages) {
     ScenePlan p;
     p.seafloor = scene_seafloor(scene);
+    refuse_all_land(scene, p.seafloor);
     scene_camera(scene, p.seafloor);  // a camera inside the seafloor is an input error, found before the work
     // Without a wind sea (whose loop is its own, ~20 s) every loop holds at least the
     // first train's period: a too-short one is refused before the work.
