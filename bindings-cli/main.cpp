@@ -2,6 +2,7 @@
 // 1 runtime failure; errors go to stderr as "error: …".
 #include "commands.h"
 #include "libwave/errors.h"
+#include "libwave/io.h"
 #include "libwave/version.h"
 
 #include <CLI/CLI.hpp>
@@ -287,14 +288,14 @@ int main(int argc, char** argv) {
         return 2;
     } catch (const CLI::Success& e) {  // --help, --help-all, --version
         return app.exit(e);
-    } catch (const CLI::ParseError& e) {
-        std::cerr << "error: " << e.what() << "\n(run 'wave --help' for usage)\n";
+    } catch (const CLI::ParseError& e) {  // messages show names as escapes, never as terminal commands
+        std::cerr << "error: " << wave::printable(e.what()) << "\n(run 'wave --help' for usage)\n";
         return 2;
     } catch (const wave::InputError& e) {
-        std::cerr << "error: " << e.what() << '\n';
+        std::cerr << "error: " << wave::printable(e.what()) << '\n';
         return 2;
     } catch (const std::exception& e) {
-        std::cerr << "error: " << e.what() << '\n';
+        std::cerr << "error: " << wave::printable(e.what()) << '\n';
         return 1;
     }
 }

@@ -672,6 +672,20 @@ TEST(Files, SpecialFilesAndPathsOutOfTheirFolderAreRefused) {
     fs::remove_all(d);
 }
 
+TEST(Messages, ControlAndBidiCharactersAreShownAsEscapes) {
+    // A name read from a file (a scene's /name, a path) reaches the terminal through
+    // printable: an escape sequence, a line break or a right-to-left override is shown,
+    // not acted on; other text (UTF-8 included) is kept.
+    EXPECT_EQ(printable("plain: bay.json, é, 波"), "plain: bay.json, é, 波");
+    EXPECT_EQ(printable("a\x1b[2Jb"), "a\\x1B[2Jb");
+    EXPECT_EQ(printable("line\nbreak\ttab\x7f"), "line\\x0Abreak\ttab\\x7F");
+    EXPECT_EQ(printable("evil\u202Egnp.exe"), "evil\\u{202E}gnp.exe");
+    EXPECT_EQ(printable("\u2066x\u2069 \u200F \u061C"), "\\u{2066}x\\u{2069} \\u{200F} \\u{061C}");
+    EXPECT_EQ(printable("c1\xC2\x9B"), "c1\\u{009B}");
+    EXPECT_EQ(printable("bad\xff\xC0\xAF"), "bad\\xFF\\xC0\\xAF");  // invalid and overlong bytes
+    EXPECT_EQ(printable(std::string("nul\0x", 5)), "nul\\x00x");
+}
+
 TEST(Quantization, TheMorphFormKeepsAFarSkirtsRestPositions) {
     // TEXCOORD_0 beyond [0, 1]² (a far-field skirt's rest positions) stays float in the
     // quantised morph form: normalised uint16 clamped it onto the domain's edge, and

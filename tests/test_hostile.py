@@ -722,6 +722,20 @@ class Messages(unittest.TestCase):
             self.assertEqual(r.returncode, 2, r.stderr)
             self.assertIn(a_file + ": a file, not a folder", r.stderr)
 
+    def test_control_and_bidi_characters_are_shown_as_escapes(self):
+        # A name read from a file is echoed in messages: an escape sequence or a
+        # right-to-left override went to the terminal as it was.
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "s.json")
+            with open(path, "w") as f:
+                json.dump({"seafloor": {"source": "a\u001b[31mred\u202egnp.tif\nerror: forged"}, "waves": WAVE_TRAIN}, f)
+            r = wave("validate", path)
+            self.assertEqual(r.returncode, 2, r.stderr)
+            self.assertIn("a\\x1B[31mred\\u{202E}gnp.tif\\x0Aerror: forged", r.stderr)
+            for raw in ("\u001b", "\u202e"):
+                self.assertNotIn(raw, r.stderr)
+            self.assertEqual(r.stderr.count("\n"), 1, "one line")
+
     def test_isobaths_with_smoothing_only_use_the_default_spacing(self):
         with tempfile.TemporaryDirectory() as d:
             path = os.path.join(d, "s.json")

@@ -21,6 +21,13 @@ void write_file_atomic(const std::string& path, std::string_view bytes, const st
 /// a FIFO or a device never blocks a reader (docs/hardening.md, "Special files").
 void require_input_file(const std::string& path, bool directory = false);
 
+/// `text` (a message, a name read from a file) with what a terminal would act on shown
+/// as escapes: control characters (C0 but the tab, DEL, C1) as \xHH, bidirectional
+/// formatting characters (U+061C, U+200E/F, U+202A–E, U+2066–9) as \u{XXXX}, invalid
+/// UTF-8 bytes as \xHH. `wave` and the Python module show every message through it
+/// (docs/hardening.md, "Messages").
+std::string printable(std::string_view text);
+
 /// The path of `name`, a path read from a file in `folder` (an index entry, a glTF
 /// buffer URI, a frame of `wave merge`, a file an output form writes), checked to stay
 /// inside `folder`: relative, no `..` part, and its real path (every existing link

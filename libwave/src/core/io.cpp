@@ -118,6 +118,56 @@ void require_input_file(const std::string& path, bool directory) {
     throw InputError(path + ": " + file_kind(type) + ", not a regular file");
 }
 
+std::string printable(std::string_view text) {
+    std::string out;
+    out.reserve(text.size());
+    const auto hex = [&](unsigned value, int digits) {
+        static constexpr char h[] = "0123456789ABCDEF";
+        for (int d = digits - 1; d >= 0; --d) out += h[(value >> (4 * d)) & 15];
+    };
+    for (std::size_t i = 0; i < text.size();) {
+        const auto c = static_cast<unsigned char>(text[i]);
+        if (c < 0x80) {
+            if ((c < 0x20 && c != '\t') || c == 0x7F) {
+                out += "\\x";
+                hex(c, 2);
+            } else {
+                out += static_cast<char>(c);
+            }
+            ++i;
+            continue;
+        }
+        // A UTF-8 sequence: its length and code point (an invalid one byte by byte).
+        const std::size_t n = c >= 0xF0 && c < 0xF5 ? 4 : c >= 0xE0 && c < 0xF0 ? 3 : c >= 0xC2 && c < 0xE0 ? 2 : 0;
+        unsigned cp = n == 4 ? c & 0x07u : n == 3 ? c & 0x0Fu : c & 0x1Fu;
+        bool valid = n > 0 && i + n <= text.size();
+        for (std::size_t k = 1; valid && k < n; ++k) {
+            const auto b = static_cast<unsigned char>(text[i + k]);
+            valid = (b & 0xC0) == 0x80;
+            cp = (cp << 6) | (b & 0x3Fu);
+        }
+        if (valid && ((n == 3 && cp < 0x800) || (n == 4 && (cp < 0x10000 || cp > 0x10FFFF)) || (cp >= 0xD800 && cp < 0xE000)))
+            valid = false;  // overlong, beyond Unicode, or a surrogate
+        if (!valid) {
+            out += "\\x";
+            hex(c, 2);
+            ++i;
+            continue;
+        }
+        const bool control = cp >= 0x80 && cp < 0xA0;
+        const bool bidi = cp == 0x061C || cp == 0x200E || cp == 0x200F || (cp >= 0x202A && cp <= 0x202E) || (cp >= 0x2066 && cp <= 0x2069);
+        if (control || bidi) {
+            out += "\\u{";
+            hex(cp, 4);
+            out += '}';
+        } else {
+            out.append(text.substr(i, n));
+        }
+        i += n;
+    }
+    return out;
+}
+
 std::string path_inside(const std::string& folder, const std::string& name, const std::string& what) {
     namespace fs = std::filesystem;
     const auto refuse = [&](const std::string& why) {
