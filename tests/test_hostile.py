@@ -700,6 +700,80 @@ class ResumeObstacles(unittest.TestCase):
                         self.assertLess(seconds, 3, "refused before the frames are computed")
 
 
+ADDON_FRAMES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "bindings-cli", "blender", "libwave_blender", "frames.py")
+ADDON_PROBE = r"""
+import importlib.util, json, os, shutil, struct, sys
+spec = importlib.util.spec_from_file_location("frames", sys.argv[1])
+frames = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(frames)
+ref, d = sys.argv[2], sys.argv[3]
+index = json.load(open(os.path.join(ref, "index.json")))
+results = {}
+
+def probe(name, edit, bake=False, frame=0):
+    out = os.path.join(d, name)
+    shutil.copytree(ref, out)
+    doc = json.loads(json.dumps(index))
+    text = edit(doc, out)
+    with open(os.path.join(out, "index.json"), "w") as f:
+        f.write(text if isinstance(text, str) else json.dumps(doc))
+    try:
+        a = frames.Animation(os.path.join(out, "index.json"))
+        a.frame(frame)
+        if bake:
+            frames.check_bake(a)
+        results[name] = "accepted"
+    except frames.LibwaveFileError as e:
+        results[name] = "refused: " + str(e)
+    except BaseException as e:
+        results[name] = "raised " + type(e).__name__ + ": " + str(e)[:200]
+
+probe("fps0", lambda j, o: j.update(fps=0))
+probe("fpsnan", lambda j, o: json.dumps({**j, "fps": float("nan")}))
+probe("deep", lambda j, o: '{"frames": ' + "[" * 100000 + "]" * 100000 + "}")
+probe("outside", lambda j, o: j["frames"][1]["content"][0].update(file="../victim/frame.glb"))
+probe("million", lambda j, o: j.update(frames=[{**j["frames"][0], "frame": k} for k in range(100000)]), bake=True)
+
+def nan_positions(j, o):
+    path = os.path.join(o, j["frames"][0]["file"])
+    data = bytearray(open(path, "rb").read())
+    length = struct.unpack_from("<I", data, 12)[0]
+    doc = json.loads(bytes(data[20:20 + length]))
+    acc = doc["accessors"][doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"]]
+    view = doc["bufferViews"][acc["bufferView"]]
+    at = 20 + length + 8 + view.get("byteOffset", 0) + acc.get("byteOffset", 0) + 12 * 5
+    struct.pack_into("<f", data, at, float("nan"))
+    open(path, "wb").write(bytes(data))
+
+probe("nan", nan_positions)
+print(json.dumps(results))
+"""
+
+
+class BlenderAddon(unittest.TestCase):
+    """The add-on's reader (frames.py, plain Python and numpy) checks what it reads as
+    libwave's C++ reader does: a message naming the file, never a traceback, a NaN vertex
+    or a bake that runs memory out (docs/hardening.md, "The Blender add-on")."""
+
+    def test_hostile_indexes_and_frames_are_refused_with_a_message(self):
+        python = "/usr/bin/python3"
+        if not os.path.exists(python) or subprocess.run([python, "-c", "import numpy"], capture_output=True).returncode != 0:
+            self.skipTest("needs Debian's python3 with numpy (Blender's Python)")
+        with tempfile.TemporaryDirectory() as d:
+            ref = files_run(d)
+            probes = os.path.join(d, "probes")
+            os.makedirs(probes)
+            r = subprocess.run([python, "-c", ADDON_PROBE, ADDON_FRAMES, ref, probes], capture_output=True, text=True, timeout=300)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            results = json.loads(r.stdout)
+            expected = {"fps0": "fps is 0", "fpsnan": "fps nan is not a number in [0, 1000]", "deep": "JSON nested too deeply",
+                        "outside": "leaves its folder", "million": "baking 100000 frames", "nan": "frame 0: positions of vertex 5 is not a finite number"}
+            for name, message in expected.items():
+                with self.subTest(name=name):
+                    self.assertTrue(results[name].startswith("refused: "), results[name])
+                    self.assertIn(message, results[name])
+
+
 class Messages(unittest.TestCase):
     def test_output_folders_and_unreadable_files_are_named(self):
         with tempfile.TemporaryDirectory() as d:

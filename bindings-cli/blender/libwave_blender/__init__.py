@@ -415,6 +415,8 @@ def import_animation(context, path, set_scene=True, caustics=True, bake=False, b
     `sunbeam_strength` times the single-scattering estimate."""
     anim = _animation(os.path.abspath(path))
     first = anim.frame(0)
+    if bake:
+        frames.check_bake(anim)  # before the water object is made
     if baked_colour and first.color is None:
         raise ValueError(f"{path} has no baked colour (run the scene with \"outputs\": {{\"color\": true}})")
     mesh = bpy.data.meshes.new("libwave water")
@@ -487,7 +489,7 @@ class ImportLibwave(bpy.types.Operator, ImportHelper):
             import_animation(context, self.filepath, self.set_scene, self.caustics, self.bake, self.baked_colour,
                              self.file_normals, self.visibility, self.sunbeams, self.sunbeam_strength)
         except (OSError, KeyError, ValueError, frames.LibwaveFileError) as e:
-            self.report({"ERROR"}, f"libwave: {e}")
+            self.report({"ERROR"}, frames.printable(f"libwave: {e}"))
             return {"CANCELLED"}
         return {"FINISHED"}
 
