@@ -705,6 +705,7 @@ int run_job(const RunArgs& a) {
     FrameRange range = parse_frames(a.frames);
     const std::string out_dir = run_out_dir(a);
     check_out_dir(out_dir);
+    if (scene.form == Scene::Form::files) check_files_form_places(out_dir);  // before the plan: at once
 
     auto clock = std::chrono::steady_clock::now();
     const double max_bytes = a.max_memory_gb * 1e9;
@@ -713,7 +714,6 @@ int run_job(const RunArgs& a) {
     check_plan_limits(scene, max_bytes);
     ScenePlan plan = plan_scene(scene, PlanStages::surface);
     const bool files_form = scene.form == Scene::Form::files;
-    if (files_form) check_files_form_places(out_dir);
     const std::size_t loop_frames = scene_loop_frames(scene, plan);
     if (!a.slice.empty()) range = slice_frames(a.slice, loop_frames);
     const std::size_t range_end = std::min(range.end, loop_frames), in_range = range.first < range_end ? range_end - range.first : 0;
