@@ -854,7 +854,8 @@ class ExtremeValues(unittest.TestCase):
     """Scene files with numeric keys at extreme values — 0, ±tiny, ±huge, their range's
     ends, 2^63, text that looks like a number — run as a user would: `wave validate`,
     then `wave run` of two frames. Exit 0 or 2 only: never a signal, never exit 1 for
-    input, never a hang (30 s) and never over 4 GB."""
+    input, never a hang (30 s) and never over 4 GB; a swell's heights within a physical
+    bound."""
 
     # HOSTILE_DRAWS and HOSTILE_SEED explore further by hand (docs/hardening.md).
     DRAWS = int(os.environ.get("HOSTILE_DRAWS", 30 if UNDER_ASAN else 150))
@@ -966,6 +967,7 @@ class ExtremeValues(unittest.TestCase):
                         self.check(rc, err, seconds, rss)
                         if rc == 0:
                             ran += 1
+                            self.check_heights(scene, out)
                             shutil.rmtree(out, True)
                     if rc == 2:
                         refused += 1
@@ -975,6 +977,19 @@ class ExtremeValues(unittest.TestCase):
         print(f"ExtremeValues: {ran} ran, {refused} refused of {self.DRAWS}", file=sys.stderr)
         self.assertGreaterEqual(ran, max(2, self.DRAWS // 15), "some draws are valid and run")
         self.assertGreater(refused, self.DRAWS // 4, "most draws are refused")
+
+    def check_heights(self, scene, out):
+        """A swell's run stays within a physical bound: 10 × its largest amplitude (five
+        wave heights) — /motion/kx at 1e-3 made a 0.3 m swell ±5.55 m high (exit 0)."""
+        waves = scene.get("waves")
+        if not waves or "ocean" in scene or "gerstner" in scene:
+            return  # wind seas: their heights follow the wind, not a drawn amplitude
+        amplitudes = [w.get("amplitude", 0.5) for w in waves if isinstance(w.get("amplitude", 0.5), (int, float))]
+        reports = [n for n in os.listdir(out) if n.startswith("report") and n.endswith(".json")]
+        if not amplitudes or not reports:
+            return
+        low, high = json.loads(pathlib.Path(out, reports[0]).read_text())["surface"]["height_range_m"]
+        self.assertLessEqual(max(-low, high), 10 * max(amplitudes), f"heights {low} .. {high} m")
 
     def check(self, rc, err, seconds, rss):
         self.assertIsNotNone(rc, "hung (killed after the timeout)")
