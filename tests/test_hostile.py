@@ -486,6 +486,10 @@ class MemoryLimits(unittest.TestCase):
         self.refused(["validate", "{d}/s.json"], "/surface/camera_grid/image [10000, 10000]", "/surface/camera_grid/pixel_step 1",
                      "100000000 vertices", files={"s.json": {"waves": WAVE_TRAIN, "breakers": "jeschke",
                                                              "surface": {"camera_grid": {"image": [10000, 10000], "pixel_step": 1}}}})
+        # 4000² at step 1: validate planned 2.2 GB before the run's estimate (4 GB) refused it.
+        self.refused(["validate", "{d}/s.json"], "/surface/camera_grid/image [4000, 4000]",
+                     files={"s.json": {"waves": WAVE_TRAIN, "breakers": "jeschke",
+                                       "surface": {"camera_grid": {"image": [4000, 4000], "pixel_step": 1}}}})
         # /fronts/max_points at its maximum: a raw std::bad_alloc reserving 10^9 points.
         self.refused(["validate", "{d}/s.json"], "/fronts/max_points 1000000000 lowered to the 2 GB memory limit",
                      files={"s.json": {"waves": WAVE_TRAIN, "trace": {"ray_spacing": 0.01},

@@ -832,21 +832,21 @@ double planned_memory_floor_bytes(const Scene& scene) {
 
 void check_plan_limits(const Scene& scene, double max_bytes) {
     // A camera grid's vertices, from the scene alone: every pixel_step-th pixel of every
-    // row (rows that miss the water are dropped later; a bound, not a guess). Each holds
-    // its rest position twice (the grid, the plan), two triangles and one frame's
-    // positions and normals while it is planned: ~80 bytes. At the schema's 10⁸ pixels
-    // and step 1, validate built 13 GB of plan before a limit named other keys.
+    // row (rows that miss the water are dropped later; a bound, not a guess), at what a
+    // run of one holds a vertex at its peak (the plan's arrays, the breakers resampled on
+    // it, one frame and its file: estimate_run has 4 GB for 16 M vertices; 260 bytes, a margin over it).
+    // At the schema's 10⁸ pixels and step 1, validate built 13 GB of plan before a limit
+    // named other keys; at 16 M vertices it planned 2.2 GB before refusing the run's 4 GB.
     if (scene.camera_grid && scene.camera_grid->pixel_step > 0) {
         const GridCamera& c = *scene.camera_grid;
         const double columns = std::ceil(static_cast<double>(c.image_width) / static_cast<double>(c.pixel_step)),
                      rows = std::ceil(static_cast<double>(c.image_height) / static_cast<double>(c.pixel_step));
-        const bool shaded = scene.attributes != Scene::Attributes::none;
-        const double per_vertex = 16.0 + 16.0 + 24.0 + 24.0 + (shaded ? 12.0 : 0.0) + (scene.color ? 12.0 : 0.0);
+        const double per_vertex = 260.0;
         if (const double bytes = columns * rows * per_vertex; bytes > max_bytes)
             throw LimitError("scene: /surface/camera_grid/image [" + std::to_string(c.image_width) + ", " + std::to_string(c.image_height) +
                              "] at /surface/camera_grid/pixel_step " + std::to_string(c.pixel_step) + " samples up to " +
                              detail::format_count(static_cast<std::size_t>(columns * rows)) + " vertices, about " +
-                             fmt(std::ceil(bytes / 1e7) / 100.0) + " GB while the surface is planned (" + fmt(per_vertex) +
+                             fmt(std::ceil(bytes / 1e7) / 100.0) + " GB at a run's peak (" + fmt(per_vertex) +
                              " bytes a vertex), over the limit of " + fmt(max_bytes / 1e9) +
                              " GB; raise /surface/camera_grid/pixel_step or lower /surface/camera_grid/image, or raise the limit "
                              "(wave run --max-memory-gb)");
