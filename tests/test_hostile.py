@@ -494,6 +494,10 @@ class MemoryLimits(unittest.TestCase):
         self.refused(["validate", "{d}/s.json"], "/fronts/max_points 1000000000 lowered to the 2 GB memory limit",
                      files={"s.json": {"waves": WAVE_TRAIN, "trace": {"ray_spacing": 0.01},
                                        "fronts": {"max_points": 10 ** 9, "step": 0.01, "max_steps": 10 ** 7}}})
+        # 5.5 M points of a fine bay: validate planned 0.96 GB, then the run's 2.44 GB refused it.
+        self.refused(["validate", "{d}/s.json"], "make more than 5000000 points", "/fronts/max_points 10000000 lowered",
+                     files={"s.json": {"waves": WAVE_TRAIN, "trace": {"ray_spacing": 0.03},
+                                       "fronts": {"step": 0.06, "split_distance": 0.09}}})
         # 200 wave trains: past 120 s and 3.5 GB.
         self.refused(["validate", "{d}/s.json"], "/waves: 200 wave trains; at most 16",
                      files={"s.json": {"surface": {"kind": "wave-field"}, "waves": [{"period": 5, "amplitude": 0.3}] * 200}})

@@ -316,13 +316,13 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
                          " fronts, more than " + std::to_string(o.max_steps) +
                          " (FrontOptions::max_steps, scene key /fronts/max_steps; lengthen /fronts/step)");
     // max_points, lowered to the points the memory limit holds (FrontSet's arrays alone).
-    const double by_memory = std::floor(o.max_bytes / kFrontPointBytes);
+    const double by_memory = std::floor(o.max_bytes / kRunBytesPerFrontPoint);
     const std::size_t max_points =
         by_memory < static_cast<double>(o.max_points) ? static_cast<std::size_t>(std::max(by_memory, 0.0)) : o.max_points;
     const auto memory_note = [&] {
         return max_points < o.max_points ? " (/fronts/max_points " + std::to_string(o.max_points) + " lowered to the " +
                                                detail::format_number(o.max_bytes / 1e9) + " GB memory limit at " +
-                                               detail::format_number(kFrontPointBytes) + " bytes a point; wave run --max-memory-gb)"
+                                               detail::format_number(kRunBytesPerFrontPoint) + " bytes a point at a run's peak; wave run --max-memory-gb)"
                                          : std::string();
     };
     if (fronts_needed * static_cast<double>(entries.size()) > static_cast<double>(max_points))
