@@ -706,9 +706,12 @@ int run_job(const RunArgs& a) {
     FrameRange range = parse_frames(a.frames);
     const std::string out_dir = run_out_dir(a);
     check_out_dir(out_dir);
+    if (scene.form == Scene::Form::files) check_files_form_places(out_dir);  // before the plan: at once
 
     auto clock = std::chrono::steady_clock::now();
     const double max_bytes = a.max_memory_gb * 1e9;
+    scene.fronts.max_bytes = max_bytes;  // the front points and a wave field's grid within the run's memory limit
+    scene.field.max_bytes = max_bytes;
     check_plan_limits(scene, max_bytes);
     ScenePlan plan = plan_scene(scene, PlanStages::surface);
     const bool files_form = scene.form == Scene::Form::files;
@@ -844,7 +847,9 @@ int run_job(const RunArgs& a) {
 }
 
 int run_validate(const std::string& path, bool as_json, double max_memory_gb) {
-    const Scene read = read_scene(path);
+    Scene read = read_scene(path);
+    read.fronts.max_bytes = max_memory_gb * 1e9;  // the front points and a wave field's grid within the run's memory limit
+    read.field.max_bytes = max_memory_gb * 1e9;
     const Seafloor sea = scene_seafloor(read);
     const auto camera = scene_camera(read, sea);
     const SeafloorStats st = seafloor_stats(sea);
@@ -1014,7 +1019,7 @@ int run_convert(const ConvertArgs& a) {
 
 // asset.extras.libwave of a .glb or .gltf, from its JSON alone (the binary is not read).
 json frame_metadata(const std::string& path) {
-    if (std::filesystem::is_directory(path)) throw InputError(path + ": a directory, not a file");
+    require_input_file(path);
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(path + ": cannot open the file");
     std::string text;
@@ -1118,6 +1123,7 @@ int run_merge(const MergeArgs& a) {
     namespace fs = std::filesystem;
     const fs::path frames = fs::path(a.out_dir) / "frames";
     if (!fs::is_directory(frames)) throw InputError(a.out_dir + ": no frames/ folder (the files form's output)");
+    path_inside(a.out_dir, "frames", a.out_dir + ": its");  // a link to frames elsewhere is not this folder's
     std::map<std::size_t, std::string> files;
     bool gltf = false;
     for (const auto& e : fs::directory_iterator(frames)) {
@@ -1127,6 +1133,7 @@ int run_merge(const MergeArgs& a) {
         if (std::sscanf(name.c_str(), "frame-%zu.%7s", &frame, ext) != 2 || (std::strcmp(ext, "glb") && std::strcmp(ext, "gltf")))
             continue;
         gltf = std::strcmp(ext, "gltf") == 0;
+        path_inside(a.out_dir, "frames/" + name, a.out_dir + ": a frame");
         files[frame] = "frames/" + name;
     }
     if (files.empty()) throw InputError(frames.string() + ": no frame files");
@@ -1164,7 +1171,7 @@ int run_merge(const MergeArgs& a) {
     std::vector<json> entries;
     for (const auto& [frame, file] : files) {
         Files content;
-        const auto add = [&](const std::string& name) { content.emplace_back(name, read_input_bytes(fs::path(a.out_dir) / name)); };
+        const auto add = [&](const std::string& name) { content.emplace_back(name, read_input_bytes(path_inside(a.out_dir, name, a.out_dir + ": a frame"))); };
         add(file);
         if (file.ends_with(".gltf")) add(file.substr(0, file.size() - 5) + ".bin");
         json entry = frame_entry(frame, fps, content);

@@ -54,6 +54,7 @@ struct FieldArgs {
     std::string png;        ///< plot of H/H0 with the depth contours; optional
     std::size_t train = 0;  ///< which of /waves
     bool json = false;      ///< print a JSON summary
+    double max_memory_gb = 2.0;  ///< the grid's memory limit (GB)
 };
 int run_field(const FieldArgs& a);
 

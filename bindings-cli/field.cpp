@@ -21,7 +21,8 @@ namespace wave::cli {
 int run_field(const FieldArgs& a) {
     if (a.output.empty() && a.png.empty() && !a.json)
         throw InputError("field: nothing to do; give -o GEOTIFF, --png PLOT and/or --json");
-    const Scene scene = a.scene.empty() ? default_scene() : read_scene(a.scene);
+    Scene scene = a.scene.empty() ? default_scene() : read_scene(a.scene);
+    scene.field.max_bytes = a.max_memory_gb * 1e9;
     if (surface_kind_traces(scene.surface_kind) == Traced::nothing)
         throw InputError(a.scene + ": the " + std::string(surface_kind_name(scene.surface_kind)) +
                          " surface has no seafloor to solve a wave field over");
@@ -31,7 +32,11 @@ int run_field(const FieldArgs& a) {
     for (const std::string& path : {a.output, a.png}) {
         if (path.empty()) continue;
         if (std::filesystem::is_directory(path)) throw InputError(path + ": a folder; -o and --png name files");
-        check_out_dir(std::filesystem::path(path).parent_path().string());
+        const std::string folder = std::filesystem::path(path).parent_path().string();
+        check_out_dir(folder);
+        std::error_code ec;
+        if (!folder.empty() && !std::filesystem::is_directory(folder, ec))
+            throw InputError(path + ": its folder " + folder + " does not exist; -o and --png name files in an existing folder");
     }
     const Seafloor seafloor = scene_seafloor(scene);
     const auto t0 = std::chrono::steady_clock::now();

@@ -2,6 +2,7 @@
 // 1 runtime failure; errors go to stderr as "error: …".
 #include "commands.h"
 #include "libwave/errors.h"
+#include "libwave/io.h"
 #include "libwave/version.h"
 
 #include <CLI/CLI.hpp>
@@ -188,6 +189,8 @@ int main(int argc, char** argv) {
     field_cmd->add_option("--png", field.png, "PNG plot of H/H0 with the depth contours and a labelled colour scale");
     field_cmd->add_option("--train", field.train, "which wave train of /waves (default 0)");
     field_cmd->add_flag("--json", field.json, "print a JSON summary");
+    field_cmd->add_option("--max-memory-gb", field.max_memory_gb, "refuse a grid that would need more memory (GB, default 2), before it is allocated")
+        ->check(CLI::Range(0.001, 1e6));
 
     cli::InspectArgs inspect;
     auto* inspect_cmd = app.add_subcommand("inspect", "Check an output of wave run as a renderer meets it, every frame: folds and overturning lips, slivers, long edges, boundary loops, unreferenced vertices, vertex speeds");
@@ -285,14 +288,14 @@ int main(int argc, char** argv) {
         return 2;
     } catch (const CLI::Success& e) {  // --help, --help-all, --version
         return app.exit(e);
-    } catch (const CLI::ParseError& e) {
-        std::cerr << "error: " << e.what() << "\n(run 'wave --help' for usage)\n";
+    } catch (const CLI::ParseError& e) {  // messages show names as escapes, never as terminal commands
+        std::cerr << "error: " << wave::printable(e.what()) << "\n(run 'wave --help' for usage)\n";
         return 2;
     } catch (const wave::InputError& e) {
-        std::cerr << "error: " << e.what() << '\n';
+        std::cerr << "error: " << wave::printable(e.what()) << '\n';
         return 2;
     } catch (const std::exception& e) {
-        std::cerr << "error: " << e.what() << '\n';
+        std::cerr << "error: " << wave::printable(e.what()) << '\n';
         return 1;
     }
 }

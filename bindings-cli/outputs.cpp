@@ -96,6 +96,20 @@ void check_out_dir(const std::string& out_dir) {
     }
 }
 
+void check_files_form_places(const std::string& out_dir) {
+    std::error_code ec;
+    for (const char* name : {"index.json", "frames"}) {
+        const std::string at = path_inside(out_dir, name, out_dir + ": the files form's");
+        const bool folder = std::string_view(name) == "frames";
+        const auto status = fs::status(at, ec);
+        if (ec || !fs::exists(status)) continue;
+        if (folder ? !fs::is_directory(status) : !fs::is_regular_file(status))
+            throw InputError(at + ": " + (fs::is_directory(status) ? "a folder" : fs::is_regular_file(status) ? "a file" : "not a regular file") +
+                             ", where the files form writes its " + (folder ? "frames' folder" : "index") +
+                             "; remove it or use another output folder");
+    }
+}
+
 // An index that cannot be read is a reason to recompute, not to stop a resumed run.
 std::optional<json> read_index(const fs::path& path) {
     const auto bytes = read_bytes(path);
@@ -127,11 +141,16 @@ bool entry_intact(const json& entry, const fs::path& root) {
             !c["bytes"].is_number_unsigned() || !c.contains("sha256") || !c["sha256"].is_string())
             return false;
         const std::string name = c["file"].get<std::string>();
-        if (name.empty() || name.front() == '/' || name.find("..") != std::string::npos) return false;  // stays inside root
+        std::string file;
+        try {
+            file = path_inside(root.string(), name, root.string());  // stays inside root, links included
+        } catch (const InputError&) {
+            return false;
+        }
         std::error_code ec;
-        const auto size = fs::file_size(root / name, ec);
+        const auto size = fs::file_size(file, ec);
         if (ec || size != c["bytes"].get<std::uintmax_t>()) return false;  // cheap check first
-        const auto bytes = read_bytes(root / name);
+        const auto bytes = read_bytes(file);
         if (!bytes || sha256_hex(*bytes) != c["sha256"].get<std::string>()) return false;
     }
     return true;
@@ -203,6 +222,7 @@ std::vector<std::string> publish(const std::string& out_dir, const Files& files,
             fs::remove_all(e.path(), ignored);
         }
     }
+    for (const auto& [name, _] : files) path_inside(out_dir, name, out_dir + ": an output");  // nothing written through a link out
     try {
         fs::create_directories(staging);
         std::vector<std::string> names;
@@ -212,6 +232,7 @@ std::vector<std::string> publish(const std::string& out_dir, const Files& files,
             write_file_atomic((staging / name).string(), bytes);
             names.push_back(name);
         }
+        for (const std::string& name : names) path_inside(out_dir, name, out_dir + ": an output");  // before any is moved
         for (const std::string& name : names) {
             fs::create_directories((fs::path(out_dir) / name).parent_path());
             fs::rename(staging / name, fs::path(out_dir) / name);

@@ -64,6 +64,11 @@ std::string read_input_bytes(const std::filesystem::path& path);
 /// below one: `-o` names a folder.
 void check_out_dir(const std::string& out_dir);
 
+/// Refuses (InputError, before any frame is computed) a folder whose index.json is not a
+/// file, whose frames is not a folder, or either a link out of the folder (path_inside):
+/// the files form writes there.
+void check_files_form_places(const std::string& out_dir);
+
 /// index.json of an animation holding `entries` (frames in order).
 nlohmann::json frame_index(const IndexInfo& info, std::vector<nlohmann::json> entries);
 

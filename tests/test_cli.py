@@ -769,7 +769,9 @@ class OutputForms(unittest.TestCase):
                 json.dump(self.SMALL, f)
             self.assertEqual(wave("run", scene, "-o", out, "-q").returncode, 0)
             before = {n: pathlib.Path(out, n).read_bytes() for n in os.listdir(out)}
-            pathlib.Path(out, "frames").write_text("a file where the frames folder would go")
+            # A folder where the first frame file goes: publishing it fails (a frames/ that
+            # is a file is refused before any frame is computed: test_hostile.py, Resume).
+            os.makedirs(os.path.join(out, "frames", "frame-0000.glb", "in-the-way"))
             r = wave("run", scene, "-o", out, "--form", "files", "--fps", "6")
             self.assertEqual(r.returncode, 1, r.stderr)
             self.assertTrue(r.stderr.startswith("error: "))
@@ -778,7 +780,7 @@ class OutputForms(unittest.TestCase):
             self.assertEqual(after, before)  # nothing replaced, no staging folder left
             # The computed frames wait in the partial folder: once the obstacle is gone,
             # --resume publishes them without computing any again.
-            os.remove(os.path.join(out, "frames"))
+            shutil.rmtree(os.path.join(out, "frames"))
             r = wave("run", scene, "-o", out, "--form", "files", "--fps", "6", "--resume", "--json")
             self.assertEqual(r.returncode, 0, r.stderr)
             resumed = json.loads(r.stdout)["resume"]
@@ -2699,7 +2701,9 @@ class Convert(unittest.TestCase):
                                   "--frames", "0:2").returncode, 0)
             with open(os.path.join(d, "df", "index.json")) as f:
                 index = json.load(f)
-            index["frames"][1]["file"] = os.path.join("..", "d3", index["frames"][1]["file"])
+            # (copied into df: an index names only files inside its own folder)
+            shutil.copy(os.path.join(d, "d3", index["frames"][1]["file"]), os.path.join(d, "df", "d3-frame-0001.glb"))
+            index["frames"][1]["file"] = "d3-frame-0001.glb"
             index["frames"][1]["content"] = [{**c, "file": index["frames"][1]["file"]} for c in index["frames"][1]["content"]]
             mixed = os.path.join(d, "df", "mixed.json")
             with open(mixed, "w") as f:

@@ -11,6 +11,9 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cmath>
 #include <numbers>
 #include <algorithm>
@@ -586,6 +589,101 @@ TEST(Meshopt, HostileStreamsAreRefusedNamingTheFile) {
     refused(index_view, [](nlohmann::json&, nlohmann::json& e) { e["mode"] = "STRIPS"; }, "unknown mode");
     refused(position_view, [](nlohmann::json&, nlohmann::json& e) { e["byteOffset"] = 1 << 30; }, "outside its buffer");
     refused(position_view, [](nlohmann::json&, nlohmann::json& e) { e["buffer"] = 1; }, "not in a buffer with data");
+}
+
+TEST(GltfRead, AccessorsStayInsideTheirViewsAndTheExtrasAreChecked) {
+    // A byteStride that runs an accessor past its view (it read the next view's bytes), a
+    // negative one (tinygltf took it for none) and asset extras beyond any loop (tinygltf
+    // casts them to int: 2^40 frames became 0): InputError naming the file.
+    Quad q;
+    const std::string glb = gltf_morph_glb(q.view());
+    const auto doc = nlohmann::json::parse(glb_json(glb));
+    const std::size_t position = doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"];
+    const std::size_t view = doc["accessors"][position]["bufferView"];
+    const std::filesystem::path file = std::filesystem::temp_directory_path() / "libwave-gltf-bounds.glb";
+    const auto refused = [&](const std::function<void(nlohmann::json&)>& edit, const std::string& message) {
+        nlohmann::json bad = doc;
+        edit(bad);
+        write_file_atomic(file.string(), with_json(glb, bad));
+        try {
+            read_animation(file.string());
+            ADD_FAILURE() << "accepted: " << message;
+        } catch (const InputError& e) {
+            const std::string what = e.what();
+            EXPECT_NE(what.find(message), std::string::npos) << message << ": " << what;
+            EXPECT_NE(what.find(file.string()), std::string::npos) << what;
+        }
+        std::filesystem::remove(file);
+    };
+    refused([&](nlohmann::json& d) { d["bufferViews"][view]["byteStride"] = 16; }, "runs past its bufferView");
+    refused([&](nlohmann::json& d) { d["bufferViews"][view]["byteStride"] = -12; }, "byteStride -12");
+    refused([&](nlohmann::json& d) { d["bufferViews"][view]["byteStride"] = 6; }, "multiple of 4");
+    refused([](nlohmann::json& d) { d["asset"]["extras"]["libwave"]["loop_frames"] = std::uint64_t{1} << 40; }, "loop_frames");
+    refused([](nlohmann::json& d) { d["asset"]["extras"]["libwave"]["loop_frames"] = -3; }, "loop_frames");
+    refused([](nlohmann::json& d) { d["asset"]["extras"]["libwave"]["fps"] = 0; }, "fps");
+    // The stride libwave's own views would have (none, or the element's 12 bytes) is read.
+    write_file_atomic(file.string(), glb);
+    const std::vector<float> plain = read_animation(file.string()).positions;
+    nlohmann::json fine = doc;
+    fine["bufferViews"][view]["byteStride"] = 12;
+    write_file_atomic(file.string(), with_json(glb, fine));
+    EXPECT_EQ(read_animation(file.string()).positions, plain);
+    std::filesystem::remove(file);
+}
+
+TEST(Files, SpecialFilesAndPathsOutOfTheirFolderAreRefused) {
+    namespace fs = std::filesystem;
+    const fs::path d = fs::temp_directory_path() / ("libwave-files-" + std::to_string(::getpid()));
+    fs::remove_all(d);
+    fs::create_directories(d / "in" / "frames");
+    fs::create_directories(d / "out");
+    write_file_atomic((d / "in" / "frames" / "a.glb").string(), "x");
+    write_file_atomic((d / "out" / "b.glb").string(), "x");
+    ASSERT_EQ(::mkfifo((d / "in" / "fifo.glb").c_str(), 0600), 0);
+    fs::create_directory_symlink("../out", d / "in" / "away");
+    fs::create_directory_symlink("frames", d / "in" / "here");
+    const std::string in = (d / "in").string();
+    const auto message = [](const std::function<void()>& f) {
+        try {
+            f();
+        } catch (const InputError& e) {
+            return std::string(e.what());
+        }
+        return std::string("accepted");
+    };
+    // One check of the file's type before any open: a FIFO would block its reader.
+    EXPECT_NE(message([&] { require_input_file(in + "/fifo.glb"); }).find("a FIFO (named pipe), not a regular file"), std::string::npos);
+    EXPECT_NE(message([&] { require_input_file(in + "/frames"); }).find("a directory, not a file"), std::string::npos);
+    EXPECT_NE(message([&] { require_input_file(in + "/frames/a.glb", true); }).find("a file, not a folder"), std::string::npos);
+    EXPECT_NO_THROW(require_input_file(in + "/frames", true));
+    EXPECT_NO_THROW(require_input_file(in + "/frames/a.glb"));
+    // One containment rule for a path read from a file.
+    for (const auto& [name, why] : std::vector<std::pair<std::string, std::string>>{
+             {"../out/b.glb", "goes up a folder"}, {(d / "out" / "b.glb").string(), "an absolute path"},
+             {"frames/../../out/b.glb", "goes up a folder"}, {"away/b.glb", "a link leads out of the folder"},
+             {"away", "a link leads out of the folder"}, {"", "an empty path"}}) {
+        const std::string m = message([&] { path_inside(in, name, "index.json: frames[0].file"); });
+        EXPECT_NE(m.find(why), std::string::npos) << name << ": " << m;
+        EXPECT_NE(m.find("index.json: frames[0].file"), std::string::npos) << m;
+    }
+    EXPECT_EQ(path_inside(in, "frames/a.glb", "x"), in + "/frames/a.glb");
+    EXPECT_EQ(path_inside(in, "here/a.glb", "x"), in + "/here/a.glb");  // a link that stays inside
+    EXPECT_EQ(path_inside(in, "frames/new/c.glb", "x"), in + "/frames/new/c.glb");  // not there yet: a file to write
+    fs::remove_all(d);
+}
+
+TEST(Messages, ControlAndBidiCharactersAreShownAsEscapes) {
+    // A name read from a file (a scene's /name, a path) reaches the terminal through
+    // printable: an escape sequence, a line break or a right-to-left override is shown,
+    // not acted on; other text (UTF-8 included) is kept.
+    EXPECT_EQ(printable("plain: bay.json, é, 波"), "plain: bay.json, é, 波");
+    EXPECT_EQ(printable("a\x1b[2Jb"), "a\\x1B[2Jb");
+    EXPECT_EQ(printable("line\nbreak\ttab\x7f"), "line\\x0Abreak\ttab\\x7F");
+    EXPECT_EQ(printable("evil\u202Egnp.exe"), "evil\\u{202E}gnp.exe");
+    EXPECT_EQ(printable("\u2066x\u2069 \u200F \u061C"), "\\u{2066}x\\u{2069} \\u{200F} \\u{061C}");
+    EXPECT_EQ(printable("c1\xC2\x9B"), "c1\\u{009B}");
+    EXPECT_EQ(printable("bad\xff\xC0\xAF"), "bad\\xFF\\xC0\\xAF");  // invalid and overlong bytes
+    EXPECT_EQ(printable(std::string("nul\0x", 5)), "nul\\x00x");
 }
 
 TEST(Quantization, TheMorphFormKeepsAFarSkirtsRestPositions) {

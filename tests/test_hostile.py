@@ -4,6 +4,7 @@ corruption, unbounded work, recovery and messages (docs/hardening.md). Every ref
 exits 2 with a message naming the scene key or the file (with row and column), writes
 no output, and — for what used to hang — comes back at once; and a property test draws
 scene files with every numeric key of the schema at extreme values."""
+import base64
 import json
 import math
 import os
@@ -165,8 +166,9 @@ class Refusals(unittest.TestCase):
         land = "ncols 3\nnrows 3\nxllcorner 0\nyllcorner 0\ncellsize 10\nNODATA_value -9999\n" + "1 2 3\n" * 3
         nodata = "ncols 3\nnrows 3\nxllcorner 0\nyllcorner 0\ncellsize 10\nNODATA_value -9999\n" + "-9999 -9999 -9999\n" * 3
         for command in ("validate", "run"):
-            self.refused({"seafloor": {"source": "land.asc"}, "waves": WAVE_TRAIN}, "land.asc: the seafloor has no water",
-                         command=command, files={"land.asc": land})
+            for kind in ("ray-strips", "height-field", "wave-field"):
+                self.refused({"seafloor": {"source": "land.asc"}, "waves": WAVE_TRAIN, "surface": {"kind": kind}},
+                             "land.asc: the seafloor is all land", command=command, files={"land.asc": land})
             self.refused({"seafloor": {"source": "nodata.asc"}, "waves": WAVE_TRAIN}, "NODATA read as land",
                          command=command, files={"nodata.asc": nodata})
             # (found after slicing the bay's isobaths and starting the fronts: real work,
@@ -175,6 +177,14 @@ class Refusals(unittest.TestCase):
                          "the swell travels towards [0, -1] (/waves/0/direction)", command=command, max_seconds=3.0)
             self.refused({"waves": WAVE_TRAIN, "trace": {"ray_spacing": 500}},
                          "/trace/ray_spacing 500 m leaves fewer than two rays", command=command)
+            # The other traced surfaces said nothing: an empty animation, "heights 0 .. 0 m".
+            from_land = [{"period": 5, "amplitude": 0.3, "direction": [0, -1]}]
+            self.refused({"waves": from_land, "surface": {"kind": "height-field"}, "animation": {"fps": 2}},
+                         "no ray enters the water", "/waves/0/direction", command=command, max_seconds=3.0)
+            self.refused({"waves": WAVE_TRAIN, "surface": {"kind": "height-field"}, "trace": {"ray_spacing": 500}, "animation": {"fps": 2}},
+                         "no ray enters the water", "/trace/ray_spacing 500 m leaves fewer than two rays", command=command, max_seconds=3.0)
+            self.refused({"waves": from_land, "surface": {"kind": "wave-field"}, "animation": {"fps": 2}},
+                         "no wave enters the water", "/waves/0/direction", command=command, max_seconds=3.0)
 
     def test_huge_values_are_echoed_cut(self):
         big = "a" * 1000000
@@ -311,6 +321,23 @@ class Physics(unittest.TestCase):
             self.assertLess(results[0]["caustic_points"], 0.01 * results[0]["points"])
 
 
+    def test_the_axis_constants_never_raise_the_swell(self):
+        # /motion/kx at the low end of its range made a 0.3 m swell ±5.55 m high.
+        with tempfile.TemporaryDirectory() as d:
+            heights = {}
+            for kx in (0.11, 1e-3, 1e-9):
+                path = os.path.join(d, f"kx-{kx}.json")
+                with open(path, "w") as f:
+                    json.dump({**SMALL_BAY, "motion": {"kx": kx}}, f)
+                out = os.path.join(d, f"out-{kx}")
+                r = wave("run", path, "-q", "--frames", "0:2", "-o", out)
+                self.assertEqual(r.returncode, 0, r.stderr)
+                report = json.loads(pathlib.Path(out, "report-frames-0-2.json").read_text())
+                heights[kx] = report["surface"]["height_range_m"]
+            for kx, (low, high) in heights.items():
+                self.assertLess(max(-low, high), 4 * 0.3, f"kx {kx}: {low} .. {high} m")
+
+
 class Recovery(unittest.TestCase):
     """Resume and merge never mix versions, and rebuild what they can check."""
 
@@ -407,6 +434,354 @@ class Recovery(unittest.TestCase):
             self.assertEqual(self.frame_bytes(moved), self.frame_bytes(ref))
 
 
+def files_run(d, name="ref", frames="0:2"):
+    """A small files-form output (the coarse bay, two frames) in d/name; its path."""
+    scene = os.path.join(d, "bay.json")
+    with open(scene, "w") as f:
+        json.dump(SMALL_BAY, f)
+    out = os.path.join(d, name)
+    r = wave("run", scene, "-q", "--form", "files", "--frames", frames, "-o", out)
+    assert r.returncode == 0, r.stderr
+    return out
+
+
+def gltf_output(d, ref):
+    """ref converted to d/g/animation.gltf + animation.bin (the morph form); d/g."""
+    g = os.path.join(d, "g")
+    r = wave("convert", os.path.join(ref, "index.json"), "-q", "--form", "morph", "--container", "gltf", "-o", g)
+    assert r.returncode == 0, r.stderr
+    stem = [n for n in os.listdir(g) if n.endswith(".gltf")][0][:-5]
+    doc = json.loads(pathlib.Path(g, stem + ".gltf").read_text())
+    doc["buffers"][0]["uri"] = "animation.bin"
+    os.rename(os.path.join(g, stem + ".bin"), os.path.join(g, "animation.bin"))
+    os.remove(os.path.join(g, stem + ".gltf"))
+    pathlib.Path(g, "animation.gltf").write_text(json.dumps(doc))
+    return g
+
+
+class MemoryLimits(unittest.TestCase):
+    """Every limit fires before its memory is allocated, naming the key that drives it:
+    `wave validate` stays far below 1 GB on the scenes it refuses."""
+
+    def refused(self, args, *expected, files=None):
+        with tempfile.TemporaryDirectory() as d:
+            paths = []
+            for name, doc in (files or {}).items():
+                paths.append(os.path.join(d, name))
+                with open(paths[-1], "w") as f:
+                    json.dump(doc, f)
+            rc, _, err, seconds, peak = measured([a.format(d=d) for a in args], timeout=60)
+            self.assertEqual(rc, 2, err)
+            for e in expected:
+                self.assertIn(e, err)
+            self.assertNotIn("bad_alloc", err)
+            self.assertLess(peak, 400e6, err)
+            if not UNDER_ASAN:
+                self.assertLess(seconds, 5, err)
+            return err
+
+    def test_schema_maxima_are_refused_before_they_are_allocated(self):
+        # The camera grid at the schema's 10^8 pixels and step 1: 13.4 GB over 99 s, then
+        # a refusal naming /trace/ray_spacing, /fronts/step and the fps.
+        self.refused(["validate", "{d}/s.json"], "/surface/camera_grid/image [10000, 10000]", "/surface/camera_grid/pixel_step 1",
+                     "100000000 vertices", files={"s.json": {"waves": WAVE_TRAIN, "breakers": "jeschke",
+                                                             "surface": {"camera_grid": {"image": [10000, 10000], "pixel_step": 1}}}})
+        # 4000² at step 1: validate planned 2.2 GB before the run's estimate (4 GB) refused it.
+        self.refused(["validate", "{d}/s.json"], "/surface/camera_grid/image [4000, 4000]",
+                     files={"s.json": {"waves": WAVE_TRAIN, "breakers": "jeschke",
+                                       "surface": {"camera_grid": {"image": [4000, 4000], "pixel_step": 1}}}})
+        # /fronts/max_points at its maximum: a raw std::bad_alloc reserving 10^9 points.
+        self.refused(["validate", "{d}/s.json"], "/fronts/max_points 1000000000 lowered to the 2 GB memory limit",
+                     files={"s.json": {"waves": WAVE_TRAIN, "trace": {"ray_spacing": 0.01},
+                                       "fronts": {"max_points": 10 ** 9, "step": 0.01, "max_steps": 10 ** 7}}})
+        # 5.5 M points of a fine bay: validate planned 0.96 GB, then the run's 2.44 GB refused it.
+        self.refused(["validate", "{d}/s.json"], "make more than 5000000 points", "/fronts/max_points 10000000 lowered",
+                     files={"s.json": {"waves": WAVE_TRAIN, "trace": {"ray_spacing": 0.03},
+                                       "fronts": {"step": 0.06, "split_distance": 0.09}}})
+        # 200 wave trains: past 120 s and 3.5 GB.
+        self.refused(["validate", "{d}/s.json"], "/waves: 200 wave trains; at most 16",
+                     files={"s.json": {"surface": {"kind": "wave-field"}, "waves": [{"period": 5, "amplitude": 0.3}] * 200}})
+        # wave field: an estimate and --max-memory-gb (it went to 3.6 GB at 75 M nodes).
+        self.refused(["field", "{d}/s.json", "--json", "--max-memory-gb", "0.05"], "wave field: 1488 x 1488 nodes",
+                     "over the 0.05 GB it may take", "--max-memory-gb",
+                     files={"s.json": {"waves": WAVE_TRAIN, "field": {"nodes_per_wavelength": 200}}})
+        self.refused(["field", "-o", "{d}/missing/field.tif"], "missing/field.tif: its folder", "does not exist")
+
+
+class SpecialFiles(unittest.TestCase):
+    """A FIFO (or device) where a file is read is refused by its type before any open:
+    it blocked the reader for ever (docs/hardening.md, "Special files")."""
+
+    def refused_at_once(self, args, *expected):
+        rc, _, err, seconds, _ = measured(args, timeout=20)
+        self.assertEqual(rc, 2, f"{args}: {err}")
+        for e in expected:
+            self.assertIn(e, err)
+        self.assertLess(seconds, 10, err)
+        return err
+
+    def test_a_fifo_is_never_opened(self):
+        with tempfile.TemporaryDirectory() as d:
+            for ext in ("tif", "asc", "off", "json"):  # GDAL, mesh and contour readers
+                fifo = os.path.join(d, "floor." + ext)
+                os.mkfifo(fifo)
+                scene = os.path.join(d, f"s-{ext}.json")
+                with open(scene, "w") as f:
+                    json.dump({"seafloor": {"source": "floor." + ext}, "waves": WAVE_TRAIN}, f)
+                self.refused_at_once(["validate", scene], fifo, "a FIFO (named pipe), not a regular file")
+            os.mkfifo(os.path.join(d, "scene.json"))
+            self.refused_at_once(["validate", os.path.join(d, "scene.json")], "a FIFO")
+            os.mkfifo(os.path.join(d, "in.glb"))
+            self.refused_at_once(["convert", os.path.join(d, "in.glb"), "-o", os.path.join(d, "c")], "in.glb: a FIFO")
+            self.assertFalse(os.path.exists(os.path.join(d, "c")))
+            # Named by an index entry, for convert and inspect; inside frames/ for merge.
+            out = files_run(d)
+            fifo = os.path.join(out, "frames", "frame-0001.glb")
+            os.remove(fifo)
+            os.mkfifo(fifo)
+            self.refused_at_once(["convert", os.path.join(out, "index.json"), "-o", os.path.join(d, "c")], "frame-0001.glb: a FIFO")
+            self.refused_at_once(["inspect", out], "frame-0001.glb: a FIFO")
+            self.refused_at_once(["merge", out], "frame-0001.glb: a FIFO")
+            self.assertFalse(os.path.exists(os.path.join(d, "c")))
+
+
+class PathsOutside(unittest.TestCase):
+    """A path read from a file (an index entry, a buffer URI, a folder's frames/) stays
+    inside its folder: relative, no .., no link out — the rule --resume and the viewer
+    already kept (docs/hardening.md, "Paths read from files")."""
+
+    def test_index_entries_and_buffer_uris_stay_in_their_folder(self):
+        with tempfile.TemporaryDirectory() as d:
+            ref = files_run(d)
+            victim = os.path.join(d, "victim")
+            os.makedirs(victim)
+            shutil.copy(os.path.join(ref, "frames", "frame-0000.glb"), os.path.join(victim, "frame.glb"))
+            cases = [("../victim/frame.glb", "goes up a folder"), (os.path.join(victim, "frame.glb"), "an absolute path"),
+                     ("frames/../../victim/frame.glb", "goes up a folder"), ("away/frame.glb", "a link leads out of the folder")]
+            for name, why in cases:
+                with self.subTest(name=name):
+                    out = os.path.join(d, "out")
+                    shutil.rmtree(out, True)
+                    shutil.copytree(ref, out)
+                    os.symlink("../victim", os.path.join(out, "away"))
+                    index = json.loads(pathlib.Path(out, "index.json").read_text())
+                    index["frames"][1]["file"] = name
+                    pathlib.Path(out, "index.json").write_text(json.dumps(index))
+                    for args in (["convert", os.path.join(out, "index.json"), "-o", os.path.join(d, "c")], ["inspect", out]):
+                        r = wave(*args)
+                        self.assertEqual(r.returncode, 2, r.stderr)
+                        self.assertIn("index.json: frames[1].file '" + name + "'", r.stderr)
+                        self.assertIn(why, r.stderr)
+                        self.assertFalse(os.path.exists(os.path.join(d, "c")))
+            # A .gltf's buffer: its URI (percent-decoded, as tinygltf reads it) inside its folder.
+            g = gltf_output(d, ref)
+            secret = os.path.join(d, "secret")
+            shutil.copytree(g, secret)
+            doc = json.loads(pathlib.Path(g, "animation.gltf").read_text())
+            for uri, why in (("../secret/animation.bin", "goes up a folder"), (os.path.join(secret, "animation.bin"), "an absolute path"),
+                             ("%2E%2E/secret/animation.bin", "goes up a folder"), ("away/animation.bin", "a link leads out")):
+                with self.subTest(uri=uri):
+                    h = os.path.join(d, "h")
+                    shutil.rmtree(h, True)
+                    os.makedirs(h)
+                    os.symlink("../secret", os.path.join(h, "away"))
+                    doc["buffers"][0]["uri"] = uri
+                    pathlib.Path(h, "animation.gltf").write_text(json.dumps(doc))
+                    for args in (["convert", os.path.join(h, "animation.gltf"), "-o", os.path.join(d, "c")], ["inspect", h]):
+                        r = wave(*args)
+                        self.assertEqual(r.returncode, 2, r.stderr)
+                        self.assertIn("animation.gltf: buffer 0's uri", r.stderr)
+                        self.assertIn(why, r.stderr)
+                        self.assertFalse(os.path.exists(os.path.join(d, "c")))
+
+    def test_merge_and_the_files_form_neither_read_nor_write_through_a_link_out(self):
+        with tempfile.TemporaryDirectory() as d:
+            ref = files_run(d)
+            m = os.path.join(d, "m")
+            os.makedirs(m)
+            os.symlink(os.path.join(ref, "frames"), os.path.join(m, "frames"))
+            r = wave("merge", m)
+            self.assertEqual(r.returncode, 2, r.stderr)
+            self.assertIn("'frames': a link leads out of the folder", r.stderr)
+            self.assertFalse(os.path.exists(os.path.join(m, "index.json")))
+            # A frame file linked out of the folder is not indexed either.
+            shutil.rmtree(m)
+            shutil.copytree(ref, m)
+            os.remove(os.path.join(m, "index.json"))
+            os.remove(os.path.join(m, "frames", "frame-0001.glb"))
+            os.symlink(os.path.join(ref, "frames", "frame-0001.glb"), os.path.join(m, "frames", "frame-0001.glb"))
+            r = wave("merge", m)
+            self.assertEqual(r.returncode, 2, r.stderr)
+            self.assertIn("'frames/frame-0001.glb': a link leads out of the folder", r.stderr)
+            # The files form does not write its frames through such a link.
+            elsewhere = os.path.join(d, "elsewhere")
+            os.makedirs(elsewhere)
+            o = os.path.join(d, "o")
+            os.makedirs(o)
+            os.symlink(elsewhere, os.path.join(o, "frames"))
+            rc, _, err, seconds, _ = measured(["run", os.path.join(d, "bay.json"), "-q", "--form", "files", "-o", o])
+            self.assertEqual(rc, 2, err)
+            self.assertIn("'frames': a link leads out of the folder", err)
+            self.assertEqual(os.listdir(elsewhere), [])
+            self.assertEqual(sorted(os.listdir(o)), ["frames"], "no partial folder left")
+            self.assertLess(seconds, 5, "refused before any frame is computed")
+
+
+class GltfBounds(unittest.TestCase):
+    """Every accessor within its bufferView, strides as glTF allows them, embedded data:
+    buffers read, the asset extras checked as numbers (docs/hardening.md)."""
+
+    def test_strides_data_uris_and_extras(self):
+        with tempfile.TemporaryDirectory() as d:
+            ref = files_run(d)
+            g = gltf_output(d, ref)
+            doc = json.loads(pathlib.Path(g, "animation.gltf").read_text())
+            position = doc["accessors"][doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"]]["bufferView"]
+
+            def converted(edit, name):
+                h = os.path.join(d, name)
+                shutil.rmtree(h, True)
+                shutil.copytree(g, h)
+                bad = json.loads(json.dumps(doc))
+                edit(bad)
+                pathlib.Path(h, "animation.gltf").write_text(json.dumps(bad))
+                out = os.path.join(d, "c-" + name)
+                return wave("convert", os.path.join(h, "animation.gltf"), "-o", out), out
+
+            def refused(edit, *expected):
+                r, out = converted(edit, "h")
+                self.assertEqual(r.returncode, 2, r.stderr)
+                self.assertIn("animation.gltf: ", r.stderr)
+                for e in expected:
+                    self.assertIn(e, r.stderr)
+                self.assertFalse(os.path.exists(out))
+
+            refused(lambda j: j["bufferViews"][position].update(byteStride=16), f"runs past its bufferView {position}")
+            refused(lambda j: j["bufferViews"][position].update(byteStride=252), "runs past its bufferView")
+            refused(lambda j: j["bufferViews"][position].update(byteStride=-8), "byteStride -8 is not a multiple of 4 in [4, 252]")
+            for value in (2 ** 40, 2 ** 64 - 1, -1, 1.5, "20"):
+                refused(lambda j: j["asset"]["extras"]["libwave"].update(loop_frames=value),
+                        "asset.extras.libwave.loop_frames is not a whole number in [0, 10000000]")
+            refused(lambda j: j["asset"]["extras"]["libwave"].update(fps=0), "asset.extras.libwave.fps is 0")
+            refused(lambda j: j["buffers"][0].update(uri="data:text/html,hello"),
+                    "buffer 0: an embedded data: URI other than base64 of application/octet-stream or application/gltf-buffer is not supported")
+            # An embedded data: buffer (valid glTF) is read, to the same output.
+            payload = base64.b64encode(pathlib.Path(g, "animation.bin").read_bytes()).decode()
+            r, embedded = converted(lambda j: j["buffers"][0].update(uri="data:application/octet-stream;base64," + payload), "e")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            r, plain = converted(lambda j: None, "p")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            glb = [n for n in os.listdir(plain) if n.endswith(".glb")]
+            self.assertEqual(len(glb), 1)
+            self.assertEqual(pathlib.Path(embedded, glb[0]).read_bytes(), pathlib.Path(plain, glb[0]).read_bytes())
+            r, _ = converted(lambda j: j["buffers"][0].update(uri="data:application/octet-stream;base64," + payload[:-8]), "t")
+            self.assertEqual(r.returncode, 2, r.stderr)
+            self.assertIn("its data: URI holds", r.stderr)
+
+
+class ResumeObstacles(unittest.TestCase):
+    """An index.json that is a folder or a frames that is a file, under --resume: refused
+    before any frame is computed (exit 2, naming it), no partial folder left — it used to
+    compute every frame and fail with the file system's message (exit 1)."""
+
+    def test_what_stands_where_the_files_form_writes_is_named_up_front(self):
+        with tempfile.TemporaryDirectory() as d:
+            ref = files_run(d)
+            for name, make, message in (("index.json", os.makedirs, "index.json: a folder, where the files form writes its index"),
+                                        ("frames", lambda p: pathlib.Path(p).write_text("x"),
+                                         "frames: a file, where the files form writes its frames' folder")):
+                with self.subTest(name=name):
+                    out = os.path.join(d, "out")
+                    shutil.rmtree(out, True)
+                    shutil.copytree(ref, out)
+                    target = os.path.join(out, name)
+                    if os.path.isdir(target):
+                        shutil.rmtree(target)
+                    else:
+                        os.remove(target)
+                    make(target)
+                    rc, _, err, seconds, _ = measured(["run", os.path.join(d, "bay.json"), "-q", "--form", "files", "-o", out, "--resume"])
+                    self.assertEqual(rc, 2, err)
+                    self.assertIn(message, err)
+                    self.assertEqual([n for n in os.listdir(out) if n.startswith(".wave-")], [])
+                    if not UNDER_ASAN:
+                        self.assertLess(seconds, 3, "refused before the frames are computed")
+
+
+ADDON_FRAMES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "bindings-cli", "blender", "libwave_blender", "frames.py")
+ADDON_PROBE = r"""
+import importlib.util, json, os, shutil, struct, sys
+spec = importlib.util.spec_from_file_location("frames", sys.argv[1])
+frames = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(frames)
+ref, d = sys.argv[2], sys.argv[3]
+index = json.load(open(os.path.join(ref, "index.json")))
+results = {}
+
+def probe(name, edit, bake=False, frame=0):
+    out = os.path.join(d, name)
+    shutil.copytree(ref, out)
+    doc = json.loads(json.dumps(index))
+    text = edit(doc, out)
+    with open(os.path.join(out, "index.json"), "w") as f:
+        f.write(text if isinstance(text, str) else json.dumps(doc))
+    try:
+        a = frames.Animation(os.path.join(out, "index.json"))
+        a.frame(frame)
+        if bake:
+            frames.check_bake(a)
+        results[name] = "accepted"
+    except frames.LibwaveFileError as e:
+        results[name] = "refused: " + str(e)
+    except BaseException as e:
+        results[name] = "raised " + type(e).__name__ + ": " + str(e)[:200]
+
+probe("fps0", lambda j, o: j.update(fps=0))
+probe("fpsnan", lambda j, o: json.dumps({**j, "fps": float("nan")}))
+probe("deep", lambda j, o: '{"frames": ' + "[" * 100000 + "]" * 100000 + "}")
+probe("outside", lambda j, o: j["frames"][1]["content"][0].update(file="../victim/frame.glb"))
+probe("million", lambda j, o: j.update(frames=[{**j["frames"][0], "frame": k} for k in range(100000)]), bake=True)
+
+def nan_positions(j, o):
+    path = os.path.join(o, j["frames"][0]["file"])
+    data = bytearray(open(path, "rb").read())
+    length = struct.unpack_from("<I", data, 12)[0]
+    doc = json.loads(bytes(data[20:20 + length]))
+    acc = doc["accessors"][doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"]]
+    view = doc["bufferViews"][acc["bufferView"]]
+    at = 20 + length + 8 + view.get("byteOffset", 0) + acc.get("byteOffset", 0) + 12 * 5
+    struct.pack_into("<f", data, at, float("nan"))
+    open(path, "wb").write(bytes(data))
+
+probe("nan", nan_positions)
+print(json.dumps(results))
+"""
+
+
+class BlenderAddon(unittest.TestCase):
+    """The add-on's reader (frames.py, plain Python and numpy) checks what it reads as
+    libwave's C++ reader does: a message naming the file, never a traceback, a NaN vertex
+    or a bake that runs memory out (docs/hardening.md, "The Blender add-on")."""
+
+    def test_hostile_indexes_and_frames_are_refused_with_a_message(self):
+        python = "/usr/bin/python3"
+        if not os.path.exists(python) or subprocess.run([python, "-c", "import numpy"], capture_output=True).returncode != 0:
+            self.skipTest("needs Debian's python3 with numpy (Blender's Python)")
+        with tempfile.TemporaryDirectory() as d:
+            ref = files_run(d)
+            probes = os.path.join(d, "probes")
+            os.makedirs(probes)
+            r = subprocess.run([python, "-c", ADDON_PROBE, ADDON_FRAMES, ref, probes], capture_output=True, text=True, timeout=300)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            results = json.loads(r.stdout)
+            expected = {"fps0": "fps is 0", "fpsnan": "fps nan is not a number in [0, 1000]", "deep": "JSON nested too deeply",
+                        "outside": "leaves its folder", "million": "baking 100000 frames", "nan": "frame 0: positions of vertex 5 is not a finite number"}
+            for name, message in expected.items():
+                with self.subTest(name=name):
+                    self.assertTrue(results[name].startswith("refused: "), results[name])
+                    self.assertIn(message, results[name])
+
+
 class Messages(unittest.TestCase):
     def test_output_folders_and_unreadable_files_are_named(self):
         with tempfile.TemporaryDirectory() as d:
@@ -428,6 +803,20 @@ class Messages(unittest.TestCase):
             r = wave("batch", scene, "-o", a_file)
             self.assertEqual(r.returncode, 2, r.stderr)
             self.assertIn(a_file + ": a file, not a folder", r.stderr)
+
+    def test_control_and_bidi_characters_are_shown_as_escapes(self):
+        # A name read from a file is echoed in messages: an escape sequence or a
+        # right-to-left override went to the terminal as it was.
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "s.json")
+            with open(path, "w") as f:
+                json.dump({"seafloor": {"source": "a\u001b[31mred\u202egnp.tif\nerror: forged"}, "waves": WAVE_TRAIN}, f)
+            r = wave("validate", path)
+            self.assertEqual(r.returncode, 2, r.stderr)
+            self.assertIn("a\\x1B[31mred\\u{202E}gnp.tif\\x0Aerror: forged", r.stderr)
+            for raw in ("\u001b", "\u202e"):
+                self.assertNotIn(raw, r.stderr)
+            self.assertEqual(r.stderr.count("\n"), 1, "one line")
 
     def test_isobaths_with_smoothing_only_use_the_default_spacing(self):
         with tempfile.TemporaryDirectory() as d:
@@ -473,7 +862,8 @@ class ExtremeValues(unittest.TestCase):
     """Scene files with numeric keys at extreme values — 0, ±tiny, ±huge, their range's
     ends, 2^63, text that looks like a number — run as a user would: `wave validate`,
     then `wave run` of two frames. Exit 0 or 2 only: never a signal, never exit 1 for
-    input, never a hang (30 s) and never over 4 GB."""
+    input, never a hang (30 s) and never over 4 GB; a swell's heights within a physical
+    bound."""
 
     # HOSTILE_DRAWS and HOSTILE_SEED explore further by hand (docs/hardening.md).
     DRAWS = int(os.environ.get("HOSTILE_DRAWS", 30 if UNDER_ASAN else 150))
@@ -585,6 +975,7 @@ class ExtremeValues(unittest.TestCase):
                         self.check(rc, err, seconds, rss)
                         if rc == 0:
                             ran += 1
+                            self.check_heights(scene, out)
                             shutil.rmtree(out, True)
                     if rc == 2:
                         refused += 1
@@ -594,6 +985,19 @@ class ExtremeValues(unittest.TestCase):
         print(f"ExtremeValues: {ran} ran, {refused} refused of {self.DRAWS}", file=sys.stderr)
         self.assertGreaterEqual(ran, max(2, self.DRAWS // 15), "some draws are valid and run")
         self.assertGreater(refused, self.DRAWS // 4, "most draws are refused")
+
+    def check_heights(self, scene, out):
+        """A swell's run stays within a physical bound: 10 × its largest amplitude (five
+        wave heights) — /motion/kx at 1e-3 made a 0.3 m swell ±5.55 m high (exit 0)."""
+        waves = scene.get("waves")
+        if not waves or "ocean" in scene or "gerstner" in scene:
+            return  # wind seas: their heights follow the wind, not a drawn amplitude
+        amplitudes = [w.get("amplitude", 0.5) for w in waves if isinstance(w.get("amplitude", 0.5), (int, float))]
+        reports = [n for n in os.listdir(out) if n.startswith("report") and n.endswith(".json")]
+        if not amplitudes or not reports:
+            return
+        low, high = json.loads(pathlib.Path(out, reports[0]).read_text())["surface"]["height_range_m"]
+        self.assertLessEqual(max(-low, high), 10 * max(amplitudes), f"heights {low} .. {high} m")
 
     def check(self, rc, err, seconds, rss):
         self.assertIsNotNone(rc, "hung (killed after the timeout)")

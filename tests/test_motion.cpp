@@ -54,6 +54,30 @@ TEST(GonzatoProfile, MajorAxisLimitedToTheDisc) {
     EXPECT_NEAR(free.minor, free.major * (1.0 - std::exp(-0.045)), 1e-12);
 }
 
+TEST(GonzatoProfile, TheAxisConstantsNeverRaiseTheWave) {
+    // K_x = 1e-3 /m (in the schema's range) against the default K_z: S_z = S_x (1 − e^{−K_z h})
+    // was 59 at 10 m, and a 0.3 m swell rose ±5.55 m (to the disc 1/k). S_z ≤ 1: the
+    // vertical semi-axis is at most R, and the crest within the profile's 2R of height.
+    const double R = 0.3, k = 2.0 * pi / 39.0;
+    for (const double kx : {1e-3, 1e-6, 0.11}) {
+        for (const double h : {0.5, 2.0, 10.0, 100.0}) {
+            GonzatoProfileOptions o;
+            o.kx = kx;
+            const ProfileShape s = gonzato_shape(R, k, h, 0.05, o);
+            EXPECT_LE(s.minor, R) << kx << " " << h;
+            double z_min = 1e9, z_max = -1e9;
+            for (double phi = -pi; phi < pi; phi += 0.01) {
+                z_min = std::min(z_min, gonzato_offset(s, phi).up);
+                z_max = std::max(z_max, gonzato_offset(s, phi).up);
+            }
+            EXPECT_LT(z_max - z_min, 4.0 * R) << kx << " " << h;
+        }
+    }
+    // The defaults flatten the orbit towards the shore as before (K_z < K_x).
+    const ProfileShape s = gonzato_shape(R, k, 2.0, 0.05, GonzatoProfileOptions{});
+    EXPECT_NEAR(s.minor, R * (1.0 - std::exp(-0.18)) / (1.0 - std::exp(-0.22)), 1e-12);
+}
+
 TEST(GonzatoProfile, ContinuousRoundTheOrbitAndPeriodic) {
     const ProfileShape s = gonzato_shape(0.4, 0.6, 1.2, 0.08, GonzatoProfileOptions{});
     ASSERT_GT(s.displacement, 0.0);

@@ -81,11 +81,11 @@ PYBIND11_MODULE(_libwave, m) {
         try {
             if (p) std::rethrow_exception(p);
         } catch (const wave::LimitError& e) {
-            PyErr_SetString(limit_error, e.what());
+            PyErr_SetString(limit_error, wave::printable(e.what()).c_str());
         } catch (const wave::InputError& e) {
-            PyErr_SetString(input_error, e.what());
+            PyErr_SetString(input_error, wave::printable(e.what()).c_str());
         } catch (const wave::Error& e) {
-            PyErr_SetString(error, e.what());
+            PyErr_SetString(error, wave::printable(e.what()).c_str());
         }
     });
 

@@ -501,6 +501,8 @@ def import_animation(context, path, set_scene=True, caustics=True, bake=False, b
     make_world takes them (the sky over the scene)."""
     anim = _animation(os.path.abspath(path))
     first = anim.frame(0)
+    if bake:
+        frames.check_bake(anim)  # before the water object is made
     if baked_colour and first.color is None:
         raise ValueError(f"{path} has no baked colour (run the scene with \"outputs\": {{\"color\": true}})")
     mesh = _mesh_from_arrays("libwave water", first.positions, anim.triangles)
@@ -583,7 +585,7 @@ class ImportLibwave(bpy.types.Operator, ImportHelper):
                              self.file_normals, self.visibility, self.sunbeams, self.sunbeam_strength, self.world,
                              self.hdri)
         except (OSError, KeyError, ValueError, frames.LibwaveFileError) as e:
-            self.report({"ERROR"}, f"libwave: {e}")
+            self.report({"ERROR"}, frames.printable(f"libwave: {e}"))
             return {"CANCELLED"}
         return {"FINISHED"}
 

@@ -11,6 +11,7 @@ import base64
 import concurrent.futures
 import importlib
 import json
+import math
 import os
 import struct
 import sys
@@ -25,16 +26,94 @@ class LibwaveFileError(Exception):
     """A file this reader cannot use; the message says which and why."""
 
 
+# What the add-on reads is checked as libwave's C++ reader checks it (docs/hardening.md):
+# a message naming the file, never a traceback, a hang or memory run out.
+MAX_FRAMES = 10_000_000  # the schema's /animation/max_frames
+BAKE_BYTES = 4e9  # a bake holds every frame in the .blend: ~40 bytes a vertex a frame in Blender's meshes
+
+
+def printable(text):
+    """`text` with control and bidirectional-formatting characters shown as escapes (as
+    libwave's messages show them): a name read from a file never drives the display."""
+    out = []
+    for ch in str(text):
+        o = ord(ch)
+        if (o < 0x20 and ch != "\t") or 0x7F <= o < 0xA0:
+            out.append(f"\\x{o:02X}" if o < 0x100 else f"\\u{{{o:04X}}}")
+        elif o in (0x061C, 0x200E, 0x200F) or 0x202A <= o <= 0x202E or 0x2066 <= o <= 0x2069:
+            out.append(f"\\u{{{o:04X}}}")
+        else:
+            out.append(ch)
+    return "".join(out)
+
+
+def _fail(path, what):
+    raise LibwaveFileError(printable(f"{path}: {what}"))
+
+
+def _json(text, path):
+    """JSON, or LibwaveFileError naming the file (deep nesting included: Python's own
+    recursion limit raised RecursionError through the import)."""
+    try:
+        return json.loads(text)
+    except RecursionError:
+        _fail(path, "JSON nested too deeply")
+    except (ValueError, UnicodeDecodeError) as e:
+        _fail(path, f"not JSON ({e})")
+
+
+def inside(folder, name, what):
+    """The path of `name` (read from a file in `folder`) if it stays inside the folder:
+    relative, no `..` part, its real path inside the folder's (libwave's rule)."""
+    if not isinstance(name, str) or not name or "\0" in name:
+        _fail(what, f"{name!r} is not a file name")
+    if os.path.isabs(name) or ".." in name.replace("\\", "/").split("/"):
+        _fail(what, f"'{name}' leaves its folder (an absolute path or ..); paths read from files stay inside {folder}")
+    root = os.path.realpath(folder)
+    real = os.path.realpath(os.path.join(folder, name))
+    if os.path.commonpath([root, real]) != root:
+        _fail(what, f"'{name}': a link leads out of the folder, to {real}")
+    return os.path.join(folder, name)
+
+
+def _regular(path):
+    """Refuses what is not a regular file before it is opened (a FIFO would block Blender)."""
+    import stat
+    try:
+        mode = os.stat(path).st_mode
+    except OSError as e:
+        _fail(path, f"cannot read it ({e.strerror})")
+    if not stat.S_ISREG(mode):
+        _fail(path, "a directory, not a file" if stat.S_ISDIR(mode) else "not a regular file (a FIFO, socket or device)")
+
+
+def _number(value, what, path, low, high, whole=False):
+    """A number of a file in [low, high] (whole if asked), else LibwaveFileError naming it."""
+    ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value) and low <= value <= high
+    if ok and whole and value != int(value):
+        ok = False
+    if not ok:
+        _fail(path, f"{what} {printable(repr(value))[:40]} is not {'a whole number' if whole else 'a number'} in [{low}, {high}]")
+    return int(value) if whole else float(value)
+
+
 def read_gltf(path):
     """(document, [buffer]) of a .glb or .gltf (external or data-URI buffers). A .glb's
     buffer stays in the file (_FileBuffer): a reader reads the ranges it asks for (a
     compressed file's dressing, one frame of a plain one), not the whole file."""
+    _regular(path)
     with open(path, "rb") as f:
         head = f.read(20)
-        if head[:4] == b"glTF" and len(head) == 20:
+        if head[:4] == b"glTF":
+            if len(head) < 20:
+                _fail(path, "a truncated GLB header")
             length = struct.unpack_from("<I", head, 12)[0]
-            doc = json.loads(f.read(length))
             size = os.fstat(f.fileno()).st_size
+            if 20 + length > size:
+                _fail(path, "the JSON chunk runs past the file")
+            doc = _json(f.read(length), path)
+            if not isinstance(doc, dict):
+                _fail(path, "not a glTF document (its JSON is not an object)")
             offset = 20 + length
             binary = b""
             if offset + 8 <= size:
@@ -42,19 +121,25 @@ def read_gltf(path):
                 binary = _FileBuffer(path, offset + 8, min(chunk, size - offset - 8))
             return doc, [binary]
         data = head + f.read()
-    if data[:4] == b"glTF":
-        raise LibwaveFileError(f"{path}: a truncated GLB")
-    doc = json.loads(data)
+    doc = _json(data, path)
     buffers = []
-    for b in doc.get("buffers", []):
-        uri = b.get("uri", "")
+    for i, b in enumerate(doc.get("buffers", []) if isinstance(doc, dict) else []):
+        uri = b.get("uri", "") if isinstance(b, dict) else ""
         if not uri:  # EXT_meshopt_compression's fallback buffer: no data (libwave's module decodes)
             buffers.append(b"")
         elif uri.startswith("data:"):
-            buffers.append(base64.b64decode(uri.split(",", 1)[1]))
+            try:
+                buffers.append(base64.b64decode(uri.split(",", 1)[1], validate=True))
+            except (IndexError, ValueError):
+                _fail(path, f"buffer {i}: its data: URI is not base64")
         else:
-            with open(os.path.join(os.path.dirname(path), uri), "rb") as f:
+            from urllib.parse import unquote_plus
+            file = inside(os.path.dirname(path), unquote_plus(uri), f"{path}: buffer {i}'s uri")
+            _regular(file)
+            with open(file, "rb") as f:
                 buffers.append(f.read())
+    if not isinstance(doc, dict):
+        _fail(path, "not a glTF document (its JSON is not an object)")
     return doc, buffers
 
 
@@ -90,11 +175,22 @@ def accessor(doc, buffers, index):
     dtype = np.dtype(_COMPONENTS[a["componentType"]])
     width = _WIDTH[a["type"]]
     count = a["count"]
+    if not isinstance(count, int) or not 0 <= count <= 1 << 28:
+        raise LibwaveFileError(f"accessor {index}: count {count!r} is not a whole number in [0, 2^28]")
     if "bufferView" in a:
         view = doc["bufferViews"][a["bufferView"]]
         raw = buffers[view.get("buffer", 0)]
-        start = view.get("byteOffset", 0) + a.get("byteOffset", 0)
+        view_start, view_length = view.get("byteOffset", 0), view.get("byteLength", 0)
+        start = view_start + a.get("byteOffset", 0)
         stride = view.get("byteStride", dtype.itemsize * width)
+        element = dtype.itemsize * width
+        # Every element inside its view and the view inside its buffer (as_strided reads
+        # whatever memory a stride points at: a hostile one crashed Blender).
+        if not (isinstance(stride, int) and (stride == element or (4 <= stride <= 252 and stride % 4 == 0 and stride >= element))):
+            raise LibwaveFileError(f"accessor {index}: byteStride {stride!r} is not a multiple of 4 in [4, 252] holding its elements")
+        if view_start < 0 or view_length < 0 or view_start + view_length > len(raw) or (
+                count > 0 and start - view_start + (count - 1) * stride + element > view_length) or start < view_start:
+            raise LibwaveFileError(f"accessor {index} runs past its bufferView")
         if stride == dtype.itemsize * width:
             values = _from_buffer(raw, dtype, count * width, start).reshape(count, width)
         else:
@@ -113,6 +209,8 @@ def accessor(doc, buffers, index):
             return _from_buffer(buffers[view.get("buffer", 0)], part_dtype, sparse["count"] * part_width,
                                 start).reshape(sparse["count"], part_width)
         indices = packed(sparse["indices"], np.dtype(_COMPONENTS[sparse["indices"]["componentType"]]), 1)[:, 0]
+        if len(indices) and (int(indices.max()) >= count or int(indices.min()) < 0):
+            raise LibwaveFileError(f"accessor {index}: sparse indices out of range")
         values[indices.astype(np.int64)] = packed(sparse["values"], dtype, width).astype(np.float32)
     if a.get("normalized"):
         if dtype.kind == "i":
@@ -301,6 +399,14 @@ class Animation:
     """A libwave animation: `frame(k)` gives loop frame k; `triangles`, `fps`, `frame_count`."""
 
     def __init__(self, path):
+        try:
+            self._open(path)
+        except (KeyError, IndexError, TypeError, ValueError, AttributeError, StopIteration, struct.error) as e:
+            # Whatever the checks below did not name: the file, never a traceback.
+            raise LibwaveFileError(printable(f"{path}: not a libwave animation the add-on can read "
+                                             f"({type(e).__name__}: {str(e)[:200]})")) from None
+
+    def _open(self, path):
         self.path = os.path.abspath(path)
         self.folder = os.path.dirname(self.path)
         self._cache = {}
@@ -310,15 +416,23 @@ class Animation:
         self._worker = None
         self.dressing = None  # the seafloor, camera and sun a single-file form carries
         if os.path.basename(path) == "index.json" or path.endswith(".json"):
-            with open(path) as f:
-                index = json.load(f)
+            _regular(path)
+            with open(path, "rb") as f:
+                index = _json(f.read(), path)
+            if not isinstance(index, dict) or not isinstance(index.get("frames"), list) or not index["frames"]:
+                _fail(path, "not a frame index (no \"frames\")")
             self.form = "files"
-            self.fps = float(index["fps"])
-            self.files = [next(c["file"] for c in e["content"] if c["file"].endswith((".glb", ".gltf")))
-                          for e in index["frames"]]
-            self.first_frame = int(index["frames"][0].get("frame", 0)) if index["frames"] else 0
+            self.fps = _number(index.get("fps"), "fps", path, 0, 1000)
+            if self.fps <= 0:
+                _fail(path, "fps is 0")
+            if len(index["frames"]) > MAX_FRAMES:
+                _fail(path, f"{len(index['frames'])} frames, more than {MAX_FRAMES}")
+            self.files = [inside(self.folder, next(c["file"] for c in e["content"] if c["file"].endswith((".glb", ".gltf"))),
+                                 f"{path}: frames[{i}]'s file")[len(self.folder) + 1:]
+                          for i, e in enumerate(index["frames"])]
+            self.first_frame = _number(index["frames"][0].get("frame", 0), "frames[0].frame", path, 0, MAX_FRAMES, True)
             self.frame_count = len(self.files)
-            self.loop_frames = int(index.get("loop_frames", self.frame_count))
+            self.loop_frames = _number(index.get("loop_frames", self.frame_count), "loop_frames", path, 0, MAX_FRAMES, True)
             self.scene = index.get("scene", "")
             doc, buffers = self._frame_file(0)
             # Draco frames (each decoded by libwave's module) share frame 0's order: Draco
@@ -362,9 +476,14 @@ class Animation:
             self.form = "nodes"
             self.frame_nodes = [n for n in doc.get("nodes", []) if "mesh" in n and n.get("name") != "seafloor"]
             self.frame_count = len(self.frame_nodes)
-        self.fps = float(extras.get("fps", 0)) or (1.0 / float(times[1] - times[0]) if times is not None and len(times) > 1 else 24.0)
-        self.loop_frames = int(extras.get("loop_frames", self.frame_count))
-        self.first_frame = int(extras.get("first_frame", 0))
+        if "fps" in extras:
+            self.fps = _number(extras["fps"], "asset.extras.libwave.fps", path, 0, 1000)
+        else:
+            self.fps = 1.0 / float(times[1] - times[0]) if times is not None and len(times) > 1 else 24.0
+        if not (math.isfinite(self.fps) and 0 < self.fps <= 1000):
+            _fail(path, f"fps {self.fps} is not in (0, 1000]")
+        self.loop_frames = _number(extras.get("loop_frames", self.frame_count), "asset.extras.libwave.loop_frames", path, 0, MAX_FRAMES, True)
+        self.first_frame = _number(extras.get("first_frame", 0), "asset.extras.libwave.first_frame", path, 0, MAX_FRAMES, True)
         if self._module_frames:
             self.triangles = np.asarray(self._module_frame_file(0)["triangles"]).astype(np.int64).reshape(-1, 3)
         else:
@@ -412,6 +531,7 @@ class Animation:
             return self._cache[k]
         if (self.form == "files" and self._draco_files) or self._module_frames:
             f = self._decoded_frame(k)
+            _finite(f, k, self.path)
             self._cache = {k: f}
             return f
         try:
@@ -424,8 +544,12 @@ class Animation:
                 f, triangles = _mesh_frame(self.doc, self.buffers, self.frame_nodes[k]["mesh"])
             if triangles is not None and not np.array_equal(triangles, self.triangles):
                 raise LibwaveFileError("other triangles than frame 0")
+        except (KeyError, IndexError, TypeError, ValueError, struct.error) as e:
+            raise LibwaveFileError(printable(f"{self.path}: frame {k}: not a frame the add-on can read "
+                                             f"({type(e).__name__}: {str(e)[:200]})")) from None
         except LibwaveFileError as e:
             raise LibwaveFileError(f"{self.path}: frame {k}: {e}; re-encode it plainly: wave convert FILE -o OUT") from None
+        _finite(f, k, self.path)
         self._cache = {k: f}  # one frame at a time: the files form streams from disk
         return f
 
@@ -442,6 +566,16 @@ class Animation:
         return Frame(positions, scalar("foam"), scalar("reflect"), scalar("refract"),
                      None if colors is None or len(colors) == 0 else np.asarray(colors[k]).reshape(n, 3),
                      None if normals is None or len(normals) == 0 else np.asarray(normals[k]).reshape(n, 3))
+
+
+def _finite(f, k, path):
+    """Refuses a frame with a NaN or infinite value (libwave's writer never writes one):
+    Blender imported them silently, a vertex at NaN."""
+    for name in ("positions", "normals", "foam", "reflect", "refract", "color"):
+        a = getattr(f, name)
+        if a is not None and not np.all(np.isfinite(a)):
+            bad = int(np.argwhere(~np.isfinite(np.asarray(a).reshape(len(a), -1)))[0][0])
+            _fail(path, f"frame {k}: {name} of vertex {bad} is not a finite number")
 
 
 def _compressed(doc):
@@ -479,3 +613,14 @@ def _load_draco(path, frame=None):
             "(Python 3.11); put a module built for this Blender's Python on its path (docs/blender.md), or re-encode "
             "the run plainly (wave convert FILE -o OUT, or wave run --codec none)") from None
     return libwave.read_animation(path) if frame is None else libwave.read_animation(path, frame, 1)
+
+
+def check_bake(anim):
+    """Refuses a bake whose frames would not fit (BAKE_BYTES) before any is made: an index
+    declaring 10⁶ frames baked until memory ran out."""
+    n = len(anim.frame(0).positions)
+    need = 40.0 * n * anim.frame_count
+    if need > BAKE_BYTES:
+        raise LibwaveFileError(printable(
+            f"{anim.path}: baking {anim.frame_count} frames of {n} vertices would hold about {need / 1e9:.1f} GB in the "
+            f".blend (over {BAKE_BYTES / 1e9:.0f} GB); import it without baking (the frames stream from disk)"))

@@ -42,7 +42,14 @@ struct FieldOptions {
     /// open sea beside the domain) or reflecting (walls, as in a wave basin).
     bool reflecting_edges = false;
     std::size_t max_nodes = 20'000'000;  ///< guard rail: LimitError above this
+    /// The memory the grid may take (bytes; `wave field --max-memory-gb`, the run's limit
+    /// for a wave-field scene): kFieldNodeBytes a node, checked before the grid is allocated.
+    double max_bytes = 2e9;
 };
+
+/// What a node of the marching grid takes, solved and rasterised (its envelope, flags and
+/// the raster's bands: measured 48 bytes at 75 M nodes).
+inline constexpr double kFieldNodeBytes = 48.0;
 
 /// Node flags.
 enum : std::uint8_t {

@@ -15,4 +15,25 @@ namespace wave {
 /// held in memory: a streamed animation's buffer after its header).
 void write_file_atomic(const std::string& path, std::string_view bytes, const std::string& then_file = {});
 
+/// Throws InputError unless `path` names a regular file (or, with `directory`, a
+/// folder), links followed: "file not found", "a directory, not a file", "a FIFO (named
+/// pipe), not a regular file", a device or a socket. Checked before any open, so that
+/// a FIFO or a device never blocks a reader (docs/hardening.md, "Special files").
+void require_input_file(const std::string& path, bool directory = false);
+
+/// `text` (a message, a name read from a file) with what a terminal would act on shown
+/// as escapes: control characters (C0 but the tab, DEL, C1) as \xHH, bidirectional
+/// formatting characters (U+061C, U+200E/F, U+202A–E, U+2066–9) as \u{XXXX}, invalid
+/// UTF-8 bytes as \xHH. `wave` and the Python module show every message through it
+/// (docs/hardening.md, "Messages").
+std::string printable(std::string_view text);
+
+/// The path of `name`, a path read from a file in `folder` (an index entry, a glTF
+/// buffer URI, a frame of `wave merge`, a file an output form writes), checked to stay
+/// inside `folder`: relative, no `..` part, and its real path (every existing link
+/// resolved) inside the folder's real path. InputError naming `what` and `name`
+/// otherwise (docs/hardening.md, "Paths read from files"). The same rule as
+/// `--resume`'s and the viewer's.
+std::string path_inside(const std::string& folder, const std::string& name, const std::string& what);
+
 }  // namespace wave

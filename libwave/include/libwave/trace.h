@@ -140,9 +140,20 @@ struct FrontOptions {
     /// Guard rail on the points of all fronts together (the strips' vertices): rays ×
     /// steps, which max_rays and max_steps bound only one at a time (~100 bytes each).
     std::size_t max_points = 10'000'000;
+    /// The memory a run may take (bytes; `wave run --max-memory-gb`, 2 GB by default):
+    /// max_points is lowered to the points a run of them fits in (kRunBytesPerFrontPoint
+    /// each), checked before the points are reserved.
+    double max_bytes = 2e9;
     double breaker_index = kBreakerIndex;  ///< amplitude cap γ h / 2
     DispersionOptions dispersion{};  ///< how k(ω, h) is solved
 };
+
+/// What a run of the ray-strips surface holds for each front point at its peak: the point
+/// in FrontSet (89 bytes), the strip vertex and motion plan made of it and the frames'
+/// arrays (estimate_run has 440 on the bay's fronts; a little less, so that no run its
+/// estimate accepts is refused). At the default 2 GB: 5 M points, which `wave validate`
+/// plans in < 1 GB.
+inline constexpr double kRunBytesPerFrontPoint = 400.0;
 
 /// Fronts as rows: front f holds the live rays after f steps, in order along the
 /// front, at points front_offsets[f] .. front_offsets[f+1]−1 (structure of arrays).

@@ -6,6 +6,7 @@
 #include "grid_fill.h"
 #include "libwave/bathymetry.h"
 #include "libwave/errors.h"
+#include "libwave/io.h"
 #include "core/files.h"
 
 #include <algorithm>
@@ -229,7 +230,10 @@ bool says_degrees_east(const GdalLibrary& g, GDALDatasetH ds) {
 }  // namespace
 
 Seafloor read_raster_gdal(const std::string& path, const ReadOptions& options) {
-    if (!detail::path_exists(path)) throw InputError(path + ": file not found");
+    // A folder may be a raster (an ArcInfo binary grid); a FIFO or a device is not, and
+    // GDAL's open would block on it.
+    std::error_code ec;
+    if (!std::filesystem::is_directory(path, ec)) require_input_file(path);
     const GdalLibrary& g = detail::gdal(path);
     const QuietGdalErrors quiet(g);
     Dataset ds = open_first_grid(g, quiet, open_raster(g, quiet, path, path), path);

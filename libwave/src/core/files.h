@@ -12,9 +12,10 @@ namespace wave::detail {
 /// Whether `path` names something that exists; false for any path the system refuses.
 bool path_exists(const std::string& path) noexcept;
 
-/// Throws InputError unless `path` names something a reader can open as a file: "file
-/// not found", or "a directory, not a file" (which std::ifstream opens and then reads as
-/// empty, so readers reported an empty or malformed file instead).
+/// Throws InputError unless `path` names a regular file: "file not found", "a directory,
+/// not a file" (which std::ifstream opens and then reads as empty, so readers reported
+/// an empty or malformed file instead), or a FIFO, socket or device (whose open blocked
+/// for ever): wave::require_input_file (libwave/io.h).
 void require_input_file(const std::string& path);
 
 /// The size of the file at `path` in bytes; InputError naming the path and the system's

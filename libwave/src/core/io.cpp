@@ -89,6 +89,109 @@ void write_file_atomic(const std::string& path, std::string_view bytes, const st
     }
 }
 
+namespace {
+
+// What a path is, for a message: "a FIFO (named pipe)", "a socket", …
+std::string file_kind(std::filesystem::file_type type) {
+    using std::filesystem::file_type;
+    switch (type) {
+        case file_type::directory: return "a directory";
+        case file_type::fifo: return "a FIFO (named pipe)";
+        case file_type::socket: return "a socket";
+        case file_type::character: return "a character device";
+        case file_type::block: return "a block device";
+        default: return "not a regular file";
+    }
+}
+
+}  // namespace
+
+void require_input_file(const std::string& path, bool directory) {
+    std::error_code ec;
+    const auto status = std::filesystem::status(path, ec);  // links followed; nothing opened
+    if (ec || !std::filesystem::exists(status)) throw InputError(path + ": file not found");
+    const auto type = status.type();
+    if (directory && type == std::filesystem::file_type::directory) return;
+    if (!directory && type == std::filesystem::file_type::regular) return;
+    if (directory) throw InputError(path + ": " + (type == std::filesystem::file_type::regular ? std::string("a file") : file_kind(type)) + ", not a folder");
+    if (type == std::filesystem::file_type::directory) throw InputError(path + ": a directory, not a file");
+    throw InputError(path + ": " + file_kind(type) + ", not a regular file");
+}
+
+std::string printable(std::string_view text) {
+    std::string out;
+    out.reserve(text.size());
+    const auto hex = [&](unsigned value, int digits) {
+        static constexpr char h[] = "0123456789ABCDEF";
+        for (int d = digits - 1; d >= 0; --d) out += h[(value >> (4 * d)) & 15];
+    };
+    for (std::size_t i = 0; i < text.size();) {
+        const auto c = static_cast<unsigned char>(text[i]);
+        if (c < 0x80) {
+            if ((c < 0x20 && c != '\t') || c == 0x7F) {
+                out += "\\x";
+                hex(c, 2);
+            } else {
+                out += static_cast<char>(c);
+            }
+            ++i;
+            continue;
+        }
+        // A UTF-8 sequence: its length and code point (an invalid one byte by byte).
+        const std::size_t n = c >= 0xF0 && c < 0xF5 ? 4 : c >= 0xE0 && c < 0xF0 ? 3 : c >= 0xC2 && c < 0xE0 ? 2 : 0;
+        unsigned cp = n == 4 ? c & 0x07u : n == 3 ? c & 0x0Fu : c & 0x1Fu;
+        bool valid = n > 0 && i + n <= text.size();
+        for (std::size_t k = 1; valid && k < n; ++k) {
+            const auto b = static_cast<unsigned char>(text[i + k]);
+            valid = (b & 0xC0) == 0x80;
+            cp = (cp << 6) | (b & 0x3Fu);
+        }
+        if (valid && ((n == 3 && cp < 0x800) || (n == 4 && (cp < 0x10000 || cp > 0x10FFFF)) || (cp >= 0xD800 && cp < 0xE000)))
+            valid = false;  // overlong, beyond Unicode, or a surrogate
+        if (!valid) {
+            out += "\\x";
+            hex(c, 2);
+            ++i;
+            continue;
+        }
+        const bool control = cp >= 0x80 && cp < 0xA0;
+        const bool bidi = cp == 0x061C || cp == 0x200E || cp == 0x200F || (cp >= 0x202A && cp <= 0x202E) || (cp >= 0x2066 && cp <= 0x2069);
+        if (control || bidi) {
+            out += "\\u{";
+            hex(cp, 4);
+            out += '}';
+        } else {
+            out.append(text.substr(i, n));
+        }
+        i += n;
+    }
+    return out;
+}
+
+std::string path_inside(const std::string& folder, const std::string& name, const std::string& what) {
+    namespace fs = std::filesystem;
+    const auto refuse = [&](const std::string& why) {
+        throw InputError(what + " '" + name + "': " + why + " (it must stay inside " +
+                         (folder.empty() ? std::string(".") : folder) + ")");
+    };
+    if (name.empty()) refuse("an empty path");
+    if (name.find('\0') != std::string::npos) refuse("a path with a NUL byte");
+    const fs::path rel(name);
+    if (rel.is_absolute() || rel.has_root_name() || rel.has_root_directory()) refuse("an absolute path");
+    for (const auto& part : rel)
+        if (part == "..") refuse("a path that goes up a folder (..)");
+    const fs::path base = folder.empty() ? fs::path(".") : fs::path(folder);
+    std::error_code ec;
+    const fs::path root = fs::weakly_canonical(base, ec);
+    if (ec) refuse("its folder cannot be resolved (" + ec.message() + ")");
+    const fs::path real = fs::weakly_canonical(base / rel, ec);  // links of the existing part resolved
+    if (ec) refuse("it cannot be resolved (" + ec.message() + ")");
+    auto p = real.begin();
+    for (auto r = root.begin(); r != root.end(); ++r, ++p)
+        if (p == real.end() || *p != *r) refuse("a link leads out of the folder, to " + real.string());
+    return folder.empty() ? rel.string() : (base / rel).string();
+}
+
 }  // namespace wave
 
 namespace wave::detail {
@@ -98,12 +201,7 @@ bool path_exists(const std::string& path) noexcept {
     return std::filesystem::exists(path, ec) && !ec;
 }
 
-void require_input_file(const std::string& path) {
-    std::error_code ec;
-    const auto status = std::filesystem::status(path, ec);
-    if (ec || !std::filesystem::exists(status)) throw InputError(path + ": file not found");
-    if (std::filesystem::is_directory(status)) throw InputError(path + ": a directory, not a file");
-}
+void require_input_file(const std::string& path) { wave::require_input_file(path, false); }
 
 std::uintmax_t input_file_bytes(const std::string& path) {
     std::error_code ec;

@@ -8,6 +8,7 @@
 
 #include "libwave/errors.h"
 #include "libwave/export.h"
+#include "libwave/io.h"
 #include "core/files.h"
 #include "core/format.h"
 #include "core/json_input.h"
@@ -18,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <array>
 #include <cstring>
@@ -27,6 +29,7 @@
 #include <limits>
 #include <iterator>
 #include <string>
+#include <string_view>
 #include <vector>
 #include <map>
 #include <optional>
@@ -105,10 +108,16 @@ struct Reader {
         if (v.buffer < 0 || static_cast<std::size_t>(v.buffer) >= m.buffers.size()) fail(what + " has no buffer");
         const std::vector<unsigned char>* in_file = lazy ? lazy->bytes(view, path) : nullptr;
         const std::vector<unsigned char>& data = in_file ? *in_file : m.buffers[static_cast<std::size_t>(v.buffer)].data;
-        const std::size_t start = (in_file ? 0 : v.byteOffset) + offset;
-        if (start > data.size() || (count > 0 && (count - 1) * stride + element > data.size() - start))
-            fail(what + " runs past its buffer");
-        return data.data() + start;
+        // Bounded by the view, not by the buffer: an accessor running past its view read
+        // the next view's bytes as its own (a byteStride too long for the view).
+        if (!in_file && (v.byteOffset > data.size() || v.byteLength > data.size() - v.byteOffset))
+            fail("bufferView " + std::to_string(view) + " lies outside its buffer");
+        const std::size_t length = in_file ? data.size() : v.byteLength;
+        if (offset > length || (count > 0 && (count - 1) * stride + element > length - offset))
+            fail(what + " runs past its bufferView " + std::to_string(view) + " (" + std::to_string(count) + " elements of " +
+                 std::to_string(element) + " bytes, " + std::to_string(stride) + " apart, from byte " + std::to_string(offset) +
+                 " of its " + std::to_string(length) + ")");
+        return data.data() + (in_file ? 0 : v.byteOffset) + offset;
     }
 
     // One component as a float (normalised integers mapped to [-1, 1] / [0, 1]).
@@ -484,6 +493,37 @@ std::string file_bytes(std::ifstream& in, const std::string& path, std::size_t a
     return out;
 }
 
+// The bytes an embedded buffer's data: URI holds, as tinygltf decodes it (base64 of
+// application/octet-stream or application/gltf-buffer); nothing for any other data: URI.
+std::optional<std::size_t> data_uri_bytes(const std::string& uri) {
+    std::string_view payload;
+    for (const std::string_view header : {"data:application/octet-stream;base64,", "data:application/gltf-buffer;base64,"})
+        if (uri.rfind(header, 0) == 0) payload = std::string_view(uri).substr(header.size());
+    if (payload.empty() || payload.size() % 4 != 0) return std::nullopt;
+    std::size_t pad = 0;
+    while (pad < 2 && payload[payload.size() - 1 - pad] == '=') ++pad;
+    for (std::size_t i = 0; i < payload.size() - pad; ++i) {
+        const char c = payload[i];
+        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '+' && c != '/') return std::nullopt;
+    }
+    return payload.size() / 4 * 3 - pad;
+}
+
+// A .gltf's external buffer, as tinygltf finds it (its URI percent-decoded beside the
+// .gltf): inside the .gltf's folder and a regular file, or InputError.
+std::string buffer_file(const std::string& path, const std::string& uri, const std::string& what) {
+    std::string decoded;
+    const auto hex = [](char c) { return std::isdigit(static_cast<unsigned char>(c)) ? c - '0' : (std::tolower(static_cast<unsigned char>(c)) - 'a' + 10) & 15; };
+    for (std::size_t i = 0; i < uri.size(); ++i) {  // tinygltf's dlib::urldecode
+        if (uri[i] == '+') decoded += ' ';
+        else if (uri[i] == '%' && uri.size() > i + 2) decoded += static_cast<char>((hex(uri[i + 1]) << 4) | hex(uri[i + 2])), i += 2;
+        else decoded += uri[i];
+    }
+    const std::string file = path_inside(std::filesystem::path(path).parent_path().string(), decoded, path + ": " + what + "'s uri");
+    require_input_file(file);
+    return file;
+}
+
 // tinygltf (Debian's) trusts the file's byte ranges when it decodes Draco
 // primitives: a bufferView beyond its buffer overflows the heap (found by
 // tests/fuzz/fuzz_gltf). The container and every range are checked here first, on the
@@ -499,14 +539,27 @@ void check_layout(const std::string& path, const nlohmann::json& doc, const Cont
     if (doc.contains("buffers") && doc["buffers"].is_array())
         for (const auto& b : doc["buffers"]) {
             if (!b.is_object()) fail("a buffer is not an object");
-            double available = static_cast<double>(bin_length);  // the GLB's own buffer
-            if (b.contains("uri") && b["uri"].is_string()) {
-                std::error_code ec;
-                const auto size = std::filesystem::file_size(std::filesystem::path(path).parent_path() / b["uri"].get<std::string>(), ec);
-                available = ec ? -1.0 : static_cast<double>(size);
-            }
+            const std::string what = "buffer " + std::to_string(buffer_bytes.size());
             const double length = count(b, "byteLength");
-            if (!(length >= 0.0 && length <= available)) fail("a buffer's byteLength is not in its data");
+            double available = static_cast<double>(bin_length);  // the GLB's own buffer
+            if (b.contains("uri")) {
+                if (!b["uri"].is_string()) fail(what + ": its uri is not a string");
+                const std::string uri = b["uri"].get<std::string>();
+                if (uri.rfind("data:", 0) == 0) {
+                    const auto bytes = data_uri_bytes(uri);
+                    if (!bytes)
+                        throw InputError(path + ": " + what + ": an embedded data: URI other than base64 of application/octet-stream or "
+                                         "application/gltf-buffer is not supported");
+                    if (static_cast<double>(*bytes) != length)
+                        throw InputError(path + ": " + what + ": its data: URI holds " + std::to_string(*bytes) + " bytes, its byteLength says " +
+                                         detail::format_number(length));
+                    available = static_cast<double>(*bytes);
+                } else {
+                    const std::string file = buffer_file(path, uri, what);
+                    available = static_cast<double>(detail::input_file_bytes(file));
+                }
+            }
+            if (!(length >= 0.0 && length <= available)) fail(what + ": its byteLength is not in its data");
             buffer_bytes.push_back(length);
         }
     if (doc.contains("bufferViews") && doc["bufferViews"].is_array())
@@ -516,6 +569,14 @@ void check_layout(const std::string& path, const nlohmann::json& doc, const Cont
             if (!(buffer >= 0.0 && buffer < static_cast<double>(buffer_bytes.size()) && offset >= 0.0 && length >= 0.0 &&
                   offset + length <= buffer_bytes[static_cast<std::size_t>(buffer)]))
                 fail("a bufferView lies outside its buffer");
+            // tinygltf takes a negative stride for none (packed elements): refused, as the
+            // glTF specification does (4 … 252, a multiple of 4).
+            if (v.contains("byteStride")) {
+                const nlohmann::json& stride = v["byteStride"];
+                if (!stride.is_number_integer() || stride.get<double>() < 4.0 || stride.get<double>() > 252.0 || stride.get<std::int64_t>() % 4 != 0)
+                    fail("bufferView " + std::to_string(&v - &doc["bufferViews"][0]) + ": byteStride " + stride.dump().substr(0, 24) +
+                         " is not a multiple of 4 in [4, 252]");
+            }
         }
     // Indices into the arrays tinygltf indexes without checking (its Draco decoding).
     const auto size_of = [&](const char* key) {
@@ -788,6 +849,33 @@ std::map<int, MeshoptView> unpack_meshopt(const std::string& path, nlohmann::jso
     return out;
 }
 
+// The most frames a loop of libwave's has (the schema's /animation/max_frames).
+constexpr double kMaxStoredFrames = 1e7;
+
+// asset.extras.libwave's numbers, checked in the file's JSON before tinygltf converts
+// them: it casts an integer to int, so a loop of 2^40 frames became 0 in the output's
+// extras, and a negative one wrapped round (docs/hardening.md).
+void check_extras(const std::string& path, const nlohmann::json& doc) {
+    const nlohmann::json* info = &doc;
+    for (const char* key : {"asset", "extras", "libwave"}) {
+        if (!info->is_object() || !info->contains(key)) return;  // read_glb_pieces says what is missing
+        info = &(*info)[key];
+    }
+    const auto fail = [&](const std::string& what) { throw InputError(path + ": asset.extras.libwave." + what); };
+    if (!info->is_object()) fail(" is not an object");
+    const auto number = [&](const char* key, double most, bool whole) {
+        const nlohmann::json v = info->value(key, nlohmann::json());
+        if (!v.is_number() || !(v.get<double>() >= 0.0 && v.get<double>() <= most) || (whole && !v.is_number_unsigned()))
+            fail(std::string(key) + " is not " + (whole ? "a whole number" : "a number") + " in [0, " + detail::format_number(most) + "]");
+        return v.get<double>();
+    };
+    if (!(number("fps", 1000.0, false) > 0.0)) fail("fps is 0");
+    number("loop_frames", kMaxStoredFrames, true);
+    number("first_frame", kMaxStoredFrames, true);
+    if (!info->value("name", nlohmann::json()).is_string()) fail("name is not a string");
+    if (info->contains("scene") && !(*info)["scene"].is_string()) fail("scene is not a string");
+}
+
 // Loads one of libwave's glTF files into `m`. When buffer 0 is a .glb's BIN chunk or a
 // .gltf's external .bin (every layout libwave writes), tinygltf parses the JSON with a
 // buffer of the static views alone, moved together, and the frames' views stay in the
@@ -801,6 +889,7 @@ void load_model(const std::string& path, tinygltf::Model& m, LazyViews& lazy) {
     if (ec || !in) throw InputError(path + ": cannot read the file");
     const Container c = read_container(path, in, size, binary);
     nlohmann::json doc = detail::parse_json_input(c.json, path);  // nesting bounded before tinygltf parses it
+    check_extras(path, doc);
     const std::map<int, MeshoptView> meshopt = unpack_meshopt(path, doc);
     check_layout(path, doc, c, binary, in);
     const std::string base_dir = std::filesystem::path(path).parent_path().string();  // a .gltf's .bin lies beside it
@@ -825,7 +914,7 @@ void load_model(const std::string& path, tinygltf::Model& m, LazyViews& lazy) {
         if (!ok) throw InputError(path + ": not a readable glTF 2.0 file: " + err);
         return;
     }
-    lazy.file = in_bin_chunk ? path : (std::filesystem::path(path).parent_path() / uri.get<std::string>()).string();
+    lazy.file = in_bin_chunk ? path : buffer_file(path, uri.get<std::string>(), "buffer 0");
     lazy.base = in_bin_chunk ? c.bin_at : 0;
     lazy.in.open(lazy.file, std::ios::binary);
     if (!lazy.in) throw InputError(path + ": cannot read its buffer " + lazy.file);
@@ -879,7 +968,7 @@ void read_glb_pieces(const std::string& path, const std::function<void(StoredAni
     if (!m.asset.extras.Has("libwave")) r.fail("not written by libwave (no asset.extras.libwave): only libwave's outputs can be converted");
     const tinygltf::Value& info = m.asset.extras.Get("libwave");
     StoredAnimation a;
-    a.fps = info.Get("fps").GetNumberAsDouble();
+    a.fps = info.Get("fps").GetNumberAsDouble();  // checked by check_extras
     a.first_frame = static_cast<std::size_t>(info.Get("first_frame").GetNumberAsInt());
     a.loop_frames = static_cast<std::size_t>(info.Get("loop_frames").GetNumberAsInt());
     a.name = info.Get("name").Get<std::string>();
@@ -1013,20 +1102,38 @@ void read_animation_pieces(const std::string& path, const std::function<void(Sto
     const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     if (in.bad()) throw InputError(path + ": cannot read the file");
     const nlohmann::json index = detail::parse_json_input(text, path + " (a frame index)");
-    if (!index.contains("frames") || !index["frames"].is_array() || index["frames"].empty())
+    if (!index.is_object() || !index.contains("frames") || !index["frames"].is_array() || index["frames"].empty())
         throw InputError(path + ": not a frame index (no \"frames\")");
+    const auto number = [&](const nlohmann::json& at, const std::string& where, const char* key, double most, bool whole) {
+        const nlohmann::json& v = at[key];
+        if (!v.is_number() || !(v.get<double>() >= 0.0 && v.get<double>() <= most) || (whole && !v.is_number_unsigned()))
+            throw InputError(path + ": " + where + key + " is not " + (whole ? "a whole number" : "a number") + " in [0, " +
+                             detail::format_number(most) + "]");
+        return v.get<double>();
+    };
+    // Every entry checked before a frame is read: its file named inside the index's
+    // folder (no absolute path, no .., no link out), its frame a whole number.
+    const std::string folder = std::filesystem::path(path).parent_path().string();
+    std::vector<std::pair<std::string, std::size_t>> listed;
+    for (const auto& entry : index["frames"]) {
+        const std::string where = "frames[" + std::to_string(listed.size()) + "].";
+        if (!entry.is_object() || !entry.contains("file") || !entry["file"].is_string() || !entry.contains("frame"))
+            throw InputError(path + ": " + where.substr(0, where.size() - 1) + " is not an object with a \"file\" and a \"frame\"");
+        const auto frame = static_cast<std::size_t>(number(entry, where, "frame", kMaxStoredFrames, true));
+        listed.emplace_back(path_inside(folder, entry["file"].get<std::string>(), path + ": " + where + "file"), frame);
+    }
     std::vector<std::uint32_t> triangles;  // the first frame's, which every frame must share
     std::size_t expected = 0, vertex_count = 0;
     double fps = 0.0;
     std::size_t loop_frames = 0;
     bool draco = false;
-    for (const auto& entry : index["frames"]) {
-        const std::string file = (std::filesystem::path(path).parent_path() / entry.at("file").get<std::string>()).string();
+    for (const auto& [file, frame] : listed) {
         StoredAnimation f = read_glb(file);
-        const std::size_t frame = entry.at("frame").get<std::size_t>();
         if (expected == 0) {
-            fps = index.value("fps", f.fps);
-            loop_frames = index.value("loop_frames", f.loop_frames);
+            fps = index.contains("fps") ? number(index, "", "fps", 1000.0, false) : f.fps;
+            loop_frames = index.contains("loop_frames") ? static_cast<std::size_t>(number(index, "", "loop_frames", kMaxStoredFrames, true))
+                                                        : f.loop_frames;
+            if (!(fps > 0.0)) throw InputError(path + ": fps is 0");
             triangles = f.triangles, vertex_count = f.vertex_count, draco = f.draco_frames;
         } else {
             if (frame != expected) throw InputError(path + ": frame " + std::to_string(expected) + " is missing (next is " + std::to_string(frame) + ")");

@@ -43,7 +43,7 @@ double depth_clamped(const ElevationGrid& g, double x, double y) {
 }
 
 // The marching grid: the seafloor's rectangle seen along the swell.
-WaveField field_grid(const ElevationGrid& g, const WaveTrain& train, double spacing, std::size_t max_nodes) {
+WaveField field_grid(const ElevationGrid& g, const WaveTrain& train, double spacing, std::size_t max_nodes, double max_bytes) {
     WaveField f;
     const double len = std::hypot(train.direction_x, train.direction_y);
     f.ux = train.direction_x / len;
@@ -59,6 +59,12 @@ WaveField field_grid(const ElevationGrid& g, const WaveTrain& train, double spac
         throw LimitError("wave field: " + detail::format_number(nx) + " x " + detail::format_number(ny) +
                          " nodes at a spacing of " + detail::format_number(spacing) + " m, more than the limit of " +
                          std::to_string(max_nodes) + "; lower /field/nodes_per_wavelength or raise /field/max_nodes");
+    if (!(nx * ny * kFieldNodeBytes <= max_bytes))
+        throw LimitError("wave field: " + detail::format_number(nx) + " x " + detail::format_number(ny) + " nodes at a spacing of " +
+                         detail::format_number(spacing) + " m need about " + detail::format_number(std::ceil(nx * ny * kFieldNodeBytes / 1e7) / 100.0) +
+                         " GB (" + detail::format_number(kFieldNodeBytes) + " bytes a node), over the " +
+                         detail::format_number(max_bytes / 1e9) + " GB it may take (the memory limit, shared among a scene's wave trains); lower /field/nodes_per_wavelength or /field/max_nodes, "
+                         "or raise the limit (--max-memory-gb)");
     f.nx = static_cast<std::size_t>(nx);
     f.ny = static_cast<std::size_t>(ny);
     f.dx = f.dy = spacing;
@@ -215,7 +221,7 @@ WaveField solve_wave_field(const Seafloor& seafloor, const WaveTrain& train, con
     const double resolved = std::min(st.depth_max, std::max({o.min_resolved_depth, 2.0 * train.amplitude / o.breaker_index,
                                                              1e-2 * st.depth_max}));
     const double spacing = linear_wave(omega, resolved).wavelength / o.nodes_per_wavelength;
-    WaveField f = field_grid(g, train, spacing, o.max_nodes);
+    WaveField f = field_grid(g, train, spacing, o.max_nodes, o.max_bytes);
     f.omega = omega;
     f.incident_amplitude = train.amplitude;
     f.envelope.assign(f.nx * f.ny, {});

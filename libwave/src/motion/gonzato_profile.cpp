@@ -107,7 +107,11 @@ ProfileShape gonzato_shape(double R, double k, double h, double rise, const Gonz
     const double sx = 1.0 / -std::expm1(-o.kx * h);                // S_x: 1 in deep water, → ∞ at the shore
     const double sz = sx * -std::expm1(-o.kz * h);                 // S_z: → K_z / K_x at the shore
     s.major = R * sx;
-    s.minor = R * sz;
+    // S_z flattens the orbit towards the shore (K_z < K_x: S_z from 1 down to K_z/K_x);
+    // it never raises it: R is the ray's amplitude, shoaling already in it. With K_x
+    // far below K_z (a schema-valid K_x of 1e-3 /m), S_z reached 60 at 10 m and a 0.3 m
+    // swell stood ±5.55 m high, at Gerstner's disc below (docs/hardening.md).
+    s.minor = R * std::min(sz, 1.0);
     // §2.3: the major axis stays in Gerstner's disc (no loops; waves reach the beach);
     // the minor axis R S_z < R S_x is left as it is.
     if (o.limit_to_disc) s.major = std::min(s.major, 1.0 / k);

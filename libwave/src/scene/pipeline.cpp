@@ -327,9 +327,23 @@ void plan_fold_foam(const Scene& scene, ScenePlan& p) {
 
 }  // namespace
 
+// A seafloor without water gives every traced surface nothing to move: said once, for
+// every kind (the height field said its isobath set was empty; the wave field, that
+// the seafloor had no water).
+void refuse_all_land(const Scene& scene, const Seafloor& seafloor) {
+    if (surface_kind_traces(scene.surface_kind) == Traced::nothing) return;
+    const SeafloorStats st = seafloor_stats(seafloor);
+    if (st.depth_max > 0.0) return;
+    throw InputError("scene: no water surface to animate over " + seafloor.source +
+                     ": the seafloor is all land (no node below the water level" +
+                     (st.nodata_count > 0 ? std::string("; NODATA read as land: /seafloor/nodata_policy") : std::string()) +
+                     "); check /seafloor/sign and /seafloor/vertical_offset");
+}
+
 ScenePlan plan_scene(const Scene& scene, PlanStages stages) {
     ScenePlan p;
     p.seafloor = scene_seafloor(scene);
+    refuse_all_land(scene, p.seafloor);
     scene_camera(scene, p.seafloor);  // a camera inside the seafloor is an input error, found before the work
     // Without a wind sea (whose loop is its own, ~20 s) every loop holds at least the
     // first train's period: a too-short one is refused before the work.
@@ -793,6 +807,8 @@ namespace {
 // What lowers a run's memory, or raises its limit: the end of both memory refusals.
 std::string memory_advice(const Scene& scene) {
     return (scene.refine ? std::string("lower /refine/level, or ") : std::string()) +
+           (scene.camera_grid ? std::string("raise /surface/camera_grid/pixel_step or lower /surface/camera_grid/image, or ")
+                              : std::string()) +
            (scene.quantize && scene.form != Scene::Form::morph
                 ? std::string("use the morph form or drop /outputs/quantize (quantised nodes files are written whole), or ")
                 : std::string()) +
@@ -815,6 +831,26 @@ double planned_memory_floor_bytes(const Scene& scene) {
 }
 
 void check_plan_limits(const Scene& scene, double max_bytes) {
+    // A camera grid's vertices, from the scene alone: every pixel_step-th pixel of every
+    // row (rows that miss the water are dropped later; a bound, not a guess), at what a
+    // run of one holds a vertex at its peak (the plan's arrays, the breakers resampled on
+    // it, one frame and its file: estimate_run has 4 GB for 16 M vertices; 260 bytes, a margin over it).
+    // At the schema's 10⁸ pixels and step 1, validate built 13 GB of plan before a limit
+    // named other keys; at 16 M vertices it planned 2.2 GB before refusing the run's 4 GB.
+    if (scene.camera_grid && scene.camera_grid->pixel_step > 0) {
+        const GridCamera& c = *scene.camera_grid;
+        const double columns = std::ceil(static_cast<double>(c.image_width) / static_cast<double>(c.pixel_step)),
+                     rows = std::ceil(static_cast<double>(c.image_height) / static_cast<double>(c.pixel_step));
+        const double per_vertex = 260.0;
+        if (const double bytes = columns * rows * per_vertex; bytes > max_bytes)
+            throw LimitError("scene: /surface/camera_grid/image [" + std::to_string(c.image_width) + ", " + std::to_string(c.image_height) +
+                             "] at /surface/camera_grid/pixel_step " + std::to_string(c.pixel_step) + " samples up to " +
+                             detail::format_count(static_cast<std::size_t>(columns * rows)) + " vertices, about " +
+                             fmt(std::ceil(bytes / 1e7) / 100.0) + " GB at a run's peak (" + fmt(per_vertex) +
+                             " bytes a vertex), over the limit of " + fmt(max_bytes / 1e9) +
+                             " GB; raise /surface/camera_grid/pixel_step or lower /surface/camera_grid/image, or raise the limit "
+                             "(wave run --max-memory-gb)");
+    }
     if (const double volume = kSunbeamWorkBytesPerVoxel * sunbeam_voxels(scene); volume > max_bytes) {
         const SunVolumeOptions& o = *scene.underwater->sunbeams;
         throw LimitError("scene: /underwater/sunbeams/voxels [" + std::to_string(o.nx) + ", " + std::to_string(o.ny) + ", " +

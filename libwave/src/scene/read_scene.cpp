@@ -459,6 +459,9 @@ void refuse_height_field_options(const Node& root, std::string_view kind_hint) {
             n[key.c_str()].fail("a height-field option; this scene's surface kind is \"" + std::string(kind_hint));
 }
 
+// The most wave trains a scene may hold (the schema's /waves maxItems).
+constexpr std::size_t kMaxWaveTrains = 16;
+
 void refuse_ray_strip_keys(const Node& root) {
     for (const char* key : {"camera_grid", "water_mesh"})
         if (root.has("surface") && root["surface"].value().is_object() && root["surface"].has(key))
@@ -517,6 +520,11 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
         if (!root.has("waves")) root.fail("missing \"waves\": at least one wave train {period, amplitude, direction}");
         const Node waves = root["waves"];
         if (!waves.value().is_array() || waves.size() == 0) waves.fail("expected a non-empty array of wave trains");
+        // Each train is traced and its fronts held in the plan: 200 trains on a wave-field
+        // scene took 3.5 GB and minutes before any limit (docs/hardening.md).
+        if (waves.size() > detail::kMaxWaveTrains)
+            waves.fail(std::to_string(waves.size()) + " wave trains; at most " + std::to_string(detail::kMaxWaveTrains) +
+                       " (each is traced and held in the plan)");
         for (std::size_t i = 0; i < waves.size(); ++i) s.waves.push_back(read_wave(waves[i]));
     }
     if (root.has("trace")) read_trace(root["trace"], s);

@@ -315,17 +315,27 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
                          detail::format_number(o.step) + " m takes " + detail::format_number(std::ceil(fronts_needed)) +
                          " fronts, more than " + std::to_string(o.max_steps) +
                          " (FrontOptions::max_steps, scene key /fronts/max_steps; lengthen /fronts/step)");
-    if (fronts_needed * static_cast<double>(entries.size()) > static_cast<double>(o.max_points))
+    // max_points, lowered to the points the memory limit holds (FrontSet's arrays alone).
+    const double by_memory = std::floor(o.max_bytes / kRunBytesPerFrontPoint);
+    const std::size_t max_points =
+        by_memory < static_cast<double>(o.max_points) ? static_cast<std::size_t>(std::max(by_memory, 0.0)) : o.max_points;
+    const auto memory_note = [&] {
+        return max_points < o.max_points ? " (/fronts/max_points " + std::to_string(o.max_points) + " lowered to the " +
+                                               detail::format_number(o.max_bytes / 1e9) + " GB memory limit at " +
+                                               detail::format_number(kRunBytesPerFrontPoint) + " bytes a point at a run's peak; wave run --max-memory-gb)"
+                                         : std::string();
+    };
+    if (fronts_needed * static_cast<double>(entries.size()) > static_cast<double>(max_points))
         throw LimitError("fronts: " + std::to_string(entries.size()) + " rays crossing the domain in " +
                          detail::format_number(std::ceil(fronts_needed)) + " fronts make more than " +
-                         std::to_string(o.max_points) +
-                         " points (FrontOptions::max_points, scene key /fronts/max_points; lengthen /fronts/step or "
+                         std::to_string(max_points) + " points" + memory_note() +
+                         " (FrontOptions::max_points, scene key /fronts/max_points; lengthen /fronts/step or "
                          "raise /trace/ray_spacing)");
 
     FrontSet out;
     out.omega = omega;
     const auto points_expected = static_cast<std::size_t>(std::ceil(fronts_needed) + 1.0) * entries.size();
-    reserve_points(out, std::min<std::size_t>(o.max_points, points_expected));
+    reserve_points(out, std::min<std::size_t>(max_points, points_expected));
     std::vector<Ray> front;
     std::vector<double> gap_b0;  // the width the tube between ray i and i+1 had in the reference plane wave (EntryPoint)
     const detail::EntryPoint* last = nullptr;
@@ -348,9 +358,9 @@ FrontSet trace_fronts(const Seafloor& seafloor, const WaveTrain& t, const FrontO
     // Records the front: amplitudes from the neighbours' spacing, flags.
     const auto record = [&]() {
         const std::size_t n = front.size();
-        if (out.ray.size() + n > o.max_points)
-            throw LimitError("fronts: more than " + std::to_string(o.max_points) +
-                             " front points (FrontOptions::max_points, scene key /fronts/max_points; lengthen the step, "
+        if (out.ray.size() + n > max_points)
+            throw LimitError("fronts: more than " + std::to_string(max_points) + " front points" + memory_note() +
+                             " (FrontOptions::max_points, scene key /fronts/max_points; lengthen the step, "
                              "raise split_distance or lower max_turn_degrees)");
         for (std::size_t i = 0; i < n; ++i) {
             Ray& r = front[i];

@@ -38,13 +38,39 @@ void check_grid(const Scene& scene, const TraceOptions& trace, ScenePlan& p) {
     }
 }
 
+// A train of which fewer than two rays entered the water moves nothing (an empty
+// animation, "heights 0 .. 0 m", used to follow): say why, naming its keys.
+void refuse_dry_trains(const Scene& scene, const ScenePlan& p, const TraceOptions& trace) {
+    std::vector<std::size_t> rays(scene.waves.size(), 0);
+    for (std::size_t r = 0; r < p.rays.ray_count(); ++r)
+        if (p.rays.train[r] < rays.size() && p.rays.offsets[r + 1] > p.rays.offsets[r]) ++rays[p.rays.train[r]];
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        if (rays[i] >= 2) continue;
+        const WaveTrain& w = scene.waves[i];
+        const std::string where = "scene: no ray enters the water over " + p.seafloor.source + " from /waves/" + std::to_string(i) +
+                                  " (" + std::to_string(rays[i]) + " ray(s)): ";
+        const SeafloorStats st = seafloor_stats(p.seafloor);
+        const double len = std::hypot(w.direction_x, w.direction_y);
+        const double across = (std::abs(w.direction_y) * (st.x_max - st.x_min) + std::abs(w.direction_x) * (st.y_max - st.y_min)) / len;
+        if (across / trace.ray_spacing < 2.0)
+            throw InputError(where + "/trace/ray_spacing " + fmt(trace.ray_spacing) + " m leaves fewer than two rays across the " +
+                             fmt(across) + " m the swell enters over; lower /trace/ray_spacing");
+        throw InputError(where + "the swell travels towards [" + fmt(w.direction_x) + ", " + fmt(w.direction_y) + "] (/waves/" +
+                         std::to_string(i) + "/direction), so its rays start on the seafloor's upwave side, and that side is land; "
+                         "a direction points where the waves go, from the open sea towards the shore");
+    }
+}
+
 void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
     const TraceOptions trace = scene_trace_options(scene, p.seafloor);
     check_grid(scene, trace, p);
     p.isobaths = extract_isobaths(p.seafloor, scene.isobaths);
     p.rays = trace_rays(p.seafloor, p.isobaths, scene.waves, trace);
+    refuse_dry_trains(scene, p, trace);
     if (scene.amplitudes_from_field) {  // rays keep direction and phase; the fields give the heights
-        for (const WaveTrain& w : scene.waves) p.wave_fields.push_back(solve_wave_field(p.seafloor, w, scene.field));
+        FieldOptions share = scene.field;  // every train's grid is held: the memory limit is shared
+        share.max_bytes /= static_cast<double>(scene.waves.size());
+        for (const WaveTrain& w : scene.waves) p.wave_fields.push_back(solve_wave_field(p.seafloor, w, share));
         take_field_amplitudes(p.wave_fields, p.rays);
     }
     if (stages == PlanStages::trace) return;

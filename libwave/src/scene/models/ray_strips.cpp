@@ -31,8 +31,8 @@ void read_after(const Node& root, Scene& s) {
     const SeafloorStats st = seafloor_stats(p.seafloor);
     const std::string where = "scene: no water surface to animate over " + p.seafloor.source + ": ";
     if (!(st.depth_max > 0.0))
-        throw InputError(where + "the seafloor has no water (every node is land" +
-                         (st.nodata_count > 0 ? std::string(" or NODATA read as land: /seafloor/nodata_policy") : std::string()) +
+        throw InputError(where + "the seafloor is all land (no node below the water level" +
+                         (st.nodata_count > 0 ? std::string("; NODATA read as land: /seafloor/nodata_policy") : std::string()) +
                          "); check /seafloor/sign and /seafloor/vertical_offset");
     const WaveTrain& w = scene.waves[0];
     // The seafloor's width across the swell, where its rays enter.

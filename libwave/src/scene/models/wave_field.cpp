@@ -32,7 +32,22 @@ void read_before(const Node& root, Scene&) {
 // shorter than the finest field's node spacing (what the field resolves).
 void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
     p.isobaths = extract_isobaths(p.seafloor, scene.isobaths);
-    for (const WaveTrain& w : scene.waves) p.wave_fields.push_back(solve_wave_field(p.seafloor, w, scene.field));
+    FieldOptions share = scene.field;  // every train's grid is held: the memory limit is shared
+    share.max_bytes /= static_cast<double>(scene.waves.size());
+    for (const WaveTrain& w : scene.waves) p.wave_fields.push_back(solve_wave_field(p.seafloor, w, share));
+    // A field the swell never entered (its up-wave side is land) is still water: heights
+    // 0 .. 0 m used to follow. Say why, naming the train's direction.
+    for (std::size_t i = 0; i < p.wave_fields.size(); ++i) {
+        const WaveField& f = p.wave_fields[i];
+        float largest = 0.0f;
+        for (const std::complex<float>& e : f.envelope) largest = std::max(largest, std::abs(e));
+        if (largest > 1e-6f * static_cast<float>(scene.waves[i].amplitude)) continue;
+        const WaveTrain& w = scene.waves[i];
+        throw InputError("scene: no wave enters the water over " + p.seafloor.source + " from /waves/" + std::to_string(i) +
+                         ": the swell travels towards [" + fmt(w.direction_x) + ", " + fmt(w.direction_y) +
+                         "] (/waves/" + std::to_string(i) + "/direction) and its up-wave side is land; a direction points where the "
+                         "waves go, from the open sea towards the shore");
+    }
     if (stages == PlanStages::trace) return;
     double shortest = scene.waves[0].period;
     for (const WaveTrain& w : scene.waves) shortest = std::min(shortest, w.period);
