@@ -707,16 +707,22 @@ std::set<int> frame_views(const nlohmann::json& doc) {
     };
     const auto array = [&](const char* key) { return doc.contains(key) && doc[key].is_array() ? doc[key] : nlohmann::json::array(); };
     const nlohmann::json meshes = array("meshes");
+    // The nodes form (several water meshes): the first frame's own attributes are a
+    // frame's too, so a reader of another frame (read_animation_frames) leaves them in
+    // the file; its indices and TEXCOORD_0, which every frame shares, stay resident.
+    const auto water_mesh = [](const nlohmann::json& m) { return m.is_object() && !(m.contains("name") && m["name"] == "seafloor"); };
+    const bool frames_of_their_own = std::count_if(meshes.begin(), meshes.end(), water_mesh) > 1;
     for (std::size_t i = 0; i < meshes.size(); ++i) {
         const nlohmann::json& mesh = meshes[i];
         if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
-        const bool frame_mesh = i > 0 && !(mesh.contains("name") && mesh["name"] == "seafloor");
+        const bool frame_mesh = i > 0 && water_mesh(mesh);
         for (const auto& prim : mesh["primitives"]) {
             if (!prim.is_object()) continue;
             std::set<int>& own = frame_mesh ? frame_accessors : static_accessors;
             if (prim.contains("indices")) accessor_of(prim["indices"], own);
             if (prim.contains("attributes") && prim["attributes"].is_object())
-                for (const auto& [_, a] : prim["attributes"].items()) accessor_of(a, own);
+                for (const auto& [name, a] : prim["attributes"].items())
+                    accessor_of(a, i == 0 && frames_of_their_own && name != "TEXCOORD_0" ? frame_accessors : own);
             if (prim.contains("targets") && prim["targets"].is_array())
                 for (const auto& t : prim["targets"])
                     if (t.is_object())
