@@ -29,6 +29,7 @@ class LibwaveFileError(Exception):
 # What the add-on reads is checked as libwave's C++ reader checks it (docs/hardening.md):
 # a message naming the file, never a traceback, a hang or memory run out.
 MAX_FRAMES = 10_000_000  # the schema's /animation/max_frames
+AHEAD = 1  # compressed frames decoded ahead of the one shown, each on a worker of its own (more is untested on a quiet machine)
 BAKE_BYTES = 4e9  # a bake holds every frame in the .blend: ~40 bytes a vertex a frame in Blender's meshes
 
 
@@ -512,17 +513,18 @@ class Animation:
 
     def _decoded_frame(self, k):
         """Frame k of a compressed output (files form or one file): from the bounded cache,
-        else decoded now; then frame k + 1 is decoded ahead on a worker thread (libwave's
-        module releases the GIL while it reads), so sequential playback finds each frame
-        ready."""
+        else decoded now; then frames k + 1 … k + AHEAD are decoded ahead on worker threads
+        (libwave's module releases the GIL while it reads), so sequential playback finds
+        each frame ready."""
         future = self._ahead.pop(k, None)
         f = future.result() if future is not None else self._decode(k)
-        self._ahead = {j: fu for j, fu in self._ahead.items() if abs(j - k) <= 2}  # bounded: a jump drops the rest
-        nxt = (k + 1) % self.frame_count
-        if nxt not in self._ahead and nxt != k:
-            if self._worker is None:
-                self._worker = concurrent.futures.ThreadPoolExecutor(max_workers=1, thread_name_prefix="libwave-decode")
-            self._ahead[nxt] = self._worker.submit(self._decode, nxt)
+        self._ahead = {j: fu for j, fu in self._ahead.items() if 0 < (j - k) % self.frame_count <= AHEAD}  # a jump drops the rest
+        for step in range(1, AHEAD + 1):
+            nxt = (k + step) % self.frame_count
+            if nxt not in self._ahead and nxt != k:
+                if self._worker is None:
+                    self._worker = concurrent.futures.ThreadPoolExecutor(max_workers=AHEAD, thread_name_prefix="libwave-decode")
+                self._ahead[nxt] = self._worker.submit(self._decode, nxt)
         return f
 
     def frame(self, k):
