@@ -544,6 +544,24 @@ TEST(Meshopt, EveryFormReadsBackWithinTheFilterSteps) {
     EXPECT_THROW(gltf_frame_glb(view, 0), InputError);  // meshopt or quantisation, not both
 }
 
+// `glb` with its JSON edited by `edit`, written to `file` and read back: refused with
+// InputError naming the file and saying `message`.
+void expect_refused(const std::string& glb, const nlohmann::json& doc, const std::filesystem::path& file,
+                    const std::function<void(nlohmann::json&)>& edit, const std::string& message) {
+    nlohmann::json bad = doc;
+    edit(bad);
+    write_file_atomic(file.string(), with_json(glb, bad));
+    try {
+        read_animation(file.string());
+        ADD_FAILURE() << "accepted: " << message;
+    } catch (const InputError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find(message), std::string::npos) << message << ": " << what;
+        EXPECT_NE(what.find(file.string()), std::string::npos) << what;
+    }
+    std::filesystem::remove(file);
+}
+
 TEST(Meshopt, HostileStreamsAreRefusedNamingTheFile) {
     // A compressed view whose stream is cut short, whose count is not the stream's, or
     // that declares far more bytes than its stream can hold: InputError naming the file
@@ -557,19 +575,10 @@ TEST(Meshopt, HostileStreamsAreRefusedNamingTheFile) {
     const int index_view = doc["accessors"][doc["meshes"][0]["primitives"][0]["indices"].get<int>()]["bufferView"];
     const std::filesystem::path file = std::filesystem::temp_directory_path() / "libwave-meshopt-hostile.glb";
     const auto refused = [&](int target, const std::function<void(nlohmann::json&, nlohmann::json&)>& edit, const std::string& message) {
-        nlohmann::json bad = doc;
-        auto& v = bad["bufferViews"][static_cast<std::size_t>(target)];
-        edit(v, v["extensions"]["EXT_meshopt_compression"]);
-        write_file_atomic(file.string(), with_json(glb, bad));
-        try {
-            read_animation(file.string());
-            ADD_FAILURE() << "accepted: " << message;
-        } catch (const InputError& e) {
-            const std::string what = e.what();
-            EXPECT_NE(what.find(message), std::string::npos) << message << ": " << what;
-            EXPECT_NE(what.find(file.string()), std::string::npos) << what;
-        }
-        std::filesystem::remove(file);
+        expect_refused(glb, doc, file, [&](nlohmann::json& d) {
+            auto& v = d["bufferViews"][static_cast<std::size_t>(target)];
+            edit(v, v["extensions"]["EXT_meshopt_compression"]);
+        }, message);
     };
     refused(position_view, [](nlohmann::json&, nlohmann::json& e) { e["byteLength"] = e["byteLength"].get<int>() / 2; }, "does not decode");
     refused(index_view, [](nlohmann::json&, nlohmann::json& e) { e["byteLength"] = e["byteLength"].get<int>() - 7; }, "does not decode");
@@ -602,18 +611,7 @@ TEST(GltfRead, AccessorsStayInsideTheirViewsAndTheExtrasAreChecked) {
     const std::size_t view = doc["accessors"][position]["bufferView"];
     const std::filesystem::path file = std::filesystem::temp_directory_path() / "libwave-gltf-bounds.glb";
     const auto refused = [&](const std::function<void(nlohmann::json&)>& edit, const std::string& message) {
-        nlohmann::json bad = doc;
-        edit(bad);
-        write_file_atomic(file.string(), with_json(glb, bad));
-        try {
-            read_animation(file.string());
-            ADD_FAILURE() << "accepted: " << message;
-        } catch (const InputError& e) {
-            const std::string what = e.what();
-            EXPECT_NE(what.find(message), std::string::npos) << message << ": " << what;
-            EXPECT_NE(what.find(file.string()), std::string::npos) << what;
-        }
-        std::filesystem::remove(file);
+        expect_refused(glb, doc, file, edit, message);
     };
     refused([&](nlohmann::json& d) { d["bufferViews"][view]["byteStride"] = 16; }, "runs past its bufferView");
     refused([&](nlohmann::json& d) { d["bufferViews"][view]["byteStride"] = -12; }, "byteStride -12");

@@ -41,6 +41,15 @@ Value either(const char* what, const std::string& given, const char* first, Valu
     throw wave::InputError(std::string(what) + " must be \"" + first + "\" or \"" + second + "\", got \"" + given + "\"");
 }
 
+// Reader options with the values' sign named by a keyword argument of `function`
+// ("elevation" or "depth"; none: the source's own convention).
+wave::ReadOptions options_with_sign(const std::string& function, const std::optional<std::string>& sign) {
+    wave::ReadOptions o;
+    if (sign)
+        o.sign = either((function + ": sign").c_str(), *sign, "elevation", wave::ValueSign::elevation, "depth", wave::ValueSign::depth);
+    return o;
+}
+
 wave::WaveTrain train(double period, double amplitude, const std::array<double, 2>& direction) {
     return {.period = period, .amplitude = amplitude, .direction_x = direction[0], .direction_y = direction[1]};
 }
@@ -114,9 +123,7 @@ void bind_seafloor(py::module_& m) {
         "read_seafloor",
         [](const std::string& path, std::optional<std::string> sign, double vertical_scale, double vertical_offset,
            double horizontal_scale, std::optional<double> nodata) {
-            wave::ReadOptions o;
-            if (sign)
-                o.sign = either("read_seafloor: sign", *sign, "elevation", wave::ValueSign::elevation, "depth", wave::ValueSign::depth);
+            wave::ReadOptions o = options_with_sign("read_seafloor", sign);
             o.vertical_scale = vertical_scale, o.vertical_offset = vertical_offset, o.horizontal_scale = horizontal_scale;
             o.nodata_value = nodata;
             py::gil_scoped_release release;
@@ -153,9 +160,7 @@ void bind_seafloor(py::module_& m) {
                     throw wave::InputError("seafloor_from_grid: mask must be a boolean array of the values' shape");
                 missing.assign(b.data(), b.data() + b.size());
             }
-            wave::ReadOptions o;
-            if (sign)
-                o.sign = either("seafloor_from_grid: sign", *sign, "elevation", wave::ValueSign::elevation, "depth", wave::ValueSign::depth);
+            wave::ReadOptions o = options_with_sign("seafloor_from_grid", sign);
             o.nodata_value = nodata;
             py::gil_scoped_release release;
             return std::make_shared<wave::Seafloor>(wave::seafloor_from_grid(g, missing, o, name));
@@ -184,9 +189,7 @@ void bind_seafloor(py::module_& m) {
                 indices[static_cast<std::size_t>(i)] = static_cast<std::uint32_t>(k);
             }
             std::vector<double> xyz(v.data(), v.data() + v.size());
-            wave::ReadOptions o;
-            if (sign)
-                o.sign = either("seafloor_from_mesh: sign", *sign, "elevation", wave::ValueSign::elevation, "depth", wave::ValueSign::depth);
+            wave::ReadOptions o = options_with_sign("seafloor_from_mesh", sign);
             o.resample_spacing = spacing;
             py::gil_scoped_release release;
             return std::make_shared<wave::Seafloor>(wave::seafloor_from_mesh(xyz, indices, o, name));
