@@ -796,7 +796,7 @@ int run_job(const RunArgs& a) {
             r.animation_bytes += bytes;
         }
     } else if (!files_form) {
-        files = encode_animation(anim.view(), scene.form, scene.container, whole, anim.caustics, anim.sunbeams);
+        files = encode_animation(anim.view(), scene.form, scene.container, whole, anim.caustics, anim.sunbeams, anim.whitewater);
         for (const auto& f : files) {
             r.animation_names.push_back(f.first);
             r.animation_bytes += f.second.size();

@@ -408,7 +408,7 @@ FilesFormRun write_files_form(const Scene& scene, const ScenePlan& plan, const s
                         return each.empty() ? std::span<const std::string>() : std::span<const std::string>(each).subspan(k, 1);
                     };
                     const Files frame_files = encode_animation(frame_subview(view, k, 1), Scene::Form::files, scene.container, false,
-                                                               frame_k(anim.caustics), frame_k(anim.sunbeams));
+                                                               frame_k(anim.caustics), frame_k(anim.sunbeams), frame_k(anim.whitewater));
                     for (const auto& [name, bytes] : frame_files) {
                         fs::create_directories((run.partial / name).parent_path());
                         write_file_atomic((run.partial / name).string(), bytes);

@@ -13,6 +13,7 @@
 #include "libwave/surface.h"
 #include "libwave/trace.h"
 #include "libwave/underwater.h"
+#include "libwave/whitewater.h"
 
 #include <array>
 #include <functional>
@@ -158,6 +159,10 @@ struct Scene {
     /// surface focuses onto the seafloor under the scene's sun (/preview/sun), a 16-bit
     /// PNG per frame beside the animation. Empty: none.
     std::optional<UnderwaterOptions> underwater;
+    /// Spray, foam and bubbles as particles (/whitewater, docs/whitewater.md): thrown by
+    /// Jeschke's breakers (/breakers) and the wind sea's folds (/ocean), a POINTS .glb per
+    /// frame beside the animation (kWhitewaterPoints). Empty: none.
+    std::optional<WhitewaterOptions> whitewater;
     /// Which shading attributes the export carries: none, the Blender 3.4 UV-map layout
     /// (default: every glTF client reads UV maps), or the named `_` attributes.
     enum class Attributes {
@@ -257,6 +262,8 @@ CausticOptions scene_caustic_options(const Scene& scene, const ScenePlan& plan);
 inline constexpr char kCausticImages[] = "caustics/caustics-%04d.png";
 /// The sunbeam volumes' names beside an animation, by loop frame (printf pattern).
 inline constexpr char kSunbeamVolumes[] = "sunbeams/sunbeams-%04d.vdb";
+/// The whitewater particles' files beside an animation, by loop frame (printf pattern).
+inline constexpr char kWhitewaterPoints[] = "whitewater/whitewater-%04d.glb";
 
 /// The scene's trace options with Ts'o's rule applied: when orthogonals_per_grid_line
 /// > 0, ray_spacing = min(surface cell dx, dy) / orthogonals_per_grid_line.
@@ -279,6 +286,9 @@ struct ScenePlan {
     SeaSkirt skirt;             ///< Scene::far_field: the skirt beyond the domain (no vertices otherwise)
     FarFieldPlan far_field;     ///< … its motion
     SkirtBreakers skirt_breakers;  ///< … and, with breakers, the breakers carried onto it
+    /// Scene::whitewater with breakers: where and when the breaking crests throw
+    /// whitewater over the loop (periodic; the wind sea's come from each frame's folds).
+    WhitewaterEvents whitewater;
     /// With a skirt: the model's own vertices (they come first in rest_x, rest_y) and the
     /// surface's triangles with the skirt's (empty without a skirt).
     std::size_t model_vertices = 0;
@@ -366,6 +376,9 @@ struct SceneAnimation {
     /// /underwater/sunbeams: one OpenVDB volume of the sunlight in the water per frame
     /// (sun_volume_vdb; empty without them).
     std::vector<std::string> sunbeams;
+    /// /whitewater: one POINTS .glb of the frame's particles per frame (whitewater_glb;
+    /// empty without them).
+    std::vector<std::string> whitewater;
 
     MorphAnimationView view() const;  ///< a view for the exporters (spans into this)
 };
@@ -454,10 +467,12 @@ using EncodedFiles = std::vector<std::pair<std::string, std::string>>;
 /// frames/frame-NNNN.glb for files; with the gltf container each .glb becomes
 /// name.gltf + name.bin. With `caustics` (one PNG per frame of the view), the maps as
 /// kCausticImages beside them, and with `sunbeams` (one OpenVDB volume per frame) the
-/// volumes as kSunbeamVolumes (in the files form, after each frame's own files). Used
-/// by `wave run`, `wave convert` and the Python module.
+/// volumes as kSunbeamVolumes, and with `whitewater` (one POINTS .glb per frame) the
+/// particles as kWhitewaterPoints (in the files form, after each frame's own files).
+/// Used by `wave run`, `wave convert` and the Python module.
 EncodedFiles encode_animation(const MorphAnimationView& view, Scene::Form form, Scene::Container container, bool whole,
-                              std::span<const std::string> caustics = {}, std::span<const std::string> sunbeams = {});
+                              std::span<const std::string> caustics = {}, std::span<const std::string> sunbeams = {},
+                              std::span<const std::string> whitewater = {});
 
 /// Frames of one loop evaluated a chunk at a time, for runs that must not hold every
 /// frame (the streamed export forms, docs/export.md): constructed once per range (the

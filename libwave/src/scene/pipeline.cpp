@@ -353,6 +353,9 @@ ScenePlan plan_scene(const Scene& scene, PlanStages stages) {
     plan_components(scene, p);
     plan_far_field_stage(scene, p);
     plan_fold_foam(scene, p);
+    // The breakers' whitewater over the loop, on the surface the breakers move.
+    if (scene.whitewater && scene.breakers)
+        p.whitewater = jeschke_whitewater_events(p.breakers, detail::surface_model(scene.surface_kind).triangles(p));
     if (stages == PlanStages::all) refine_scene_plan(scene, p);
     return p;
 }
@@ -401,22 +404,24 @@ std::string underwater_file_name(const char* pattern, std::size_t frame) {
 // Frame k of a chunk's underwater files beside the animation, named by loop frame: its
 // caustic map, then its sunbeam volume (each list empty or one per frame of the chunk).
 void for_underwater_files(std::size_t first_frame, std::size_t k, std::span<const std::string> caustics,
-                          std::span<const std::string> sunbeams, const std::function<void(std::string, const std::string&)>& file) {
+                          std::span<const std::string> sunbeams, std::span<const std::string> whitewater,
+                          const std::function<void(std::string, const std::string&)>& file) {
     if (!caustics.empty()) file(underwater_file_name(kCausticImages, first_frame + k), caustics[k]);
     if (!sunbeams.empty()) file(underwater_file_name(kSunbeamVolumes, first_frame + k), sunbeams[k]);
+    if (!whitewater.empty()) file(underwater_file_name(kWhitewaterPoints, first_frame + k), whitewater[k]);
 }
 
 // The caustic maps and sunbeam volumes beside the animation: in the files form after
 // each frame's own files (a frame's entry lists them together), else after the file.
 void add_underwater_files(const MorphAnimationView& view, std::span<const std::string> caustics, std::span<const std::string> sunbeams,
-                          Scene::Form form, EncodedFiles& files) {
-    if (caustics.empty() && sunbeams.empty()) return;
+                          std::span<const std::string> whitewater, Scene::Form form, EncodedFiles& files) {
+    if (caustics.empty() && sunbeams.empty() && whitewater.empty()) return;
     const std::size_t per_frame = form == Scene::Form::files ? files.size() / view.frame_count : 0;
     EncodedFiles grouped;
     if (per_frame == 0) grouped.swap(files);  // the animation's files first, whole
     for (std::size_t k = 0; k < view.frame_count; ++k) {
         for (std::size_t i = 0; i < per_frame; ++i) grouped.push_back(std::move(files[k * per_frame + i]));
-        for_underwater_files(view.first_frame, k, caustics, sunbeams,
+        for_underwater_files(view.first_frame, k, caustics, sunbeams, whitewater,
                              [&](std::string name, const std::string& bytes) { grouped.emplace_back(std::move(name), bytes); });
     }
     files.swap(grouped);
@@ -467,7 +472,8 @@ void split_gltf_container(EncodedFiles& files) {
 }  // namespace
 
 EncodedFiles encode_animation(const MorphAnimationView& view, Scene::Form form, Scene::Container container, bool whole,
-                              std::span<const std::string> caustics, std::span<const std::string> sunbeams) {
+                              std::span<const std::string> caustics, std::span<const std::string> sunbeams,
+                              std::span<const std::string> whitewater) {
     EncodedFiles files;
     const std::string animation_name = animation_file_name(view.first_frame, view.frame_count, whole);
     if (form == Scene::Form::morph) files.emplace_back(animation_name, gltf_morph_glb(view));
@@ -489,7 +495,7 @@ EncodedFiles encode_animation(const MorphAnimationView& view, Scene::Form form, 
             files.emplace_back(name, gltf_frame_glb(view, k));
         }
     if (container == Scene::Container::gltf) split_gltf_container(files);
-    add_underwater_files(view, caustics, sunbeams, form, files);
+    add_underwater_files(view, caustics, sunbeams, whitewater, form, files);
     return files;
 }
 
@@ -629,7 +635,7 @@ StreamedAnimation stream_animation(AnimationStream& stream, const Scene& scene, 
             }
             writer->append(view);
             for (std::size_t k = 0; k < a.frame_count; ++k)
-                for_underwater_files(a.first_frame, k, a.caustics, a.sunbeams, [&](std::string name, const std::string& bytes) {
+                for_underwater_files(a.first_frame, k, a.caustics, a.sunbeams, a.whitewater, [&](std::string name, const std::string& bytes) {
                     maps.push_back(std::move(name));
                     std::filesystem::create_directories((std::filesystem::path(folder) / maps.back()).parent_path());
                     write_file_atomic(folder + "/" + maps.back(), bytes);
@@ -942,6 +948,14 @@ struct FrameRun {
     std::array<std::vector<float>, 2> caustic_maps{};
     std::array<std::vector<float>, 2> sun_volumes{};
     std::array<std::unique_ptr<tbb::task_group>, 2> underwater_encoders{};
+    // /whitewater: the surface the particles ride, a frame's particles, and the wind
+    // sea's whitecaps as events (from the fold foam's window of past samples).
+    std::optional<WhitewaterRide> ride{};
+    WhitewaterPoints points{}, fold_points{};
+    WhitewaterEvents fold_events{};
+    std::vector<std::pair<long long, const FoldSample*>> fold_window{};
+    double fold_step = 0.0;
+    double vertex_spacing = 0.0;  // the surface's mean edge (m): what a whitecap event stands for
 };
 
 // Waits for the underwater files still being encoded: rethrowing their errors, or,
@@ -1009,6 +1023,20 @@ void start_run(FrameRun& r, const std::vector<std::uint32_t>& triangles, std::si
         if (!r.shaded || r.refined) r.coarse_foam.resize(nc);
     }
     if (r.shaded || r.untangle) r.fold_past.insert(plan.fold_past.begin(), plan.fold_past.end());  // frame 0's foam past
+    if (r.scene.whitewater) {
+        // The model's own triangles (its vertices come first): a far field's skirt spans
+        // kilometres, and a bucket grid over it crowded thousands of the domain's small
+        // triangles into each bucket (19 s a frame). Whitewater beyond the domain is dropped.
+        const std::vector<std::uint32_t>& coarse = r.model.triangles(plan);
+        r.ride = plan_whitewater_ride(plan.rest_x, plan.rest_y, coarse);
+        double sum = 0.0;  // the mean edge of the first triangles
+        const std::size_t edges = std::min<std::size_t>(coarse.size(), 30000);
+        for (std::size_t e = 0; e < edges; ++e) {
+            const std::uint32_t a = coarse[e], b = coarse[e % 3 == 2 ? e - 2 : e + 1];
+            sum += std::hypot(plan.rest_x[a] - plan.rest_x[b], plan.rest_y[a] - plan.rest_y[b]);
+        }
+        r.vertex_spacing = edges > 0 ? sum / static_cast<double>(edges) : 1.0;
+    }
     r.fresnel.camera = scene_camera(r.scene, plan.seafloor);
     r.fresnel.model = r.scene.fresnel;
     const std::optional<UnderwaterOptions>& u = r.scene.underwater;
@@ -1084,6 +1112,7 @@ void coarse_foam(FrameRun& r, double t, std::span<float> fc) {
     if (plan.ocean.n == 0) return;
     const FoldFoamOptions& fold = plan.fold_foam;
     accumulate_fold_foam(r.wind_sea.vertex_j, 0.0, fold, fc);
+    r.fold_window.clear();
     double step = 0.0;
     const auto lattice = fold_lattice(t, fold, plan.loop_period, step);
     std::vector<AgedFoldSample> window;
@@ -1096,9 +1125,48 @@ void coarse_foam(FrameRun& r, double t, std::span<float> fc) {
             it = r.fold_past.emplace(j, fold_sample(r.fold_scratch, fold)).first;
         }
         window.push_back({&it->second, t - static_cast<double>(j) * step});
+        if (r.ride) r.fold_window.emplace_back(j, &it->second);
     }
+    r.fold_step = step;
     accumulate_fold_foam(window, fold, fc);
     if (!lattice.empty()) r.fold_past.erase(r.fold_past.begin(), r.fold_past.lower_bound(lattice.back()));
+}
+
+// The wind sea's whitecaps as whitewater events: every sample of the fold foam's window
+// (its lattice times), the crests running downwind at half the wind's speed (short
+// breaking waves, not the peak's), of a tenth of the significant height (4 σ).
+void fold_events(FrameRun& r) {
+    const ScenePlan& plan = r.plan;
+    r.fold_events = WhitewaterEvents{};
+    if (r.fold_window.empty() || !r.scene.ocean) return;
+    const OceanOptions& o = *r.scene.ocean;
+    const double sigma = std::sqrt(std::max(0.0, plan.ocean.expected_variance));
+    const double height = std::clamp(0.4 * sigma, 0.1, 2.0);
+    const std::array<double, 2> wind = o.spectrum.wind_direction;
+    for (const auto& [j, sample] : r.fold_window)
+        fold_whitewater_events(*sample, static_cast<double>(j) * r.fold_step, plan.fold_foam, plan.rest_x, plan.rest_y, wind,
+                               0.5 * o.spectrum.wind_speed, height, r.vertex_spacing, j, r.fold_events);
+}
+
+// The frame's whitewater (Scene::whitewater): the breakers' particles and the wind
+// sea's, put on the moved coarse surface `pc`; their foam splatted into the coarse
+// foam `fc` when shaded (the smooth band takes their patches); the frame's POINTS file.
+void whitewater_frame(FrameRun& r, double t, std::span<const float> pc, std::span<float> fc, SceneAnimation& a, std::size_t f) {
+    const WhitewaterOptions& o = *r.scene.whitewater;
+    evaluate_whitewater(r.plan.whitewater, o, t, r.points);
+    fold_events(r);
+    if (r.fold_events.size() > 0) {
+        evaluate_whitewater(r.fold_events, o, t, r.fold_points);
+        const auto append = [](auto& to, const auto& from) { to.insert(to.end(), from.begin(), from.end()); };
+        append(r.points.positions, r.fold_points.positions);
+        append(r.points.velocities, r.fold_points.velocities);
+        append(r.points.age, r.fold_points.age);
+        append(r.points.size, r.fold_points.size);
+        append(r.points.kind, r.fold_points.kind);
+    }
+    ride_whitewater(*r.ride, pc, r.points);
+    if (r.shaded) splat_whitewater_foam(*r.ride, r.points, 3.0, 0.6, fc);
+    a.whitewater[f] = whitewater_glb(r.points, a.first_frame + f, r.scene.fps);
 }
 
 // Frame f of the animation `a`: positions, normals and, shaded, the Fresnel weights,
@@ -1125,6 +1193,7 @@ void evaluate_frame(FrameRun& r, const std::vector<std::uint32_t>& coarse_triang
         untangle_motion(*r.untangle, fc, pc, &r.untangle_scratch);
         normals_done = false;
     }
+    if (r.ride) whitewater_frame(r, t, pc, fc, a, f);
     const Refinement* fr = r.refined;
     if (r.creased) {
         const RefineOptions& o = *r.scene.refine;
@@ -1481,6 +1550,7 @@ std::size_t AnimationStream::next(SceneAnimation& a, std::size_t count, const st
     detail::size_for_overwrite(a.colors, scene.color ? 3 * n * k : 0);
     a.caustics.assign(scene.underwater && scene.underwater->caustics ? k : 0, std::string());
     a.sunbeams.assign(scene.underwater && scene.underwater->sunbeams ? k : 0, std::string());
+    a.whitewater.assign(scene.whitewater ? k : 0, std::string());
     const HeightRange heights = s.evaluate(a, k, progress);
     a.z_min = heights.low, a.z_max = heights.high;
     s.done += k;

@@ -382,6 +382,36 @@ UnderwaterOptions read_underwater(const Node& n) {
     return o;
 }
 
+// "whitewater": true, false, or the particles' options (WhitewaterOptions).
+std::optional<WhitewaterOptions> read_whitewater(const Node& n) {
+    if (n.value().is_boolean()) return n.boolean() ? std::optional<WhitewaterOptions>(WhitewaterOptions{}) : std::nullopt;
+    if (!n.value().is_object()) n.fail("expected true, false or an object of whitewater options, got " + n.shown());
+    n.require_object({"spray", "foam", "bubbles", "spray_density", "foam_density", "bubble_density", "spray_life", "foam_life",
+                      "bubble_life", "spray_drag", "spray_lift", "foam_push", "foam_push_time", "foam_spread", "foam_patch", "seed"});
+    WhitewaterOptions o;
+    const auto number = [&](const char* key, double& v, const char* unit) {
+        if (n.has(key)) v = n[key].number(unit);
+    };
+    if (n.has("spray")) o.spray = n["spray"].boolean();
+    if (n.has("foam")) o.foam = n["foam"].boolean();
+    if (n.has("bubbles")) o.bubbles = n["bubbles"].boolean();
+    number("spray_density", o.spray_density, "per m of crest per m of height");
+    number("foam_density", o.foam_density, "per m of crest per m of height");
+    number("bubble_density", o.bubble_density, "per m of crest per m of height");
+    number("spray_life", o.spray_life, "s");
+    number("foam_life", o.foam_life, "s");
+    number("bubble_life", o.bubble_life, "s");
+    number("spray_drag", o.spray_drag, "1/s");
+    number("spray_lift", o.spray_lift, "× sqrt(g H)");
+    number("foam_push", o.foam_push, "× the crest speed");
+    number("foam_push_time", o.foam_push_time, "s");
+    number("foam_spread", o.foam_spread, "m/√s");
+    if (n.has("foam_patch")) o.foam_patch = static_cast<std::uint32_t>(n["foam_patch"].count());
+    if (n.has("seed")) o.seed = n["seed"].count();
+    if (!o.spray && !o.foam && !o.bubbles) n.fail("every kind is off (spray, foam, bubbles): give \"whitewater\": false instead");
+    return o;
+}
+
 RefineOptions read_refine(const Node& n) {
     n.require_object({"scheme", "level", "adaptive", "max_angle_degrees", "near_distance", "crest_sharpness_per_metre",
                       "max_crest_sharpness"});
@@ -494,7 +524,7 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     const json doc = detail::parse_json_input(text, origin);
     const Node root(doc, "", origin, &detail::scene_schema_doc());
     root.require_object({"name", "seafloor", "isobaths", "waves", "trace", "surface", "fronts", "motion", "camera",
-                         "shade", "outputs", "animation", "ocean", "gerstner", "breakers", "refine", "preview", "field", "underwater"});
+                         "shade", "outputs", "animation", "ocean", "gerstner", "breakers", "refine", "preview", "field", "underwater", "whitewater"});
     Scene s;
     if (root.has("name")) s.name = root["name"].string();
     if (root.has("surface") && root["surface"].value().is_object() && root["surface"].has("kind"))
@@ -548,6 +578,11 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
             at.fail("caustics need the sun above the horizon (/preview/sun/elevation_degrees is " +
                     fmt(s.preview.sun_elevation_degrees) + ")");
         }
+    }
+    if (root.has("whitewater")) {
+        s.whitewater = read_whitewater(root["whitewater"]);
+        if (s.whitewater && !s.breakers && !s.ocean && s.surface_kind != SurfaceKind::ocean)
+            root["whitewater"].fail("needs breaking water: /breakers (Jeschke's breakers) or a wind sea (/ocean, or the ocean surface)");
     }
     if (root.has("fronts")) read_fronts(root["fronts"], s.fronts);
     if (root.has("field")) read_field(root["field"], s);

@@ -10,9 +10,11 @@ TriangleLocator::TriangleLocator(std::span<const double> x, std::span<const doub
     : x_(x), y_(y), triangles_(triangles) {
     const std::size_t nt = triangles.size() / 3;
     if (nt == 0 || x.empty()) return;
-    x0_ = x1_ = x[0];
-    y0_ = y1_ = y[0];
-    for (std::size_t v = 0; v < x.size(); ++v) {
+    // The triangles' bounding box (not every vertex's: vertices no triangle uses, e.g. a
+    // far skirt's, widened the buckets until thousands of triangles shared each).
+    x0_ = x1_ = x[triangles[0]];
+    y0_ = y1_ = y[triangles[0]];
+    for (const std::uint32_t v : triangles) {
         x0_ = std::min(x0_, x[v]);
         x1_ = std::max(x1_, x[v]);
         y0_ = std::min(y0_, y[v]);

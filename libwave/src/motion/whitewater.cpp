@@ -1,0 +1,475 @@
+// Whitewater particles: each a closed form of its event and its age (docs/whitewater.md).
+
+#include "libwave/whitewater.h"
+
+#include "core/splitmix.h"
+#include "libwave/errors.h"
+#include "libwave/physics.h"
+#include "libwave/shade.h"
+#include "surface/triangle_locator.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <string>
+
+namespace wave {
+
+void WhitewaterEvents::add(float ex, float ey, float ez, float dx, float dy, float c, float h, float len, double when, float s,
+                           float f, float b, std::uint64_t k) {
+    x.push_back(ex), y.push_back(ey), z.push_back(ez);
+    dir_x.push_back(dx), dir_y.push_back(dy);
+    speed.push_back(c), height.push_back(h), length.push_back(len);
+    time.push_back(when);
+    spray.push_back(s), foam.push_back(f), bubbles.push_back(b);
+    key.push_back(k);
+}
+
+namespace {
+
+using detail::splitmix64;
+
+// The i-th uniform draw in [0, 1) of a particle whose key is `h`.
+inline double draw(std::uint64_t h, std::uint64_t i) noexcept {
+    return static_cast<double>(splitmix64(h + 0x632BE59BD9B4E019ull * (i + 1)) >> 11) * 0x1.0p-53;
+}
+
+// A bell-shaped draw in (−1, 1): the mean of two uniforms, centred (a triangle).
+inline double bell(std::uint64_t h, std::uint64_t i) noexcept { return draw(h, i) + draw(h, i + 101) - 1.0; }
+
+void check(const WhitewaterOptions& o, const WhitewaterEvents& e) {
+    const auto in = [](double v, double lo, double hi, const char* name) {
+        if (!(v >= lo && v <= hi))
+            throw InputError(std::string("whitewater: ") + name + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                             "], got " + std::to_string(v));
+    };
+    in(o.spray_density, 0.0, 1e4, "spray_density");
+    in(o.foam_density, 0.0, 1e4, "foam_density");
+    in(o.bubble_density, 0.0, 1e4, "bubble_density");
+    in(o.spray_life, 0.0, 60.0, "spray_life");
+    in(o.foam_life, 0.0, 600.0, "foam_life");
+    in(o.bubble_life, 0.0, 60.0, "bubble_life");
+    in(o.spray_drag, 0.0, 100.0, "spray_drag");
+    in(o.spray_lift, 0.0, 10.0, "spray_lift");
+    in(o.foam_push, 0.0, 2.0, "foam_push");
+    in(o.foam_push_time, 1e-3, 100.0, "foam_push_time");
+    in(o.foam_spread, 0.0, 10.0, "foam_spread");
+    in(static_cast<double>(o.foam_patch), 1.0, 1024.0, "foam_patch");
+    if (o.foam && o.foam_life == 0.0 && e.period > 0.0)
+        throw InputError("whitewater: foam_life 0 (no decay) needs events that happen once (period 0), got a period of " +
+                         std::to_string(e.period) + " s");
+    const std::size_t n = e.size();
+    for (const std::size_t m : {e.y.size(), e.z.size(), e.dir_x.size(), e.dir_y.size(), e.speed.size(), e.height.size(),
+                                e.length.size(), e.time.size(), e.spray.size(), e.foam.size(), e.bubbles.size(), e.key.size()})
+        if (m != n) throw InputError("whitewater: the events' arrays differ in length");
+    if (!(e.period >= 0.0) || !std::isfinite(e.period)) throw InputError("whitewater: the events' period must be >= 0");
+}
+
+// How many particles of a kind an event throws: density · length · H · strength, the
+// fraction rounded by a draw of its own (so the mean count is exact).
+std::uint32_t particle_count(double density, double length, double height, double strength, std::uint64_t h,
+                             std::uint64_t kind) noexcept {
+    const double mean = density * std::max(0.0, length) * std::max(0.0, height) * std::clamp(strength, 0.0, 1.0);
+    if (!(mean > 0.0)) return 0;
+    const double whole = std::floor(mean);
+    return static_cast<std::uint32_t>(std::min(1e6, whole + (draw(h, 900 + kind) < mean - whole ? 1.0 : 0.0)));
+}
+
+// One event's counts per kind (the same for every age).
+struct Counts {
+    std::uint32_t spray = 0, foam = 0, bubbles = 0;
+    std::uint32_t total() const noexcept { return spray + foam + bubbles; }
+};
+
+Counts event_counts(const WhitewaterEvents& e, const WhitewaterOptions& o, std::size_t i, std::uint64_t h) noexcept {
+    Counts c;
+    const double len = e.length[i], height = e.height[i];
+    if (o.spray) c.spray = particle_count(o.spray_density, len, height, e.spray[i], h, 0);
+    if (o.foam) c.foam = particle_count(o.foam_density, len, height, e.foam[i], h, 1);
+    if (o.bubbles) c.bubbles = particle_count(o.bubble_density, len, height, e.bubbles[i], h, 2);
+    return c;
+}
+
+// The ages (s) at which an event's emissions are alive at t: t − τ − n · period in
+// [0, life) for every n (one age when the period is 0), newest first.
+template <class F>
+void for_each_age(const WhitewaterEvents& e, std::size_t i, double t, double life, F&& f) {
+    const double since = t - e.time[i];
+    if (e.period <= 0.0) {
+        if (since >= 0.0 && since < life) f(since);
+        return;
+    }
+    for (double a = since - e.period * std::floor(since / e.period); a < life; a += e.period) f(a);
+}
+
+// A particle as it is written.
+struct Particle {
+    float p[3], v[3], age, size;
+    WhitewaterKind kind;
+};
+
+// Spray j of event i at age a (false: it has landed or lived its life).
+bool spray_particle(const WhitewaterEvents& e, const WhitewaterOptions& o, std::size_t i, std::uint64_t h, double a,
+                    Particle& out) noexcept {
+    const double c = e.speed[i], height = e.height[i], len = e.length[i];
+    const double dx = e.dir_x[i], dy = e.dir_y[i];
+    // Thrown from the lip: forward at 0.7 … 1.3 c (a plunging jet reaches ~1.3 c), up
+    // by spray_lift · sqrt(g H), a little sideways; spread along the crest.
+    const double along = (draw(h, 1) - 0.5) * len, ahead = draw(h, 2) * 0.3 * height;
+    const double forward = c * (0.7 + 0.6 * draw(h, 3)), side = 0.15 * c * bell(h, 4);
+    const double up = o.spray_lift * std::sqrt(kGravity * std::max(0.0, height)) * (0.25 + 0.75 * draw(h, 5));
+    const double v0[3] = {forward * dx - side * dy, forward * dy + side * dx, up};
+    const double p0[3] = {e.x[i] + ahead * dx - along * dy, e.y[i] + ahead * dy + along * dx, e.z[i] + 0.1 * height * draw(h, 6)};
+    const double life = o.spray_life * (0.5 + 0.5 * draw(h, 7));
+    if (a >= life) return false;
+    // Linear drag k: v = v0 e^{−ka} − (g/k)(1 − e^{−ka}) ẑ, its integral for p.
+    const double k = o.spray_drag;
+    // decay = e^{−ka}, reach = ∫ e^{−ks} ds over [0, a], drop = g ∫ (1 − e^{−ks})/k ds;
+    // without drag plain ballistics.
+    const bool dragged = k > 1e-9;
+    const double decay = dragged ? std::exp(-k * a) : 1.0;
+    const double reach = dragged ? (1.0 - decay) / k : a;
+    const double drop = dragged ? kGravity / k * (a - reach) : 0.5 * kGravity * a * a;
+    const double z = p0[2] + v0[2] * reach - drop;
+    const double still = e.z[i] - 0.75 * height;  // the still-water level under the crest
+    if (z < still) return false;                  // landed
+    const double vz = v0[2] * decay - (dragged ? kGravity / k * (1.0 - decay) : kGravity * a);
+    out.p[0] = static_cast<float>(p0[0] + v0[0] * reach), out.p[1] = static_cast<float>(p0[1] + v0[1] * reach);
+    out.p[2] = static_cast<float>(z);
+    out.v[0] = static_cast<float>(v0[0] * decay), out.v[1] = static_cast<float>(v0[1] * decay), out.v[2] = static_cast<float>(vz);
+    out.age = static_cast<float>(a);
+    out.size = static_cast<float>(0.02 + 0.05 * draw(h, 8));
+    out.kind = WhitewaterKind::spray;
+    return true;
+}
+
+// The bore's push on what the crest leaves: distance and speed along the crest's run
+// after age a (push · c · τ (1 − e^{−a/τ})).
+struct Push {
+    double distance, speed;
+};
+Push bore_push(double c, double push, double tau, double a) noexcept {
+    const double decay = std::exp(-a / tau);
+    return {push * c * tau * (1.0 - decay), push * c * decay};
+}
+
+// Foam particle j of event i (patch j / foam_patch) at age a.
+bool foam_particle(const WhitewaterEvents& e, const WhitewaterOptions& o, std::size_t i, std::uint64_t event_key,
+                   std::uint32_t j, double a, Particle& out) noexcept {
+    const std::uint64_t h = splitmix64(event_key ^ (0xF0A4ull + j));
+    const double life = o.foam_life > 0.0 ? o.foam_life * (0.3 + 0.7 * draw(h, 1)) : std::numeric_limits<double>::infinity();
+    if (a >= life) return false;
+    const std::uint64_t patch = splitmix64(event_key ^ (0xBA7C4ull + j / std::max<std::uint32_t>(1, o.foam_patch)));
+    const double len = e.length[i], dx = e.dir_x[i], dy = e.dir_y[i];
+    // The patch's centre: anywhere on the event's stretch; pushed on by the bore.
+    const double along = (draw(patch, 1) - 0.5) * len, across = (draw(patch, 2) - 0.5) * len;
+    const double push_share = 0.6 + 0.8 * draw(patch, 3);  // patches pushed unevenly: the foam tears
+    const Push push = bore_push(e.speed[i] * push_share, o.foam_push, o.foam_push_time, a);
+    // The particle in its patch: a bell round the centre growing with √a, twice as long
+    // along the crest as across it (streaks).
+    const double r0 = 0.08 + 0.02 * std::sqrt(static_cast<double>(o.foam_patch));
+    const double spread = r0 + o.foam_spread * std::sqrt(a);
+    const double rate = 0.5 * o.foam_spread / std::sqrt(std::max(a, 0.25));  // d spread / da (held below a quarter second)
+    const double u = 2.0 * bell(h, 2), w = bell(h, 3);
+    const double s_along = along + u * spread, s_across = across + push.distance + w * spread;
+    out.p[0] = static_cast<float>(e.x[i] + s_across * dx - s_along * dy);
+    out.p[1] = static_cast<float>(e.y[i] + s_across * dy + s_along * dx);
+    out.p[2] = 0.0f;  // on the surface (ride_whitewater)
+    const double va = u * rate, vc = push.speed + w * rate;
+    out.v[0] = static_cast<float>(vc * dx - va * dy), out.v[1] = static_cast<float>(vc * dy + va * dx), out.v[2] = 0.0f;
+    out.age = static_cast<float>(a);
+    // Fresh foam is thick; older foam thins as it spreads, before it dies.
+    const double fade = std::isfinite(life) ? std::clamp(1.25 - a / life, 0.35, 1.0) : 1.0;
+    out.size = static_cast<float>((0.07 + 0.08 * draw(h, 4)) * fade);
+    out.kind = WhitewaterKind::foam;
+    return true;
+}
+
+// Bubble j of event i at age a: carried under the breaking crest, rising, dissolving.
+bool bubble_particle(const WhitewaterEvents& e, const WhitewaterOptions& o, std::size_t i, std::uint64_t h, double a,
+                     Particle& out) noexcept {
+    const double life = o.bubble_life * (0.4 + 0.6 * draw(h, 1));
+    const double depth0 = std::max(0.0, static_cast<double>(e.height[i])) * (0.15 + 0.65 * draw(h, 2));
+    const double rise = 0.1 + 0.25 * draw(h, 3);
+    const double depth = depth0 - rise * a;
+    if (a >= life || depth <= 0.0) return false;
+    const double len = e.length[i], dx = e.dir_x[i], dy = e.dir_y[i];
+    const double along = (draw(h, 4) - 0.5) * len, across = (draw(h, 5) - 0.5) * len;
+    const Push push = bore_push(e.speed[i], 0.8, 1.0, a);
+    const double s_across = across + push.distance + 0.1 * std::sqrt(a) * bell(h, 6);
+    out.p[0] = static_cast<float>(e.x[i] + s_across * dx - along * dy);
+    out.p[1] = static_cast<float>(e.y[i] + s_across * dy + along * dx);
+    out.p[2] = static_cast<float>(-depth);  // below the surface (ride_whitewater)
+    out.v[0] = static_cast<float>(push.speed * dx), out.v[1] = static_cast<float>(push.speed * dy), out.v[2] = static_cast<float>(rise);
+    out.age = static_cast<float>(a);
+    out.size = static_cast<float>(0.01 + 0.03 * draw(h, 7));
+    out.kind = WhitewaterKind::bubble;
+    return true;
+}
+
+// Every particle of event i alive at t, in order (spray, foam, bubbles, each by draw,
+// for each age newest first), handed to `f`.
+template <class F>
+void event_particles(const WhitewaterEvents& e, const WhitewaterOptions& o, std::size_t i, double t, F&& f) {
+    const std::uint64_t key = splitmix64(e.key[i] ^ splitmix64(o.seed));
+    const Counts c = event_counts(e, o, i, key);
+    if (c.total() == 0) return;
+    Particle q;
+    const double foam_life = o.foam_life > 0.0 ? o.foam_life : std::numeric_limits<double>::infinity();
+    if (c.spray > 0)
+        for_each_age(e, i, t, o.spray_life, [&](double a) {
+            for (std::uint32_t j = 0; j < c.spray; ++j)
+                if (spray_particle(e, o, i, splitmix64(key ^ (0x5B7A7ull + j)), a, q)) f(q);
+        });
+    if (c.foam > 0)
+        for_each_age(e, i, t, foam_life, [&](double a) {
+            for (std::uint32_t j = 0; j < c.foam; ++j)
+                if (foam_particle(e, o, i, key, j, a, q)) f(q);
+        });
+    if (c.bubbles > 0)
+        for_each_age(e, i, t, o.bubble_life, [&](double a) {
+            for (std::uint32_t j = 0; j < c.bubbles; ++j)
+                if (bubble_particle(e, o, i, splitmix64(key ^ (0xB0BB1Eull + j)), a, q)) f(q);
+        });
+}
+
+void resize_points(WhitewaterPoints& out, std::size_t n) {
+    out.positions.resize(3 * n);
+    out.velocities.resize(3 * n);
+    out.age.resize(n);
+    out.size.resize(n);
+    out.kind.resize(n);
+}
+
+void put(WhitewaterPoints& out, std::size_t k, const Particle& q) noexcept {
+    std::memcpy(&out.positions[3 * k], q.p, sizeof q.p);
+    std::memcpy(&out.velocities[3 * k], q.v, sizeof q.v);
+    out.age[k] = q.age;
+    out.size[k] = q.size;
+    out.kind[k] = static_cast<std::uint8_t>(q.kind);
+}
+
+const detail::TriangleLocator& locator_of(const WhitewaterRide& r) {
+    if (!r.locator) throw InputError("whitewater: a ride that was not planned (plan_whitewater_ride)");
+    return *static_cast<const detail::TriangleLocator*>(r.locator.get());
+}
+
+}  // namespace
+
+void evaluate_whitewater(const WhitewaterEvents& e, const WhitewaterOptions& o, double t, WhitewaterPoints& out) {
+    check(o, e);
+    if (!std::isfinite(t)) throw InputError("whitewater: the time must be finite");
+    const std::size_t n = e.size();
+    // Pass 1: each block of events counts its particles; pass 2 writes them at the
+    // block's offset. Blocks are fixed (not the scheduler's): the order is the events'.
+    constexpr std::size_t block = 256;
+    const std::size_t blocks = (n + block - 1) / block;
+    std::vector<std::size_t> offset(blocks + 1, 0);
+    tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
+        std::size_t count = 0;
+        for (std::size_t i = b * block; i < std::min(n, (b + 1) * block); ++i)
+            event_particles(e, o, i, t, [&](const Particle&) { ++count; });
+        offset[b + 1] = count;
+    });
+    for (std::size_t b = 0; b < blocks; ++b) offset[b + 1] += offset[b];
+    resize_points(out, offset[blocks]);
+    tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
+        std::size_t k = offset[b];
+        for (std::size_t i = b * block; i < std::min(n, (b + 1) * block); ++i)
+            event_particles(e, o, i, t, [&](const Particle& q) { put(out, k++, q); });
+    });
+}
+
+void fold_whitewater_events(const FoldSample& sample, double time, const FoldFoamOptions& fold, std::span<const double> rest_x,
+                            std::span<const double> rest_y, std::array<double, 2> wind, double speed, double height,
+                            double spacing, long long lattice_index, WhitewaterEvents& events) {
+    if (sample.j_minus.size() != sample.vertex.size()) throw InputError("whitewater: a fold sample's arrays differ in length");
+    const double norm = std::hypot(wind[0], wind[1]);
+    const double dx = norm > 0.0 ? wind[0] / norm : 1.0, dy = norm > 0.0 ? wind[1] / norm : 0.0;
+    for (std::size_t s = 0; s < sample.vertex.size(); ++s) {
+        const std::uint32_t v = sample.vertex[s];
+        if (v >= rest_x.size() || v >= rest_y.size())
+            throw InputError("whitewater: fold sample vertex " + std::to_string(v) + " beyond " + std::to_string(rest_x.size()) +
+                             " rest positions");
+        const double strength = std::clamp((fold.threshold - sample.j_minus[s]) / fold.softness, 0.0, 1.0);
+        if (strength <= 0.0) continue;
+        const std::uint64_t key = splitmix64(static_cast<std::uint64_t>(lattice_index) * 0x9E3779B97F4A7C15ull ^ v);
+        events.add(static_cast<float>(rest_x[v]), static_cast<float>(rest_y[v]), static_cast<float>(0.5 * height),
+                   static_cast<float>(dx), static_cast<float>(dy), static_cast<float>(speed), static_cast<float>(height),
+                   static_cast<float>(spacing), time, static_cast<float>(strength >= 1.0 ? 1.0 : 0.25 * strength),
+                   static_cast<float>(strength), static_cast<float>(strength), key);
+    }
+}
+
+WhitewaterRide plan_whitewater_ride(std::span<const double> rest_x, std::span<const double> rest_y,
+                                    std::span<const std::uint32_t> triangles) {
+    if (rest_x.size() != rest_y.size()) throw InputError("whitewater: rest x and y differ in length");
+    for (const std::uint32_t v : triangles)
+        if (v >= rest_x.size()) throw InputError("whitewater: triangle index " + std::to_string(v) + " out of range");
+    WhitewaterRide r{rest_x, rest_y, std::make_shared<const detail::TriangleLocator>(rest_x, rest_y, triangles)};
+    return r;
+}
+
+void ride_whitewater(const WhitewaterRide& ride, std::span<const float> surface, WhitewaterPoints& points) {
+    const detail::TriangleLocator& locator = locator_of(ride);
+    if (surface.size() != 3 * ride.rest_x.size())
+        throw InputError("whitewater: " + std::to_string(surface.size()) + " surface floats for " + std::to_string(ride.rest_x.size()) +
+                         " rest vertices");
+    const std::size_t n = points.count();
+    std::vector<std::uint8_t> keep(n, 1);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 2048), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t k = r.begin(); k != r.end(); ++k) {
+            if (points.kind[k] == static_cast<std::uint8_t>(WhitewaterKind::spray)) continue;
+            float* p = &points.positions[3 * k];
+            detail::TriangleLocator::Hit hit;
+            if (!locator.locate(p[0], p[1], hit)) {
+                keep[k] = 0;
+                continue;
+            }
+            double d[3];
+            for (int c = 0; c < 3; ++c) {
+                const auto rest = [&](std::uint32_t v) { return c == 0 ? ride.rest_x[v] : c == 1 ? ride.rest_y[v] : 0.0; };
+                d[c] = hit.wa * (surface[3 * hit.a + c] - rest(hit.a)) + hit.wb * (surface[3 * hit.b + c] - rest(hit.b)) +
+                       hit.wc * (surface[3 * hit.c + c] - rest(hit.c));
+            }
+            p[0] = static_cast<float>(p[0] + d[0]), p[1] = static_cast<float>(p[1] + d[1]), p[2] = static_cast<float>(p[2] + d[2]);
+        }
+    });
+    std::size_t m = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+        if (!keep[k]) continue;
+        if (m != k) {
+            std::memmove(&points.positions[3 * m], &points.positions[3 * k], 3 * sizeof(float));
+            std::memmove(&points.velocities[3 * m], &points.velocities[3 * k], 3 * sizeof(float));
+            points.age[m] = points.age[k], points.size[m] = points.size[k], points.kind[m] = points.kind[k];
+        }
+        ++m;
+    }
+    resize_points(points, m);
+}
+
+void splat_whitewater_foam(const WhitewaterRide& ride, const WhitewaterPoints& points, double full, double texture,
+                           std::span<float> foam) {
+    const detail::TriangleLocator& locator = locator_of(ride);
+    if (foam.size() != ride.rest_x.size())
+        throw InputError("whitewater: " + std::to_string(foam.size()) + " foam values for " + std::to_string(ride.rest_x.size()) +
+                         " vertices");
+    if (!(full > 0.0) || !(texture >= 0.0 && texture <= 1.0)) throw InputError("whitewater: splat full must be > 0, texture in [0, 1]");
+    // Where each foam particle lies at rest: its position less the surface's displacement
+    // is not known here, so the rest triangle under its ridden position is taken (the
+    // displacement is a fraction of a triangle away from the crests).
+    const std::size_t n = points.count();
+    std::vector<detail::TriangleLocator::Hit> hits(n);
+    std::vector<std::uint8_t> found(n, 0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 2048), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t k = r.begin(); k != r.end(); ++k)
+            if (points.kind[k] == static_cast<std::uint8_t>(WhitewaterKind::foam))
+                found[k] = locator.locate(points.positions[3 * k], points.positions[3 * k + 1], hits[k]) ? 1 : 0;
+    });
+    std::vector<float> weight(foam.size(), 0.0f);
+    for (std::size_t k = 0; k < n; ++k) {  // in particle order: the same sums for any thread count
+        if (!found[k]) continue;
+        weight[hits[k].a] += static_cast<float>(hits[k].wa);
+        weight[hits[k].b] += static_cast<float>(hits[k].wb);
+        weight[hits[k].c] += static_cast<float>(hits[k].wc);
+    }
+    for (std::size_t v = 0; v < foam.size(); ++v)
+        foam[v] = std::max(static_cast<float>(foam[v] * (1.0 - texture)), static_cast<float>(std::min(1.0, weight[v] / full)));
+}
+
+namespace {
+
+void append_float(std::string& s, double v) {
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof buf, static_cast<float>(v));
+    s.append(buf, r.ptr);
+}
+
+void pad4(std::string& s, char fill) {
+    while (s.size() % 4 != 0) s.push_back(fill);
+}
+
+void put_u32(std::string& s, std::uint32_t v) {
+    for (int b = 0; b < 4; ++b) s.push_back(static_cast<char>((v >> (8 * b)) & 0xFF));
+}
+
+}  // namespace
+
+std::string whitewater_glb(const WhitewaterPoints& pts, std::size_t frame, double fps) {
+    const std::size_t n = pts.count();
+    if (pts.positions.size() != 3 * n || pts.velocities.size() != 3 * n || pts.size.size() != n || pts.kind.size() != n)
+        throw InputError("whitewater: the points' arrays differ in length");
+    // glTF's axes: (x, y, z) z up → (x, z, −y).
+    std::string bin;
+    bin.reserve(n * 4 * 9);
+    float lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    const auto push = [&bin](float v) {
+        char b[4];
+        std::memcpy(b, &v, 4);
+        bin.append(b, 4);
+    };
+    for (std::size_t k = 0; k < n; ++k) {
+        const float g[3] = {pts.positions[3 * k], pts.positions[3 * k + 2], -pts.positions[3 * k + 1]};
+        for (int c = 0; c < 3; ++c) {
+            if (!std::isfinite(g[c])) throw InputError("whitewater: particle " + std::to_string(k) + " has a non-finite position");
+            lo[c] = k == 0 ? g[c] : std::min(lo[c], g[c]);
+            hi[c] = k == 0 ? g[c] : std::max(hi[c], g[c]);
+            push(g[c]);
+        }
+    }
+    for (std::size_t k = 0; k < n; ++k) {
+        push(pts.velocities[3 * k]), push(pts.velocities[3 * k + 2]), push(-pts.velocities[3 * k + 1]);
+    }
+    for (std::size_t k = 0; k < n; ++k) push(pts.age[k]);
+    for (std::size_t k = 0; k < n; ++k) push(pts.size[k]);
+    for (std::size_t k = 0; k < n; ++k) push(static_cast<float>(pts.kind[k]));
+
+    std::string json = "{\"asset\":{\"version\":\"2.0\",\"generator\":\"libwave whitewater\"},\"scene\":0,\"scenes\":[{\"nodes\":[";
+    json += n > 0 ? "0" : "";
+    json += "],\"extras\":{\"libwave_whitewater\":{\"frame\":" + std::to_string(frame) + ",\"fps\":";
+    append_float(json, fps);
+    json += ",\"points\":" + std::to_string(n) + ",\"kinds\":[\"spray\",\"foam\",\"bubble\"]}}}]";
+    if (n > 0) {
+        const std::size_t f = 4 * n;
+        json += ",\"nodes\":[{\"name\":\"whitewater\",\"mesh\":0}],\"meshes\":[{\"name\":\"whitewater\",\"primitives\":[{\"mode\":0,"
+                "\"attributes\":{\"POSITION\":0,\"_VELOCITY\":1,\"_AGE\":2,\"_SIZE\":3,\"_KIND\":4}}]}]";
+        json += ",\"buffers\":[{\"byteLength\":" + std::to_string(bin.size()) + "}],\"bufferViews\":[";
+        const std::size_t views[5][2] = {{0, 3 * f}, {3 * f, 3 * f}, {6 * f, f}, {7 * f, f}, {8 * f, f}};
+        for (int v = 0; v < 5; ++v)
+            json += std::string(v ? "," : "") + "{\"buffer\":0,\"byteOffset\":" + std::to_string(views[v][0]) +
+                    ",\"byteLength\":" + std::to_string(views[v][1]) + "}";
+        json += "],\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":" + std::to_string(n) + ",\"type\":\"VEC3\",\"min\":[";
+        for (int c = 0; c < 3; ++c) append_float(json, lo[c]), json += c < 2 ? "," : "],\"max\":[";
+        for (int c = 0; c < 3; ++c) append_float(json, hi[c]), json += c < 2 ? "," : "]}";
+        json += ",{\"bufferView\":1,\"componentType\":5126,\"count\":" + std::to_string(n) + ",\"type\":\"VEC3\"}";
+        for (int v = 2; v < 5; ++v)
+            json += ",{\"bufferView\":" + std::to_string(v) + ",\"componentType\":5126,\"count\":" + std::to_string(n) + ",\"type\":\"SCALAR\"}";
+        json += "]";
+    }
+    json += "}";
+    pad4(json, ' ');
+    pad4(bin, '\0');
+    std::string glb;
+    const std::size_t total = 12 + 8 + json.size() + (n > 0 ? 8 + bin.size() : 0);
+    if (total > 0xFFFFFFFFull) throw LimitError("whitewater: a frame's points exceed a .glb's 4 GiB");
+    glb.reserve(total);
+    glb += "glTF";
+    put_u32(glb, 2);
+    put_u32(glb, static_cast<std::uint32_t>(total));
+    put_u32(glb, static_cast<std::uint32_t>(json.size()));
+    glb += "JSON";
+    glb += json;
+    if (n > 0) {
+        put_u32(glb, static_cast<std::uint32_t>(bin.size()));
+        glb += std::string("BIN\0", 4);
+        glb += bin;
+    }
+    return glb;
+}
+
+}  // namespace wave
