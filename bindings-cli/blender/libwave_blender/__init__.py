@@ -21,6 +21,7 @@ from bpy_extras.io_utils import ImportHelper
 
 from . import bake as baking
 from . import frames
+from . import whitewater
 
 bl_info = {
     "name": "libwave animation",
@@ -487,7 +488,8 @@ def make_world(context, dressing, mode="AUTO", hdri=""):
 
 
 def import_animation(context, path, set_scene=True, caustics=True, bake=False, baked_colour=False, file_normals=False,
-                     visibility=DEFAULT_VISIBILITY, sunbeams=True, sunbeam_strength=1.0, world="AUTO", hdri=""):
+                     visibility=DEFAULT_VISIBILITY, sunbeams=True, sunbeam_strength=1.0, world="AUTO", hdri="",
+                     whitewater_points=True):
     """Creates the water object for `path` (a .glb/.gltf or index.json); with `set_scene`
     the scene's fps and frame range become the animation's; with `caustics` the caustic
     maps beside it (when the run wrote them) light the seafloor; with `bake` every frame
@@ -498,7 +500,8 @@ def import_animation(context, path, set_scene=True, caustics=True, bake=False, b
     `visibility` (m) hazes the seafloor with distance (0: none); with `sunbeams` the
     sunbeam volumes beside it (when the run wrote them) glow in the water,
     `sunbeam_strength` times the single-scattering estimate; `world` and `hdri` as
-    make_world takes them (the sky over the scene)."""
+    make_world takes them (the sky over the scene); with `whitewater_points` the
+    whitewater particles beside it (when the run wrote them, /whitewater) as spheres."""
     anim = _animation(os.path.abspath(path))
     first = anim.frame(0)
     if bake:
@@ -528,6 +531,8 @@ def import_animation(context, path, set_scene=True, caustics=True, bake=False, b
     if anim.dressing is not None:
         import_dressing(context, anim.dressing, anim.folder, caustics, visibility, sunbeams, sunbeam_strength)
     make_world(context, anim.dressing, world, hdri)
+    if whitewater_points:
+        whitewater.import_points(context, anim.folder, anim.frame_count, getattr(anim, "first_frame", 0))
     if not bake:
         apply_frame(obj, scene.frame_current)
     return obj
@@ -579,11 +584,15 @@ class ImportLibwave(bpy.types.Operator, ImportHelper):
                          description="An environment image for the sky instead of the physical sky (with Sky: where "
                                      "none or replace)")
 
+    whitewater: BoolProperty(name="Whitewater", default=True,
+                             description="Play the whitewater particles beside the file (/whitewater: spray, foam, "
+                                         "bubbles) as spheres through Geometry Nodes (rendered by Cycles)")
+
     def execute(self, context):
         try:
             import_animation(context, self.filepath, self.set_scene, self.caustics, self.bake, self.baked_colour,
                              self.file_normals, self.visibility, self.sunbeams, self.sunbeam_strength, self.world,
-                             self.hdri)
+                             self.hdri, self.whitewater)
         except (OSError, KeyError, ValueError, frames.LibwaveFileError) as e:
             self.report({"ERROR"}, frames.printable(f"libwave: {e}"))
             return {"CANCELLED"}
@@ -599,9 +608,13 @@ def register():
     bpy.types.TOPBAR_MT_file_import.append(_menu)
     if _on_frame_change not in bpy.app.handlers.frame_change_post:
         bpy.app.handlers.frame_change_post.append(_on_frame_change)
+    if whitewater.on_frame_change not in bpy.app.handlers.frame_change_post:
+        bpy.app.handlers.frame_change_post.append(whitewater.on_frame_change)
 
 
 def unregister():
+    if whitewater.on_frame_change in bpy.app.handlers.frame_change_post:
+        bpy.app.handlers.frame_change_post.remove(whitewater.on_frame_change)
     if _on_frame_change in bpy.app.handlers.frame_change_post:
         bpy.app.handlers.frame_change_post.remove(_on_frame_change)
     bpy.types.TOPBAR_MT_file_import.remove(_menu)

@@ -44,7 +44,12 @@ struct WhitewaterOptions {
     double foam_push = 0.5;        ///< the bore's push on fresh foam, × the crest speed
     double foam_push_time = 1.5;   ///< s: e-folding time of that push
     double foam_spread = 0.25;     ///< m/√s: a foam patch's growth (streaks twice as long along the crest)
-    std::uint32_t foam_patch = 12; ///< foam particles per patch (they spread from one centre)
+    std::uint32_t foam_patch = 24; ///< foam particles per patch (they spread from one centre)
+    /// Foam is torn: a noise field per wave (foam_lace_scale across the crest, 2.5 times
+    /// that along it) leaves this share of the broken water without foam patches, so the
+    /// foam lies in streaks and lace with holes, different for every wave. 0: no holes.
+    double foam_lace = 0.45;
+    double foam_lace_scale = 2.5;  ///< m: the lace's size across the crest
     std::uint64_t seed = 1;        ///< the particles' draws
     bool spray = true, foam = true, bubbles = true;  ///< which kinds are made
 };
@@ -60,12 +65,13 @@ struct WhitewaterEvents {
     std::vector<double> time;         ///< when (s)
     std::vector<float> spray, foam, bubbles;  ///< each kind's strength in [0, 1]
     std::vector<std::uint64_t> key;   ///< the draws' key: the same event, the same particles
+    std::vector<std::uint32_t> wave;  ///< the wave that threw it (a crest, a fold's lattice time): one lace per wave
     /// Events repeat after this (s): an event at time τ also happens at τ + n · period
     /// for every integer n. 0: each event happens once.
     double period = 0.0;
     std::size_t size() const noexcept { return x.size(); }  ///< events held
     void add(float ex, float ey, float ez, float dx, float dy, float c, float h, float len, double when, float s, float f,
-             float b, std::uint64_t k);  ///< appends one event
+             float b, std::uint64_t k, std::uint32_t w);  ///< appends one event
 };
 
 /// One frame's particles (flat arrays, one entry per particle; reused frame to frame).

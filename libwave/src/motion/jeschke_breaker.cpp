@@ -679,7 +679,8 @@ WhitewaterEvents jeschke_whitewater_events(const JeschkeMotionPlan& p, std::span
                   static_cast<float>(p.dir_x[v]), static_cast<float>(p.dir_y[v]), static_cast<float>(c), static_cast<float>(height),
                   static_cast<float>(std::sqrt(area[v])), when - e.period * std::floor(when / e.period), static_cast<float>(spray),
                   static_cast<float>(foam), static_cast<float>(bubbles),
-                  splitmix64(static_cast<std::uint64_t>(v) * 0x100000001B3ull + static_cast<std::uint64_t>(k)));
+                  splitmix64(static_cast<std::uint64_t>(v) * 0x100000001B3ull + static_cast<std::uint64_t>(k)),
+                  static_cast<std::uint32_t>(k));
         }
     }
     return e;

@@ -21,13 +21,14 @@
 namespace wave {
 
 void WhitewaterEvents::add(float ex, float ey, float ez, float dx, float dy, float c, float h, float len, double when, float s,
-                           float f, float b, std::uint64_t k) {
+                           float f, float b, std::uint64_t k, std::uint32_t w) {
     x.push_back(ex), y.push_back(ey), z.push_back(ez);
     dir_x.push_back(dx), dir_y.push_back(dy);
     speed.push_back(c), height.push_back(h), length.push_back(len);
     time.push_back(when);
     spray.push_back(s), foam.push_back(f), bubbles.push_back(b);
     key.push_back(k);
+    wave.push_back(w);
 }
 
 namespace {
@@ -60,12 +61,14 @@ void check(const WhitewaterOptions& o, const WhitewaterEvents& e) {
     in(o.foam_push_time, 1e-3, 100.0, "foam_push_time");
     in(o.foam_spread, 0.0, 10.0, "foam_spread");
     in(static_cast<double>(o.foam_patch), 1.0, 1024.0, "foam_patch");
+    in(o.foam_lace, 0.0, 0.95, "foam_lace");
+    in(o.foam_lace_scale, 0.01, 1000.0, "foam_lace_scale");
     if (o.foam && o.foam_life == 0.0 && e.period > 0.0)
         throw InputError("whitewater: foam_life 0 (no decay) needs events that happen once (period 0), got a period of " +
                          std::to_string(e.period) + " s");
     const std::size_t n = e.size();
     for (const std::size_t m : {e.y.size(), e.z.size(), e.dir_x.size(), e.dir_y.size(), e.speed.size(), e.height.size(),
-                                e.length.size(), e.time.size(), e.spray.size(), e.foam.size(), e.bubbles.size(), e.key.size()})
+                                e.length.size(), e.time.size(), e.spray.size(), e.foam.size(), e.bubbles.size(), e.key.size(), e.wave.size()})
         if (m != n) throw InputError("whitewater: the events' arrays differ in length");
     if (!(e.period >= 0.0) || !std::isfinite(e.period)) throw InputError("whitewater: the events' period must be >= 0");
 }
@@ -148,6 +151,28 @@ bool spray_particle(const WhitewaterEvents& e, const WhitewaterOptions& o, std::
     return true;
 }
 
+// Value noise in [0, 1) on the unit lattice, smoothstep between the corners' draws, one
+// pattern per seed; two octaves.
+double value_noise(double u, double v, std::uint64_t seed) noexcept {
+    double sum = 0.0, weight = 0.0, amp = 1.0;
+    for (int octave = 0; octave < 2; ++octave, u *= 2.03, v *= 2.03, amp *= 0.5) {
+        const double fu = std::floor(u), fv = std::floor(v);
+        const auto i = static_cast<std::int64_t>(fu), j = static_cast<std::int64_t>(fv);
+        const auto corner = [&](std::int64_t a, std::int64_t b) {
+            const std::uint64_t k = splitmix64(seed + static_cast<std::uint64_t>(octave) * 0xA24BAED4963EE407ull) ^
+                                    (static_cast<std::uint64_t>(a) * 0x9FB21C651E98DF25ull) ^ (static_cast<std::uint64_t>(b) * 0xC13FA9A902A6328Full);
+            return static_cast<double>(splitmix64(k) >> 11) * 0x1.0p-53;
+        };
+        const double s = u - fu, t = v - fv;
+        const double su = s * s * (3.0 - 2.0 * s), tv = t * t * (3.0 - 2.0 * t);
+        const double top = corner(i, j) + su * (corner(i + 1, j) - corner(i, j));
+        const double bottom = corner(i, j + 1) + su * (corner(i + 1, j + 1) - corner(i, j + 1));
+        sum += amp * (top + tv * (bottom - top));
+        weight += amp;
+    }
+    return sum / weight;
+}
+
 // The bore's push on what the crest leaves: distance and speed along the crest's run
 // after age a (push · c · τ (1 − e^{−a/τ})).
 struct Push {
@@ -168,6 +193,13 @@ bool foam_particle(const WhitewaterEvents& e, const WhitewaterOptions& o, std::s
     const double len = e.length[i], dx = e.dir_x[i], dy = e.dir_y[i];
     // The patch's centre: anywhere on the event's stretch; pushed on by the bore.
     const double along = (draw(patch, 1) - 0.5) * len, across = (draw(patch, 2) - 0.5) * len;
+    if (o.foam_lace > 0.0) {  // torn: no patch where the wave's lace has a hole
+        const double cx = e.x[i] + across * dx - along * dy, cy = e.y[i] + across * dy + along * dx;
+        const double u = (cx * dx + cy * dy) / o.foam_lace_scale, v = (cy * dx - cx * dy) / (2.5 * o.foam_lace_scale);
+        // The two-octave noise is bunched round ½: stretch it so that foam_lace is the share left bare.
+        const double n = std::clamp(0.5 + 1.6 * (value_noise(u, v, e.wave[i] ^ o.seed) - 0.5), 0.0, 1.0);
+        if (n < o.foam_lace) return false;
+    }
     const double push_share = 0.6 + 0.8 * draw(patch, 3);  // patches pushed unevenly: the foam tears
     const Push push = bore_push(e.speed[i] * push_share, o.foam_push, o.foam_push_time, a);
     // The particle in its patch: a bell round the centre growing with √a, twice as long
@@ -185,7 +217,7 @@ bool foam_particle(const WhitewaterEvents& e, const WhitewaterOptions& o, std::s
     out.age = static_cast<float>(a);
     // Fresh foam is thick; older foam thins as it spreads, before it dies.
     const double fade = std::isfinite(life) ? std::clamp(1.25 - a / life, 0.35, 1.0) : 1.0;
-    out.size = static_cast<float>((0.07 + 0.08 * draw(h, 4)) * fade);
+    out.size = static_cast<float>((0.12 + 0.16 * draw(h, 4)) * fade);
     out.kind = WhitewaterKind::foam;
     return true;
 }
@@ -302,7 +334,8 @@ void fold_whitewater_events(const FoldSample& sample, double time, const FoldFoa
         events.add(static_cast<float>(rest_x[v]), static_cast<float>(rest_y[v]), static_cast<float>(0.5 * height),
                    static_cast<float>(dx), static_cast<float>(dy), static_cast<float>(speed), static_cast<float>(height),
                    static_cast<float>(spacing), time, static_cast<float>(strength >= 1.0 ? 1.0 : 0.25 * strength),
-                   static_cast<float>(strength), static_cast<float>(strength), key);
+                   static_cast<float>(strength), static_cast<float>(strength), key,
+                   static_cast<std::uint32_t>(lattice_index));
     }
 }
 

@@ -1165,7 +1165,7 @@ void whitewater_frame(FrameRun& r, double t, std::span<const float> pc, std::spa
         append(r.points.kind, r.fold_points.kind);
     }
     ride_whitewater(*r.ride, pc, r.points);
-    if (r.shaded) splat_whitewater_foam(*r.ride, r.points, 3.0, 0.6, fc);
+    if (r.shaded) splat_whitewater_foam(*r.ride, r.points, 20.0, 0.85, fc);
     a.whitewater[f] = whitewater_glb(r.points, a.first_frame + f, r.scene.fps);
 }
 

@@ -387,7 +387,7 @@ std::optional<WhitewaterOptions> read_whitewater(const Node& n) {
     if (n.value().is_boolean()) return n.boolean() ? std::optional<WhitewaterOptions>(WhitewaterOptions{}) : std::nullopt;
     if (!n.value().is_object()) n.fail("expected true, false or an object of whitewater options, got " + n.shown());
     n.require_object({"spray", "foam", "bubbles", "spray_density", "foam_density", "bubble_density", "spray_life", "foam_life",
-                      "bubble_life", "spray_drag", "spray_lift", "foam_push", "foam_push_time", "foam_spread", "foam_patch", "seed"});
+                      "bubble_life", "spray_drag", "spray_lift", "foam_push", "foam_push_time", "foam_spread", "foam_patch", "foam_lace", "foam_lace_scale", "seed"});
     WhitewaterOptions o;
     const auto number = [&](const char* key, double& v, const char* unit) {
         if (n.has(key)) v = n[key].number(unit);
@@ -406,6 +406,8 @@ std::optional<WhitewaterOptions> read_whitewater(const Node& n) {
     number("foam_push", o.foam_push, "× the crest speed");
     number("foam_push_time", o.foam_push_time, "s");
     number("foam_spread", o.foam_spread, "m/√s");
+    number("foam_lace", o.foam_lace, "share left bare");
+    number("foam_lace_scale", o.foam_lace_scale, "m");
     if (n.has("foam_patch")) o.foam_patch = static_cast<std::uint32_t>(n["foam_patch"].count());
     if (n.has("seed")) o.seed = n["seed"].count();
     if (!o.spray && !o.foam && !o.bubbles) n.fail("every kind is off (spray, foam, bubbles): give \"whitewater\": false instead");
