@@ -183,36 +183,57 @@ Push bore_push(double c, double push, double tau, double a) noexcept {
     return {push * c * tau * (1.0 - decay), push * c * decay};
 }
 
-// Foam particle j of event i (patch j / foam_patch) at age a.
+// What every foam particle of an event at one age shares: the bore's push and the
+// patches' spread.
+struct FoamAge {
+    double a, push_distance, push_speed, spread, rate, fade_life;
+};
+
+FoamAge foam_age(const WhitewaterEvents& e, const WhitewaterOptions& o, std::size_t i, double a) noexcept {
+    const double decay = std::exp(-a / o.foam_push_time);
+    const double c = o.foam_push * e.speed[i];
+    const double r0 = 0.08 + 0.02 * std::sqrt(static_cast<double>(o.foam_patch));
+    return {a, c * o.foam_push_time * (1.0 - decay), c * decay, r0 + o.foam_spread * std::sqrt(a),
+            0.5 * o.foam_spread / std::sqrt(std::max(a, 0.25)),  // d spread / da (held below a quarter second)
+            0.0};
+}
+
+// Foam patch `patch` of event i: its centre (along and across the crest, from the
+// event) and its share of the bore's push; false where the wave's lace has a hole.
+struct FoamPatch {
+    double along, across, push_share;
+};
+
+bool foam_patch(const WhitewaterEvents& e, const WhitewaterOptions& o, std::size_t i, std::uint64_t event_key,
+                std::uint32_t patch, FoamPatch& out) noexcept {
+    const std::uint64_t h = splitmix64(event_key ^ (0xBA7C4ull + patch));
+    const double len = e.length[i], dx = e.dir_x[i], dy = e.dir_y[i];
+    // Anywhere on the event's stretch; pushed on unevenly by the bore (the foam tears).
+    out = {(draw(h, 1) - 0.5) * len, (draw(h, 2) - 0.5) * len, 0.6 + 0.8 * draw(h, 3)};
+    if (o.foam_lace <= 0.0) return true;
+    const double cx = e.x[i] + out.across * dx - out.along * dy, cy = e.y[i] + out.across * dy + out.along * dx;
+    const double u = (cx * dx + cy * dy) / o.foam_lace_scale, v = (cy * dx - cx * dy) / (2.5 * o.foam_lace_scale);
+    // The two-octave noise is bunched round ½: stretched so that foam_lace is the share left bare.
+    const double n = std::clamp(0.5 + 1.6 * (value_noise(u, v, e.wave[i] ^ o.seed) - 0.5), 0.0, 1.0);
+    return n >= o.foam_lace;
+}
+
+// Foam particle j of event i in its patch at an age.
 bool foam_particle(const WhitewaterEvents& e, const WhitewaterOptions& o, std::size_t i, std::uint64_t event_key,
-                   std::uint32_t j, double a, Particle& out) noexcept {
+                   std::uint32_t j, const FoamPatch& patch, const FoamAge& age, Particle& out) noexcept {
     const std::uint64_t h = splitmix64(event_key ^ (0xF0A4ull + j));
+    const double a = age.a;
     const double life = o.foam_life > 0.0 ? o.foam_life * (0.3 + 0.7 * draw(h, 1)) : std::numeric_limits<double>::infinity();
     if (a >= life) return false;
-    const std::uint64_t patch = splitmix64(event_key ^ (0xBA7C4ull + j / std::max<std::uint32_t>(1, o.foam_patch)));
-    const double len = e.length[i], dx = e.dir_x[i], dy = e.dir_y[i];
-    // The patch's centre: anywhere on the event's stretch; pushed on by the bore.
-    const double along = (draw(patch, 1) - 0.5) * len, across = (draw(patch, 2) - 0.5) * len;
-    if (o.foam_lace > 0.0) {  // torn: no patch where the wave's lace has a hole
-        const double cx = e.x[i] + across * dx - along * dy, cy = e.y[i] + across * dy + along * dx;
-        const double u = (cx * dx + cy * dy) / o.foam_lace_scale, v = (cy * dx - cx * dy) / (2.5 * o.foam_lace_scale);
-        // The two-octave noise is bunched round ½: stretch it so that foam_lace is the share left bare.
-        const double n = std::clamp(0.5 + 1.6 * (value_noise(u, v, e.wave[i] ^ o.seed) - 0.5), 0.0, 1.0);
-        if (n < o.foam_lace) return false;
-    }
-    const double push_share = 0.6 + 0.8 * draw(patch, 3);  // patches pushed unevenly: the foam tears
-    const Push push = bore_push(e.speed[i] * push_share, o.foam_push, o.foam_push_time, a);
-    // The particle in its patch: a bell round the centre growing with √a, twice as long
-    // along the crest as across it (streaks).
-    const double r0 = 0.08 + 0.02 * std::sqrt(static_cast<double>(o.foam_patch));
-    const double spread = r0 + o.foam_spread * std::sqrt(a);
-    const double rate = 0.5 * o.foam_spread / std::sqrt(std::max(a, 0.25));  // d spread / da (held below a quarter second)
+    const double dx = e.dir_x[i], dy = e.dir_y[i];
+    // In its patch: a bell round the centre growing with √a, twice as long along the
+    // crest as across it (streaks).
     const double u = 2.0 * bell(h, 2), w = bell(h, 3);
-    const double s_along = along + u * spread, s_across = across + push.distance + w * spread;
+    const double s_along = patch.along + u * age.spread, s_across = patch.across + patch.push_share * age.push_distance + w * age.spread;
     out.p[0] = static_cast<float>(e.x[i] + s_across * dx - s_along * dy);
     out.p[1] = static_cast<float>(e.y[i] + s_across * dy + s_along * dx);
     out.p[2] = 0.0f;  // on the surface (ride_whitewater)
-    const double va = u * rate, vc = push.speed + w * rate;
+    const double va = u * age.rate, vc = patch.push_share * age.push_speed + w * age.rate;
     out.v[0] = static_cast<float>(vc * dx - va * dy), out.v[1] = static_cast<float>(vc * dy + va * dx), out.v[2] = 0.0f;
     out.age = static_cast<float>(a);
     // Fresh foam is thick; older foam thins as it spreads, before it dies.
@@ -258,11 +279,18 @@ void event_particles(const WhitewaterEvents& e, const WhitewaterOptions& o, std:
             for (std::uint32_t j = 0; j < c.spray; ++j)
                 if (spray_particle(e, o, i, splitmix64(key ^ (0x5B7A7ull + j)), a, q)) f(q);
         });
-    if (c.foam > 0)
+    if (c.foam > 0) {
+        const std::uint32_t per_patch = std::max<std::uint32_t>(1, o.foam_patch);
         for_each_age(e, i, t, foam_life, [&](double a) {
-            for (std::uint32_t j = 0; j < c.foam; ++j)
-                if (foam_particle(e, o, i, key, j, a, q)) f(q);
+            const FoamAge age = foam_age(e, o, i, a);
+            FoamPatch patch{};
+            for (std::uint32_t first = 0; first < c.foam; first += per_patch) {
+                if (!foam_patch(e, o, i, key, first / per_patch, patch)) continue;
+                for (std::uint32_t j = first; j < std::min(c.foam, first + per_patch); ++j)
+                    if (foam_particle(e, o, i, key, j, patch, age, q)) f(q);
+            }
         });
+    }
     if (c.bubbles > 0)
         for_each_age(e, i, t, o.bubble_life, [&](double a) {
             for (std::uint32_t j = 0; j < c.bubbles; ++j)
@@ -297,23 +325,36 @@ void evaluate_whitewater(const WhitewaterEvents& e, const WhitewaterOptions& o, 
     check(o, e);
     if (!std::isfinite(t)) throw InputError("whitewater: the time must be finite");
     const std::size_t n = e.size();
-    // Pass 1: each block of events counts its particles; pass 2 writes them at the
-    // block's offset. Blocks are fixed (not the scheduler's): the order is the events'.
-    constexpr std::size_t block = 256;
+    // One pass: each fixed block of events (not the scheduler's) writes its particles to
+    // a buffer of its own; then the buffers are copied out at their offsets. The order is
+    // the events' for any thread count.
+    constexpr std::size_t block = 512;
     const std::size_t blocks = (n + block - 1) / block;
-    std::vector<std::size_t> offset(blocks + 1, 0);
+    std::vector<std::vector<Particle>> made(blocks);
     tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
-        std::size_t count = 0;
+        std::vector<Particle>& mine = made[b];
+        // Room for every particle the block's events can have alive (their counts, once
+        // per age the loop allows): no growth while they are made.
+        std::size_t most = 0;
+        for (std::size_t i = b * block; i < std::min(n, (b + 1) * block); ++i) {
+            const Counts c = event_counts(e, o, i, splitmix64(e.key[i] ^ splitmix64(o.seed)));
+            const auto ages = [&](double life) {
+                if (e.period <= 0.0) return std::size_t{1};
+                return static_cast<std::size_t>(std::min(1e6, std::ceil(life / e.period)));
+            };
+            most += c.spray * ages(o.spray_life) + c.foam * ages(o.foam_life > 0.0 ? o.foam_life : 1.0) + c.bubbles * ages(o.bubble_life);
+        }
+        mine.reserve(most);
         for (std::size_t i = b * block; i < std::min(n, (b + 1) * block); ++i)
-            event_particles(e, o, i, t, [&](const Particle&) { ++count; });
-        offset[b + 1] = count;
+            event_particles(e, o, i, t, [&](const Particle& q) { mine.push_back(q); });
     });
-    for (std::size_t b = 0; b < blocks; ++b) offset[b + 1] += offset[b];
+    std::vector<std::size_t> offset(blocks + 1, 0);
+    for (std::size_t b = 0; b < blocks; ++b) offset[b + 1] = offset[b] + made[b].size();
     resize_points(out, offset[blocks]);
     tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
         std::size_t k = offset[b];
-        for (std::size_t i = b * block; i < std::min(n, (b + 1) * block); ++i)
-            event_particles(e, o, i, t, [&](const Particle& q) { put(out, k++, q); });
+        for (const Particle& q : made[b]) put(out, k++, q);
+        std::vector<Particle>().swap(made[b]);
     });
 }
 
