@@ -1311,6 +1311,52 @@ class Underwater(unittest.TestCase):
                 self.assertFalse(os.path.exists(out), doc)
 
 
+class Whitewater(unittest.TestCase):
+    """/whitewater: a POINTS .glb of spray, foam and bubbles per frame (docs/whitewater.md)."""
+    BEACH = {"seafloor": {"source": "planar-beach"}, "isobaths": {"spacing": 0.5},
+             "waves": [{"period": 8.0, "amplitude": 0.4, "direction": [0.34, 0.94]}], "trace": {"ray_spacing": 4.0},
+             "breakers": "jeschke", "whitewater": True, "animation": {"fps": 4}}
+
+    def test_a_points_file_per_frame_valid_and_the_same_from_a_slice(self):
+        with tempfile.TemporaryDirectory() as d:
+            scene = write_scene(d, dict(self.BEACH, outputs={"form": "files"}))
+            whole, alone = os.path.join(d, "whole"), os.path.join(d, "alone")
+            r = wave("run", scene, "-o", whole, "--frames", "0:3")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            names = sorted(os.listdir(os.path.join(whole, "whitewater")))
+            self.assertEqual(names, ["whitewater-%04d.glb" % f for f in range(3)])
+            path = os.path.join(whole, "whitewater", "whitewater-0002.glb")
+            validate_gltf(self, path)
+            doc, binary = read_glb(path)
+            prim = doc["meshes"][0]["primitives"][0]
+            self.assertEqual(prim["mode"], 0)  # POINTS
+            n = doc["accessors"][prim["attributes"]["POSITION"]]["count"]
+            self.assertGreater(n, 1000)
+            kinds = floats(doc, binary, prim["attributes"]["_KIND"])
+            self.assertEqual(set(kinds), {0.0, 1.0, 2.0})  # spray, foam and bubbles
+            # The index lists each frame's points with the frame's own files.
+            with open(os.path.join(whole, "index.json")) as f:
+                index = json.load(f)
+            self.assertIn("whitewater/whitewater-0002.glb", [c["file"] for c in index["frames"][2]["content"]])
+            # A frame computed alone (a farm's slice) is the same frame, byte for byte.
+            r = wave("run", scene, "-o", alone, "--frames", "2:3")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            with open(path, "rb") as a, open(os.path.join(alone, "whitewater", "whitewater-0002.glb"), "rb") as b:
+                self.assertEqual(a.read(), b.read())
+
+    def test_bad_options_name_the_key(self):
+        with tempfile.TemporaryDirectory() as d:
+            for doc, key in ((dict(self.BEACH, whitewater={"spray_density": -1}), "/whitewater/spray_density"),
+                             (dict(self.BEACH, whitewater={"foam_lace": 2}), "/whitewater/foam_lace"),
+                             (dict(self.BEACH, whitewater={"spray": False, "foam": False, "bubbles": False}), "/whitewater"),
+                             ({k: v for k, v in self.BEACH.items() if k != "breakers"}, "/whitewater")):
+                out = os.path.join(d, "out")
+                r = wave("run", write_scene(d, doc), "-o", out)
+                self.assertEqual(r.returncode, 2, r.stderr)
+                self.assertIn(key, r.stderr)
+                self.assertFalse(os.path.exists(out), "no partial output")
+
+
 class Inspect(unittest.TestCase):
     """`wave inspect` on outputs, and the water mesh it checks (docs/inspect.md)."""
 

@@ -376,15 +376,52 @@ async function applyColors(mesh, request = latestRequest) {
   invalidate();
 }
 
+// Whitewater beside the output (/whitewater: whitewater/whitewater-NNNN.glb, one POINTS
+// .glb per loop frame): white points sized in metres, swapped with the frame. Found
+// once per output (frame 0's file); frames without a file show none.
+const whitewater = { base: null, group: new THREE.Group(), loaded: new Map(), shown: null };
+whitewater.group.name = 'whitewater';
+const whitewaterMaterial = new THREE.PointsMaterial({ color: 0xf4f7f8, size: 0.25, sizeAttenuation: true });
+
+async function findWhitewater(url) {
+  whitewater.loaded.clear();
+  if (whitewater.shown) whitewater.group.remove(whitewater.shown);
+  whitewater.shown = null;
+  const base = url.slice(0, url.lastIndexOf('/') + 1) + 'whitewater/whitewater-';
+  const first = await fetch(base + '0000.glb', { method: 'HEAD' }).catch(() => null);
+  whitewater.base = first && first.ok ? base : null;
+  scene.add(whitewater.group);
+}
+
+function whitewaterFrame(f) {
+  if (!whitewater.base) return Promise.resolve(null);
+  if (!whitewater.loaded.has(f)) {
+    const url = whitewater.base + String(f).padStart(4, '0') + '.glb';
+    whitewater.loaded.set(f, loader.loadAsync(url).then((g) => {
+      let points = null;
+      g.scene.traverse((o) => { if (o.isPoints) points = o; });
+      if (points) points.material = whitewaterMaterial;
+      return points;
+    }).catch(() => null));
+    if (whitewater.loaded.size > 64) whitewater.loaded.delete(whitewater.loaded.keys().next().value);
+  }
+  return whitewater.loaded.get(f);
+}
+
 // Requests can overlap (playback and the scrubber, files still loading): only the
 // latest one may change what is shown.
 let latestRequest = 0;
 async function showFrame(f) {
   const s = state.source, request = ++latestRequest;
   f = Math.max(0, Math.min(s.frames - 1, Math.round(f)));
-  const loaded = await s.load(f);
+  const [loaded, points] = await Promise.all([s.load(f), whitewaterFrame(f)]);
   if (request !== latestRequest) return state.frame;
   const mesh = s.display(loaded, f);
+  if (whitewater.shown !== points) {
+    if (whitewater.shown) whitewater.group.remove(whitewater.shown);
+    if (points) whitewater.group.add(points);
+    whitewater.shown = points;
+  }
   invalidate();
   state.frame = f;
   state.mesh = mesh;
@@ -427,6 +464,7 @@ async function openOutput(i) {
   state.source = null;
   $('info').textContent = 'loading ' + o.name + '…';
   const source = o.kind === 'index' ? await filesSource(o.url) : await gltfSource(o.url);
+  await findWhitewater(o.url);
   state.source = source;
   scene.add(source.object);
   invalidate();
@@ -448,7 +486,8 @@ async function openOutput(i) {
 function info() {
   const s = state.source;
   return s && { form: s.form, compression: s.compression, frames: s.frames, fps: s.fps, vertices: s.vertices, triangles: s.triangles,
-    output: state.outputs[Number($('output').value) || 0]?.name };
+    output: state.outputs[Number($('output').value) || 0]?.name,
+    whitewater: whitewater.shown ? whitewater.shown.geometry.attributes.position.count : 0 };
 }
 
 // Playback at the file's fps; a files-form frame still loading holds the clock.

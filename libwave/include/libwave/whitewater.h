@@ -98,7 +98,8 @@ WhitewaterEvents jeschke_whitewater_events(const JeschkeMotionPlan& plan, std::s
 /// `time` over the vertices at rest positions `rest_x`, `rest_y`): a whitecap at every
 /// vertex of the sample, its strength rising from 0 at the fold threshold to 1 a
 /// softness below (spray only where it is full), running `wind` (unit) at `speed`, of
-/// height `height`, standing for `spacing` metres. Appended to `events`. Throws
+/// height `height`, standing for `spacing` metres; its top 0.75 H above the surface
+/// (ride_whitewater with spray_rides puts the spray over the water). Appended to `events`. Throws
 /// InputError on a vertex index beyond the rest positions.
 void fold_whitewater_events(const FoldSample& sample, double time, const FoldFoamOptions& fold, std::span<const double> rest_x,
                             std::span<const double> rest_y, std::array<double, 2> wind, double speed, double height,
@@ -126,8 +127,11 @@ WhitewaterRide plan_whitewater_ride(std::span<const double> rest_x, std::span<co
 /// surface over its drift position (barycentric in the rest triangle holding it), and
 /// its velocity the surface's orbital motion is left out of. Particles over no water
 /// (on land, beyond the surface) are dropped, keeping the others' order. Spray is left
-/// as it is. Throws InputError when `surface_positions` does not hold 3 per rest vertex.
-void ride_whitewater(const WhitewaterRide& ride, std::span<const float> surface_positions, WhitewaterPoints& points);
+/// as it is, unless `spray_rides`: then its height is taken above the surface under it
+/// (the wind sea's whitecaps, whose events do not know where the surface stood). Throws
+/// InputError when `surface_positions` does not hold 3 per rest vertex.
+void ride_whitewater(const WhitewaterRide& ride, std::span<const float> surface_positions, WhitewaterPoints& points,
+                     bool spray_rides = false);
 
 /// Splats foam particles onto the surface's vertices (the rest triangle holding each,
 /// barycentric weights): foam[v] = max(foam[v] · (1 − texture), min(1, splat / full)),

@@ -372,7 +372,7 @@ void fold_whitewater_events(const FoldSample& sample, double time, const FoldFoa
         const double strength = std::clamp((fold.threshold - sample.j_minus[s]) / fold.softness, 0.0, 1.0);
         if (strength <= 0.0) continue;
         const std::uint64_t key = splitmix64(static_cast<std::uint64_t>(lattice_index) * 0x9E3779B97F4A7C15ull ^ v);
-        events.add(static_cast<float>(rest_x[v]), static_cast<float>(rest_y[v]), static_cast<float>(0.5 * height),
+        events.add(static_cast<float>(rest_x[v]), static_cast<float>(rest_y[v]), static_cast<float>(0.75 * height),
                    static_cast<float>(dx), static_cast<float>(dy), static_cast<float>(speed), static_cast<float>(height),
                    static_cast<float>(spacing), time, static_cast<float>(strength >= 1.0 ? 1.0 : 0.25 * strength),
                    static_cast<float>(strength), static_cast<float>(strength), key,
@@ -389,7 +389,7 @@ WhitewaterRide plan_whitewater_ride(std::span<const double> rest_x, std::span<co
     return r;
 }
 
-void ride_whitewater(const WhitewaterRide& ride, std::span<const float> surface, WhitewaterPoints& points) {
+void ride_whitewater(const WhitewaterRide& ride, std::span<const float> surface, WhitewaterPoints& points, bool spray_rides) {
     const detail::TriangleLocator& locator = locator_of(ride);
     if (surface.size() != 3 * ride.rest_x.size())
         throw InputError("whitewater: " + std::to_string(surface.size()) + " surface floats for " + std::to_string(ride.rest_x.size()) +
@@ -398,7 +398,7 @@ void ride_whitewater(const WhitewaterRide& ride, std::span<const float> surface,
     std::vector<std::uint8_t> keep(n, 1);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 2048), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t k = r.begin(); k != r.end(); ++k) {
-            if (points.kind[k] == static_cast<std::uint8_t>(WhitewaterKind::spray)) continue;
+            if (!spray_rides && points.kind[k] == static_cast<std::uint8_t>(WhitewaterKind::spray)) continue;
             float* p = &points.positions[3 * k];
             detail::TriangleLocator::Hit hit;
             if (!locator.locate(p[0], p[1], hit)) {

@@ -1134,18 +1134,21 @@ void coarse_foam(FrameRun& r, double t, std::span<float> fc) {
 
 // The wind sea's whitecaps as whitewater events: every sample of the fold foam's window
 // (its lattice times), the crests running downwind at half the wind's speed (short
-// breaking waves, not the peak's), of a tenth of the significant height (4 σ).
+// breaking waves, not the peak's), of a tenth of the significant height (4 σ) up to
+// half a metre. A whitecap is sampled every lattice step while it lasts: each sample
+// stands for that share of a second of breaking, on 0.3 m of crest per metre of the
+// surface's spacing (whitecaps are short crests, not lines).
 void fold_events(FrameRun& r) {
     const ScenePlan& plan = r.plan;
     r.fold_events = WhitewaterEvents{};
     if (r.fold_window.empty() || !r.scene.ocean) return;
     const OceanOptions& o = *r.scene.ocean;
     const double sigma = std::sqrt(std::max(0.0, plan.ocean.expected_variance));
-    const double height = std::clamp(0.4 * sigma, 0.1, 2.0);
+    const double height = std::clamp(0.4 * sigma, 0.1, 0.5);
     const std::array<double, 2> wind = o.spectrum.wind_direction;
     for (const auto& [j, sample] : r.fold_window)
         fold_whitewater_events(*sample, static_cast<double>(j) * r.fold_step, plan.fold_foam, plan.rest_x, plan.rest_y, wind,
-                               0.5 * o.spectrum.wind_speed, height, r.vertex_spacing, j, r.fold_events);
+                               0.5 * o.spectrum.wind_speed, height, 0.3 * r.vertex_spacing * r.fold_step, j, r.fold_events);
 }
 
 // The frame's whitewater (Scene::whitewater): the breakers' particles and the wind
@@ -1154,9 +1157,11 @@ void fold_events(FrameRun& r) {
 void whitewater_frame(FrameRun& r, double t, std::span<const float> pc, std::span<float> fc, SceneAnimation& a, std::size_t f) {
     const WhitewaterOptions& o = *r.scene.whitewater;
     evaluate_whitewater(r.plan.whitewater, o, t, r.points);
+    ride_whitewater(*r.ride, pc, r.points);
     fold_events(r);
     if (r.fold_events.size() > 0) {
         evaluate_whitewater(r.fold_events, o, t, r.fold_points);
+        ride_whitewater(*r.ride, pc, r.fold_points, true);
         const auto append = [](auto& to, const auto& from) { to.insert(to.end(), from.begin(), from.end()); };
         append(r.points.positions, r.fold_points.positions);
         append(r.points.velocities, r.fold_points.velocities);
@@ -1164,7 +1169,6 @@ void whitewater_frame(FrameRun& r, double t, std::span<const float> pc, std::spa
         append(r.points.size, r.fold_points.size);
         append(r.points.kind, r.fold_points.kind);
     }
-    ride_whitewater(*r.ride, pc, r.points);
     if (r.shaded) splat_whitewater_foam(*r.ride, r.points, 20.0, 0.85, fc);
     a.whitewater[f] = whitewater_glb(r.points, a.first_frame + f, r.scene.fps);
 }
