@@ -97,6 +97,8 @@ struct ViewerOutputs {
     };
     std::filesystem::path root;
     std::vector<Output> outputs;
+    /// Loop frames with a whitewater file beside the outputs (whitewater/whitewater-NNNN.glb).
+    std::vector<int> whitewater_frames;
 };
 /// Throws InputError naming the path when it holds none.
 ViewerOutputs find_viewer_outputs(const std::string& path);

@@ -118,6 +118,16 @@ ViewerOutputs find_viewer_outputs(const std::string& path) {
     for (const auto& f : files) add(f);
     if (v.outputs.empty())
         throw InputError("view: no libwave output in '" + path + "' (expected animation*.glb / .gltf or index.json)");
+    // The whitewater beside them (/whitewater), by loop frame: the page asks only for these.
+    const fs::path points = v.root / "whitewater";
+    if (fs::is_directory(points, ec) && !fs::is_symlink(points, ec))
+        for (const auto& e : fs::directory_iterator(points, ec)) {
+            const std::string name = e.path().filename().string();
+            if (e.is_regular_file() && name.size() == 19 && name.starts_with("whitewater-") && name.ends_with(".glb") &&
+                std::all_of(name.begin() + 11, name.begin() + 15, [](char c) { return c >= '0' && c <= '9'; }))
+                v.whitewater_frames.push_back(std::stoi(name.substr(11, 4)));
+        }
+    std::sort(v.whitewater_frames.begin(), v.whitewater_frames.end());
     return v;
 }
 
@@ -144,7 +154,8 @@ int run_view(const ViewArgs& a) {
     });
     json list = json::array();
     for (const auto& o : outputs.outputs) list.push_back({{"name", o.name}, {"kind", o.kind}, {"url", "/out/" + o.name}});
-    const std::string body = json{{"root", outputs.root.string()}, {"outputs", list}}.dump();
+    const std::string body =
+        json{{"root", outputs.root.string()}, {"outputs", list}, {"whitewater_frames", outputs.whitewater_frames}}.dump();
     server.Get("/api/outputs", [body](const httplib::Request&, httplib::Response& res) {
         res.set_header("Cache-Control", "no-store");
         res.set_content(body, "application/json");

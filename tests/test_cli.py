@@ -1079,8 +1079,13 @@ class WindWaves(unittest.TestCase):
             self.assertAlmostEqual(report["surface"]["wind_sea"]["significant_height_m"] / hs, 1.0, delta=0.05)
             self.assertNotIn("isobaths.json", report["outputs"])
             # One animated .glb (scale-switched nodes, Draco): a slice of it here.
-            self.assertEqual(sorted(os.listdir(d)), ["animation-frames-0-2.glb", "report-frames-0-2.json", "surface-frame-0000.obj"])
+            self.assertEqual(sorted(os.listdir(d)), ["animation-frames-0-2.glb", "report-frames-0-2.json", "surface-frame-0000.obj",
+                                                     "whitewater"])
             validate_gltf(self, os.path.join(d, "animation-frames-0-2.glb"))
+            # The gale's whitecaps throw whitewater (/whitewater): a POINTS file per frame.
+            self.assertEqual(sorted(os.listdir(os.path.join(d, "whitewater"))), ["whitewater-0000.glb", "whitewater-0001.glb"])
+            doc, _ = read_glb(os.path.join(d, "whitewater", "whitewater-0001.glb"))
+            self.assertGreater(doc["scenes"][0]["extras"]["libwave_whitewater"]["points"], 50000)
 
     def test_small_ocean_morph_foam_and_tiling(self):
         with tempfile.TemporaryDirectory() as d:

@@ -379,22 +379,20 @@ async function applyColors(mesh, request = latestRequest) {
 // Whitewater beside the output (/whitewater: whitewater/whitewater-NNNN.glb, one POINTS
 // .glb per loop frame): white points sized in metres, swapped with the frame. Found
 // once per output (frame 0's file); frames without a file show none.
-const whitewater = { base: null, group: new THREE.Group(), loaded: new Map(), shown: null };
+const whitewater = { base: null, frames: new Set(), group: new THREE.Group(), loaded: new Map(), shown: null };
 whitewater.group.name = 'whitewater';
 const whitewaterMaterial = new THREE.PointsMaterial({ color: 0xf4f7f8, size: 0.25, sizeAttenuation: true });
 
-async function findWhitewater(url) {
+function findWhitewater(url) {
   whitewater.loaded.clear();
   if (whitewater.shown) whitewater.group.remove(whitewater.shown);
   whitewater.shown = null;
-  const base = url.slice(0, url.lastIndexOf('/') + 1) + 'whitewater/whitewater-';
-  const first = await fetch(base + '0000.glb', { method: 'HEAD' }).catch(() => null);
-  whitewater.base = first && first.ok ? base : null;
+  whitewater.base = url.slice(0, url.lastIndexOf('/') + 1) + 'whitewater/whitewater-';
   scene.add(whitewater.group);
 }
 
 function whitewaterFrame(f) {
-  if (!whitewater.base) return Promise.resolve(null);
+  if (!whitewater.base || !whitewater.frames.has(f)) return Promise.resolve(null);
   if (!whitewater.loaded.has(f)) {
     const url = whitewater.base + String(f).padStart(4, '0') + '.glb';
     whitewater.loaded.set(f, loader.loadAsync(url).then((g) => {
@@ -464,7 +462,7 @@ async function openOutput(i) {
   state.source = null;
   $('info').textContent = 'loading ' + o.name + '…';
   const source = o.kind === 'index' ? await filesSource(o.url) : await gltfSource(o.url);
-  await findWhitewater(o.url);
+  findWhitewater(o.url);
   state.source = source;
   scene.add(source.object);
   invalidate();
@@ -540,6 +538,7 @@ const ready = (async () => {
   resize();
   const list = await (await fetch('api/outputs', { cache: 'no-store' })).json();
   state.outputs = list.outputs;
+  whitewater.frames = new Set(list.whitewater_frames || []);
   for (const [i, o] of list.outputs.entries()) $('output').add(new Option(o.name, String(i)));
   const wanted = new URLSearchParams(location.search).get('output');
   const i = Math.max(0, list.outputs.findIndex((o) => o.name === wanted));

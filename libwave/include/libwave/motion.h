@@ -602,6 +602,15 @@ struct JeschkeMotionPlan {
 JeschkeMotionPlan plan_jeschke_breakers(const RayStrips& strips, double deep_height, double deep_wavelength,
                                         const JeschkeBreakerOptions& options = {});
 
+/// Crest n's phases at vertex v of a plan (the per-wave variation, draw n mod the
+/// draws, applied where the vertex lies past the earliest break), as
+/// evaluate_jeschke_breakers takes them. Precondition: v < plan.vertex_count().
+CrestPhases jeschke_crest_phases(const JeschkeMotionPlan& plan, std::size_t v, long long n) noexcept;
+
+/// The foam a crest leaves where it passes at `life`: none while round, rising over the
+/// first `onset` of the breaking phase, full while breaking and collapsing.
+double jeschke_foam_yield(const BreakerLife& life, double onset) noexcept;
+
 /// The breakers at other points of the water — e.g. a camera grid: every per-vertex
 /// field interpolated linearly from the strip triangle holding the point (the first
 /// by index where strips overlap at caustics; a ray that never breaks wins over

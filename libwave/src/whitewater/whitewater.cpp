@@ -4,6 +4,7 @@
 
 #include "core/splitmix.h"
 #include "libwave/errors.h"
+#include "libwave/motion.h"
 #include "libwave/physics.h"
 #include "libwave/shade.h"
 #include "surface/triangle_locator.h"
@@ -16,6 +17,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <numbers>
 #include <string>
 
 namespace wave {
@@ -34,6 +36,8 @@ void WhitewaterEvents::add(float ex, float ey, float ez, float dx, float dy, flo
 namespace {
 
 using detail::splitmix64;
+constexpr double pi = std::numbers::pi;
+constexpr double two_pi = 2.0 * std::numbers::pi;
 
 // The i-th uniform draw in [0, 1) of a particle whose key is `h`.
 inline double draw(std::uint64_t h, std::uint64_t i) noexcept {
@@ -544,6 +548,59 @@ std::string whitewater_glb(const WhitewaterPoints& pts, std::size_t frame, doubl
         glb += bin;
     }
     return glb;
+}
+
+}  // namespace wave
+
+namespace wave {
+
+// The breakers' events: see whitewater.h.
+WhitewaterEvents jeschke_whitewater_events(const JeschkeMotionPlan& p, std::span<const std::uint32_t> triangles) {
+    const std::size_t n = p.vertex_count();
+    if (!p.lag.empty() && p.lag.size() != n) throw InputError("jeschke whitewater: the lags differ in length from the vertices");
+    if (triangles.size() % 3 != 0) throw InputError("jeschke whitewater: the triangles' indices are not a multiple of 3");
+    // Each vertex's share of the surface: a third of its triangles' area.
+    std::vector<double> area(n, 0.0);
+    for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
+        const std::uint32_t a = triangles[t], b = triangles[t + 1], c = triangles[t + 2];
+        if (a >= n || b >= n || c >= n)
+            throw InputError("jeschke whitewater: triangle index out of range for " + std::to_string(n) + " vertices");
+        const double twice = std::abs((p.x[b] - p.x[a]) * (p.y[c] - p.y[a]) - (p.x[c] - p.x[a]) * (p.y[b] - p.y[a]));
+        for (const std::uint32_t v : {a, b, c}) area[v] += twice / 6.0;
+    }
+    WhitewaterEvents e;
+    if (!(p.omega > 0.0)) return e;
+    const auto crests = static_cast<long long>(p.loop_periods());
+    e.period = static_cast<double>(crests) * two_pi / p.omega;
+    for (std::size_t v = 0; v < n; ++v) {
+        if (!std::isfinite(p.break_phase[v]) || p.width[v] <= 0.0f || area[v] <= 0.0) continue;
+        if (p.phase[v] < static_cast<double>(p.break_phase[v]) - p.variation * two_pi) continue;
+        const double height = p.scale[v] / 5.0, c = p.omega * p.width[v] / two_pi;
+        const double curl = std::min(1.0, static_cast<double>(p.curl[v]));
+        for (long long k = 0; k < crests; ++k) {
+            const CrestPhases cp = jeschke_crest_phases(p, v, k);
+            const BreakerLife life = jeschke_life(p.phase[v], p.rise[v], cp.break_phase, cp.breaking_length, cp.end_phase);
+            double spray = 0.0, foam = jeschke_foam_yield(life, p.foam_onset), bubbles = 0.0, top = 0.75;
+            if (life.phase == BreakerPhase::breaking) {
+                spray = std::sin(pi * life.t) * (0.35 + 0.65 * curl);
+                bubbles = std::clamp((life.t - 0.3) / 0.5, 0.0, 1.0);
+            } else if (life.phase == BreakerPhase::collapsing) {
+                spray = 0.25 * std::max(0.0, 1.0 - 4.0 * life.t) * (0.35 + 0.65 * curl);
+                bubbles = 1.0 - life.t;
+                foam *= 1.0 - 0.6 * life.t;
+                top = 0.75 - 0.5 * life.t;
+            }
+            if (spray <= 0.0 && foam <= 0.0 && bubbles <= 0.0) continue;
+            const double when = (p.phase[v] + (p.lag.empty() ? 0.0 : p.lag[v]) + two_pi * static_cast<double>(k)) / p.omega;
+            e.add(static_cast<float>(p.x[v]), static_cast<float>(p.y[v]), static_cast<float>(top * height),
+                  static_cast<float>(p.dir_x[v]), static_cast<float>(p.dir_y[v]), static_cast<float>(c), static_cast<float>(height),
+                  static_cast<float>(std::sqrt(area[v])), when - e.period * std::floor(when / e.period), static_cast<float>(spray),
+                  static_cast<float>(foam), static_cast<float>(bubbles),
+                  splitmix64(static_cast<std::uint64_t>(v) * 0x100000001B3ull + static_cast<std::uint64_t>(k)),
+                  static_cast<std::uint32_t>(k));
+        }
+    }
+    return e;
 }
 
 }  // namespace wave
