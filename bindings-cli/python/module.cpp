@@ -224,6 +224,13 @@ PYBIND11_MODULE(_libwave, m) {
             },
             py::arg("frame"), "One frame (index within this animation) as a static .glb")
         .def(
+            "whitewater_glb", [](const SceneAnimation& a, std::size_t k) -> py::object {
+                if (k >= a.frame_count) throw wave::InputError("whitewater_glb: frame " + std::to_string(k) + " of " + std::to_string(a.frame_count));
+                if (a.whitewater.empty()) return py::none();
+                return py::bytes(a.whitewater[k]);
+            },
+            py::arg("frame"), "The frame's whitewater particles (/whitewater) as a POINTS .glb, or None without them")
+        .def(
             "write_glb",
             [](const SceneAnimation& a, const std::string& path, const std::string& form) {
                 py::gil_scoped_release release;

@@ -16,6 +16,7 @@
 #include "libwave/shade.h"
 #include "libwave/surface.h"
 #include "libwave/trace.h"
+#include "libwave/whitewater.h"
 
 #include <pybind11/stl.h>
 
@@ -583,7 +584,32 @@ void bind_breakers_and_ocean(py::module_& m) {
                 wave::jeschke_foam(p, t, s);
                 return out;
             },
-            py::arg("t"), "Foam in [0, 1] per vertex at time t: broken crests' foam fading behind them");
+            py::arg("t"), "Foam in [0, 1] per vertex at time t: broken crests' foam fading behind them")
+        .def(
+            "whitewater",
+            [](const wave::JeschkeMotionPlan& p, const py::array& triangles, double t, std::uint64_t seed) {
+                const auto tri = to_vector<std::uint32_t>(triangles, 3, "whitewater triangles");
+                wave::WhitewaterPoints w;
+                {
+                    py::gil_scoped_release release;
+                    wave::WhitewaterOptions o;
+                    o.seed = seed;
+                    wave::evaluate_whitewater(wave::jeschke_whitewater_events(p, tri), o, t, w);
+                }
+                const auto n = ssize(w.count());
+                py::dict out;
+                out["positions"] = py::array_t<float>({n, py::ssize_t{3}}, w.positions.data());
+                out["velocities"] = py::array_t<float>({n, py::ssize_t{3}}, w.velocities.data());
+                out["age"] = py::array_t<float>(n, w.age.data());
+                out["size"] = py::array_t<float>(n, w.size.data());
+                out["kind"] = py::array_t<std::uint8_t>(n, w.kind.data());
+                return out;
+            },
+            py::arg("triangles"), py::arg("t"), py::arg("seed") = 1,
+            "The whitewater these breakers throw, alive at time t (docs/whitewater.md), over the surface whose "
+            "(triangles, 3) indices are given: a dict of positions (n, 3), velocities (n, 3) float32 (z up; foam and "
+            "bubbles at their drift position, their height relative to the water), age, size float32 and kind uint8 "
+            "(0 spray, 1 foam, 2 bubble); the same particles for the same t, on any thread count");
     m.def(
         "plan_jeschke_breakers",
         [](const wave::RayStrips& strips, double period, double amplitude, double breaker_index, double wave_variation,

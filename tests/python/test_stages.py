@@ -238,6 +238,12 @@ def test_jeschke_breakers_and_rays_as_stages():
     assert farthest(breakers) < 0.5 and farthest(tube) > 3.0
     with pytest.raises(libwave.InputError, match="lip"):
         libwave.plan_jeschke_breakers(strips, 8.0, 0.5, lip="barrel")
+    # Their whitewater: the same particles for the same time, thrown in the surf zone only.
+    w = breakers.whitewater(strips.triangles, 30.0)
+    again = breakers.whitewater(strips.triangles, 30.0)
+    assert len(w["kind"]) > 100 and w["positions"].tobytes() == again["positions"].tobytes()
+    assert set(np.unique(w["kind"])) <= {0, 1, 2} and (w["size"] > 0).all() and (w["age"] >= 0).all()
+    assert w["positions"][:, 1].min() > strips.y.min() + 0.3 * (strips.y.max() - strips.y.min())  # not offshore
     iso = libwave.extract_isobaths(beach, spacing=1.0)
     rays = libwave.trace_rays(beach, iso, 8.0, 0.5, (0, 1), ray_spacing=10)
     assert rays.ray_count > 5 and len(rays.x) == rays.offsets[-1]
