@@ -8,7 +8,8 @@
 # and saves it, ready to render, as FILE.blend: `blender -b --factory-startup FILE.blend
 # -o OUT -f FRAME` then renders it without the add-on; LIBWAVE_FILE_NORMALS=1 imports
 # with the file's normals as custom normals; LIBWAVE_VISIBILITY=M sets the add-on's haze
-# (m; 0 for none; unset: the add-on's default).)
+# (m; 0 for none; unset: the add-on's default); LIBWAVE_NO_FOAM=1 renders the water's
+# shape alone: no foam in its material and no whitewater particles.)
 # The add-on imports the water (positions, foam, reflect, refract per frame), the
 # seafloor, camera and sun the .glb carries and its physical sky; this script renders
 # (LIBWAVE_FLAT_SKY=1: a flat blue background instead of the add-on's sky, as before).
@@ -34,6 +35,16 @@ bpy.ops.import_scene.libwave(filepath=source, caustics=os.environ.get("LIBWAVE_N
                              file_normals=os.environ.get("LIBWAVE_FILE_NORMALS") == "1",
                              sunbeams=os.environ.get("LIBWAVE_NO_SUNBEAMS") != "1", **haze)
 scene = bpy.context.scene
+if os.environ.get("LIBWAVE_NO_FOAM") == "1":  # the water's shape alone: no foam in the material, no whitewater
+    for obj in list(scene.objects):
+        if "libwave_whitewater" in obj:
+            bpy.data.objects.remove(obj)
+    mat = bpy.data.materials.get("libwave water")
+    if mat is not None:
+        mix = next(n for n in mat.node_tree.nodes if n.type == "MIX_SHADER")
+        for link in list(mix.inputs["Fac"].links):
+            mat.node_tree.links.remove(link)
+        mix.inputs["Fac"].default_value = 0.0
 if scene.camera is None:  # the files form carries no camera: one from the open sea
     water = next(o for o in scene.objects if "libwave_source" in o or "libwave_baked" in o)
     xs = [v.co.x for v in water.data.vertices]
