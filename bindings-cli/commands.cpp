@@ -457,6 +457,13 @@ json run_report(const RunSummary& r) {
         report["underwater"]["voxel_size_m"] = {v.dx, v.dy, v.dz};
         report["underwater"]["volume_bottom_m"] = v.z0;
     }
+    if (r.scene.whitewater) {
+        json sources = json::array();
+        if (r.scene.breakers) sources.push_back("breakers");
+        if (r.scene.ocean) sources.push_back("wind sea folds");
+        report["whitewater"] = {{"points", kWhitewaterPoints}, {"sources", sources}, {"breaker_events", r.plan.whitewater.size()},
+                                {"breaker_events_repeat_s", r.plan.whitewater.period}};
+    }
     for (const std::string& f : r.animation_names) report["outputs"].push_back(f);
     for (const std::string& f : r.side_files) report["outputs"].push_back(f);
     return report;

@@ -1326,8 +1326,11 @@ class Whitewater(unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             scene = write_scene(d, dict(self.BEACH, outputs={"form": "files"}))
             whole, alone = os.path.join(d, "whole"), os.path.join(d, "alone")
-            r = wave("run", scene, "-o", whole, "--frames", "0:3")
+            r = wave("run", scene, "-o", whole, "--frames", "0:3", "--json")
             self.assertEqual(r.returncode, 0, r.stderr)
+            report = json.loads(r.stdout)["whitewater"]
+            self.assertEqual(report["sources"], ["breakers"])
+            self.assertGreater(report["breaker_events"], 100)
             names = sorted(os.listdir(os.path.join(whole, "whitewater")))
             self.assertEqual(names, ["whitewater-%04d.glb" % f for f in range(3)])
             path = os.path.join(whole, "whitewater", "whitewater-0002.glb")
