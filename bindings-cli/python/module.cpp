@@ -73,13 +73,20 @@ PYBIND11_MODULE(_libwave, m) {
     static PyObject* const input_error =
         PyErr_NewException("libwave.InputError", py::make_tuple(py::handle(error), py::handle(PyExc_ValueError)).ptr(), nullptr);
     static PyObject* const limit_error = PyErr_NewException("libwave.LimitError", input_error, nullptr);
-    if (!error || !input_error || !limit_error) throw py::error_already_set();
+    // An argument of the wrong type or layout (an array of strings, a float64 buffer
+    // where a float32 frame is written): an InputError that is also a TypeError.
+    static PyObject* const argument_type_error =
+        PyErr_NewException("libwave.ArgumentTypeError", py::make_tuple(py::handle(input_error), py::handle(PyExc_TypeError)).ptr(), nullptr);
+    if (!error || !input_error || !limit_error || !argument_type_error) throw py::error_already_set();
     m.attr("Error") = py::handle(error);
     m.attr("InputError") = py::handle(input_error);
     m.attr("LimitError") = py::handle(limit_error);
+    m.attr("ArgumentTypeError") = py::handle(argument_type_error);
     py::register_exception_translator([](std::exception_ptr p) {
         try {
             if (p) std::rethrow_exception(p);
+        } catch (const libwave_python::ArgumentTypeError& e) {
+            PyErr_SetString(argument_type_error, wave::printable(e.what()).c_str());
         } catch (const wave::LimitError& e) {
             PyErr_SetString(limit_error, wave::printable(e.what()).c_str());
         } catch (const wave::InputError& e) {
