@@ -1162,7 +1162,9 @@ void read_glb_frames(GlbFile& g, const std::function<void(StoredAnimation&&, std
                 append(a, j.frame);
             } else {
                 const tinygltf::Primitive& p = m.meshes[mesh].primitives[0];
-                if (r.indices(p.indices) != triangles) other_triangles();
+                // The nodes form's frames share the first mesh's indices accessor: its
+                // triangles, read at open, are not read and compared again.
+                if ((g.joined || p.indices != first.indices) && r.indices(p.indices) != triangles) other_triangles();
                 append(a, read_frame(r, p.attributes, static_cast<int>(mesh), false, a.layout));
             }
             ++a.frame_count;
