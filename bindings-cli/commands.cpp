@@ -708,10 +708,12 @@ int run_job(const RunArgs& a) {
     check_out_dir(out_dir);
     if (std::filesystem::is_directory(out_dir)) remove_dead_staging(out_dir);  // what killed runs left, whatever this one does
     if (scene.form == Scene::Form::files) check_files_form_places(out_dir);  // before the plan: at once
-    // Another form into a folder of a files run: its index and frames go once this run is
-    // published (not left for merge, convert and the readers); refused when not ours.
-    const bool files_left_over = scene.form != Scene::Form::files && !a.overwrite && std::filesystem::is_directory(out_dir) &&
-                                 files_form_left_over(out_dir, std::string(form_name(scene.form)));
+    // Another form's whole loop into a folder of a files run: its index and frames go once
+    // this run is published (not left for merge, convert and the readers to take for the
+    // animation); refused when no report claims them. (A slice of another form leaves
+    // the files animation whole beside it.)
+    const bool files_left_over = scene.form != Scene::Form::files && !a.overwrite && a.frames.empty() && a.slice.empty() &&
+                                 std::filesystem::is_directory(out_dir) && files_form_left_over(out_dir, std::string(form_name(scene.form)));
 
     auto clock = std::chrono::steady_clock::now();
     const double max_bytes = a.max_memory_gb * 1e9;
