@@ -4,7 +4,11 @@
 # (foreach_set, mesh.update), the depsgraph update, and a renderer's to_mesh.
 #   blender -b --factory-startup --python bench/blender_frame_profile.py -- ADDON_ZIP OUTPUT_FILE
 # OUTPUT_FILE: a compressed output's index.json or .glb (meshopt or Draco).
-import addon_utils, bpy
+import sys
+import time
+
+import addon_utils
+import bpy
 import numpy as np
 args = sys.argv[sys.argv.index("--") + 1:]
 bpy.ops.wm.read_factory_settings(use_empty=True)
