@@ -597,6 +597,10 @@ def _frame_reader(path):
     """libwave.FrameReader on a compressed output (Draco or meshopt), kept open across
     frames, or a message saying how to read it otherwise."""
     libwave = _module_or_advice(path)
+    if not hasattr(libwave, "FrameReader"):  # a module on Blender's path older than the add-on
+        raise LibwaveFileError(f"{path} is compressed, and the libwave module Blender loads ({getattr(libwave, '__file__', '?')}, "
+                               f"version {getattr(libwave, '__version__', '?')}) has no FrameReader: use the module the add-on's "
+                               "zip carries, or build libwave there again (docs/blender.md)")
     try:
         return libwave.FrameReader(path)
     except (ValueError, RuntimeError) as e:  # libwave.InputError / Error, naming the file
