@@ -331,15 +331,15 @@ class FrameReader {
 public:
     explicit FrameReader(const std::string& path);  ///< a .glb/.gltf (morph or nodes form, a frame file) or index.json
     ~FrameReader();
-    FrameReader(FrameReader&&) noexcept;
-    FrameReader& operator=(FrameReader&&) noexcept;
+    FrameReader(FrameReader&&) noexcept;             ///< takes the other's open output
+    FrameReader& operator=(FrameReader&&) noexcept;  ///< takes the other's open output
 
     std::size_t frame_count() const noexcept;   ///< frames in the output
     std::size_t vertex_count() const noexcept;  ///< per frame
     std::size_t first_frame() const noexcept;   ///< of the loop
     std::size_t loop_frames() const noexcept;   ///< frames in the loop (0 = not recorded)
-    double fps() const noexcept;
-    const std::string& scene() const noexcept;
+    double fps() const noexcept;                ///< frames per second
+    const std::string& scene() const noexcept;  ///< the scene's name recorded in the output
     const std::vector<std::uint32_t>& triangles() const noexcept;  ///< 3 per triangle, shared by every frame
 
     /// Frame k (0 ≤ k < frame_count()) of the output; without `normals` its normals are
