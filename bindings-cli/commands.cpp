@@ -713,7 +713,14 @@ int run_job(const RunArgs& a) {
     FrameRange range = parse_frames(a.frames);
     const std::string out_dir = run_out_dir(a);
     check_out_dir(out_dir);
+    if (std::filesystem::is_directory(out_dir)) remove_dead_staging(out_dir);  // what killed runs left, whatever this one does
     if (scene.form == Scene::Form::files) check_files_form_places(out_dir);  // before the plan: at once
+    // Another form's whole loop into a folder of a files run: its index and frames go once
+    // this run is published (not left for merge, convert and the readers to take for the
+    // animation); refused when no report claims them. (A slice of another form leaves
+    // the files animation whole beside it.)
+    const bool files_left_over = scene.form != Scene::Form::files && !a.overwrite && a.frames.empty() && a.slice.empty() &&
+                                 std::filesystem::is_directory(out_dir) && files_form_left_over(out_dir, std::string(form_name(scene.form)));
 
     auto clock = std::chrono::steady_clock::now();
     const double max_bytes = a.max_memory_gb * 1e9;
@@ -837,6 +844,7 @@ int run_job(const RunArgs& a) {
         return names;
     });
     remove_stale_outputs(out_dir, earlier, published);
+    if (files_left_over) remove_stale_outputs(out_dir, {"index.json", "frames"}, published);
     if (files_run) {
         index_lock.reset();
         remove_stale_partials(out_dir, *files_run, r.run_key);
@@ -986,6 +994,7 @@ Converted convert_whole(const ConvertArgs& a, Scene::Form form, Scene::Container
 int run_convert(const ConvertArgs& a) {
     if (a.draco + a.quantize + a.meshopt > 1) throw InputError("convert: choose one of --draco, --quantize and --meshopt");
     check_out_dir(a.out_dir);
+    if (std::filesystem::is_directory(a.out_dir)) remove_dead_staging(a.out_dir);  // what killed converts left, whatever this one does
     const Scene::Form form = form_from_name(a.form.empty() ? "morph" : a.form);
     const Scene::Container container = container_from_name(a.container.empty() ? "glb" : a.container);
     Files held;  // small files (or, for the forms that hold every frame, all) to publish
@@ -1129,6 +1138,7 @@ int run_merge(const MergeArgs& a) {
     // The frames present, each described by its own asset extras (name, fps, loop).
     namespace fs = std::filesystem;
     const fs::path frames = fs::path(a.out_dir) / "frames";
+    if (fs::is_directory(a.out_dir)) remove_dead_staging(a.out_dir);  // what killed runs left, whatever this one does
     if (!fs::is_directory(frames)) throw InputError(a.out_dir + ": no frames/ folder (the files form's output)");
     path_inside(a.out_dir, "frames", a.out_dir + ": its");  // a link to frames elsewhere is not this folder's
     std::map<std::size_t, std::string> files;

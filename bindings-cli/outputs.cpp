@@ -110,6 +110,26 @@ void check_files_form_places(const std::string& out_dir) {
     }
 }
 
+bool files_form_left_over(const std::string& out_dir, const std::string& form) {
+    std::error_code ec;
+    std::vector<std::string> present;
+    for (const char* name : {"index.json", "frames"})
+        if (fs::exists(fs::symlink_status(fs::path(out_dir) / name, ec))) present.emplace_back(name);
+    if (present.empty()) return false;
+    for (const auto& e : fs::directory_iterator(out_dir, ec)) {
+        const std::string name = e.path().filename().string();
+        if (!name.starts_with("report") || !name.ends_with(".json") || !e.is_regular_file()) continue;
+        const std::vector<std::string> recorded = recorded_outputs(out_dir, name);
+        if (std::find(recorded.begin(), recorded.end(), "index.json") != recorded.end()) return true;
+    }
+    std::string what = (fs::path(out_dir) / present[0]).string();
+    if (present.size() > 1) what += " and " + present[1];
+    throw InputError(what + ": a files form's " + (present.size() > 1 ? "index and frames" : present[0] == "frames" ? "frames" : "index") +
+                     " that no report of this folder claims; a " + form + " run here would leave them beside its own output, "
+                     "where wave merge, wave convert and the readers would take them for the animation: remove them, run with "
+                     "--overwrite (which does), or use another output folder");
+}
+
 // An index that cannot be read is a reason to recompute, not to stop a resumed run.
 std::optional<json> read_index(const fs::path& path) {
     const auto bytes = read_bytes(path);
@@ -202,14 +222,9 @@ fs::path staging_folder(const std::string& out_dir) {
     return fs::path(out_dir) / (staging_prefix() + std::to_string(getpid()));
 }
 
-std::vector<std::string> publish(const std::string& out_dir, const Files& files,
-                                 const std::function<std::vector<std::string>(const fs::path&)>& write_more) {
-    const bool created = !fs::exists(out_dir);
-    fs::create_directories(out_dir);
+std::vector<std::string> remove_dead_staging(const std::string& out_dir) {
     const std::string mine = staging_prefix();
-    const fs::path staging = staging_folder(out_dir);
-    // A run killed on this host (SIGKILL, power) left its staging folder: nothing in it
-    // was published, so it goes.
+    std::vector<std::string> removed;
     std::error_code scan_error;
     for (const auto& e : fs::directory_iterator(out_dir, scan_error)) {
         const std::string name = e.path().filename().string();
@@ -219,9 +234,20 @@ std::vector<std::string> publish(const std::string& out_dir, const Files& files,
         const auto pid = static_cast<pid_t>(std::stol(pid_text));
         if (pid != getpid() && ::kill(pid, 0) != 0 && errno == ESRCH) {
             std::error_code ignored;
-            fs::remove_all(e.path(), ignored);
+            if (fs::remove_all(e.path(), ignored) > 0 && !ignored) removed.push_back(name);
         }
     }
+    return removed;
+}
+
+std::vector<std::string> publish(const std::string& out_dir, const Files& files,
+                                 const std::function<std::vector<std::string>(const fs::path&)>& write_more) {
+    const bool created = !fs::exists(out_dir);
+    fs::create_directories(out_dir);
+    const fs::path staging = staging_folder(out_dir);
+    // A run killed on this host (SIGKILL, power) left its staging folder: nothing in it
+    // was published, so it goes (every run and convert also sweeps them as it starts).
+    remove_dead_staging(out_dir);
     for (const auto& [name, _] : files) path_inside(out_dir, name, out_dir + ": an output");  // nothing written through a link out
     try {
         fs::create_directories(staging);

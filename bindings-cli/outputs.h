@@ -69,6 +69,14 @@ void check_out_dir(const std::string& out_dir);
 /// the files form writes there.
 void check_files_form_places(const std::string& out_dir);
 
+/// For a run of another form than files into `out_dir` (without --overwrite): whether
+/// the folder holds a files form's index.json or frames/ that this run would leave stale
+/// beside its own output (wave merge, convert and the readers would pick them up).
+/// True when an earlier libwave run recorded them (a report lists index.json): the run
+/// then removes both once it has published. Throws InputError, before anything is
+/// computed, when they are there but no report claims them (not ours to remove).
+bool files_form_left_over(const std::string& out_dir, const std::string& form);
+
 /// index.json of an animation holding `entries` (frames in order).
 nlohmann::json frame_index(const IndexInfo& info, std::vector<nlohmann::json> entries);
 
@@ -110,6 +118,12 @@ std::vector<std::string> remove_stale_outputs(const std::string& out_dir, const 
 /// and pid: one that a killed run left is swept by the next publish on the host).
 /// Streamed animations are written there as their frames come, then published.
 std::filesystem::path staging_folder(const std::string& out_dir);
+
+/// Removes the staging folders that runs killed on this host left in `out_dir` (their
+/// process is gone: nothing in them was published) and returns their names. `wave run`,
+/// `wave convert` and `wave merge` call it as they start, before anything can fail, and
+/// publish again: a killed run's staging does not outlive the next command on the folder.
+std::vector<std::string> remove_dead_staging(const std::string& out_dir);
 
 /// An exclusive flock(2) on a folder, released when destroyed or when the process dies
 /// (a SIGKILLed run never leaves it held). `wait` blocks until the lock is free;

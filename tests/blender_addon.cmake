@@ -1,14 +1,16 @@
-# Runs the default scene in the morph, quantised morph, nodes, quantised nodes, files and
-# Draco files forms (6 fps to keep it short), then plays each through the Blender add-on
+# Runs the default scene in the morph, quantised morph, nodes, quantised nodes, files,
+# Draco files, meshopt files and meshopt nodes forms (6 fps to keep it short), then plays each through the Blender add-on
 # (tests/blender_addon.py; Draco frames through libwave's module; the skirt of Draco and
 # of quantised nodes a second primitive joined again).
 file(REMOVE_RECURSE ${OUT})
-foreach(form morph quant nodes quant-nodes files draco meshopt pc2)
+foreach(form morph quant nodes quant-nodes files draco meshopt meshopt-nodes pc2)
   set(args --fps 6)
   if(form STREQUAL "draco")
     list(APPEND args --form files --draco)
   elseif(form STREQUAL "meshopt")
     list(APPEND args --form files --codec meshopt)  # decoded by the libwave module the zip carries
+  elseif(form STREQUAL "meshopt-nodes")
+    list(APPEND args --form nodes --codec meshopt)  # one file, its frames read by the FrameReader kept open
   elseif(form STREQUAL "morph")
     list(APPEND args --no-quantize)  # the default scene's morph file is quantised
   elseif(form STREQUAL "quant")

@@ -1749,6 +1749,31 @@ class CrashSafety(unittest.TestCase):
                     found[os.path.relpath(path, root)] = pathlib.Path(path).read_bytes()
         return found
 
+    def test_a_killed_convert_leaves_no_staging_past_the_next_command(self):
+        """A SIGKILLed `wave convert` leaves its staging folder (the streamed frames); the
+        next command on the folder removes it as it starts, even one that then fails on
+        its input (exit 2): it used to go only when a later run published."""
+        with tempfile.TemporaryDirectory() as d:
+            src, out = os.path.join(d, "src"), os.path.join(d, "out")
+            self.assertEqual(wave("run", "-q", "--form", "files", "--codec", "none", "-o", src).returncode, 0)
+            os.makedirs(out)
+            staged = lambda: [n for n in os.listdir(out) if n.startswith(".wave-staging-")]
+            for command, args in ((["convert", os.path.join(src, "index.json"), "-o", out, "--form", "nodes"],
+                                   ["convert", os.path.join(d, "missing.json"), "-o", out]),
+                                  (["convert", os.path.join(src, "index.json"), "-o", out, "--form", "files"],
+                                   ["merge", out])):
+                p = subprocess.Popen([WAVE, *command], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                deadline = time.monotonic() + 60
+                while not staged() and p.poll() is None and time.monotonic() < deadline:
+                    time.sleep(0.002)
+                p.send_signal(signal.SIGKILL)
+                p.wait()
+                self.assertEqual(p.returncode, -signal.SIGKILL, "killed before it finished")
+                self.assertEqual(len(staged()), 1, "the killed convert's staging folder")
+                r = wave(*args)
+                self.assertEqual(r.returncode, 2, r.stderr)
+                self.assertEqual(staged(), [], f"wave {args[0]} that failed left the killed convert's staging")
+
     def test_sigkill_during_a_morph_run(self):
         self.check_killed_runs("morph", self.final_files, "16")  # a different animation replaces the old
 
@@ -2420,6 +2445,39 @@ class OutputFolders(unittest.TestCase):
             self.assertFalse({"index.json", "frames"} & names, names)
             self.assertIn("animation.glb", names)
             self.assertEqual([n for n in names if n.startswith(".")], [])
+
+    def test_another_form_after_a_files_run_leaves_no_stale_frames(self):
+        """A morph run into a folder where a files run wrote its index.json and frames/:
+        they go once the morph file is published (wave merge, convert and the readers
+        found the old frames beside it); frames no report claims are refused, before any
+        work, with the way out (--overwrite), and nothing is written."""
+        with tempfile.TemporaryDirectory() as d:
+            scene = write_scene(d, self.SCENE)
+            out = os.path.join(d, "out")
+            run = lambda *args: wave("run", scene, "-o", out, "-q", *args)
+            self.assertEqual(run("--form", "files").returncode, 0)
+            self.assertTrue({"index.json", "frames"} <= set(os.listdir(out)))
+            self.assertEqual(run("--form", "morph").returncode, 0)
+            names = set(os.listdir(out))
+            self.assertIn("animation.glb", names)
+            self.assertFalse({"index.json", "frames"} & names, names)
+            r = wave("merge", out)  # nothing stale for it to index beside the morph file
+            self.assertEqual(r.returncode, 2)
+            self.assertIn("no frames/ folder", r.stderr)
+            # Frames no report of the folder claims (a files run's, left by the old rule; or
+            # someone's own): refused, naming them and --overwrite.
+            os.makedirs(os.path.join(out, "frames"))
+            shutil.copy(os.path.join(out, "animation.glb"), os.path.join(out, "frames", "frame-0000.glb"))
+            before = {n: os.path.getmtime(os.path.join(out, n)) for n in os.listdir(out)}
+            for form in ("morph", "nodes", "pc2"):
+                r = run("--form", form)
+                self.assertEqual(r.returncode, 2, r.stderr)
+                self.assertIn(os.path.join(out, "frames") + ": a files form's frames that no report of this folder claims", r.stderr)
+                self.assertIn(f"a {form} run here would leave them", r.stderr)
+                self.assertIn("--overwrite", r.stderr)
+                self.assertEqual({n: os.path.getmtime(os.path.join(out, n)) for n in os.listdir(out)}, before)
+            self.assertEqual(run("--form", "morph", "--overwrite").returncode, 0)
+            self.assertNotIn("frames", os.listdir(out))
 
     def test_o_file_glb_writes_that_one_file(self):
         with tempfile.TemporaryDirectory() as d:

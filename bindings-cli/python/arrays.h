@@ -4,6 +4,8 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include "libwave/errors.h"
+
 #include <cstring>
 #include <string>
 #include <vector>
@@ -28,16 +30,43 @@ py::array view(const std::vector<T>& data, std::vector<py::ssize_t> shape, const
     return a;
 }
 
-// A vector from any array-like of numbers (converted to T, C order), checked to hold a
-// multiple of `per_item` values; `what` names the argument in the error.
+// An argument of the wrong type or layout (not numbers, not a writable float32 array):
+// raised in Python as libwave.ArgumentTypeError, an InputError (so a libwave.Error) that
+// is also a TypeError. Wrong shapes and lengths are InputError (also a ValueError).
+class ArgumentTypeError : public wave::InputError {
+public:
+    using wave::InputError::InputError;
+};
+
+// An array's shape as Python prints it: "(4, 2)".
+inline std::string shape_text(const py::array& a) {
+    std::string s = "(";
+    for (py::ssize_t i = 0; i < a.ndim(); ++i) s += (i ? ", " : "") + std::to_string(a.shape(i));
+    return s + (a.ndim() == 1 ? ",)" : ")");
+}
+
+// A vector from any array-like of numbers (converted to T, C order): flat, holding a
+// multiple of `per_item` values, or (for per_item > 1) of shape (n, per_item); `what`
+// names the argument in the error (ArgumentTypeError, InputError).
 template <class T>
 std::vector<T> to_vector(const py::handle& values, std::size_t per_item, const std::string& what) {
-    const auto a = py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(values);
-    if (!a) throw py::type_error(what + ": expected an array of numbers");
+    const auto refuse = [&] {
+        PyErr_Clear();
+        throw ArgumentTypeError(what + ": expected an array of numbers, got " +
+                                (py::isinstance<py::array>(values) ? "an array of " + std::string(py::str(py::array::ensure(values).dtype()))
+                                                                   : std::string(py::str(py::type::of(values).attr("__name__")))));
+    };
+    const py::array given = py::array::ensure(values);  // any dtype (strings convert to numbers when forced: refused first)
+    if (!given) refuse();
+    const char kind = given.dtype().kind();
+    if (kind == 'U' || kind == 'S' || kind == 'V' || kind == 'M' || kind == 'm') refuse();
+    const auto a = py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(given);
+    if (!a) refuse();
     const std::size_t n = static_cast<std::size_t>(a.size());
+    if (per_item > 1 && a.ndim() > 1 && (a.ndim() != 2 || static_cast<std::size_t>(a.shape(1)) != per_item))
+        throw wave::InputError(what + ": expected shape (n, " + std::to_string(per_item) + ") or a flat array, got " + shape_text(a));
     if (per_item > 1 && n % per_item != 0)
-        throw py::value_error(what + ": expected " + std::to_string(per_item) + " values per item, got " +
-                              std::to_string(n) + " values");
+        throw wave::InputError(what + ": expected " + std::to_string(per_item) + " values per item, got " + std::to_string(n) + " values");
     std::vector<T> out(n);
     if (n > 0) std::memcpy(out.data(), a.data(), n * sizeof(T));
     return out;

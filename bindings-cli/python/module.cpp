@@ -73,13 +73,20 @@ PYBIND11_MODULE(_libwave, m) {
     static PyObject* const input_error =
         PyErr_NewException("libwave.InputError", py::make_tuple(py::handle(error), py::handle(PyExc_ValueError)).ptr(), nullptr);
     static PyObject* const limit_error = PyErr_NewException("libwave.LimitError", input_error, nullptr);
-    if (!error || !input_error || !limit_error) throw py::error_already_set();
+    // An argument of the wrong type or layout (an array of strings, a float64 buffer
+    // where a float32 frame is written): an InputError that is also a TypeError.
+    static PyObject* const argument_type_error =
+        PyErr_NewException("libwave.ArgumentTypeError", py::make_tuple(py::handle(input_error), py::handle(PyExc_TypeError)).ptr(), nullptr);
+    if (!error || !input_error || !limit_error || !argument_type_error) throw py::error_already_set();
     m.attr("Error") = py::handle(error);
     m.attr("InputError") = py::handle(input_error);
     m.attr("LimitError") = py::handle(limit_error);
+    m.attr("ArgumentTypeError") = py::handle(argument_type_error);
     py::register_exception_translator([](std::exception_ptr p) {
         try {
             if (p) std::rethrow_exception(p);
+        } catch (const libwave_python::ArgumentTypeError& e) {
+            PyErr_SetString(argument_type_error, wave::printable(e.what()).c_str());
         } catch (const wave::LimitError& e) {
             PyErr_SetString(limit_error, wave::printable(e.what()).c_str());
         } catch (const wave::InputError& e) {
@@ -458,6 +465,60 @@ PYBIND11_MODULE(_libwave, m) {
         "foam/reflect/refract (frames, n), colors, triangles, fps, frame_count, first_frame, loop_frames, scene. "
         "With `first` or `count` (a .glb/.gltf only): frames [first, first + count) of the file alone, the others "
         "neither read nor decoded (a player's one frame of a compressed file)");
+
+    py::class_<wave::FrameReader>(
+        m, "FrameReader",
+        "A player's reader of an output of wave run (.glb/.gltf of the morph or nodes form, a frame file, or the files "
+        "form's index.json; plain, quantised, meshopt or Draco), opened once: it keeps the parsed file, its static views "
+        "and the triangles (for the files form the frame files' decoded indices and rest positions), so that frame(k) "
+        "reads and decodes only frame k's own views. Frames equal read_animation's bit for bit.")
+        .def(py::init([](const std::string& path) {
+                 py::gil_scoped_release release;
+                 return std::make_unique<wave::FrameReader>(path);
+             }),
+             py::arg("path"))
+        .def_property_readonly("frame_count", &wave::FrameReader::frame_count)
+        .def_property_readonly("vertex_count", &wave::FrameReader::vertex_count)
+        .def_property_readonly("first_frame", &wave::FrameReader::first_frame)
+        .def_property_readonly("loop_frames", &wave::FrameReader::loop_frames)
+        .def_property_readonly("fps", &wave::FrameReader::fps)
+        .def_property_readonly("scene", &wave::FrameReader::scene)
+        .def_property_readonly(
+            "triangles",
+            [](py::object self) {
+                const auto& t = self.cast<const wave::FrameReader&>().triangles();
+                return view(t, {static_cast<py::ssize_t>(t.size() / 3), 3}, self);
+            },
+            "(t, 3) uint32, shared by every frame (read-only)")
+        .def(
+            "frame",
+            [](wave::FrameReader& r, std::size_t k, bool normals) {
+                wave::StoredAnimation a;
+                {
+                    py::gil_scoped_release release;
+                    a = r.frame(k, normals);
+                }
+                const auto n = static_cast<py::ssize_t>(a.vertex_count);
+                const auto put = [](std::vector<float>& v, std::vector<py::ssize_t> shape) -> py::object {
+                    if (v.empty()) return py::none();
+                    // The array owns the frame's vector: no copy.
+                    auto* owned = new std::vector<float>(std::move(v));
+                    py::capsule free(owned, [](void* p) { delete static_cast<std::vector<float>*>(p); });
+                    return py::array_t<float>(shape, owned->data(), free);
+                };
+                py::dict d;
+                d["positions"] = put(a.positions, {n, 3});
+                d["normals"] = put(a.normals, {n, 3});
+                d["foam"] = put(a.foam, {n});
+                d["reflect"] = put(a.reflect, {n});
+                d["refract"] = put(a.refract, {n});
+                d["colors"] = put(a.colors, {n, 3});
+                return d;
+            },
+            py::arg("k"), py::arg("normals") = true,
+            "Frame k (0 ≤ k < frame_count) of the output: a dict of positions and normals (n, 3) z up, foam, reflect, "
+            "refract (n,), colors (n, 3), each None when the file has none (normals None when normals=False: they are "
+            "then neither read nor decoded). The GIL is released while the frame is read");
 
     m.def(
         "inspect",

@@ -56,12 +56,18 @@ wave::WaveTrain train(double period, double amplitude, const std::array<double, 
 }
 
 // A writable float32 C-order array of exactly `count` values (an in-place argument).
-py::array_t<float> writable_floats(const py::array& a, std::size_t count, const char* what) {
+py::array_t<float> writable_floats(const py::object& given, std::size_t count, const char* what) {
+    if (!py::isinstance<py::array>(given))
+        throw libwave_python::ArgumentTypeError(std::string(what) + ": expected a writable C-contiguous float32 array, got " +
+                                                std::string(py::str(py::type::of(given).attr("__name__"))));
+    const py::array a = py::reinterpret_borrow<py::array>(given);
     if (!py::isinstance<py::array_t<float>>(a) || !(a.flags() & py::array::c_style) || !a.writeable())
-        throw py::type_error(std::string(what) + ": expected a writable C-contiguous float32 array");
+        throw libwave_python::ArgumentTypeError(std::string(what) + ": expected a writable C-contiguous float32 array, got " +
+                                                (a.writeable() ? "" : "a read-only ") + std::string(py::str(a.dtype())) +
+                                                (a.flags() & py::array::c_style ? "" : " not C-contiguous"));
     if (static_cast<std::size_t>(a.size()) != count)
-        throw py::value_error(std::string(what) + ": expected " + std::to_string(count) + " values, got " +
-                              std::to_string(a.size()));
+        throw wave::InputError(std::string(what) + ": expected " + std::to_string(count) + " values, got " + std::to_string(a.size()) +
+                               " (shape " + libwave_python::shape_text(a) + ")");
     return py::array_t<float>(a);
 }
 
@@ -69,7 +75,7 @@ std::span<float> span_of(py::array_t<float>& a) { return {a.mutable_data(), stat
 
 // A motion plan's positions at time t (vertices × 3 float32, z up), into `out` when given.
 template <class Plan>
-py::array_t<float> positions_at(const Plan& p, double t, const std::optional<py::array>& out,
+py::array_t<float> positions_at(const Plan& p, double t, const std::optional<py::object>& out,
                                 void (*evaluate)(const Plan&, double, std::span<float>)) {
     py::array_t<float> a = out ? writable_floats(*out, 3 * p.vertex_count(), "evaluate out")
                                : py::array_t<float>({ssize(p.vertex_count()), py::ssize_t{3}});
@@ -103,7 +109,7 @@ void bind_seafloor(py::module_& m) {
         .def_readonly("frame", &wave::Seafloor::frame, "the coordinate frame (e.g. a projection GDAL reprojected to)")
         .def(
             "depth_at",
-            [](const wave::Seafloor& s, const py::array& x, const py::array& y) {
+            [](const wave::Seafloor& s, const py::object& x, const py::object& y) {
                 const auto xs = to_vector<double>(x, 1, "depth_at x"), ys = to_vector<double>(y, 1, "depth_at y");
                 if (xs.size() != ys.size()) throw wave::InputError("depth_at: x and y differ in length");
                 py::array_t<double> out(ssize(xs.size()));
@@ -423,7 +429,7 @@ void bind_far_field(py::module_& m) {
         .def_readonly("reach", &wave::SeaSkirt::reach);
     m.def(
         "plan_sea_skirt",
-        [](const wave::Seafloor& seafloor, const py::array& x, const py::array& y, const py::array& triangles, double period,
+        [](const wave::Seafloor& seafloor, const py::object& x, const py::object& y, const py::object& triangles, double period,
            double distance, double swell_wavelengths, std::size_t max_vertices, double min_depth) {
             const auto xs = to_vector<double>(x, 1, "plan_sea_skirt x"), ys = to_vector<double>(y, 1, "plan_sea_skirt y");
             const auto t = to_vector<std::uint32_t>(triangles, 3, "plan_sea_skirt triangles");
@@ -448,7 +454,7 @@ void bind_far_field(py::module_& m) {
         .def_readonly("surface_vertices", &wave::FarFieldPlan::surface_vertices)
         .def(
             "evaluate",
-            [](const wave::FarFieldPlan& p, double t, py::array positions) {
+            [](const wave::FarFieldPlan& p, double t, py::object positions) {
                 py::array_t<float> a = writable_floats(positions, 3 * (p.surface_vertices + p.vertex_count()), "far field positions");
                 std::span<float> s = span_of(a);
                 std::vector<float> scratch;
@@ -460,7 +466,7 @@ void bind_far_field(py::module_& m) {
             "array whose first rows hold the surface already moved")
         .def(
             "foam",
-            [](const wave::FarFieldPlan& p, py::array foam) {
+            [](const wave::FarFieldPlan& p, py::object foam) {
                 py::array_t<float> a = writable_floats(foam, p.surface_vertices + p.vertex_count(), "far field foam");
                 std::span<float> s = span_of(a);
                 py::gil_scoped_release release;
@@ -474,11 +480,17 @@ void bind_far_field(py::module_& m) {
         [](const wave::SeaSkirt& skirt, const wave::Seafloor& seafloor, const std::vector<py::tuple>& waves,
            const py::object& rest_x, const py::object& rest_y, const py::object& times, const py::object& samples) {
             std::vector<wave::FarFieldWave> w;
-            for (const py::tuple& c : waves) {
-                if (c.size() != 4) throw py::value_error("plan_far_field waves: expected (omega, harmonic, (dx, dy), k) tuples");
-                const auto d = c[2].cast<std::array<double, 2>>();
-                w.push_back({.omega = c[0].cast<double>(), .harmonic = c[1].cast<int>(), .direction_x = d[0],
-                             .direction_y = d[1], .k = c[3].cast<double>()});
+            for (std::size_t i = 0; i < waves.size(); ++i) {
+                const py::tuple& c = waves[i];
+                const std::string what = "plan_far_field waves[" + std::to_string(i) + "]";
+                if (c.size() != 4) throw wave::InputError(what + ": expected an (omega, harmonic, (dx, dy), k) tuple, got " + std::to_string(c.size()) + " items");
+                try {
+                    const auto d = c[2].cast<std::array<double, 2>>();
+                    w.push_back({.omega = c[0].cast<double>(), .harmonic = c[1].cast<int>(), .direction_x = d[0],
+                                 .direction_y = d[1], .k = c[3].cast<double>()});
+                } catch (const py::cast_error&) {
+                    throw libwave_python::ArgumentTypeError(what + ": expected numbers (omega, harmonic, (dx, dy), k)");
+                }
             }
             const auto xs = to_vector<double>(rest_x, 1, "plan_far_field rest_x"), ys = to_vector<double>(rest_y, 1, "plan_far_field rest_y");
             const auto ts = to_vector<double>(times, 1, "plan_far_field times");
@@ -499,7 +511,7 @@ void bind_motion(py::module_& m) {
         .def_property_readonly("vertex_count", &wave::GonzatoMotionPlan::vertex_count)
         .def(
             "evaluate",
-            [](const wave::GonzatoMotionPlan& p, double t, std::optional<py::array> out) {
+            [](const wave::GonzatoMotionPlan& p, double t, std::optional<py::object> out) {
                 return positions_at(p, t, out, &wave::evaluate_gonzato_motion);
             },
             py::arg("t"), py::arg("out") = py::none(),
@@ -529,7 +541,7 @@ void bind_motion(py::module_& m) {
         .def_property_readonly("vertex_count", &wave::UntanglePlan::vertex_count)
         .def(
             "apply",
-            [](const wave::UntanglePlan& p, py::array positions, std::optional<py::array> foam) {
+            [](const wave::UntanglePlan& p, py::object positions, std::optional<py::object> foam) {
                 py::array_t<float> a = writable_floats(positions, 3 * p.vertex_count(), "untangle positions");
                 const std::vector<float> f = foam ? to_vector<float>(*foam, 1, "untangle foam") : std::vector<float>{};
                 std::span<float> s = span_of(a);
@@ -542,7 +554,7 @@ void bind_motion(py::module_& m) {
             "frees a vertex of the ramp's damping (docs/inspect.md, untangling). Returns how many vertices were damped");
     m.def(
         "plan_untangle",
-        [](const py::array& x, const py::array& y, const py::array& triangles, bool pin_border, bool hold_shore,
+        [](const py::object& x, const py::object& y, const py::object& triangles, bool pin_border, bool hold_shore,
            bool lips_overturn, double min_angle_degrees, std::optional<std::array<double, 4>> border_rectangle) {
             const auto xs = to_vector<double>(x, 1, "plan_untangle x"), ys = to_vector<double>(y, 1, "plan_untangle y");
             const auto t = to_vector<std::uint32_t>(triangles, 3, "plan_untangle triangles");
@@ -571,7 +583,7 @@ void bind_breakers_and_ocean(py::module_& m) {
         .def_property_readonly("loop_periods", &wave::JeschkeMotionPlan::loop_periods, "swell periods after which they repeat")
         .def(
             "evaluate",
-            [](const wave::JeschkeMotionPlan& p, double t, std::optional<py::array> out) {
+            [](const wave::JeschkeMotionPlan& p, double t, std::optional<py::object> out) {
                 return positions_at(p, t, out, &wave::evaluate_jeschke_breakers);
             },
             py::arg("t"), py::arg("out") = py::none(), "Positions at time t (s): (vertices, 3) float32, z up")
@@ -671,7 +683,7 @@ void bind_breakers_and_ocean(py::module_& m) {
 void bind_shading(py::module_& m) {
     m.def(
         "vertex_normals",
-        [](const py::array& positions, const py::array& triangles) {
+        [](const py::object& positions, const py::object& triangles) {
             const auto p = to_vector<float>(positions, 3, "vertex_normals positions");
             const auto t = to_vector<std::uint32_t>(triangles, 3, "vertex_normals triangles");
             py::array_t<float> out({ssize(p.size() / 3), py::ssize_t{3}});
@@ -683,7 +695,7 @@ void bind_shading(py::module_& m) {
         py::arg("positions"), py::arg("triangles"), "Unit area-weighted vertex normals: (vertices, 3) float32");
     m.def(
         "fresnel_weights",
-        [](const py::array& positions, const py::array& normals, std::array<double, 3> camera, const std::string& model) {
+        [](const py::object& positions, const py::object& normals, std::array<double, 3> camera, const std::string& model) {
             wave::FresnelOptions o;
             o.camera = camera;
             o.model = either("fresnel_weights: model", model, "exact", wave::FresnelModel::exact, "tso", wave::FresnelModel::tso);
@@ -708,7 +720,7 @@ void bind_shading(py::module_& m) {
 void bind_export(py::module_& m) {
     m.def(
         "domain_texcoords",
-        [](const wave::Seafloor& seafloor, const py::array& x, const py::array& y) {
+        [](const wave::Seafloor& seafloor, const py::object& x, const py::object& y) {
             const auto xs = to_vector<double>(x, 1, "domain_texcoords x"), ys = to_vector<double>(y, 1, "domain_texcoords y");
             std::vector<float> uv(2 * xs.size());
             wave::domain_texcoords(seafloor.grid, xs, ys, uv);
@@ -719,12 +731,12 @@ void bind_export(py::module_& m) {
         "u along +x, v down");
     m.def(
         "frame_glb",
-        [](const py::array& positions, const py::array& normals, const py::array& triangles, std::optional<py::array> texcoords,
-           std::optional<py::array> foam, std::optional<py::array> reflect, std::optional<py::array> refract, double fps,
+        [](const py::object& positions, const py::object& normals, const py::object& triangles, std::optional<py::object> texcoords,
+           std::optional<py::object> foam, std::optional<py::object> reflect, std::optional<py::object> refract, double fps,
            std::size_t frame) {
             const auto p = to_vector<float>(positions, 3, "frame_glb positions"), n = to_vector<float>(normals, 3, "frame_glb normals");
             const auto t = to_vector<std::uint32_t>(triangles, 3, "frame_glb triangles");
-            const auto opt = [](const std::optional<py::array>& a, std::size_t per, const char* what) {
+            const auto opt = [](const std::optional<py::object>& a, std::size_t per, const char* what) {
                 return a ? to_vector<float>(*a, per, what) : std::vector<float>{};
             };
             const auto uv = opt(texcoords, 2, "frame_glb texcoords"), f = opt(foam, 1, "frame_glb foam");

@@ -64,9 +64,13 @@ def test_stage_objects_expose_their_arrays():
     out = np.zeros((strips.vertex_count, 3), np.float32)
     assert motion.evaluate(1.0, out) is not None and np.abs(out).max() > 0
     assert np.array_equal(out, motion.evaluate(1.0))  # into a caller's buffer, the same values
-    with pytest.raises(TypeError):
+    # A buffer of the wrong type or size: libwave's errors (still a TypeError and a
+    # ValueError), naming the argument.
+    with pytest.raises(libwave.ArgumentTypeError, match="evaluate out: expected a writable C-contiguous float32 array, got float64"):
         motion.evaluate(1.0, np.zeros((strips.vertex_count, 3)))  # float64: not a frame buffer
-    with pytest.raises(ValueError, match="expected"):
+    with pytest.raises(libwave.ArgumentTypeError, match="evaluate out: .*, got list"):
+        motion.evaluate(1.0, [0.0] * (3 * strips.vertex_count))
+    with pytest.raises(libwave.InputError, match=r"evaluate out: expected \d+ values, got 9 \(shape \(3, 3\)\)"):
         motion.evaluate(1.0, np.zeros((3, 3), np.float32))
 
 
@@ -279,4 +283,38 @@ def test_a_seafloor_from_arrays_equals_the_one_read_from_its_file():
                         (lambda: libwave.seafloor_from_mesh(vertices[:, :2], [[0, 1, 2]]), r"\(n, 3\)"),
                         (lambda: libwave.seafloor_from_mesh(vertices, [[0, 1, 7]]), "names vertex 7")]:
         with pytest.raises(libwave.InputError, match=match):
+            call()
+
+
+def test_array_arguments_of_a_wrong_shape_or_type_raise_libwave_errors_naming_them():
+    """Shapes and types of the stage functions' arrays are the caller's input: an
+    InputError (a ValueError) for a shape or length, an ArgumentTypeError (an InputError
+    that is also a TypeError) for what is not an array of numbers — each naming the
+    function and the argument — never pybind11's bare TypeError or a silent reshape."""
+    assert issubclass(libwave.ArgumentTypeError, libwave.InputError) and issubclass(libwave.ArgumentTypeError, TypeError)
+    pos = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], np.float32)
+    tri = np.array([[0, 1, 2]], np.uint32)
+    assert libwave.vertex_normals(pos, tri).shape == (3, 3)
+    assert libwave.vertex_normals(pos.ravel(), tri.ravel().tolist()).shape == (3, 3)  # flat and lists still do
+    bad = [
+        (lambda: libwave.vertex_normals([["a", "b", "c"]] * 3, tri), libwave.ArgumentTypeError,
+         "vertex_normals positions: expected an array of numbers, got list"),
+        (lambda: libwave.vertex_normals(np.array([["1", "2", "3"]] * 3), tri), libwave.ArgumentTypeError,
+         "vertex_normals positions: expected an array of numbers, got an array of <U1"),
+        (lambda: libwave.vertex_normals(pos, {"x": 1}), libwave.ArgumentTypeError,
+         "vertex_normals triangles: expected an array of numbers, got dict"),
+        (lambda: libwave.vertex_normals(pos, None), libwave.ArgumentTypeError, "vertex_normals triangles: expected an array of numbers"),
+        # (2, 6) holds a multiple of 3 values: it was read as four (x, y, z) in silence.
+        (lambda: libwave.vertex_normals(np.zeros((2, 6), np.float32), tri), libwave.InputError,
+         r"vertex_normals positions: expected shape \(n, 3\) or a flat array, got \(2, 6\)"),
+        (lambda: libwave.vertex_normals(pos, np.array([[0, 1, 2, 0]])), libwave.InputError,
+         r"vertex_normals triangles: expected shape \(n, 3\) or a flat array, got \(1, 4\)"),
+        (lambda: libwave.vertex_normals(pos.ravel()[:8], tri), libwave.InputError,
+         "vertex_normals positions: expected 3 values per item, got 8 values"),
+        (lambda: libwave.fresnel_weights(pos, np.zeros((3, 3, 1)), (0, 0, 5), "exact"), libwave.InputError,
+         r"fresnel_weights normals: expected shape \(n, 3\) or a flat array, got \(3, 3, 1\)"),
+        (lambda: libwave.frame_glb(pos, pos, tri, foam=["x", "y", "z"]), libwave.ArgumentTypeError, "frame_glb foam"),
+    ]
+    for call, error, message in bad:
+        with pytest.raises(error, match=message):
             call()

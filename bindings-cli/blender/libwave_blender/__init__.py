@@ -56,6 +56,7 @@ def apply_frame(obj, scene_frame):
     """Shows loop frame (scene_frame − frame_start) mod frame_count of the object's animation."""
     anim = _animation(obj[_PROP])
     k = (scene_frame - obj.get("libwave_frame_start", 0)) % anim.frame_count
+    anim.want_normals = bool(obj.get("libwave_file_normals"))  # a compressed frame's normals decoded only for these
     f = anim.frame(k)
     mesh = obj.data
     mesh.vertices.foreach_set("co", np.ascontiguousarray(f.positions, np.float32).ravel())

@@ -415,6 +415,10 @@ class Animation:
         self._module_frames = False  # a compressed .glb/.gltf, each frame decoded alone by libwave's module
         self._ahead = {}  # frame → its decoding on the worker (compressed files form)
         self._worker = None
+        self._reader = None  # libwave.FrameReader of a compressed output, kept open across frames
+        # Whether frames carry the file's normals (the option "The file's normals"; apply_frame
+        # sets it per object): without, a compressed frame's normals are neither read nor decoded.
+        self.want_normals = True
         self.dressing = None  # the seafloor, camera and sun a single-file form carries
         if os.path.basename(path) == "index.json" or path.endswith(".json"):
             _regular(path)
@@ -436,11 +440,13 @@ class Animation:
             self.loop_frames = _number(index.get("loop_frames", self.frame_count), "loop_frames", path, 0, MAX_FRAMES, True)
             self.scene = index.get("scene", "")
             doc, buffers = self._frame_file(0)
-            # Draco frames (each decoded by libwave's module) share frame 0's order: Draco
-            # orders a frame's points by the triangles alone.
+            # Draco or meshopt frames, decoded by libwave's module (a FrameReader kept open on
+            # the index: the frame files' shared views decoded once; it refuses a frame of
+            # other triangles, as Draco frames of different orders would be).
             self._draco_files = _compressed(doc)
             if self._draco_files:
-                self.triangles = np.asarray(self._draco_frame_file(0)["triangles"]).astype(np.int64).reshape(-1, 3)
+                self._reader = _frame_reader(path)
+                self.triangles = np.asarray(self._reader.triangles).astype(np.int64).reshape(-1, 3)
             else:
                 self.triangles = _mesh_triangles(doc, buffers, 0)
             self.dressing = Dressing(doc, buffers)  # the loop's frame 0 carries the seafloor, camera and sun
@@ -448,9 +454,10 @@ class Animation:
         self.doc, self.buffers = read_gltf(path)
         doc = self.doc
         # Compressed meshes (Draco, meshopt): each frame decoded alone by libwave's module
-        # (read_animation(path, k, 1): the other frames' views are not even read), one
-        # ahead on a worker; the rest of the file (its JSON, the weights track, the
-        # seafloor, camera and sun) is plain and read here as for any file.
+        # (a FrameReader kept open on the file: its JSON, static views and triangles read
+        # once, a frame's own views read and decoded on each change), one ahead on a
+        # worker; the rest of the file (its JSON, the weights track, the seafloor, camera
+        # and sun) is plain and read here as for any file.
         self._module_frames = _compressed(doc)
         extras = doc.get("asset", {}).get("extras", {}).get("libwave", {})
         if not extras and doc.get("asset", {}).get("generator") != "libwave":
@@ -486,7 +493,8 @@ class Animation:
         self.loop_frames = _number(extras.get("loop_frames", self.frame_count), "asset.extras.libwave.loop_frames", path, 0, MAX_FRAMES, True)
         self.first_frame = _number(extras.get("first_frame", 0), "asset.extras.libwave.first_frame", path, 0, MAX_FRAMES, True)
         if self._module_frames:
-            self.triangles = np.asarray(self._module_frame_file(0)["triangles"]).astype(np.int64).reshape(-1, 3)
+            self._reader = _frame_reader(path)
+            self.triangles = np.asarray(self._reader.triangles).astype(np.int64).reshape(-1, 3)
         else:
             self.triangles = _mesh_triangles(doc, self.buffers, 0)
         self.dressing = Dressing(doc, self.buffers)
@@ -494,46 +502,42 @@ class Animation:
     def _frame_file(self, k):
         return read_gltf(os.path.join(self.folder, self.files[k]))
 
-    def _draco_frame_file(self, k):
-        stored = _load_draco(os.path.join(self.folder, self.files[k]))
-        if k > 0 and not np.array_equal(np.asarray(stored["triangles"]).reshape(-1, 3), self.triangles):
-            raise LibwaveFileError(f"{self.path}: frame {k}: other triangles than frame 0 (Draco frames of different orders)")
-        return stored
-
-    def _module_frame_file(self, k):
-        """Frame k of a compressed .glb/.gltf alone, through libwave's module."""
-        stored = _load_draco(self.path, k)
-        if k > 0 and not np.array_equal(np.asarray(stored["triangles"]).reshape(-1, 3), self.triangles):
-            raise LibwaveFileError(f"{self.path}: frame {k}: other triangles than frame 0")
-        return stored
-
-    def _decode(self, k):
-        stored = self._draco_frame_file(k) if self.form == "files" else self._module_frame_file(k)
-        return self._stored_frame(0, stored)
+    def _decode(self, k, normals=True):
+        """Frame k of a compressed output through the FrameReader (on a worker when ahead:
+        the module releases the GIL), checked finite there too."""
+        try:
+            f = self._reader.frame(k, normals)
+        except (ValueError, RuntimeError) as e:  # libwave.InputError / Error: a frame that does not decode, other triangles
+            raise LibwaveFileError(printable(str(e))) from None
+        frame = Frame(f["positions"], f["foam"], f["reflect"], f["refract"], f["colors"], f["normals"])
+        _finite(frame, k, self.path)
+        return frame
 
     def _decoded_frame(self, k):
         """Frame k of a compressed output (files form or one file): from the bounded cache,
         else decoded now; then frames k + 1 … k + AHEAD are decoded ahead on worker threads
         (libwave's module releases the GIL while it reads), so sequential playback finds
         each frame ready."""
+        normals = self.want_normals
         future = self._ahead.pop(k, None)
-        f = future.result() if future is not None else self._decode(k)
+        f = future.result() if future is not None else None
+        if f is None or (normals and f.normals is None):  # not ahead, or ahead without the normals now wanted
+            f = self._decode(k, normals)
         self._ahead = {j: fu for j, fu in self._ahead.items() if 0 < (j - k) % self.frame_count <= AHEAD}  # a jump drops the rest
         for step in range(1, AHEAD + 1):
             nxt = (k + step) % self.frame_count
             if nxt not in self._ahead and nxt != k:
                 if self._worker is None:
                     self._worker = concurrent.futures.ThreadPoolExecutor(max_workers=AHEAD, thread_name_prefix="libwave-decode")
-                self._ahead[nxt] = self._worker.submit(self._decode, nxt)
+                self._ahead[nxt] = self._worker.submit(self._decode, nxt, normals)
         return f
 
     def frame(self, k):
         """Frame k of the file (0 ≤ k < frame_count)."""
-        if k in self._cache:
+        if k in self._cache and not (self.want_normals and self._cache[k].normals is None):
             return self._cache[k]
         if (self.form == "files" and self._draco_files) or self._module_frames:
-            f = self._decoded_frame(k)
-            _finite(f, k, self.path)
+            f = self._decoded_frame(k)  # checked finite where it was decoded
             self._cache = {k: f}
             return f
         try:
@@ -554,20 +558,6 @@ class Animation:
         _finite(f, k, self.path)
         self._cache = {k: f}  # one frame at a time: the files form streams from disk
         return f
-
-    def _stored_frame(self, k, stored):
-        s = stored
-        n = s["vertex_count"]
-
-        def scalar(name):
-            a = s.get(name)
-            return None if a is None or len(a) == 0 else np.asarray(a[k])
-
-        positions = np.asarray(s["positions"][k]).reshape(n, 3)
-        colors, normals = s.get("colors"), s.get("normals")
-        return Frame(positions, scalar("foam"), scalar("reflect"), scalar("refract"),
-                     None if colors is None or len(colors) == 0 else np.asarray(colors[k]).reshape(n, 3),
-                     None if normals is None or len(normals) == 0 else np.asarray(normals[k]).reshape(n, 3))
 
 
 def _finite(f, k, path):
@@ -603,18 +593,30 @@ def _libwave_module():
     return importlib.import_module("libwave")
 
 
-def _load_draco(path, frame=None):
-    """The animation through libwave's module (Draco or meshopt decoding) — the whole
-    file, or with `frame` that frame alone —, or a message saying how to get it."""
+def _frame_reader(path):
+    """libwave.FrameReader on a compressed output (Draco or meshopt), kept open across
+    frames, or a message saying how to read it otherwise."""
+    libwave = _module_or_advice(path)
+    if not hasattr(libwave, "FrameReader"):  # a module on Blender's path older than the add-on
+        raise LibwaveFileError(f"{path} is compressed, and the libwave module Blender loads ({getattr(libwave, '__file__', '?')}, "
+                               f"version {getattr(libwave, '__version__', '?')}) has no FrameReader: use the module the add-on's "
+                               "zip carries, or build libwave there again (docs/blender.md)")
     try:
-        libwave = _libwave_module()
+        return libwave.FrameReader(path)
+    except (ValueError, RuntimeError) as e:  # libwave.InputError / Error, naming the file
+        raise LibwaveFileError(printable(str(e))) from None
+
+
+def _module_or_advice(path):
+    """libwave's module, or LibwaveFileError saying how to read `path` without it."""
+    try:
+        return _libwave_module()
     except ImportError as e:
         raise LibwaveFileError(
             f"{path} is compressed (Draco or EXT_meshopt_compression), which Blender's Python cannot decode by itself, "
             f"and libwave's Python module does not load here ({e}): the add-on carries it for Debian 12's Blender 3.4 "
             "(Python 3.11); put a module built for this Blender's Python on its path (docs/blender.md), or re-encode "
             "the run plainly (wave convert FILE -o OUT, or wave run --codec none)") from None
-    return libwave.read_animation(path) if frame is None else libwave.read_animation(path, frame, 1)
 
 
 def check_bake(anim):

@@ -11,8 +11,11 @@ Two routes, with the same results bit for bit:
   → ``fresnel_weights`` → ``frame_glb``.
 
 Every failure is a ``libwave.Error``; bad input is ``libwave.InputError`` (also a
-``ValueError``) and a guard rail ``libwave.LimitError`` (an ``InputError``), each
-naming the file, key or argument and the value.
+``ValueError``; a wrong shape or length of an array argument too), an argument of the
+wrong type or layout ``libwave.ArgumentTypeError`` (an ``InputError`` that is also a
+``TypeError``: an array of strings, a float64 buffer where a float32 frame is written)
+and a guard rail ``libwave.LimitError`` (an ``InputError``), each naming the file, key
+or argument and the value.
 """
 from ._libwave import *  # noqa: F401,F403  (the compiled module: every public name)
-from ._libwave import Error, InputError, LimitError, __version__  # noqa: F401
+from ._libwave import ArgumentTypeError, Error, InputError, LimitError, __version__  # noqa: F401

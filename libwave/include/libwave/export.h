@@ -319,6 +319,38 @@ StoredAnimation read_animation_frames(const std::string& path, std::size_t first
 /// the same triangles) are read_animation's and throw before the offending piece.
 void read_animation_pieces(const std::string& path, const std::function<void(StoredAnimation&&, std::size_t)>& piece);
 
+/// A player's reader of one output of wave run (the Blender add-on's): opened once, it
+/// keeps what every frame shares — the parsed file, its static views, the triangles;
+/// for the files form the index and the decoded indices and rest positions of the frame
+/// files, which are not decoded again while a frame file's compressed bytes equal them —
+/// so that frame(k) reads and decodes only frame k's own views. Frames come back as
+/// read_animation gives them (bit for bit), their arrays alone: a StoredAnimation of one
+/// frame without triangles, rest positions or seafloor. Thread-safe (frames are read one
+/// at a time). Throws InputError as read_animation does, naming the file.
+class FrameReader {
+public:
+    explicit FrameReader(const std::string& path);  ///< a .glb/.gltf (morph or nodes form, a frame file) or index.json
+    ~FrameReader();
+    FrameReader(FrameReader&&) noexcept;             ///< takes the other's open output
+    FrameReader& operator=(FrameReader&&) noexcept;  ///< takes the other's open output
+
+    std::size_t frame_count() const noexcept;   ///< frames in the output
+    std::size_t vertex_count() const noexcept;  ///< per frame
+    std::size_t first_frame() const noexcept;   ///< of the loop
+    std::size_t loop_frames() const noexcept;   ///< frames in the loop (0 = not recorded)
+    double fps() const noexcept;                ///< frames per second
+    const std::string& scene() const noexcept;  ///< the scene's name recorded in the output
+    const std::vector<std::uint32_t>& triangles() const noexcept;  ///< 3 per triangle, shared by every frame
+
+    /// Frame k (0 ≤ k < frame_count()) of the output; without `normals` its normals are
+    /// neither read nor decoded (left empty).
+    StoredAnimation frame(std::size_t k, bool normals = true);
+
+private:
+    struct State;
+    std::unique_ptr<State> state_;
+};
+
 /// Quantised morph targets' range (MorphAnimationView::quantize_range): the largest
 /// |delta| of any position coordinate of `frames` (whole frames of base.size() floats)
 /// from `base`, the range's first frame, and `so_far`. Taken chunk by chunk over a range,

@@ -32,6 +32,8 @@
 #include <string_view>
 #include <vector>
 #include <map>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <set>
 #include <span>
@@ -66,22 +68,48 @@ std::vector<unsigned char> decode_meshopt(const std::string& path, int view, con
     return out;
 }
 
+// A compressed view decoded once and kept for the next file of a files form (a player's
+// FrameReader): the frames' files hold the same triangles and rest positions, so a view
+// whose compressed bytes and codec equal the kept ones decodes to the kept bytes (the
+// codecs are deterministic) and is not decoded again.
+struct KeptView {
+    MeshoptView codec;
+    std::vector<unsigned char> compressed, decoded;
+};
+using ViewMemo = std::map<int, KeptView>;
+
 struct LazyViews {
     std::string file;      // where buffer 0's bytes are: the .glb, or a .gltf's .bin
     std::size_t base = 0;  // the file offset of buffer 0's first byte
     std::map<int, std::pair<std::size_t, std::size_t>> where{};  // view → (byteOffset, byteLength) in buffer 0
     std::map<int, MeshoptView> meshopt{};  // the views of `where` that are compressed
+    ViewMemo* memo = nullptr;  // kept decodings of the views in `kept` (a FrameReader's), if any
+    std::set<int> kept{};
     mutable std::ifstream in{};
     mutable std::map<int, std::vector<unsigned char>> loaded{};
 
     const std::vector<unsigned char>* bytes(int view, const std::string& path) const {
         const auto it = where.find(view);
         if (it == where.end()) return nullptr;
+        const auto m = meshopt.find(view);
+        if (memo && m != meshopt.end() && kept.count(view)) {
+            std::vector<unsigned char> compressed(it->second.second);
+            read_at(in, path, base + it->second.first, reinterpret_cast<char*>(compressed.data()), compressed.size());
+            KeptView& k = (*memo)[view];
+            const MeshoptView& c = m->second;
+            if (k.compressed != compressed || k.codec.mode != c.mode || k.codec.filter != c.filter || k.codec.count != c.count ||
+                k.codec.stride != c.stride) {
+                k.decoded = decode_meshopt(path, view, c, compressed);
+                k.codec = c;
+                k.compressed = std::move(compressed);
+            }
+            return &k.decoded;
+        }
         auto [slot, fresh] = loaded.try_emplace(view);
         if (fresh) {
             slot->second.resize(it->second.second);
             read_at(in, path, base + it->second.first, reinterpret_cast<char*>(slot->second.data()), it->second.second);
-            if (const auto m = meshopt.find(view); m != meshopt.end()) slot->second = decode_meshopt(path, view, m->second, slot->second);
+            if (m != meshopt.end()) slot->second = decode_meshopt(path, view, m->second, slot->second);
         }
         return &slot->second;
     }
@@ -91,6 +119,7 @@ struct Reader {
     const tinygltf::Model& m;
     const std::string& path;
     const LazyViews* lazy = nullptr;  // views still in the file, if any
+    bool normals = true;              // false: frames are read without their normals (a player that has Blender compute them)
 
     [[noreturn]] void fail(const std::string& what) const { throw InputError(path + ": " + what); }
 
@@ -157,7 +186,11 @@ struct Reader {
                                            ? m.bufferViews[static_cast<std::size_t>(a.bufferView)].byteStride : element;
             if (stride < element || stride > 256) fail(what + ": byte stride " + std::to_string(stride));
             const unsigned char* p = view_bytes(a.bufferView, a.byteOffset, a.count, element, stride, what);
-            for (std::size_t e = 0; e < a.count; ++e) decode(p + e * stride, e);
+            if (a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT && stride == element) {  // the bytes are the floats
+                if (!out.empty()) std::memcpy(out.data(), p, out.size() * sizeof(float));
+            } else {
+                for (std::size_t e = 0; e < a.count; ++e) decode(p + e * stride, e);
+            }
         }
         if (a.sparse.isSparse) {
             if (a.sparse.count < 1 || static_cast<std::size_t>(a.sparse.count) > a.count) fail(what + ": bad sparse count");
@@ -260,8 +293,10 @@ Frame read_frame(const Reader& r, const std::map<std::string, int>& attrs, int m
     };
     if (!has("POSITION") || !has("NORMAL")) r.fail("a frame without POSITION or NORMAL");
     append_z_up(f.position, r.floats(at("POSITION"), 3), t, s, !delta);
-    append_z_up(f.normal, r.floats(at("NORMAL"), 3), {0, 0, 0}, {1, 1, 1}, false);
-    if (!delta && quantised(r, at("NORMAL"))) unit_normals(f.normal);
+    if (r.normals) {
+        append_z_up(f.normal, r.floats(at("NORMAL"), 3), {0, 0, 0}, {1, 1, 1}, false);
+        if (!delta && quantised(r, at("NORMAL"))) unit_normals(f.normal);
+    }
     if (has("COLOR_0")) f.color = r.floats(at("COLOR_0"), 3);
     if (has("_REFLECT")) {
         if (!has("_REFRACT") || !has("_FOAM")) r.fail("_REFLECT without _REFRACT and _FOAM");
@@ -309,7 +344,7 @@ Joined join_primitives(const Reader& r, const tinygltf::Mesh& mesh, int mesh_ind
         part.indices = r.indices(p.indices);
         const std::size_t n = part.uv.size() / 2;
         const Frame& f = part.frame, &f0 = parts[0].frame;  // every primitive holds the first's optional attributes
-        if (f.position.size() != 3 * n || f.normal.size() != 3 * n || f.foam.size() != (f0.foam.empty() ? 0 : n) ||
+        if (f.position.size() != 3 * n || f.normal.size() != (r.normals ? 3 * n : 0) || f.foam.size() != (f0.foam.empty() ? 0 : n) ||
             f.reflect.size() != f.foam.size() || f.refract.size() != f.foam.size() || f.color.size() != (f0.color.empty() ? 0 : 3 * n))
             r.fail("the primitives of a frame's mesh hold different attributes or vertex counts");
         for (const std::uint32_t i : part.indices)
@@ -412,7 +447,7 @@ void read_morph_frames(const Reader& r, const tinygltf::Model& m, const tinygltf
     for (std::size_t t = frames; t < targets; ++t) {
         if (first.targets[t].size() != 1 || !first.targets[t].count("NORMAL"))
             r.fail("morph target " + std::to_string(t) + " (beyond the " + std::to_string(frames) + " frames) is not NORMAL-only");
-        append_z_up(excess[t - frames], r.floats(first.targets[t].at("NORMAL"), 3), {0, 0, 0}, {1, 1, 1}, false);
+        if (r.normals) append_z_up(excess[t - frames], r.floats(first.targets[t].at("NORMAL"), 3), {0, 0, 0}, {1, 1, 1}, false);
     }
     const Frame base = read_frame(r, first.attributes, 0, false, a.layout);
     for (std::size_t k = 0; k < frames; ++k) {
@@ -431,7 +466,7 @@ void read_morph_frames(const Reader& r, const tinygltf::Model& m, const tinygltf
         Frame f;
         add(r, k, "POSITION", f.position, base.position, d.position);
         add(r, k, "NORMAL", f.normal, base.normal, d.normal);
-        for (std::size_t t = frames; t < targets; ++t) {
+        for (std::size_t t = frames; t < targets && r.normals; ++t) {
             if (w[k * targets + t] == 0.0f) continue;
             const std::vector<float> with = f.normal;
             f.normal.clear();
@@ -686,7 +721,7 @@ std::size_t frames_per_piece(std::size_t vertex_count) {
 void check_piece(const Reader& r, const StoredAnimation& a) {
     if (a.positions.size() != 3 * a.vertex_count * a.frame_count) r.fail("frames of different sizes");
     const std::size_t values = a.vertex_count * a.frame_count;
-    if (a.normals.size() != 3 * values) r.fail("NORMAL does not cover every vertex of every frame");
+    if (a.normals.size() != (r.normals ? 3 * values : 0)) r.fail("NORMAL does not cover every vertex of every frame");
     for (const auto* scalar : {&a.reflect, &a.refract, &a.foam})
         if (!scalar->empty() && scalar->size() != values) r.fail("a shading attribute does not cover every vertex of every frame");
     if (!a.colors.empty() && a.colors.size() != 3 * values) r.fail("COLOR_0 does not cover every vertex of every frame");
@@ -700,7 +735,7 @@ void check_piece(const Reader& r, const StoredAnimation& a) {
 // nodes form's later meshes (every mesh after the first but the seafloor), unless an
 // accessor of the static parts (the first mesh, the seafloor, the animation), an image
 // or a Draco bitstream uses them too.
-std::set<int> frame_views(const nlohmann::json& doc) {
+std::set<int> frame_views(const nlohmann::json& doc, bool every_view = false) {
     std::set<int> frame_accessors, static_accessors, pinned;
     const auto accessor_of = [](const nlohmann::json& v, std::set<int>& into) {
         if (v.is_number_integer()) into.insert(v.get<int>());
@@ -754,9 +789,31 @@ std::set<int> frame_views(const nlohmann::json& doc) {
     };
     std::set<int> lazy;
     for (const int a : frame_accessors) views_of(a, lazy);
-    for (const int a : static_accessors) views_of(a, pinned);
+    for (const int a : static_accessors) views_of(a, every_view ? lazy : pinned);
     for (const int v : pinned) lazy.erase(v);
     return lazy;
+}
+
+// The views of every primitive's indices and TEXCOORD_0 (the rest positions): what the
+// frame files of one run share.
+std::set<int> shared_views(const nlohmann::json& doc) {
+    std::set<int> out;
+    if (!doc.contains("meshes") || !doc["meshes"].is_array() || !doc.contains("accessors") || !doc["accessors"].is_array()) return out;
+    const nlohmann::json& accessors = doc["accessors"];
+    const auto view_of = [&](const nlohmann::json& a) {
+        if (!a.is_number_integer() || a.get<double>() < 0.0 || a.get<double>() >= static_cast<double>(accessors.size())) return;
+        const nlohmann::json& acc = accessors[a.get<std::size_t>()];
+        if (acc.is_object() && acc.contains("bufferView") && acc["bufferView"].is_number_integer()) out.insert(acc["bufferView"].get<int>());
+    };
+    for (const auto& mesh : doc["meshes"])
+        if (mesh.is_object() && mesh.contains("primitives") && mesh["primitives"].is_array())
+            for (const auto& prim : mesh["primitives"]) {
+                if (!prim.is_object()) continue;
+                if (prim.contains("indices")) view_of(prim["indices"]);
+                if (prim.contains("attributes") && prim["attributes"].is_object() && prim["attributes"].contains("TEXCOORD_0"))
+                    view_of(prim["attributes"]["TEXCOORD_0"]);
+            }
+    return out;
 }
 
 // EXT_meshopt_compression: each compressed view is pointed at its compressed bytes
@@ -886,7 +943,9 @@ void check_extras(const std::string& path, const nlohmann::json& doc) {
 // .gltf's external .bin (every layout libwave writes), tinygltf parses the JSON with a
 // buffer of the static views alone, moved together, and the frames' views stay in the
 // file for `lazy`; otherwise it loads the whole file, as it would.
-void load_model(const std::string& path, tinygltf::Model& m, LazyViews& lazy) {
+// With `memo` (a FrameReader's files form), every view stays in the file until it is
+// asked for, and the shared ones (shared_views) decode through the memo.
+void load_model(const std::string& path, tinygltf::Model& m, LazyViews& lazy, ViewMemo* memo = nullptr) {
     const bool binary = std::filesystem::path(path).extension() == ".glb";
     detail::require_input_file(path);
     std::error_code ec;
@@ -924,7 +983,11 @@ void load_model(const std::string& path, tinygltf::Model& m, LazyViews& lazy) {
     lazy.base = in_bin_chunk ? c.bin_at : 0;
     lazy.in.open(lazy.file, std::ios::binary);
     if (!lazy.in) throw InputError(path + ": cannot read its buffer " + lazy.file);
-    const std::set<int> deferred = frame_views(doc);
+    const std::set<int> deferred = frame_views(doc, memo != nullptr);
+    if (memo) {
+        lazy.memo = memo;
+        lazy.kept = shared_views(doc);
+    }
     std::string bin;  // the static views, each 4-byte aligned (accessors keep their alignment)
     nlohmann::json& views = doc["bufferViews"];
     for (std::size_t v = 0; v < views.size(); ++v) {
@@ -950,6 +1013,7 @@ void load_model(const std::string& path, tinygltf::Model& m, LazyViews& lazy) {
             bin.append(reinterpret_cast<const char*>(plain.data()), plain.size());
         }
     }
+    if (bin.empty()) bin.assign(4, '\0');  // every view left in the file (a FrameReader's): tinygltf wants a BIN chunk
     doc["buffers"][0] = nlohmann::json{{"byteLength", bin.size()}};
     std::string json = doc.dump();
     json.resize((json.size() + 3) & ~std::size_t{3}, ' ');
@@ -965,49 +1029,88 @@ void load_model(const std::string& path, tinygltf::Model& m, LazyViews& lazy) {
         throw InputError(path + ": not a readable glTF 2.0 file: " + err);
 }
 
-void read_glb_pieces(const std::string& path, const std::function<void(StoredAnimation&&, std::size_t)>& piece,
-                     const FrameWindow& window = {}) {
+// A loaded .glb/.gltf of libwave's: the model, its views still in the file, and its
+// static parts (triangles, rest positions, dressing, the file's numbers) in `a`, whose
+// frame arrays are empty. A FrameReader keeps one open across frames.
+struct GlbFile {
+    std::string path;
     tinygltf::Model m;
     LazyViews lazy;
-    load_model(path, m, lazy);
-    const Reader r{m, path, lazy.where.empty() ? nullptr : &lazy};
+    StoredAnimation a;
+    std::vector<std::size_t> water;  // the water's meshes: all but the seafloor
+    std::string path_kind;           // the first channel's ("weights": the morph form)
+    std::optional<Joined> joined;    // the first water mesh's primitives joined (a frame with its skirt)
+    std::size_t total = 0;           // the file's frames
+    bool normals = true;             // read the frames' normals
+
+    Reader reader() const {
+        Reader r{m, path, lazy.where.empty() ? nullptr : &lazy};
+        r.normals = normals;
+        return r;
+    }
+};
+
+// Loads `path` into `g` (its path set by the caller; `memo`: load_model's) and reads its
+// static parts; `dressing` false leaves out the seafloor, camera and sun.
+void open_glb(GlbFile& g, ViewMemo* memo = nullptr, bool dressing = true) {
+    load_model(g.path, g.m, g.lazy, memo);
+    const tinygltf::Model& m = g.m;
+    const Reader r = g.reader();
     if (!m.asset.extras.Has("libwave")) r.fail("not written by libwave (no asset.extras.libwave): only libwave's outputs can be converted");
     const tinygltf::Value& info = m.asset.extras.Get("libwave");
-    StoredAnimation a;
+    StoredAnimation& a = g.a;
     a.fps = info.Get("fps").GetNumberAsDouble();  // checked by check_extras
     a.first_frame = static_cast<std::size_t>(info.Get("first_frame").GetNumberAsInt());
     a.loop_frames = static_cast<std::size_t>(info.Get("loop_frames").GetNumberAsInt());
     a.name = info.Get("name").Get<std::string>();
     if (info.Has("scene")) a.scene = info.Get("scene").Get<std::string>();
     if (m.meshes.empty() || m.meshes[0].primitives.empty()) r.fail("no mesh");
-    const std::string path_kind = m.animations.empty() || m.animations[0].channels.empty() ? "" : m.animations[0].channels[0].target_path;
+    g.path_kind = m.animations.empty() || m.animations[0].channels.empty() ? "" : m.animations[0].channels[0].target_path;
     const tinygltf::Primitive& first = m.meshes[0].primitives[0];
-    a.draco_frames = path_kind != "weights" && first.extensions.count("KHR_draco_mesh_compression") != 0;
-    // The water's meshes: all but the seafloor a single-file form carries beside it.
-    std::vector<std::size_t> water;
+    a.draco_frames = g.path_kind != "weights" && first.extensions.count("KHR_draco_mesh_compression") != 0;
     for (std::size_t i = 0; i < m.meshes.size(); ++i)
-        if (m.meshes[i].name != "seafloor") water.push_back(i);
+        if (m.meshes[i].name != "seafloor") g.water.push_back(i);
     // A Draco frame with its skirt as a second primitive (docs/far-field.md): one mesh again.
-    std::optional<Joined> joined;
-    if (path_kind != "weights" && !water.empty() && m.meshes[water[0]].primitives.size() > 1)
-        joined = join_primitives(r, m.meshes[water[0]], static_cast<int>(water[0]), a.layout);
-    if (joined) {
-        a.triangles = joined->triangles;
-        a.texcoords = std::move(joined->texcoords);
+    if (g.path_kind != "weights" && !g.water.empty() && m.meshes[g.water[0]].primitives.size() > 1)
+        g.joined = join_primitives(r, m.meshes[g.water[0]], static_cast<int>(g.water[0]), a.layout);
+    if (g.joined) {
+        a.triangles = g.joined->triangles;
+        a.texcoords = g.joined->texcoords;
     } else {
         a.triangles = r.indices(first.indices);
         if (!first.attributes.count("TEXCOORD_0")) r.fail("the mesh has no TEXCOORD_0 (libwave writes the rest position there)");
         a.texcoords = r.floats(first.attributes.at("TEXCOORD_0"), 2);
     }
     a.vertex_count = a.texcoords.size() / 2;
-    read_dressing(r, m, a);
+    if (dressing) read_dressing(r, m, a);
     // The file's frames: its weights track's keys (read_morph_frames checks them), or its meshes.
-    std::size_t total = water.size();
-    if (path_kind == "weights") {
+    g.total = g.water.size();
+    if (g.path_kind == "weights") {
         const int s = m.animations[0].channels[0].sampler;
         const int input = s >= 0 && static_cast<std::size_t>(s) < m.animations[0].samplers.size() ? m.animations[0].samplers[static_cast<std::size_t>(s)].input : -1;
-        total = input >= 0 && static_cast<std::size_t>(input) < m.accessors.size() ? m.accessors[static_cast<std::size_t>(input)].count : 0;
+        g.total = input >= 0 && static_cast<std::size_t>(input) < m.accessors.size() ? m.accessors[static_cast<std::size_t>(input)].count : 0;
     }
+    r.release();  // the shared views read from the file (a files form's FrameReader)
+}
+
+// The frames of `window` of an opened file, a piece at a time. `keep` leaves `g` as it
+// was (a FrameReader reads it again): the pieces then carry the frame arrays and the
+// file's numbers, not its static arrays (triangles, rest positions, seafloor).
+void read_glb_frames(GlbFile& g, const std::function<void(StoredAnimation&&, std::size_t)>& piece, const FrameWindow& window,
+                     bool keep = false) {
+    const tinygltf::Model& m = g.m;
+    const Reader r = g.reader();
+    StoredAnimation a;
+    if (keep) {
+        a.vertex_count = g.a.vertex_count, a.first_frame = g.a.first_frame, a.loop_frames = g.a.loop_frames, a.fps = g.a.fps;
+        a.name = g.a.name, a.scene = g.a.scene, a.layout = g.a.layout, a.draco_frames = g.a.draco_frames;
+    } else {
+        a = std::move(g.a);
+    }
+    const std::vector<std::uint32_t>& triangles = keep ? g.a.triangles : a.triangles;
+    const std::vector<std::size_t>& water = g.water;
+    const std::size_t total = g.total;
+    const tinygltf::Primitive& first = m.meshes[0].primitives[0];
     // A piece: the file's static parts and the frames read since the last one.
     const std::size_t per_piece = frames_per_piece(a.vertex_count);
     bool handed = false;
@@ -1035,7 +1138,7 @@ void read_glb_pieces(const std::string& path, const std::function<void(StoredAni
                 (a.*member).reserve((a.*member).size() * per_piece);
         if (a.frame_count == per_piece) hand_on();
     };
-    if (path_kind == "weights") {
+    if (g.path_kind == "weights") {
         read_morph_frames(r, m, first, a, frame_read, window);
     } else {  // nodes (a mesh per frame) or one frame file
         for (std::size_t k = 0; k < water.size(); ++k) {
@@ -1052,12 +1155,16 @@ void read_glb_pieces(const std::string& path, const std::function<void(StoredAni
                        (a.draco_frames ? " (Draco-compressed frames of different orders: convert from an uncompressed output, or run the scene again)" : ""));
             };
             if (m.meshes[mesh].primitives.size() > 1) {
-                const Joined j = mesh == water[0] ? std::move(*joined) : join_primitives(r, m.meshes[mesh], static_cast<int>(mesh), a.layout);
-                if (j.triangles != a.triangles) other_triangles();
+                const Joined j = mesh != water[0] ? join_primitives(r, m.meshes[mesh], static_cast<int>(mesh), a.layout)
+                                 : keep           ? *g.joined
+                                                  : std::move(*g.joined);
+                if (j.triangles != triangles) other_triangles();
                 append(a, j.frame);
             } else {
                 const tinygltf::Primitive& p = m.meshes[mesh].primitives[0];
-                if (r.indices(p.indices) != a.triangles) other_triangles();
+                // The nodes form's frames share the first mesh's indices accessor: its
+                // triangles, read at open, are not read and compared again.
+                if ((g.joined || p.indices != first.indices) && r.indices(p.indices) != triangles) other_triangles();
                 append(a, read_frame(r, p.attributes, static_cast<int>(mesh), false, a.layout));
             }
             ++a.frame_count;
@@ -1065,6 +1172,14 @@ void read_glb_pieces(const std::string& path, const std::function<void(StoredAni
         }
     }
     if (a.frame_count > 0 || !handed) hand_on();
+}
+
+void read_glb_pieces(const std::string& path, const std::function<void(StoredAnimation&&, std::size_t)>& piece,
+                     const FrameWindow& window = {}) {
+    GlbFile g;
+    g.path = path;
+    open_glb(g);
+    read_glb_frames(g, piece, window);
 }
 
 }  // namespace
@@ -1097,12 +1212,18 @@ StoredAnimation read_glb(const std::string& path) {
 
 }  // namespace
 
-void read_animation_pieces(const std::string& path, const std::function<void(StoredAnimation&&, std::size_t)>& piece) {
-    if (std::filesystem::path(path).extension() != ".json") {
-        read_glb_pieces(path, piece);
-        return;
-    }
-    // The files form: index.json lists the frame files.
+namespace {
+
+// The files form's index.json: its frame files (each inside the index's folder: no
+// absolute path, no .., no link out) with their frame numbers, and its fps and loop
+// when it records them.
+struct FrameIndex {
+    std::vector<std::pair<std::string, std::size_t>> listed;
+    std::optional<double> fps;
+    std::optional<std::size_t> loop_frames;
+};
+
+FrameIndex read_frame_index(const std::string& path) {
     detail::require_input_file(path);
     std::ifstream in(path, std::ios::binary);
     const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -1120,14 +1241,29 @@ void read_animation_pieces(const std::string& path, const std::function<void(Sto
     // Every entry checked before a frame is read: its file named inside the index's
     // folder (no absolute path, no .., no link out), its frame a whole number.
     const std::string folder = std::filesystem::path(path).parent_path().string();
-    std::vector<std::pair<std::string, std::size_t>> listed;
+    FrameIndex out;
     for (const auto& entry : index["frames"]) {
-        const std::string where = "frames[" + std::to_string(listed.size()) + "].";
+        const std::string where = "frames[" + std::to_string(out.listed.size()) + "].";
         if (!entry.is_object() || !entry.contains("file") || !entry["file"].is_string() || !entry.contains("frame"))
             throw InputError(path + ": " + where.substr(0, where.size() - 1) + " is not an object with a \"file\" and a \"frame\"");
         const auto frame = static_cast<std::size_t>(number(entry, where, "frame", kMaxStoredFrames, true));
-        listed.emplace_back(path_inside(folder, entry["file"].get<std::string>(), path + ": " + where + "file"), frame);
+        out.listed.emplace_back(path_inside(folder, entry["file"].get<std::string>(), path + ": " + where + "file"), frame);
     }
+    if (index.contains("fps")) out.fps = number(index, "", "fps", 1000.0, false);
+    if (index.contains("loop_frames")) out.loop_frames = static_cast<std::size_t>(number(index, "", "loop_frames", kMaxStoredFrames, true));
+    return out;
+}
+
+}  // namespace
+
+void read_animation_pieces(const std::string& path, const std::function<void(StoredAnimation&&, std::size_t)>& piece) {
+    if (std::filesystem::path(path).extension() != ".json") {
+        read_glb_pieces(path, piece);
+        return;
+    }
+    // The files form: index.json lists the frame files.
+    const FrameIndex index = read_frame_index(path);
+    const auto& listed = index.listed;
     std::vector<std::uint32_t> triangles;  // the first frame's, which every frame must share
     std::size_t expected = 0, vertex_count = 0;
     double fps = 0.0;
@@ -1136,9 +1272,8 @@ void read_animation_pieces(const std::string& path, const std::function<void(Sto
     for (const auto& [file, frame] : listed) {
         StoredAnimation f = read_glb(file);
         if (expected == 0) {
-            fps = index.contains("fps") ? number(index, "", "fps", 1000.0, false) : f.fps;
-            loop_frames = index.contains("loop_frames") ? static_cast<std::size_t>(number(index, "", "loop_frames", kMaxStoredFrames, true))
-                                                        : f.loop_frames;
+            fps = index.fps.value_or(f.fps);
+            loop_frames = index.loop_frames.value_or(f.loop_frames);
             if (!(fps > 0.0)) throw InputError(path + ": fps is 0");
             triangles = f.triangles, vertex_count = f.vertex_count, draco = f.draco_frames;
         } else {
@@ -1149,7 +1284,7 @@ void read_animation_pieces(const std::string& path, const std::function<void(Sto
         }
         f.first_frame = frame, f.fps = fps, f.loop_frames = loop_frames;
         expected = frame + 1;
-        piece(std::move(f), index["frames"].size());
+        piece(std::move(f), listed.size());
     }
 }
 
@@ -1166,6 +1301,82 @@ StoredAnimation read_animation_frames(const std::string& path, std::size_t first
     read_glb_pieces(path, [&](StoredAnimation&& f, std::size_t) { append_piece(a, std::move(f)); }, FrameWindow{first, count});
     if (a.frame_count == 0) throw InputError(path + ": no frame " + std::to_string(first) + " in the file");
     return a;
+}
+
+struct FrameReader::State {
+    std::string path;
+    std::unique_ptr<GlbFile> glb;  // a .glb/.gltf, kept open
+    std::vector<std::string> files;  // the files form's frame files
+    ViewMemo memo;                   // the files form: the frame files' shared views, decoded
+    StoredAnimation info;            // the numbers and the triangles (no frame arrays)
+    std::size_t frame_count = 0;
+    std::mutex mutex;
+};
+
+FrameReader::FrameReader(const std::string& path) : state_(std::make_unique<State>()) {
+    State& s = *state_;
+    s.path = path;
+    if (std::filesystem::path(path).extension() != ".json") {
+        s.glb = std::make_unique<GlbFile>();
+        s.glb->path = path;
+        open_glb(*s.glb);
+        const StoredAnimation& a = s.glb->a;
+        s.info.vertex_count = a.vertex_count, s.info.first_frame = a.first_frame, s.info.loop_frames = a.loop_frames;
+        s.info.fps = a.fps, s.info.scene = a.scene, s.info.name = a.name, s.info.triangles = a.triangles;
+        s.frame_count = s.glb->total;
+        return;
+    }
+    const FrameIndex index = read_frame_index(path);
+    for (std::size_t i = 0; i < index.listed.size(); ++i) {
+        const auto& [file, frame] = index.listed[i];
+        if (i > 0 && frame != index.listed[0].second + i)
+            throw InputError(path + ": frame " + std::to_string(index.listed[0].second + i) + " is missing (next is " + std::to_string(frame) + ")");
+        s.files.push_back(file);
+    }
+    GlbFile first;
+    first.path = s.files[0];
+    open_glb(first, &s.memo, false);
+    s.info.vertex_count = first.a.vertex_count, s.info.first_frame = index.listed[0].second, s.info.name = first.a.name;
+    s.info.fps = index.fps.value_or(first.a.fps), s.info.loop_frames = index.loop_frames.value_or(first.a.loop_frames);
+    s.info.scene = first.a.scene, s.info.triangles = std::move(first.a.triangles);
+    if (!(s.info.fps > 0.0)) throw InputError(path + ": fps is 0");
+    s.frame_count = s.files.size();
+}
+
+FrameReader::~FrameReader() = default;
+FrameReader::FrameReader(FrameReader&&) noexcept = default;
+FrameReader& FrameReader::operator=(FrameReader&&) noexcept = default;
+
+std::size_t FrameReader::frame_count() const noexcept { return state_->frame_count; }
+std::size_t FrameReader::vertex_count() const noexcept { return state_->info.vertex_count; }
+std::size_t FrameReader::first_frame() const noexcept { return state_->info.first_frame; }
+std::size_t FrameReader::loop_frames() const noexcept { return state_->info.loop_frames; }
+double FrameReader::fps() const noexcept { return state_->info.fps; }
+const std::string& FrameReader::scene() const noexcept { return state_->info.scene; }
+const std::vector<std::uint32_t>& FrameReader::triangles() const noexcept { return state_->info.triangles; }
+
+StoredAnimation FrameReader::frame(std::size_t k, bool normals) {
+    State& s = *state_;
+    const std::lock_guard<std::mutex> lock(s.mutex);
+    if (k >= s.frame_count)
+        throw InputError(s.path + ": no frame " + std::to_string(k) + " (it has " + std::to_string(s.frame_count) + ")");
+    StoredAnimation out;
+    const auto take = [&](StoredAnimation&& f, std::size_t) { out = std::move(f); };
+    if (s.glb) {
+        s.glb->normals = normals;
+        read_glb_frames(*s.glb, take, FrameWindow{k, 1}, true);
+        return out;
+    }
+    GlbFile g;
+    g.path = s.files[k];
+    g.normals = normals;
+    open_glb(g, &s.memo, false);
+    if (g.a.triangles != s.info.triangles || g.a.vertex_count != s.info.vertex_count || g.total != 1)
+        throw InputError(g.path + ": other triangles than the first frame" +
+                         std::string(g.a.draco_frames ? " (Draco-compressed frames of different orders: convert from an uncompressed output, or run the scene again)" : ""));
+    read_glb_frames(g, take, FrameWindow{0, 1}, true);
+    out.first_frame = s.info.first_frame + k, out.fps = s.info.fps, out.loop_frames = s.info.loop_frames;
+    return out;
 }
 
 }  // namespace wave
