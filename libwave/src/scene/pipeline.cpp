@@ -203,12 +203,17 @@ double breaking_depth(const Scene& scene) {
 }
 
 // How far the skirt reaches: the scene's distance, or far enough that its edge is
-// within 1/2000 rad of the horizon from the scene's camera.
+// within 1/2000 rad of the horizon from the scene's camera, and never less than
+// kWorldReach: the sea and the land beyond reach 5 km from the domain in every
+// direction, however small the domain or low the camera (a laboratory basin's camera
+// a metre up gave a skirt of 55 m).
+constexpr double kWorldReach = 5000.0;  // m
+
 double skirt_distance(const Scene& scene, const ScenePlan& p) {
     if (scene.far_field->distance > 0.0) return scene.far_field->distance;
     const ElevationGrid& g = p.seafloor.grid;
     const double size = std::max(g.x_max() - g.x0, g.y_max() - g.y0);
-    return std::max(2000.0 * std::max(0.0, scene_camera(scene, p.seafloor)[2]), 10.0 * size);
+    return std::max({2000.0 * std::max(0.0, scene_camera(scene, p.seafloor)[2]), 10.0 * size, kWorldReach});
 }
 
 // The far field's periodic components: each train's harmonics the model holds, each
@@ -1211,61 +1216,75 @@ std::array<float, 3> seafloor_colour(double z, const FloorPalette& p) {
     return {mix(0.6, 0.25, 0.16), mix(0.5, 0.2, 0.2), mix(0.32, 0.12, 0.08)};
 }
 
-// Under the far field's skirt: the seafloor's border continued outwards to the skirt's
-// far rectangle (each border node's elevation along its side's outward normal, a fan
-// at each corner), so that the water beyond the domain lies over the same bottom. The
-// grid's nodes are the first cols × rows of `a`'s seafloor vertices. Two rings: one a
-// grid cell (`cell`) out, then the far rectangle (`reach`). The near ring keeps the
-// grid's slopes across the border in the border nodes' own smooth normals: a
-// renderer's normals lose them within a cell, where one ring would carry each border
-// node's slope (and its light) along a strip to the horizon.
-void add_seafloor_apron(double cell, double reach, std::size_t cols, std::size_t rows, const FloorPalette& palette,
-                        SceneAnimation& a) {
-    // The grid's border nodes counter-clockwise, side by side (corners in both sides).
-    const std::array<std::vector<std::uint32_t>, 4> sides = [&] {
-        std::array<std::vector<std::uint32_t>, 4> s;
-        const auto at = [cols](std::size_t c, std::size_t r) { return static_cast<std::uint32_t>(r * cols + c); };
-        for (std::size_t c = 0; c < cols; ++c) s[0].push_back(at(c, 0));
-        for (std::size_t r = 0; r < rows; ++r) s[1].push_back(at(cols - 1, r));
-        for (std::size_t c = cols; c-- > 0;) s[2].push_back(at(c, rows - 1));
-        for (std::size_t r = rows; r-- > 0;) s[3].push_back(at(0, r));
-        return s;
-    }();
-    constexpr double normal[4][2] = {{0.0, -1.0}, {1.0, 0.0}, {0.0, 1.0}, {-1.0, 0.0}};
+// Under the far field's skirt: the terrain beyond the data (terrain_elevation) from the
+// grid's border nodes out to the skirt's far rectangle, so that the water beyond the
+// domain lies over a bottom and the land goes on to the horizon. The grid's nodes are
+// the first cols × rows of `a`'s seafloor vertices. Rings of the grid's rectangle
+// offset by d, a cell (`cell`) apart near the border and 1.25 × further out each, up
+// to `reach`, their vertices about a quarter of d apart (a cell near the border), so
+// that the triangles stay near equilateral and the hills the terrain draws stay
+// resolved. Before, two rings extruded each border node's elevation and colour to the
+// far rectangle: whatever the border held ran on unchanged to the horizon — behind the
+// bay's head, the low sand-coloured land where the bay cuts deepest drew a pale wedge,
+// a road from the beach to the horizon.
+void add_seafloor_apron(const ElevationGrid& g, double cell, double reach, std::size_t cols, std::size_t rows,
+                        const FloorPalette& palette, SceneAnimation& a) {
+    const TerrainBeyond terrain = plan_terrain_beyond(g);
     const bool mapped = !a.seafloor_texcoords.empty();
-    const auto add = [&](std::uint32_t from, double x, double y) {
-        const float z = a.seafloor_positions[3 * from + 2];
-        a.seafloor_positions.insert(a.seafloor_positions.end(), {static_cast<float>(x), static_cast<float>(y), z});
-        const auto colour = seafloor_colour(z, palette);
-        a.seafloor_colors.insert(a.seafloor_colors.end(), colour.begin(), colour.end());
-        if (mapped) a.seafloor_texcoords.insert(a.seafloor_texcoords.end(), {a.seafloor_texcoords[2 * from], a.seafloor_texcoords[2 * from + 1]});
-        return static_cast<std::uint32_t>(a.seafloor_positions.size() / 3 - 1);
+    const double x0 = a.seafloor_positions[0], y0 = a.seafloor_positions[1];
+    const double x1 = a.seafloor_positions[3 * (cols * rows - 1)], y1 = a.seafloor_positions[3 * (cols * rows - 1) + 1];
+    struct Node {
+        std::uint32_t index;
+        double tau;  // side + the fraction along it, counter-clockwise from (x0, y0)
     };
-    // Inner chain → outer chain of the same length: triangles (a, a', b'), (a, b', b).
-    const auto strip = [&](const std::vector<std::uint32_t>& inner, const std::vector<std::uint32_t>& outer) {
-        for (std::size_t j = 1; j < inner.size(); ++j)
-            a.seafloor_triangles.insert(a.seafloor_triangles.end(), {inner[j - 1], outer[j - 1], outer[j], inner[j - 1], outer[j], inner[j]});
+    // Ring 0: the grid's border nodes counter-clockwise, each corner once.
+    std::vector<Node> inner;
+    const auto at = [cols](std::size_t c, std::size_t r) { return static_cast<std::uint32_t>(r * cols + c); };
+    const double fc = static_cast<double>(cols - 1), fr = static_cast<double>(rows - 1);
+    for (std::size_t c = 0; c + 1 < cols; ++c) inner.push_back({at(c, 0), static_cast<double>(c) / fc});
+    for (std::size_t r = 0; r + 1 < rows; ++r) inner.push_back({at(cols - 1, r), 1.0 + static_cast<double>(r) / fr});
+    for (std::size_t c = cols - 1; c > 0; --c) inner.push_back({at(c, rows - 1), 2.0 + static_cast<double>(cols - 1 - c) / fc});
+    for (std::size_t r = rows - 1; r > 0; --r) inner.push_back({at(0, r), 3.0 + static_cast<double>(rows - 1 - r) / fr});
+    // Inner ring → outer ring, both closed and ordered by tau: advance the one whose
+    // next node comes first (triangles counter-clockwise, as the grid's).
+    const auto zip = [&](std::vector<Node> in, std::vector<Node> out) {
+        in.push_back({in.front().index, in.front().tau + 4.0});
+        out.push_back({out.front().index, out.front().tau + 4.0});
+        std::size_t i = 0, o = 0;
+        while (i + 1 < in.size() || o + 1 < out.size()) {
+            if (o + 1 < out.size() && (i + 1 == in.size() || out[o + 1].tau <= in[i + 1].tau)) {
+                a.seafloor_triangles.insert(a.seafloor_triangles.end(), {in[i].index, out[o].index, out[o + 1].index});
+                ++o;
+            } else {
+                a.seafloor_triangles.insert(a.seafloor_triangles.end(), {in[i].index, out[o].index, in[i + 1].index});
+                ++i;
+            }
+        }
     };
-    std::array<std::vector<std::uint32_t>, 4> inner = sides;
-    std::array<std::uint32_t, 4> inner_corner{};
-    for (int ring = 0; ring < 2; ++ring) {
-        const double d = ring == 0 ? cell : reach;
-        std::array<std::vector<std::uint32_t>, 4> outer;
-        for (std::size_t s = 0; s < 4; ++s) {
-            for (const std::uint32_t v : sides[s])
-                outer[s].push_back(add(v, a.seafloor_positions[3 * v] + d * normal[s][0], a.seafloor_positions[3 * v + 1] + d * normal[s][1]));
-            strip(inner[s], outer[s]);
+    double d = 0.0;
+    while (d < reach) {
+        d = std::min(reach, std::max(1.25 * d, d + cell));
+        const double spacing = std::max(cell, 0.25 * d);
+        const double corner[5][2] = {{x0 - d, y0 - d}, {x1 + d, y0 - d}, {x1 + d, y1 + d}, {x0 - d, y1 + d}, {x0 - d, y0 - d}};
+        std::vector<Node> outer;
+        for (int side = 0; side < 4; ++side) {
+            const double ax = corner[side][0], ay = corner[side][1], bx = corner[side + 1][0], by = corner[side + 1][1];
+            const auto m = static_cast<std::size_t>(std::max(2.0, std::ceil(std::hypot(bx - ax, by - ay) / spacing)));
+            for (std::size_t j = 0; j < m; ++j) {
+                const double f = static_cast<double>(j) / static_cast<double>(m);
+                const double x = ax + f * (bx - ax), y = ay + f * (by - ay);
+                const double z = terrain_elevation(terrain, x, y, spacing);
+                a.seafloor_positions.insert(a.seafloor_positions.end(), {static_cast<float>(x), static_cast<float>(y), static_cast<float>(z)});
+                const auto colour = seafloor_colour(z, palette);
+                a.seafloor_colors.insert(a.seafloor_colors.end(), colour.begin(), colour.end());
+                if (mapped)  // the caustic maps' edge texels stretch outwards
+                    a.seafloor_texcoords.insert(a.seafloor_texcoords.end(),
+                                                {static_cast<float>(std::clamp((x - g.x0) / (g.x_max() - g.x0), 0.0, 1.0)),
+                                                 static_cast<float>(1.0 - std::clamp((y - g.y0) / (g.y_max() - g.y0), 0.0, 1.0))});
+                outer.push_back({static_cast<std::uint32_t>(a.seafloor_positions.size() / 3 - 1), side + f});
+            }
         }
-        for (std::size_t s = 0; s < 4; ++s) {  // the corner after side s
-            const std::uint32_t c = sides[s].back(), next = (s + 1) % 4;
-            const std::uint32_t corner = add(c, a.seafloor_positions[3 * c] + d * (normal[s][0] + normal[next][0]),
-                                             a.seafloor_positions[3 * c + 1] + d * (normal[s][1] + normal[next][1]));
-            if (ring == 0)  // a fan from the grid's corner node
-                a.seafloor_triangles.insert(a.seafloor_triangles.end(), {c, outer[s].back(), corner, c, corner, outer[next].front()});
-            else
-                strip({inner[s].back(), inner_corner[s], inner[next].front()}, {outer[s].back(), corner, outer[next].front()});
-            inner_corner[s] = corner;
-        }
+        zip(std::move(inner), outer);
         inner = std::move(outer);
     }
 }
@@ -1325,7 +1344,7 @@ void dress_animation(const Scene& scene, const ScenePlan& plan, SceneAnimation& 
             d.sunbeam_fps = scene.fps;
         }
         if (plan.skirt.vertex_count() > 0)
-            add_seafloor_apron(static_cast<double>(step) * std::min(g.dx, g.dy), plan.skirt.reach, cols, rows, palette, a);
+            add_seafloor_apron(g, static_cast<double>(step) * std::min(g.dx, g.dy), plan.skirt.reach, cols, rows, palette, a);
     }
     a.dressing = d;
 }
