@@ -362,9 +362,10 @@ TerrainBeyond plan_terrain_beyond(const ElevationGrid& grid, const TerrainBeyond
 ///    (a sum of sines) — always above still water (> 0 for d > 0);
 ///  * beyond sea, the sea's mean elevation over that window (sea bottom stays sea
 ///    bottom, as deep as the border's water), except near land: there the land goes on
-///    over the sea and falls to it over a width growing with d and wobbling with the
-///    hills, so that the coast beyond a border where the shoreline meets it is not the
-///    straight line the far field's skirt ends on.
+///    over the sea and falls to it over a width growing with d (d/4, at most a tenth of
+///    the grid's longer side) and wobbling with the hills, so that the coast beyond a
+///    border where the shoreline meets it is not the straight line the far field's skirt
+///    ends on; sea feet further than 0.08 of that side from the shore stay sea (<= 0).
 /// Inside the rectangle (d = 0 there) it is the border value at the nearest border
 /// point; callers use the grid inside. Deterministic, no allocation.
 double terrain_elevation(const TerrainBeyond& terrain, double x, double y, double resolution) noexcept;

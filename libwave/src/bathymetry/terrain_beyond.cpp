@@ -170,9 +170,12 @@ double terrain_elevation(const TerrainBeyond& t, double x, double y, double reso
         const double a = std::abs(s - c);
         to_land = std::min(to_land, std::min(a, t.perimeter - a));
     }
-    const double width = 0.25 * d * (1.0 + 0.6 * hills(t, -y + 0.37 * o.hill_wavelength, x, resolution));
+    // The width is bounded by a tenth of the grid: a corner's quadrant beyond holds one
+    // foot, the corner, so a width growing on with d would turn it all to land.
+    const double size = std::max(t.x1 - t.x0, t.y1 - t.y0);
+    const double width = std::min(0.25 * d, 0.1 * size) * (1.0 + 0.6 * hills(t, -y + 0.37 * o.hill_wavelength, x, resolution));
     if (!std::isfinite(to_land) || !(width > 0.0)) return sea_mean;
-    return std::max(sea_mean, land * (1.0 - 2.0 * to_land / width));
+    return std::max(sea_mean, land - (land - sea_mean) * 2.0 * to_land / width);  // the sea's own at to_land = width / 2
 }
 
 }  // namespace wave

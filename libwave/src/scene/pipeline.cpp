@@ -262,6 +262,16 @@ void append_skirt(ScenePlan& p) {
     }
 }
 
+// The skirt's edge (m) that keeps a wind sea of peak `wavelength` (m) resolved: the
+// border's spacing growing by 0.3 d to a sixth of the wavelength, held over two
+// wavelengths beyond the border, then growing as swell_skirt_size's beyond its band.
+double wind_sea_skirt_size(const SkirtSite& site, double wavelength) {
+    const double held = std::max(site.border_edge, wavelength / 6.0), band = 2.0 * wavelength;
+    if (site.d <= band) return std::min(site.border_edge + 0.3 * site.d, held);
+    const double past = site.d - band;
+    return held + 0.08 * past + 0.3 * past * past / (past + 2.0 * wavelength);
+}
+
 // The far field (/surface/far_field): the skirt around the model's surface, its motion
 // fitted on the model's border at spread times, the skirt's vertices appended.
 void plan_far_field_stage(const Scene& scene, ScenePlan& p) {
@@ -271,6 +281,15 @@ void plan_far_field_stage(const Scene& scene, ScenePlan& p) {
     SeaSkirtOptions o;
     o.distance = skirt_distance(scene, p);
     o.size = swell_skirt_size(p.seafloor, shortest_period(scene), scene.far_field->swell_wavelengths, breaking_depth(scene));
+    // A wind sea on the coast runs on over the skirt as far as the skirt resolves it: its
+    // peak wavelength held over two of them. Sized for the swell alone, the skirt's
+    // edges outgrew a third of the wind sea's peak within a few metres of the border, its
+    // fade (far_field_share) fell to 0 there, and the whitecaps stopped at the domain's
+    // sides.
+    if (p.ocean.n > 0) {
+        const double wind = 2.0 * std::numbers::pi * kGravity / (p.ocean.peak_omega * p.ocean.peak_omega);
+        o.size = [swell = std::move(o.size), wind](const SkirtSite& site) { return std::min(swell(site), wind_sea_skirt_size(site, wind)); };
+    }
     if (model.skirt_size) o.size = model.skirt_size(scene, p, std::move(o.size));
     o.max_vertices = scene.surface.max_vertices;
     o.seafloor = &p.seafloor.grid;
@@ -290,18 +309,50 @@ void plan_far_field_stage(const Scene& scene, ScenePlan& p) {
     append_skirt(p);
 }
 
+// The open ocean carried to the horizon: its patch tiles (the FFT is periodic), so a
+// skirt round it samples the same fields wherever it lies, the patch's own waves and
+// none other, and meets the patch's border vertices with the same values — no tile
+// edge. The skirt holds the wind sea's peak wavelength at a sixth of it over two peak
+// wavelengths (as a swell's band, swell_skirt_size), then grows by about a third of the
+// distance; the wind sea fades as the skirt stops resolving its peak (far_field_share),
+// as on a coastal scene's skirt. It reaches as far as a far field would (2000 camera
+// heights, 10 patches, kWorldReach). The patch's vertices stay the model's; the skirt's
+// take the wind sea through wind_sea_scale (0 on the patch: the model moved it).
+void plan_ocean_skirt(const Scene& scene, ScenePlan& p) {
+    if (scene.surface_kind != SurfaceKind::ocean || p.ocean.n == 0 || p.camera_grid.vertex_count() > 0) return;
+    const double wavelength = 2.0 * std::numbers::pi * kGravity / (p.ocean.peak_omega * p.ocean.peak_omega);
+    SeaSkirtOptions o;
+    o.distance = std::max({2000.0 * std::max(0.0, scene_camera(scene, p.seafloor)[2]), 10.0 * p.ocean.size, kWorldReach});
+    o.size = [wavelength](const SkirtSite& site) { return wind_sea_skirt_size(site, wavelength); };
+    o.max_vertices = scene.surface.max_vertices;
+    const std::vector<std::uint32_t>& triangles = p.patch_triangles;
+    p.skirt = plan_sea_skirt(p.rest_x, p.rest_y, triangles, o);
+    if (p.skirt.vertex_count() == 0) return;
+    p.skirted_triangles = triangles;
+    const std::size_t own = p.rest_x.size();
+    p.rest_depth.resize(own);
+    p.wind_sea_scale.assign(own, 0.0f);
+    append_skirt(p);
+    for (std::size_t v = own; v < p.rest_x.size(); ++v)
+        p.wind_sea_scale[v] = static_cast<float>(far_field_share(wavelength, p.skirt.size[v - own]));
+}
+
 // lattice J₋ → J₋ per coarse vertex.
-void fold_at_vertices(const ScenePlan& plan, std::span<const float> lattice_j, std::span<float> out) {
-    if (plan.wind_sea_scale.empty()) {  // the surface is the patch: (N+1)² vertices repeat the first row and column
+void fold_at_vertices(const ScenePlan& plan, bool patch, std::span<const float> lattice_j, std::span<float> out) {
+    std::size_t first = 0;  // the first vertex sampled off the lattice
+    if (patch) {  // the patch: (N+1)² vertices repeat the first row and column
         const std::size_t N = plan.ocean.n, side = N + 1;
         for (std::size_t row = 0; row < side; ++row) {
             const float* src = &lattice_j[(row == N ? 0 : row) * N];
             std::copy(src, src + N, &out[row * side]);
             out[row * side + N] = src[0];
         }
-    } else {
-        sample_ocean_field(plan.ocean, lattice_j, plan.rest_x, plan.rest_y, plan.wind_sea_scale, out);
+        first = side * side;  // then its skirt's, if any
     }
+    if (first < plan.rest_x.size())
+        sample_ocean_field(plan.ocean, lattice_j, std::span<const double>(plan.rest_x).subspan(first),
+                           std::span<const double>(plan.rest_y).subspan(first),
+                           std::span<const float>(plan.wind_sea_scale).subspan(first), out.subspan(first));
 }
 
 // The fold foam's threshold: the scene's /shade/fold_threshold when it gives one; else the
@@ -325,7 +376,7 @@ void plan_fold_foam(const Scene& scene, ScenePlan& p) {
     p.whitecap_coverage = target;
     std::vector<float> at_vertices(p.rest_x.size());
     for (std::size_t i = 0; i < lattice.size(); ++i) {
-        fold_at_vertices(p, past[lattice.size() - 1 - i], at_vertices);
+        fold_at_vertices(p, scene.surface_kind == SurfaceKind::ocean, past[lattice.size() - 1 - i], at_vertices);
         p.fold_past.emplace_back(lattice[i], fold_sample(at_vertices, p.fold_foam));
     }
 }
@@ -357,6 +408,7 @@ ScenePlan plan_scene(const Scene& scene, PlanStages stages) {
     if (stages == PlanStages::trace) return p;
     plan_components(scene, p);
     plan_far_field_stage(scene, p);
+    plan_ocean_skirt(scene, p);
     plan_fold_foam(scene, p);
     if (stages == PlanStages::all) refine_scene_plan(scene, p);
     return p;
@@ -1064,14 +1116,14 @@ CoarseFrame move_coarse(FrameRun& r, double t, std::span<float> pc, std::span<fl
         const std::span<const double> x(plan.rest_x.data(), own), y(plan.rest_y.data(), own);
         add_gerstner_waves(plan.gerstner, x, y, std::span<const float>(plan.rest_depth.data(), own), t, pc.first(3 * own));
     }
-    if (plan.skirt.vertex_count() > 0) evaluate_far_field(plan.far_field, t, pc, r.far_field_scratch);
+    if (plan.far_field.vertex_count() > 0) evaluate_far_field(plan.far_field, t, pc, r.far_field_scratch);
     if (plan.skirt_breakers.vertex_count() > 0) evaluate_skirt_breakers(plan.skirt_breakers, t, pc, r.far_field_scratch);
     if (!plan.wind_sea_scale.empty()) {  // a wind sea superposed on the model's surface
         const OceanFields fields = evaluate_ocean(plan.ocean, t, *r.wind_sea.workspace);
         add_ocean_samples(plan.ocean, fields, plan.rest_x, plan.rest_y, plan.wind_sea_scale, pc);
         if (r.shaded) {
             ocean_jacobian_field(plan.ocean, fields, r.wind_sea.lattice_j);
-            fold_at_vertices(plan, r.wind_sea.lattice_j, r.wind_sea.vertex_j);
+            fold_at_vertices(plan, r.scene.surface_kind == SurfaceKind::ocean, r.wind_sea.lattice_j, r.wind_sea.vertex_j);
         }
     }
     const bool normals_done = exact_normals && plan.gerstner.empty() && !r.refined;
@@ -1085,7 +1137,7 @@ void coarse_foam(FrameRun& r, double t, std::span<float> fc) {
     // The skirt's foam: Jeschke's breakers carried on beyond the border where they run,
     // otherwise the border's own foam with its residual motion.
     if (plan.skirt_breakers.vertex_count() > 0) skirt_breaker_foam(plan.skirt_breakers, t, fc, r.far_field_scratch);
-    else if (plan.skirt.vertex_count() > 0) far_field_foam(plan.far_field, fc);
+    else if (plan.far_field.vertex_count() > 0) far_field_foam(plan.far_field, fc);
     if (plan.ocean.n == 0) return;
     const FoldFoamOptions& fold = plan.fold_foam;
     accumulate_fold_foam(r.wind_sea.vertex_j, 0.0, fold, fc);
@@ -1097,7 +1149,7 @@ void coarse_foam(FrameRun& r, double t, std::span<float> fc) {
         if (it == r.fold_past.end()) {
             evaluate_ocean_jacobian(plan.ocean, static_cast<double>(j) * step, *r.wind_sea.workspace, r.wind_sea.lattice_j);
             detail::size_for_overwrite(r.fold_scratch, plan.rest_x.size());
-            fold_at_vertices(plan, r.wind_sea.lattice_j, r.fold_scratch);
+            fold_at_vertices(plan, r.scene.surface_kind == SurfaceKind::ocean, r.wind_sea.lattice_j, r.fold_scratch);
             it = r.fold_past.emplace(j, fold_sample(r.fold_scratch, fold)).first;
         }
         window.push_back({&it->second, t - static_cast<double>(j) * step});

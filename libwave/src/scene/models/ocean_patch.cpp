@@ -56,8 +56,10 @@ void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
 
 bool move(const Scene&, const ScenePlan& p, double t, ModelState*, ModelFrame& frame) {
     const OceanFields fields = evaluate_ocean(p.ocean, t, *frame.wind_sea.workspace);
-    if (!frame.fresnel) {
-        ocean_patch_frame(p.ocean, fields, frame.positions, frame.normals, frame.wind_sea.vertex_j);  // exact normals
+    if (!frame.fresnel) {  // exact normals; a far skirt's vertices follow (the pipeline's wind sea)
+        const std::size_t side = p.ocean.n + 1;
+        const std::span<float> j_minus(frame.wind_sea.vertex_j);
+        ocean_patch_frame(p.ocean, fields, frame.positions, frame.normals, j_minus.empty() ? j_minus : j_minus.first(side * side));
         return true;
     }
     // Blocks of rows: each block's Fresnel weights while its positions and normals are
