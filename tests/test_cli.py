@@ -2747,12 +2747,15 @@ def plan_mesh(doc, binary, name):
 
 
 def covering(points, plan, triangles, within):
-    """For each point, the barycentric (triangle, weights) of a triangle of the mesh that
-    covers it, or None. Only triangles whose box meets the disc `within` (centre, radius)
-    are tried."""
+    """For each point on the circle `within` (centre, radius), the barycentric (triangle,
+    weights) of a triangle of the mesh that covers it, or None."""
     (cx, cy), radius = within
     found = [None] * len(points)
+    # A triangle that covers a point on the circle has a corner on it or beyond.
+    beyond = [math.hypot(x - cx, y - cy) >= radius for x, y in plan]
     for t in range(0, len(triangles), 3):
+        if not (beyond[triangles[t]] or beyond[triangles[t + 1]] or beyond[triangles[t + 2]]):
+            continue
         a, b, c = plan[triangles[t]], plan[triangles[t + 1]], plan[triangles[t + 2]]
         x0, x1 = min(a[0], b[0], c[0]), max(a[0], b[0], c[0])
         y0, y1 = min(a[1], b[1], c[1]), max(a[1], b[1], c[1])

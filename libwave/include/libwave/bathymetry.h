@@ -338,9 +338,9 @@ struct TerrainBeyond {
     std::vector<double> s;         ///< perimeter coordinate of each border node (m), from 0; the loop's length is `perimeter`
     std::vector<double> z;         ///< elevation at each border node (m)
     std::vector<double> land;      ///< ∫ max(z, 0) ds from s = 0 to each node, one more at the loop's end
-    std::vector<double> land_len;  ///< ∫ [z > 0] ds likewise
+    std::vector<double> land_len;  ///< ∫ [z >= 0] ds likewise
     std::vector<double> sea;       ///< ∫ min(z, 0) ds likewise
-    std::vector<double> sea_len;   ///< ∫ [z <= 0] ds likewise
+    std::vector<double> sea_len;   ///< ∫ [z < 0] ds likewise
     std::vector<double> shore;     ///< perimeter coordinates where the border's elevation crosses 0 (m)
     double perimeter = 0.0;        ///< the rectangle's perimeter (m)
     TerrainBeyondOptions options;  ///< with every 0 replaced by its value
@@ -356,16 +356,16 @@ TerrainBeyond plan_terrain_beyond(const ElevationGrid& grid, const TerrainBeyond
 /// border point's perimeter coordinate and the distance to it:
 ///  * on the border (d = 0) it is the border's elevation: the terrain is continuous
 ///    with the data;
-///  * beyond land (z(s) > 0), the land's mean over a window of ±d/2 along the border
+///  * beyond land (z(s) >= 0: h <= 0), the land's mean over a window of ±d/2 along the border
 ///    (the data's detail fades to its trend), plus `relief` rising over
 ///    `rise_distance` (smoothstep) with dunes a third of the way and band-limited hills
 ///    (a sum of sines) — always above still water (> 0 for d > 0);
-///  * beyond sea, the sea's mean elevation over that window (sea bottom stays sea
+///  * beyond sea (z(s) < 0), the sea's mean elevation over that window (sea bottom stays sea
 ///    bottom, as deep as the border's water), except near land: there the land goes on
 ///    over the sea and falls to it over a width growing with d (d/4, at most a tenth of
 ///    the grid's longer side) and wobbling with the hills, so that the coast beyond a
 ///    border where the shoreline meets it is not the straight line the far field's skirt
-///    ends on; sea feet further than 0.08 of that side from the shore stay sea (<= 0).
+///    ends on; sea feet further than 0.08 of that side from the shore stay sea (< 0).
 /// Inside the rectangle (d = 0 there) it is the border value at the nearest border
 /// point; callers use the grid inside. Deterministic, no allocation.
 double terrain_elevation(const TerrainBeyond& terrain, double x, double y, double resolution) noexcept;

@@ -101,10 +101,10 @@ TerrainBeyond plan_terrain_beyond(const ElevationGrid& g, const TerrainBeyondOpt
         const double z0 = t.z[k], z1 = t.z[(k + 1) % n];
         const double len = (k + 1 < n ? t.s[k + 1] : t.perimeter) - t.s[k];
         t.land[k + 1] = t.land[k] + 0.5 * len * (std::max(z0, 0.0) + std::max(z1, 0.0));
-        t.land_len[k + 1] = t.land_len[k] + 0.5 * len * ((z0 > 0.0 ? 1.0 : 0.0) + (z1 > 0.0 ? 1.0 : 0.0));
+        t.land_len[k + 1] = t.land_len[k] + 0.5 * len * ((z0 >= 0.0 ? 1.0 : 0.0) + (z1 >= 0.0 ? 1.0 : 0.0));
         t.sea[k + 1] = t.sea[k] + 0.5 * len * (std::min(z0, 0.0) + std::min(z1, 0.0));
-        t.sea_len[k + 1] = t.sea_len[k] + 0.5 * len * ((z0 > 0.0 ? 0.0 : 1.0) + (z1 > 0.0 ? 0.0 : 1.0));
-        if ((z0 > 0.0) != (z1 > 0.0)) t.shore.push_back(t.s[k] + len * z0 / (z0 - z1));  // where z crosses 0
+        t.sea_len[k + 1] = t.sea_len[k] + 0.5 * len * ((z0 >= 0.0 ? 0.0 : 1.0) + (z1 >= 0.0 ? 0.0 : 1.0));
+        if ((z0 >= 0.0) != (z1 >= 0.0)) t.shore.push_back(t.s[k] + len * z0 / (z0 - z1));  // where z crosses 0
     }
     const double size = std::max(w, h);
     t.options = options;
@@ -152,17 +152,17 @@ double terrain_elevation(const TerrainBeyond& t, double x, double y, double reso
         return l > 1e-9 * d ? v / l : 0.0;
     };
     const double land_mean = mean(t.land, t.land_len, [&](std::size_t i) { return std::max(t.z[i], 0.0); },
-                                  [&](std::size_t i) { return t.z[i] > 0.0 ? 1.0 : 0.0; });
+                                  [&](std::size_t i) { return t.z[i] >= 0.0 ? 1.0 : 0.0; });
     const TerrainBeyondOptions& o = t.options;
     const double n = hills(t, x, y, resolution);
     const double rise = smoothstep(d / o.rise_distance);
     const double dune_at = (d - 0.3 * o.rise_distance) / (0.12 * o.rise_distance);
     const double dune = 0.5 * std::exp(-dune_at * dune_at) * (1.0 + 0.5 * n) * smoothstep(d / (0.15 * o.rise_distance));
     const double land = land_mean + o.relief * (rise * (1.0 + 0.6 * n) + dune);  // > 0 for d > 0
-    if (z_foot > 0.0) return land;
+    if (z_foot >= 0.0) return land;  // land is h <= 0 (docs/conventions.md)
 
     const double sea_mean = mean(t.sea, t.sea_len, [&](std::size_t i) { return std::min(t.z[i], 0.0); },
-                                 [&](std::size_t i) { return t.z[i] > 0.0 ? 0.0 : 1.0; });
+                                 [&](std::size_t i) { return t.z[i] >= 0.0 ? 0.0 : 1.0; });
     // Beside land: the land runs on over the sea, falling to it over a width that grows
     // with d and wobbles with the hills, so the coast leaves the skirt's straight cut.
     double to_land = std::numeric_limits<double>::infinity();
