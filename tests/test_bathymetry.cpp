@@ -505,16 +505,21 @@ TEST(TerrainBeyond, MeetsTheBorderAndFadesItsDetailWithDistance) {
         EXPECT_NEAR(terrain_elevation(t, x, g.y_max() + 1e-3, 1.0), g.at(i, g.ny - 1), 1e-3);
         EXPECT_NEAR(terrain_elevation(t, x, g.y0 - 1e-3, 1.0), g.at(i, 0), 1e-3);
     }
-    // Behind the bay's head the border's land dips from 2 m to 1 m (the cause of the
-    // pale wedge when it was carried unchanged to the horizon); 200 m back, the window
-    // spans the side and the dip is gone.
+    // A dip in a border's land (the bay's head dips from 2 m to 1 m: carried unchanged to
+    // the horizon, it was the default scene's pale wedge) fades: 200 m back, the window
+    // spans the side and the dip is gone. Land all round, 2 m, a 1 m dip 10 m wide.
+    ElevationGrid land;
+    land.nx = land.ny = 101;
+    land.z.assign(101 * 101, 2.0);
+    for (std::size_t i = 45; i <= 55; ++i) land.at(i, 100) = 1.0;
+    const TerrainBeyond dip = plan_terrain_beyond(land, flat);
     const auto range = [&](double y) {
         double lo = 1e9, hi = -1e9;
-        for (double x = 0.0; x <= 100.0; x += 2.5) lo = std::min(lo, terrain_elevation(t, x, y, 1.0)), hi = std::max(hi, terrain_elevation(t, x, y, 1.0));
+        for (double x = 0.0; x <= 100.0; x += 2.5) lo = std::min(lo, terrain_elevation(dip, x, y, 1.0)), hi = std::max(hi, terrain_elevation(dip, x, y, 1.0));
         return hi - lo;
     };
     EXPECT_NEAR(range(100.0), 1.0, 1e-9);
-    EXPECT_LT(range(300.0), 0.1);
+    EXPECT_LT(range(300.0), 0.06);
 }
 
 TEST(TerrainBeyond, LandStaysAboveStillWaterAndTheOpenSeaBelowIt) {
@@ -568,7 +573,7 @@ TEST(TerrainBeyond, HillsRiseBehindTheBeachAndFadeWhereTheMeshCannotDrawThem) {
     TerrainBeyondOptions other;
     other.seed = 2;
     EXPECT_NE(terrain_elevation(t, 37.0, 480.0, 2.0), terrain_elevation(plan_terrain_beyond(beach.grid, other), 37.0, 480.0, 2.0));
-    const double smooth_a = terrain_elevation(t, 80.0, 300.0, 1e9), smooth_b = terrain_elevation(t, 120.0, 300.0, 1e9);
+    const double smooth_a = terrain_elevation(t, 80.0, 300.0, 2000.0), smooth_b = terrain_elevation(t, 120.0, 300.0, 2000.0);
     EXPECT_NEAR(smooth_a, smooth_b, 1e-9);  // no hills: the border's trend (flat land) and the rise
     EXPECT_NEAR(smooth_a, 2.0 + t.options.relief, 1e-9);
 }

@@ -359,7 +359,10 @@ TerrainBeyond plan_terrain_beyond(const ElevationGrid& grid, const TerrainBeyond
 ///  * beyond land (z(s) >= 0: h <= 0), the land's mean over a window of ±d/2 along the border
 ///    (the data's detail fades to its trend), plus `relief` rising over
 ///    `rise_distance` (smoothstep) with dunes a third of the way and band-limited hills
-///    (a sum of sines) — always above still water (> 0 for d > 0);
+///    (a sum of sines), coming down to a low coast (the border's height plus a
+///    twentieth of the relief and low hills) within max(a quarter of the grid's longer
+///    side, d/2), along the border, of where the shoreline meets the border — always
+///    above still water (> 0 for d > 0);
 ///  * beyond sea (z(s) < 0), the sea's mean elevation over that window (sea bottom stays sea
 ///    bottom, as deep as the border's water), except near land: there the land goes on
 ///    over the sea and falls to it over a width growing with d (d/4, at most a tenth of

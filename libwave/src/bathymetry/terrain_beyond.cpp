@@ -154,28 +154,39 @@ double terrain_elevation(const TerrainBeyond& t, double x, double y, double reso
     const double land_mean = mean(t.land, t.land_len, [&](std::size_t i) { return std::max(t.z[i], 0.0); },
                                   [&](std::size_t i) { return t.z[i] >= 0.0 ? 1.0 : 0.0; });
     const TerrainBeyondOptions& o = t.options;
+    const double size = std::max(t.x1 - t.x0, t.y1 - t.y0);
+    // The distance along the border to where the shoreline meets it (the far field's
+    // skirt ends on a straight cut there, perpendicular to the side).
+    double shore = std::numeric_limits<double>::infinity();
+    for (double c : t.shore) {
+        const double a = std::abs(s - c);
+        shore = std::min(shore, std::min(a, t.perimeter - a));
+    }
     const double n = hills(t, x, y, resolution);
     const double rise = smoothstep(d / o.rise_distance);
     const double dune_at = (d - 0.3 * o.rise_distance) / (0.12 * o.rise_distance);
     const double dune = 0.5 * std::exp(-dune_at * dune_at) * (1.0 + 0.5 * n) * smoothstep(d / (0.15 * o.rise_distance));
-    const double land = land_mean + o.relief * (rise * (1.0 + 0.6 * n) + dune);  // > 0 for d > 0
+    const double inland = land_mean + o.relief * (rise * (1.0 + 0.6 * n) + dune);  // > 0 for d > 0
+    // Near that cut the land comes down to a low coast (a twentieth of the relief, with
+    // low hills), over a width growing with d: the inland's height there, 130 m over
+    // Okushiri's, stood as a wall along the cut to the horizon, and a slope of a quarter
+    // of the grid still did, seen end-on from 20 km.
+    const double coastal = std::max(z_foot, 0.0) + o.relief * rise * (0.05 + 0.1 * (1.0 + n));
+    const double taper = smoothstep(shore / std::max(0.25 * size, 0.5 * d));
+    const double land = coastal + (inland - coastal) * taper;
     if (z_foot >= 0.0) return land;  // land is h <= 0 (docs/conventions.md)
 
     const double sea_mean = mean(t.sea, t.sea_len, [&](std::size_t i) { return std::min(t.z[i], 0.0); },
                                  [&](std::size_t i) { return t.z[i] >= 0.0 ? 0.0 : 1.0; });
-    // Beside land: the land runs on over the sea, falling to it over a width that grows
-    // with d and wobbles with the hills, so the coast leaves the skirt's straight cut.
-    double to_land = std::numeric_limits<double>::infinity();
-    for (double c : t.shore) {
-        const double a = std::abs(s - c);
-        to_land = std::min(to_land, std::min(a, t.perimeter - a));
-    }
-    // The width is bounded by a tenth of the grid: a corner's quadrant beyond holds one
-    // foot, the corner, so a width growing on with d would turn it all to land.
-    const double size = std::max(t.x1 - t.x0, t.y1 - t.y0);
-    const double width = std::min(0.25 * d, 0.1 * size) * (1.0 + 0.6 * hills(t, -y + 0.37 * o.hill_wavelength, x, resolution));
-    if (!std::isfinite(to_land) || !(width > 0.0)) return sea_mean;
-    return std::max(sea_mean, land - (land - sea_mean) * 2.0 * to_land / width);  // the sea's own at to_land = width / 2
+    // Beside land: the coast runs on over the sea, falling to the sea's depth over a width
+    // that grows with d and wobbles with the hills, so the coast leaves the skirt's
+    // straight cut. The width is at most a tenth of the grid (a corner's quadrant beyond
+    // holds one foot, the corner, so a width growing on with d would turn it all to
+    // land), and where the mesh allows, no narrower than two of its edges.
+    const double width = std::min(std::max(0.25 * d, 2.0 * resolution), 0.1 * size) *
+                         (1.0 + 0.6 * hills(t, -y + 0.37 * o.hill_wavelength, x, resolution));
+    if (!std::isfinite(shore) || !(width > 0.0)) return sea_mean;
+    return std::max(sea_mean, land - (land - sea_mean) * 2.0 * shore / width);  // the sea's own at shore = width / 2
 }
 
 }  // namespace wave
