@@ -344,8 +344,9 @@ class MainJob(unittest.TestCase):
         # rectangle. Every edge inside is shared by two triangles and the mesh's only
         # border is that rectangle. A triangle touching the grid's border stays within a
         # cell or so of it: a renderer's smooth normals carry the border's slopes (and
-        # their light) that far only. A single ring to the far rectangle made 80 km
-        # triangles of them, a bright wedge of land to the horizon (docs/blender.png).
+        # their light) that far only. (The pale wedge of land from the bay's beach to
+        # the horizon was the border's colour extruded to the far rectangle; the terrain
+        # beyond the data now fades it: docs/far-field.md.)
         with tempfile.TemporaryDirectory() as d:
             out = os.path.join(d, "out")
             r = wave("run", "-o", out, "--frames", "0:1", "--no-quantize")
@@ -1069,8 +1070,13 @@ class WindWaves(unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             report = self.example_frames("open-ocean.json", d)
             self.assertEqual(report["surface"]["kind"], "ocean")
-            self.assertEqual(report["surface"]["vertices"], 513 * 513)
-            self.assertEqual(report["surface"]["triangles"], 2 * 512 * 512)
+            # The patch, and the skirt that carries it to the horizon (500 km: 2000 × the
+            # camera's 250 m; docs/far-field.md, the open ocean to the horizon).
+            skirt = report["surface"]["far_field"]
+            self.assertEqual(skirt["distance_m"], 500000.0)
+            self.assertGreater(skirt["vertices"], 10000)
+            self.assertEqual(report["surface"]["vertices"], 513 * 513 + skirt["vertices"])
+            self.assertEqual(report["surface"]["triangles"], 2 * 512 * 512 + skirt["triangles"])
             self.assertEqual(report["surface"]["loop_frames"], 160)  # 20 s at 8 fps
             # Phillips with the default A = α/2π: variance A π L²/2, L = V²/g (Hs 17.6 m at
             # 31 m/s); the lattice and the 0.5 m cutoff keep it within 5 %.
@@ -1102,9 +1108,18 @@ class WindWaves(unittest.TestCase):
                 self.assertLessEqual(max(frame), 1 + 1e-6)
                 peak = max(peak, max(frame))
             self.assertGreater(peak, 0.5)  # λ = 4 folds the crests
-            # TEXCOORD_0 spans the patch exactly, so a texture tiles with the water.
+            # TEXCOORD_0 spans the patch exactly, so a texture tiles with the water; the
+            # skirt round it (the patch's 33² vertices first) runs on beyond [0, 1].
             uv = floats(doc, binary, prim["attributes"]["TEXCOORD_0"])
-            self.assertEqual((min(uv[0::2]), max(uv[0::2])), (0.0, 1.0))
+            self.assertEqual((min(uv[0:2 * 33 * 33:2]), max(uv[0:2 * 33 * 33:2])), (0.0, 1.0))
+            self.assertLess(min(uv[0::2]), -10.0)
+            self.assertGreater(max(uv[0::2]), 10.0)
+            # Where the skirt meets the patch the two are one surface: the patch's border
+            # vertices are the skirt's (no second copy at the seam, no tile edge).
+            position = floats(doc, binary, prim["attributes"]["POSITION"])
+            rest = {(round(uv[2 * v], 6), round(uv[2 * v + 1], 6)) for v in range(len(uv) // 2)}
+            self.assertEqual(len(rest), len(uv) // 2)
+            self.assertEqual(len(position) // 3, len(uv) // 2)
 
     @same_bytes_test
     def test_ocean_is_identical_with_one_and_two_threads(self):

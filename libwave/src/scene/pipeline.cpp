@@ -1279,24 +1279,45 @@ std::array<float, 3> seafloor_colour(double z, const FloorPalette& p) {
 // far rectangle: whatever the border held ran on unchanged to the horizon — behind the
 // bay's head, the low sand-coloured land where the bay cuts deepest drew a pale wedge,
 // a road from the beach to the horizon.
+//
+// Rings are zipped by a parameter tau that gives a point beyond a side the place of its
+// foot on that side (side + kCorner + (1 − 2 kCorner) · the foot's fraction), and the
+// corner's quadrant the kCorner either side of the corner: a line out from the border
+// (a side's node, or the skirt's cut where the shoreline meets the border, a vertex on
+// every ring) is then a chain of mesh edges, and no triangle of the far rings spans the
+// land beside a cut and the sea beyond it (one 1.25 km across, 5 km out, dipped the
+// bay's land below still water where no water lies).
 void add_seafloor_apron(const ElevationGrid& g, double cell, double reach, std::size_t cols, std::size_t rows,
                         const FloorPalette& palette, SceneAnimation& a) {
+    constexpr double kCorner = 0.02;
     const TerrainBeyond terrain = plan_terrain_beyond(g);
     const bool mapped = !a.seafloor_texcoords.empty();
     const double x0 = a.seafloor_positions[0], y0 = a.seafloor_positions[1];
     const double x1 = a.seafloor_positions[3 * (cols * rows - 1)], y1 = a.seafloor_positions[3 * (cols * rows - 1) + 1];
+    const double length[4] = {x1 - x0, y1 - y0, x1 - x0, y1 - y0};
     struct Node {
         std::uint32_t index;
-        double tau;  // side + the fraction along it, counter-clockwise from (x0, y0)
+        double tau;
     };
-    // Ring 0: the grid's border nodes counter-clockwise, each corner once.
+    // Ring 0: the grid's border nodes counter-clockwise, each corner once (just before its
+    // side's tau, so that the corner's quadrant fans from it).
     std::vector<Node> inner;
     const auto at = [cols](std::size_t c, std::size_t r) { return static_cast<std::uint32_t>(r * cols + c); };
     const double fc = static_cast<double>(cols - 1), fr = static_cast<double>(rows - 1);
-    for (std::size_t c = 0; c + 1 < cols; ++c) inner.push_back({at(c, 0), static_cast<double>(c) / fc});
-    for (std::size_t r = 0; r + 1 < rows; ++r) inner.push_back({at(cols - 1, r), 1.0 + static_cast<double>(r) / fr});
-    for (std::size_t c = cols - 1; c > 0; --c) inner.push_back({at(c, rows - 1), 2.0 + static_cast<double>(cols - 1 - c) / fc});
-    for (std::size_t r = rows - 1; r > 0; --r) inner.push_back({at(0, r), 3.0 + static_cast<double>(rows - 1 - r) / fr});
+    const auto main_tau = [](int side, double fraction) { return side + kCorner + (1.0 - 2.0 * kCorner) * fraction; };
+    for (int side = 0; side < 4; ++side) {
+        const std::size_t count = side % 2 == 0 ? cols - 1 : rows - 1;
+        for (std::size_t k = 0; k < count; ++k) {
+            const std::uint32_t v = side == 0 ? at(k, 0) : side == 1 ? at(cols - 1, k) : side == 2 ? at(cols - 1 - k, rows - 1) : at(0, rows - 1 - k);
+            inner.push_back({v, k == 0 ? side - 0.5 * kCorner : main_tau(side, static_cast<double>(k) / (side % 2 == 0 ? fc : fr))});
+        }
+    }
+    // Where the shoreline meets each side (the skirt's cuts): a fraction of the side.
+    std::array<std::vector<double>, 4> cuts;
+    const double side_start[4] = {0.0, length[0], length[0] + length[1], 2.0 * length[0] + length[1]};
+    for (const double c : terrain.shore)
+        for (int side = 0; side < 4; ++side)
+            if (c > side_start[side] && c < side_start[side] + length[side]) cuts[static_cast<std::size_t>(side)].push_back((c - side_start[side]) / length[side]);
     // Inner ring → outer ring, both closed and ordered by tau: advance the one whose
     // next node comes first (triangles counter-clockwise, as the grid's).
     const auto zip = [&](std::vector<Node> in, std::vector<Node> out) {
@@ -1320,11 +1341,29 @@ void add_seafloor_apron(const ElevationGrid& g, double cell, double reach, std::
         const double corner[5][2] = {{x0 - d, y0 - d}, {x1 + d, y0 - d}, {x1 + d, y1 + d}, {x0 - d, y1 + d}, {x0 - d, y0 - d}};
         std::vector<Node> outer;
         for (int side = 0; side < 4; ++side) {
+            // Along the side from its corner: the corner piece [0, d), the foot's piece
+            // [d, d + L) and the next corner's piece [d + L, L + 2d), at (a, tau).
+            const double L = length[side];
+            std::vector<std::pair<double, double>> points;
+            const auto corner_pieces = static_cast<std::size_t>(std::ceil(d / spacing));
+            const auto main_pieces = static_cast<std::size_t>(std::max(1.0, std::ceil(L / spacing)));
+            for (std::size_t j = 0; j < corner_pieces; ++j) {
+                const double f = static_cast<double>(j) / static_cast<double>(corner_pieces);
+                points.push_back({d * f, side + kCorner * f});
+                points.push_back({d + L + d * f, side + 1.0 - kCorner + kCorner * f});
+            }
+            for (std::size_t j = 0; j < main_pieces; ++j) {
+                const double f = static_cast<double>(j) / static_cast<double>(main_pieces);
+                points.push_back({d + L * f, main_tau(side, f)});
+            }
+            for (const double f : cuts[static_cast<std::size_t>(side)]) points.push_back({d + L * f, main_tau(side, f)});
+            std::sort(points.begin(), points.end(), [](const auto& p, const auto& q) { return p.second < q.second; });
+            points.erase(std::unique(points.begin(), points.end(), [](const auto& p, const auto& q) { return q.second - p.second < 1e-12; }),
+                         points.end());
             const double ax = corner[side][0], ay = corner[side][1], bx = corner[side + 1][0], by = corner[side + 1][1];
-            const auto m = static_cast<std::size_t>(std::max(2.0, std::ceil(std::hypot(bx - ax, by - ay) / spacing)));
-            for (std::size_t j = 0; j < m; ++j) {
-                const double f = static_cast<double>(j) / static_cast<double>(m);
-                const double x = ax + f * (bx - ax), y = ay + f * (by - ay);
+            const double span = L + 2.0 * d;
+            for (const auto& [along, tau] : points) {
+                const double x = ax + (bx - ax) * along / span, y = ay + (by - ay) * along / span;
                 const double z = terrain_elevation(terrain, x, y, spacing);
                 a.seafloor_positions.insert(a.seafloor_positions.end(), {static_cast<float>(x), static_cast<float>(y), static_cast<float>(z)});
                 const auto colour = seafloor_colour(z, palette);
@@ -1333,7 +1372,7 @@ void add_seafloor_apron(const ElevationGrid& g, double cell, double reach, std::
                     a.seafloor_texcoords.insert(a.seafloor_texcoords.end(),
                                                 {static_cast<float>(std::clamp((x - g.x0) / (g.x_max() - g.x0), 0.0, 1.0)),
                                                  static_cast<float>(1.0 - std::clamp((y - g.y0) / (g.y_max() - g.y0), 0.0, 1.0))});
-                outer.push_back({static_cast<std::uint32_t>(a.seafloor_positions.size() / 3 - 1), side + f});
+                outer.push_back({static_cast<std::uint32_t>(a.seafloor_positions.size() / 3 - 1), tau});
             }
         }
         zip(std::move(inner), outer);
