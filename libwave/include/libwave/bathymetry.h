@@ -319,7 +319,7 @@ struct BarredBeachParams {
 Seafloor make_barred_beach(const BarredBeachParams& p = {});
 
 /// How the land and the sea bottom go on beyond a grid's rectangle (the exported
-/// seafloor's apron, docs/far-field.md#the-terrain-beyond-the-data). Every length 0
+/// seafloor's apron; docs/far-field.md, the terrain beyond the data). Every length 0
 /// means: chosen from the grid.
 struct TerrainBeyondOptions {
     double relief = 0.0;          ///< height the land rises by beyond the border, and its hills' scale (m); 0: 5 % of the grid's longer side, at least half its highest land
@@ -334,7 +334,10 @@ struct TerrainBeyondOptions {
 /// height, the sea's elevation and each one's length, and where the shoreline meets
 /// the border.
 struct TerrainBeyond {
-    double x0 = 0.0, y0 = 0.0, x1 = 0.0, y1 = 0.0;  ///< the grid's rectangle (m)
+    double x0 = 0.0;  ///< the grid's rectangle (m): its lowest x
+    double y0 = 0.0;  ///< its lowest y (m)
+    double x1 = 0.0;  ///< its highest x (m)
+    double y1 = 0.0;  ///< its highest y (m)
     std::vector<double> s;         ///< perimeter coordinate of each border node (m), from 0; the loop's length is `perimeter`
     std::vector<double> z;         ///< elevation at each border node (m)
     std::vector<double> land;      ///< ∫ max(z, 0) ds from s = 0 to each node, one more at the loop's end
@@ -344,7 +347,9 @@ struct TerrainBeyond {
     std::vector<double> shore;     ///< perimeter coordinates where the border's elevation crosses 0 (m)
     double perimeter = 0.0;        ///< the rectangle's perimeter (m)
     TerrainBeyondOptions options;  ///< with every 0 replaced by its value
-    double hill_kx[8][3]{}, hill_ky[8][3]{}, hill_phase[8][3]{};  ///< the hills' wave vectors (rad/m) and phases, 3 per octave
+    double hill_kx[8][3]{};     ///< the hills' wave vectors' x (rad/m), 3 per octave
+    double hill_ky[8][3]{};     ///< the hills' wave vectors' y (rad/m)
+    double hill_phase[8][3]{};  ///< the hills' phases (rad)
 };
 
 /// The border profile of `grid` and the resolved options. Precondition: nx, ny >= 2.

@@ -1052,7 +1052,10 @@ void start_run(FrameRun& r, const std::vector<std::uint32_t>& triangles, std::si
     // every frame against the coarse surface at rest (breaking crests' lips excepted).
     // The surface's boundary off the domain's sides is the shore and holds still, but
     // for the traced strips themselves, whose boundary is where their rays end.
-    if (r.model.untangle || !plan.wind_sea_scale.empty() || !plan.gerstner.empty()) {
+    // The open ocean's skirt (its wind sea, wind_sea_scale) does not untangle the patch:
+    // the patch's folds are its whitecaps (fold foam), and its vertices stay the FFT's.
+    const bool patch = r.scene.surface_kind == SurfaceKind::ocean;
+    if (r.model.untangle || (!patch && !plan.wind_sea_scale.empty()) || !plan.gerstner.empty()) {
         const bool traced_strips = r.scene.surface_kind == SurfaceKind::ray_strips && !r.scene.water_mesh_per_wavelength &&
                                    !r.scene.camera_grid;
         const bool lips = r.model.overturns && r.model.overturns(r.scene);

@@ -18,7 +18,7 @@ void read_before(const Node& root, Scene& s) {
     refuse_height_field_options(root, "ocean\" (set /ocean instead)");
     refuse_ray_strip_keys(root);
     if (root.has("surface") && root["surface"].value().is_object() && root["surface"].has("far_field"))
-        root["surface"]["far_field"].fail("not for the open-ocean patch: it tiles (repeat it beyond /ocean/size)");
+        root["surface"]["far_field"].fail("not for the open-ocean patch: a skirt of its own carries it to the horizon");
     s.far_field.reset();
     s.ocean = OceanOptions{};
     s.ocean->repeat_time = 20.0;  // Tessendorf's figure 5
