@@ -1120,6 +1120,12 @@ CoarseFrame move_coarse(FrameRun& r, double t, std::span<float> pc, std::span<fl
         add_gerstner_waves(plan.gerstner, x, y, std::span<const float>(plan.rest_depth.data(), own), t, pc.first(3 * own));
     }
     if (plan.far_field.vertex_count() > 0) evaluate_far_field(plan.far_field, t, pc, r.far_field_scratch);
+    else if (plan.skirt.vertex_count() > 0)  // the open ocean's skirt: at rest, then the patch's wind sea below
+        for (std::size_t v = own; v < plan.rest_x.size(); ++v) {
+            pc[3 * v] = static_cast<float>(plan.rest_x[v]);
+            pc[3 * v + 1] = static_cast<float>(plan.rest_y[v]);
+            pc[3 * v + 2] = 0.0f;
+        }
     if (plan.skirt_breakers.vertex_count() > 0) evaluate_skirt_breakers(plan.skirt_breakers, t, pc, r.far_field_scratch);
     if (!plan.wind_sea_scale.empty()) {  // a wind sea superposed on the model's surface
         const OceanFields fields = evaluate_ocean(plan.ocean, t, *r.wind_sea.workspace);
