@@ -90,11 +90,11 @@ Frame frame_by_stages(const std::string& grid_path, std::size_t frame_number) {
     const wave::GonzatoMotionPlan motion = wave::plan_gonzato_motion(on_mesh);
     const std::size_t n = mesh.vertex_count();
 
-    // The far field: a skirt to the horizon (2000 camera heights, at least ten domains),
+    // The far field: a skirt to the horizon (2000 camera heights, at least ten domains and 5 km),
     // moved by the swell's fundamental and first overtone fitted at the border.
     const wave::ElevationGrid& g = seafloor.grid;
     wave::SeaSkirtOptions skirt_options;
-    skirt_options.distance = std::max(2000.0 * 1.2, 10.0 * std::max(g.x_max() - g.x0, g.y_max() - g.y0));
+    skirt_options.distance = std::max({2000.0 * 1.2, 10.0 * std::max(g.x_max() - g.x0, g.y_max() - g.y0), 5000.0});
     skirt_options.size = wave::swell_skirt_size(seafloor, swell.period, 2.0, 2.0 * swell.amplitude / wave::kBreakerIndex);
     skirt_options.seafloor = &g;  // no sea carried on over the land beyond a shore that is a whole side
     const wave::SeaSkirt skirt = wave::plan_sea_skirt(mesh.x, mesh.y, mesh.triangles, skirt_options);

@@ -38,11 +38,11 @@ def frame_by_stages(grid_path: str, frame: int) -> Dict[str, Any]:
     libwave.fill_strip_gaps(field, seafloor, on_mesh)  # where no strip passed, the field's wave
     motion = libwave.plan_gonzato_motion(on_mesh)
 
-    # The far field: a skirt to the horizon (2000 camera heights, at least ten domains),
+    # The far field: a skirt to the horizon (2000 camera heights, at least ten domains and 5 km),
     # moved by the swell's fundamental and first overtone fitted at the border.
     size = max(np.ptp(mesh.x), np.ptp(mesh.y))
     # Its sizes read the depth no shallower than where the swell breaks (H/γ, γ = 0.78).
-    skirt = libwave.plan_sea_skirt(seafloor, mesh.x, mesh.y, mesh.triangles, PERIOD, max(2000 * CAMERA[2], 10 * size),
+    skirt = libwave.plan_sea_skirt(seafloor, mesh.x, mesh.y, mesh.triangles, PERIOD, max(2000 * CAMERA[2], 10 * size, 5000.0),
                                    min_depth=2 * AMPLITUDE / 0.78)
     omega = 2 * np.pi / PERIOD
     waves = [(omega, h, DIRECTION, 0.0) for h in (1, 2)]

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -485,6 +486,96 @@ TEST_F(Scratch, BrokenContourFiles) {
     expect_input_error([&] { read_seafloor(empty); }, {empty, "empty"});
     const std::string broken = write("b.json", R"({"contours": [)");
     expect_input_error([&] { read_seafloor(broken); }, {broken, "not valid JSON"});
+}
+
+
+// The terrain beyond the data (the exported seafloor's apron): continuous with the
+// border, the border's detail fading to its trend, land above still water, sea bottom
+// below it away from the shore.
+TEST(TerrainBeyond, MeetsTheBorderAndFadesItsDetailWithDistance) {
+    const Seafloor bay = make_gonzato_bay();
+    const ElevationGrid& g = bay.grid;
+    TerrainBeyondOptions flat;
+    flat.relief = 1e-9;  // the trend alone
+    const TerrainBeyond t = plan_terrain_beyond(g, flat);
+    // On the border and a millimetre beyond: the grid's own values.
+    for (std::size_t i = 0; i < g.nx; i += 7) {
+        const double x = g.x0 + static_cast<double>(i) * g.dx;
+        EXPECT_DOUBLE_EQ(terrain_elevation(t, x, g.y0, 1.0), g.at(i, 0));
+        EXPECT_NEAR(terrain_elevation(t, x, g.y_max() + 1e-3, 1.0), g.at(i, g.ny - 1), 1e-3);
+        EXPECT_NEAR(terrain_elevation(t, x, g.y0 - 1e-3, 1.0), g.at(i, 0), 1e-3);
+    }
+    // A dip in a border's land (the bay's head dips from 2 m to 1 m: carried unchanged to
+    // the horizon, it was the default scene's pale wedge) fades: 200 m back, the window
+    // spans the side and the dip is gone. Land all round, 2 m, a 1 m dip 10 m wide.
+    ElevationGrid land;
+    land.nx = land.ny = 101;
+    land.z.assign(101 * 101, 2.0);
+    for (std::size_t i = 45; i <= 55; ++i) land.at(i, 100) = 1.0;
+    const TerrainBeyond dip = plan_terrain_beyond(land, flat);
+    const auto range = [&](double y) {
+        double lo = 1e9, hi = -1e9;
+        for (double x = 0.0; x <= 100.0; x += 2.5) lo = std::min(lo, terrain_elevation(dip, x, y, 1.0)), hi = std::max(hi, terrain_elevation(dip, x, y, 1.0));
+        return hi - lo;
+    };
+    EXPECT_NEAR(range(100.0), 1.0, 1e-9);
+    EXPECT_LT(range(300.0), 0.06);
+}
+
+TEST(TerrainBeyond, LandStaysAboveStillWaterAndTheOpenSeaBelowIt) {
+    for (const char* name : {"gonzato-bay", "planar-beach", "gonzato-island", "barred-beach"}) {
+        const Seafloor s = make_named_seafloor(name);
+        const ElevationGrid& g = s.grid;
+        const TerrainBeyond t = plan_terrain_beyond(g);
+        const double size = std::max(g.x_max() - g.x0, g.y_max() - g.y0);
+        // Outward from every border node, at distances from a centimetre to 50 km, on a
+        // mesh as coarse as a quarter of the distance (the apron's).
+        const auto outward = [&](std::size_t i, std::size_t j, double nx, double ny) {
+            const double x = g.x0 + static_cast<double>(i) * g.dx, y = g.y0 + static_cast<double>(j) * g.dy;
+            const double z = g.at(i, j);
+            // The distance along the border to the shore, where it meets the border.
+            double shore = 1e300;
+            const double s_here = [&] {
+                const double w = g.x_max() - g.x0, h = g.y_max() - g.y0;
+                if (ny < 0.0) return x - g.x0;
+                if (nx > 0.0) return w + (y - g.y0);
+                if (ny > 0.0) return w + h + (g.x_max() - x);
+                return 2.0 * w + h + (g.y_max() - y);
+            }();
+            for (double c : t.shore) shore = std::min({shore, std::abs(s_here - c), t.perimeter - std::abs(s_here - c)});
+            for (double d = 0.01; d < 5e4; d *= 1.7) {
+                const double e = terrain_elevation(t, x + d * nx, y + d * ny, std::max(0.25 * d, g.dx));
+                if (z >= 0.0) {
+                    EXPECT_GT(e, 0.0) << name << " land beyond (" << x << ", " << y << ") at " << d << " m";
+                } else if (shore > 0.081 * size) {
+                    EXPECT_LT(e, 0.0) << name << " sea beyond (" << x << ", " << y << ") at " << d << " m";
+                }
+                EXPECT_TRUE(std::isfinite(e));
+            }
+        };
+        for (std::size_t i = 0; i < g.nx; i += 3) outward(i, 0, 0.0, -1.0), outward(i, g.ny - 1, 0.0, 1.0);
+        for (std::size_t j = 0; j < g.ny; j += 3) outward(0, j, -1.0, 0.0), outward(g.nx - 1, j, 1.0, 0.0);
+    }
+}
+
+TEST(TerrainBeyond, HillsRiseBehindTheBeachAndFadeWhereTheMeshCannotDrawThem) {
+    const Seafloor beach = make_planar_beach();  // land along y = 200 m, 2 m high
+    const TerrainBeyond t = plan_terrain_beyond(beach.grid);
+    EXPECT_DOUBLE_EQ(t.options.relief, 10.0);  // 5 % of 200 m
+    // Behind the beach the land rises by about the relief over rise_distance (100 m).
+    double mean = 0.0;
+    for (double x = 0.0; x <= 200.0; x += 5.0) mean += terrain_elevation(t, x, 200.0 + 100.0, 1.0) / 41.0;
+    EXPECT_GT(mean, 2.0 + 0.4 * t.options.relief);
+    // The same seed, the same hills; resolution coarser than every octave: the trend alone.
+    const TerrainBeyond again = plan_terrain_beyond(beach.grid);
+    EXPECT_EQ(terrain_elevation(t, 37.0, 480.0, 2.0), terrain_elevation(again, 37.0, 480.0, 2.0));
+    // A hundred metres back, the side's land (2 m) in the window, the rise complete.
+    TerrainBeyondOptions other;
+    other.seed = 2;
+    EXPECT_NE(terrain_elevation(t, 37.0, 480.0, 2.0), terrain_elevation(plan_terrain_beyond(beach.grid, other), 37.0, 480.0, 2.0));
+    const double smooth_a = terrain_elevation(t, 80.0, 300.0, 2000.0), smooth_b = terrain_elevation(t, 120.0, 300.0, 2000.0);
+    EXPECT_NEAR(smooth_a, smooth_b, 1e-9);  // no hills: the border's trend (flat land) and the rise
+    EXPECT_NEAR(smooth_a, 2.0 + t.options.relief, 1e-9);
 }
 
 }  // namespace

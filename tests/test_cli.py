@@ -344,8 +344,9 @@ class MainJob(unittest.TestCase):
         # rectangle. Every edge inside is shared by two triangles and the mesh's only
         # border is that rectangle. A triangle touching the grid's border stays within a
         # cell or so of it: a renderer's smooth normals carry the border's slopes (and
-        # their light) that far only. A single ring to the far rectangle made 80 km
-        # triangles of them, a bright wedge of land to the horizon (docs/blender.png).
+        # their light) that far only. (The pale wedge of land from the bay's beach to
+        # the horizon was the border's colour extruded to the far rectangle; the terrain
+        # beyond the data now fades it: docs/far-field.md.)
         with tempfile.TemporaryDirectory() as d:
             out = os.path.join(d, "out")
             r = wave("run", "-o", out, "--frames", "0:1", "--no-quantize")
@@ -1069,8 +1070,13 @@ class WindWaves(unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             report = self.example_frames("open-ocean.json", d)
             self.assertEqual(report["surface"]["kind"], "ocean")
-            self.assertEqual(report["surface"]["vertices"], 513 * 513)
-            self.assertEqual(report["surface"]["triangles"], 2 * 512 * 512)
+            # The patch, and the skirt that carries it to the horizon (500 km: 2000 × the
+            # camera's 250 m; docs/far-field.md, the open ocean to the horizon).
+            skirt = report["surface"]["far_field"]
+            self.assertEqual(skirt["distance_m"], 500000.0)
+            self.assertGreater(skirt["vertices"], 10000)
+            self.assertEqual(report["surface"]["vertices"], 513 * 513 + skirt["vertices"])
+            self.assertEqual(report["surface"]["triangles"], 2 * 512 * 512 + skirt["triangles"])
             self.assertEqual(report["surface"]["loop_frames"], 160)  # 20 s at 8 fps
             # Phillips with the default A = α/2π: variance A π L²/2, L = V²/g (Hs 17.6 m at
             # 31 m/s); the lattice and the 0.5 m cutoff keep it within 5 %.
@@ -1107,9 +1113,18 @@ class WindWaves(unittest.TestCase):
                 self.assertLessEqual(max(frame), 1 + 1e-6)
                 peak = max(peak, max(frame))
             self.assertGreater(peak, 0.5)  # λ = 4 folds the crests
-            # TEXCOORD_0 spans the patch exactly, so a texture tiles with the water.
+            # TEXCOORD_0 spans the patch exactly, so a texture tiles with the water; the
+            # skirt round it (the patch's 33² vertices first) runs on beyond [0, 1].
             uv = floats(doc, binary, prim["attributes"]["TEXCOORD_0"])
-            self.assertEqual((min(uv[0::2]), max(uv[0::2])), (0.0, 1.0))
+            self.assertEqual((min(uv[0:2 * 33 * 33:2]), max(uv[0:2 * 33 * 33:2])), (0.0, 1.0))
+            self.assertLess(min(uv[0::2]), -10.0)
+            self.assertGreater(max(uv[0::2]), 10.0)
+            # Where the skirt meets the patch the two are one surface: the patch's border
+            # vertices are the skirt's (no second copy at the seam, no tile edge).
+            position = floats(doc, binary, prim["attributes"]["POSITION"])
+            rest = {(round(uv[2 * v], 6), round(uv[2 * v + 1], 6)) for v in range(len(uv) // 2)}
+            self.assertEqual(len(rest), len(uv) // 2)
+            self.assertEqual(len(position) // 3, len(uv) // 2)
 
     @same_bytes_test
     def test_ocean_is_identical_with_one_and_two_threads(self):
@@ -2833,6 +2848,104 @@ class Convert(unittest.TestCase):
                 self.assertEqual(r.returncode, 2, src + r.stderr)
                 self.assertIn(part, r.stderr)
                 self.assertFalse(os.path.exists(os.path.join(d, "out")))
+
+
+def plain_array(doc, binary, accessor, code):
+    """A tightly packed accessor's values (float32 'f', or an index type) as an array."""
+    a = doc["accessors"][accessor]
+    view = doc["bufferViews"][a["bufferView"]]
+    width = {"SCALAR": 1, "VEC2": 2, "VEC3": 3}[a["type"]]
+    start = view.get("byteOffset", 0) + a.get("byteOffset", 0)
+    values = array.array(code)
+    values.frombytes(binary[start:start + a["count"] * width * values.itemsize])
+    return values
+
+
+def plan_mesh(doc, binary, name):
+    """A mesh's rest positions in plan, libwave's (x, y) from glTF's (x, −z), its heights
+    and its triangles; None where the file has no such mesh."""
+    mesh = next((m for m in doc["meshes"] if m["name"] == name), None)
+    if mesh is None:
+        return None
+    prim = mesh["primitives"][0]
+    g = plain_array(doc, binary, prim["attributes"]["POSITION"], "f")
+    code = {5125: "I", 5123: "H"}[doc["accessors"][prim["indices"]]["componentType"]]
+    return list(zip(g[0::3], [-v for v in g[2::3]])), g[1::3], plain_array(doc, binary, prim["indices"], code)
+
+
+def covering(points, plan, triangles, within):
+    """For each point on the circle `within` (centre, radius), the barycentric (triangle,
+    weights) of a triangle of the mesh that covers it, or None."""
+    (cx, cy), radius = within
+    found = [None] * len(points)
+    # A triangle that covers a point on the circle has a corner on it or beyond.
+    beyond = [math.hypot(x - cx, y - cy) >= radius for x, y in plan]
+    for t in range(0, len(triangles), 3):
+        if not (beyond[triangles[t]] or beyond[triangles[t + 1]] or beyond[triangles[t + 2]]):
+            continue
+        a, b, c = plan[triangles[t]], plan[triangles[t + 1]], plan[triangles[t + 2]]
+        x0, x1 = min(a[0], b[0], c[0]), max(a[0], b[0], c[0])
+        y0, y1 = min(a[1], b[1], c[1]), max(a[1], b[1], c[1])
+        if math.hypot(min(max(cx, x0), x1) - cx, min(max(cy, y0), y1) - cy) > radius:
+            continue
+        det = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])
+        if det == 0.0:
+            continue
+        for i, (px, py) in enumerate(points):
+            if found[i] is None and x0 <= px <= x1 and y0 <= py <= y1:
+                u = ((px - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (py - a[1])) / det
+                v = ((b[0] - a[0]) * (py - a[1]) - (px - a[0]) * (b[1] - a[1])) / det
+                if u >= -1e-9 and v >= -1e-9 and u + v <= 1.0 + 1e-9:
+                    found[i] = (t, (1.0 - u - v, u, v))
+    return found
+
+
+class World(unittest.TestCase):
+    """A world, not a box (issue 66): the sea and the land round every example."""
+
+    def test_every_example_has_sea_or_land_5_km_round_its_centre(self):
+        # Each example's exported seafloor (the grid and the terrain beyond it) has no
+        # border above still water within 5 km of its centre: its land goes on, never
+        # ending on a cut or a wall in view. And 5 km out in every direction (a point a
+        # degree) lies the water mesh (the far field's skirt, or the open ocean's tiles),
+        # or land: before, the open ocean's patch ended at 500 m and a laboratory basin's
+        # skirt 55 m beyond its walls, and the bay's land apron was a plain that the
+        # skirt's cut ended.
+        reach = 5000.0
+        with tempfile.TemporaryDirectory() as d:
+            for example in sorted(os.listdir(EXAMPLES)):
+                if not example.endswith(".json"):
+                    continue
+                with self.subTest(example=example):
+                    out = os.path.join(d, example)
+                    r = wave("run", os.path.join(EXAMPLES, example), "-q", "-o", out, "--frames", "0:1", "--form", "morph",
+                             "--codec", "none")
+                    self.assertEqual(r.returncode, 0, example + r.stderr)
+                    doc, binary = read_glb(os.path.join(out, "animation-frames-0-1.glb"))
+                    water, floor = plan_mesh(doc, binary, "water"), plan_mesh(doc, binary, "seafloor")
+                    box = floor[0] if floor else water[0]
+                    centre = ((min(p[0] for p in box) + max(p[0] for p in box)) / 2, (min(p[1] for p in box) + max(p[1] for p in box)) / 2)
+                    if floor:
+                        plan, height, triangles = floor
+                        uses = {}
+                        for t in range(0, len(triangles), 3):
+                            for i in range(3):
+                                e = tuple(sorted((triangles[t + i], triangles[t + (i + 1) % 3])))
+                                uses[e] = uses.get(e, 0) + 1
+                        for e, n in uses.items():
+                            if n == 1 and max(height[e[0]], height[e[1]]) > 0.0:
+                                near = min(math.dist(plan[v], centre) for v in e)
+                                self.assertGreaterEqual(near, reach, (example, plan[e[0]], plan[e[1]]))
+                    ring = [(centre[0] + reach * math.cos(math.radians(k)), centre[1] + reach * math.sin(math.radians(k))) for k in range(360)]
+                    wet = covering(ring, water[0], water[2], (centre, reach))
+                    land = covering(ring, floor[0], floor[2], (centre, reach)) if floor else [None] * len(ring)
+                    for k, p in enumerate(ring):
+                        if wet[k] is not None:
+                            continue
+                        self.assertIsNotNone(land[k], (example, k, "neither water nor land"))
+                        t, w = land[k]
+                        z = sum(w[i] * floor[1][floor[2][t + i]] for i in range(3))
+                        self.assertGreater(z, 0.0, (example, k, "sea bottom without water"))
 
 
 skip_what_the_sanitizers_reach_elsewhere("cli", globals())

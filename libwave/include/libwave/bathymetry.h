@@ -318,6 +318,66 @@ struct BarredBeachParams {
 };
 Seafloor make_barred_beach(const BarredBeachParams& p = {});
 
+/// How the land and the sea bottom go on beyond a grid's rectangle (the exported
+/// seafloor's apron; docs/far-field.md, the terrain beyond the data). Every length 0
+/// means: chosen from the grid.
+struct TerrainBeyondOptions {
+    double relief = 0.0;          ///< height the land rises by beyond the border, and its hills' scale (m); 0: 5 % of the grid's longer side, at least half its highest land
+    double rise_distance = 0.0;   ///< distance beyond the border over which the land rises to `relief` (m); 0: half the grid's longer side
+    double hill_wavelength = 0.0; ///< the shortest hills' wavelength (m), doubling over 8 octaves; 0: a quarter of the grid's longer side
+    std::uint64_t seed = 1;       ///< the hills' directions and phases
+};
+
+/// The border profile the terrain beyond a grid is made from (plain data; build it with
+/// plan_terrain_beyond): the elevation at each border node counter-clockwise from
+/// (x0, y0), the perimeter coordinate s of each, integrals along s of the land's
+/// height, the sea's elevation and each one's length, and where the shoreline meets
+/// the border.
+struct TerrainBeyond {
+    double x0 = 0.0;  ///< the grid's rectangle (m): its lowest x
+    double y0 = 0.0;  ///< its lowest y (m)
+    double x1 = 0.0;  ///< its highest x (m)
+    double y1 = 0.0;  ///< its highest y (m)
+    std::vector<double> s;         ///< perimeter coordinate of each border node (m), from 0; the loop's length is `perimeter`
+    std::vector<double> z;         ///< elevation at each border node (m)
+    std::vector<double> land;      ///< ∫ max(z, 0) ds from s = 0 to each node, one more at the loop's end
+    std::vector<double> land_len;  ///< ∫ [z >= 0] ds likewise
+    std::vector<double> sea;       ///< ∫ min(z, 0) ds likewise
+    std::vector<double> sea_len;   ///< ∫ [z < 0] ds likewise
+    std::vector<double> shore;     ///< perimeter coordinates where the border's elevation crosses 0 (m)
+    double perimeter = 0.0;        ///< the rectangle's perimeter (m)
+    TerrainBeyondOptions options;  ///< with every 0 replaced by its value
+    double hill_kx[8][3]{};     ///< the hills' wave vectors' x (rad/m), 3 per octave
+    double hill_ky[8][3]{};     ///< the hills' wave vectors' y (rad/m)
+    double hill_phase[8][3]{};  ///< the hills' phases (rad)
+};
+
+/// The border profile of `grid` and the resolved options. Precondition: nx, ny >= 2.
+TerrainBeyond plan_terrain_beyond(const ElevationGrid& grid, const TerrainBeyondOptions& options = {});
+
+/// The elevation (m) at (x, y) beyond the grid's rectangle, for a mesh whose edges
+/// there are about `resolution` m long (hills shorter than 4 edges fade out: the
+/// noise stays band-limited for the mesh that draws it). With (s, d) the nearest
+/// border point's perimeter coordinate and the distance to it:
+///  * on the border (d = 0) it is the border's elevation: the terrain is continuous
+///    with the data;
+///  * beyond land (z(s) >= 0: h <= 0), the land's mean over a window of ±d/2 along the border
+///    (the data's detail fades to its trend), plus `relief` rising over
+///    `rise_distance` (smoothstep) with dunes a third of the way and band-limited hills
+///    (a sum of sines), coming down to a low coast (the border's height plus a
+///    twentieth of the relief and low hills) within max(a quarter of the grid's longer
+///    side, d/2), along the border, of where the shoreline meets the border — always
+///    above still water (> 0 for d > 0);
+///  * beyond sea (z(s) < 0), the sea's mean elevation over that window (sea bottom stays sea
+///    bottom, as deep as the border's water), except near land: there the land goes on
+///    over the sea and falls to it over a width growing with d (d/4, at most a tenth of
+///    the grid's longer side) and wobbling with the hills, so that the coast beyond a
+///    border where the shoreline meets it is not the straight line the far field's skirt
+///    ends on; sea feet further than 0.08 of that side from the shore stay sea (< 0).
+/// Inside the rectangle (d = 0 there) it is the border value at the nearest border
+/// point; callers use the grid inside. Deterministic, no allocation.
+double terrain_elevation(const TerrainBeyond& terrain, double x, double y, double resolution) noexcept;
+
 /// Names accepted by make_named_seafloor, in a stable order.
 const std::vector<std::string>& procedural_seafloor_names();
 

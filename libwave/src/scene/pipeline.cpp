@@ -203,12 +203,17 @@ double breaking_depth(const Scene& scene) {
 }
 
 // How far the skirt reaches: the scene's distance, or far enough that its edge is
-// within 1/2000 rad of the horizon from the scene's camera.
+// within 1/2000 rad of the horizon from the scene's camera, and never less than
+// kWorldReach: the sea and the land beyond reach 5 km from the domain in every
+// direction, however small the domain or low the camera (a laboratory basin's camera
+// a metre up gave a skirt of 55 m).
+constexpr double kWorldReach = 5000.0;  // m
+
 double skirt_distance(const Scene& scene, const ScenePlan& p) {
     if (scene.far_field->distance > 0.0) return scene.far_field->distance;
     const ElevationGrid& g = p.seafloor.grid;
     const double size = std::max(g.x_max() - g.x0, g.y_max() - g.y0);
-    return std::max(2000.0 * std::max(0.0, scene_camera(scene, p.seafloor)[2]), 10.0 * size);
+    return std::max({2000.0 * std::max(0.0, scene_camera(scene, p.seafloor)[2]), 10.0 * size, kWorldReach});
 }
 
 // The far field's periodic components: each train's harmonics the model holds, each
@@ -257,6 +262,16 @@ void append_skirt(ScenePlan& p) {
     }
 }
 
+// The skirt's edge (m) that keeps a wind sea of peak `wavelength` (m) resolved: the
+// border's spacing growing by 0.3 d to a sixth of the wavelength, held over two
+// wavelengths beyond the border, then growing as swell_skirt_size's beyond its band.
+double wind_sea_skirt_size(const SkirtSite& site, double wavelength) {
+    const double held = std::max(site.border_edge, wavelength / 6.0), band = 2.0 * wavelength;
+    if (site.d <= band) return std::min(site.border_edge + 0.3 * site.d, held);
+    const double past = site.d - band;
+    return held + 0.08 * past + 0.3 * past * past / (past + 2.0 * wavelength);
+}
+
 // The far field (/surface/far_field): the skirt around the model's surface, its motion
 // fitted on the model's border at spread times, the skirt's vertices appended.
 void plan_far_field_stage(const Scene& scene, ScenePlan& p) {
@@ -266,6 +281,15 @@ void plan_far_field_stage(const Scene& scene, ScenePlan& p) {
     SeaSkirtOptions o;
     o.distance = skirt_distance(scene, p);
     o.size = swell_skirt_size(p.seafloor, shortest_period(scene), scene.far_field->swell_wavelengths, breaking_depth(scene));
+    // A wind sea on the coast runs on over the skirt as far as the skirt resolves it: its
+    // peak wavelength held over two of them. Sized for the swell alone, the skirt's
+    // edges outgrew a third of the wind sea's peak within a few metres of the border, its
+    // fade (far_field_share) fell to 0 there, and the whitecaps stopped at the domain's
+    // sides.
+    if (p.ocean.n > 0) {
+        const double wind = 2.0 * std::numbers::pi * kGravity / (p.ocean.peak_omega * p.ocean.peak_omega);
+        o.size = [swell = std::move(o.size), wind](const SkirtSite& site) { return std::min(swell(site), wind_sea_skirt_size(site, wind)); };
+    }
     if (model.skirt_size) o.size = model.skirt_size(scene, p, std::move(o.size));
     o.max_vertices = scene.surface.max_vertices;
     o.seafloor = &p.seafloor.grid;
@@ -285,18 +309,50 @@ void plan_far_field_stage(const Scene& scene, ScenePlan& p) {
     append_skirt(p);
 }
 
+// The open ocean carried to the horizon: its patch tiles (the FFT is periodic), so a
+// skirt round it samples the same fields wherever it lies, the patch's own waves and
+// none other, and meets the patch's border vertices with the same values — no tile
+// edge. The skirt holds the wind sea's peak wavelength at a sixth of it over two peak
+// wavelengths (as a swell's band, swell_skirt_size), then grows by about a third of the
+// distance; the wind sea fades as the skirt stops resolving its peak (far_field_share),
+// as on a coastal scene's skirt. It reaches as far as a far field would (2000 camera
+// heights, 10 patches, kWorldReach). The patch's vertices stay the model's; the skirt's
+// take the wind sea through wind_sea_scale (0 on the patch: the model moved it).
+void plan_ocean_skirt(const Scene& scene, ScenePlan& p) {
+    if (scene.surface_kind != SurfaceKind::ocean || p.ocean.n == 0 || p.camera_grid.vertex_count() > 0) return;
+    const double wavelength = 2.0 * std::numbers::pi * kGravity / (p.ocean.peak_omega * p.ocean.peak_omega);
+    SeaSkirtOptions o;
+    o.distance = std::max({2000.0 * std::max(0.0, scene_camera(scene, p.seafloor)[2]), 10.0 * p.ocean.size, kWorldReach});
+    o.size = [wavelength](const SkirtSite& site) { return wind_sea_skirt_size(site, wavelength); };
+    o.max_vertices = scene.surface.max_vertices;
+    const std::vector<std::uint32_t>& triangles = p.patch_triangles;
+    p.skirt = plan_sea_skirt(p.rest_x, p.rest_y, triangles, o);
+    if (p.skirt.vertex_count() == 0) return;
+    p.skirted_triangles = triangles;
+    const std::size_t own = p.rest_x.size();
+    p.rest_depth.resize(own);
+    p.wind_sea_scale.assign(own, 0.0f);
+    append_skirt(p);
+    for (std::size_t v = own; v < p.rest_x.size(); ++v)
+        p.wind_sea_scale[v] = static_cast<float>(far_field_share(wavelength, p.skirt.size[v - own]));
+}
+
 // lattice J₋ → J₋ per coarse vertex.
-void fold_at_vertices(const ScenePlan& plan, std::span<const float> lattice_j, std::span<float> out) {
-    if (plan.wind_sea_scale.empty()) {  // the surface is the patch: (N+1)² vertices repeat the first row and column
+void fold_at_vertices(const ScenePlan& plan, bool patch, std::span<const float> lattice_j, std::span<float> out) {
+    std::size_t first = 0;  // the first vertex sampled off the lattice
+    if (patch) {  // the patch: (N+1)² vertices repeat the first row and column
         const std::size_t N = plan.ocean.n, side = N + 1;
         for (std::size_t row = 0; row < side; ++row) {
             const float* src = &lattice_j[(row == N ? 0 : row) * N];
             std::copy(src, src + N, &out[row * side]);
             out[row * side + N] = src[0];
         }
-    } else {
-        sample_ocean_field(plan.ocean, lattice_j, plan.rest_x, plan.rest_y, plan.wind_sea_scale, out);
+        first = side * side;  // then its skirt's, if any
     }
+    if (first < plan.rest_x.size())
+        sample_ocean_field(plan.ocean, lattice_j, std::span<const double>(plan.rest_x).subspan(first),
+                           std::span<const double>(plan.rest_y).subspan(first),
+                           std::span<const float>(plan.wind_sea_scale).subspan(first), out.subspan(first));
 }
 
 // The fold foam's threshold: the scene's /shade/fold_threshold when it gives one; else the
@@ -320,7 +376,7 @@ void plan_fold_foam(const Scene& scene, ScenePlan& p) {
     p.whitecap_coverage = target;
     std::vector<float> at_vertices(p.rest_x.size());
     for (std::size_t i = 0; i < lattice.size(); ++i) {
-        fold_at_vertices(p, past[lattice.size() - 1 - i], at_vertices);
+        fold_at_vertices(p, scene.surface_kind == SurfaceKind::ocean, past[lattice.size() - 1 - i], at_vertices);
         p.fold_past.emplace_back(lattice[i], fold_sample(at_vertices, p.fold_foam));
     }
 }
@@ -352,6 +408,7 @@ ScenePlan plan_scene(const Scene& scene, PlanStages stages) {
     if (stages == PlanStages::trace) return p;
     plan_components(scene, p);
     plan_far_field_stage(scene, p);
+    plan_ocean_skirt(scene, p);
     plan_fold_foam(scene, p);
     // The breakers' whitewater over the loop, on the surface the breakers move.
     if (scene.whitewater && scene.breakers)
@@ -1009,7 +1066,10 @@ void start_run(FrameRun& r, const std::vector<std::uint32_t>& triangles, std::si
     // every frame against the coarse surface at rest (breaking crests' lips excepted).
     // The surface's boundary off the domain's sides is the shore and holds still, but
     // for the traced strips themselves, whose boundary is where their rays end.
-    if (r.model.untangle || !plan.wind_sea_scale.empty() || !plan.gerstner.empty()) {
+    // The open ocean's skirt (its wind sea, wind_sea_scale) does not untangle the patch:
+    // the patch's folds are its whitecaps (fold foam), and its vertices stay the FFT's.
+    const bool patch = r.scene.surface_kind == SurfaceKind::ocean;
+    if (r.model.untangle || (!patch && !plan.wind_sea_scale.empty()) || !plan.gerstner.empty()) {
         const bool traced_strips = r.scene.surface_kind == SurfaceKind::ray_strips && !r.scene.water_mesh_per_wavelength &&
                                    !r.scene.camera_grid;
         const bool lips = r.model.overturns && r.model.overturns(r.scene);
@@ -1087,14 +1147,20 @@ CoarseFrame move_coarse(FrameRun& r, double t, std::span<float> pc, std::span<fl
         const std::span<const double> x(plan.rest_x.data(), own), y(plan.rest_y.data(), own);
         add_gerstner_waves(plan.gerstner, x, y, std::span<const float>(plan.rest_depth.data(), own), t, pc.first(3 * own));
     }
-    if (plan.skirt.vertex_count() > 0) evaluate_far_field(plan.far_field, t, pc, r.far_field_scratch);
+    if (plan.far_field.vertex_count() > 0) evaluate_far_field(plan.far_field, t, pc, r.far_field_scratch);
+    else if (plan.skirt.vertex_count() > 0)  // the open ocean's skirt: at rest, then the patch's wind sea below
+        for (std::size_t v = own; v < plan.rest_x.size(); ++v) {
+            pc[3 * v] = static_cast<float>(plan.rest_x[v]);
+            pc[3 * v + 1] = static_cast<float>(plan.rest_y[v]);
+            pc[3 * v + 2] = 0.0f;
+        }
     if (plan.skirt_breakers.vertex_count() > 0) evaluate_skirt_breakers(plan.skirt_breakers, t, pc, r.far_field_scratch);
     if (!plan.wind_sea_scale.empty()) {  // a wind sea superposed on the model's surface
         const OceanFields fields = evaluate_ocean(plan.ocean, t, *r.wind_sea.workspace);
         add_ocean_samples(plan.ocean, fields, plan.rest_x, plan.rest_y, plan.wind_sea_scale, pc);
         if (r.shaded) {
             ocean_jacobian_field(plan.ocean, fields, r.wind_sea.lattice_j);
-            fold_at_vertices(plan, r.wind_sea.lattice_j, r.wind_sea.vertex_j);
+            fold_at_vertices(plan, r.scene.surface_kind == SurfaceKind::ocean, r.wind_sea.lattice_j, r.wind_sea.vertex_j);
         }
     }
     const bool normals_done = exact_normals && plan.gerstner.empty() && !r.refined;
@@ -1108,7 +1174,7 @@ void coarse_foam(FrameRun& r, double t, std::span<float> fc) {
     // The skirt's foam: Jeschke's breakers carried on beyond the border where they run,
     // otherwise the border's own foam with its residual motion.
     if (plan.skirt_breakers.vertex_count() > 0) skirt_breaker_foam(plan.skirt_breakers, t, fc, r.far_field_scratch);
-    else if (plan.skirt.vertex_count() > 0) far_field_foam(plan.far_field, fc);
+    else if (plan.far_field.vertex_count() > 0) far_field_foam(plan.far_field, fc);
     if (plan.ocean.n == 0) return;
     const FoldFoamOptions& fold = plan.fold_foam;
     accumulate_fold_foam(r.wind_sea.vertex_j, 0.0, fold, fc);
@@ -1121,7 +1187,7 @@ void coarse_foam(FrameRun& r, double t, std::span<float> fc) {
         if (it == r.fold_past.end()) {
             evaluate_ocean_jacobian(plan.ocean, static_cast<double>(j) * step, *r.wind_sea.workspace, r.wind_sea.lattice_j);
             detail::size_for_overwrite(r.fold_scratch, plan.rest_x.size());
-            fold_at_vertices(plan, r.wind_sea.lattice_j, r.fold_scratch);
+            fold_at_vertices(plan, r.scene.surface_kind == SurfaceKind::ocean, r.wind_sea.lattice_j, r.fold_scratch);
             it = r.fold_past.emplace(j, fold_sample(r.fold_scratch, fold)).first;
         }
         window.push_back({&it->second, t - static_cast<double>(j) * step});
@@ -1284,61 +1350,114 @@ std::array<float, 3> seafloor_colour(double z, const FloorPalette& p) {
     return {mix(0.6, 0.25, 0.16), mix(0.5, 0.2, 0.2), mix(0.32, 0.12, 0.08)};
 }
 
-// Under the far field's skirt: the seafloor's border continued outwards to the skirt's
-// far rectangle (each border node's elevation along its side's outward normal, a fan
-// at each corner), so that the water beyond the domain lies over the same bottom. The
-// grid's nodes are the first cols × rows of `a`'s seafloor vertices. Two rings: one a
-// grid cell (`cell`) out, then the far rectangle (`reach`). The near ring keeps the
-// grid's slopes across the border in the border nodes' own smooth normals: a
-// renderer's normals lose them within a cell, where one ring would carry each border
-// node's slope (and its light) along a strip to the horizon.
-void add_seafloor_apron(double cell, double reach, std::size_t cols, std::size_t rows, const FloorPalette& palette,
-                        SceneAnimation& a) {
-    // The grid's border nodes counter-clockwise, side by side (corners in both sides).
-    const std::array<std::vector<std::uint32_t>, 4> sides = [&] {
-        std::array<std::vector<std::uint32_t>, 4> s;
-        const auto at = [cols](std::size_t c, std::size_t r) { return static_cast<std::uint32_t>(r * cols + c); };
-        for (std::size_t c = 0; c < cols; ++c) s[0].push_back(at(c, 0));
-        for (std::size_t r = 0; r < rows; ++r) s[1].push_back(at(cols - 1, r));
-        for (std::size_t c = cols; c-- > 0;) s[2].push_back(at(c, rows - 1));
-        for (std::size_t r = rows; r-- > 0;) s[3].push_back(at(0, r));
-        return s;
-    }();
-    constexpr double normal[4][2] = {{0.0, -1.0}, {1.0, 0.0}, {0.0, 1.0}, {-1.0, 0.0}};
+// Under the far field's skirt: the terrain beyond the data (terrain_elevation) from the
+// grid's border nodes out to the skirt's far rectangle, so that the water beyond the
+// domain lies over a bottom and the land goes on to the horizon. The grid's nodes are
+// the first cols × rows of `a`'s seafloor vertices. Rings of the grid's rectangle
+// offset by d, a cell (`cell`) apart near the border and 1.25 × further out each, up
+// to `reach`, their vertices about a quarter of d apart (a cell near the border), so
+// that the triangles stay near equilateral and the hills the terrain draws stay
+// resolved. Before, two rings extruded each border node's elevation and colour to the
+// far rectangle: whatever the border held ran on unchanged to the horizon — behind the
+// bay's head, the low sand-coloured land where the bay cuts deepest drew a pale wedge,
+// a road from the beach to the horizon.
+//
+// Rings are zipped by a parameter tau that gives a point beyond a side the place of its
+// foot on that side (side + kCorner + (1 − 2 kCorner) · the foot's fraction), and the
+// corner's quadrant the kCorner either side of the corner: a line out from the border
+// (a side's node, or the skirt's cut where the shoreline meets the border, a vertex on
+// every ring) is then a chain of mesh edges, and no triangle of the far rings spans the
+// land beside a cut and the sea beyond it (one 1.25 km across, 5 km out, dipped the
+// bay's land below still water where no water lies).
+void add_seafloor_apron(const ElevationGrid& g, double cell, double reach, std::size_t cols, std::size_t rows,
+                        const FloorPalette& palette, SceneAnimation& a) {
+    constexpr double kCorner = 0.02;
+    const TerrainBeyond terrain = plan_terrain_beyond(g);
     const bool mapped = !a.seafloor_texcoords.empty();
-    const auto add = [&](std::uint32_t from, double x, double y) {
-        const float z = a.seafloor_positions[3 * from + 2];
-        a.seafloor_positions.insert(a.seafloor_positions.end(), {static_cast<float>(x), static_cast<float>(y), z});
-        const auto colour = seafloor_colour(z, palette);
-        a.seafloor_colors.insert(a.seafloor_colors.end(), colour.begin(), colour.end());
-        if (mapped) a.seafloor_texcoords.insert(a.seafloor_texcoords.end(), {a.seafloor_texcoords[2 * from], a.seafloor_texcoords[2 * from + 1]});
-        return static_cast<std::uint32_t>(a.seafloor_positions.size() / 3 - 1);
+    const double x0 = a.seafloor_positions[0], y0 = a.seafloor_positions[1];
+    const double x1 = a.seafloor_positions[3 * (cols * rows - 1)], y1 = a.seafloor_positions[3 * (cols * rows - 1) + 1];
+    const double length[4] = {x1 - x0, y1 - y0, x1 - x0, y1 - y0};
+    struct Node {
+        std::uint32_t index;
+        double tau;
     };
-    // Inner chain → outer chain of the same length: triangles (a, a', b'), (a, b', b).
-    const auto strip = [&](const std::vector<std::uint32_t>& inner, const std::vector<std::uint32_t>& outer) {
-        for (std::size_t j = 1; j < inner.size(); ++j)
-            a.seafloor_triangles.insert(a.seafloor_triangles.end(), {inner[j - 1], outer[j - 1], outer[j], inner[j - 1], outer[j], inner[j]});
+    // Ring 0: the grid's border nodes counter-clockwise, each corner once (just before its
+    // side's tau, so that the corner's quadrant fans from it).
+    std::vector<Node> inner;
+    const auto at = [cols](std::size_t c, std::size_t r) { return static_cast<std::uint32_t>(r * cols + c); };
+    const double fc = static_cast<double>(cols - 1), fr = static_cast<double>(rows - 1);
+    const auto main_tau = [](int side, double fraction) { return side + kCorner + (1.0 - 2.0 * kCorner) * fraction; };
+    for (int side = 0; side < 4; ++side) {
+        const std::size_t count = side % 2 == 0 ? cols - 1 : rows - 1;
+        for (std::size_t k = 0; k < count; ++k) {
+            const std::uint32_t v = side == 0 ? at(k, 0) : side == 1 ? at(cols - 1, k) : side == 2 ? at(cols - 1 - k, rows - 1) : at(0, rows - 1 - k);
+            inner.push_back({v, k == 0 ? side - 0.5 * kCorner : main_tau(side, static_cast<double>(k) / (side % 2 == 0 ? fc : fr))});
+        }
+    }
+    // Where the shoreline meets each side (the skirt's cuts): a fraction of the side.
+    std::array<std::vector<double>, 4> cuts;
+    const double side_start[4] = {0.0, length[0], length[0] + length[1], 2.0 * length[0] + length[1]};
+    for (const double c : terrain.shore)
+        for (int side = 0; side < 4; ++side)
+            if (c > side_start[side] && c < side_start[side] + length[side]) cuts[static_cast<std::size_t>(side)].push_back((c - side_start[side]) / length[side]);
+    // Inner ring → outer ring, both closed and ordered by tau: advance the one whose
+    // next node comes first (triangles counter-clockwise, as the grid's).
+    const auto zip = [&](std::vector<Node> in, std::vector<Node> out) {
+        in.push_back({in.front().index, in.front().tau + 4.0});
+        out.push_back({out.front().index, out.front().tau + 4.0});
+        std::size_t i = 0, o = 0;
+        while (i + 1 < in.size() || o + 1 < out.size()) {
+            if (o + 1 < out.size() && (i + 1 == in.size() || out[o + 1].tau <= in[i + 1].tau)) {
+                a.seafloor_triangles.insert(a.seafloor_triangles.end(), {in[i].index, out[o].index, out[o + 1].index});
+                ++o;
+            } else {
+                a.seafloor_triangles.insert(a.seafloor_triangles.end(), {in[i].index, out[o].index, in[i + 1].index});
+                ++i;
+            }
+        }
     };
-    std::array<std::vector<std::uint32_t>, 4> inner = sides;
-    std::array<std::uint32_t, 4> inner_corner{};
-    for (int ring = 0; ring < 2; ++ring) {
-        const double d = ring == 0 ? cell : reach;
-        std::array<std::vector<std::uint32_t>, 4> outer;
-        for (std::size_t s = 0; s < 4; ++s) {
-            for (const std::uint32_t v : sides[s])
-                outer[s].push_back(add(v, a.seafloor_positions[3 * v] + d * normal[s][0], a.seafloor_positions[3 * v + 1] + d * normal[s][1]));
-            strip(inner[s], outer[s]);
+    double d = 0.0;
+    while (d < reach) {
+        d = std::min(reach, std::max(1.25 * d, d + cell));
+        const double spacing = std::max(cell, 0.25 * d);
+        const double corner[5][2] = {{x0 - d, y0 - d}, {x1 + d, y0 - d}, {x1 + d, y1 + d}, {x0 - d, y1 + d}, {x0 - d, y0 - d}};
+        std::vector<Node> outer;
+        for (int side = 0; side < 4; ++side) {
+            // Along the side from its corner: the corner piece [0, d), the foot's piece
+            // [d, d + L) and the next corner's piece [d + L, L + 2d), at (a, tau).
+            const double L = length[side];
+            std::vector<std::pair<double, double>> points;
+            const auto corner_pieces = static_cast<std::size_t>(std::ceil(d / spacing));
+            const auto main_pieces = static_cast<std::size_t>(std::max(1.0, std::ceil(L / spacing)));
+            for (std::size_t j = 0; j < corner_pieces; ++j) {
+                const double f = static_cast<double>(j) / static_cast<double>(corner_pieces);
+                points.push_back({d * f, side + kCorner * f});
+                points.push_back({d + L + d * f, side + 1.0 - kCorner + kCorner * f});
+            }
+            for (std::size_t j = 0; j < main_pieces; ++j) {
+                const double f = static_cast<double>(j) / static_cast<double>(main_pieces);
+                points.push_back({d + L * f, main_tau(side, f)});
+            }
+            for (const double f : cuts[static_cast<std::size_t>(side)]) points.push_back({d + L * f, main_tau(side, f)});
+            std::sort(points.begin(), points.end(), [](const auto& p, const auto& q) { return p.second < q.second; });
+            points.erase(std::unique(points.begin(), points.end(), [](const auto& p, const auto& q) { return q.second - p.second < 1e-12; }),
+                         points.end());
+            const double ax = corner[side][0], ay = corner[side][1], bx = corner[side + 1][0], by = corner[side + 1][1];
+            const double span = L + 2.0 * d;
+            for (const auto& [along, tau] : points) {
+                const double x = ax + (bx - ax) * along / span, y = ay + (by - ay) * along / span;
+                const double z = terrain_elevation(terrain, x, y, spacing);
+                a.seafloor_positions.insert(a.seafloor_positions.end(), {static_cast<float>(x), static_cast<float>(y), static_cast<float>(z)});
+                const auto colour = seafloor_colour(z, palette);
+                a.seafloor_colors.insert(a.seafloor_colors.end(), colour.begin(), colour.end());
+                if (mapped)  // the caustic maps' edge texels stretch outwards
+                    a.seafloor_texcoords.insert(a.seafloor_texcoords.end(),
+                                                {static_cast<float>(std::clamp((x - g.x0) / (g.x_max() - g.x0), 0.0, 1.0)),
+                                                 static_cast<float>(1.0 - std::clamp((y - g.y0) / (g.y_max() - g.y0), 0.0, 1.0))});
+                outer.push_back({static_cast<std::uint32_t>(a.seafloor_positions.size() / 3 - 1), tau});
+            }
         }
-        for (std::size_t s = 0; s < 4; ++s) {  // the corner after side s
-            const std::uint32_t c = sides[s].back(), next = (s + 1) % 4;
-            const std::uint32_t corner = add(c, a.seafloor_positions[3 * c] + d * (normal[s][0] + normal[next][0]),
-                                             a.seafloor_positions[3 * c + 1] + d * (normal[s][1] + normal[next][1]));
-            if (ring == 0)  // a fan from the grid's corner node
-                a.seafloor_triangles.insert(a.seafloor_triangles.end(), {c, outer[s].back(), corner, c, corner, outer[next].front()});
-            else
-                strip({inner[s].back(), inner_corner[s], inner[next].front()}, {outer[s].back(), corner, outer[next].front()});
-            inner_corner[s] = corner;
-        }
+        zip(std::move(inner), outer);
         inner = std::move(outer);
     }
 }
@@ -1398,7 +1517,7 @@ void dress_animation(const Scene& scene, const ScenePlan& plan, SceneAnimation& 
             d.sunbeam_fps = scene.fps;
         }
         if (plan.skirt.vertex_count() > 0)
-            add_seafloor_apron(static_cast<double>(step) * std::min(g.dx, g.dy), plan.skirt.reach, cols, rows, palette, a);
+            add_seafloor_apron(g, static_cast<double>(step) * std::min(g.dx, g.dy), plan.skirt.reach, cols, rows, palette, a);
     }
     a.dressing = d;
 }

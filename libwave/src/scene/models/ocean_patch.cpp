@@ -18,7 +18,7 @@ void read_before(const Node& root, Scene& s) {
     refuse_height_field_options(root, "ocean\" (set /ocean instead)");
     refuse_ray_strip_keys(root);
     if (root.has("surface") && root["surface"].value().is_object() && root["surface"].has("far_field"))
-        root["surface"]["far_field"].fail("not for the open-ocean patch: it tiles (repeat it beyond /ocean/size)");
+        root["surface"]["far_field"].fail("not for the open-ocean patch: a skirt of its own carries it to the horizon");
     s.far_field.reset();
     s.ocean = OceanOptions{};
     s.ocean->repeat_time = 20.0;  // Tessendorf's figure 5
@@ -56,8 +56,10 @@ void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
 
 bool move(const Scene&, const ScenePlan& p, double t, ModelState*, ModelFrame& frame) {
     const OceanFields fields = evaluate_ocean(p.ocean, t, *frame.wind_sea.workspace);
-    if (!frame.fresnel) {
-        ocean_patch_frame(p.ocean, fields, frame.positions, frame.normals, frame.wind_sea.vertex_j);  // exact normals
+    if (!frame.fresnel) {  // exact normals; a far skirt's vertices follow (the pipeline's wind sea)
+        const std::size_t side = p.ocean.n + 1;
+        const std::span<float> j_minus(frame.wind_sea.vertex_j);
+        ocean_patch_frame(p.ocean, fields, frame.positions, frame.normals, j_minus.empty() ? j_minus : j_minus.first(side * side));
         return true;
     }
     // Blocks of rows: each block's Fresnel weights while its positions and normals are
