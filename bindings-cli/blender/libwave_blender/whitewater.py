@@ -89,7 +89,7 @@ def material():
 
 def _node_group():
     """Geometry Nodes: foam (kind 1) as flat pancakes lying on the water (an icosphere
-    instance scaled by `size`, a third as thick), spray and bubbles as points of radius
+    instance scaled by `size`, a fifth as thick), spray and bubbles as points of radius
     `size`; all with the whitewater material."""
     group = bpy.data.node_groups.get("libwave whitewater points")
     if group is not None:
@@ -131,7 +131,7 @@ def _node_group():
     # instance: held at a millimetre).
     sphere = nodes.new("GeometryNodeMeshIcoSphere")
     sphere.inputs["Radius"].default_value = 1.0
-    sphere.inputs["Subdivisions"].default_value = 1
+    sphere.inputs["Subdivisions"].default_value = 2
     held = nodes.new("ShaderNodeMath")
     held.operation = "MAXIMUM"
     links.new(size, held.inputs[0])
@@ -139,7 +139,7 @@ def _node_group():
     flat = nodes.new("ShaderNodeMath")
     flat.operation = "MULTIPLY"
     links.new(held.outputs[0], flat.inputs[0])
-    flat.inputs[1].default_value = 0.3
+    flat.inputs[1].default_value = 0.2
     scale = nodes.new("ShaderNodeCombineXYZ")
     links.new(held.outputs[0], scale.inputs["X"])
     links.new(held.outputs[0], scale.inputs["Y"])

@@ -34,7 +34,7 @@ enum class WhitewaterKind : std::uint8_t {
 /// that an event stands for, per metre of its wave height, at full strength.
 struct WhitewaterOptions {
     double spray_density = 40.0;   ///< spray particles per m of crest per m of height
-    double foam_density = 30.0;    ///< foam particles
+    double foam_density = 60.0;    ///< foam particles
     double bubble_density = 25.0;  ///< bubbles
     double spray_life = 2.5;       ///< s: the longest a droplet flies (it dies on landing)
     double foam_life = 12.0;       ///< s: the longest a foam particle lives (each draws its own, ≥ 30 %); 0: for ever (no decay)

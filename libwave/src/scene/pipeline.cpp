@@ -1235,7 +1235,7 @@ void whitewater_frame(FrameRun& r, double t, std::span<const float> pc, std::spa
         append(r.points.size, r.fold_points.size);
         append(r.points.kind, r.fold_points.kind);
     }
-    if (r.shaded) splat_whitewater_foam(*r.ride, r.points, 20.0, 0.85, fc);
+    if (r.shaded) splat_whitewater_foam(*r.ride, r.points, 40.0, 0.85, fc);
     a.whitewater[f] = whitewater_glb(r.points, a.first_frame + f, r.scene.fps);
 }
 

@@ -242,7 +242,7 @@ bool foam_particle(const WhitewaterEvents& e, const WhitewaterOptions& o, std::s
     out.age = static_cast<float>(a);
     // Fresh foam is thick; older foam thins as it spreads, before it dies.
     const double fade = std::isfinite(life) ? std::clamp(1.25 - a / life, 0.35, 1.0) : 1.0;
-    out.size = static_cast<float>((0.12 + 0.16 * draw(h, 4)) * fade);
+    out.size = static_cast<float>((0.07 + 0.11 * draw(h, 4)) * fade);
     out.kind = WhitewaterKind::foam;
     return true;
 }
