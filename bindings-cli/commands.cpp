@@ -884,7 +884,9 @@ int run_validate(const std::string& path, bool as_json, double max_memory_gb) {
                           {"seafloor", sea.source}, {"camera", camera}, {"fps", scene.fps},
                           {"estimate", {{"vertices", e.vertices}, {"triangles", e.triangles}, {"frames", e.frames}, {"form", form},
                                         {"output_bytes", e.output_bytes}, {"codec", codec_name(scene)}, {"frame_array_bytes", e.frame_array_bytes},
-                                        {"peak_memory_bytes", e.peak_memory_bytes}}}}
+                                        {"peak_memory_bytes", e.peak_memory_bytes}}},
+                          {"water_mesh_vertices", plan.water_mesh.vertex_count()},
+                          {"far_field_vertices", plan.skirt.vertex_count()}}
                          .dump(2)
                   << '\n';
         return 0;
@@ -895,6 +897,9 @@ int run_validate(const std::string& path, bool as_json, double max_memory_gb) {
               << "estimate: " << e.vertices << " vertices, " << e.triangles << " triangles, " << e.frames << " frames; "
               << form << " output ~" << e.output_bytes / 1e6 << " MB (codec " << codec_name(scene) << "); peak memory of wave run ~" << e.peak_memory_bytes / 1e9
               << " GB\n";
+    if (plan.water_mesh.vertex_count() > 0)
+        std::cout << "water mesh: " << plan.water_mesh.vertex_count() << " vertices (far field: " << plan.skirt.vertex_count()
+                  << ")\n";
     return 0;
 }
 

@@ -234,6 +234,49 @@ TEST(BreakerSections, TheOuterSectionCoversTheTubeFacesNoWayDownPacksAndKeepsIts
     RecordProperty("paper_least_packing", std::to_string(paper_least));
 }
 
+TEST(BreakerSections, TheCurlSectionOverturnsOnlyPlungingLipsPacksAndKeepsItsJetBelowThreeAndAHalfC) {
+    // BreakerLip::curl (issue 65): the outer section whose wall curls back under the lip.
+    // * plunging crests (curl 1) at the breaking beach's ratio 5H/W ≈ 0.2: while the lip
+    //   hangs the section runs backwards (the lip's underside: triangles facing down);
+    // * collapsing (0.6) and spilling (0.3) crests never run backwards;
+    // * every section packs the rest spacing to ≥ 0.6 (less rounding) and moves no point
+    //   faster than 3.5 c frozen (the lip's jet; the underside at most (1 + 0.6) κ c),
+    //   and the parts that run forwards no faster than 1.5 c.
+    const BreakerSectionBounds bounds;
+    std::vector<BreakerSectionPoint> q;
+    int overturned = 0;
+    double least = 1e9, fastest = 0.0, fastest_forward = 0.0;
+    for (int i = 0; i <= 40; ++i)
+        for (double curl : {0.3, 0.6, 1.0})
+            for (double ratio : {0.1, 0.2, 0.5}) {
+                const double life = i / 20.0;
+                curl_section(life, curl, ratio, bounds, 2000, q);
+                SCOPED_TRACE(::testing::Message() << "life " << life << " curl " << curl << " ratio " << ratio);
+                EXPECT_EQ(q.front().x, 0.0);
+                EXPECT_EQ(q.back().x, 1.0);
+                const SectionExtremes e = section_extremes(q, ratio);
+                least = std::min(least, e.least_packing);
+                fastest = std::max(fastest, e.fastest);
+                if (curl < 0.9) {
+                    EXPECT_GE(e.least_dx, 0.0);
+                }
+                if (curl > 0.9 && ratio == 0.2 && life < 1.0 && e.least_dx < 0.0) ++overturned;
+                const double ds = 1.0 / static_cast<double>(q.size() - 1);
+                for (std::size_t m = 0; m + 1 < q.size(); ++m) {
+                    const double tx = (q[m + 1].x - q[m].x) / ds, tz = ratio * (q[m + 1].z - q[m].z) / ds;
+                    if (tx >= 0.0) fastest_forward = std::max(fastest_forward, std::hypot(1.0 - tx, tz));
+                }
+            }
+    EXPECT_GE(overturned, 8);  // of the 20 breaking lives
+    EXPECT_GE(least, 0.6 * 0.95);
+    EXPECT_LE(fastest, 3.5);
+    EXPECT_LE(fastest_forward, 1.5);
+    RecordProperty("overturned_lives", std::to_string(overturned));
+    RecordProperty("least_packing", std::to_string(least));
+    RecordProperty("fastest", std::to_string(fastest));
+    RecordProperty("fastest_forward", std::to_string(fastest_forward));
+}
+
 TEST(BreakerSections, TheTableMeetsTheRoundShapeAndStillWaterAndHoldsItsBoundsBetweenSamples) {
     // τ = 0 is the round crest fully grown (x = s: the paper's round phase moves no point
     // sideways), τ = 2 still water. Between samples (τ, curl and ratio off the grid) the
@@ -1008,4 +1051,53 @@ TEST(JeschkeBreakers, EveryRayOfAPlaneSlopeBreaksAsOneType) {
     }
     EXPECT_GT(breaking, 30u);
     EXPECT_GT(at_start, 3u);  // the rays this is about
+}
+
+TEST(SurfZoneMesh, TheWaterMeshGradesDownToAFractionOfHWhereCrestsBreakAndBackOut) {
+    // /surface/water_mesh/surf_zone (issue 65) on the oblique beach, at H/2 (H/4 takes
+    // 20 s to mesh): every vertex of the band where crests break has edges of at most
+    // H/2 (the mesher's bound at the centroids, 10 % for the mean over a vertex's edges),
+    // the offshore water (deeper than 4 m) keeps the wavelength's spacing, and the
+    // overturning lips (lip "curl") are taken where the mesh resolves them, not on the
+    // boundary. (Measured: 13 455 → 203 563 vertices, 167 562 in the band; where H/2 is
+    // below 0.2 m the band holds 0.2 m.)
+    const std::string base = R"({"name": "graded beach", "seafloor": {"source": "planar-beach"}, "isobaths": {"spacing": 0.5},
+      "waves": [{"period": 8, "amplitude": 0.4, "direction": [0.34, 0.94]}], "trace": {"ray_spacing": 4},
+      "breakers": {"model": "jeschke", "lip": "curl"}, "animation": {"fps": 8}, "surface": {"far_field": false)";
+    const ScenePlan plain = plan_scene(parse_scene(base + "}}", "beach.json", "."), PlanStages::surface);
+    const ScenePlan graded =
+        plan_scene(parse_scene(base + R"(, "water_mesh": {"surf_zone": 0.5}}})", "beach.json", "."), PlanStages::surface);
+    const WaterMesh& m = graded.water_mesh;
+    const JeschkeMotionPlan& b = graded.breakers;
+    ASSERT_EQ(b.vertex_count(), m.vertex_count());
+    EXPECT_TRUE(plain.breakers.resolve.empty() || *std::max_element(plain.breakers.resolve.begin(), plain.breakers.resolve.end()) == 0.0f);
+    std::vector<double> sum(m.vertex_count(), 0.0);
+    std::vector<int> count(m.vertex_count(), 0);
+    for (std::size_t t = 0; t < m.triangles.size(); t += 3)
+        for (std::size_t i = 0; i < 3; ++i) {
+            const std::uint32_t a = m.triangles[t + i], c = m.triangles[t + (i + 1) % 3];
+            const double e = std::hypot(m.x[a] - m.x[c], m.y[a] - m.y[c]);
+            sum[a] += e, sum[c] += e, ++count[a], ++count[c];
+        }
+    std::size_t band = 0, coarse = 0, resolved = 0, offshore = 0, offshore_coarse = 0;
+    for (std::size_t v = 0; v < m.vertex_count(); ++v) {
+        const double spacing = sum[v] / count[v];
+        if (in_breaking_band(b, v, 0.0) && !m.boundary[v]) {
+            ++band;
+            coarse += spacing > 1.1 * std::max(0.2, 0.5 * b.scale[v] / 5.0);
+            resolved += b.resolve[v] > 0.5f;
+        }
+        if (m.boundary[v]) {
+            EXPECT_EQ(b.resolve[v], 0.0f);
+        }
+        if (depth_at(graded.seafloor.grid, m.x[v], m.y[v]) > 4.0) ++offshore, offshore_coarse += spacing > 1.0;
+    }
+    EXPECT_GT(band, 5000u);
+    EXPECT_LE(coarse, band / 100);
+    EXPECT_GE(resolved, band * 3 / 4);  // 81 %: the rest within a wavelength of the sides (the skirt's outer section)
+    EXPECT_GE(offshore_coarse, offshore * 9 / 10);
+    EXPECT_GT(m.vertex_count(), 3 * plain.water_mesh.vertex_count());
+    RecordProperty("vertices", std::to_string(m.vertex_count()));
+    RecordProperty("plain_vertices", std::to_string(plain.water_mesh.vertex_count()));
+    RecordProperty("band_vertices", std::to_string(band));
 }

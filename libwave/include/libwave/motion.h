@@ -447,7 +447,19 @@ struct BreakerSectionBounds {
 /// Tabulates the outer sections for curls in [curl_min, curl_max] (both in [0, 2]).
 /// Throws InputError for curls out of range or bounds out of range (0 ≤ min_packing < 1,
 /// frozen_speed in (1, 2]).
-BreakerSections plan_breaker_sections(double curl_min, double curl_max, const BreakerSectionBounds& bounds = {});
+/// `overturn`: the curl sections instead (BreakerLip::curl, curl_section), at twice the labels.
+BreakerSections plan_breaker_sections(double curl_min, double curl_max, const BreakerSectionBounds& bounds = {},
+                                      bool overturn = false);
+
+/// The overturning section (BreakerLip::curl) where the mesh resolves the tube: the
+/// outer section with its wall — the lip hanging over the water ahead — replaced by a
+/// tube's mouth: down a quarter of the wall from the lip's top, back under the lip by
+/// half the wall's height × plunge, down to the wall's foot; plunge = (curl − 0.6)/0.4
+/// in [0, 1] (the plunging tube 1, collapsing and spilling crests 0: their outer
+/// section). Relabelled as the outer section is; on the lip's underside, which runs
+/// backwards, at the packing p (its points then move at most (1 + p) c frozen).
+void curl_section(double life, double curl, double ratio, const BreakerSectionBounds& bounds, std::size_t labels,
+                  std::vector<BreakerSectionPoint>& out);
 
 /// One outer section at life τ ∈ [0, 2] (breaking t, then 1 + collapsing t), straight
 /// from the paper's curve (no table): `samples` points of the curve, its envelope on
@@ -470,7 +482,7 @@ struct BreakerLife {
 BreakerLife jeschke_life(double psi, double rise, double break_phase, double breaking_length, double end_phase) noexcept;
 
 /// JeschkeBreakerOptions::lip: the section a breaking crest takes.
-enum class BreakerLip { outer, tube };
+enum class BreakerLip { outer, tube, curl };
 
 /// The automatic parametrisation (the paper's "future work") and the options of the
 /// model. The paper's y_end(x) (coastline and crest alignment) is the traced fronts
@@ -589,6 +601,11 @@ struct JeschkeMotionPlan {
     /// The outer sections breaking crests take (JeschkeBreakerOptions::lip); empty = the
     /// paper's curve as drawn.
     BreakerSections sections;
+    /// BreakerLip::curl: the overturning sections (curl_section), taken by a vertex in
+    /// the share `resolve` (0 … 1: where the mesh resolves the tube, resolve_jeschke_lips);
+    /// empty = the outer sections everywhere.
+    BreakerSections curl_sections;
+    std::vector<float> resolve;  ///< per vertex; empty = 0
 
     std::size_t vertex_count() const noexcept { return x.size(); }  ///< vertices planned
     /// Swell periods after which the breakers repeat.
@@ -669,6 +686,36 @@ SkirtBreakers continue_jeschke_breakers(const JeschkeMotionPlan& plan, const Sea
 /// sides along the border as from its far end. Elsewhere `size` itself. The band is held
 /// over the stretch of the side nearest to each such border vertex.
 SkirtSize breaker_skirt_size(SkirtSize size, const JeschkeMotionPlan& plan, const ElevationGrid& seafloor, double band_wavelengths);
+
+/// BreakerLip::curl: per vertex of a plan resampled on a mesh (`triangles`, `boundary`
+/// its boundary flags), the share of the overturning section it takes: 1 where the
+/// mesh's spacing (the mean edge at the vertex) is at most `fraction` × H, 0 at twice
+/// that, smoothstep between; 0 on the boundary, rising over a wavelength (the far
+/// field's skirt and the shore carry the outer section). Does nothing without curl
+/// sections.
+void resolve_jeschke_lips(JeschkeMotionPlan& plan, std::span<const std::uint32_t> triangles, std::span<const std::uint8_t> boundary,
+                          double fraction);
+
+/// The water mesh over the surf zone (docs/inspect.md, "The water mesh"): a breaker's
+/// face and lip need a mesh finer than the tube, about H/4, against W/16 offshore.
+struct SurfZoneMesh {
+    double height_fraction = 0.25;  ///< edge = this × the local height H where crests break; 0 = off
+    double min_edge = 0.2;          ///< never finer (m)
+    double grade = 0.3;             ///< the edge grows by this per metre away from the band
+    /// The band: from this many wavelengths (plus the crests' variation) before the
+    /// break to as far past the end of the breaking phase (at most the crests' end).
+    double margin_wavelengths = 0.0;
+};
+
+/// Whether vertex v's crests break (or are about to) there: its phase within the band
+/// of SurfZoneMesh::margin_wavelengths.
+bool in_breaking_band(const JeschkeMotionPlan& plan, std::size_t v, double margin_wavelengths) noexcept;
+
+/// `size` graded down to SurfZoneMesh::height_fraction × H over the band where the
+/// plan's crests break (the plan on the traced strips, whose vertices mark the band),
+/// and back out by `grade` per metre: min(size, band). `size` itself when the fraction
+/// is 0 or no crest breaks. Deterministic (a raster over the seafloor's rectangle).
+EdgeSize surf_zone_edge_size(EdgeSize size, const JeschkeMotionPlan& plan, const ElevationGrid& seafloor, const SurfZoneMesh& options = {});
 
 /// The skirt's breakers at time t blended into `positions` (all vertices, 3 floats
 /// each, the far field's skirt already evaluated): p = w · breaker + (1 − w) · p.

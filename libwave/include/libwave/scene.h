@@ -111,6 +111,10 @@ struct Scene {
     /// (`"water_mesh": false`), the strips themselves. A camera grid replaces both
     /// (reading /surface/camera_grid empties it).
     std::optional<double> water_mesh_per_wavelength = 16.0;
+    /// /surface/water_mesh/surf_zone (experimental): with Jeschke's breakers, the water
+    /// mesh's edge over the band where crests break, as a fraction of the local height H
+    /// (SurfZoneMesh; 0.25 is H/4); 0 (the default) = the wavelength's spacing there too.
+    double surf_zone_mesh = 0.0;
     /// The far field (/surface/far_field): the sea beyond the domain, so that no edge
     /// shows towards the horizon.
     struct FarField {

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <string>
 #include <utility>
 #include <vector>
@@ -104,6 +105,81 @@ void relabel(const std::vector<double>& top, double ratio, const BreakerSectionB
     out.back() = {1.0, top.back()};
 }
 
+// The overturning section (BreakerLip::curl): the envelope's wall — the steepest drop,
+// where the lip hangs over the water ahead — replaced by a tube's mouth. From the lip's
+// top the surface falls a quarter of the wall, then curls back under the lip by D and
+// returns to the wall's foot (sin² in the wall's height, so it leaves and meets the
+// envelope without a kink): a lip that faces down. D = ½ plunge × the wall's height
+// (at the real ratio), plunge 0 … 1 from the curl (the paper's tube 1; collapsing and
+// spilling crests 0). A section without a wall steeper than 70° is the envelope.
+// Returned as a polyline (x in wavelengths, z in units of 5H).
+constexpr std::size_t kMouthSamples = 48;
+
+double plunge_of(double curl) noexcept { return std::clamp((curl - 0.6) / 0.4, 0.0, 1.0); }
+
+void curl_polyline(const std::vector<double>& top, double ratio, double plunge, std::vector<double>& px, std::vector<double>& pz) {
+    const double dx = 1.0 / static_cast<double>(kColumns);
+    const auto angle = [&](std::size_t j) { return std::atan2(-ratio * (top[j + 1] - top[j]), dx); };  // > 0 falling
+    std::size_t steepest = 0;
+    for (std::size_t j = 1; j < kColumns; ++j)
+        if (angle(j) > angle(steepest)) steepest = j;
+    px.clear();
+    pz.clear();
+    const double wall = 70.0 * std::numbers::pi / 180.0, side = 45.0 * std::numbers::pi / 180.0;
+    if (!(plunge > 0.0) || angle(steepest) < wall || steepest == 0 || steepest + 1 == kColumns) {
+        for (std::size_t j = 0; j <= kColumns; ++j) px.push_back(static_cast<double>(j) * dx), pz.push_back(top[j]);
+        return;
+    }
+    std::size_t a = steepest, b = steepest + 1;  // the wall: columns a (its top) … b (its foot)
+    while (a > 1 && angle(a - 1) > side) --a;
+    while (b + 1 < kColumns && angle(b) > side) ++b;
+    for (std::size_t j = 0; j <= a; ++j) px.push_back(static_cast<double>(j) * dx), pz.push_back(top[j]);
+    const double xa = static_cast<double>(a) * dx, xb = static_cast<double>(b) * dx, za = top[a], zb = top[b];
+    const double depth = 0.5 * plunge * ratio * (za - zb);
+    constexpr double lip = 0.25;  // the lip's thickness: a quarter of the wall
+    for (std::size_t i = 1; i < kMouthSamples; ++i) {
+        const double u = static_cast<double>(i) / static_cast<double>(kMouthSamples);
+        const double w = std::clamp((u - lip) / (1.0 - lip), 0.0, 1.0), g = std::sin(std::numbers::pi * w);
+        px.push_back(xa + (xb - xa) * u - depth * g * g);
+        pz.push_back(za + (zb - za) * u);
+    }
+    for (std::size_t j = b; j <= kColumns; ++j) px.push_back(static_cast<double>(j) * dx), pz.push_back(top[j]);
+}
+
+// relabel over a polyline whose segments may run backwards (cos θ < 0: the lip's
+// underside), where a point of a section moving at c moves at c √(1 − 2μ cos θ + μ²):
+// μ = max(p, min(1/cos θ (cos θ > 0), cos θ + √(v² − sin² θ))) — on the underside
+// the packing p, so the lip's jet runs at most (1 + p) c frozen.
+void relabel_polyline(const std::vector<double>& px, const std::vector<double>& pz, double ratio, const BreakerSectionBounds& b,
+                      std::size_t labels, std::vector<BreakerSectionPoint>& out) {
+    const double v2 = b.frozen_speed * b.frozen_speed;
+    const std::size_t m = px.size() - 1;
+    std::vector<double> label(m + 1, 0.0);
+    for (std::size_t j = 0; j < m; ++j) {
+        const double ddx = px[j + 1] - px[j], dz = ratio * (pz[j + 1] - pz[j]), length = std::hypot(ddx, dz);
+        if (!(length > 0.0)) {
+            label[j + 1] = label[j];
+            continue;
+        }
+        const double c = ddx / length, sin2 = 1.0 - c * c;
+        const double rest = c > 0.0 ? 1.0 / c : std::numeric_limits<double>::infinity();
+        const double mu = std::max(b.min_packing, std::min(rest, c + std::sqrt(v2 - sin2)));
+        label[j + 1] = label[j] + length / mu;
+    }
+    const double kappa = label.back();
+    out.resize(labels + 1);
+    std::size_t j = 0;
+    for (std::size_t q = 0; q <= labels; ++q) {
+        const double s = kappa * static_cast<double>(q) / static_cast<double>(labels);
+        while (j + 1 < m && label[j + 1] < s) ++j;
+        const double span = label[j + 1] - label[j];
+        const double w = span > 0.0 ? std::clamp((s - label[j]) / span, 0.0, 1.0) : 0.0;
+        out[q] = {px[j] + w * (px[j + 1] - px[j]), pz[j] + w * (pz[j + 1] - pz[j])};
+    }
+    out.front() = {0.0, pz.front()};
+    out.back() = {1.0, pz.back()};
+}
+
 void check_bounds(const BreakerSectionBounds& b) {
     if (!(b.min_packing >= 0.0 && b.min_packing < 1.0))
         throw InputError("breakers: min_packing must be in [0, 1), got " + std::to_string(b.min_packing));
@@ -132,7 +208,16 @@ void outer_section(double life, double curl, double ratio, const BreakerSectionB
     relabel(envelope(life, curl), ratio, bounds, labels, out);
 }
 
-BreakerSections plan_breaker_sections(double curl_min, double curl_max, const BreakerSectionBounds& bounds) {
+void curl_section(double life, double curl, double ratio, const BreakerSectionBounds& bounds, std::size_t labels,
+                  std::vector<BreakerSectionPoint>& out) {
+    check_bounds(bounds);
+    if (labels == 0) throw InputError("curl section: no labels");
+    std::vector<double> px, pz;
+    curl_polyline(envelope(life, curl), ratio, plunge_of(curl), px, pz);
+    relabel_polyline(px, pz, ratio, bounds, labels, out);
+}
+
+BreakerSections plan_breaker_sections(double curl_min, double curl_max, const BreakerSectionBounds& bounds, bool overturn) {
     check_bounds(bounds);
     if (!(curl_min >= 0.0 && curl_max <= 2.0 && curl_min <= curl_max))
         throw InputError("breakers: curls must lie in [0, 2], got " + std::to_string(curl_min) + " … " + std::to_string(curl_max));
@@ -143,18 +228,24 @@ BreakerSections plan_breaker_sections(double curl_min, double curl_max, const Br
     t.lives = kLives;
     t.ratios = kRatios;
     t.log2_ratio_first = -5.0;
-    t.labels = kLabels;
-    const std::size_t per_section = kLabels + 1, sections = t.lives * t.curls * t.ratios;
+    t.labels = overturn ? 2 * kLabels : kLabels;  // the mouth holds a few labels more
+    const std::size_t per_section = t.labels + 1, sections = t.lives * t.curls * t.ratios;
     t.x.resize(sections * per_section);
     t.z.resize(sections * per_section);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, t.lives * t.curls), [&](const tbb::blocked_range<std::size_t>& r) {
         std::vector<BreakerSectionPoint> section;
+        std::vector<double> px, pz;
         for (std::size_t lc = r.begin(); lc != r.end(); ++lc) {
             const double life = 2.0 * static_cast<double>(lc / t.curls) / static_cast<double>(t.lives - 1);
             const double curl = t.curl_first + t.curl_step * static_cast<double>(lc % t.curls);
             const std::vector<double> top = envelope(life, curl);
             for (std::size_t q = 0; q < t.ratios; ++q) {
-                relabel(top, ratio_at(t, q), bounds, kLabels, section);
+                if (overturn) {
+                    curl_polyline(top, ratio_at(t, q), plunge_of(curl), px, pz);
+                    relabel_polyline(px, pz, ratio_at(t, q), bounds, t.labels, section);
+                } else {
+                    relabel(top, ratio_at(t, q), bounds, kLabels, section);
+                }
                 const std::size_t at = (lc * t.ratios + q) * per_section;
                 for (std::size_t m = 0; m < per_section; ++m) {
                     t.x[at + m] = static_cast<float>(section[m].x);

@@ -1,6 +1,7 @@
 // Jeschke, Birkholz & Schumann (WSCG 2003): a procedural breaker whose shape (§4,
 // table 1) and foam (§3.1) are pure functions of space and time, parametrised here from
 // the traced rays instead of by hand (the paper's stated future work).
+#include "core/smoothstep.h"
 #include "core/splitmix.h"
 #include "libwave/errors.h"
 #include "libwave/motion.h"
@@ -388,9 +389,10 @@ JeschkeMotionPlan plan_jeschke_breakers(const RayStrips& strips, double deep_hei
         p.rays.push_back(life.rb);
     }
 
-    if (o.lip == BreakerLip::outer) {
+    if (o.lip == BreakerLip::outer || o.lip == BreakerLip::curl) {
         const auto [lo, hi] = std::minmax({o.curl_spilling, o.curl_plunging, o.curl_collapsing, o.curl_surging});
         p.sections = plan_breaker_sections(lo, hi, o.section_bounds);
+        if (o.lip == BreakerLip::curl) p.curl_sections = plan_breaker_sections(lo, hi, o.section_bounds, true);
     }
 
     // Shape size per vertex, the still-water mean removed, and the foam a crest leaves.
@@ -424,6 +426,7 @@ JeschkeMotionPlan resample_jeschke_breakers(const JeschkeMotionPlan& src, std::s
     p.crest_draws = src.crest_draws;
     p.variation = src.variation;
     p.sections = src.sections;
+    p.curl_sections = src.curl_sections;
     p.rays = src.rays;
     p.x.assign(x.begin(), x.end());
     p.y.assign(y.begin(), y.end());
@@ -529,8 +532,12 @@ namespace {
 BreakerSectionPoint section_point(const JeschkeMotionPlan& p, std::size_t v, const BreakerLife& life, double s) noexcept {
     const bool broken = life.phase == BreakerPhase::breaking || life.phase == BreakerPhase::collapsing;
     if (broken && !p.sections.empty()) {
-        const double tau = life.phase == BreakerPhase::breaking ? life.t : 1.0 + life.t;
-        return breaker_section(p.sections, tau, p.curl[v], p.scale[v] / p.width[v], s);
+        const double tau = life.phase == BreakerPhase::breaking ? life.t : 1.0 + life.t, ratio = p.scale[v] / p.width[v];
+        const BreakerSectionPoint outer = breaker_section(p.sections, tau, p.curl[v], ratio, s);
+        const double w = p.resolve.empty() || p.curl_sections.empty() ? 0.0 : static_cast<double>(p.resolve[v]);
+        if (!(w > 0.0)) return outer;
+        const BreakerSectionPoint curl = breaker_section(p.curl_sections, tau, p.curl[v], ratio, s);
+        return {outer.x + w * (curl.x - outer.x), outer.z + w * (curl.z - outer.z)};
     }
     // Away from the lip seam only the half holding s is needed (k7, the scale, is the
     // same in both halves of every phase; the seam is never wider than lip_seam_max,
@@ -642,5 +649,61 @@ CrestPhases jeschke_crest_phases(const JeschkeMotionPlan& p, std::size_t v, long
 }
 
 double jeschke_foam_yield(const BreakerLife& life, double onset) noexcept { return foam_yield(life, onset); }
+
+}  // namespace wave
+
+namespace wave {
+
+void resolve_jeschke_lips(JeschkeMotionPlan& p, std::span<const std::uint32_t> triangles, std::span<const std::uint8_t> boundary,
+                          double fraction) {
+    const std::size_t n = p.vertex_count();
+    if (p.curl_sections.empty() || n == 0) return;
+    if (boundary.size() != n) throw InputError("resolve lips: boundary flags for " + std::to_string(boundary.size()) + " of " + std::to_string(n) + " vertices");
+    if (!(fraction > 0.0)) throw InputError("resolve lips: fraction must be > 0");
+    std::vector<double> sum(n, 0.0);
+    std::vector<std::uint32_t> count(n, 0);
+    for (std::size_t t = 0; t + 2 < triangles.size(); t += 3)
+        for (std::size_t i = 0; i < 3; ++i) {
+            const std::uint32_t a = triangles[t + i], b = triangles[t + (i + 1) % 3];
+            if (a >= n || b >= n) throw InputError("resolve lips: triangle index out of range");
+            const double e = std::hypot(p.x[a] - p.x[b], p.y[a] - p.y[b]);
+            sum[a] += e, sum[b] += e, ++count[a], ++count[b];
+        }
+    // Distance to the boundary in wavelengths, by hops over the mesh (Dijkstra on edges).
+    std::vector<double> reach(n, std::numeric_limits<double>::infinity());
+    std::vector<std::uint32_t> start(n + 1, 0), next;
+    for (std::uint32_t v : triangles) start[v + 1] += 2;
+    for (std::size_t v = 0; v < n; ++v) start[v + 1] += start[v];
+    next.resize(start[n]);
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t t = 0; t + 2 < triangles.size(); t += 3)
+        for (std::size_t i = 0; i < 3; ++i) {
+            const std::uint32_t a = triangles[t + i];
+            next[fill[a]++] = triangles[t + (i + 1) % 3];
+            next[fill[a]++] = triangles[t + (i + 2) % 3];
+        }
+    using Item = std::pair<double, std::uint32_t>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
+    for (std::uint32_t v = 0; v < n; ++v)
+        if (boundary[v]) reach[v] = 0.0, queue.emplace(0.0, v);
+    while (!queue.empty()) {
+        const auto [d, v] = queue.top();
+        queue.pop();
+        if (d > reach[v]) continue;
+        for (std::uint32_t i = start[v]; i < start[v + 1]; ++i) {
+            const std::uint32_t w = next[i];
+            const double dw = d + std::hypot(p.x[w] - p.x[v], p.y[w] - p.y[v]);
+            if (dw < reach[w]) reach[w] = dw, queue.emplace(dw, w);
+        }
+    }
+    p.resolve.assign(n, 0.0f);
+    for (std::size_t v = 0; v < n; ++v) {
+        if (count[v] == 0 || !(p.width[v] > 0.0f) || !(p.scale[v] > 0.0f)) continue;
+        const double spacing = sum[v] / count[v], h = p.scale[v] / 5.0;
+        const double fine = 1.0 - detail::smoothstep(fraction * h, 2.0 * fraction * h, spacing);
+        const double inside = detail::smoothstep(0.0, static_cast<double>(p.width[v]), reach[v]);
+        p.resolve[v] = static_cast<float>(fine * inside);
+    }
+}
 
 }  // namespace wave

@@ -192,8 +192,9 @@ void read_surface(const Node& n, Scene& s) {
     }
     if (switched_on(n, "water_mesh", "the strips themselves")) {
         const Node w = n["water_mesh"];
-        w.require_object({"vertices_per_wavelength"});
+        w.require_object({"vertices_per_wavelength", "surf_zone"});
         s.water_mesh_per_wavelength = w.has("vertices_per_wavelength") ? w["vertices_per_wavelength"].number("") : *Scene{}.water_mesh_per_wavelength;
+        if (w.has("surf_zone")) s.surf_zone_mesh = w["surf_zone"].number("");
     } else if (n.has("water_mesh")) {
         s.water_mesh_per_wavelength.reset();
     }
@@ -301,7 +302,7 @@ JeschkeBreakerOptions read_breakers(const Node& n) {
     share("wave_variation", o.wave_variation, "local wavelengths / share of the collapse zone");
     if (n.has("varied_waves")) o.varied_waves = static_cast<std::uint32_t>(n["varied_waves"].count());
     if (n.has("variation_seed")) o.variation_seed = n["variation_seed"].count();
-    if (n.has("lip")) o.lip = n["lip"].choice<BreakerLip>({{"outer", BreakerLip::outer}, {"tube", BreakerLip::tube}});
+    if (n.has("lip")) o.lip = n["lip"].choice<BreakerLip>({{"outer", BreakerLip::outer}, {"tube", BreakerLip::tube}, {"curl", BreakerLip::curl}});
     share("min_packing", o.section_bounds.min_packing, "rest spacings");
     share("frozen_speed", o.section_bounds.frozen_speed, "phase speeds");
     return o;

@@ -51,9 +51,16 @@ void read_after(const Node& root, Scene& s) {
 // The water mesh: /surface/water_mesh vertices per local wavelength of the train, the
 // depth no shallower than where it breaks (H∞/γ): the surf zone keeps the breaking
 // depth's resolution up to the shore.
-WaterMesh plan_water_mesh(const Scene& scene, const ScenePlan& p) {
-    const EdgeSize size =
+// With the breakers, graded down to /surface/water_mesh/surf_zone × H over the band
+// where crests break (the plan on the strips marks it).
+WaterMesh plan_water_mesh(const Scene& scene, const ScenePlan& p, const JeschkeMotionPlan* strip_breakers) {
+    EdgeSize size =
         wavelength_edge_size(p.seafloor, scene.waves[0], *scene.water_mesh_per_wavelength, scene.trace.breaker_index);
+    if (strip_breakers && scene.surf_zone_mesh > 0.0) {
+        SurfZoneMesh z;
+        z.height_fraction = scene.surf_zone_mesh;
+        size = surf_zone_edge_size(std::move(size), *strip_breakers, p.seafloor.grid, z);
+    }
     WaterMeshOptions o;
     o.max_vertices = scene.surface.max_vertices;
     return mesh_water(p.seafloor, size, o);
@@ -77,8 +84,16 @@ void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
     if (p.strips.triangle_count() == 0) refuse_empty_strips(scene, p);
     p.loop_period = scene.waves[0].period;
     if (stages == PlanStages::trace) return;
+    // The breakers on the traced strips (resampled onto the mesh or the grid below).
+    JeschkeMotionPlan strip_breakers;
+    if (scene.breakers) {
+        JeschkeBreakerOptions o = *scene.breakers;
+        o.breaker_index = scene.trace.breaker_index;
+        const WaveTrain& w = scene.waves[0];
+        strip_breakers = plan_jeschke_breakers(p.strips, 2.0 * w.amplitude, deep_water_wavelength(w.period), o);
+    }
     if (scene.water_mesh_per_wavelength) {
-        p.water_mesh = plan_water_mesh(scene, p);
+        p.water_mesh = plan_water_mesh(scene, p, scene.breakers ? &strip_breakers : nullptr);
         p.water_strips = resample_ray_strips(p.strips, p.seafloor, p.water_mesh.x, p.water_mesh.y, p.water_mesh.triangles);
         // Where the rays left gaps (the sides, shadows), the field's wave.
         if (!p.wave_fields.empty()) fill_strip_gaps(p.wave_fields[0], p.seafloor, p.water_strips);
@@ -86,10 +101,7 @@ void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
     const bool on_mesh = p.water_mesh.vertex_count() > 0;
     p.motion = plan_gonzato_motion(on_mesh ? p.water_strips : p.strips, scene.profile);
     if (scene.breakers) {
-        JeschkeBreakerOptions o = *scene.breakers;
-        o.breaker_index = scene.trace.breaker_index;
-        const WaveTrain& w = scene.waves[0];
-        p.breakers = plan_jeschke_breakers(p.strips, 2.0 * w.amplitude, deep_water_wavelength(w.period), o);
+        p.breakers = std::move(strip_breakers);
         if (scene.camera_grid) {
             GridCamera c = *scene.camera_grid;
             c.position = scene_camera(scene, p.seafloor);
@@ -101,6 +113,9 @@ void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
             p.breakers = resample_jeschke_breakers(p.breakers, p.strips.triangles, p.water_mesh.x, p.water_mesh.y);
             // Where the rays leave gaps (the downwave sides), the nearest traced breakers.
             fill_jeschke_gaps(p.breakers, p.water_mesh.triangles);
+            // "lip": "curl": the overturning lip where the mesh resolves the tube.
+            if (scene.surf_zone_mesh > 0.0)
+                resolve_jeschke_lips(p.breakers, p.water_mesh.triangles, p.water_mesh.boundary, scene.surf_zone_mesh);
         }
         // Varied crests repeat after m of them: the loop holds m periods.
         p.loop_period *= static_cast<double>(p.breakers.loop_periods());
@@ -118,7 +133,7 @@ const std::vector<std::uint32_t>& triangles(const ScenePlan& p) {
 // Crests turn over when the motion draws them as the papers do: Jeschke's tube, or
 // Gonzato's eq. 7 with no packing bound. The bounded sections (the defaults) never do.
 bool overturns(const Scene& scene) {
-    return scene.breakers ? scene.breakers->lip == BreakerLip::tube : scene.profile.min_packing == 0.0;
+    return scene.breakers ? scene.breakers->lip != BreakerLip::outer : scene.profile.min_packing == 0.0;
 }
 
 bool move(const Scene& scene, const ScenePlan& p, double t, ModelState*, ModelFrame& frame) {
