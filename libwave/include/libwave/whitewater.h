@@ -51,19 +51,26 @@ struct WhitewaterOptions {
     double foam_lace = 0.45;
     double foam_lace_scale = 2.5;  ///< m: the lace's size across the crest
     std::uint64_t seed = 1;        ///< the particles' draws
-    bool spray = true, foam = true, bubbles = true;  ///< which kinds are made
+    bool spray = true;    ///< make spray
+    bool foam = true;     ///< make foam
+    bool bubbles = true;  ///< make bubbles
 };
 
 /// Where and when breaking water throws whitewater: one event per point of a breaking
 /// crest as it passes (flat arrays, one entry per event).
 struct WhitewaterEvents {
-    std::vector<float> x, y, z;       ///< the crest's top (m, z up)
-    std::vector<float> dir_x, dir_y;  ///< unit direction the crest runs
+    std::vector<float> x;      ///< the crest's top (m)
+    std::vector<float> y;      ///< the crest's top (m)
+    std::vector<float> z;      ///< the crest's top (m, z up)
+    std::vector<float> dir_x;  ///< unit direction the crest runs
+    std::vector<float> dir_y;  ///< unit direction the crest runs
     std::vector<float> speed;         ///< the crest's speed c (m/s)
     std::vector<float> height;        ///< its wave height H (m)
     std::vector<float> length;        ///< the stretch of crest the event stands for (m)
     std::vector<double> time;         ///< when (s)
-    std::vector<float> spray, foam, bubbles;  ///< each kind's strength in [0, 1]
+    std::vector<float> spray;    ///< spray's strength in [0, 1]
+    std::vector<float> foam;     ///< foam's strength in [0, 1]
+    std::vector<float> bubbles;  ///< bubbles' strength in [0, 1]
     std::vector<std::uint64_t> key;   ///< the draws' key: the same event, the same particles
     std::vector<std::uint32_t> wave;  ///< the wave that threw it (a crest, a fold's lattice time): one lace per wave
     /// Events repeat after this (s): an event at time τ also happens at τ + n · period
@@ -116,7 +123,8 @@ void evaluate_whitewater(const WhitewaterEvents& events, const WhitewaterOptions
 /// The surface the particles ride: its rest positions and triangles (kept by reference:
 /// the spans must outlive it), located once.
 struct WhitewaterRide {
-    std::span<const double> rest_x, rest_y;
+    std::span<const double> rest_x;  ///< the surface's rest positions (m)
+    std::span<const double> rest_y;  ///< the surface's rest positions (m)
     std::shared_ptr<const void> locator;  ///< the rest triangles' point locator (internal)
 };
 WhitewaterRide plan_whitewater_ride(std::span<const double> rest_x, std::span<const double> rest_y,
