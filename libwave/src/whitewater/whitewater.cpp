@@ -150,7 +150,7 @@ bool spray_particle(const WhitewaterEvents& e, const WhitewaterOptions& o, std::
     out.p[2] = static_cast<float>(z);
     out.v[0] = static_cast<float>(v0[0] * decay), out.v[1] = static_cast<float>(v0[1] * decay), out.v[2] = static_cast<float>(vz);
     out.age = static_cast<float>(a);
-    out.size = static_cast<float>(0.02 + 0.05 * draw(h, 8));
+    out.size = static_cast<float>(0.04 + 0.08 * draw(h, 8));  // a clump of droplets, as a renderer draws it
     out.kind = WhitewaterKind::spray;
     return true;
 }
