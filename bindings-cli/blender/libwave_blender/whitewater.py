@@ -140,15 +140,41 @@ def _node_group():
     flat.operation = "MULTIPLY"
     links.new(held.outputs[0], flat.inputs[0])
     flat.inputs[1].default_value = 0.2
+    # No two alike: each pancake stretched 0.5–1.5 along one axis and 0.6–1.2 along the
+    # other (a draw per point, seeded by its index) and turned about z.
+    def stretched(low, high, seed):
+        draw = nodes.new("FunctionNodeRandomValue")
+        draw.data_type = "FLOAT"
+        for socket in draw.inputs:
+            if socket.identifier == "Min_001":
+                socket.default_value = low
+            elif socket.identifier == "Max_001":
+                socket.default_value = high
+            elif socket.name == "Seed":
+                socket.default_value = seed
+        times = nodes.new("ShaderNodeMath")
+        times.operation = "MULTIPLY"
+        links.new(held.outputs[0], times.inputs[0])
+        links.new(next(o for o in draw.outputs if o.identifier == "Value_001"), times.inputs[1])
+        return times.outputs[0]
+
     scale = nodes.new("ShaderNodeCombineXYZ")
-    links.new(held.outputs[0], scale.inputs["X"])
-    links.new(held.outputs[0], scale.inputs["Y"])
+    links.new(stretched(0.5, 1.5, 11), scale.inputs["X"])
+    links.new(stretched(0.6, 1.2, 12), scale.inputs["Y"])
     links.new(flat.outputs[0], scale.inputs["Z"])
+    turn = nodes.new("FunctionNodeRandomValue")
+    turn.data_type = "FLOAT_VECTOR"
+    for socket in turn.inputs:
+        if socket.identifier == "Max" and socket.type == "VECTOR":
+            socket.default_value = (0.0, 0.0, 6.2831853)
+        elif socket.name == "Seed":
+            socket.default_value = 13
     instances = nodes.new("GeometryNodeInstanceOnPoints")
     links.new(inp.outputs[0], instances.inputs["Points"])
     links.new(is_foam.outputs[0], instances.inputs["Selection"])
     links.new(sphere.outputs["Mesh"], instances.inputs["Instance"])
     links.new(scale.outputs["Vector"], instances.inputs["Scale"])
+    links.new(next(o for o in turn.outputs if o.identifier == "Value"), instances.inputs["Rotation"])
     join = nodes.new("GeometryNodeJoinGeometry")
     links.new(to_points.outputs["Points"], join.inputs["Geometry"])
     links.new(instances.outputs["Instances"], join.inputs["Geometry"])
