@@ -459,7 +459,7 @@ json run_report(const RunSummary& r) {
     }
     if (r.scene.whitewater) {
         json sources = json::array();
-        if (r.scene.breakers) sources.push_back("breakers");
+        if (r.scene.surface_kind == SurfaceKind::ray_strips) sources.push_back(r.scene.breakers ? "breakers" : "gonzato breaking");
         if (r.scene.ocean) sources.push_back("wind sea folds");
         report["whitewater"] = {{"points", kWhitewaterPoints}, {"sources", sources}, {"breaker_events", r.plan.whitewater.size()},
                                 {"breaker_events_repeat_s", r.plan.whitewater.period}};

@@ -1367,12 +1367,24 @@ class Whitewater(unittest.TestCase):
             with open(path, "rb") as a, open(os.path.join(alone, "whitewater", "whitewater-0002.glb"), "rb") as b:
                 self.assertEqual(a.read(), b.read())
 
+    def test_gonzatos_breakers_throw_it_too(self):
+        with tempfile.TemporaryDirectory() as d:
+            scene = write_scene(d, {k: v for k, v in self.BEACH.items() if k != "breakers"})
+            out = os.path.join(d, "out")
+            r = wave("run", scene, "-o", out, "--frames", "0:2", "--json")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertGreater(json.loads(r.stdout)["whitewater"]["breaker_events"], 100)
+            doc, binary = read_glb(os.path.join(out, "whitewater", "whitewater-0001.glb"))
+            prim = doc["meshes"][0]["primitives"][0]
+            self.assertGreater(doc["accessors"][prim["attributes"]["POSITION"]]["count"], 1000)
+
     def test_bad_options_name_the_key(self):
         with tempfile.TemporaryDirectory() as d:
             for doc, key in ((dict(self.BEACH, whitewater={"spray_density": -1}), "/whitewater/spray_density"),
                              (dict(self.BEACH, whitewater={"foam_lace": 2}), "/whitewater/foam_lace"),
                              (dict(self.BEACH, whitewater={"spray": False, "foam": False, "bubbles": False}), "/whitewater"),
-                             ({k: v for k, v in self.BEACH.items() if k != "breakers"}, "/whitewater")):
+                             ({"seafloor": {"source": "planar-beach"}, "waves": self.BEACH["waves"], "surface": {"kind": "height-field"},
+                               "whitewater": True}, "/whitewater")):
                 out = os.path.join(d, "out")
                 r = wave("run", write_scene(d, doc), "-o", out)
                 self.assertEqual(r.returncode, 2, r.stderr)

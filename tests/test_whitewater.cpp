@@ -229,3 +229,26 @@ TEST(Whitewater, TheGlbHoldsOnePointsPrimitive) {
     const std::string empty = whitewater_glb(WhitewaterPoints{}, 0, 24.0);
     EXPECT_EQ(empty.find("meshes"), std::string::npos);
 }
+
+TEST(Whitewater, GonzatosBreakersEmitAsTheirCrestsPassWhereTheyNearBreaking) {
+    std::string text = kWhitewaterBeach;
+    text.replace(text.find("\"breakers\": \"jeschke\", "), 23, "");
+    const Scene scene = parse_scene(text, "beach", ".");
+    ASSERT_FALSE(scene.breakers);
+    const ScenePlan plan = plan_scene(scene);
+    const WhitewaterEvents& e = plan.whitewater;
+    ASSERT_GT(e.size(), 100u);
+    EXPECT_NEAR(e.period, 8.0, 1e-9);  // the swell's period
+    const RayStrips& s = plan.water_strips.vertex_count() > 0 ? plan.water_strips : plan.strips;
+    std::size_t v = 0;
+    for (std::size_t i = 0; i < e.size(); ++i) {
+        while (v < s.vertex_count() && (static_cast<float>(s.x[v]) != e.x[i] || static_cast<float>(s.y[v]) != e.y[i])) ++v;
+        ASSERT_LT(v, s.vertex_count()) << "event " << i << " is on no vertex";
+        // Near breaking: H ≥ onset · γ h; and the crest (Φ_min + π) over the vertex then.
+        EXPECT_GE(2.0 * s.amplitude[v], scene.foam.onset * scene.foam.breaker_index * s.depth[v] * (1 - 1e-9));
+        const double turns = (plan.motion.phase[v] - plan.motion.shape[v].trough_phase - std::numbers::pi -
+                              plan.motion.omega * e.time[i]) / (2 * std::numbers::pi);
+        EXPECT_NEAR(turns, std::round(turns), 1e-6) << i;
+        EXPECT_LE(e.spray[i], e.foam[i]);  // spray only as the wave reaches the limit
+    }
+}

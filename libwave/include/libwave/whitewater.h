@@ -19,6 +19,9 @@
 namespace wave {
 
 struct JeschkeMotionPlan;
+struct GonzatoMotionPlan;
+struct RayStrips;
+struct FoamOptions;
 struct FoldSample;
 struct FoldFoamOptions;
 
@@ -100,6 +103,15 @@ struct WhitewaterPoints {
 /// event stands for the vertex's share of the surface (the square root of a third of
 /// its triangles' area). Throws InputError on sizes that disagree.
 WhitewaterEvents jeschke_whitewater_events(const JeschkeMotionPlan& plan, std::span<const std::uint32_t> triangles);
+
+/// The events of Gonzato's profile on ray strips (`strips`, their motion `motion`, the
+/// surface's `triangles`): every vertex whose wave nears the breaking limit, as its
+/// breaking foam says (weight w from `foam.onset` · γh to γh, breaking_foam), once per
+/// swell period as the crest (Φ_min + π) passes it: foam and bubbles w, spray w². The
+/// events' period is the swell's. Throws InputError on sizes that disagree or bad
+/// foam options.
+WhitewaterEvents gonzato_whitewater_events(const RayStrips& strips, const GonzatoMotionPlan& motion, const FoamOptions& foam,
+                                           std::span<const std::uint32_t> triangles);
 
 /// The events of the wind sea's folds at one past lattice time (fold_sample, taken at
 /// `time` over the vertices at rest positions `rest_x`, `rest_y`): a whitecap at every

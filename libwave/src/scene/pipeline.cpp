@@ -413,6 +413,11 @@ ScenePlan plan_scene(const Scene& scene, PlanStages stages) {
     // The breakers' whitewater over the loop, on the surface the breakers move.
     if (scene.whitewater && scene.breakers)
         p.whitewater = jeschke_whitewater_events(p.breakers, detail::surface_model(scene.surface_kind).triangles(p));
+    else if (scene.whitewater && scene.surface_kind == SurfaceKind::ray_strips && !scene.camera_grid) {
+        // Gonzato's profile: where its breaking foam comes from (the same strips and options).
+        const RayStrips& strips = p.water_strips.vertex_count() > 0 ? p.water_strips : p.strips;
+        p.whitewater = gonzato_whitewater_events(strips, p.motion, scene.foam, detail::surface_model(scene.surface_kind).triangles(p));
+    }
     if (stages == PlanStages::all) refine_scene_plan(scene, p);
     return p;
 }

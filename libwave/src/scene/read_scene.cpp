@@ -584,8 +584,9 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     }
     if (root.has("whitewater")) {
         s.whitewater = read_whitewater(root["whitewater"]);
-        if (s.whitewater && !s.breakers && !s.ocean && s.surface_kind != SurfaceKind::ocean)
-            root["whitewater"].fail("needs breaking water: /breakers (Jeschke's breakers) or a wind sea (/ocean, or the ocean surface)");
+        if (s.whitewater && s.surface_kind != SurfaceKind::ray_strips && !s.ocean && s.surface_kind != SurfaceKind::ocean)
+            root["whitewater"].fail("needs breaking water: the ray strips' breakers (Gonzato's or /breakers) or a wind sea "
+                                    "(/ocean, or the ocean surface)");
     }
     if (root.has("fronts")) read_fronts(root["fronts"], s.fronts);
     if (root.has("field")) read_field(root["field"], s);

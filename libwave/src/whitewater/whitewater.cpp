@@ -7,6 +7,7 @@
 #include "libwave/motion.h"
 #include "libwave/physics.h"
 #include "libwave/shade.h"
+#include "libwave/surface.h"
 #include "surface/triangle_locator.h"
 
 #include <tbb/blocked_range.h>
@@ -599,6 +600,58 @@ WhitewaterEvents jeschke_whitewater_events(const JeschkeMotionPlan& p, std::span
                   splitmix64(static_cast<std::uint64_t>(v) * 0x100000001B3ull + static_cast<std::uint64_t>(k)),
                   static_cast<std::uint32_t>(k));
         }
+    }
+    return e;
+}
+
+}  // namespace wave
+
+namespace wave {
+
+namespace {
+
+// Each vertex's share of a surface: the square root of a third of its triangles' area.
+std::vector<double> vertex_spacing(std::span<const double> x, std::span<const double> y, std::span<const std::uint32_t> triangles,
+                                   const char* what) {
+    const std::size_t n = x.size();
+    if (triangles.size() % 3 != 0) throw InputError(std::string(what) + ": the triangles' indices are not a multiple of 3");
+    std::vector<double> area(n, 0.0);
+    for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
+        const std::uint32_t a = triangles[t], b = triangles[t + 1], c = triangles[t + 2];
+        if (a >= n || b >= n || c >= n)
+            throw InputError(std::string(what) + ": triangle index out of range for " + std::to_string(n) + " vertices");
+        const double twice = std::abs((x[b] - x[a]) * (y[c] - y[a]) - (x[c] - x[a]) * (y[b] - y[a]));
+        for (const std::uint32_t v : {a, b, c}) area[v] += twice / 6.0;
+    }
+    for (double& a : area) a = std::sqrt(a);
+    return area;
+}
+
+}  // namespace
+
+WhitewaterEvents gonzato_whitewater_events(const RayStrips& s, const GonzatoMotionPlan& m, const FoamOptions& o,
+                                           std::span<const std::uint32_t> triangles) {
+    const std::size_t n = s.vertex_count();
+    if (m.vertex_count() != n)
+        throw InputError("gonzato whitewater: " + std::to_string(m.vertex_count()) + " motion vertices for " + std::to_string(n) +
+                         " strip vertices");
+    if (!(o.breaker_index > 0.0) || !(o.onset > 0.0 && o.onset < 1.0))
+        throw InputError("gonzato whitewater: foam needs breaker_index > 0 and 0 < onset < 1");
+    const std::vector<double> spacing = vertex_spacing(s.x, s.y, triangles, "gonzato whitewater");
+    WhitewaterEvents e;
+    if (!(m.omega > 0.0)) return e;
+    e.period = two_pi / m.omega;
+    for (std::size_t v = 0; v < n; ++v) {
+        const double h = s.depth[v], height = 2.0 * s.amplitude[v];
+        if (!(h > 0.0) || !(height > 0.0) || !(s.k[v] > 0.0) || spacing[v] <= 0.0) continue;
+        const double w = std::clamp((height / (o.breaker_index * h) - o.onset) / (1.0 - o.onset), 0.0, 1.0);
+        if (w <= 0.0) continue;
+        // Φ = Σ k Δs − ω t: the crest (Φ_min + π) stands over the vertex at that time.
+        const double when = (m.phase[v] - m.shape[v].trough_phase - pi) / m.omega;
+        e.add(static_cast<float>(s.x[v]), static_cast<float>(s.y[v]), static_cast<float>(0.6 * height), static_cast<float>(s.dir_x[v]),
+              static_cast<float>(s.dir_y[v]), static_cast<float>(m.omega / s.k[v]), static_cast<float>(height),
+              static_cast<float>(spacing[v]), when - e.period * std::floor(when / e.period), static_cast<float>(w * w),
+              static_cast<float>(w), static_cast<float>(w), splitmix64(0x60A2A70ull ^ (static_cast<std::uint64_t>(v) * 0x100000001B3ull)), 0);
     }
     return e;
 }
