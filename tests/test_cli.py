@@ -1382,6 +1382,8 @@ class Whitewater(unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             for doc, key in ((dict(self.BEACH, whitewater={"spray_density": -1}), "/whitewater/spray_density"),
                              (dict(self.BEACH, whitewater={"foam_lace": 2}), "/whitewater/foam_lace"),
+                             # 10⁴ foam particles per m of crest living 10 min: refused before any frame.
+                             (dict(self.BEACH, whitewater={"foam_density": 10000, "foam_life": 600}), "/whitewater/max_points"),
                              (dict(self.BEACH, whitewater={"spray": False, "foam": False, "bubbles": False}), "/whitewater"),
                              ({"seafloor": {"source": "planar-beach"}, "waves": self.BEACH["waves"], "surface": {"kind": "height-field"},
                                "whitewater": True}, "/whitewater")):

@@ -54,6 +54,9 @@ struct WhitewaterOptions {
     double foam_lace = 0.45;
     double foam_lace_scale = 2.5;  ///< m: the lace's size across the crest
     std::uint64_t seed = 1;        ///< the particles' draws
+    /// The most particles a frame may hold (whitewater_bound), checked before any is made:
+    /// about 70 bytes each while a frame is made.
+    std::size_t max_points = 10'000'000;
     bool spray = true;    ///< make spray
     bool foam = true;     ///< make foam
     bool bubbles = true;  ///< make bubbles
@@ -124,12 +127,21 @@ void fold_whitewater_events(const FoldSample& sample, double time, const FoldFoa
                             std::span<const double> rest_y, std::array<double, 2> wind, double speed, double height,
                             double spacing, long long lattice_index, WhitewaterEvents& events);
 
+/// The most particles of `events` alive at any time: each event's counts times the
+/// emissions its lives let overlap (one per period within the longest life).
+std::size_t whitewater_bound(const WhitewaterEvents& events, const WhitewaterOptions& options);
+
+/// Throws LimitError naming /whitewater/max_points and the keys that lower the count
+/// when whitewater_bound exceeds options.max_points (InputError on options out of range).
+void check_whitewater_bound(const WhitewaterEvents& events, const WhitewaterOptions& options);
+
 /// The particles alive at time t into `out` (resized), each a closed form of its event
 /// and age (docs/whitewater.md): spray ballistic with drag from the lip, alive while
 /// above the still-water level under it; foam and bubbles at their drift position (x, y)
 /// with z their height relative to the water surface (ride_whitewater puts them on it).
 /// Particles come event by event, in the events' order, then by draw: the same output for
-/// any thread count. Throws InputError on options out of range.
+/// any thread count. Throws InputError on options out of range, LimitError as
+/// check_whitewater_bound.
 void evaluate_whitewater(const WhitewaterEvents& events, const WhitewaterOptions& options, double t, WhitewaterPoints& out);
 
 /// The surface the particles ride: its rest positions and triangles (kept by reference:

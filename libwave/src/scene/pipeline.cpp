@@ -418,6 +418,9 @@ ScenePlan plan_scene(const Scene& scene, PlanStages stages) {
         const RayStrips& strips = p.water_strips.vertex_count() > 0 ? p.water_strips : p.strips;
         p.whitewater = gonzato_whitewater_events(strips, p.motion, scene.foam, detail::surface_model(scene.surface_kind).triangles(p));
     }
+    // A run's particles are refused before any frame is made (the wind sea's, which come
+    // with each frame's folds, as each frame makes them).
+    if (scene.whitewater) check_whitewater_bound(p.whitewater, *scene.whitewater);
     if (stages == PlanStages::all) refine_scene_plan(scene, p);
     return p;
 }

@@ -388,7 +388,7 @@ std::optional<WhitewaterOptions> read_whitewater(const Node& n) {
     if (n.value().is_boolean()) return n.boolean() ? std::optional<WhitewaterOptions>(WhitewaterOptions{}) : std::nullopt;
     if (!n.value().is_object()) n.fail("expected true, false or an object of whitewater options, got " + n.shown());
     n.require_object({"spray", "foam", "bubbles", "spray_density", "foam_density", "bubble_density", "spray_life", "foam_life",
-                      "bubble_life", "spray_drag", "spray_lift", "foam_push", "foam_push_time", "foam_spread", "foam_patch", "foam_lace", "foam_lace_scale", "seed"});
+                      "bubble_life", "spray_drag", "spray_lift", "foam_push", "foam_push_time", "foam_spread", "foam_patch", "foam_lace", "foam_lace_scale", "seed", "max_points"});
     WhitewaterOptions o;
     const auto number = [&](const char* key, double& v, const char* unit) {
         if (n.has(key)) v = n[key].number(unit);
@@ -411,6 +411,7 @@ std::optional<WhitewaterOptions> read_whitewater(const Node& n) {
     number("foam_lace_scale", o.foam_lace_scale, "m");
     if (n.has("foam_patch")) o.foam_patch = static_cast<std::uint32_t>(n["foam_patch"].count());
     if (n.has("seed")) o.seed = n["seed"].count();
+    if (n.has("max_points")) o.max_points = n["max_points"].count();
     if (!o.spray && !o.foam && !o.bubbles) n.fail("every kind is off (spray, foam, bubbles): give \"whitewater\": false instead");
     return o;
 }

@@ -326,8 +326,31 @@ const detail::TriangleLocator& locator_of(const WhitewaterRide& r) {
 
 }  // namespace
 
-void evaluate_whitewater(const WhitewaterEvents& e, const WhitewaterOptions& o, double t, WhitewaterPoints& out) {
+std::size_t whitewater_bound(const WhitewaterEvents& e, const WhitewaterOptions& o) {
     check(o, e);
+    const auto ages = [&](double life) {
+        if (e.period <= 0.0) return 1.0;
+        return std::ceil(life / e.period);
+    };
+    const double foam_life = o.foam_life > 0.0 ? o.foam_life : 0.0;
+    double most = 0.0;
+    for (std::size_t i = 0; i < e.size(); ++i) {
+        const Counts c = event_counts(e, o, i, splitmix64(e.key[i] ^ splitmix64(o.seed)));
+        most += c.spray * ages(o.spray_life) + c.foam * (foam_life > 0.0 ? ages(foam_life) : 1.0) + c.bubbles * ages(o.bubble_life);
+    }
+    return static_cast<std::size_t>(std::min(most, 1e18));
+}
+
+void check_whitewater_bound(const WhitewaterEvents& e, const WhitewaterOptions& o) {
+    const std::size_t most = whitewater_bound(e, o);
+    if (most > o.max_points)
+        throw LimitError("whitewater: up to " + std::to_string(most) + " particles alive at once, over the limit of " +
+                         std::to_string(o.max_points) + " (/whitewater/max_points); lower /whitewater/foam_density, "
+                         "spray_density, bubble_density or the lives (foam_life, spray_life, bubble_life)");
+}
+
+void evaluate_whitewater(const WhitewaterEvents& e, const WhitewaterOptions& o, double t, WhitewaterPoints& out) {
+    check_whitewater_bound(e, o);
     if (!std::isfinite(t)) throw InputError("whitewater: the time must be finite");
     const std::size_t n = e.size();
     // One pass: each fixed block of events (not the scheduler's) writes its particles to
