@@ -40,6 +40,24 @@ using detail::splitmix64;
 constexpr double pi = std::numbers::pi;
 constexpr double two_pi = 2.0 * std::numbers::pi;
 
+// Each vertex's share of a surface: the square root of a third of its triangles' area.
+std::vector<double> vertex_spacing(std::span<const double> x, std::span<const double> y, std::span<const std::uint32_t> triangles,
+                                   const char* what) {
+    const std::size_t n = x.size();
+    if (triangles.size() % 3 != 0) throw InputError(std::string(what) + ": the triangles' indices are not a multiple of 3");
+    std::vector<double> area(n, 0.0);
+    for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
+        const std::uint32_t a = triangles[t], b = triangles[t + 1], c = triangles[t + 2];
+        if (a >= n || b >= n || c >= n)
+            throw InputError(std::string(what) + ": triangle index out of range for " + std::to_string(n) + " vertices");
+        const double twice = std::abs((x[b] - x[a]) * (y[c] - y[a]) - (x[c] - x[a]) * (y[b] - y[a]));
+        for (const std::uint32_t v : {a, b, c}) area[v] += twice / 6.0;
+    }
+    for (double& a : area) a = std::sqrt(a);
+    return area;
+}
+
+
 // The i-th uniform draw in [0, 1) of a particle whose key is `h`.
 inline double draw(std::uint64_t h, std::uint64_t i) noexcept {
     return static_cast<double>(splitmix64(h + 0x632BE59BD9B4E019ull * (i + 1)) >> 11) * 0x1.0p-53;
@@ -582,22 +600,13 @@ namespace wave {
 WhitewaterEvents jeschke_whitewater_events(const JeschkeMotionPlan& p, std::span<const std::uint32_t> triangles) {
     const std::size_t n = p.vertex_count();
     if (!p.lag.empty() && p.lag.size() != n) throw InputError("jeschke whitewater: the lags differ in length from the vertices");
-    if (triangles.size() % 3 != 0) throw InputError("jeschke whitewater: the triangles' indices are not a multiple of 3");
-    // Each vertex's share of the surface: a third of its triangles' area.
-    std::vector<double> area(n, 0.0);
-    for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
-        const std::uint32_t a = triangles[t], b = triangles[t + 1], c = triangles[t + 2];
-        if (a >= n || b >= n || c >= n)
-            throw InputError("jeschke whitewater: triangle index out of range for " + std::to_string(n) + " vertices");
-        const double twice = std::abs((p.x[b] - p.x[a]) * (p.y[c] - p.y[a]) - (p.x[c] - p.x[a]) * (p.y[b] - p.y[a]));
-        for (const std::uint32_t v : {a, b, c}) area[v] += twice / 6.0;
-    }
+    const std::vector<double> spacing = vertex_spacing(p.x, p.y, triangles, "jeschke whitewater");
     WhitewaterEvents e;
     if (!(p.omega > 0.0)) return e;
     const auto crests = static_cast<long long>(p.loop_periods());
     e.period = static_cast<double>(crests) * two_pi / p.omega;
     for (std::size_t v = 0; v < n; ++v) {
-        if (!std::isfinite(p.break_phase[v]) || p.width[v] <= 0.0f || area[v] <= 0.0) continue;
+        if (!std::isfinite(p.break_phase[v]) || p.width[v] <= 0.0f || spacing[v] <= 0.0) continue;
         if (p.phase[v] < static_cast<double>(p.break_phase[v]) - p.variation * two_pi) continue;
         const double height = p.scale[v] / 5.0, c = p.omega * p.width[v] / two_pi;
         const double curl = std::min(1.0, static_cast<double>(p.curl[v]));
@@ -618,7 +627,7 @@ WhitewaterEvents jeschke_whitewater_events(const JeschkeMotionPlan& p, std::span
             const double when = (p.phase[v] + (p.lag.empty() ? 0.0 : p.lag[v]) + two_pi * static_cast<double>(k)) / p.omega;
             e.add(static_cast<float>(p.x[v]), static_cast<float>(p.y[v]), static_cast<float>(top * height),
                   static_cast<float>(p.dir_x[v]), static_cast<float>(p.dir_y[v]), static_cast<float>(c), static_cast<float>(height),
-                  static_cast<float>(std::sqrt(area[v])), when - e.period * std::floor(when / e.period), static_cast<float>(spray),
+                  static_cast<float>(spacing[v]), when - e.period * std::floor(when / e.period), static_cast<float>(spray),
                   static_cast<float>(foam), static_cast<float>(bubbles),
                   splitmix64(static_cast<std::uint64_t>(v) * 0x100000001B3ull + static_cast<std::uint64_t>(k)),
                   static_cast<std::uint32_t>(k));
@@ -630,27 +639,6 @@ WhitewaterEvents jeschke_whitewater_events(const JeschkeMotionPlan& p, std::span
 }  // namespace wave
 
 namespace wave {
-
-namespace {
-
-// Each vertex's share of a surface: the square root of a third of its triangles' area.
-std::vector<double> vertex_spacing(std::span<const double> x, std::span<const double> y, std::span<const std::uint32_t> triangles,
-                                   const char* what) {
-    const std::size_t n = x.size();
-    if (triangles.size() % 3 != 0) throw InputError(std::string(what) + ": the triangles' indices are not a multiple of 3");
-    std::vector<double> area(n, 0.0);
-    for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
-        const std::uint32_t a = triangles[t], b = triangles[t + 1], c = triangles[t + 2];
-        if (a >= n || b >= n || c >= n)
-            throw InputError(std::string(what) + ": triangle index out of range for " + std::to_string(n) + " vertices");
-        const double twice = std::abs((x[b] - x[a]) * (y[c] - y[a]) - (x[c] - x[a]) * (y[b] - y[a]));
-        for (const std::uint32_t v : {a, b, c}) area[v] += twice / 6.0;
-    }
-    for (double& a : area) a = std::sqrt(a);
-    return area;
-}
-
-}  // namespace
 
 WhitewaterEvents gonzato_whitewater_events(const RayStrips& s, const GonzatoMotionPlan& m, const FoamOptions& o,
                                            std::span<const std::uint32_t> triangles) {
