@@ -1053,6 +1053,65 @@ TEST(JeschkeBreakers, EveryRayOfAPlaneSlopeBreaksAsOneType) {
     EXPECT_GT(at_start, 3u);  // the rays this is about
 }
 
+TEST(SurfZoneMesh, AResolvedPlungingCrestStandsVerticalAndOverturnsOnlyWhereTheModelDrawsIt) {
+    // The oblique beach's plunging crests on a surf-zone mesh at 0.75 H with the curl
+    // (the breaking beach's settings), the whole pipeline, over one period at 4 fps. The
+    // untangling takes the breakers' drawn sections (jeschke_drawn_lips) as its lips:
+    // every 10 m of the surf zone (a wavelength clear of the sides, whose skirt and
+    // shore carry the outer section) sees its crest's face reach 60° (measured: 90–100°,
+    // overturned), some triangles face down (the lip), and every one that does has a
+    // vertex the model draws overturned — none is a fold. Before the drawn lips the
+    // untangling, which took the foam (still rising while the wall stands), held the
+    // faces to 40–47° on a mesh at H/4.
+    const Scene scene = parse_scene(R"({"name": "oblique beach", "seafloor": {"source": "planar-beach"}, "isobaths": {"spacing": 0.5},
+      "waves": [{"period": 8, "amplitude": 0.4, "direction": [0.34, 0.94]}], "trace": {"ray_spacing": 4},
+      "breakers": {"model": "jeschke", "lip": "curl"}, "animation": {"fps": 4},
+      "surface": {"far_field": false, "water_mesh": {"surf_zone": 0.75}}})",
+                                    "beach.json", ".");
+    const ScenePlan plan = plan_scene(scene);
+    const SceneAnimation a = animate_scene(scene, plan, 2e9, FrameRange{0, 32});
+    const JeschkeMotionPlan& b = plan.breakers;
+    const std::size_t n = a.vertex_count;
+    ASSERT_EQ(n, b.vertex_count());
+    const double x0 = *std::min_element(b.x.begin(), b.x.end()), x1 = *std::max_element(b.x.begin(), b.x.end());
+    const double wavelength = 28.0;  // at the break (8 s, ~1.2 m deep)
+    constexpr double kBin = 10.0;
+    const auto bins = static_cast<std::size_t>((x1 - x0) / kBin) + 1;
+    std::vector<double> steepest(bins, 0.0);
+    std::size_t facing_down = 0, folds = 0;
+    for (std::size_t f = 0; f < a.frame_count; ++f) {
+        const float* p = &a.positions[3 * n * f];
+        for (std::size_t t = 0; t < a.triangles.size(); t += 3) {
+            const std::uint32_t i = a.triangles[t], j = a.triangles[t + 1], k = a.triangles[t + 2];
+            const double ux = p[3 * j] - p[3 * i], uy = p[3 * j + 1] - p[3 * i + 1], uz = p[3 * j + 2] - p[3 * i + 2];
+            const double wx = p[3 * k] - p[3 * i], wy = p[3 * k + 1] - p[3 * i + 1], wz = p[3 * k + 2] - p[3 * i + 2];
+            const double nx = uy * wz - uz * wy, ny = uz * wx - ux * wz, nz = ux * wy - uy * wx;
+            const double slope = std::atan2(std::hypot(nx, ny), nz) * 180.0 / std::numbers::pi;
+            if (nz < 0.0) {
+                ++facing_down;
+                folds += !jeschke_draws_overturned(b, static_cast<double>(f) / a.fps, i, j, k);
+            }
+            const double cx = (b.x[i] + b.x[j] + b.x[k]) / 3.0;
+            if (cx < x0 + wavelength || cx > x1 - wavelength) continue;
+            double& s = steepest[static_cast<std::size_t>((cx - x0) / kBin)];
+            s = std::max(s, slope);
+        }
+    }
+    std::size_t faced = 0, crests = 0;
+    for (std::size_t i = 0; i < bins; ++i) {
+        const double lo = x0 + kBin * static_cast<double>(i);
+        if (lo < x0 + wavelength || lo + kBin > x1 - wavelength) continue;
+        ++crests;
+        faced += steepest[i] >= 60.0;
+        EXPECT_GE(steepest[i], 60.0) << "the crest's face at x = " << lo << " … " << lo + kBin;
+    }
+    EXPECT_GE(crests, 8u);
+    EXPECT_GT(facing_down, 10u) << "the plunging lip overturns";
+    EXPECT_EQ(folds, 0u) << "triangles facing down where the model draws no overturned lip";
+    RecordProperty("facing_down", std::to_string(facing_down));
+    RecordProperty("crests_at_60", std::to_string(faced));
+}
+
 TEST(SurfZoneMesh, TheWaterMeshGradesDownToAFractionOfHWhereCrestsBreakAndBackOut) {
     // /surface/water_mesh/surf_zone (issue 65) on the oblique beach, at H/2 (H/4 takes
     // 20 s to mesh): every vertex of the band where crests break has edges of at most

@@ -17,6 +17,7 @@
 #include <complex>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <numbers>
@@ -264,6 +265,10 @@ struct UntangleWorkspace {
     std::vector<std::uint8_t> lowered;
 };
 
+/// Whether the motion draws the triangle of vertices (a, b, c) overturned in the frame
+/// being untangled (e.g. jeschke_draws_overturned); called from several threads.
+using OverturnTest = std::function<bool(std::uint32_t a, std::uint32_t b, std::uint32_t c)>;
+
 /// Untangles one frame in place: `positions` (3 floats per vertex, z up) are the moved
 /// vertices; `foam` (one per vertex, or empty: no lips) marks breaking crests. Pinned
 /// border vertices first lose their offset across their side (pin_border), shore
@@ -280,9 +285,12 @@ struct UntangleWorkspace {
 /// and, unless its heights alone make it thinner, min_angle_degrees.
 /// Parallel over triangles, then over vertices, each a function of the previous pass:
 /// the result does not depend on the thread count. Throws InputError on wrong sizes.
-/// `workspace`: reused scratch (nullptr: allocated for this call).
+/// `workspace`: reused scratch (nullptr: allocated for this call). `may_overturn`
+/// (empty: every lip's triangle may turn over): with it, a lip's triangle that would
+/// keep less than 2 % of its rest area in plan is restored to that (it may stand
+/// vertical, not turn over) unless the test says the motion draws it overturned.
 UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> foam, std::span<float> positions,
-                               UntangleWorkspace* workspace = nullptr);
+                               UntangleWorkspace* workspace = nullptr, const OverturnTest& may_overturn = {});
 
 // ---------------------------------------------------------------------------------
 // The far field: the sea beyond the domain, on the skirt (plan_sea_skirt)
@@ -606,6 +614,10 @@ struct JeschkeMotionPlan {
     /// empty = the outer sections everywhere.
     BreakerSections curl_sections;
     std::vector<float> resolve;  ///< per vertex; empty = 0
+    /// Per vertex, or empty (all 0): where the mesh resolves a breaker's wall (its face,
+    /// about H high: a spacing of twice the tube's), which jeschke_drawn_lips scales by
+    /// (resolve_jeschke_lips).
+    std::vector<float> wall_resolve;
 
     std::size_t vertex_count() const noexcept { return x.size(); }  ///< vertices planned
     /// Swell periods after which the breakers repeat.
@@ -687,14 +699,35 @@ SkirtBreakers continue_jeschke_breakers(const JeschkeMotionPlan& plan, const Sea
 /// over the stretch of the side nearest to each such border vertex.
 SkirtSize breaker_skirt_size(SkirtSize size, const JeschkeMotionPlan& plan, const ElevationGrid& seafloor, double band_wavelengths);
 
-/// BreakerLip::curl: per vertex of a plan resampled on a mesh (`triangles`, `boundary`
-/// its boundary flags), the share of the overturning section it takes: 1 where the
-/// mesh's spacing (the mean edge at the vertex) is at most `fraction` × H, 0 at twice
-/// that, smoothstep between; 0 on the boundary, rising over a wavelength (the far
-/// field's skirt and the shore carry the outer section). Does nothing without curl
-/// sections.
+/// Per vertex of a plan resampled on a mesh (`triangles`, `boundary` its boundary
+/// flags), where the mesh resolves the breaker's section: plan.resolve (with
+/// BreakerLip::curl: the share of the overturning section a vertex takes; else all 0)
+/// is 1 where the mesh's spacing (the mean edge at the vertex) is at most `fraction` ×
+/// H, 0 at twice that, smoothstep between; plan.wall_resolve (which scales
+/// jeschke_drawn_lips) the same from 2 × to 4 × `fraction` × H, since a wall about H
+/// high needs half the tube's resolution. Both are 0 on the boundary, rising over a
+/// wavelength (the far field's skirt and the shore carry the outer section).
 void resolve_jeschke_lips(JeschkeMotionPlan& plan, std::span<const std::uint32_t> triangles, std::span<const std::uint8_t> boundary,
                           double fraction);
+
+/// Per vertex at time t, in [0, 1]: how far the surface there is the breaker's own
+/// section, drawn where the mesh resolves it — a breaking or collapsing crest's face,
+/// lip and back, rising with the section's slope from 0 on flat water to 1 at 8° (a
+/// round crest stays below ~6°, so the weight is continuous in time), 1 where the
+/// section runs backwards, 0 in the round phase — times the share `wall_resolve` (0
+/// everywhere when it is empty). The untangling takes it in place of the foam to tell
+/// the walls and lips the motion means from folds (UntangleOptions::lip_foam), so that
+/// a resolved breaker keeps its vertical face and its overturning lip. Throws
+/// InputError when `weight` does not hold one value per vertex.
+void jeschke_drawn_lips(const JeschkeMotionPlan& plan, double t, std::span<float> weight);
+
+/// Whether the breaker draws the triangle (a, b, c) overturned at time t: the section
+/// of one of its vertices, on that vertex's crest and life, runs backwards somewhere
+/// between the triangle's labels (the lip's underside, which the mesh samples only at
+/// its vertices: a triangle across the lip faces down though no vertex lies on the
+/// underside). A triangle facing down that this does not hold is a fold. false for an
+/// index out of range, a plan without sections, or vertices of different crests.
+bool jeschke_draws_overturned(const JeschkeMotionPlan& plan, double t, std::uint32_t a, std::uint32_t b, std::uint32_t c) noexcept;
 
 /// The water mesh over the surf zone (docs/inspect.md, "The water mesh"): a breaker's
 /// face and lip need a mesh finer than the tube, about H/4, against W/16 offshore.

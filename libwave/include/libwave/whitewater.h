@@ -36,7 +36,9 @@ enum class WhitewaterKind : std::uint8_t {
 /// The options of the particles (scene key /whitewater). Counts are per metre of crest
 /// that an event stands for, per metre of its wave height, at full strength.
 struct WhitewaterOptions {
-    double spray_density = 40.0;   ///< spray particles per m of crest per m of height
+    /// spray particles per m of crest per m of height, per row of vertices a sixteenth of
+    /// a wavelength apart (a finer mesh's events each throw their share)
+    double spray_density = 40.0;
     double foam_density = 60.0;    ///< foam particles
     double bubble_density = 25.0;  ///< bubbles
     double spray_life = 2.5;       ///< s: the longest a droplet flies (it dies on landing)

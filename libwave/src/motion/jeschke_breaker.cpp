@@ -24,6 +24,14 @@ namespace {
 
 constexpr double pi = std::numbers::pi;
 constexpr double two_pi = 2.0 * std::numbers::pi;
+// resolve_jeschke_lips: the sections are taken in full this many heights H from the
+// mesh's boundary.
+constexpr double kResolveReachHeights = 4.0;
+// jeschke_drawn_lips: a breaking section is drawn in full where its slope passes 8°
+// (a round crest's steepest is atan(π H/W), 6° at 5H/W = 0.2): its face and lip, and
+// the crest's back that runs forward with them; the weight rises with the slope from
+// flat water, so that it is continuous in time (radians).
+constexpr double kDrawnSlope = 8.0 * pi / 180.0;
 
 double lerp(double a, double b, double t) noexcept { return a + (b - a) * t; }
 
@@ -648,6 +656,82 @@ CrestPhases jeschke_crest_phases(const JeschkeMotionPlan& p, std::size_t v, long
     return crest_phases(p, v, n, p.phase[v]);
 }
 
+namespace {
+
+// Vertex v's label s on the crest nearest it at time t and that crest's life there.
+struct CrestAt {
+    double s = 0.0;
+    BreakerLife life;
+};
+CrestAt crest_at(const JeschkeMotionPlan& p, std::size_t v, double wt) noexcept {
+    const double ahead = wt - p.phase[v] - lag_of(p, v);
+    const long long crest = crest_index(ahead);
+    const double delta = ahead - two_pi * static_cast<double>(crest);
+    const double psi = p.phase[v] + delta;
+    const CrestPhases c = crest_phases(p, v, crest, psi);
+    return {0.5 - delta / two_pi, jeschke_life(psi, p.rise[v], c.break_phase, c.breaking_length, c.end_phase)};
+}
+
+bool broken(const BreakerLife& life) noexcept {
+    return life.phase == BreakerPhase::breaking || life.phase == BreakerPhase::collapsing;
+}
+
+}  // namespace
+
+bool jeschke_draws_overturned(const JeschkeMotionPlan& p, double t, std::uint32_t a, std::uint32_t b, std::uint32_t c) noexcept {
+    const std::size_t n = p.vertex_count();
+    if (a >= n || b >= n || c >= n || p.sections.labels == 0) return false;
+    const double wt = p.omega * t;
+    const CrestAt at[3] = {crest_at(p, a, wt), crest_at(p, b, wt), crest_at(p, c, wt)};
+    const double first = std::min({at[0].s, at[1].s, at[2].s}), last = std::max({at[0].s, at[1].s, at[2].s});
+    if (!(last - first < 0.25)) return false;  // not one crest's labels
+    // Each vertex's own section over the triangle's labels widened by one label step
+    // of the tables either side (their multilinear blend of lives, curls and ratios
+    // moves a lip by up to a step), at a quarter step: running backwards anywhere is
+    // an overturn the model draws.
+    const double table_step = 1.0 / static_cast<double>(p.sections.labels), step = 0.25 * table_step;
+    const double lo = first - table_step, hi = last + table_step;
+    const auto samples = static_cast<int>(std::ceil((hi - lo) / step)) + 1;
+    const std::uint32_t vs[3] = {a, b, c};
+    for (int i = 0; i < 3; ++i) {
+        if (p.width[vs[i]] == 0.0f || !broken(at[i].life)) continue;
+        double previous = section_point(p, vs[i], at[i].life, lo).x;
+        for (int k = 1; k <= samples; ++k) {
+            const double x = section_point(p, vs[i], at[i].life, std::min(hi, lo + step * k)).x;
+            if (x < previous) return true;
+            previous = x;
+        }
+    }
+    return false;
+}
+
+void jeschke_drawn_lips(const JeschkeMotionPlan& p, double t, std::span<float> weight) {
+    const std::size_t n = p.vertex_count();
+    if (weight.size() != n)
+        throw InputError("jeschke lips: " + std::to_string(weight.size()) + " values for " + std::to_string(n) + " vertices");
+    check_lags(p, "jeschke lips");
+    const double wt = p.omega * t;
+    // The section's slope at a vertex, from its points half a label step either side
+    // (a label step of the tables: the finest the section is known at).
+    const double h = p.sections.labels > 0 ? 0.5 / static_cast<double>(p.sections.labels) : 1.0 / 128.0;
+    const double drawn_slope = std::tan(kDrawnSlope);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t v = r.begin(); v != r.end(); ++v) {
+            weight[v] = 0.0f;
+            const float resolved = p.wall_resolve.empty() ? 0.0f : p.wall_resolve[v];
+            if (!(resolved > 0.0f) || p.width[v] == 0.0f || p.sections.labels == 0) continue;
+            const CrestAt at = crest_at(p, v, wt);
+            if (!broken(at.life)) continue;
+            const BreakerSectionPoint a = section_point(p, v, at.life, at.s - h), b = section_point(p, v, at.life, at.s + h);
+            const double run = (b.x - a.x) * p.width[v], rise = std::abs(b.z - a.z) * p.scale[v];
+            // Running backwards (the lip's underside) is drawn overturned.
+            const double drawn = run <= 0.0 ? 1.0 : detail::smoothstep(0.0, drawn_slope, rise / run);
+            weight[v] = static_cast<float>(drawn * resolved);
+
+        }
+    });
+}
+
 double jeschke_foam_yield(const BreakerLife& life, double onset) noexcept { return foam_yield(life, onset); }
 
 }  // namespace wave
@@ -657,7 +741,7 @@ namespace wave {
 void resolve_jeschke_lips(JeschkeMotionPlan& p, std::span<const std::uint32_t> triangles, std::span<const std::uint8_t> boundary,
                           double fraction) {
     const std::size_t n = p.vertex_count();
-    if (p.curl_sections.empty() || n == 0) return;
+    if (n == 0) return;
     if (boundary.size() != n) throw InputError("resolve lips: boundary flags for " + std::to_string(boundary.size()) + " of " + std::to_string(n) + " vertices");
     if (!(fraction > 0.0)) throw InputError("resolve lips: fraction must be > 0");
     std::vector<double> sum(n, 0.0);
@@ -697,12 +781,17 @@ void resolve_jeschke_lips(JeschkeMotionPlan& p, std::span<const std::uint32_t> t
         }
     }
     p.resolve.assign(n, 0.0f);
+    p.wall_resolve.assign(n, 0.0f);
     for (std::size_t v = 0; v < n; ++v) {
         if (count[v] == 0 || !(p.width[v] > 0.0f) || !(p.scale[v] > 0.0f)) continue;
         const double spacing = sum[v] / count[v], h = p.scale[v] / 5.0;
+        // Clear of the boundary by a few heights (and never more than a wavelength): the
+        // surf zone on a beach lies within a wavelength of the shore.
+        const double inside = detail::smoothstep(0.0, std::min(static_cast<double>(p.width[v]), kResolveReachHeights * h), reach[v]);
         const double fine = 1.0 - detail::smoothstep(fraction * h, 2.0 * fraction * h, spacing);
-        const double inside = detail::smoothstep(0.0, static_cast<double>(p.width[v]), reach[v]);
-        p.resolve[v] = static_cast<float>(fine * inside);
+        const double wall = 1.0 - detail::smoothstep(2.0 * fraction * h, 4.0 * fraction * h, spacing);
+        p.resolve[v] = p.curl_sections.empty() ? 0.0f : static_cast<float>(fine * inside);
+        p.wall_resolve[v] = static_cast<float>(wall * inside);
     }
 }
 

@@ -28,6 +28,7 @@ namespace {
 constexpr std::size_t kMaxScaledPasses = 8;  // then a triangle still too small takes s = 0
 constexpr double kShoreStretch = 1.15;  // the ramp's bound on a shore triangle's stretch (1 + λ_max)
 constexpr double kStretch = 2.5;       // … and on any other's (UntangleOptions::ramp_slope)
+constexpr double kLipAreaRatio = 0.02;  // a lip's triangle that may not turn over keeps this share of its area in plan
 constexpr std::size_t kAngleRounds = 3;  // the ramp's rounds after the first for triangles its spread thinned
 
 // Twice the signed area of (a, b, c) in plan.
@@ -358,7 +359,7 @@ UntanglePlan plan_untangle(std::span<const double> rest_x, std::span<const doubl
 }
 
 UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> foam, std::span<float> positions,
-                               UntangleWorkspace* workspace) {
+                               UntangleWorkspace* workspace, const OverturnTest& may_overturn) {
     const std::size_t n = plan.vertex_count(), m = plan.rest_area.size();
     if (positions.size() != 3 * n)
         throw InputError("untangle: " + std::to_string(positions.size()) + " position floats for " + std::to_string(n) + " vertices");
@@ -422,7 +423,17 @@ UntangleReport untangle_motion(const UntanglePlan& plan, std::span<const float> 
                 const double a0 = plan.rest_area[t];
                 if (!(a0 > 0.0)) continue;
                 const std::uint32_t i = plan.triangles[3 * t], j = plan.triangles[3 * t + 1], k = plan.triangles[3 * t + 2];
-                if ((lip(i) || lip(j) || lip(k)) && !shore(i) && !shore(j) && !shore(k)) continue;
+                if ((lip(i) || lip(j) || lip(k)) && !shore(i) && !shore(j) && !shore(k)) {
+                    // A lip's triangle may stand vertical; it turns over only where the
+                    // motion draws it so (may_overturn), else it keeps its orientation.
+                    if (!may_overturn) continue;
+                    const Squeeze q = squeeze(plan, t, factor, dx, dy);
+                    const double target = kLipAreaRatio * a0;
+                    if (q.a1 >= target || may_overturn(i, j, k)) continue;
+                    any = true;
+                    s[t] = last_resort ? 0.0 : restoring_factor(a0, q.b, q.c, target);
+                    continue;
+                }
                 const Squeeze q = squeeze(plan, t, factor, dx, dy);
                 const double target = o.min_area_ratio * a0;
                 const double keep = q.a1 >= target ? 1.0 : restoring_factor(a0, q.b, q.c, target);

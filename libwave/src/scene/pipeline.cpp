@@ -998,6 +998,7 @@ struct FrameRun {
     std::vector<float> fold_scratch{};  // a new past lattice time's J₋ at the vertices (reused: no fresh pages a frame)
     Refinement frame_refinement{};  // crest sharpness: creases follow each frame's heights
     std::vector<float> coarse_p{}, coarse_nr{}, coarse_foam{}, fine_depth{};
+    std::vector<float> lip_weight{};  // the model's drawn walls and lips (SurfaceModel::lips)
     std::optional<UntanglePlan> untangle{};  // when the coarse vertices move sideways
     UntangleWorkspace untangle_scratch{};
     std::vector<float> far_field_scratch{};  // the skirt's anchors' residuals, then its breakers
@@ -1268,7 +1269,18 @@ void evaluate_frame(FrameRun& r, const std::vector<std::uint32_t>& coarse_triang
         coarse_foam(r, t, fc);
     }
     if (r.untangle) {
-        untangle_motion(*r.untangle, fc, pc, &r.untangle_scratch);
+        // The model's drawn walls and lips, where it says where they are; else the foam.
+        std::span<const float> lips = fc;
+        OverturnTest drawn;
+        if (r.model.lips) {
+            r.lip_weight.assign(fc.size(), 0.0f);
+            if (r.model.lips(r.scene, r.plan, t, std::span<float>(r.lip_weight).first(model_vertex_count(r.plan)))) {
+                lips = r.lip_weight;
+                if (r.model.draws_overturned)
+                    drawn = [&r, t](std::uint32_t i, std::uint32_t j, std::uint32_t k) { return r.model.draws_overturned(r.plan, t, i, j, k); };
+            }
+        }
+        untangle_motion(*r.untangle, lips, pc, &r.untangle_scratch, drawn);
         normals_done = false;
     }
     if (r.ride) whitewater_frame(r, t, pc, fc, a, f);

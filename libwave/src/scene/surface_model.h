@@ -89,6 +89,16 @@ struct SurfaceModel {
     /// Its foam at time t at the coarse vertices (zeros on entry), or nullptr: none.
     void (*foam)(const Scene& s, const ScenePlan& plan, double t, ModelState* state, std::span<float> foam);
 
+    /// Where its motion, as the scene sets it, draws walls and overturning lips at time
+    /// t (a weight in [0, 1] per coarse vertex, zeros on entry), which the untangling
+    /// then leaves instead of the foamy vertices (UntangleOptions::lip_foam); nullptr,
+    /// or false returned: the foam marks the lips.
+    bool (*lips)(const Scene& s, const ScenePlan& plan, double t, std::span<float> weight);
+    /// With `lips`: whether its motion draws the triangle of coarse vertices (a, b, c)
+    /// overturned at time t (untangle_motion's may_overturn: a lip's triangle that turns
+    /// over elsewhere keeps its orientation); nullptr: every lip's triangle may.
+    bool (*draws_overturned)(const ScenePlan& plan, double t, std::uint32_t a, std::uint32_t b, std::uint32_t c);
+
     /// What it carries onto the far field's skirt beside the fit (nullptr: the fit alone).
     /// `skirt_size`: the skirt's target sizes it needs, given the far field's own;
     /// `plan_skirt`, once plan.skirt is planned: its share of the skirt's motion

@@ -20,8 +20,12 @@ TriangleLocator::TriangleLocator(std::span<const double> x, std::span<const doub
         y0_ = std::min(y0_, y[v]);
         y1_ = std::max(y1_, y[v]);
     }
-    // About two triangles' width per cell, at most 2048 cells a side.
-    cell_ = std::max(2.0 * std::sqrt((x1_ - x0_) * (y1_ - y0_) / static_cast<double>(nt)),
+    // Half a mean triangle's width per cell, at most 2048 cells a side: a graded mesh
+    // (a surf zone at H/4 in a mesh of metres) crowds its fine triangles into cells
+    // sized by the mean, and a cell of two mean widths held ~100 of them there (a
+    // point's lookup took 18 % of a breaking beach's frames). The first triangle found
+    // is the lowest-numbered one holding the point, whatever the cells.
+    cell_ = std::max(0.5 * std::sqrt((x1_ - x0_) * (y1_ - y0_) / static_cast<double>(nt)),
                      std::max(x1_ - x0_, y1_ - y0_) / 2048.0) + 1e-12;
     cx_ = static_cast<std::size_t>((x1_ - x0_) / cell_) + 1;
     cy_ = static_cast<std::size_t>((y1_ - y0_) / cell_) + 1;

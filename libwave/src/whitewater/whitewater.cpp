@@ -57,6 +57,18 @@ std::vector<double> vertex_spacing(std::span<const double> x, std::span<const do
     return area;
 }
 
+// The share of its crest's throw an event at a vertex of spacing `spacing` makes, under
+// a crest of wavelength `wavelength`: an event stands for its crest length and for the
+// strip of sea the crest sweeps to the next row of vertices, a sixteenth of a
+// wavelength on the water mesh's default spacing (kEventsPerWavelength); where the mesh
+// is finer (a surf-zone mesh at H/4 has ~7 × as many rows) the crest passes more
+// vertices, each throwing its share, so that the particles per metre of crest do not
+// grow with the mesh.
+constexpr double kEventsPerWavelength = 16.0;
+double event_share(double spacing, double wavelength) noexcept {
+    return wavelength > 0.0 ? std::min(1.0, kEventsPerWavelength * spacing / wavelength) : 1.0;
+}
+
 
 // The i-th uniform draw in [0, 1) of a particle whose key is `h`.
 inline double draw(std::uint64_t h, std::uint64_t i) noexcept {
@@ -624,6 +636,8 @@ WhitewaterEvents jeschke_whitewater_events(const JeschkeMotionPlan& p, std::span
                 top = 0.75 - 0.5 * life.t;
             }
             if (spray <= 0.0 && foam <= 0.0 && bubbles <= 0.0) continue;
+            const double share = event_share(spacing[v], static_cast<double>(p.width[v]));
+            spray *= share, foam *= share, bubbles *= share;
             const double when = (p.phase[v] + (p.lag.empty() ? 0.0 : p.lag[v]) + two_pi * static_cast<double>(k)) / p.omega;
             e.add(static_cast<float>(p.x[v]), static_cast<float>(p.y[v]), static_cast<float>(top * height),
                   static_cast<float>(p.dir_x[v]), static_cast<float>(p.dir_y[v]), static_cast<float>(c), static_cast<float>(height),
@@ -657,12 +671,13 @@ WhitewaterEvents gonzato_whitewater_events(const RayStrips& s, const GonzatoMoti
         if (!(h > 0.0) || !(height > 0.0) || !(s.k[v] > 0.0) || spacing[v] <= 0.0) continue;
         const double w = std::clamp((height / (o.breaker_index * h) - o.onset) / (1.0 - o.onset), 0.0, 1.0);
         if (w <= 0.0) continue;
+        const double share = event_share(spacing[v], two_pi / s.k[v]);
         // Φ = Σ k Δs − ω t: the crest (Φ_min + π) stands over the vertex at that time.
         const double when = (m.phase[v] - m.shape[v].trough_phase - pi) / m.omega;
         e.add(static_cast<float>(s.x[v]), static_cast<float>(s.y[v]), static_cast<float>(0.6 * height), static_cast<float>(s.dir_x[v]),
               static_cast<float>(s.dir_y[v]), static_cast<float>(m.omega / s.k[v]), static_cast<float>(height),
-              static_cast<float>(spacing[v]), when - e.period * std::floor(when / e.period), static_cast<float>(w * w),
-              static_cast<float>(w), static_cast<float>(w), splitmix64(0x60A2A70ull ^ (static_cast<std::uint64_t>(v) * 0x100000001B3ull)), 0);
+              static_cast<float>(spacing[v]), when - e.period * std::floor(when / e.period), static_cast<float>(w * w * share),
+              static_cast<float>(w * share), static_cast<float>(w * share), splitmix64(0x60A2A70ull ^ (static_cast<std::uint64_t>(v) * 0x100000001B3ull)), 0);
     }
     return e;
 }

@@ -158,6 +158,8 @@ extern const SurfaceModel kHeightFieldModel{
     .start = start,
     .move = move,
     .foam = foam,
+    .lips = nullptr,
+    .draws_overturned = nullptr,
     .skirt_size = nullptr,
     .plan_skirt = nullptr,
 };

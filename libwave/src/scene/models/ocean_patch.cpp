@@ -95,6 +95,8 @@ extern const SurfaceModel kOceanPatchModel{
     .start = [](const Scene&, const ScenePlan&, bool) { return std::unique_ptr<ModelState>(); },
     .move = move,
     .foam = nullptr,  // its foam is the fold foam every wind sea carries
+    .lips = nullptr,
+    .draws_overturned = nullptr,
     .skirt_size = nullptr,
     .plan_skirt = nullptr,
 };

@@ -132,8 +132,17 @@ const std::vector<std::uint32_t>& triangles(const ScenePlan& p) {
 
 // Crests turn over when the motion draws them as the papers do: Jeschke's tube, or
 // Gonzato's eq. 7 with no packing bound. The bounded sections (the defaults) never do.
+// Where the surf-zone mesh resolves the breakers' sections, their walls and curls too.
 bool overturns(const Scene& scene) {
-    return scene.breakers ? scene.breakers->lip != BreakerLip::outer : scene.profile.min_packing == 0.0;
+    return scene.breakers ? scene.breakers->lip != BreakerLip::outer || scene.surf_zone_mesh > 0.0
+                          : scene.profile.min_packing == 0.0;
+}
+
+// The breakers' drawn walls and lips where the surf-zone mesh resolves them.
+bool lips(const Scene& scene, const ScenePlan& p, double t, std::span<float> weight) {
+    if (!scene.breakers || !(scene.surf_zone_mesh > 0.0) || p.water_mesh.vertex_count() == 0) return false;
+    jeschke_drawn_lips(p.breakers, t, weight);
+    return true;
 }
 
 bool move(const Scene& scene, const ScenePlan& p, double t, ModelState*, ModelFrame& frame) {
@@ -178,6 +187,10 @@ extern const SurfaceModel kRayStripsModel{
     .start = [](const Scene&, const ScenePlan&, bool) { return std::unique_ptr<ModelState>(); },
     .move = move,
     .foam = foam,
+    .lips = lips,
+    .draws_overturned = [](const ScenePlan& p, double t, std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+        return jeschke_draws_overturned(p.breakers, t, a, b, c);
+    },
     .skirt_size = skirt_size,
     .plan_skirt = plan_skirt,
 };

@@ -149,6 +149,8 @@ extern const SurfaceModel kWaveFieldModel{
     .start = start,
     .move = move,
     .foam = foam,
+    .lips = nullptr,
+    .draws_overturned = nullptr,
     .skirt_size = nullptr,
     .plan_skirt = nullptr,
 };
