@@ -167,11 +167,14 @@ PYBIND11_MODULE(_libwave, m) {
         });
     m.def(
         "plan",
-        [](const wave::Scene& scene) {
+        [](const wave::Scene& scene, std::shared_ptr<wave::Seafloor> seafloor) {
             py::gil_scoped_release release;
-            return std::make_shared<ScenePlan>(wave::plan_scene(scene));
+            return std::make_shared<ScenePlan>(seafloor ? wave::plan_scene(scene, *seafloor) : wave::plan_scene(scene));
         },
-        py::arg("scene"), "Runs the static stages: seafloor, isobaths, tracing, surface, motion plan");
+        py::arg("scene"), py::arg("seafloor") = py::none(),
+        "Runs the static stages: seafloor, isobaths, tracing, surface, motion plan. With `seafloor` (a libwave.Seafloor: "
+        "Seafloor.from_triangles of a terrain in memory, from_grid of an array) the scene stands on it and its /seafloor "
+        "is not read: the same plan as a scene whose /seafloor reads those values from a file");
 
     py::class_<SceneAnimation, std::shared_ptr<SceneAnimation>>(m, "Animation",
                                                                 "Frames of one loop; arrays are read-only NumPy views")
