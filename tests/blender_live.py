@@ -174,6 +174,43 @@ if r.returncode == 0:
     check(worst == 0.0 and worst_foam == 0.0, f"wave run's frames differ from the live ones by {worst} m (foam {worst_foam})")
     print(f"LIVE farm: wave run {time.perf_counter() - t0:.2f} s, {farm.frame_count} frames, largest difference {worst} m", flush=True)
 
+# Saved: the cache moves from the temporary folder beside the .blend, and still plays.
+blend = os.path.join(out, "saved", "bay.blend")
+os.makedirs(os.path.dirname(blend))
+scene.frame_set(7)
+before = positions(water)
+bpy.ops.wm.save_as_mainfile(filepath=blend)
+check(os.path.dirname(settings.cache) == os.path.join(out, "saved", "bay_libwave") and
+      os.path.isfile(os.path.join(settings.cache, "index.json")), f"the cache did not move beside the .blend: {settings.cache}")
+scene.frame_set(8)
+scene.frame_set(7)
+check(np.array_equal(positions(water), before), "the moved cache plays other frames")
+
+
+# The panel draws every setting it names (no window here: a stand-in layout checks the names).
+class Layout:
+    use_property_split = False
+    enabled = True
+
+    def __getattr__(self, name):
+        return lambda *a, **k: self
+
+    def prop(self, data, name, **k):
+        check(hasattr(data, name), f"the panel draws {name}, which {type(data).__name__} has not")
+        return self
+
+    def operator(self, idname, **k):
+        mod, name = idname.split(".")
+        check(hasattr(getattr(bpy.ops, mod), name), f"the panel's operator {idname} does not exist")
+        return self
+
+
+panel = live.OBJECT_PT_libwave_water
+settings.swells.add()
+panel.draw(type("P", (), {"layout": Layout()})(), bpy.context)
+check(panel.poll(bpy.context), "the panel does not show for the water")
+settings.swells.remove(1)
+
 # Input it cannot use: a clear report, not a traceback.
 def report_of(**change):
     for k, v in change.items():
