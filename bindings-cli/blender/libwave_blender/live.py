@@ -158,6 +158,11 @@ def _round(v):
     return 0.0 if r == 0.0 else r
 
 
+def _setting(v):
+    """A panel value (Blender keeps float32) as the decimal it was typed as: 0.3, not 0.30000001192092896."""
+    return float(f"{float(v):.7g}")
+
+
 def scene_document(settings, fps, extent, depth, name):
     """The scene `wave run` would run (docs/scene.md) for the panel's settings, a terrain
     `extent` m across and `depth` m deep at its deepest; /seafloor is added by the caller."""
@@ -167,33 +172,40 @@ def scene_document(settings, fps, extent, depth, name):
         raise LiveError("add a swell (the + beside Swells)")
     first = swells[0]
     wavelength = GRAVITY * first.period ** 2 / (2.0 * math.pi)
-    ray = max(wavelength / 40.0, extent / 400.0) / q
+    # Rays about 1/40 of the swell's wavelength apart, at most 200 across the terrain; the
+    # water mesh's vertices per local wavelength fall as the terrain grows past 150 m
+    # (16 there, 6 for a kilometre): the first frame stays within seconds (bench/RESULTS.md).
+    ray = max(wavelength / 40.0, extent / 200.0) / q
+    per_wavelength = max(4, min(64, round(16.0 * q * min(1.0, math.sqrt(150.0 / extent)))))
     doc = {
         "name": f"libwave water over {name}",
         "isobaths": {"spacing": max(depth / 20.0, 0.05)},
         "waves": [],
         "trace": {"ray_spacing": ray},
-        "fronts": {"step": 0.4 * ray, "split_distance": 1.2 * ray},
-        "surface": {"water_mesh": {"vertices_per_wavelength": max(4, min(64, round(16 * q)))},
+        # Past 150 m a ray is inserted where neighbours part by 2 spacings (1.2 below): a
+        # kilometre's refraction round headlands and shoals inserted thousands.
+        "fronts": {"step": 0.4 * ray, "split_distance": (1.2 if extent <= 150.0 else 2.0) * ray},
+        "surface": {"water_mesh": {"vertices_per_wavelength": per_wavelength},
                     "far_field": {} if settings.far_field else False},
-        "shade": {"foam_fade_periods": settings.foam_fade, "foam_onset": settings.foam_onset},
+        "shade": {"foam_fade_periods": _setting(settings.foam_fade), "foam_onset": _setting(settings.foam_onset)},
         "animation": {"fps": fps},
         "outputs": {"form": "files", "codec": "none", "seafloor": False, "camera": False, "sun": False},
     }
     a = swell_direction(first)
-    doc["waves"].append({"period": first.period, "amplitude": first.height / 2.0,
+    doc["waves"].append({"period": _setting(first.period), "amplitude": _setting(first.height) / 2.0,
                          "direction": [_round(math.cos(a)), _round(math.sin(a))]})
     if len(swells) > 1:  # the traced surface carries one train; the others ride on it as Gerstner waves
         doc["gerstner"] = []
         for s in swells[1:]:
             a = swell_direction(s)
-            doc["gerstner"].append({"wavelength": GRAVITY * s.period ** 2 / (2.0 * math.pi), "amplitude": s.height / 2.0,
+            doc["gerstner"].append({"wavelength": GRAVITY * _setting(s.period) ** 2 / (2.0 * math.pi),
+                                    "amplitude": _setting(s.height) / 2.0,
                                     "direction": [_round(math.cos(a)), _round(math.sin(a))]})
     if settings.wind:
-        doc["ocean"] = {"spectrum": "jonswap", "wind_speed": settings.wind_speed,
+        doc["ocean"] = {"spectrum": "jonswap", "wind_speed": _setting(settings.wind_speed),
                         "wind_direction": [_round(math.cos(settings.wind_direction)), _round(math.sin(settings.wind_direction))],
                         "resolution": 64 if q < 1 else 128, "size": max(50.0, min(extent, 400.0)),
-                        "repeat_time": first.period * max(1, round(10.0 / first.period))}
+                        "repeat_time": _setting(first.period) * max(1, round(10.0 / first.period))}
     if settings.breakers:
         doc["breakers"] = "jeschke"
     return doc
@@ -211,7 +223,8 @@ class Setup:
             self.unit = 1.0
         vertices, self.triangles = terrain_arrays(context, settings.terrain)
         self.vertices = vertices * self.unit  # metres
-        self.level = settings.water_level * self.unit
+        self.level = _setting(settings.water_level) * self.unit
+        self.offset = 0.0 - self.level  # metres added to the terrain's z: still water at z = 0 (never −0.0)
         self.terrain_name = settings.terrain.name
         lowest = float(self.vertices[:, 2].min())
         if not lowest < self.level:
@@ -226,7 +239,7 @@ class Setup:
         self.spacing = extent / (200.0 * q)
         fps = scene.render.fps / scene.render.fps_base
         self.document = scene_document(settings, fps, extent, self.level - lowest, self.terrain_name)
-        self.document["seafloor"] = {"source": "terrain.ply", "spacing": self.spacing, "vertical_offset": -self.level}
+        self.document["seafloor"] = {"source": "terrain.ply", "spacing": self.spacing, "vertical_offset": self.offset}
         self.document = json.loads(json.dumps(self.document))  # plain JSON values (the hash's and the file's)
         h = hashlib.sha256()
         for part in (f"libwave {getattr(_libwave(), '__version__', '?')} cache {CACHE_VERSION}",
@@ -239,7 +252,7 @@ class Setup:
 
     def seafloor(self, libwave):
         return libwave.Seafloor.from_triangles(self.vertices, self.triangles, spacing=self.spacing,
-                                               vertical_offset=-self.level, name=f"Blender object '{self.terrain_name}'")
+                                               vertical_offset=self.offset, name=f"Blender object '{self.terrain_name}'")
 
 
 def cache_root(blend_path=None):
@@ -403,7 +416,10 @@ def poll_jobs():
                               f"(first frame after {job.first_frame_s:.1f} s)"
             settings.progress = 1.0
             _prune(job.folder)
-        elif job.frames_written > job.frames_shown:
+        elif job.frames_written > job.frames_shown and (job.frames_shown == 0 or
+                                                         job.frames_written >= 2 * job.frames_shown + CHUNK):
+            # Frame 0 as soon as it is written, then as the frames double: each re-reading of
+            # the index and frame 0 holds the UI for a moment (0.2 s on a 59 k-vertex coast).
             job.frames_shown = job.frames_written
             _play(bpy.context, water, job.setup, os.path.join(job.part, "index.json"), final=False)
     _tag_redraw()
