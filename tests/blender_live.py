@@ -185,6 +185,26 @@ check(os.path.dirname(settings.cache) == os.path.join(out, "saved", "bay_libwave
 scene.frame_set(8)
 scene.frame_set(7)
 check(np.array_equal(positions(water), before), "the moved cache plays other frames")
+# Opened again: the water finds its cache beside the .blend and plays it.
+bpy.ops.wm.open_mainfile(filepath=blend)
+water = bpy.data.objects["libwave Water"]
+settings, scene, terrain = water.libwave_water, bpy.context.scene, bpy.data.objects["Bay"]
+bpy.context.view_layer.objects.active = water
+scene.frame_set(8)
+scene.frame_set(7)
+check(settings.cache.startswith(os.path.join(out, "saved")) and np.array_equal(positions(water), before),
+      f"the reopened .blend does not play its cache ({settings.cache})")
+
+# Cancel: the work stops after its current step, nothing of it stays, the cache in use is kept.
+kept = settings.cache
+settings.swells[0].period = 7.0
+bpy.ops.object.libwave_generate()
+part = live.job_of(water).part
+check(bpy.ops.object.libwave_cancel() == {"FINISHED"}, "cancel failed")
+wait(water)
+check(settings.status == "cancelled" and not os.path.exists(part) and settings.cache == kept,
+      f"cancel: status {settings.status!r}, part left: {os.path.exists(part)}, cache {settings.cache}")
+settings.swells[0].period = 5.0
 
 
 # The panel draws every setting it names (no window here: a stand-in layout checks the names).

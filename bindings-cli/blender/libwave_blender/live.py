@@ -753,7 +753,8 @@ def _add_menu(self, context):
 
 @persistent
 def _on_save(*args):
-    """A water cached in the temporary folder moves beside the .blend once it is saved."""
+    """A water cached in the temporary folder moves beside the .blend once it is saved (the
+    file names the old folder: _on_load finds the new one when it is opened)."""
     if not bpy.data.filepath:
         return
     temp, root = cache_root(""), cache_root()
@@ -778,6 +779,27 @@ def _on_save(*args):
         water["libwave_live_mesh"] = water[pkg._PROP]
 
 
+@persistent
+def _on_load(*args):
+    """Finds each live water's cache again on opening a .blend: beside it (where saving moved
+    it; the file itself was written before the move and names the temporary folder), else
+    in the temporary folder."""
+    pkg = _pkg()
+    for water in bpy.data.objects:
+        s = water.libwave_water
+        if not s.is_water or not s.key:
+            continue
+        for folder in (os.path.join(cache_root(), s.key[:16]), os.path.join(cache_root(""), s.key[:16]), s.cache):
+            if folder and _complete(folder, s.key):
+                s.cache = folder
+                water[pkg._PROP] = water["libwave_live_mesh"] = os.path.join(folder, "index.json")
+                break
+        else:
+            s.status = "the cached frames are gone: Generate again"
+            if pkg._PROP in water:
+                del water[pkg._PROP]  # nothing to play: the handler leaves the water as it is
+
+
 classes = (LIBWAVE_PG_swell, LIBWAVE_PG_water, OBJECT_OT_libwave_water_add, OBJECT_OT_libwave_generate,
            OBJECT_OT_libwave_cancel, OBJECT_OT_libwave_swell, OBJECT_OT_libwave_export_scene, OBJECT_PT_libwave_water)
 
@@ -789,6 +811,8 @@ def register():
     bpy.types.VIEW3D_MT_add.append(_add_menu)
     if _on_save not in bpy.app.handlers.save_post:
         bpy.app.handlers.save_post.append(_on_save)
+    if _on_load not in bpy.app.handlers.load_post:
+        bpy.app.handlers.load_post.append(_on_load)
 
 
 def unregister():
@@ -798,6 +822,8 @@ def unregister():
         bpy.app.timers.unregister(_timer)
     if _on_save in bpy.app.handlers.save_post:
         bpy.app.handlers.save_post.remove(_on_save)
+    if _on_load in bpy.app.handlers.load_post:
+        bpy.app.handlers.load_post.remove(_on_load)
     bpy.types.VIEW3D_MT_add.remove(_add_menu)
     del bpy.types.Object.libwave_water
     for c in reversed(classes):
