@@ -167,7 +167,17 @@ PYBIND11_MODULE(_libwave, m) {
         });
     m.def(
         "plan",
-        [](const wave::Scene& scene, std::shared_ptr<wave::Seafloor> seafloor) {
+        [](const wave::Scene& scene, const py::object& given) {
+            // An object, not a typed argument: Seafloor is bound later (stages.cpp), and its
+            // name in the signature (the stubs) would be the C++ one.
+            std::shared_ptr<wave::Seafloor> seafloor;
+            if (!given.is_none()) {
+                if (!py::isinstance<wave::Seafloor>(given))
+                    throw libwave_python::ArgumentTypeError(
+                        "plan: seafloor must be a libwave.Seafloor (Seafloor.from_triangles, Seafloor.from_grid, "
+                        "read_seafloor), got " + std::string(py::str(py::type::of(given).attr("__name__"))));
+                seafloor = given.cast<std::shared_ptr<wave::Seafloor>>();
+            }
             py::gil_scoped_release release;
             return std::make_shared<ScenePlan>(seafloor ? wave::plan_scene(scene, *seafloor) : wave::plan_scene(scene));
         },
