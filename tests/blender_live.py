@@ -231,6 +231,30 @@ panel.draw(type("P", (), {"layout": Layout()})(), bpy.context)
 check(panel.poll(bpy.context), "the panel does not show for the water")
 settings.swells.remove(1)
 
+# Every setting makes a scene libwave accepts: two swells (the second's direction from an
+# empty turned 30°), wind waves, breakers, no far field, each quality.
+libwave = frames._libwave_module()
+bpy.ops.object.empty_add(rotation=(0.0, 0.0, math.radians(30.0)))
+empty = bpy.context.active_object
+bpy.context.view_layer.objects.active = water
+second = settings.swells.add()
+second.direction_object = empty
+settings.wind, settings.breakers, settings.far_field = True, True, False
+for quality in ("DRAFT", "MEDIUM", "HIGH"):
+    settings.quality = quality
+    setup = live.Setup(bpy.context, water)
+    live.write_ply(os.path.join(out, "terrain.ply"), setup.vertices, setup.triangles)  # the scene's /seafloor must exist
+    parsed = libwave.Scene(setup.document, out)
+    if quality == "DRAFT":  # planned too (the frames not computed): libwave takes every combination
+        t0 = time.perf_counter()
+        planned = libwave.plan(parsed, seafloor=setup.seafloor(libwave))
+        print(f"LIVE every setting: draft plan {time.perf_counter() - t0:.2f} s, loop {planned.loop_period} s", flush=True)
+    check(parsed.get("/gerstner/0/direction") == [round(math.cos(math.radians(30.0)), 12), 0.5] and
+          parsed.get("/waves/0/direction") == [0.0, 1.0] and
+          parsed.get("/breakers") == "jeschke" and parsed.get("/ocean/wind_speed") == 8.0, f"{quality}: {setup.document}")
+settings.swells.remove(1)
+settings.wind, settings.breakers, settings.far_field, settings.quality = False, False, True, "MEDIUM"
+
 # Input it cannot use: a clear report, not a traceback.
 def report_of(**change):
     for k, v in change.items():

@@ -152,10 +152,11 @@ def swell_direction(swell):
     return swell.direction
 
 
-def _round(v):
-    """A direction component with its rounding noise dropped (the hash and the JSON stay tidy)."""
-    r = round(float(v), 12)
-    return 0.0 if r == 0.0 else r
+def _direction(angle):
+    """(dx, dy) of an angle (rad) held in float32 (a dial, an empty's matrix): the angle
+    rounded to 10⁻⁴ degree first, so that 90° is [0, 1], not [−4.4e-08, 1]."""
+    a = math.radians(round(math.degrees(float(angle)), 4))
+    return [round(math.cos(a), 12) + 0.0, round(math.sin(a), 12) + 0.0]
 
 
 def _setting(v):
@@ -193,19 +194,21 @@ def scene_document(settings, fps, extent, depth, name):
     }
     a = swell_direction(first)
     doc["waves"].append({"period": _setting(first.period), "amplitude": _setting(first.height) / 2.0,
-                         "direction": [_round(math.cos(a)), _round(math.sin(a))]})
+                         "direction": _direction(a)})
     if len(swells) > 1:  # the traced surface carries one train; the others ride on it as Gerstner waves
         doc["gerstner"] = []
         for s in swells[1:]:
             a = swell_direction(s)
             doc["gerstner"].append({"wavelength": GRAVITY * _setting(s.period) ** 2 / (2.0 * math.pi),
                                     "amplitude": _setting(s.height) / 2.0,
-                                    "direction": [_round(math.cos(a)), _round(math.sin(a))]})
+                                    "direction": _direction(a)})
+    loop = _setting(first.period) * (3 if settings.breakers else 1)  # Jeschke's three different crests
     if settings.wind:
         doc["ocean"] = {"spectrum": "jonswap", "wind_speed": _setting(settings.wind_speed),
-                        "wind_direction": [_round(math.cos(settings.wind_direction)), _round(math.sin(settings.wind_direction))],
+                        "wind_direction": _direction(settings.wind_direction),
                         "resolution": 64 if q < 1 else 128, "size": max(50.0, min(extent, 400.0)),
-                        "repeat_time": _setting(first.period) * max(1, round(10.0 / first.period))}
+                        # a whole multiple of the swell's loop (three periods with breakers), about 10 s
+                        "repeat_time": loop * max(1, round(10.0 / loop))}
     if settings.breakers:
         doc["breakers"] = "jeschke"
     return doc
