@@ -334,6 +334,35 @@ TEST_F(Scratch, SeafloorFromArraysHoldsAnAnalyticPlane) {
     EXPECT_DOUBLE_EQ(read.grid.y0, 21.0);
     for (double x : {11.0, 12.3, 15.0})
         for (double y : {21.0, 22.2, 23.0}) EXPECT_DOUBLE_EQ(depth_at(same.grid, x, y), depth_at(read.grid, x, y));
+    // The plane as a DCC holds a terrain object turned by 90° about z, in float32: a 40 × 40
+    // grid of quads whose turned coordinates carry the rounding of cos 90° in float32
+    // (−4.4e-8 · 100 m: its border vertices up to 4.4 µm inside the bounding box the grid
+    // spans). Nodes a rounding outside a border triangle take its plane: no node is left
+    // without data (the whole border was, a ring of land round the sea).
+    {
+        std::vector<double> xyz;
+        std::vector<std::uint32_t> tri;
+        const float c = std::cos(static_cast<float>(std::numbers::pi / 2)), s = 1.0f;
+        for (int j = 0; j <= 40; ++j)
+            for (int i = 0; i <= 40; ++i) {
+                const float u = 2.5f * static_cast<float>(i), v = 2.5f * static_cast<float>(j);
+                const double x = 37.0f + (c * u - s * v), y = -11.0f + (s * u + c * v);
+                xyz.insert(xyz.end(), {x, y, static_cast<float>(plane(x, y))});
+            }
+        for (std::uint32_t j = 0; j < 40; ++j)
+            for (std::uint32_t i = 0; i < 40; ++i) {
+                const std::uint32_t a = j * 41 + i;
+                tri.insert(tri.end(), {a, a + 1, a + 42, a, a + 42, a + 41});
+            }
+        ASSERT_NE(c, 0.0f);
+        ReadOptions o;
+        o.resample_spacing = 0.5;
+        const Seafloor turned = seafloor_from_mesh(xyz, tri, o, "turned terrain");
+        EXPECT_EQ(turned.nodata_count, 0u);
+        const ElevationGrid& t = turned.grid;
+        for (double x : {t.x0, t.x_max()})
+            for (double y : {t.y0, t.y_max()}) EXPECT_NEAR(depth_at(t, x, y), -plane(x, y), 1e-4) << x << ", " << y;
+    }
     expect_input_error([&] { ElevationGrid bad = mine; bad.dy = 0.0; seafloor_from_grid(bad, {}, {}, "terrain"); },
                        {"terrain", "spacing along y"});
     expect_input_error([&] { seafloor_from_mesh(std::vector<double>{0, 0, 0, 1, 0, 0, 0, 1, 0},

@@ -68,7 +68,7 @@ def _is_empty(self, obj):
 class LIBWAVE_PG_swell(bpy.types.PropertyGroup):
     period: FloatProperty(name="Period (s)", default=6.0, min=0.5, max=30.0,
                           description="The swell's period; its deep-water wavelength is g T² / 2π (6 s: 56 m)")
-    height: FloatProperty(name="Height (m)", default=0.6, min=0.0, soft_max=8.0, max=30.0,
+    height: FloatProperty(name="Height (m)", default=0.6, min=0.01, soft_max=8.0, max=30.0,
                           description="Deep-water wave height, trough to crest (twice the amplitude)")
     direction: FloatProperty(name="Direction", subtype="ANGLE", default=math.pi / 2,
                              description="Where the swell travels to, counter-clockwise from +X (90°: towards +Y)")
