@@ -255,6 +255,24 @@ for quality in ("DRAFT", "MEDIUM", "HIGH"):
 settings.swells.remove(1)
 settings.wind, settings.breakers, settings.far_field, settings.quality = False, False, True, "MEDIUM"
 
+# The terrain turned 90° about z and Blender units of 2 m: its world-space triangles in
+# metres (float32 rounding on the turned border: no ring of land), the water scaled back.
+scene.unit_settings.scale_length = 2.0
+terrain.rotation_euler = (0.0, 0.0, math.pi / 2)
+settings.swells[0].direction = math.pi  # the open sea now lies towards +x
+bpy.ops.object.libwave_generate()
+wait(water)
+setup = live.Setup(bpy.context, water)
+check(settings.status.startswith("60 frames") and setup.seafloor(libwave).stats()["nodata_count"] == 0 and
+      tuple(water.scale) == (0.5, 0.5, 0.5), f"turned, 2 m units: {settings.status}, scale {tuple(water.scale)}")
+scene.frame_set(10)
+v = positions(water) * 0.5  # Blender units, as the scene shows them
+check(abs(float(np.median(v[:, 2]))) < 0.2 and float(np.abs(v[:, :2]).max()) > 100.0,
+      f"the water in 2 m units: median height {float(np.median(v[:, 2]))} BU")
+scene.unit_settings.scale_length = 1.0
+terrain.rotation_euler = (0.0, 0.0, 0.0)
+settings.swells[0].direction = math.pi / 2
+
 # Input it cannot use: a clear report, not a traceback.
 def report_of(**change):
     for k, v in change.items():
