@@ -452,7 +452,10 @@ def _play(context, water, setup, index, final):
         pkg._animations.pop(path, None)
     anim = pkg._animation(os.path.abspath(index))
     mesh = water.data
-    if mesh is None or len(mesh.vertices) != len(anim.frame(0).positions) or water.get("libwave_live_mesh") != anim.path \
+    shown = water.get("libwave_live_mesh", "")
+    # The same frames moved from the job's ".part" folder to the cache: the mesh stays.
+    same = shown == anim.path or os.path.dirname(shown) == os.path.dirname(anim.path) + ".part"
+    if mesh is None or len(mesh.vertices) != len(anim.frame(0).positions) or not same \
             or len(mesh.polygons) != len(anim.triangles):
         old = mesh
         mesh = pkg._mesh_from_arrays(water.name, anim.frame(0).positions, anim.triangles)
