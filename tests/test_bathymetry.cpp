@@ -296,6 +296,80 @@ TEST_F(Scratch, MeshIsKeptAndResampled) {
     EXPECT_EQ(read_seafloor(obj, o).mesh.triangles.size(), 6u);
 }
 
+// A seafloor from arrays in memory (a DCC's terrain): an analytic plane z = a + b x + c y
+// handed over as a grid and as triangles gives the plane's depth everywhere inside,
+// with the water level as a vertical offset; the grid's node (0, 0) is at the origin,
+// the convention the ESRI reader lands on (a cell's value at its centre).
+TEST_F(Scratch, SeafloorFromArraysHoldsAnAnalyticPlane) {
+    const auto plane = [](double x, double y) { return -4.0 + 0.03 * x + 0.05 * y; };
+    ElevationGrid g = grid_of(41, 61, 0.5, plane);  // origin (−3, 2), dx 0.5, dy 0.25
+    ReadOptions level;
+    level.vertical_offset = -0.7;  // still water at z = 0.7
+    const Seafloor from_grid = seafloor_from_grid(g, {}, level, "plane grid");
+    const Seafloor from_mesh = seafloor_from_mesh(
+        std::vector<double>{-3, 2, plane(-3, 2), 17, 2, plane(17, 2), 17, 17, plane(17, 17), -3, 17, plane(-3, 17)},
+        std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3}, [&] { ReadOptions o = level; o.resample_spacing = 0.4; return o; }(),
+        "plane mesh");
+    EXPECT_EQ(from_grid.source, "plane grid");
+    EXPECT_EQ(from_mesh.mesh.triangles.size(), 6u);
+    EXPECT_EQ(from_mesh.nodata_count, 0u);
+    for (double x = -2.9; x < 16.9; x += 1.37)
+        for (double y = 2.1; y < 16.9; y += 1.91) {
+            const double h = 0.7 - plane(x, y);
+            if (y <= g.y_max()) {
+                EXPECT_NEAR(depth_at(from_grid.grid, x, y), h, 1e-12) << x << ", " << y;
+            }
+            EXPECT_NEAR(depth_at(from_mesh.grid, x, y), h, 1e-12) << x << ", " << y;
+        }
+    // An ESRI grid of the same values: its first cell's centre is node (0, 0), so the
+    // grid read from the file and the one from arrays at that origin agree to the node.
+    std::string asc = "ncols 3\nnrows 2\nxllcorner 10\nyllcorner 20\ncellsize 2\n";
+    asc += "-1 -2 -3\n-4 -5 -6\n";  // north row first
+    const Seafloor read = read_seafloor(write("g.asc", asc));
+    ElevationGrid mine;
+    mine.nx = 3, mine.ny = 2, mine.x0 = read.grid.x0, mine.y0 = read.grid.y0, mine.dx = 2.0, mine.dy = 2.0;
+    mine.z = {-4, -5, -6, -1, -2, -3};  // south row first
+    const Seafloor same = seafloor_from_grid(mine);
+    EXPECT_DOUBLE_EQ(read.grid.x0, 11.0);
+    EXPECT_DOUBLE_EQ(read.grid.y0, 21.0);
+    for (double x : {11.0, 12.3, 15.0})
+        for (double y : {21.0, 22.2, 23.0}) EXPECT_DOUBLE_EQ(depth_at(same.grid, x, y), depth_at(read.grid, x, y));
+    // The plane as a DCC holds a terrain object turned by 90° about z, in float32: a 40 × 40
+    // grid of quads whose turned coordinates carry the rounding of cos 90° in float32
+    // (−4.4e-8 · 100 m: its border vertices up to 4.4 µm inside the bounding box the grid
+    // spans). Nodes a rounding outside a border triangle take its plane: no node is left
+    // without data (the whole border was, a ring of land round the sea).
+    {
+        std::vector<double> xyz;
+        std::vector<std::uint32_t> tri;
+        const float c = std::cos(static_cast<float>(std::numbers::pi / 2)), s = 1.0f;
+        for (int j = 0; j <= 40; ++j)
+            for (int i = 0; i <= 40; ++i) {
+                const float u = 2.5f * static_cast<float>(i), v = 2.5f * static_cast<float>(j);
+                const double x = 37.0f + (c * u - s * v), y = -11.0f + (s * u + c * v);
+                xyz.insert(xyz.end(), {x, y, static_cast<float>(plane(x, y))});
+            }
+        for (std::uint32_t j = 0; j < 40; ++j)
+            for (std::uint32_t i = 0; i < 40; ++i) {
+                const std::uint32_t a = j * 41 + i;
+                tri.insert(tri.end(), {a, a + 1, a + 42, a, a + 42, a + 41});
+            }
+        ASSERT_NE(c, 0.0f);
+        ReadOptions o;
+        o.resample_spacing = 0.5;
+        const Seafloor turned = seafloor_from_mesh(xyz, tri, o, "turned terrain");
+        EXPECT_EQ(turned.nodata_count, 0u);
+        const ElevationGrid& t = turned.grid;
+        for (double x : {t.x0, t.x_max()})
+            for (double y : {t.y0, t.y_max()}) EXPECT_NEAR(depth_at(t, x, y), -plane(x, y), 1e-4) << x << ", " << y;
+    }
+    expect_input_error([&] { ElevationGrid bad = mine; bad.dy = 0.0; seafloor_from_grid(bad, {}, {}, "terrain"); },
+                       {"terrain", "spacing along y"});
+    expect_input_error([&] { seafloor_from_mesh(std::vector<double>{0, 0, 0, 1, 0, 0, 0, 1, 0},
+                                                std::vector<std::uint32_t>{0, 1, 3}, {}, "terrain"); },
+                       {"terrain", "triangle 1 names vertex 4 of 3"});
+}
+
 TEST_F(Scratch, BrokenMeshes) {
     const std::string none = write("none.off", "OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n");
     expect_input_error([&] { read_seafloor(none); }, {none, "no triangles"});

@@ -167,11 +167,24 @@ PYBIND11_MODULE(_libwave, m) {
         });
     m.def(
         "plan",
-        [](const wave::Scene& scene) {
+        [](const wave::Scene& scene, const py::object& given) {
+            // An object, not a typed argument: Seafloor is bound later (stages.cpp), and its
+            // name in the signature (the stubs) would be the C++ one.
+            std::shared_ptr<wave::Seafloor> seafloor;
+            if (!given.is_none()) {
+                if (!py::isinstance<wave::Seafloor>(given))
+                    throw libwave_python::ArgumentTypeError(
+                        "plan: seafloor must be a libwave.Seafloor (Seafloor.from_triangles, Seafloor.from_grid, "
+                        "read_seafloor), got " + std::string(py::str(py::type::of(given).attr("__name__"))));
+                seafloor = given.cast<std::shared_ptr<wave::Seafloor>>();
+            }
             py::gil_scoped_release release;
-            return std::make_shared<ScenePlan>(wave::plan_scene(scene));
+            return std::make_shared<ScenePlan>(seafloor ? wave::plan_scene(scene, *seafloor) : wave::plan_scene(scene));
         },
-        py::arg("scene"), "Runs the static stages: seafloor, isobaths, tracing, surface, motion plan");
+        py::arg("scene"), py::arg("seafloor") = py::none(),
+        "Runs the static stages: seafloor, isobaths, tracing, surface, motion plan. With `seafloor` (a libwave.Seafloor: "
+        "Seafloor.from_triangles of a terrain in memory, from_grid of an array) the scene stands on it and its /seafloor "
+        "is not read: the same plan as a scene whose /seafloor reads those values from a file");
 
     py::class_<SceneAnimation, std::shared_ptr<SceneAnimation>>(m, "Animation",
                                                                 "Frames of one loop; arrays are read-only NumPy views")

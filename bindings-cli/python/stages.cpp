@@ -21,6 +21,8 @@
 #include <pybind11/stl.h>
 
 #include <array>
+#include <cmath>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -94,9 +96,108 @@ void def_array(py::class_<T, std::shared_ptr<T>>& cls, const char* name, std::ve
     }, doc);
 }
 
+// Seafloor.from_grid: a seafloor from a 2-D array of elevations (docs/formats.md), every
+// argument checked here and named in the message as `function: argument`.
+std::shared_ptr<wave::Seafloor> seafloor_of_grid(const std::string& fn, const py::object& values, const py::object& origin,
+                                                 const py::object& spacing, const std::optional<std::string>& sign,
+                                                 std::optional<double> nodata, const py::object& mask, double vertical_offset,
+                                                 const std::string& name) {
+    // Shapes and types are the caller's input: InputError (a libwave.Error), not ValueError.
+    const std::vector<double> z = to_vector<double>(values, 1, fn + ": values");
+    const auto a = py::array::ensure(values);
+    if (a.ndim() != 2)
+        throw wave::InputError(fn + ": values must be a 2-D array (rows of y, columns of x), got shape " + shape_text(a));
+    wave::ElevationGrid g;
+    g.ny = static_cast<std::size_t>(a.shape(0)), g.nx = static_cast<std::size_t>(a.shape(1));
+    const std::vector<double> at = to_vector<double>(origin, 1, fn + ": origin");
+    if (at.size() != 2) throw wave::InputError(fn + ": origin must be (x0, y0), got " + std::to_string(at.size()) + " values");
+    g.x0 = at[0], g.y0 = at[1];
+    const std::vector<double> step = to_vector<double>(spacing, 1, fn + ": spacing");
+    if (step.size() != 1 && step.size() != 2)
+        throw wave::InputError(fn + ": spacing must be a number or (dx, dy), got " + std::to_string(step.size()) + " values");
+    g.dx = step[0], g.dy = step.back();
+    g.z = z;
+    std::vector<char> missing;
+    if (!mask.is_none()) {
+        const auto b = py::array_t<bool, py::array::c_style | py::array::forcecast>::ensure(mask);
+        if (!b || b.ndim() != 2 || b.shape(0) != a.shape(0) || b.shape(1) != a.shape(1))
+            throw wave::InputError(fn + ": mask must be a boolean array of the values' shape " + shape_text(a));
+        missing.assign(b.data(), b.data() + b.size());
+    }
+    wave::ReadOptions o = options_with_sign(fn, sign);
+    o.nodata_value = nodata;
+    o.vertical_offset = vertical_offset;
+    py::gil_scoped_release release;
+    return std::make_shared<wave::Seafloor>(wave::seafloor_from_grid(g, missing, o, name.empty() ? fn : name));
+}
+
+// Seafloor.from_triangles: a seafloor from a triangle mesh's vertex and index arrays.
+std::shared_ptr<wave::Seafloor> seafloor_of_triangles(const std::string& fn, const char* index_name, const py::object& vertices,
+                                                      const py::object& indices, double spacing,
+                                                      const std::optional<std::string>& sign, double vertical_offset,
+                                                      const std::string& name) {
+    const std::vector<double> xyz = to_vector<double>(vertices, 3, fn + ": vertices");
+    const auto v = py::array::ensure(vertices);
+    if (v.ndim() != 2) throw wave::InputError(fn + ": vertices must be an (n, 3) array, got shape " + shape_text(v));
+    const auto t = py::array::ensure(indices);
+    if (t && t.size() > 0 && t.dtype().kind() != 'i' && t.dtype().kind() != 'u')
+        throw ArgumentTypeError(fn + ": " + index_name + " must be integers (vertex indices), got an array of " +
+                                std::string(py::str(t.dtype())));
+    const std::vector<std::int64_t> raw = to_vector<std::int64_t>(indices, 3, fn + ": " + index_name);
+    if (!t || t.ndim() != 2)
+        throw wave::InputError(fn + ": " + index_name + " must be a (t, 3) array of vertex indices, got shape " +
+                               (t ? shape_text(t) : std::string("()")));
+    const std::size_t n = xyz.size() / 3;
+    std::vector<std::uint32_t> tri(raw.size());
+    for (std::size_t i = 0; i < raw.size(); ++i) {
+        if (raw[i] < 0 || static_cast<std::size_t>(raw[i]) >= n)
+            throw wave::InputError(fn + ": " + index_name + " row " + std::to_string(i / 3) + " names vertex " + std::to_string(raw[i]) +
+                                   " of " + std::to_string(n) + " (0-based)");
+        tri[i] = static_cast<std::uint32_t>(raw[i]);
+    }
+    if (spacing < 0.0 || !std::isfinite(spacing))
+        throw wave::InputError(fn + ": spacing must be >= 0 (0: about a node per vertex), got " + std::to_string(spacing));
+    wave::ReadOptions o = options_with_sign(fn, sign);
+    o.resample_spacing = spacing;
+    o.vertical_offset = vertical_offset;
+    py::gil_scoped_release release;
+    return std::make_shared<wave::Seafloor>(wave::seafloor_from_mesh(xyz, tri, o, name.empty() ? fn : name));
+}
+
 void bind_seafloor(py::module_& m) {
     py::class_<wave::Seafloor, std::shared_ptr<wave::Seafloor>>(
-        m, "Seafloor", "A seafloor: an elevation grid (z up, m) and where it came from (read_seafloor, procedural_seafloor)")
+        m, "Seafloor", "A seafloor: an elevation grid (z up, m) and where it came from (read_seafloor, procedural_seafloor, "
+                       "Seafloor.from_grid, Seafloor.from_triangles)")
+        .def_static(
+            "from_grid",
+            [](const py::object& values, const py::object& origin, const py::object& spacing, std::optional<std::string> sign,
+               std::optional<double> nodata, const py::object& mask, double vertical_offset, const std::string& name) {
+                return seafloor_of_grid("Seafloor.from_grid", values, origin, spacing, sign, nodata, mask, vertical_offset, name);
+            },
+            py::arg("values"), py::arg("origin") = std::array<double, 2>{0.0, 0.0}, py::arg("spacing") = 1.0,
+            py::arg("sign") = py::none(), py::arg("nodata") = py::none(), py::arg("mask") = py::none(),
+            py::arg("vertical_offset") = 0.0, py::arg("name") = "",
+            "A seafloor from a 2-D array of heights: row j is y = y0 + j·dy (south to north), column i is x = x0 + i·dx; "
+            "node (0, 0) sits at `origin` (a node, as the grid readers place a raster's first cell centre: a raster "
+            "whose values stand for cells starts half a cell in from its corner). `spacing` a number or (dx, dy) (m); "
+            "`sign` 'elevation' (default, z up) or 'depth'; `nodata` a value and `mask` a boolean array marking nodes "
+            "without data (filled as land); `vertical_offset` (m) added to every elevation (−level puts still water at "
+            "z = level); `name` names it in messages. Raises InputError (ArgumentTypeError for what is not numbers) "
+            "naming the argument")
+        .def_static(
+            "from_triangles",
+            [](const py::object& vertices, const py::object& indices, double spacing, std::optional<std::string> sign,
+               double vertical_offset, const std::string& name) {
+                return seafloor_of_triangles("Seafloor.from_triangles", "indices", vertices, indices, spacing, sign,
+                                             vertical_offset, name);
+            },
+            py::arg("vertices"), py::arg("indices"), py::arg("spacing") = 0.0, py::arg("sign") = py::none(),
+            py::arg("vertical_offset") = 0.0, py::arg("name") = "",
+            "A seafloor from a triangle mesh in world space: `vertices` (n, 3) x, y, z in metres (z up, elevation "
+            "unless sign='depth'), `indices` (t, 3) 0-based vertex indices; resampled to a grid of `spacing` m (0: about "
+            "a node per vertex) as a mesh file is, the triangles kept for the isobaths; nodes no triangle covers are "
+            "land. `vertical_offset` (m) is added to every z (−level: still water at z = level). Raises InputError "
+            "(ArgumentTypeError for what is not numbers, or indices that are not integers) naming the argument")
         .def_property_readonly("elevation", [](Shared self) {
             const auto& s = self.cast<const wave::Seafloor&>();
             return view(s.grid.z, {ssize(s.grid.ny), ssize(s.grid.nx)}, self);

@@ -320,3 +320,58 @@ def test_array_arguments_of_a_wrong_shape_or_type_raise_libwave_errors_naming_th
     for call, error, message in bad:
         with pytest.raises(error, match=message):
             call()
+
+
+def test_seafloor_from_grid_and_from_triangles_hold_an_analytic_plane_and_plan_as_the_file_does(tmp_path):
+    # z = −4 + 0.03 x + 0.05 y, with the water level at 0.7 m as a vertical offset: the
+    # depth at any point inside is 0.7 − z, from a grid (node (0, 0) at the origin) and
+    # from world-space triangles (a DCC's terrain); bad arguments are InputErrors naming
+    # the argument; and a scene planned on the in-memory seafloor is the scene whose
+    # /seafloor reads the same triangles from a mesh file with that offset.
+    def plane(x, y):
+        return -4.0 + 0.03 * x + 0.05 * y
+    ys, xs = np.mgrid[0:31, 0:41]
+    x, y = -3.0 + 0.5 * xs, 2.0 + 0.25 * ys
+    grid = libwave.Seafloor.from_grid(plane(x, y), origin=(-3.0, 2.0), spacing=(0.5, 0.25), vertical_offset=-0.7)
+    corners = np.array([[-3, 2, 0], [17, 2, 0], [17, 9.5, 0], [-3, 9.5, 0]], float)
+    corners[:, 2] = plane(corners[:, 0], corners[:, 1])
+    mesh = libwave.Seafloor.from_triangles(corners, np.array([[0, 1, 2], [0, 2, 3]], np.int32), spacing=0.4,
+                                           vertical_offset=-0.7, name="terrain")
+    rng = np.random.default_rng(3)
+    px, py = rng.uniform(-3, 17, 200), rng.uniform(2, 9.5, 200)
+    assert np.allclose(grid.depth_at(px, py), 0.7 - plane(px, py), atol=1e-12)
+    assert np.allclose(mesh.depth_at(px, py), 0.7 - plane(px, py), atol=1e-12)
+    assert grid.origin == (-3.0, 2.0) and grid.spacing == (0.5, 0.25) and mesh.source == "terrain"
+    for call, kind, match in [
+            (lambda: libwave.Seafloor.from_grid(plane(x, y)[0]), libwave.InputError, "values must be a 2-D array"),
+            (lambda: libwave.Seafloor.from_grid(plane(x, y), spacing=(1.0, 0.0)), libwave.InputError, "spacing along y"),
+            (lambda: libwave.Seafloor.from_grid(plane(x, y), origin=(0, 0, 0)), libwave.InputError, "origin"),
+            (lambda: libwave.Seafloor.from_grid(np.array([["a", "b"]])), libwave.ArgumentTypeError, "values"),
+            (lambda: libwave.Seafloor.from_triangles(corners[:, :2], [[0, 1, 2]]), libwave.InputError, "vertices"),
+            (lambda: libwave.Seafloor.from_triangles(corners, [[0, 1, 4]]), libwave.InputError, "indices row 0 names vertex 4"),
+            (lambda: libwave.Seafloor.from_triangles(corners, [[0, 1.5, 2]]), libwave.ArgumentTypeError, "indices must be integers"),
+            (lambda: libwave.Seafloor.from_triangles(corners, [0, 1, 2]), libwave.InputError, "indices must be a \\(t, 3\\)"),
+            (lambda: libwave.Seafloor.from_triangles(corners, np.zeros((0, 3), int)), libwave.InputError, "no triangles")]:
+        with pytest.raises(kind, match=match):
+            call()
+    # A small sloping beach as triangles; planned in memory and from its OBJ file.
+    gx, gy = np.meshgrid(np.linspace(0, 60, 13), np.linspace(0, 60, 13))
+    verts = np.stack([gx.ravel(), gy.ravel(), (-3.0 + 0.08 * gy).ravel() + 0.5], 1)
+    quads = [(j * 13 + i, j * 13 + i + 1, (j + 1) * 13 + i + 1, (j + 1) * 13 + i) for j in range(12) for i in range(12)]
+    tris = np.array([t for a, b, c, d in quads for t in ((a, b, c), (a, c, d))])
+    with open(tmp_path / "beach.obj", "w") as f:
+        f.writelines(f"v {a!r} {b!r} {c!r}\n" for a, b, c in verts)
+        f.writelines(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in tris)
+    doc = {"seafloor": {"source": "beach.obj", "spacing": 1.0, "vertical_offset": -0.5},
+           "waves": [{"period": 5.0, "amplitude": 0.3, "direction": [0, 1]}], "trace": {"ray_spacing": 2.0},
+           "isobaths": {"spacing": 0.5}, "fronts": {"step": 0.5, "split_distance": 2.5}, "animation": {"fps": 4},
+           "surface": {"far_field": False}}
+    scene = libwave.Scene(doc, str(tmp_path))
+    from_file = libwave.plan(scene)
+    in_memory = libwave.plan(scene, seafloor=libwave.Seafloor.from_triangles(verts, tris, spacing=1.0, vertical_offset=-0.5))
+    assert in_memory.vertex_count == from_file.vertex_count > 100
+    assert np.array_equal(in_memory.rest_positions, from_file.rest_positions)
+    a, b = libwave.animate(scene, from_file, 0, 2), libwave.animate(scene, in_memory, 0, 2)
+    assert np.array_equal(a.positions, b.positions) and np.array_equal(a.foam, b.foam)
+    with pytest.raises(libwave.InputError, match="flat bottom"):
+        libwave.plan(libwave.Scene({"surface": {"kind": "ocean"}}), seafloor=mesh)

@@ -21,6 +21,7 @@ from bpy_extras.io_utils import ImportHelper
 
 from . import bake as baking
 from . import frames
+from . import live
 from . import whitewater
 
 bl_info = {
@@ -28,8 +29,8 @@ bl_info = {
     "author": "libwave",
     "version": (0, 1, 0),
     "blender": (3, 4, 0),
-    "location": "File > Import > libwave animation",
-    "description": "Coastal wave animations from libwave: positions, foam, reflect and refract per frame",
+    "location": "File > Import > libwave animation; Add > libwave Water",
+    "description": "Coastal wave animations from libwave: imported, or generated live over a terrain mesh of the scene",
     "category": "Import-Export",
 }
 
@@ -605,6 +606,7 @@ def _menu(self, context):
 
 
 def register():
+    live.register()
     bpy.utils.register_class(ImportLibwave)
     bpy.types.TOPBAR_MT_file_import.append(_menu)
     if _on_frame_change not in bpy.app.handlers.frame_change_post:
@@ -620,3 +622,4 @@ def unregister():
         bpy.app.handlers.frame_change_post.remove(_on_frame_change)
     bpy.types.TOPBAR_MT_file_import.remove(_menu)
     bpy.utils.unregister_class(ImportLibwave)
+    live.unregister()

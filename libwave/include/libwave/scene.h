@@ -337,6 +337,14 @@ enum class PlanStages { trace, surface, all };
 /// strips are asked for with other than one wave train.
 ScenePlan plan_scene(const Scene& scene, PlanStages stages = PlanStages::all);
 
+/// plan_scene on a seafloor the caller made (seafloor_from_mesh of a DCC's terrain,
+/// seafloor_from_grid of an array) instead of the one /seafloor names: the scene's
+/// /seafloor keys are not read (the caller applied what they say — a vertical offset
+/// for the water level, scales). The same plan as plan_scene of a scene whose /seafloor
+/// reads those values from a file. Traced surfaces only (the open ocean's flat bottom
+/// is its own); throws as plan_scene does.
+ScenePlan plan_scene(const Scene& scene, Seafloor seafloor, PlanStages stages = PlanStages::all);
+
 /// The explicit last planning step: /refine's subdivision of the planned surface (a
 /// no-op without /refine). Call it after estimate_run and check_run_memory have found
 /// the run affordable; plan_scene(…, PlanStages::all) calls it itself.

@@ -401,13 +401,22 @@ void rasterise(const SeafloorMesh& m, ElevationGrid& g, std::vector<char>& cover
         const double* c = &m.xyz[3 * m.triangles[t + 2]];
         const double det = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
         if (std::abs(det) < 1e-300) continue;  // vertical or degenerate: covers no area
-        // Node ranges with a rounding's slack: the grid's last node lies on the box's edge.
-        constexpr double kSlack = 1e-9;
+        // A node within a thousandth of the grid's spacing outside the triangle counts as
+        // in it (its plane extended that far): a mesh's coordinates carry rounding — a
+        // terrain turned as a DCC object and stored as float32 has its border vertices a few
+        // µm inside the bounding box the grid spans, and its border nodes fell outside every
+        // triangle and became land (a ring of NODATA round the sea). Node ranges likewise.
+        const double reach = 1e-3 * std::min(g.dx, g.dy);
+        const double kSlack = 1e-3;
         const auto lo_i = static_cast<std::ptrdiff_t>(std::ceil((std::min({a[0], b[0], c[0]}) - g.x0) / g.dx - kSlack));
         const auto hi_i = static_cast<std::ptrdiff_t>(std::floor((std::max({a[0], b[0], c[0]}) - g.x0) / g.dx + kSlack));
         const auto lo_j = static_cast<std::ptrdiff_t>(std::ceil((std::min({a[1], b[1], c[1]}) - g.y0) / g.dy - kSlack));
         const auto hi_j = static_cast<std::ptrdiff_t>(std::floor((std::max({a[1], b[1], c[1]}) - g.y0) / g.dy + kSlack));
-        constexpr double kEdge = -1e-9;  // nodes on shared edges belong to both triangles
+        // l_k × |det| / |edge k| is the node's distance inside edge k (the one opposite vertex
+        // k); nodes on shared edges belong to both triangles.
+        const double e1 = -std::max(1e-9, reach * std::hypot(b[0] - c[0], b[1] - c[1]) / std::abs(det));
+        const double e2 = -std::max(1e-9, reach * std::hypot(c[0] - a[0], c[1] - a[1]) / std::abs(det));
+        const double e3 = -std::max(1e-9, reach * std::hypot(a[0] - b[0], a[1] - b[1]) / std::abs(det));
         for (auto j = std::max<std::ptrdiff_t>(lo_j, 0); j <= std::min<std::ptrdiff_t>(hi_j, static_cast<std::ptrdiff_t>(g.ny) - 1); ++j) {
             for (auto i = std::max<std::ptrdiff_t>(lo_i, 0); i <= std::min<std::ptrdiff_t>(hi_i, static_cast<std::ptrdiff_t>(g.nx) - 1); ++i) {
                 const double x = g.x0 + static_cast<double>(i) * g.dx;
@@ -415,7 +424,7 @@ void rasterise(const SeafloorMesh& m, ElevationGrid& g, std::vector<char>& cover
                 const double l1 = ((b[1] - c[1]) * (x - c[0]) + (c[0] - b[0]) * (y - c[1])) / det;
                 const double l2 = ((c[1] - a[1]) * (x - c[0]) + (a[0] - c[0]) * (y - c[1])) / det;
                 const double l3 = 1.0 - l1 - l2;
-                if (l1 < kEdge || l2 < kEdge || l3 < kEdge) continue;
+                if (l1 < e1 || l2 < e2 || l3 < e3) continue;
                 const double z = l1 * a[2] + l2 * b[2] + l3 * c[2];
                 const std::size_t n = static_cast<std::size_t>(j) * g.nx + static_cast<std::size_t>(i);
                 g.z[n] = std::max(g.z[n], z);

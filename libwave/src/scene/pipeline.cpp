@@ -396,9 +396,19 @@ void refuse_all_land(const Scene& scene, const Seafloor& seafloor) {
                      "); check /seafloor/sign and /seafloor/vertical_offset");
 }
 
-ScenePlan plan_scene(const Scene& scene, PlanStages stages) {
+static ScenePlan plan_on(const Scene& scene, Seafloor seafloor, PlanStages stages);
+
+ScenePlan plan_scene(const Scene& scene, PlanStages stages) { return plan_on(scene, scene_seafloor(scene), stages); }
+
+ScenePlan plan_scene(const Scene& scene, Seafloor seafloor, PlanStages stages) {
+    if (scene.surface_kind == SurfaceKind::ocean)
+        throw InputError("plan_scene: the open ocean stands on its own flat bottom (/ocean/depth), not on a given seafloor");
+    return plan_on(scene, std::move(seafloor), stages);
+}
+
+static ScenePlan plan_on(const Scene& scene, Seafloor seafloor, PlanStages stages) {
     ScenePlan p;
-    p.seafloor = scene_seafloor(scene);
+    p.seafloor = std::move(seafloor);
     refuse_all_land(scene, p.seafloor);
     scene_camera(scene, p.seafloor);  // a camera inside the seafloor is an input error, found before the work
     // Without a wind sea (whose loop is its own, ~20 s) every loop holds at least the
