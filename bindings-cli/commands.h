@@ -166,6 +166,9 @@ struct InspectArgs {
     /// --against REF: compare the positions of `path` (e.g. a compressed output) with
     /// REF's (a float run of the same scene), frame by frame, instead of inspecting.
     std::string against;
+    /// --scene SCENE: the scene `path` was run from; its breakers say which triangles
+    /// facing down are the lips they draw (InspectOptions::drawn_lips), not the foam.
+    std::string scene;
 };
 int run_inspect(const InspectArgs& a);
 

@@ -4,6 +4,8 @@
 #include "libwave/errors.h"
 #include "libwave/export.h"
 #include "libwave/inspect.h"
+#include "libwave/motion.h"
+#include "libwave/scene.h"
 
 #include <nlohmann/json.hpp>
 
@@ -14,6 +16,7 @@
 #include <iomanip>
 #include <iostream>
 #include <limits>
+#include <optional>
 #include <unordered_map>
 #include <unordered_set>
 #include <vector>
@@ -212,7 +215,24 @@ int run_inspect(const InspectArgs& a) {
     if (!a.against.empty()) return run_against(a);
     const std::string path = animation_path(a.path);
     const StoredAnimation stored = read_animation(path);
-    const MeshInspection m = inspect_animation(stored.view(), a.options);
+    InspectOptions options = a.options;
+    std::optional<ScenePlan> plan;
+    if (!a.scene.empty()) {
+        const Scene scene = read_scene(a.scene);
+        if (!scene.breakers)
+            throw InputError("inspect --scene: " + a.scene + " draws no lips of its own (only Jeschke's breakers do); without --scene the foam marks the lips");
+        plan = plan_scene(scene);
+        const std::size_t drawn = plan->breakers.vertex_count();
+        if (drawn == 0 || drawn > stored.vertex_count || !(stored.fps > 0.0))
+            throw InputError("inspect --scene: " + path + " holds " + std::to_string(stored.vertex_count) + " vertices, fewer than the " +
+                             std::to_string(drawn) + " breaker vertices of " + a.scene + ": not its output");
+        const double fps = stored.fps;
+        const JeschkeMotionPlan& breakers = plan->breakers;
+        options.drawn_lips = [&breakers, fps](std::size_t frame, std::uint32_t i, std::uint32_t j, std::uint32_t k) {
+            return jeschke_draws_overturned(breakers, static_cast<double>(frame) / fps, i, j, k);
+        };
+    }
+    const MeshInspection m = inspect_animation(stored.view(), options);
     if (a.json) {
         nlohmann::ordered_json doc = nlohmann::ordered_json::parse(inspection_json(m, a.options));
         doc["input"] = path;

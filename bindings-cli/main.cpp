@@ -201,6 +201,7 @@ int main(int argc, char** argv) {
         ->capture_default_str()->check(CLI::Range(0.0, 1.0));
     inspect_cmd->add_option("--long-edge", inspect.options.long_edge_ratio, "edge length over the local spacing counted as long")
         ->capture_default_str()->check(CLI::Range(1.0, 1e6));
+    inspect_cmd->add_option("--scene", inspect.scene, "SCENE: the scene the output was run from; its breakers tell the lips they draw overturned from folds (instead of --lip-foam)");
     inspect_cmd->add_flag("--json", inspect.json, "print everything as JSON, every frame included");
     inspect_cmd->add_option("--against", inspect.against, "REF: compare the positions with REF, a float run of the same scene (--codec none): the largest height and horizontal errors per frame, and the distinct heights of the domain (terraces)");
 

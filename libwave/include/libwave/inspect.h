@@ -14,6 +14,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -34,6 +35,11 @@ struct InspectOptions {
     /// A boundary vertex lies on the domain border when its plan position is within
     /// this distance (m) of the bounding rectangle of the first frame's plan positions.
     double border_tolerance = 1e-6;
+    /// The motion's own overturned lips, or empty: when set, a triangle (vertices a, b,
+    /// c) facing down or a sliver in frame `frame` of the loop is an overturning lip
+    /// exactly when this holds, whatever its foam (`wave inspect --scene`: the breakers'
+    /// jeschke_draws_overturned). Called from several threads.
+    std::function<bool(std::size_t frame, std::uint32_t a, std::uint32_t b, std::uint32_t c)> drawn_lips{};
 };
 
 /// One frame's geometry.

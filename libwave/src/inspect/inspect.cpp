@@ -80,7 +80,7 @@ double median(std::vector<double>& values) {
 
 // Angles, areas and facing of every triangle of one frame.
 void inspect_triangles(std::span<const std::uint32_t> triangles, std::span<const float> p, std::span<const float> foam,
-                       std::span<const char> shore, const InspectOptions& options, FrameInspection& out) {
+                       std::span<const char> shore, const InspectOptions& options, std::size_t frame, FrameInspection& out) {
     const double sliver = options.sliver_angle_deg * std::numbers::pi / 180.0;
     double smallest = std::numbers::pi, smallest_off_lips = std::numbers::pi;
     for (std::size_t t = 0; t < triangles.size() / 3; ++t) {
@@ -93,14 +93,18 @@ void inspect_triangles(std::span<const std::uint32_t> triangles, std::span<const
             continue;
         }
         const bool on_shore = shore[i[0]] || shore[i[1]] || shore[i[2]];
-        const bool breaking = !on_shore && !foam.empty() && std::max({foam[i[0]], foam[i[1]], foam[i[2]]}) >= options.lip_foam;
+        const double angle = std::min({std::atan2(norm(n), dot(sub(b, a), sub(c, a))),
+                                       std::atan2(norm(n), dot(sub(a, b), sub(c, b))),
+                                       std::atan2(norm(n), dot(sub(a, c), sub(b, c)))});
+        // A lip: the motion's own overturned triangles where it says which they are (asked
+        // only of the triangles it decides: facing down or slivers), else a foamy one.
+        const bool breaking =
+            !on_shore && (options.drawn_lips ? (n.z < 0.0 || angle < sliver) && options.drawn_lips(frame, i[0], i[1], i[2])
+                                             : !foam.empty() && std::max({foam[i[0]], foam[i[1]], foam[i[2]]}) >= options.lip_foam);
         if (n.z < 0.0) {
             ++out.facing_down;
             ++(breaking ? out.lips : out.folds);
         }
-        const double angle = std::min({std::atan2(norm(n), dot(sub(b, a), sub(c, a))),
-                                       std::atan2(norm(n), dot(sub(a, b), sub(c, b))),
-                                       std::atan2(norm(n), dot(sub(a, c), sub(b, c)))});
         smallest = std::min(smallest, angle);
         if (!breaking && !on_shore) smallest_off_lips = std::min(smallest_off_lips, angle);
         if (angle < sliver) {
@@ -266,7 +270,7 @@ MeshInspection inspect_animation(const MorphAnimationView& a, const InspectOptio
             fi.frame = a.first_frame + f;
             const auto p = a.positions.subspan(f * 3 * n, 3 * n);
             const auto foam = a.foam.empty() ? std::span<const float>{} : a.foam.subspan(f * n, n);
-            inspect_triangles(a.triangles, p, foam, shore, options, fi);
+            inspect_triangles(a.triangles, p, foam, shore, options, fi.frame, fi);
             inspect_edges(topo, p, n, options, fi);
             if (f + 1 < a.frame_count || (whole_loop && a.frame_count > 1)) {
                 const std::size_t g = (f + 1) % a.frame_count;
