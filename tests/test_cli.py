@@ -2914,6 +2914,111 @@ def covering(points, plan, triangles, within):
     return found
 
 
+def morph_frame(doc, binary, name, frame):
+    """A morph mesh's positions at `frame` (libwave's x, y, z: glTF's x, −z, y)."""
+    prim = next(m for m in doc["meshes"] if m["name"] == name)["primitives"][0]
+    base = floats(doc, binary, prim["attributes"]["POSITION"])
+    delta = floats(doc, binary, prim["targets"][frame]["POSITION"])
+    return [(base[i] + delta[i], -(base[i + 2] + delta[i + 2]), base[i + 1] + delta[i + 1]) for i in range(0, len(base), 3)]
+
+
+class MeshHeights:
+    """Heights of a triangle mesh under points in plan (None off it): a bucket grid."""
+
+    def __init__(self, plan, height, triangles, cell):
+        self.plan, self.height, self.triangles, self.cell, self.buckets = plan, height, triangles, cell, {}
+        for t in range(0, len(triangles), 3):
+            xs = [plan[triangles[t + i]][0] for i in range(3)]
+            ys = [plan[triangles[t + i]][1] for i in range(3)]
+            if max(max(xs) - min(xs), max(ys) - min(ys)) > 20 * cell:
+                continue  # the apron's far triangles: never under the water's shore
+            for i in range(int(min(xs) // cell), int(max(xs) // cell) + 1):
+                for j in range(int(min(ys) // cell), int(max(ys) // cell) + 1):
+                    self.buckets.setdefault((i, j), []).append(t)
+
+    def at(self, x, y):
+        for t in self.buckets.get((int(x // self.cell), int(y // self.cell)), ()):
+            (ax, ay), (bx, by), (cx, cy) = (self.plan[self.triangles[t + i]] for i in range(3))
+            det = (bx - ax) * (cy - ay) - (cx - ax) * (by - ay)
+            if det == 0.0:
+                continue
+            u = ((x - ax) * (cy - ay) - (cx - ax) * (y - ay)) / det
+            v = ((bx - ax) * (y - ay) - (x - ax) * (by - ay)) / det
+            if u >= -1e-9 and v >= -1e-9 and u + v <= 1.0 + 1e-9:
+                h = self.height
+                return (1.0 - u - v) * h[self.triangles[t]] + u * h[self.triangles[t + 1]] + v * h[self.triangles[t + 2]]
+        return None
+
+
+def waterline_defects(glb, frames):
+    """Per frame, on the domain's water (the seafloor's grid rectangle) within 1 m of
+    still-water depth of the shore: (shore vertices not under the seafloor, wet vertices
+    cut off from the sea). The shore vertices are the water mesh's border that is not on
+    the rectangle; a vertex is wet when it stands above the exported seafloor at its
+    moved position; cut off when no path of wet vertices along the mesh's edges joins it
+    to water a metre deep."""
+    doc, binary = read_glb(glb)
+    water, floor = plan_mesh(doc, binary, "water"), plan_mesh(doc, binary, "seafloor")
+    floor_z = MeshHeights(floor[0], floor[1], floor[2], 0.5)
+    plan, _, tris = water
+    grid = [p for p in floor[0] if abs(p[0]) < 1e4 and abs(p[1]) < 1e4]
+    x0, x1 = min(p[0] for p in grid), max(p[0] for p in grid)
+    y0, y1 = min(p[1] for p in grid), max(p[1] for p in grid)
+    inside = [x0 < x < x1 and y0 < y < y1 for x, y in plan]
+    rest_floor = [floor_z.at(x, y) if inside[v] else None for v, (x, y) in enumerate(plan)]
+    band = [z is not None and z > -1.0 for z in rest_floor]
+    edges, uses = {}, {}
+    for t in range(0, len(tris), 3):
+        for i in range(3):
+            a, b = tris[t + i], tris[t + (i + 1) % 3]
+            uses[(min(a, b), max(a, b))] = uses.get((min(a, b), max(a, b)), 0) + 1
+            edges.setdefault(a, set()).add(b)
+            edges.setdefault(b, set()).add(a)
+    shore = sorted({v for e, n in uses.items() if n == 1 for v in e if inside[v]})
+    out = []
+    for f in frames:
+        moved = morph_frame(doc, binary, "water", f)
+        wet = {}
+        for v in range(len(plan)):
+            if band[v]:
+                z = floor_z.at(moved[v][0], moved[v][1])
+                wet[v] = z is not None and moved[v][2] > z
+        exposed = sum(1 for v in shore if band[v] and wet[v])
+        # flood from the band's wet vertices next to deeper water
+        seen = [v for v in wet if wet[v] and any(u not in wet and rest_floor[u] is not None for u in edges[v])]
+        reached = set(seen)
+        while seen:
+            v = seen.pop()
+            for u in edges[v]:
+                if wet.get(u) and u not in reached:
+                    reached.add(u)
+                    seen.append(u)
+        out.append((exposed, sum(1 for v in wet if wet[v] and v not in reached)))
+    return out
+
+
+class Waterline(unittest.TestCase):
+    """The water meets the beach without a saw-tooth or flakes (issue 66)."""
+
+    def test_the_bays_shore_lies_under_the_sand_and_no_water_is_cut_off(self):
+        # The water mesh's shoreline vertices stood level with the sand (within 1e-7 m):
+        # the mesh's edge, straight chords between points of the sliced contour, dipped in
+        # and out of the seafloor's triangles — a saw-tooth a shore edge long — and in the
+        # swash the troughs went under the sand in patches between that edge and the sea,
+        # leaving strips of water on the sand (233–257 exposed shore vertices and 7–13
+        # vertices of water cut off from the sea per frame; now none).
+        with tempfile.TemporaryDirectory() as d:
+            # The default scene until issue 66 (Gonzato's bay, ray strips on the water mesh).
+            scene = write_scene(d, {"seafloor": {"source": "gonzato-bay"}, "waves": [{"period": 5, "amplitude": 0.3, "direction": [0, 1]}],
+                                    "trace": {"ray_spacing": 1}, "fronts": {"step": 0.4, "split_distance": 1.2}, "animation": {"fps": 2}})
+            r = wave("run", scene, "-q", "-o", os.path.join(d, "out"), "--codec", "none")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            defects = waterline_defects(os.path.join(d, "out", "animation.glb"), range(10))
+        for f, (exposed, cut_off) in enumerate(defects):
+            self.assertEqual(exposed, 0, ("shore vertices above the sand", f))
+            self.assertEqual(cut_off, 0, ("water cut off from the sea", f))
+
+
 class World(unittest.TestCase):
     """A world, not a box (issue 66): the sea and the land round every example."""
 
