@@ -85,6 +85,12 @@ def floats(doc, binary, accessor):
     return tuple(values)
 
 
+# The built-in default scene until issue 66 (Gonzato's bay, a 5 s swell of 0.3 m, his
+# plunging profile on the water mesh, 24 fps): tests that measured it keep it.
+OLD_DEFAULT = {"name": "default: Gonzato's bay with a swell", "seafloor": {"source": "gonzato-bay"},
+               "waves": [{"period": 5, "amplitude": 0.3, "direction": [0, 1]}], "trace": {"ray_spacing": 1},
+               "fronts": {"step": 0.4, "split_distance": 1.2}, "outputs": {"quantize": True}}
+
 def write_scene(folder, doc, name="s.json"):
     """Writes a scene document as a file in `folder`; returns its path."""
     path = os.path.join(folder, name)
@@ -1084,10 +1090,10 @@ class WindWaves(unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             report = self.example_frames("open-ocean.json", d)
             self.assertEqual(report["surface"]["kind"], "ocean")
-            # The patch, and the skirt that carries it to the horizon (500 km: 2000 × the
-            # camera's 250 m; docs/far-field.md, the open ocean to the horizon).
+            # The patch, and the skirt that carries it to the horizon (60 km: 2000 × the
+            # camera's 30 m; docs/far-field.md, the open ocean to the horizon).
             skirt = report["surface"]["far_field"]
-            self.assertEqual(skirt["distance_m"], 500000.0)
+            self.assertEqual(skirt["distance_m"], 60000.0)
             self.assertGreater(skirt["vertices"], 10000)
             self.assertEqual(report["surface"]["vertices"], 513 * 513 + skirt["vertices"])
             self.assertEqual(report["surface"]["triangles"], 2 * 512 * 512 + skirt["triangles"])
@@ -1576,10 +1582,10 @@ class Inspect(unittest.TestCase):
         # factors are continuous (its ramp; the lip's foam rising before the crest), so no
         # vertex outruns 1.5 × the celerity in the deepest water of the scene. Before the
         # ramp, vertices jumped metres between frames: 73 m/s on the bay, 68 on the island.
-        for name, path in (("default bay", None), ("island", os.path.join(EXAMPLES, "gonzato-island.json"))):
+        for name, path in (("the old default bay", None), ("island", os.path.join(EXAMPLES, "gonzato-island.json"))):
             with self.subTest(scene=name), tempfile.TemporaryDirectory() as d:
                 out = os.path.join(d, "out")
-                r = wave("run", *([path] if path else []), "-q", "-o", out, "--frames", "0:48", "--no-draco")
+                r = wave("run", path or write_scene(d, OLD_DEFAULT), "-q", "-o", out, "--frames", "0:48", "--no-draco")
                 self.assertEqual(r.returncode, 0, r.stderr)
                 with open(os.path.join(out, "report-frames-0-48.json")) as f:
                     report = json.load(f)
@@ -1731,7 +1737,7 @@ class BlenderDelivery(unittest.TestCase):
             data = pathlib.Path(d, "pc2", "animation.pc2").read_bytes()
             self.assertEqual(data[:12], b"POINTCACHE2\0")
             version, points, start, rate, samples = struct.unpack_from("<iiffi", data, 12)
-            self.assertEqual((version, start, rate, samples), (1, 0.0, 1.0, 30))
+            self.assertEqual((version, start, rate, samples), (1, 0.0, 1.0, 36))  # the default scene's 6 s loop at 6 fps
             self.assertEqual(len(data), 32 + 12 * points * samples)
             doc, binary = read_glb(os.path.join(d, "morph", "animation.glb"))
             prim = doc["meshes"][0]["primitives"][0]
@@ -3022,9 +3028,7 @@ class Waterline(unittest.TestCase):
         # leaving strips of water on the sand (233–257 exposed shore vertices and 7–13
         # vertices of water cut off from the sea per frame; now none).
         with tempfile.TemporaryDirectory() as d:
-            # The default scene until issue 66 (Gonzato's bay, ray strips on the water mesh).
-            scene = write_scene(d, {"seafloor": {"source": "gonzato-bay"}, "waves": [{"period": 5, "amplitude": 0.3, "direction": [0, 1]}],
-                                    "trace": {"ray_spacing": 1}, "fronts": {"step": 0.4, "split_distance": 1.2}, "animation": {"fps": 2}})
+            scene = write_scene(d, dict(OLD_DEFAULT, animation={"fps": 2}, outputs={}))
             r = wave("run", scene, "-q", "-o", os.path.join(d, "out"), "--codec", "none")
             self.assertEqual(r.returncode, 0, r.stderr)
             defects = waterline_defects(os.path.join(d, "out", "animation.glb"), range(10))
