@@ -1519,9 +1519,10 @@ class Inspect(unittest.TestCase):
             self.assertGreater(m["worst"]["lips"], 500)
             self.assertGreater(m["worst"]["lip_slivers"], 300)
             self.assertGreater(m["worst"]["long_edges"], 30)
-            # The skirt's sides stay on its far rectangle (80 km out: 2000 camera heights)
-            # and the beach side on the domain's border (no lip hangs over it).
-            R = 80000.0
+            # The skirt's sides stay on its far rectangle (12 km out: 2000 camera heights,
+            # the example's camera 6 m up) and the beach side on the domain's border (no lip
+            # hangs over it).
+            R = 12000.0
             self.assertEqual(self.inspect(os.path.join(d, "gonzato-bay.json"))["boundary"]["border"], [-R, -R, 100.0 + R, 90.0])
 
     def test_breakers_on_the_water_mesh_leave_no_vertex_unused(self):
