@@ -148,8 +148,8 @@ bool overturns(const Scene& scene) {
 //   between 3 and 20 cm of depth on the default bay; there the water went under the
 //   sand in patches between the shoreline, which stays, and the sea: flakes of water
 //   lying on the sand.
-constexpr double kSwashFilm = 0.3;       // the least share of the still-water depth a trough leaves
-constexpr double kShoreUnderSand = 0.005;  // the shoreline's depth under the sand, × the amplitude
+constexpr double kSwashFilm = 0.3;         // the least share of the still-water depth a trough leaves
+constexpr double kShoreUnderSand = 0.05;   // the shoreline's depth under the sand, × the amplitude
 
 struct State : ModelState {
     std::vector<float> depth;  // still-water depth at rest (m, ≥ 0)
