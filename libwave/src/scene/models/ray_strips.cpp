@@ -136,64 +136,22 @@ bool overturns(const Scene& scene) {
     return scene.breakers ? scene.breakers->lip != BreakerLip::outer : scene.profile.min_packing == 0.0;
 }
 
-// The waterline on the water mesh (docs/inspect.md "The waterline"). Per vertex the
-// lowest the water may stand and, on the shoreline, where it stands:
-// * the shoreline's vertices stand a twentieth of the amplitude under the sand, so that
-//   the mesh's edge — straight chords between points of the sliced contour, level with
-//   the sand — is never drawn: the renderer draws the waterline where the water crosses
-//   the beach inside the first ring of triangles. Level with the sand, the chords dipped
-//   in and out of the seafloor's triangles: a saw-tooth a shore edge long;
-// * in the swash, a trough keeps water over the sand: the total depth h + η is eased
-//   into at least kSwashFilm · h. Gonzato's and Jeschke's troughs reach 1.1–1.9 h
-//   between 3 and 20 cm of depth on the default bay; there the water went under the
-//   sand in patches between the shoreline, which stays, and the sea: flakes of water
-//   lying on the sand.
-constexpr double kSwashFilm = 0.3;         // the least share of the still-water depth a trough leaves
-constexpr double kShoreUnderSand = 0.05;   // the shoreline's depth under the sand, × the amplitude
-
+// The waterline on the water mesh (surface.h, docs/inspect.md "The waterline").
 struct State : ModelState {
-    std::vector<float> depth;  // still-water depth at rest (m, ≥ 0)
-    std::vector<std::uint32_t> shore;
-    float under_sand = 0.0f;
+    WaterlinePlan waterline;
 };
 
 std::unique_ptr<ModelState> start(const Scene& scene, const ScenePlan& p, bool) {
     auto s = std::make_unique<State>();
-    if (p.water_mesh.vertex_count() == 0 || p.camera_grid.vertex_count() > 0) return s;
-    const ElevationGrid& g = p.seafloor.grid;
-    const std::size_t n = p.water_mesh.vertex_count();
-    s->depth.resize(n);
-    for (std::size_t v = 0; v < n; ++v) {
-        const double x = p.water_mesh.x[v], y = p.water_mesh.y[v];
-        s->depth[v] = static_cast<float>(std::max(0.0, depth_at(g, x, y)));
-        const bool side = x <= g.x0 || x >= g.x_max() || y <= g.y0 || y >= g.y_max();
-        if (p.water_mesh.boundary[v] && !side) s->shore.push_back(static_cast<std::uint32_t>(v));
-    }
-    s->under_sand = static_cast<float>(kShoreUnderSand * scene.waves[0].amplitude);
+    if (p.water_mesh.vertex_count() > 0 && p.camera_grid.vertex_count() == 0)
+        s->waterline = plan_waterline(p.water_mesh, p.seafloor, scene.waves[0].amplitude);
     return s;
-}
-
-// max(d, floor) eased over ±floor (C¹): d itself above 2 floor.
-float ease_above(float d, float floor) {
-    if (d >= 2.0f * floor) return d;
-    if (d <= 0.0f) return floor;
-    return floor + d * d / (4.0f * floor);
-}
-
-void keep_waterline(const State& s, std::span<float> positions) {
-    for (std::size_t v = 0; v < s.depth.size(); ++v) {
-        const float h = s.depth[v];
-        if (!(h > 0.0f)) continue;
-        float& z = positions[3 * v + 2];
-        z = ease_above(h + z, static_cast<float>(kSwashFilm) * h) - h;
-    }
-    for (const std::uint32_t v : s.shore) positions[3 * v + 2] = std::min(positions[3 * v + 2], -s.under_sand);
 }
 
 bool move(const Scene& scene, const ScenePlan& p, double t, ModelState* state, ModelFrame& frame) {
     if (scene.breakers) evaluate_jeschke_breakers(p.breakers, t, frame.positions);
     else evaluate_gonzato_motion(p.motion, t, frame.positions);
-    if (state) keep_waterline(*static_cast<const State*>(state), frame.positions);
+    if (state) keep_waterline(static_cast<const State*>(state)->waterline, frame.positions);
     return false;
 }
 
