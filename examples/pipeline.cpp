@@ -102,9 +102,13 @@ Frame frame_by_stages(const std::string& grid_path, std::size_t frame_number) {
     const std::vector<wave::FarFieldWave> waves{{.omega = omega, .harmonic = 1, .direction_x = 1.0, .direction_y = 0.15},
                                                 {.omega = omega, .harmonic = 2, .direction_x = 1.0, .direction_y = 0.15}};
     const std::vector<double> times = wave::far_field_sample_times(swell.period, waves.size());
+    // The waterline: the shoreline under the sand, a film of water left by the troughs.
+    const wave::WaterlinePlan waterline = wave::plan_waterline(mesh, seafloor, swell.amplitude);
     std::vector<float> samples(3 * n * times.size());
-    for (std::size_t s = 0; s < times.size(); ++s)
+    for (std::size_t s = 0; s < times.size(); ++s) {
         wave::evaluate_gonzato_motion(motion, times[s], std::span<float>(&samples[3 * n * s], 3 * n));
+        wave::keep_waterline(waterline, std::span<float>(&samples[3 * n * s], 3 * n));
+    }
     const wave::FarFieldPlan far = wave::plan_far_field(skirt, g, waves, mesh.x, mesh.y, times, samples);
     std::vector<double> x = mesh.x, y = mesh.y;
     x.insert(x.end(), skirt.x.begin(), skirt.x.end());
@@ -126,6 +130,7 @@ Frame frame_by_stages(const std::string& grid_path, std::size_t frame_number) {
     const double t = static_cast<double>(frame_number) / 25.0;
     std::vector<float> scratch;
     wave::evaluate_gonzato_motion(motion, t, std::span<float>(f.positions).first(3 * n));
+    wave::keep_waterline(waterline, std::span<float>(f.positions).first(3 * n));
     wave::evaluate_far_field(far, t, f.positions, scratch);
     wave::breaking_foam(on_mesh, motion, t, wave::FoamOptions{}, std::span<float>(f.foam).first(n));
     wave::far_field_foam(far, f.foam);  // the border's foam carried onto the skirt with its residual motion

@@ -47,7 +47,15 @@ def frame_by_stages(grid_path: str, frame: int) -> Dict[str, Any]:
     omega = 2 * np.pi / PERIOD
     waves = [(omega, h, DIRECTION, 0.0) for h in (1, 2)]
     times = libwave.far_field_sample_times(PERIOD, len(waves))
-    far = libwave.plan_far_field(skirt, seafloor, waves, mesh.x, mesh.y, times, np.stack([motion.evaluate(s) for s in times]))
+    # The waterline: the shoreline under the sand, a film of water left by the troughs.
+    waterline = libwave.plan_waterline(mesh, seafloor, AMPLITUDE)
+
+    def moved(s: float) -> "np.ndarray[Any, np.dtype[np.float32]]":
+        p = np.ascontiguousarray(motion.evaluate(s), dtype=np.float32)
+        waterline.apply(p)
+        return p
+
+    far = libwave.plan_far_field(skirt, seafloor, waves, mesh.x, mesh.y, times, np.stack([moved(s) for s in times]))
     x, y = np.concatenate([mesh.x, skirt.x]), np.concatenate([mesh.y, skirt.y])
     triangles = np.concatenate([mesh.triangles, skirt.triangles])
     # Gonzato's sections bounded by their packing (the default) never turn over: no lips.
@@ -56,7 +64,7 @@ def frame_by_stages(grid_path: str, frame: int) -> Dict[str, Any]:
     t = frame / FPS
     n = mesh.vertex_count
     positions = np.zeros((n + skirt.vertex_count, 3), np.float32)
-    positions[:n] = motion.evaluate(t)
+    positions[:n] = moved(t)
     far.evaluate(t, positions)
     foam = np.zeros(n + skirt.vertex_count, np.float32)
     foam[:n] = libwave.breaking_foam(on_mesh, motion, t)

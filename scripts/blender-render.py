@@ -9,7 +9,8 @@
 # -o OUT -f FRAME` then renders it without the add-on; LIBWAVE_FILE_NORMALS=1 imports
 # with the file's normals as custom normals; LIBWAVE_VISIBILITY=M sets the add-on's haze
 # (m; 0 for none; unset: the add-on's default); LIBWAVE_NO_FOAM=1 renders the water's
-# shape alone: no foam in its material and no whitewater particles.)
+# shape alone: no foam in its material and no whitewater particles; LIBWAVE_SIZE=WxH the
+# image size, default 640x360; LIBWAVE_SAMPLES=N Cycles' samples, default 16.)
 # The add-on imports the water (positions, foam, reflect, refract per frame), the
 # seafloor, camera and sun the .glb carries and its physical sky; this script renders
 # (LIBWAVE_FLAT_SKY=1: a flat blue background instead of the add-on's sky, as before).
@@ -69,10 +70,10 @@ if os.environ.get("LIBWAVE_FLAT_SKY") == "1" or scene.world is None:  # the add-
     scene.world = world
 scene.render.engine = "CYCLES"
 scene.cycles.device = "CPU"
-scene.cycles.samples = 16
+scene.cycles.samples = int(os.environ.get("LIBWAVE_SAMPLES", "16"))
 scene.cycles.use_denoising = False
 scene.cycles.seed = seed
-scene.render.resolution_x, scene.render.resolution_y = 640, 360
+scene.render.resolution_x, scene.render.resolution_y = map(int, os.environ.get("LIBWAVE_SIZE", "640x360").split("x"))
 if bake:
     bpy.ops.wm.save_as_mainfile(filepath=bake)
 scene.frame_set(frame)

@@ -77,7 +77,7 @@ endforeach()
 get_filename_component(bundled_tests ${SCRIPT} DIRECTORY)
 execute_process(COMMAND ${CMAKE_COMMAND} -E env --unset=PYTHONPATH
                         ${BLENDER} -b --factory-startup --python-exit-code 1 --python ${bundled_tests}/blender_addon_bundled.py
-                        -- ${ADDON} ${OUT}/meshopt/index.json 30
+                        -- ${ADDON} ${OUT}/meshopt/index.json 36
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT rc EQUAL 0 OR NOT out MATCHES "LIBWAVE-BUNDLED ok")
   message(FATAL_ERROR "The add-on's own libwave module (no PYTHONPATH) failed (${rc}):\n${out}\n${err}")

@@ -359,6 +359,10 @@ for folder in runs:
         errors.append(f"{path}: the material does not read the foam attribute")
     if True:  # every form carries the seafloor, camera and sun (the files form in its frame 0)
         kinds = sorted(o.name for o in scene.objects if "libwave_source" not in o)
+        # The default scene throws whitewater (issue 66): its particles' object, where the
+        # form shows it beside the water, is the whitewater's own test's business.
+        if os.path.isdir(os.path.join(folder, "whitewater")):
+            kinds = [k for k in kinds if not k.startswith("libwave whitewater")]
         beside = ["libwave camera", "libwave seafloor", "libwave sun"] + (["libwave sunbeams"] if folder.endswith("caustics") else [])
         if kinds != beside:
             errors.append(f"{path}: beside the water: {kinds}")

@@ -143,3 +143,41 @@ TEST(WaterMesh, SameMeshEveryTimeAndLimitsRefusedBeforeMeshing) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(WaterMesh, TheWaterlineHidesTheShorelineUnderTheSandAndKeepsAFilmInTheTroughs) {
+    // h = 10 − x/10: the shore at x = 100. A trough 2 h deep everywhere (the swash's
+    // troughs reached 1.1–1.9 h on the default bay): every wet vertex keeps 0.3 h of
+    // water, eased; the shoreline's vertices stand a twentieth of the amplitude under the
+    // sand; water well above the floor is left as it is.
+    const wave::Seafloor beach = wave::test::grid_seafloor(200.0, 80.0, 2.0, [](double x, double) { return 10.0 - x / 10.0; });
+    const wave::WaterMesh m = wave::mesh_water(beach, [](double, double) { return 4.0; });
+    const wave::WaterlinePlan plan = wave::plan_waterline(m, beach, 0.4);
+    ASSERT_EQ(plan.depth.size(), m.vertex_count());
+    EXPECT_FLOAT_EQ(plan.under_sand, 0.02f);
+    std::size_t on_shore = 0;
+    for (const std::uint32_t v : plan.shore) {
+        EXPECT_NEAR(m.x[v], 100.0, 1e-6);  // the sides are not shore
+        ++on_shore;
+    }
+    EXPECT_GT(on_shore, 10u);
+    std::vector<float> trough(3 * m.vertex_count()), calm(3 * m.vertex_count(), 0.0f);
+    for (std::size_t v = 0; v < m.vertex_count(); ++v) trough[3 * v + 2] = -2.0f * plan.depth[v];
+    wave::keep_waterline(plan, trough);
+    wave::keep_waterline(plan, calm);
+    for (std::size_t v = 0; v < m.vertex_count(); ++v) {
+        const float h = plan.depth[v];
+        if (h > 0.0f) {
+            EXPECT_NEAR(trough[3 * v + 2] + h, 0.3f * h, 1e-5f * (1.0f + h)) << v;
+        }
+        if (h > 0.1f) {
+            EXPECT_EQ(calm[3 * v + 2], 0.0f) << v;  // 0.3 h is far below still water: untouched
+        }
+    }
+    for (const std::uint32_t v : plan.shore) EXPECT_EQ(calm[3 * v + 2], -0.02f);
+    std::vector<float> short_frame(3);
+    EXPECT_THROW(wave::keep_waterline(plan, short_frame), wave::InputError);
+}
+
+}  // namespace

@@ -637,6 +637,26 @@ void bind_motion(py::module_& m) {
         "Depth-limited breaking foam in [0, 1] per vertex at time t (docs/shade.md): it fades over fade_periods "
         "of the wave's period, or fade_time s when > 0");
 
+    py::class_<wave::WaterlinePlan, std::shared_ptr<wave::WaterlinePlan>>(
+        m, "Waterline", "Where the moved water meets the beach on a water mesh (plan_waterline)")
+        .def_property_readonly("vertex_count", [](const wave::WaterlinePlan& p) { return p.depth.size(); })
+        .def(
+            "apply",
+            [](const wave::WaterlinePlan& p, py::object positions) {
+                py::array_t<float> a = writable_floats(positions, 3 * p.depth.size(), "waterline positions");
+                wave::keep_waterline(p, span_of(a));
+            },
+            py::arg("positions"),
+            "In place on one frame's moved positions (writable (vertices, 3) float32, the mesh's vertices first): "
+            "troughs leave a film of water over the sand, the shoreline stands under it (docs/inspect.md)");
+    m.def(
+        "plan_waterline",
+        [](const wave::WaterMesh& mesh, const wave::Seafloor& seafloor, double amplitude) {
+            return std::make_shared<wave::WaterlinePlan>(wave::plan_waterline(mesh, seafloor, amplitude));
+        },
+        py::arg("mesh"), py::arg("seafloor"), py::arg("amplitude"),
+        "Plans the waterline of a water mesh for a train of this amplitude (m), as the scenes' ray strips do");
+
     py::class_<wave::UntanglePlan, std::shared_ptr<wave::UntanglePlan>>(
         m, "Untangle", "The rest triangles a frame is untangled against (plan_untangle)")
         .def_property_readonly("vertex_count", &wave::UntanglePlan::vertex_count)

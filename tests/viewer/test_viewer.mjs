@@ -434,6 +434,7 @@ for (const name of Object.keys(forms)) {
   await check('haze: the far land fades into the background, the near land does not; the seafloor on every frame', async () => {
     const { server } = await open('far-files');
     await page.evaluate(() => window.wave.setFrame(0));  // the files form's frame 0 carries the seafloor
+    await page.evaluate(() => window.wave.sky(false));  // measured against the flat background behind the sky
     const shot = async (visibility) => {
       await page.evaluate((v) => { window.wave.look([50, 400, 300], [50, 0, -6000]); window.wave.haze(v); }, visibility);
       await page.waitForTimeout(300);
@@ -461,6 +462,7 @@ for (const name of Object.keys(forms)) {
     // seafloor on show (this view holds land only, so frame 2 looks as frame 0 does).
     await page.evaluate(() => window.wave.setFrame(2));
     const later = await shot(40000);
+    await page.evaluate(() => window.wave.sky(true));
     server.child.kill('SIGTERM');
     const gap = Math.max(...later.map((v, y) => Math.abs(v - hazy[y])));
     assert.ok(gap < 3, `frame 2 differs from frame 0 by ${gap} per row: the seafloor is not shown`);
@@ -475,6 +477,45 @@ for (const name of Object.keys(forms)) {
     assert.ok(near[1] > 0.8 * near[0], `the near land is hazed too: ${near[0]} → ${near[1]}`);
   });
 }
+
+// The sky (issue 66): three's Sky with its sun where the file's sun lamp points (the
+// lamp shines along its −Z: the sun lies along its +Z), drawn above the horizon.
+await check('sky: its sun is the file\'s sun lamp, and it is drawn above the horizon', async () => {
+  const { server } = await open('morph');
+  const doc = (() => {
+    const glb = fs.readFileSync(path.join(work, 'morph', `animation-frames-0-${FRAMES}.glb`));
+    return JSON.parse(glb.subarray(20, 20 + glb.readUInt32LE(12)).toString('utf8'));
+  })();
+  const lampNode = doc.nodes.find((n) => n.extensions && n.extensions.KHR_lights_punctual);
+  const [x, y, z, w] = lampNode.rotation || [0, 0, 0, 1];
+  // The quaternion's image of +Z.
+  const want = [2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)];
+  const sky = await page.evaluate(() => window.wave.sky());
+  assert.ok(sky.shown);
+  for (let k = 0; k < 3; ++k) assert.ok(Math.abs(sky.sun[k] - want[k]) < 1e-6, `sky sun ${sky.sun} vs the lamp's +Z ${want}`);
+  // Level with the water, looking out to sea: the upper rows are sky — bluish, and not
+  // the flat background — and with the sky hidden they are the background.
+  const upper = async () => {
+    await page.evaluate(() => window.wave.look([50, 3, 20], [50, 3, 2000]));
+    await page.waitForTimeout(300);
+    return inPage(await page.screenshot(), (d, width) => {
+      let r = 0, g = 0, b = 0, n = 0;
+      for (let row = 100; row < 140; ++row) for (let col = width / 2; col < width - 10; ++col) {
+        const i = 4 * (row * width + col);
+        r += d[i]; g += d[i + 1]; b += d[i + 2]; ++n;
+      }
+      return [r / n, g / n, b / n];
+    });
+  };
+  const withSky = await upper();
+  await page.evaluate(() => window.wave.sky(false));
+  const flat = await upper();
+  await page.evaluate(() => window.wave.sky(true));
+  server.child.kill('SIGTERM');
+  console.log(`     sky: upper rows ${withSky.map((v) => v.toFixed(0))}, flat background ${flat.map((v) => v.toFixed(0))}`);
+  assert.ok(withSky[2] > withSky[0] + 10, `the sky is not blue: ${withSky}`);
+  assert.ok(Math.abs(withSky[0] - flat[0]) + Math.abs(withSky[1] - flat[1]) + Math.abs(withSky[2] - flat[2]) > 20, 'no sky drawn');
+});
 
 await check('nothing was fetched from outside 127.0.0.1', async () => assert.deepEqual(external, []));
 await check('no errors in the page', async () => assert.deepEqual(consoleErrors, []));

@@ -11,6 +11,7 @@ import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { DRACOLoader } from 'three/addons/loaders/DRACOLoader.js';
 import { MeshoptDecoder } from 'three/addons/libs/meshopt_decoder.module.js';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { Sky } from 'three/addons/objects/Sky.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -287,12 +288,54 @@ try {
   fail('WebGL is not available in this browser: ' + e.message);
 }
 const scene = new THREE.Scene();
-scene.background = new THREE.Color(0.04, 0.08, 0.13);
+// The background behind the sky, and the haze's colour: the sky's near the horizon.
+scene.background = new THREE.Color(0.72, 0.79, 0.86);
 const camera = new THREE.PerspectiveCamera(45, 1, 0.1, 1e6);
 scene.add(new THREE.HemisphereLight(0xdde8ff, 0x203040, 1.4));
 const sun = new THREE.DirectionalLight(0xffffff, 1.6);
 sun.position.set(0.4, 1, 0.3);
 scene.add(sun);
+// The sky (three's Sky: Preetham's daylight model) with its sun where the file's sun
+// lamp points (KHR_lights_punctual: the lamp shines along its −Z, so the sun lies along
+// its +Z); without a lamp in the file, the page's own light's direction. The box follows
+// the camera and draws at the far plane, behind everything. Sky.js leaves its colours to
+// the renderer's tone mapping, which the page does not use (it would change the water's
+// and the seafloor's colours): a Reinhard curve at a fixed exposure is applied in its
+// own shader instead.
+const sky = new Sky();
+sky.name = 'sky';
+sky.scale.setScalar(1);
+sky.frustumCulled = false;
+sky.material.uniforms.turbidity.value = 4;
+sky.material.uniforms.rayleigh.value = 1.5;
+sky.material.uniforms.mieCoefficient.value = 0.004;
+sky.material.uniforms.mieDirectionalG.value = 0.8;
+sky.material.uniforms.skyExposure = { value: 2.0 };
+sky.material.fragmentShader = sky.material.fragmentShader
+  .replace('uniform float time;', 'uniform float time;\nuniform float skyExposure;')
+  .replace('#include <tonemapping_fragment>',
+    'gl_FragColor.rgb = gl_FragColor.rgb * skyExposure / (vec3(1.0) + gl_FragColor.rgb * skyExposure);\n#include <tonemapping_fragment>');
+sky.onBeforeRender = (r, s, cam) => {
+  sky.position.copy(cam.position);
+  sky.scale.setScalar(0.5 * cam.far);
+  sky.updateMatrixWorld();
+};
+scene.add(sky);
+const skySun = new THREE.Vector3(0.4, 1, 0.3).normalize();
+sky.material.uniforms.sunPosition.value.copy(skySun);
+// The sky's sun from the first sun lamp under `root` (glTF axes, y up); false without one.
+function sunFromFile(root) {
+  let lamp = null;
+  root.traverse((o) => { if (!lamp && o.isDirectionalLight) lamp = o; });
+  if (!lamp) return false;
+  lamp.updateWorldMatrix(true, false);
+  const q = new THREE.Quaternion();
+  lamp.getWorldQuaternion(q);
+  skySun.set(0, 0, 1).applyQuaternion(q).normalize();
+  sky.material.uniforms.sunPosition.value.copy(skySun);
+  sun.position.copy(skySun);
+  return true;
+}
 const controls = renderer ? new OrbitControls(camera, renderer.domElement) : null;
 if (renderer) $('view').appendChild(renderer.domElement);
 // Drawn on demand: when a frame, the colours, the camera, the size or the haze change,
@@ -462,6 +505,7 @@ async function openOutput(i) {
   state.source = null;
   $('info').textContent = 'loading ' + o.name + '…';
   const source = o.kind === 'index' ? await filesSource(o.url) : await gltfSource(o.url);
+  sunFromFile(source.object);
   findWhitewater(o.url);
   state.source = source;
   scene.add(source.object);
@@ -576,6 +620,15 @@ window.wave = {
     return openOutput(i);
   },
   colors() { return Array.from(state.mesh.geometry.attributes.color.array); },
+  // The sky's sun: the unit direction towards it (glTF axes), and whether the sky is
+  // drawn; `shown` (a boolean) shows or hides it (hidden: the flat background).
+  sky(shown) {
+    if (shown !== undefined) {
+      sky.visible = !!shown;
+      invalidate();
+    }
+    return { sun: skySun.toArray(), shown: sky.visible };
+  },
   // The haze's visibility in metres (0: off); without an argument, the current one.
   haze(visibility) {
     if (visibility !== undefined) {

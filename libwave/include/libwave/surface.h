@@ -120,6 +120,26 @@ struct WaterMesh {
     std::size_t vertex_count() const noexcept { return x.size(); }  ///< vertices
 };
 
+/// The waterline on a water mesh (docs/inspect.md "The waterline"), planned once: where
+/// the moved water meets the beach. Its shoreline vertices stand under the sand, so that
+/// the mesh's edge (chords between points of the sliced contour, level with the sand) is
+/// never drawn, and a trough keeps a film of water over the sand in the swash.
+struct WaterlinePlan {
+    std::vector<float> depth;           ///< still-water depth at each vertex's rest position (m, ≥ 0)
+    std::vector<std::uint32_t> shore;   ///< the shoreline's vertices: on `boundary`, off the seafloor's rectangle
+    float under_sand = 0.0f;            ///< how far the shoreline's vertices stand under the sand (m)
+    float swash_film = 0.0f;            ///< the least share of the still-water depth a trough leaves
+};
+
+/// Plans the waterline of `mesh` over `seafloor` for a train of `amplitude` (m): the
+/// shoreline a twentieth of it under the sand, troughs leaving 0.3 of the depth.
+WaterlinePlan plan_waterline(const WaterMesh& mesh, const Seafloor& seafloor, double amplitude);
+
+/// Applies the waterline to one frame's moved positions (3 per vertex, the mesh's
+/// vertices first; more may follow): each vertex's total depth h + z eased (C¹) into at
+/// least swash_film · h, then the shoreline's vertices lowered to −under_sand at most.
+void keep_waterline(const WaterlinePlan& plan, std::span<float> positions);
+
 /// The target edge length (m, > 0, finite) at a wet point (x, y).
 using EdgeSize = std::function<double(double x, double y)>;
 

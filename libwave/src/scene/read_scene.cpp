@@ -514,13 +514,24 @@ Seafloor load_seafloor(const SeafloorSource& s) {
 }
 
 Scene default_scene() {
-    // Gonzato: one ray per metre, step 0.4 m, a new ray where neighbours are 1.2 m apart.
-    static constexpr std::string_view kDefault = R"({"name": "default: Gonzato's bay with a swell",
+    // A showcase that runs in seconds: a 6 s swell bending into Gonzato's bay and
+    // breaking along its beach (Jeschke's breakers on the water mesh, Gonzato's fronts:
+    // one ray per metre, step 0.4 m, a new ray where neighbours are 1.2 m apart), wind
+    // waves over it, whitewater, seen from a few metres above the water looking along
+    // the beach. One crest shape and a 6 s wind-sea loop: the loop is one swell period.
+    static constexpr std::string_view kDefault = R"({"name": "default: a swell breaking in Gonzato's bay, wind waves over it",
  "seafloor": {"source": "gonzato-bay"},
- "waves": [{"period": 5, "amplitude": 0.3, "direction": [0, 1]}],
+ "waves": [{"period": 6, "amplitude": 0.6, "direction": [0.15, 1]}],
  "trace": {"ray_spacing": 1},
  "fronts": {"step": 0.4, "split_distance": 1.2},
- "outputs": {"quantize": true}})";
+ "breakers": {"model": "jeschke", "breaking_share": 0.4, "foam_fade_time": 5, "varied_waves": 1},
+ "ocean": {"resolution": 128, "size": 64, "spectrum": "jonswap", "wind_speed": 6, "fetch": 20000,
+           "wind_direction": [0.3, 1], "small_wave_cutoff": 0.05, "choppiness": 0.7, "seed": 3, "repeat_time": 6},
+ "whitewater": true,
+ "camera": {"position": [72, 68, 3.5]},
+ "preview": {"look_at": [30, 86, 0], "vertical_fov_degrees": 40, "sun": {"elevation_degrees": 35, "azimuth_degrees": 200}},
+ "outputs": {"quantize": true},
+ "animation": {"fps": 12}})";
     return parse_scene(kDefault, "the default scene", ".");
 }
 

@@ -241,4 +241,50 @@ WaterMesh mesh_water(const Seafloor& seafloor, const EdgeSize& size, const Water
     return mesh;
 }
 
+// The waterline (surface.h; docs/inspect.md "The waterline"). Level with the sand, the
+// shoreline's chords dipped in and out of the seafloor's triangles — a saw-tooth a shore
+// edge long; Gonzato's and Jeschke's troughs reach 1.1–1.9 h between 3 and 20 cm of
+// depth on the default bay, and there the water went under the sand in patches between
+// the held shoreline and the sea — flakes of water lying on the sand.
+namespace {
+constexpr double kSwashFilm = 0.3;        // the least share of the still-water depth a trough leaves
+constexpr double kShoreUnderSand = 0.05;  // the shoreline's depth under the sand, × the amplitude
+
+// max(d, floor) eased over [0, 2 floor] (C¹): d itself above 2 floor.
+float ease_above(float d, float floor) {
+    if (d >= 2.0f * floor) return d;
+    if (d <= 0.0f) return floor;
+    return floor + d * d / (4.0f * floor);
+}
+}  // namespace
+
+WaterlinePlan plan_waterline(const WaterMesh& mesh, const Seafloor& seafloor, double amplitude) {
+    WaterlinePlan p;
+    const ElevationGrid& g = seafloor.grid;
+    const std::size_t n = mesh.vertex_count();
+    p.depth.resize(n);
+    for (std::size_t v = 0; v < n; ++v) {
+        const double x = mesh.x[v], y = mesh.y[v];
+        p.depth[v] = static_cast<float>(std::max(0.0, depth_at(g, x, y)));
+        const bool side = x <= g.x0 || x >= g.x_max() || y <= g.y0 || y >= g.y_max();
+        if (!mesh.boundary.empty() && mesh.boundary[v] && !side) p.shore.push_back(static_cast<std::uint32_t>(v));
+    }
+    p.under_sand = static_cast<float>(kShoreUnderSand * amplitude);
+    p.swash_film = static_cast<float>(kSwashFilm);
+    return p;
+}
+
+void keep_waterline(const WaterlinePlan& plan, std::span<float> positions) {
+    if (positions.size() < 3 * plan.depth.size())
+        throw InputError("keep_waterline: " + std::to_string(positions.size() / 3) + " positions for " +
+                         std::to_string(plan.depth.size()) + " vertices");
+    for (std::size_t v = 0; v < plan.depth.size(); ++v) {
+        const float h = plan.depth[v];
+        if (!(h > 0.0f)) continue;
+        float& z = positions[3 * v + 2];
+        z = ease_above(h + z, plan.swash_film * h) - h;
+    }
+    for (const std::uint32_t v : plan.shore) positions[3 * v + 2] = std::min(positions[3 * v + 2], -plan.under_sand);
+}
+
 }  // namespace wave

@@ -145,9 +145,22 @@ bool lips(const Scene& scene, const ScenePlan& p, double t, std::span<float> wei
     return true;
 }
 
-bool move(const Scene& scene, const ScenePlan& p, double t, ModelState*, ModelFrame& frame) {
+// The waterline on the water mesh (surface.h, docs/inspect.md "The waterline").
+struct State : ModelState {
+    WaterlinePlan waterline;
+};
+
+std::unique_ptr<ModelState> start(const Scene& scene, const ScenePlan& p, bool) {
+    auto s = std::make_unique<State>();
+    if (p.water_mesh.vertex_count() > 0 && p.camera_grid.vertex_count() == 0)
+        s->waterline = plan_waterline(p.water_mesh, p.seafloor, scene.waves[0].amplitude);
+    return s;
+}
+
+bool move(const Scene& scene, const ScenePlan& p, double t, ModelState* state, ModelFrame& frame) {
     if (scene.breakers) evaluate_jeschke_breakers(p.breakers, t, frame.positions);
     else evaluate_gonzato_motion(p.motion, t, frame.positions);
+    if (state) keep_waterline(static_cast<const State*>(state)->waterline, frame.positions);
     return false;
 }
 
@@ -184,7 +197,7 @@ extern const SurfaceModel kRayStripsModel{
     .seafloor = [](const Scene& s) { return load_seafloor(s.seafloor); },
     .plan = plan,
     .triangles = triangles,
-    .start = [](const Scene&, const ScenePlan&, bool) { return std::unique_ptr<ModelState>(); },
+    .start = start,
     .move = move,
     .foam = foam,
     .lips = lips,
