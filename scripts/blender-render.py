@@ -46,6 +46,11 @@ if os.environ.get("LIBWAVE_NO_FOAM") == "1":  # the water's shape alone: no foam
         for link in list(mix.inputs["Fac"].links):
             mat.node_tree.links.remove(link)
         mix.inputs["Fac"].default_value = 0.0
+if os.environ.get("LIBWAVE_FOAM_DISCS") == "0":  # the foam particles not instanced: the water's foam alone
+    group = bpy.data.node_groups.get("libwave whitewater points")
+    for node in (group.nodes if group else []):
+        if node.type == "INSTANCE_ON_POINTS":
+            node.mute = True
 if scene.camera is None:  # the files form carries no camera: one from the open sea
     water = next(o for o in scene.objects if "libwave_source" in o or "libwave_baked" in o)
     xs = [v.co.x for v in water.data.vertices]

@@ -216,24 +216,36 @@ void ramp_factors(const UntanglePlan& plan, const FoamWeight& foam_weight, std::
     const UntangleOptions& o = plan.options;
     const std::size_t n = plan.vertex_count(), m = plan.rest_area.size();
     std::vector<double>& g = w.ramp;
+    std::vector<double>& seed = w.s;  // per triangle (the passes set it afresh)
+    seed.resize(m);
     for (std::size_t round = 0; round <= kAngleRounds; ++round) {
         g.assign(n, 1.0);
+        // Each triangle's seed in parallel (each a function of the triangle alone), then
+        // taken by its vertices in order: the same factors on any thread count.
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
+            for (std::size_t t = range.begin(); t != range.end(); ++t) {
+                seed[t] = 1.0;
+                if (!(plan.rest_area[t] > 0.0) || (round > 0 && !touches(plan, w.lowered, t, 1))) continue;
+                const std::uint32_t* v = &plan.triangles[3 * t];
+                double keep = min_sin2 > 0.0 ? angle_factor(plan, t, w.factor, w.dx, w.dy, positions, min_sin2) : 1.0;
+                if (round == 0) {
+                    // In the shore's band a stretch damps sooner and a squeeze keeps more of
+                    // the area: the held shore cannot follow its neighbours.
+                    const bool by_shore = !plan.shore_ring.empty() &&
+                                          std::min({plan.shore_ring[v[0]], plan.shore_ring[v[1]], plan.shore_ring[v[2]]}) < o.shore_band_rings;
+                    keep = std::min(keep, strain_factor(plan, t, w.factor, w.dx, w.dy,
+                                                        by_shore ? o.shore_band_area_ratio : o.ramp_area_ratio,
+                                                        by_shore ? kShoreStretch : kStretch));
+                }
+                seed[t] = keep;
+            }
+        });
         bool seeded = false;
         for (std::size_t t = 0; t < m; ++t) {
-            if (!(plan.rest_area[t] > 0.0) || (round > 0 && !touches(plan, w.lowered, t, 1))) continue;
-            const std::uint32_t* v = &plan.triangles[3 * t];
-            double keep = min_sin2 > 0.0 ? angle_factor(plan, t, w.factor, w.dx, w.dy, positions, min_sin2) : 1.0;
-            if (round == 0) {
-                // In the shore's band a stretch damps sooner and a squeeze keeps more of the
-                // area: the held shore cannot follow its neighbours.
-                const bool by_shore = !plan.shore_ring.empty() &&
-                                      std::min({plan.shore_ring[v[0]], plan.shore_ring[v[1]], plan.shore_ring[v[2]]}) < o.shore_band_rings;
-                keep = std::min(keep, strain_factor(plan, t, w.factor, w.dx, w.dy,
-                                                    by_shore ? o.shore_band_area_ratio : o.ramp_area_ratio,
-                                                    by_shore ? kShoreStretch : kStretch));
-            }
+            const double keep = seed[t];
             if (keep >= 1.0) continue;
             seeded = true;
+            const std::uint32_t* v = &plan.triangles[3 * t];
             for (int c = 0; c < 3; ++c) g[v[c]] = std::min(g[v[c]], keep);
         }
         if (!seeded) return;
