@@ -399,7 +399,7 @@ struct FrameRange {
 /// the per-frame float arrays animate_scene keeps (positions, normals, shading,
 /// colour), the files of the scene's form, and the peak memory of `wave run` (the plan,
 /// those arrays, and the encoded files, held until they are published; the constants
-/// were measured on the default scene, pipeline.cpp).
+/// were measured on the default scene, src/scene/budgets.cpp).
 /// Uncompressed sizes follow the writer's layout exactly (docs/export.md); Draco
 /// frames are estimated at 9.2 bytes per vertex (measured on the default scene's water mesh with
 /// the default 14-bit positions), quantised morph targets at 0.7 of plain.

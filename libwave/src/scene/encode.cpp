@@ -1,0 +1,292 @@
+// The export forms' encoders: a chunk of frames as the files of its form (morph, nodes,
+// pc2, files; .glb or .gltf + .bin) with the underwater and whitewater files beside it,
+// and the streamed writers that write a long run as its chunks come.
+#include "libwave/scene.h"
+
+#include "libwave/errors.h"
+#include "libwave/io.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <functional>
+#include <limits>
+#include <optional>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace wave {
+
+namespace {
+
+// A frame's file of an underwater sequence (kCausticImages, kSunbeamVolumes).
+std::string underwater_file_name(const char* pattern, std::size_t frame) {
+    char buffer[48];
+    std::snprintf(buffer, sizeof buffer, pattern, static_cast<int>(frame));
+    return buffer;
+}
+
+// Frame k of a chunk's underwater files beside the animation, named by loop frame: its
+// caustic map, then its sunbeam volume (each list empty or one per frame of the chunk).
+void for_underwater_files(std::size_t first_frame, std::size_t k, std::span<const std::string> caustics,
+                          std::span<const std::string> sunbeams, std::span<const std::string> whitewater,
+                          const std::function<void(std::string, const std::string&)>& file) {
+    if (!caustics.empty()) file(underwater_file_name(kCausticImages, first_frame + k), caustics[k]);
+    if (!sunbeams.empty()) file(underwater_file_name(kSunbeamVolumes, first_frame + k), sunbeams[k]);
+    if (!whitewater.empty()) file(underwater_file_name(kWhitewaterPoints, first_frame + k), whitewater[k]);
+}
+
+// The caustic maps and sunbeam volumes beside the animation: in the files form after
+// each frame's own files (a frame's entry lists them together), else after the file.
+void add_underwater_files(const MorphAnimationView& view, std::span<const std::string> caustics, std::span<const std::string> sunbeams,
+                          std::span<const std::string> whitewater, Scene::Form form, EncodedFiles& files) {
+    if (caustics.empty() && sunbeams.empty() && whitewater.empty()) return;
+    const std::size_t per_frame = form == Scene::Form::files ? files.size() / view.frame_count : 0;
+    EncodedFiles grouped;
+    if (per_frame == 0) grouped.swap(files);  // the animation's files first, whole
+    for (std::size_t k = 0; k < view.frame_count; ++k) {
+        for (std::size_t i = 0; i < per_frame; ++i) grouped.push_back(std::move(files[k * per_frame + i]));
+        for_underwater_files(view.first_frame, k, caustics, sunbeams, whitewater,
+                             [&](std::string name, const std::string& bytes) { grouped.emplace_back(std::move(name), bytes); });
+    }
+    files.swap(grouped);
+}
+
+// animation.glb, or animation-frames-A-B.glb for a slice.
+std::string animation_file_name(std::size_t first_frame, std::size_t frame_count, bool whole) {
+    char slice_name[64];
+    std::snprintf(slice_name, sizeof slice_name, "animation-frames-%zu-%zu.glb", first_frame, first_frame + frame_count);
+    return whole ? "animation.glb" : slice_name;
+}
+
+// The pc2 form's base mesh (frame 0 of the view) as .glb and .obj beside the caches.
+void add_pc2_base(const MorphAnimationView& view, const std::string& base, EncodedFiles& files) {
+    files.emplace_back(base + ".glb", gltf_frame_glb(view, 0));
+    files.emplace_back(base + ".obj", mesh_to_obj(view.positions.first(3 * view.vertex_count), view.triangles,
+                                                  "libwave: base mesh of " + base + ".pc2, z up"));
+}
+
+// The pc2 form's shading "points" of frames: (reflect, refract, foam) per vertex.
+std::vector<float> pc2_shading(const MorphAnimationView& view) {
+    std::vector<float> shading(3 * view.vertex_count * view.frame_count);
+    for (std::size_t i = 0; i < view.vertex_count * view.frame_count; ++i) {
+        shading[3 * i] = view.reflect[i];
+        shading[3 * i + 1] = view.refract[i];
+        shading[3 * i + 2] = view.foam[i];
+    }
+    return shading;
+}
+
+// Each .glb becomes name.gltf + name.bin (the .bin named relative to the .gltf).
+void split_gltf_container(EncodedFiles& files) {
+    EncodedFiles split;
+    for (auto& [name, bytes] : files) {
+        if (!name.ends_with(".glb")) {
+            split.emplace_back(std::move(name), std::move(bytes));
+            continue;
+        }
+        const std::string base = name.substr(0, name.size() - 4);  // without ".glb"
+        const std::string bin = base + ".bin";
+        GltfFiles g = glb_to_gltf(bytes, std::filesystem::path(bin).filename().string());
+        split.emplace_back(base + ".gltf", std::move(g.json));
+        split.emplace_back(bin, std::move(g.bin));
+    }
+    files.swap(split);
+}
+
+}  // namespace
+
+EncodedFiles encode_animation(const MorphAnimationView& view, Scene::Form form, Scene::Container container, bool whole,
+                              std::span<const std::string> caustics, std::span<const std::string> sunbeams,
+                              std::span<const std::string> whitewater) {
+    EncodedFiles files;
+    const std::string animation_name = animation_file_name(view.first_frame, view.frame_count, whole);
+    if (form == Scene::Form::morph) files.emplace_back(animation_name, gltf_morph_glb(view));
+    if (form == Scene::Form::nodes) files.emplace_back(animation_name, gltf_nodes_glb(view));
+    if (form == Scene::Form::pc2) {
+        // Point caches beside a base mesh (frame 0 of the range) as .glb and .obj, z up as
+        // written; the shading as a second cache of (reflect, refract, foam) "points".
+        const std::string base = whole ? "animation" : animation_name.substr(0, animation_name.size() - 4);
+        const std::size_t n = view.vertex_count;
+        add_pc2_base(view, base, files);
+        const auto start = static_cast<float>(view.first_frame);
+        files.emplace_back(base + ".pc2", pc2_bytes(view.positions, n, view.frame_count, start));
+        if (!view.foam.empty()) files.emplace_back(base + "-shading.pc2", pc2_bytes(pc2_shading(view), n, view.frame_count, start));
+    }
+    if (form == Scene::Form::files)
+        for (std::size_t k = 0; k < view.frame_count; ++k) {
+            char name[48];
+            std::snprintf(name, sizeof name, "frames/frame-%04zu.glb", view.first_frame + k);
+            files.emplace_back(name, gltf_frame_glb(view, k));
+        }
+    if (container == Scene::Container::gltf) split_gltf_container(files);
+    add_underwater_files(view, caustics, sunbeams, whitewater, form, files);
+    return files;
+}
+
+bool streamed_form(const Scene& scene) { return streamed_form(scene.form, scene.quantize); }
+
+namespace {
+
+// A file written as the frames come, removed unless it was finished.
+struct PartialFile {
+    std::string path;
+    std::FILE* file = nullptr;
+    explicit PartialFile(std::string p) : path(std::move(p)), file(std::fopen(path.c_str(), "wb")) {
+        if (!file) throw RuntimeError(path + ": cannot create: " + std::strerror(errno));
+    }
+    ~PartialFile() {
+        if (file) {
+            std::fclose(file);
+            std::remove(path.c_str());
+        }
+    }
+    void write(const void* data, std::size_t n) {
+        if (n > 0 && std::fwrite(data, 1, n, file) != n) throw RuntimeError(path + ": cannot write: " + std::strerror(errno));
+    }
+    void close() {
+        if (std::fclose(std::exchange(file, nullptr)) != 0) {
+            std::remove(path.c_str());
+            throw RuntimeError(path + ": cannot write: " + std::strerror(errno));
+        }
+    }
+};
+
+// The pc2 form streamed: the base mesh from the first chunk, then the caches' samples.
+struct Pc2Stream {
+    std::string folder, base;
+    std::optional<PartialFile> positions{}, shading{};
+
+    void start(const MorphAnimationView& first, std::size_t frames, Scene::Container container, EncodedFiles& files) {
+        add_pc2_base(first, base, files);
+        if (container == Scene::Container::gltf) split_gltf_container(files);
+        const std::string header = pc2_header(first.vertex_count, frames, static_cast<float>(first.first_frame));
+        positions.emplace(folder + "/" + base + ".pc2");
+        positions->write(header.data(), header.size());
+        if (first.foam.empty()) return;
+        shading.emplace(folder + "/" + base + "-shading.pc2");
+        shading->write(header.data(), header.size());
+    }
+    void add(const MorphAnimationView& chunk) {
+        positions->write(chunk.positions.data(), chunk.positions.size_bytes());
+        if (!shading) return;
+        const std::vector<float> s = pc2_shading(chunk);
+        shading->write(s.data(), s.size() * sizeof(float));
+    }
+    void finish(std::vector<std::pair<std::string, std::size_t>>& written) {
+        for (std::optional<PartialFile>* f : {&positions, &shading}) {
+            if (!*f) continue;
+            const auto bytes = static_cast<std::size_t>(std::ftell((*f)->file));
+            (*f)->close();
+            written.emplace_back(std::filesystem::path((*f)->path).filename().string(), bytes);
+        }
+    }
+};
+
+}  // namespace
+
+bool streamed_form(Scene::Form form, bool quantize) noexcept {
+    return form != Scene::Form::files && (!quantize || form == Scene::Form::morph);
+}
+
+struct StreamedWriter::State {
+    std::optional<AnimationFileWriter> glb;
+    Pc2Stream pc2;
+    EncodedFiles small;  // the pc2 form's base mesh
+    std::string folder;
+};
+
+StreamedWriter::StreamedWriter(const std::string& folder, Scene::Form form, Scene::Container container, bool whole,
+                               const MorphAnimationView& first, std::size_t frame_count)
+    : state_(std::make_unique<State>()) {
+    if (!streamed_form(form, first.quantize))
+        throw InputError("export: the files form and quantised nodes or pc2 files are not streamed");
+    const std::string name = animation_file_name(first.first_frame, frame_count, whole);
+    state_->folder = folder;
+    if (form == Scene::Form::pc2) {
+        state_->pc2.folder = folder;
+        state_->pc2.base = whole ? "animation" : name.substr(0, name.size() - 4);
+        state_->pc2.start(first, frame_count, container, state_->small);
+        return;
+    }
+    const bool gltf = container == Scene::Container::gltf;
+    const std::string path = folder + "/" + (gltf ? name.substr(0, name.size() - 4) + ".gltf" : name);
+    state_->glb.emplace(path, form == Scene::Form::morph ? AnimationFileWriter::Form::morph : AnimationFileWriter::Form::nodes,
+                        gltf, first, frame_count);
+}
+
+StreamedWriter::~StreamedWriter() = default;
+
+void StreamedWriter::append(const MorphAnimationView& chunk) {
+    if (state_->glb) state_->glb->append(chunk);
+    else state_->pc2.add(chunk);
+}
+
+std::vector<std::pair<std::string, std::size_t>> StreamedWriter::finish() {
+    if (state_->glb) return state_->glb->finish();
+    std::vector<std::pair<std::string, std::size_t>> written;
+    for (const auto& [file, bytes] : state_->small) {
+        write_file_atomic(state_->folder + "/" + file, bytes);
+        written.emplace_back(file, bytes.size());
+    }
+    state_->pc2.finish(written);
+    return written;
+}
+
+StreamedAnimation stream_animation(AnimationStream& stream, const Scene& scene, const std::string& folder, bool whole,
+                                   std::size_t chunk, const std::function<void(std::size_t, std::size_t)>& progress) {
+    if (!streamed_form(scene))
+        throw InputError("scene: the files form and quantised nodes or pc2 files are not streamed by stream_animation");
+    StreamedAnimation out;
+    out.z_min = std::numeric_limits<float>::infinity();
+    out.z_max = -std::numeric_limits<float>::infinity();
+    const std::size_t frames = stream.frame_count();
+    std::optional<StreamedWriter> writer;
+    std::vector<std::string> maps;  // caustic maps and sunbeam volumes written, in order
+    SceneAnimation a;
+    // Quantised morph targets need their delta range before the first target: a pass
+    // over the frames' positions alone finds it.
+    const std::optional<double> quantize_range =
+        scene.quantize ? std::optional<double>(stream.position_delta_range(chunk)) : std::nullopt;
+    try {
+        // The range's first frame alone first (the file's settings, and the frame kept
+        // for the caller), then `chunk` frames at a time.
+        while (stream.next(a, stream.frames_left() == frames ? 1 : std::max<std::size_t>(1, chunk), progress) > 0) {
+            MorphAnimationView view = a.view();
+            view.quantize_range = quantize_range;
+            if (a.first_frame == stream.first_frame()) {
+                writer.emplace(folder, scene.form, scene.container, whole, view, frames);
+                out.first = a;
+            }
+            writer->append(view);
+            for (std::size_t k = 0; k < a.frame_count; ++k)
+                for_underwater_files(a.first_frame, k, a.caustics, a.sunbeams, a.whitewater, [&](std::string name, const std::string& bytes) {
+                    maps.push_back(std::move(name));
+                    std::filesystem::create_directories((std::filesystem::path(folder) / maps.back()).parent_path());
+                    write_file_atomic(folder + "/" + maps.back(), bytes);
+                });
+            out.z_min = std::min(out.z_min, a.z_min);
+            out.z_max = std::max(out.z_max, a.z_max);
+        }
+    } catch (...) {
+        for (const std::string& m : maps) std::remove((folder + "/" + m).c_str());
+        throw;
+    }
+    out.files = writer->finish();
+    for (const std::string& m : maps) out.files.emplace_back(m, std::filesystem::file_size(std::filesystem::path(folder) / m));
+    return out;
+}
+
+MorphAnimationView SceneAnimation::view() const {
+    MorphAnimationView v = animation_view(*this);
+    v.draco = draco;
+    v.quantize = quantize;
+    v.meshopt = meshopt;
+    return v;
+}
+
+}  // namespace wave
