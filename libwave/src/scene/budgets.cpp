@@ -98,22 +98,10 @@ RunEstimate estimate_run(const Scene& scene, const ScenePlan& plan, double plann
     const double indices = 12.0 * static_cast<double>(e.triangles), uv0 = 8.0 * n;
     constexpr double kMeshoptShare = 0.5;  // EXT_meshopt_compression's bytes over the floats' (measured: docs/export.md)
     const double draco_frame = 9.2 * n;  // measured: default scene (the water mesh), 14-bit positions (see RunEstimate)
-    switch (scene.form) {
-        case Scene::Form::morph:
-            e.output_bytes = (scene.draco ? draco_frame : n * per_frame_vertex + uv0 + indices) +
-                             frames * n * per_frame_vertex * (scene.quantize ? 0.6 : scene.meshopt ? kMeshoptShare : 1.0);
-            break;
-        case Scene::Form::nodes:  // meshes share the indices and TEXCOORD_0
-            e.output_bytes = scene.draco ? frames * draco_frame
-                                         : indices + uv0 + frames * n * per_frame_vertex * (scene.quantize ? 0.7 : scene.meshopt ? kMeshoptShare : 1.0);
-            break;
-        case Scene::Form::files:
-            e.output_bytes = frames * (scene.draco ? draco_frame : indices + uv0 + n * per_frame_vertex * (scene.quantize ? 0.7 : scene.meshopt ? kMeshoptShare : 1.0));
-            break;
-        case Scene::Form::pc2:  // positions and the shading as float triples per frame, the base mesh twice
-            e.output_bytes = frames * n * (12.0 + (shaded ? 12.0 : 0.0)) + 2.0 * (n * per_frame_vertex + uv0 + indices);
-            break;
-    }
+    e.output_bytes = export_form(scene.form).output_bytes(ExportSizing{
+        .frames = frames, .vertices = n, .per_frame_vertex = per_frame_vertex, .indices = indices, .uv0 = uv0,
+        .draco_frame = draco_frame, .meshopt_share = kMeshoptShare, .draco = scene.draco.has_value(), .quantize = scene.quantize,
+        .meshopt = scene.meshopt, .shaded = shaded});
     // The seafloor beside the water (morph and nodes files; the files form's frame 0):
     // float positions and colours and the triangles of a grid of at most 256 a side.
     const ElevationGrid& g = plan.seafloor.grid;

@@ -1,18 +1,23 @@
-// The export forms' encoders: a chunk of frames as the files of its form (morph, nodes,
-// pc2, files; .glb or .gltf + .bin) with the underwater and whitewater files beside it,
-// and the streamed writers that write a long run as its chunks come.
-#include "libwave/scene.h"
+// The export forms behind one table (export_forms): each form's name, encoder, whether
+// it is streamed and its size estimate; encode_animation (a chunk of frames as the files
+// of its form, .glb or .gltf + .bin, the underwater and whitewater files beside it) and
+// the streamed writers that write a long run as its chunks come. Adding a form: its
+// ExportForm value, its row and encoder here, its name in the schema's /outputs/form.
+#include "libwave/export.h"
 
+#include "core/json_input.h"
+#include "export/forms.h"
 #include "libwave/errors.h"
 #include "libwave/io.h"
 
-#include <algorithm>
+#include <nlohmann/json.hpp>
+
+#include <array>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <functional>
-#include <limits>
 #include <optional>
 #include <span>
 #include <string>
@@ -21,7 +26,7 @@
 
 namespace wave {
 
-namespace {
+namespace detail {
 
 // A frame's file of an underwater sequence (kCausticImages, kSunbeamVolumes).
 std::string underwater_file_name(const char* pattern, std::size_t frame) {
@@ -40,12 +45,18 @@ void for_underwater_files(std::size_t first_frame, std::size_t k, std::span<cons
     if (!whitewater.empty()) file(underwater_file_name(kWhitewaterPoints, first_frame + k), whitewater[k]);
 }
 
-// The caustic maps and sunbeam volumes beside the animation: in the files form after
+}  // namespace detail
+
+namespace {
+
+using detail::for_underwater_files;
+
+// The caustic maps and sunbeam volumes beside the animation: in a per-frame form after
 // each frame's own files (a frame's entry lists them together), else after the file.
 void add_underwater_files(const MorphAnimationView& view, std::span<const std::string> caustics, std::span<const std::string> sunbeams,
-                          std::span<const std::string> whitewater, Scene::Form form, EncodedFiles& files) {
+                          std::span<const std::string> whitewater, ExportForm form, EncodedFiles& files) {
     if (caustics.empty() && sunbeams.empty() && whitewater.empty()) return;
-    const std::size_t per_frame = form == Scene::Form::files ? files.size() / view.frame_count : 0;
+    const std::size_t per_frame = export_form(form).per_frame ? files.size() / view.frame_count : 0;
     EncodedFiles grouped;
     if (per_frame == 0) grouped.swap(files);  // the animation's files first, whole
     for (std::size_t k = 0; k < view.frame_count; ++k) {
@@ -98,37 +109,92 @@ void split_gltf_container(EncodedFiles& files) {
     files.swap(split);
 }
 
+// The forms' rows (export_forms): how each is encoded, streamed and estimated.
+void encode_morph(const MorphAnimationView& view, const std::string& animation_name, bool, EncodedFiles& files) {
+    files.emplace_back(animation_name, gltf_morph_glb(view));
+}
+
+void encode_nodes(const MorphAnimationView& view, const std::string& animation_name, bool, EncodedFiles& files) {
+    files.emplace_back(animation_name, gltf_nodes_glb(view));
+}
+
+void encode_frames(const MorphAnimationView& view, const std::string&, bool, EncodedFiles& files) {
+    for (std::size_t k = 0; k < view.frame_count; ++k) {
+        char name[48];
+        std::snprintf(name, sizeof name, "frames/frame-%04zu.glb", view.first_frame + k);
+        files.emplace_back(name, gltf_frame_glb(view, k));
+    }
+}
+
+// Point caches beside a base mesh (frame 0 of the range) as .glb and .obj, z up as
+// written; the shading as a second cache of (reflect, refract, foam) "points".
+void encode_pc2(const MorphAnimationView& view, const std::string& animation_name, bool whole, EncodedFiles& files) {
+    const std::string base = whole ? "animation" : animation_name.substr(0, animation_name.size() - 4);
+    const std::size_t n = view.vertex_count;
+    add_pc2_base(view, base, files);
+    const auto start = static_cast<float>(view.first_frame);
+    files.emplace_back(base + ".pc2", pc2_bytes(view.positions, n, view.frame_count, start));
+    if (!view.foam.empty()) files.emplace_back(base + "-shading.pc2", pc2_bytes(pc2_shading(view), n, view.frame_count, start));
+}
+
+bool streamed_always(bool) noexcept { return true; }
+bool streamed_unless_quantised(bool quantize) noexcept { return !quantize; }
+bool streamed_never(bool) noexcept { return false; }
+
+double morph_bytes(const ExportSizing& s) {
+    return (s.draco ? s.draco_frame : s.vertices * s.per_frame_vertex + s.uv0 + s.indices) +
+           s.frames * s.vertices * s.per_frame_vertex * (s.quantize ? 0.6 : s.meshopt ? s.meshopt_share : 1.0);
+}
+
+// The meshes share the indices and TEXCOORD_0.
+double nodes_bytes(const ExportSizing& s) {
+    return s.draco ? s.frames * s.draco_frame
+                   : s.indices + s.uv0 + s.frames * s.vertices * s.per_frame_vertex * (s.quantize ? 0.7 : s.meshopt ? s.meshopt_share : 1.0);
+}
+
+double frames_bytes(const ExportSizing& s) {
+    return s.frames * (s.draco ? s.draco_frame
+                               : s.indices + s.uv0 + s.vertices * s.per_frame_vertex * (s.quantize ? 0.7 : s.meshopt ? s.meshopt_share : 1.0));
+}
+
+// Positions and the shading as float triples per frame, the base mesh twice.
+double pc2_form_bytes(const ExportSizing& s) {
+    return s.frames * s.vertices * (12.0 + (s.shaded ? 12.0 : 0.0)) + 2.0 * (s.vertices * s.per_frame_vertex + s.uv0 + s.indices);
+}
+
+constexpr std::array<ExportFormInfo, 4> kForms{{
+    {ExportForm::morph, "morph", "one .glb of shape keys", true, false, streamed_always, encode_morph, morph_bytes},
+    {ExportForm::nodes, "nodes", "one object per frame", true, false, streamed_unless_quantised, encode_nodes,
+     nodes_bytes},
+    {ExportForm::files, "files", "one .glb per frame + index.json", false, true, streamed_never, encode_frames, frames_bytes},
+    {ExportForm::pc2, "pc2", "a base .glb/.obj + PC2 point caches for Blender's Mesh Cache modifier, Maya, 3ds Max, Houdini", false, false,
+     streamed_unless_quantised, encode_pc2, pc2_form_bytes},
+}};
+
 }  // namespace
 
-EncodedFiles encode_animation(const MorphAnimationView& view, Scene::Form form, Scene::Container container, bool whole,
+std::span<const ExportFormInfo> export_forms() noexcept { return kForms; }
+
+const ExportFormInfo& export_form(ExportForm form) noexcept { return kForms[static_cast<std::size_t>(form)]; }
+
+ExportForm export_form_named(std::string_view name) {
+    std::string list;
+    for (const ExportFormInfo& f : kForms) {
+        if (f.name == name) return f.form;
+        list += (list.empty() ? "" : ", ") + std::string(f.name);
+    }
+    throw InputError("form: expected one of " + list + ", got " + detail::brief_json(nlohmann::json(std::string(name))));
+}
+
+EncodedFiles encode_animation(const MorphAnimationView& view, ExportForm form, ExportContainer container, bool whole,
                               std::span<const std::string> caustics, std::span<const std::string> sunbeams,
                               std::span<const std::string> whitewater) {
     EncodedFiles files;
-    const std::string animation_name = animation_file_name(view.first_frame, view.frame_count, whole);
-    if (form == Scene::Form::morph) files.emplace_back(animation_name, gltf_morph_glb(view));
-    if (form == Scene::Form::nodes) files.emplace_back(animation_name, gltf_nodes_glb(view));
-    if (form == Scene::Form::pc2) {
-        // Point caches beside a base mesh (frame 0 of the range) as .glb and .obj, z up as
-        // written; the shading as a second cache of (reflect, refract, foam) "points".
-        const std::string base = whole ? "animation" : animation_name.substr(0, animation_name.size() - 4);
-        const std::size_t n = view.vertex_count;
-        add_pc2_base(view, base, files);
-        const auto start = static_cast<float>(view.first_frame);
-        files.emplace_back(base + ".pc2", pc2_bytes(view.positions, n, view.frame_count, start));
-        if (!view.foam.empty()) files.emplace_back(base + "-shading.pc2", pc2_bytes(pc2_shading(view), n, view.frame_count, start));
-    }
-    if (form == Scene::Form::files)
-        for (std::size_t k = 0; k < view.frame_count; ++k) {
-            char name[48];
-            std::snprintf(name, sizeof name, "frames/frame-%04zu.glb", view.first_frame + k);
-            files.emplace_back(name, gltf_frame_glb(view, k));
-        }
-    if (container == Scene::Container::gltf) split_gltf_container(files);
+    export_form(form).encode(view, animation_file_name(view.first_frame, view.frame_count, whole), whole, files);
+    if (container == ExportContainer::gltf) split_gltf_container(files);
     add_underwater_files(view, caustics, sunbeams, whitewater, form, files);
     return files;
 }
-
-bool streamed_form(const Scene& scene) { return streamed_form(scene.form, scene.quantize); }
 
 namespace {
 
@@ -161,9 +227,9 @@ struct Pc2Stream {
     std::string folder, base;
     std::optional<PartialFile> positions{}, shading{};
 
-    void start(const MorphAnimationView& first, std::size_t frames, Scene::Container container, EncodedFiles& files) {
+    void start(const MorphAnimationView& first, std::size_t frames, ExportContainer container, EncodedFiles& files) {
         add_pc2_base(first, base, files);
-        if (container == Scene::Container::gltf) split_gltf_container(files);
+        if (container == ExportContainer::gltf) split_gltf_container(files);
         const std::string header = pc2_header(first.vertex_count, frames, static_cast<float>(first.first_frame));
         positions.emplace(folder + "/" + base + ".pc2");
         positions->write(header.data(), header.size());
@@ -189,9 +255,7 @@ struct Pc2Stream {
 
 }  // namespace
 
-bool streamed_form(Scene::Form form, bool quantize) noexcept {
-    return form != Scene::Form::files && (!quantize || form == Scene::Form::morph);
-}
+bool streamed_form(ExportForm form, bool quantize) noexcept { return export_form(form).streamed(quantize); }
 
 struct StreamedWriter::State {
     std::optional<AnimationFileWriter> glb;
@@ -200,22 +264,22 @@ struct StreamedWriter::State {
     std::string folder;
 };
 
-StreamedWriter::StreamedWriter(const std::string& folder, Scene::Form form, Scene::Container container, bool whole,
+StreamedWriter::StreamedWriter(const std::string& folder, ExportForm form, ExportContainer container, bool whole,
                                const MorphAnimationView& first, std::size_t frame_count)
     : state_(std::make_unique<State>()) {
     if (!streamed_form(form, first.quantize))
         throw InputError("export: the files form and quantised nodes or pc2 files are not streamed");
     const std::string name = animation_file_name(first.first_frame, frame_count, whole);
     state_->folder = folder;
-    if (form == Scene::Form::pc2) {
+    if (form == ExportForm::pc2) {
         state_->pc2.folder = folder;
         state_->pc2.base = whole ? "animation" : name.substr(0, name.size() - 4);
         state_->pc2.start(first, frame_count, container, state_->small);
         return;
     }
-    const bool gltf = container == Scene::Container::gltf;
+    const bool gltf = container == ExportContainer::gltf;
     const std::string path = folder + "/" + (gltf ? name.substr(0, name.size() - 4) + ".gltf" : name);
-    state_->glb.emplace(path, form == Scene::Form::morph ? AnimationFileWriter::Form::morph : AnimationFileWriter::Form::nodes,
+    state_->glb.emplace(path, form == ExportForm::morph ? AnimationFileWriter::Form::morph : AnimationFileWriter::Form::nodes,
                         gltf, first, frame_count);
 }
 
@@ -235,58 +299,6 @@ std::vector<std::pair<std::string, std::size_t>> StreamedWriter::finish() {
     }
     state_->pc2.finish(written);
     return written;
-}
-
-StreamedAnimation stream_animation(AnimationStream& stream, const Scene& scene, const std::string& folder, bool whole,
-                                   std::size_t chunk, const std::function<void(std::size_t, std::size_t)>& progress) {
-    if (!streamed_form(scene))
-        throw InputError("scene: the files form and quantised nodes or pc2 files are not streamed by stream_animation");
-    StreamedAnimation out;
-    out.z_min = std::numeric_limits<float>::infinity();
-    out.z_max = -std::numeric_limits<float>::infinity();
-    const std::size_t frames = stream.frame_count();
-    std::optional<StreamedWriter> writer;
-    std::vector<std::string> maps;  // caustic maps and sunbeam volumes written, in order
-    SceneAnimation a;
-    // Quantised morph targets need their delta range before the first target: a pass
-    // over the frames' positions alone finds it.
-    const std::optional<double> quantize_range =
-        scene.quantize ? std::optional<double>(stream.position_delta_range(chunk)) : std::nullopt;
-    try {
-        // The range's first frame alone first (the file's settings, and the frame kept
-        // for the caller), then `chunk` frames at a time.
-        while (stream.next(a, stream.frames_left() == frames ? 1 : std::max<std::size_t>(1, chunk), progress) > 0) {
-            MorphAnimationView view = a.view();
-            view.quantize_range = quantize_range;
-            if (a.first_frame == stream.first_frame()) {
-                writer.emplace(folder, scene.form, scene.container, whole, view, frames);
-                out.first = a;
-            }
-            writer->append(view);
-            for (std::size_t k = 0; k < a.frame_count; ++k)
-                for_underwater_files(a.first_frame, k, a.caustics, a.sunbeams, a.whitewater, [&](std::string name, const std::string& bytes) {
-                    maps.push_back(std::move(name));
-                    std::filesystem::create_directories((std::filesystem::path(folder) / maps.back()).parent_path());
-                    write_file_atomic(folder + "/" + maps.back(), bytes);
-                });
-            out.z_min = std::min(out.z_min, a.z_min);
-            out.z_max = std::max(out.z_max, a.z_max);
-        }
-    } catch (...) {
-        for (const std::string& m : maps) std::remove((folder + "/" + m).c_str());
-        throw;
-    }
-    out.files = writer->finish();
-    for (const std::string& m : maps) out.files.emplace_back(m, std::filesystem::file_size(std::filesystem::path(folder) / m));
-    return out;
-}
-
-MorphAnimationView SceneAnimation::view() const {
-    MorphAnimationView v = animation_view(*this);
-    v.draco = draco;
-    v.quantize = quantize;
-    v.meshopt = meshopt;
-    return v;
 }
 
 }  // namespace wave
