@@ -311,6 +311,10 @@ int main(int argc, char** argv) {
     } catch (const wave::InputError& e) {
         std::cerr << "error: " << wave::printable(e.what()) << '\n';
         return 2;
+    } catch (const wave::InternalError& e) {  // a bug, not the input's fault
+        std::cerr << "error: internal: " << wave::printable(e.what())
+                  << " (a libwave bug: please report it with the scene and the command)\n";
+        return 1;
     } catch (const std::exception& e) {
         std::cerr << "error: " << wave::printable(e.what()) << '\n';
         return 1;

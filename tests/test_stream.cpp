@@ -242,3 +242,21 @@ TEST(AnimationFileWriter, RefusesQuantisedAndUnfinishedFilesAndLeavesNothingBehi
 }
 
 }  // namespace
+
+// An internal invariant is an InternalError (exit 1, "please report"), never bad input;
+// the export forms' table names every form and refuses an unknown name as bad input.
+TEST(ExportForms, TheTableNamesEveryFormAndInvariantsAreInternalErrors) {
+    for (const wave::ExportFormInfo& f : wave::export_forms()) {
+        EXPECT_EQ(wave::export_form_named(f.name), f.form);
+        EXPECT_EQ(&wave::export_form(f.form), &f);
+        EXPECT_EQ(wave::form_from_name(wave::form_name(f.form)), f.form);
+    }
+    EXPECT_THROW(wave::export_form_named("gif"), wave::InputError);
+    try {
+        (void)wave::surface_kind_name(static_cast<wave::SurfaceKind>(99));
+        FAIL() << "an unregistered surface kind was named";
+    } catch (const wave::InputError&) {
+        FAIL() << "an internal invariant reported as bad input";
+    } catch (const wave::InternalError&) {
+    }
+}

@@ -460,8 +460,8 @@ VertexFaces vertex_faces(std::size_t vertex_count, std::span<const std::uint32_t
 /// per-vertex properties as PLY vertex properties: ray, step (int); phase, k, omega,
 /// amplitude, depth, slope, rise, dir_x, dir_y (double); flag (uchar: 0 alive, 1 flat,
 /// 2 aground), caustic (uchar). The strips are built into an OpenMesh TriMesh for it.
-/// Atomic write; throws RuntimeError if the file cannot be written, or if OpenMesh
-/// rejects a face (non-manifold topology — a bug).
+/// Atomic write; throws RuntimeError if the file cannot be written, InternalError if
+/// OpenMesh rejects a face (a non-manifold strip: a bug).
 void write_ray_strips_ply(const RayStrips& strips, const std::string& path);
 
 }  // namespace wave

@@ -153,7 +153,7 @@ detail::DracoGrid snap_to_lattice(std::span<float> positions, const std::vector<
     }
     grid.bits = 1;
     while (std::ldexp(1.0, grid.bits) - 1.0 < steps) ++grid.bits;
-    if (grid.bits > 23) throw RuntimeError("glTF export: a Draco lattice needs more than 23 bits");  // split_steps prevents it
+    if (grid.bits > 23) throw InternalError("glTF export: a Draco lattice needs more than 23 bits");  // split_steps prevents it
     grid.range = static_cast<float>((std::ldexp(1.0, grid.bits) - 1.0) * step);
     return grid;
 }

@@ -151,7 +151,7 @@ template <class T, std::size_t N>
 std::string_view name_of(const std::array<std::pair<std::string_view, T>, N>& table, T value) {
     for (const auto& [name, v] : table)
         if (v == value) return name;
-    throw std::logic_error("libwave: an unnamed export setting");
+    throw InternalError("an export setting without a name");
 }
 
 template <class T, std::size_t N>
