@@ -408,6 +408,9 @@ struct ExportFormInfo {
     bool single_file;
     /// Each frame's files apart (frames/…), each frame's underwater files after its own.
     bool per_frame;
+    /// It writes glTF: the glTF codecs (Draco, quantisation, meshopt) apply, and the
+    /// automatic codec (resolve_codec) may choose EXT_meshopt_compression for it.
+    bool gltf;
     /// Whether StreamedWriter writes it a chunk of frames at a time (`quantize`: for a
     /// view with KHR_mesh_quantization, whose range may need every frame).
     bool (*streamed)(bool quantize) noexcept;

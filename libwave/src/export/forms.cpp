@@ -163,12 +163,12 @@ double pc2_form_bytes(const ExportSizing& s) {
 }
 
 constexpr std::array<ExportFormInfo, 4> kForms{{
-    {ExportForm::morph, "morph", "one .glb of shape keys", true, false, streamed_always, encode_morph, morph_bytes},
-    {ExportForm::nodes, "nodes", "one object per frame", true, false, streamed_unless_quantised, encode_nodes,
+    {ExportForm::morph, "morph", "one .glb of shape keys", true, false, true, streamed_always, encode_morph, morph_bytes},
+    {ExportForm::nodes, "nodes", "one object per frame", true, false, true, streamed_unless_quantised, encode_nodes,
      nodes_bytes},
-    {ExportForm::files, "files", "one .glb per frame + index.json", false, true, streamed_never, encode_frames, frames_bytes},
+    {ExportForm::files, "files", "one .glb per frame + index.json", false, true, true, streamed_never, encode_frames, frames_bytes},
     {ExportForm::pc2, "pc2", "a base .glb/.obj + PC2 point caches for Blender's Mesh Cache modifier, Maya, 3ds Max, Houdini", false, false,
-     streamed_unless_quantised, encode_pc2, pc2_form_bytes},
+     false, streamed_unless_quantised, encode_pc2, pc2_form_bytes},
 }};
 
 }  // namespace

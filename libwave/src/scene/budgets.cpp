@@ -62,7 +62,7 @@ std::size_t frame_lanes(const Scene& scene, std::size_t vertices, std::size_t fr
 
 Scene resolve_codec(Scene scene, const RunEstimate& plain) {
     if (scene.codec_auto && !scene.draco && !scene.quantize && !scene.meshopt)
-        scene.meshopt = scene.form != Scene::Form::pc2 && plain.output_bytes > kAutoCodecBytes;
+        scene.meshopt = export_form(scene.form).gltf && plain.output_bytes > kAutoCodecBytes;
     scene.codec_auto = false;
     return scene;
 }
