@@ -37,6 +37,15 @@ std::string pc2_bytes(std::span<const float> points, std::size_t point_count, st
 /// The 32-byte header alone, for writers that append the samples as they come.
 std::string pc2_header(std::size_t point_count, std::size_t sample_count, float start_frame);
 
+struct MorphAnimationView;
+
+/// Frame `f` of `view` as a binary little-endian PLY (Houdini, Blender, MeshLab,
+/// CloudCompare): vertices with float x, y, z (z up), nx, ny, nz, s, t (TEXCOORD_0: the
+/// rest position over the seafloor), and with shading reflect, refract, foam as float
+/// properties; faces as uchar-counted uint index lists. InputError for an index out of
+/// range or a frame the view does not hold.
+std::string ply_frame_bytes(const MorphAnimationView& view, std::size_t f);
+
 /// One triangle mesh as OBJ text: `v x y z` per vertex (3 floats each in `positions`),
 /// `f a b c` per triangle (0-based `triangles`, written 1-based), a comment line first.
 /// Precondition: every index < positions.size() / 3.
@@ -372,6 +381,7 @@ enum class ExportForm {
     nodes,  ///< one .glb of scale-switched nodes
     files,  ///< frames/frame-NNNN.glb and index.json
     pc2,    ///< a base mesh and PC2 point caches
+    ply,    ///< ply/frame-NNNN.ply (positions, normals, rest UVs, shading) and ply/index.json
 };
 
 /// Binary .glb, or text .gltf with an external .bin.

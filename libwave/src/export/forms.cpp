@@ -137,6 +137,27 @@ void encode_pc2(const MorphAnimationView& view, const std::string& animation_nam
     if (!view.foam.empty()) files.emplace_back(base + "-shading.pc2", pc2_bytes(pc2_shading(view), n, view.frame_count, start));
 }
 
+// A PLY per frame and an index of them (ply/index.json: the frames' files, fps, range).
+void encode_ply(const MorphAnimationView& view, const std::string& animation_name, bool whole, EncodedFiles& files) {
+    nlohmann::json frames = nlohmann::json::array();
+    for (std::size_t k = 0; k < view.frame_count; ++k) {
+        char name[48];
+        std::snprintf(name, sizeof name, "ply/frame-%04zu.ply", view.first_frame + k);
+        files.emplace_back(name, ply_frame_bytes(view, k));
+        frames.push_back(name);
+    }
+    const nlohmann::json index{{"form", "ply"}, {"scene", view.scene}, {"fps", view.fps}, {"first_frame", view.first_frame},
+                               {"frame_count", view.frame_count}, {"loop_frames", view.loop_frames}, {"z_up", true},
+                               {"frames", std::move(frames)}};
+    const std::string stem = animation_name.substr(0, animation_name.size() - 4);  // animation or animation-frames-A-B
+    files.emplace_back(whole ? "ply/index.json" : "ply/" + stem + ".json", index.dump(2) + "\n");
+}
+
+// Per frame: the header, 32 or 44 bytes a vertex, 13 a triangle.
+double ply_bytes(const ExportSizing& s) {
+    return s.frames * (400.0 + s.vertices * (32.0 + (s.shaded ? 12.0 : 0.0)) + s.indices / 12.0 * 13.0);
+}
+
 bool streamed_always(bool) noexcept { return true; }
 bool streamed_unless_quantised(bool quantize) noexcept { return !quantize; }
 bool streamed_never(bool) noexcept { return false; }
@@ -162,13 +183,15 @@ double pc2_form_bytes(const ExportSizing& s) {
     return s.frames * s.vertices * (12.0 + (s.shaded ? 12.0 : 0.0)) + 2.0 * (s.vertices * s.per_frame_vertex + s.uv0 + s.indices);
 }
 
-constexpr std::array<ExportFormInfo, 4> kForms{{
+constexpr std::array<ExportFormInfo, 5> kForms{{
     {ExportForm::morph, "morph", "one .glb of shape keys", true, false, true, streamed_always, encode_morph, morph_bytes},
     {ExportForm::nodes, "nodes", "one object per frame", true, false, true, streamed_unless_quantised, encode_nodes,
      nodes_bytes},
     {ExportForm::files, "files", "one .glb per frame + index.json", false, true, true, streamed_never, encode_frames, frames_bytes},
     {ExportForm::pc2, "pc2", "a base .glb/.obj + PC2 point caches for Blender's Mesh Cache modifier, Maya, 3ds Max, Houdini", false, false,
      false, streamed_unless_quantised, encode_pc2, pc2_form_bytes},
+    {ExportForm::ply, "ply", "one binary PLY per frame + ply/index.json: positions, normals, UVs, shading as vertex properties (Houdini, Blender, MeshLab)",
+     false, false, false, streamed_never, encode_ply, ply_bytes},
 }};
 
 }  // namespace
