@@ -2,6 +2,7 @@
 // 1 runtime failure; errors go to stderr as "error: …".
 #include "commands.h"
 #include "libwave/errors.h"
+#include "libwave/export.h"
 #include "libwave/io.h"
 #include "libwave/version.h"
 
@@ -9,8 +10,25 @@
 
 #include <iostream>
 #include <map>
+#include <string>
+#include <vector>
 
 namespace {
+
+// The export forms' names (export_forms(), the one table of them): what --form accepts.
+std::vector<std::string> form_names() {
+    std::vector<std::string> names;
+    for (const wave::ExportFormInfo& f : wave::export_forms()) names.emplace_back(f.name);
+    return names;
+}
+
+// --form's help: each form's name and what it writes, from the same table.
+std::string form_help() {
+    std::string help = "animation form:";
+    for (const wave::ExportFormInfo& f : wave::export_forms())
+        help += std::string(&f == wave::export_forms().data() ? " " : ", ") + std::string(f.name) + " (" + std::string(f.description) + ")";
+    return help;
+}
 
 // CLI11's NonNegativeNumber/PositiveNumber print their range up to DBL_MAX in full;
 // these say it plainly: "--fps: must be > 0, got 0".
@@ -86,8 +104,7 @@ int main(int argc, char** argv) {
     run_cmd->add_option("scene", run.scene, "scene file (JSON); none = the built-in default scene");
     run_cmd->add_option("-o,--out", run.out_dir, "output folder (default: wave-out/<scene name>), or FILE.glb: only the animation, as that one file (morph or nodes form)");
     run_cmd->add_flag("--json", run.json, "print the report as JSON");
-    run_cmd->add_option("--form", run.form, "animation form: morph (one .glb of shape keys), nodes (one object per frame), files (one .glb per frame + index.json), pc2 (a base .glb/.obj + PC2 point caches for Blender's Mesh Cache modifier, Maya, 3ds Max, Houdini)")
-        ->check(CLI::IsMember({"morph", "nodes", "files", "pc2"}));
+    run_cmd->add_option("--form", run.form, form_help())->check(CLI::IsMember(form_names()));
     run_cmd->add_option("--frames", run.frames, "A:B: only frames A … B-1 of the loop, B at most the loop's frame count (slices of one animation can run on different machines; the files form merges them in index.json)");
     run_cmd->add_option("--slice", run.slice, "I/N: slice I (0-based) of N equal slices of the loop, e.g. a Slurm array task's $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT");
     run_cmd->add_option("--container", run.container, "glb (binary, default) or gltf (JSON + external .bin)")
@@ -119,7 +136,7 @@ int main(int argc, char** argv) {
     batch_cmd->add_option("inputs", batch.inputs, "scene files, folders or patterns")->required();
     batch_cmd->add_option("-o,--out", batch.out_dir, "output folder (default: wave-out/batch)");
     batch_cmd->add_option("-j,--jobs", batch.jobs, "scenes run at the same time (default 1)")->check(positive);
-    batch_cmd->add_option("--form", batch_form, "as for run")->check(CLI::IsMember({"morph", "nodes", "files", "pc2"}));
+    batch_cmd->add_option("--form", batch_form, "as for run")->check(CLI::IsMember(form_names()));
     batch_cmd->add_option("--frames", batch_frames, "as for run");
     batch_cmd->add_option("--container", batch_container, "as for run")->check(CLI::IsMember({"glb", "gltf"}));
     batch_cmd->add_option("--fps", batch_fps, "as for run")->check(positive);
@@ -139,7 +156,7 @@ int main(int argc, char** argv) {
     auto* convert_cmd = app.add_subcommand("convert", "Re-encode an output of wave run (a .glb/.gltf, or the files form's index.json) in another form or compression, without recomputing");
     convert_cmd->add_option("input", convert.input, "animation.glb / .gltf, a frame file, or index.json")->required();
     convert_cmd->add_option("-o,--out", convert.out_dir, "output folder")->required();
-    convert_cmd->add_option("--form", convert.form, "morph (default), nodes or files")->check(CLI::IsMember({"morph", "nodes", "files", "pc2"}));
+    convert_cmd->add_option("--form", convert.form, "as for run (default morph)")->check(CLI::IsMember(form_names()));
     convert_cmd->add_option("--container", convert.container, "glb (default) or gltf")->check(CLI::IsMember({"glb", "gltf"}));
     convert_cmd->add_flag("--draco", convert.draco, "Draco-compress (morph: the base mesh)");
     convert_cmd->add_flag("--quantize", convert.quantize, "KHR_mesh_quantization");
@@ -295,6 +312,10 @@ int main(int argc, char** argv) {
     } catch (const wave::InputError& e) {
         std::cerr << "error: " << wave::printable(e.what()) << '\n';
         return 2;
+    } catch (const wave::InternalError& e) {  // a bug, not the input's fault
+        std::cerr << "error: internal: " << wave::printable(e.what())
+                  << " (a libwave bug: please report it with the scene and the command)\n";
+        return 1;
     } catch (const std::exception& e) {
         std::cerr << "error: " << wave::printable(e.what()) << '\n';
         return 1;

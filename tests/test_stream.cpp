@@ -11,6 +11,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -244,3 +245,55 @@ TEST(AnimationFileWriter, RefusesQuantisedAndUnfinishedFilesAndLeavesNothingBehi
 }
 
 }  // namespace
+
+// An internal invariant is an InternalError (exit 1, "please report"), never bad input;
+// the export forms' table names every form and refuses an unknown name as bad input.
+TEST(ExportForms, TheTableNamesEveryFormAndInvariantsAreInternalErrors) {
+    for (const wave::ExportFormInfo& f : wave::export_forms()) {
+        EXPECT_EQ(wave::export_form_named(f.name), f.form);
+        EXPECT_EQ(&wave::export_form(f.form), &f);
+        EXPECT_EQ(wave::form_from_name(wave::form_name(f.form)), f.form);
+    }
+    EXPECT_THROW(wave::export_form_named("gif"), wave::InputError);
+    try {
+        (void)wave::surface_kind_name(static_cast<wave::SurfaceKind>(99));
+        FAIL() << "an unregistered surface kind was named";
+    } catch (const wave::InputError&) {
+        FAIL() << "an internal invariant reported as bad input";
+    } catch (const wave::InternalError&) {
+    }
+}
+
+// The PLY form: a binary PLY per frame with the frame's positions, normals, rest UVs and
+// shading as vertex properties, and an index of the frames.
+TEST(ExportForms, PlyFramesHoldEachFramesVerticesAndAnIndex) {
+    const wave::Scene scene = wave::default_scene();
+    const wave::ScenePlan plan = wave::plan_scene(scene);
+    const wave::SceneAnimation a = wave::animate_scene(scene, plan, 2e9, wave::FrameRange{3, 5});
+    const wave::EncodedFiles files = wave::encode_animation(a.view(), wave::ExportForm::ply, wave::ExportContainer::glb, false);
+    ASSERT_EQ(files.size(), 3u);
+    EXPECT_EQ(files[0].first, "ply/frame-0003.ply");
+    EXPECT_EQ(files[1].first, "ply/frame-0004.ply");
+    EXPECT_EQ(files[2].first, "ply/animation-frames-3-5.json");
+    const std::size_t n = a.vertex_count, t = a.triangles.size() / 3;
+    for (std::size_t k = 0; k < 2; ++k) {
+        const std::string& ply = files[k].second;
+        const std::size_t body = ply.find("end_header\n") + 11;
+        ASSERT_NE(body, std::string::npos + 11);
+        EXPECT_NE(ply.find("element vertex " + std::to_string(n) + "\n"), std::string::npos);
+        EXPECT_NE(ply.find("property float foam\n"), std::string::npos);
+        ASSERT_EQ(ply.size(), body + n * 11 * sizeof(float) + t * 13);
+        float v[11];
+        std::memcpy(v, ply.data() + body + (n - 1) * sizeof v, sizeof v);  // the last vertex
+        EXPECT_EQ(v[0], a.positions[3 * (k * n + n - 1)]);
+        EXPECT_EQ(v[2], a.positions[3 * (k * n + n - 1) + 2]);
+        EXPECT_EQ(v[5], a.normals[3 * (k * n + n - 1) + 2]);
+        EXPECT_EQ(v[10], a.foam[k * n + n - 1]);
+        std::uint32_t face[3];
+        std::memcpy(face, ply.data() + body + n * sizeof v + 1, sizeof face);
+        EXPECT_EQ(static_cast<unsigned char>(ply[body + n * sizeof v]), 3);
+        EXPECT_EQ(face[2], a.triangles[2]);
+    }
+    EXPECT_NE(files[2].second.find("\"frame_count\": 2"), std::string::npos);
+    EXPECT_NE(files[2].second.find("ply/frame-0004.ply"), std::string::npos);
+}

@@ -53,10 +53,14 @@ wave::Scene scene_with(const wave::Scene& s, const std::string& pointer, const s
 }
 
 std::string mesh_form_bytes(const SceneAnimation& a, const std::string& form) {
-    if (form != "morph" && form != "nodes")
-        throw wave::InputError("export: form must be \"morph\" or \"nodes\" (one file per frame: frame_glb), got \"" + form + "\"");
-    const wave::Scene::Form f = wave::form_from_name(form);
-    return std::move(wave::encode_animation(a.view(), f, wave::Scene::Container::glb, true).front().second);
+    // The forms whose animation is one file (export_forms()'s single_file rows).
+    std::string names;
+    for (const wave::ExportFormInfo& f : wave::export_forms()) {
+        if (!f.single_file) continue;
+        if (f.name == form) return std::move(wave::encode_animation(a.view(), f.form, wave::ExportContainer::glb, true).front().second);
+        names += (names.empty() ? "\"" : " or \"") + std::string(f.name) + "\"";
+    }
+    throw wave::InputError("export: form must be " + names + " (one file per frame: frame_glb), got \"" + form + "\"");
 }
 
 

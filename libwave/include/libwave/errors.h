@@ -1,8 +1,9 @@
 // libwave — the one header of exception types (docs/conventions.md, errors).
 //
-// Three layers of errors: asserts for internal invariants; these exceptions for bad
-// input at the API boundary (files, scene values, out-of-range parameters); result
-// flags for expected physical outcomes (ray aground, caustic, total reflection).
+// Three layers of errors: InternalError for internal invariants (a libwave bug, never
+// the input's fault); the other exceptions for bad input at the API boundary (files,
+// scene values, out-of-range parameters) and the system; result flags for expected
+// physical outcomes (ray aground, caustic, total reflection).
 // Every message names the file / field / value and says what would be valid.
 #pragma once
 
@@ -34,6 +35,14 @@ public:
 /// Something failed that is not the input's fault (I/O error while writing, a
 /// dependency failing). The CLI maps it to exit code 1.
 class RuntimeError : public Error {
+public:
+    using Error::Error;
+};
+
+/// An internal invariant broke: a libwave bug, whatever the input (a model missing
+/// from the registry, a lattice its planning should have kept in range). Never bad
+/// input: the CLI maps it to exit code 1 and asks for a report.
+class InternalError : public Error {
 public:
     using Error::Error;
 };

@@ -37,6 +37,15 @@ std::string pc2_bytes(std::span<const float> points, std::size_t point_count, st
 /// The 32-byte header alone, for writers that append the samples as they come.
 std::string pc2_header(std::size_t point_count, std::size_t sample_count, float start_frame);
 
+struct MorphAnimationView;
+
+/// Frame `f` of `view` as a binary little-endian PLY (Houdini, Blender, MeshLab,
+/// CloudCompare): vertices with float x, y, z (z up), nx, ny, nz, s, t (TEXCOORD_0: the
+/// rest position over the seafloor), and with shading reflect, refract, foam as float
+/// properties; faces as uchar-counted uint index lists. InputError for an index out of
+/// range or a frame the view does not hold.
+std::string ply_frame_bytes(const MorphAnimationView& view, std::size_t f);
+
 /// One triangle mesh as OBJ text: `v x y z` per vertex (3 floats each in `positions`),
 /// `f a b c` per triangle (0-based `triangles`, written 1-based), a comment line first.
 /// Precondition: every index < positions.size() / 3.
@@ -356,5 +365,121 @@ private:
 /// from `base`, the range's first frame, and `so_far`. Taken chunk by chunk over a range,
 /// it is what gltf_morph_glb finds over the whole range.
 double position_delta_range(std::span<const float> base, std::span<const float> frames, double so_far = 0.0) noexcept;
+
+/// The caustic maps' names beside an animation, by loop frame (printf pattern).
+inline constexpr char kCausticImages[] = "caustics/caustics-%04d.png";
+/// The sunbeam volumes' names beside an animation, by loop frame (printf pattern).
+inline constexpr char kSunbeamVolumes[] = "sunbeams/sunbeams-%04d.vdb";
+/// The whitewater particles' files beside an animation, by loop frame (printf pattern).
+inline constexpr char kWhitewaterPoints[] = "whitewater/whitewater-%04d.glb";
+
+/// How an animation is written (docs/export.md): one row of export_forms() each, which
+/// the scene files (/outputs/form), `wave`'s --form options, the Python module and the
+/// run's size estimate read.
+enum class ExportForm {
+    morph,  ///< one .glb of morph targets
+    nodes,  ///< one .glb of scale-switched nodes
+    files,  ///< frames/frame-NNNN.glb and index.json
+    pc2,    ///< a base mesh and PC2 point caches
+    ply,    ///< ply/frame-NNNN.ply (positions, normals, rest UVs, shading) and ply/index.json
+};
+
+/// Binary .glb, or text .gltf with an external .bin.
+enum class ExportContainer {
+    glb,   ///< binary
+    gltf,  ///< JSON and an external .bin
+};
+
+/// (name under the output folder, bytes) pairs of an encoded animation.
+using EncodedFiles = std::vector<std::pair<std::string, std::string>>;
+
+/// What a form's size estimate reads (estimate_run): bytes of the writer's layout.
+struct ExportSizing {
+    double frames = 0.0;            ///< frames written
+    double vertices = 0.0;          ///< vertices per frame
+    double per_frame_vertex = 0.0;  ///< bytes a vertex adds per frame: POSITION, NORMAL, shading, COLOR_0
+    double indices = 0.0;           ///< bytes of the triangles' indices
+    double uv0 = 0.0;               ///< bytes of TEXCOORD_0
+    double draco_frame = 0.0;       ///< bytes of a Draco frame (measured)
+    double meshopt_share = 0.5;     ///< EXT_meshopt_compression's bytes over the floats'
+    bool draco = false;             ///< Draco-compressed
+    bool quantize = false;          ///< KHR_mesh_quantization
+    bool meshopt = false;           ///< EXT_meshopt_compression
+    bool shaded = false;            ///< with reflect, refract and foam
+};
+
+/// One export form: the table export_forms() lists, the one place a form is described.
+struct ExportFormInfo {
+    ExportForm form;               ///< its value
+    std::string_view name;         ///< as /outputs/form and --form spell it
+    std::string_view description;  ///< what it writes, for help texts
+    /// Its animation is one glTF file (animation.glb): `wave run -o FILE.glb`, the
+    /// Python module's glb(), the glTF codecs' choice by size.
+    bool single_file;
+    /// Each frame's files apart (frames/…), each frame's underwater files after its own.
+    bool per_frame;
+    /// It writes glTF: the glTF codecs (Draco, quantisation, meshopt) apply, and the
+    /// automatic codec (resolve_codec) may choose EXT_meshopt_compression for it.
+    bool gltf;
+    /// Whether StreamedWriter writes it a chunk of frames at a time (`quantize`: for a
+    /// view with KHR_mesh_quantization, whose range may need every frame).
+    bool (*streamed)(bool quantize) noexcept;
+    /// Its animation's files into `files`, in order: `animation_name` is animation.glb or
+    /// a slice's animation-frames-A-B.glb (`whole` false); encode_animation adds the rest.
+    void (*encode)(const MorphAnimationView& view, const std::string& animation_name, bool whole, EncodedFiles& files);
+    /// The bytes its animation's files take (the seafloor and underwater files apart).
+    double (*output_bytes)(const ExportSizing& sizing);
+};
+
+/// Every export form, in ExportForm's order.
+std::span<const ExportFormInfo> export_forms() noexcept;
+/// The row of `form`.
+const ExportFormInfo& export_form(ExportForm form) noexcept;
+/// The form named `name`; InputError naming the valid names ("form: expected one of …").
+ExportForm export_form_named(std::string_view name);
+
+/// The one place an animation becomes files in an export form (its export_forms()
+/// row): animation.glb (or animation-frames-A-B.glb for a slice, `whole` = false) for
+/// morph and nodes, frames/frame-NNNN.glb for files, a base mesh and point caches for
+/// pc2; with the gltf container each .glb becomes name.gltf + name.bin. With
+/// `caustics` (one PNG per frame of the view), the maps as kCausticImages beside them,
+/// with `sunbeams` (one OpenVDB volume per frame) the volumes as kSunbeamVolumes, and
+/// with `whitewater` (one POINTS .glb per frame) the particles as kWhitewaterPoints (in
+/// a per-frame form after each frame's own files). Used by `wave run`, `wave convert`
+/// and the Python module.
+EncodedFiles encode_animation(const MorphAnimationView& view, ExportForm form, ExportContainer container, bool whole,
+                              std::span<const std::string> caustics = {}, std::span<const std::string> sunbeams = {},
+                              std::span<const std::string> whitewater = {});
+
+/// Whether StreamedWriter writes `form` for a view quantised or not (its row's
+/// `streamed`): morph (plain or quantised: a first pass finds the deltas' range), nodes
+/// and pc2 (not quantised: KHR_mesh_quantization's range of positions spans every
+/// frame). The files form writes a chunk of frames at a time by its own index.
+bool streamed_form(ExportForm form, bool quantize) noexcept;
+
+/// The files of a form streamed_form accepts, written into `folder` (it must exist) a
+/// chunk of frames at a time: made with the range's first chunk (the file's static
+/// parts and settings are its) and the range's frame count, then `append` every chunk
+/// in order, the first one too, then `finish`, which returns each file's name (under
+/// the folder) and bytes, in encode_animation's order. The bytes equal
+/// encode_animation's of the whole range (`whole` as there; caustic maps aside). Used
+/// by stream_animation and `wave convert`. Throws InputError for a form it does not
+/// stream (naming it) and what AnimationFileWriter refuses; destroyed unfinished, it
+/// removes what it wrote.
+class StreamedWriter {
+public:
+    /// A writer of `frame_count` frames in `form` into `folder`, whose static parts are `first`'s.
+    StreamedWriter(const std::string& folder, ExportForm form, ExportContainer container, bool whole,
+                   const MorphAnimationView& first, std::size_t frame_count);
+    ~StreamedWriter();  ///< removes what it wrote unless finished
+    StreamedWriter(const StreamedWriter&) = delete;
+    StreamedWriter& operator=(const StreamedWriter&) = delete;
+    void append(const MorphAnimationView& chunk);  ///< the next frames, in order
+    std::vector<std::pair<std::string, std::size_t>> finish();  ///< writes the files in place
+
+private:
+    struct State;
+    std::unique_ptr<State> state_;
+};
 
 }  // namespace wave

@@ -8,7 +8,6 @@
 #pragma once
 
 #include "libwave/bathymetry.h"
-#include "libwave/surface.h"
 #include "libwave/trace.h"
 
 #include <complex>
@@ -119,25 +118,6 @@ std::size_t take_field_amplitudes(const WaveField& field, FrontSet& fronts) noex
 
 /// The same for Ts'o's rays: `fields[t]` is train t's field (RaySet::train).
 std::size_t take_field_amplitudes(std::span<const WaveField> fields, RaySet& rays) noexcept;
-
-/// Fills what the rays cannot give on resampled strips (resample_ray_strips; the
-/// triangles are the water mesh's) with the field's wave (docs/wave-field.md, "Where
-/// the rays leave off"):
-/// * gaps: vertices no strip covers but under water (k = 0, depth > 0), along the
-///   domain's sides where the rays diverge, in shadows;
-/// * tears: where the first strip by index switches from one layer of rays to another
-///   (rays that wrapped round an island over rays that did not), neighbours' phases
-///   differ by more than k̄|e| + π/4; every vertex within a local wavelength of such an
-///   edge (along the mesh) is bridged.
-/// They take amplitude |η̂|, k by the dispersion relation at their depth, slope and rise
-/// from the seafloor, phase arg η̂ plus an offset, and a direction. The offset is the
-/// rays' φ − arg η̂ (unwrapped along the mesh between rays' vertices) continued over
-/// them by a screened Laplace equation (a sparse Cholesky solve), so that crests run on
-/// across every seam; far from any ray (screening length about two wavelengths) it
-/// tends to the offsets' circular mean. The direction is the rays' continued the same
-/// way towards the field's ∇ arg η̂. Vertices outside the field's water stay as they
-/// are. Returns how many it filled.
-std::size_t fill_strip_gaps(const WaveField& field, const Seafloor& seafloor, RayStrips& strips);
 
 /// The field resampled on a regular grid over the seafloor's rectangle (row 0 at y0,
 /// the field's spacing): what `wave field` writes. NaN where there is no water.

@@ -1,8 +1,12 @@
-// libwave — crash-safe output files (docs/conventions.md).
+// libwave — crash-safe output files (docs/conventions.md), paths read from files, and
+// images as PNG bytes: the core every stage uses.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace wave {
 
@@ -35,5 +39,17 @@ std::string printable(std::string_view text);
 /// otherwise (docs/hardening.md, "Paths read from files"). The same rule as
 /// `--resume`'s and the viewer's.
 std::string path_inside(const std::string& folder, const std::string& name, const std::string& what);
+
+/// An 8-bit RGB image.
+struct Image {
+    std::size_t width = 0;   ///< pixels
+    std::size_t height = 0;  ///< pixels
+    std::vector<std::uint8_t> rgb;  ///< row-major from the top, 3 bytes per pixel
+};
+
+/// The image as PNG bytes (stb_image_write); write_png writes them atomically.
+/// Throw RuntimeError on failure.
+std::string png_bytes(const Image& image);
+void write_png(const Image& image, const std::string& path);
 
 }  // namespace wave

@@ -182,14 +182,8 @@ struct Scene {
     bool dress_camera = true;    ///< /outputs/camera
     bool dress_sun = true;       ///< /outputs/sun
     bool dress_material = true;  ///< /outputs/material
-    /// How the animation is written: one .glb of morph targets, one .glb of
-    /// scale-switched nodes, or one .glb per frame plus index.json.
-    enum class Form {
-        morph,  ///< one .glb of morph targets
-        nodes,  ///< one .glb of scale-switched nodes
-        files,  ///< frames/frame-NNNN.glb and index.json
-        pc2,    ///< a base mesh and PC2 point caches
-    };
+    /// How the animation is written (export_forms(): morph, nodes, files, pc2).
+    using Form = ExportForm;
     Form form = Form::morph;  ///< /outputs/form
     bool quantize = false;  ///< KHR_mesh_quantization (not with Draco)
     /// EXT_meshopt_compression (MorphAnimationView::meshopt; not with Draco or quantize).
@@ -198,10 +192,7 @@ struct Scene {
     /// chooses with resolve_codec, meshopt for a big output, plain floats for a small one.
     bool codec_auto = true;
     /// Binary .glb, or text .gltf with an external .bin.
-    enum class Container {
-        glb,   ///< binary
-        gltf,  ///< JSON and an external .bin
-    };
+    using Container = ExportContainer;
     Container container = Container::glb;  ///< /outputs/container
     /// Draco compression (empty = none); in the morph form, of the base mesh.
     std::optional<DracoOptions> draco;
@@ -222,8 +213,8 @@ struct Scene {
 Scene default_scene();
 
 /// The export forms and containers as scene files (/outputs) and the command line spell
-/// them: "morph", "nodes", "files"; "glb", "gltf". The *_from_name functions throw
-/// InputError naming the valid names.
+/// them (the forms: export_forms()'s names; "glb", "gltf"). The *_from_name functions
+/// throw InputError naming the valid names.
 std::string_view form_name(Scene::Form form);
 Scene::Form form_from_name(std::string_view name);
 std::string_view container_name(Scene::Container container);
@@ -262,12 +253,6 @@ PreviewOptions scene_preview(const Scene& scene, const Seafloor& seafloor);
 struct ScenePlan;
 CausticOptions scene_caustic_options(const Scene& scene, const ScenePlan& plan);
 
-/// The caustic maps' names beside an animation, by loop frame (printf pattern).
-inline constexpr char kCausticImages[] = "caustics/caustics-%04d.png";
-/// The sunbeam volumes' names beside an animation, by loop frame (printf pattern).
-inline constexpr char kSunbeamVolumes[] = "sunbeams/sunbeams-%04d.vdb";
-/// The whitewater particles' files beside an animation, by loop frame (printf pattern).
-inline constexpr char kWhitewaterPoints[] = "whitewater/whitewater-%04d.glb";
 
 /// The scene's trace options with Ts'o's rule applied: when orthogonals_per_grid_line
 /// > 0, ray_spacing = min(surface cell dx, dy) / orthogonals_per_grid_line.
@@ -407,7 +392,7 @@ struct FrameRange {
 /// the per-frame float arrays animate_scene keeps (positions, normals, shading,
 /// colour), the files of the scene's form, and the peak memory of `wave run` (the plan,
 /// those arrays, and the encoded files, held until they are published; the constants
-/// were measured on the default scene, pipeline.cpp).
+/// were measured on the default scene, src/scene/budgets.cpp).
 /// Uncompressed sizes follow the writer's layout exactly (docs/export.md); Draco
 /// frames are estimated at 9.2 bytes per vertex (measured on the default scene's water mesh with
 /// the default 14-bit positions), quantised morph targets at 0.7 of plain.
@@ -471,21 +456,6 @@ void check_run_limits(const Scene& scene, const RunEstimate& estimate, std::size
 /// index is rewritten a bounded number of times.
 std::size_t files_form_chunk(const RunEstimate& e, double max_bytes = 2e9);
 
-/// (name under the output folder, bytes) pairs of an encoded animation.
-using EncodedFiles = std::vector<std::pair<std::string, std::string>>;
-
-/// The one place an animation becomes files in an export form: animation.glb (or
-/// animation-frames-A-B.glb for a slice, `whole` = false) for morph and nodes, or
-/// frames/frame-NNNN.glb for files; with the gltf container each .glb becomes
-/// name.gltf + name.bin. With `caustics` (one PNG per frame of the view), the maps as
-/// kCausticImages beside them, and with `sunbeams` (one OpenVDB volume per frame) the
-/// volumes as kSunbeamVolumes, and with `whitewater` (one POINTS .glb per frame) the
-/// particles as kWhitewaterPoints (in the files form, after each frame's own files).
-/// Used by `wave run`, `wave convert` and the Python module.
-EncodedFiles encode_animation(const MorphAnimationView& view, Scene::Form form, Scene::Container container, bool whole,
-                              std::span<const std::string> caustics = {}, std::span<const std::string> sunbeams = {},
-                              std::span<const std::string> whitewater = {});
-
 /// Frames of one loop evaluated a chunk at a time, for runs that must not hold every
 /// frame (the streamed export forms, docs/export.md): constructed once per range (the
 /// model's state, normals' adjacency, untangling and caustic plans, the fold foam's
@@ -526,33 +496,7 @@ private:
 /// KHR_mesh_quantization's range of positions spans every frame). The files form
 /// writes a chunk of frames at a time by its own index (`wave run --resume`).
 bool streamed_form(const Scene& scene);
-/// The same for a form and quantisation (what `wave convert` asks).
-bool streamed_form(Scene::Form form, bool quantize) noexcept;
-
-/// The files of a form streamed_form accepts, written into `folder` (it must exist) a
-/// chunk of frames at a time: made with the range's first chunk (the file's static
-/// parts and settings are its) and the range's frame count, then `append` every chunk
-/// in order, the first one too, then `finish`, which returns each file's name (under
-/// the folder) and bytes, in encode_animation's order. The bytes equal
-/// encode_animation's of the whole range (`whole` as there; caustic maps aside). Used
-/// by stream_animation and `wave convert`. Throws InputError for a form it does not
-/// stream (naming it) and what AnimationFileWriter refuses; destroyed unfinished, it
-/// removes what it wrote.
-class StreamedWriter {
-public:
-    /// A writer of `frame_count` frames in `form` into `folder`, whose static parts are `first`'s.
-    StreamedWriter(const std::string& folder, Scene::Form form, Scene::Container container, bool whole,
-                   const MorphAnimationView& first, std::size_t frame_count);
-    ~StreamedWriter();  ///< removes what it wrote unless finished
-    StreamedWriter(const StreamedWriter&) = delete;
-    StreamedWriter& operator=(const StreamedWriter&) = delete;
-    void append(const MorphAnimationView& chunk);  ///< the next frames, in order
-    std::vector<std::pair<std::string, std::size_t>> finish();  ///< writes the files in place
-
-private:
-    struct State;
-    std::unique_ptr<State> state_;
-};
+// streamed_form(ExportForm, bool), StreamedWriter and encode_animation: export.h.
 
 /// What stream_animation wrote and saw.
 struct StreamedAnimation {

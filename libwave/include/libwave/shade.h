@@ -10,6 +10,7 @@
 //   colour darkening with depth (Ts'o's future work, §5).
 #pragma once
 
+#include "libwave/io.h"
 #include "libwave/motion.h"
 #include "libwave/physics.h"
 #include "libwave/surface.h"
@@ -29,14 +30,6 @@ namespace wave {
 /// vertex, same size as `positions`); allocates nothing.
 void vertex_normals(std::span<const float> positions, std::span<const std::uint32_t> triangles,
                     std::span<float> normals) noexcept;
-
-/// The triangles touching each vertex, in increasing order (compressed rows: vertex v's
-/// are faces[offsets[v] .. offsets[v + 1])), built once per topology.
-struct VertexFaces {
-    std::vector<std::uint32_t> offsets;  ///< vertex_count + 1
-    std::vector<std::uint32_t> faces;    ///< triangle indices, grouped by vertex
-};
-VertexFaces vertex_faces(std::size_t vertex_count, std::span<const std::uint32_t> triangles);
 
 /// The same normals, bit for bit, in parallel (TBB): the triangles' cross products
 /// first (one float triple per triangle, allocated here), then each vertex gathers its
@@ -231,13 +224,6 @@ struct PreviewOptions {
     bool sea_to_horizon = true;
 };
 
-/// An 8-bit RGB image.
-struct Image {
-    std::size_t width = 0;   ///< pixels
-    std::size_t height = 0;  ///< pixels
-    std::vector<std::uint8_t> rgb;  ///< row-major from the top, 3 bytes per pixel
-};
-
 /// Ray-casts a triangle mesh (positions 3 per vertex, z up; Embree's BVH) with
 /// per-vertex normals interpolated at the hit (or none: face normals), bump normals
 /// evaluated analytically at every hit point, the sky (a gradient and the sun's disc)
@@ -248,10 +234,5 @@ Image render_preview(std::span<const float> positions, std::span<const float> no
 
 /// Images side by side in a grid of `columns` (a contact sheet); all the same size.
 Image contact_sheet(std::span<const Image> images, std::size_t columns);
-
-/// The image as PNG bytes (stb_image_write); write_png writes them atomically.
-/// Throw RuntimeError on failure.
-std::string png_bytes(const Image& image);
-void write_png(const Image& image, const std::string& path);
 
 }  // namespace wave

@@ -12,6 +12,7 @@
 #pragma once
 
 #include "libwave/bathymetry.h"
+#include "libwave/field.h"
 #include "libwave/trace.h"
 
 #include <cstddef>
@@ -448,12 +449,39 @@ RayStrips build_ray_strips(const FrontSet& fronts);
 RayStrips resample_ray_strips(const RayStrips& strips, const Seafloor& seafloor, std::span<const double> x,
                               std::span<const double> y, std::span<const std::uint32_t> triangles);
 
+/// Fills what the rays cannot give on resampled strips (resample_ray_strips; the
+/// triangles are the water mesh's) with the field's wave (docs/wave-field.md, "Where
+/// the rays leave off"):
+/// * gaps: vertices no strip covers but under water (k = 0, depth > 0), along the
+///   domain's sides where the rays diverge, in shadows;
+/// * tears: where the first strip by index switches from one layer of rays to another
+///   (rays that wrapped round an island over rays that did not), neighbours' phases
+///   differ by more than k̄|e| + π/4; every vertex within a local wavelength of such an
+///   edge (along the mesh) is bridged.
+/// They take amplitude |η̂|, k by the dispersion relation at their depth, slope and rise
+/// from the seafloor, phase arg η̂ plus an offset, and a direction. The offset is the
+/// rays' φ − arg η̂ (unwrapped along the mesh between rays' vertices) continued over
+/// them by a screened Laplace equation (a sparse Cholesky solve), so that crests run on
+/// across every seam; far from any ray (screening length about two wavelengths) it
+/// tends to the offsets' circular mean. The direction is the rays' continued the same
+/// way towards the field's ∇ arg η̂. Vertices outside the field's water stay as they
+/// are. Returns how many it filled.
+std::size_t fill_strip_gaps(const WaveField& field, const Seafloor& seafloor, RayStrips& strips);
+
+/// The triangles touching each vertex, in increasing order (compressed rows: vertex v's
+/// are faces[offsets[v] .. offsets[v + 1])), built once per topology.
+struct VertexFaces {
+    std::vector<std::uint32_t> offsets;  ///< vertex_count + 1
+    std::vector<std::uint32_t> faces;    ///< triangle indices, grouped by vertex
+};
+VertexFaces vertex_faces(std::size_t vertex_count, std::span<const std::uint32_t> triangles);
+
 /// Binary little-endian PLY of the strips at rest, written by OpenMesh with the
 /// per-vertex properties as PLY vertex properties: ray, step (int); phase, k, omega,
 /// amplitude, depth, slope, rise, dir_x, dir_y (double); flag (uchar: 0 alive, 1 flat,
 /// 2 aground), caustic (uchar). The strips are built into an OpenMesh TriMesh for it.
-/// Atomic write; throws RuntimeError if the file cannot be written, or if OpenMesh
-/// rejects a face (non-manifold topology — a bug).
+/// Atomic write; throws RuntimeError if the file cannot be written, InternalError if
+/// OpenMesh rejects a face (a non-manifold strip: a bug).
 void write_ray_strips_ply(const RayStrips& strips, const std::string& path);
 
 }  // namespace wave

@@ -5,7 +5,7 @@
 #include "core/format.h"
 #include "libwave/errors.h"
 
-#include "libwave/shade.h"
+#include "libwave/io.h"
 
 #include <stb/stb_easy_font.h>
 

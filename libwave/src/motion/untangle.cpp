@@ -6,7 +6,6 @@
 #include "core/smoothstep.h"
 
 #include "libwave/errors.h"
-#include "libwave/shade.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

@@ -129,9 +129,14 @@ void read_trace(const Node& n, Scene& s) {
     if (n.has("breaker_index")) s.trace.breaker_index = n["breaker_index"].number("H/h");
 }
 
-// The export forms and containers by name (form_name, form_from_name, …).
-constexpr std::array<std::pair<std::string_view, Scene::Form>, 4> kForms{
-    {{"morph", Scene::Form::morph}, {"nodes", Scene::Form::nodes}, {"files", Scene::Form::files}, {"pc2", Scene::Form::pc2}}};
+// The export forms by name: export_forms()'s rows.
+std::map<std::string, Scene::Form> form_values() {
+    std::map<std::string, Scene::Form> out;
+    for (const ExportFormInfo& f : export_forms()) out.emplace(std::string(f.name), f.form);
+    return out;
+}
+
+// The containers by name (container_name, container_from_name).
 constexpr std::array<std::pair<std::string_view, Scene::Container>, 2> kContainers{
     {{"glb", Scene::Container::glb}, {"gltf", Scene::Container::gltf}}};
 
@@ -146,7 +151,7 @@ template <class T, std::size_t N>
 std::string_view name_of(const std::array<std::pair<std::string_view, T>, N>& table, T value) {
     for (const auto& [name, v] : table)
         if (v == value) return name;
-    throw std::logic_error("libwave: an unnamed export setting");
+    throw InternalError("an export setting without a name");
 }
 
 template <class T, std::size_t N>
@@ -478,8 +483,8 @@ GerstnerSpec read_gerstner(const Node& n) {
 
 }  // namespace
 
-std::string_view form_name(Scene::Form form) { return name_of(kForms, form); }
-Scene::Form form_from_name(std::string_view name) { return value_named(kForms, name, "form"); }
+std::string_view form_name(Scene::Form form) { return export_form(form).name; }
+Scene::Form form_from_name(std::string_view name) { return export_form_named(name); }
 std::string_view container_name(Scene::Container container) { return name_of(kContainers, container); }
 Scene::Container container_from_name(std::string_view name) { return value_named(kContainers, name, "container"); }
 
@@ -649,7 +654,7 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
         if (o.has("material")) s.dress_material = o["material"].boolean();
         if (o.has("quantize")) s.quantize = o["quantize"].boolean();
         if (o.has("container")) s.container = o["container"].choice(named_values(kContainers));
-        if (o.has("form")) s.form = o["form"].choice(named_values(kForms));
+        if (o.has("form")) s.form = o["form"].choice(form_values());
         if (o.has("attributes"))
             s.attributes = o["attributes"].choice<Scene::Attributes>(
                 {{"none", Scene::Attributes::none}, {"uv-maps", Scene::Attributes::uv_maps}, {"named", Scene::Attributes::named}});

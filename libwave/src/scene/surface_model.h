@@ -1,5 +1,5 @@
 // The wave models a scene's /surface/kind names, behind one interface: the pipeline
-// (pipeline.cpp) and scene reading (read_scene.cpp) ask the model, never the kind.
+// (plan.cpp, frames.cpp) and scene reading (read_scene.cpp) ask the model, never the kind.
 //
 // Adding a model: its file in scene/models/ (a SurfaceModel constant), one line in
 // models/registry.cpp, its SurfaceKind value (libwave/scene.h) and its name in the

@@ -56,20 +56,6 @@ void vertex_normals(std::span<const float> p, std::span<const std::uint32_t> tri
     for (std::size_t v = 0; v + 2 < n.size(); v += 3) normalise(&n[v]);
 }
 
-VertexFaces vertex_faces(std::size_t vertex_count, std::span<const std::uint32_t> tri) {
-    VertexFaces a;
-    a.offsets.assign(vertex_count + 1, 0);
-    for (std::uint32_t v : tri) {
-        if (v >= vertex_count) throw InputError("vertex_faces: triangle index " + std::to_string(v) + " >= " + std::to_string(vertex_count));
-        ++a.offsets[v + 1];
-    }
-    for (std::size_t v = 0; v < vertex_count; ++v) a.offsets[v + 1] += a.offsets[v];
-    a.faces.resize(tri.size());
-    std::vector<std::uint32_t> fill(a.offsets.begin(), a.offsets.end() - 1);
-    for (std::size_t i = 0; i < tri.size(); ++i) a.faces[fill[tri[i]]++] = static_cast<std::uint32_t>(i / 3);  // ascending
-    return a;
-}
-
 void vertex_normals(std::span<const float> p, std::span<const std::uint32_t> tri, const VertexFaces& adj, std::span<float> n) {
     const std::size_t count = n.size() / 3;
     if (adj.offsets.size() != count + 1 || p.size() != n.size())

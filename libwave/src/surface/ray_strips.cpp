@@ -171,8 +171,8 @@ void fill_trimesh(const RayStrips& s, detail::RayStripTriMesh& tri) {
     for (std::size_t t = 0; t + 2 < s.triangles.size(); t += 3) {
         const std::uint32_t a = s.triangles[t], b = s.triangles[t + 1], c = s.triangles[t + 2];
         if (!m.add_face(vh[a], vh[b], vh[c]).is_valid())
-            throw RuntimeError("ray strips: OpenMesh rejected a face between fronts " + std::to_string(s.step[a]) +
-                               " and " + std::to_string(s.step[c]) + " (non-manifold strip; please report)");
+            throw InternalError("ray strips: OpenMesh rejected a face between fronts " + std::to_string(s.step[a]) +
+                               " and " + std::to_string(s.step[c]) + " (a non-manifold strip)");
     }
 }
 

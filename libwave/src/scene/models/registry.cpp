@@ -1,8 +1,10 @@
 // The wave models, one line each, in the order of SurfaceKind.
 #include "../surface_model.h"
 
+#include "libwave/errors.h"
+
 #include <array>
-#include <stdexcept>
+#include <string>
 
 namespace wave::detail {
 
@@ -22,7 +24,7 @@ std::span<const SurfaceModel* const> surface_models() { return kModels; }
 const SurfaceModel& surface_model(SurfaceKind kind) {
     for (const SurfaceModel* m : kModels)
         if (m->kind == kind) return *m;
-    throw std::logic_error("libwave: no model registered for this surface kind");
+    throw InternalError("no model registered for surface kind " + std::to_string(static_cast<int>(kind)));
 }
 
 }  // namespace wave::detail

@@ -1,10 +1,10 @@
 // Where the rays cannot give the wave — the gaps they leave, and the tears where one
 // layer of rays gives way to another — the refraction–diffraction field gives it
-// (field.h, fill_strip_gaps; docs/wave-field.md, "Where the rays leave off").
-#include "libwave/field.h"
+// (surface.h, fill_strip_gaps; docs/wave-field.md, "Where the rays leave off").
+#include "libwave/surface.h"
 
+#include "libwave/field.h"
 #include "libwave/physics.h"
-#include "libwave/shade.h"
 
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>

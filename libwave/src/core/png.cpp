@@ -2,7 +2,6 @@
 // link theirs): the preview's frames and the wave field's plot. The core component.
 #include "libwave/errors.h"
 #include "libwave/io.h"
-#include "libwave/shade.h"
 
 #define STB_IMAGE_WRITE_STATIC
 #define STB_IMAGE_WRITE_IMPLEMENTATION
