@@ -18,6 +18,7 @@
 #include <queue>
 #include <string>
 #include <tuple>
+#include <utility>
 
 namespace wave {
 namespace {
@@ -32,6 +33,24 @@ constexpr double kResolveReachHeights = 4.0;
 // the crest's back that runs forward with them; the weight rises with the slope from
 // flat water, so that it is continuous in time (radians).
 constexpr double kDrawnSlope = 8.0 * pi / 180.0;
+
+// Each vertex's neighbours over the triangles (indices below n), as compressed rows:
+// vertex v's are next[start[v] .. start[v + 1]), two per triangle it is in.
+std::pair<std::vector<std::uint32_t>, std::vector<std::uint32_t>> vertex_neighbours(std::span<const std::uint32_t> triangles,
+                                                                                     std::size_t n) {
+    std::vector<std::uint32_t> start(n + 1, 0), next;
+    for (std::uint32_t v : triangles) start[v + 1] += 2;
+    for (std::size_t v = 0; v < n; ++v) start[v + 1] += start[v];
+    next.resize(start[n]);
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t t = 0; t + 2 < triangles.size(); t += 3)
+        for (std::size_t i = 0; i < 3; ++i) {
+            const std::uint32_t a = triangles[t + i];
+            next[fill[a]++] = triangles[t + (i + 1) % 3];
+            next[fill[a]++] = triangles[t + (i + 2) % 3];
+        }
+    return {std::move(start), std::move(next)};
+}
 
 double lerp(double a, double b, double t) noexcept { return a + (b - a) * t; }
 
@@ -478,21 +497,10 @@ std::size_t fill_jeschke_gaps(JeschkeMotionPlan& p, std::span<const std::uint32_
     const std::size_t n = p.vertex_count();
     if (!(reach_wavelengths > 0.0) || !std::isfinite(reach_wavelengths))
         throw InputError("jeschke gaps: reach_wavelengths must be > 0");
-    // The mesh's vertex neighbours (CSR).
-    std::vector<std::uint32_t> start(n + 1, 0), next;
-    for (std::uint32_t v : triangles) {
+    // The mesh's vertex neighbours.
+    for (std::uint32_t v : triangles)
         if (v >= n) throw InputError("jeschke gaps: triangle index " + std::to_string(v) + " of " + std::to_string(n) + " vertices");
-        start[v + 1] += 2;
-    }
-    for (std::size_t v = 0; v < n; ++v) start[v + 1] += start[v];
-    next.resize(start[n]);
-    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t t = 0; t + 2 < triangles.size(); t += 3)
-        for (std::size_t i = 0; i < 3; ++i) {
-            const std::uint32_t a = triangles[t + i];
-            next[fill[a]++] = triangles[t + (i + 1) % 3];
-            next[fill[a]++] = triangles[t + (i + 2) % 3];
-        }
+    const auto [start, next] = vertex_neighbours(triangles, n);
     // Dijkstra from every traced vertex at once; a gap vertex keeps its nearest source.
     constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
     std::vector<std::uint32_t> source(n, none);
@@ -755,17 +763,7 @@ void resolve_jeschke_lips(JeschkeMotionPlan& p, std::span<const std::uint32_t> t
         }
     // Distance to the boundary in wavelengths, by hops over the mesh (Dijkstra on edges).
     std::vector<double> reach(n, std::numeric_limits<double>::infinity());
-    std::vector<std::uint32_t> start(n + 1, 0), next;
-    for (std::uint32_t v : triangles) start[v + 1] += 2;
-    for (std::size_t v = 0; v < n; ++v) start[v + 1] += start[v];
-    next.resize(start[n]);
-    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t t = 0; t + 2 < triangles.size(); t += 3)
-        for (std::size_t i = 0; i < 3; ++i) {
-            const std::uint32_t a = triangles[t + i];
-            next[fill[a]++] = triangles[t + (i + 1) % 3];
-            next[fill[a]++] = triangles[t + (i + 2) % 3];
-        }
+    const auto [start, next] = vertex_neighbours(triangles, n);
     using Item = std::pair<double, std::uint32_t>;
     std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
     for (std::uint32_t v = 0; v < n; ++v)

@@ -339,7 +339,7 @@ void evaluate_frame(FrameRun& r, const std::vector<std::uint32_t>& coarse_triang
         std::span<const float> lips = fc;
         OverturnTest drawn;
         if (r.model.lips) {
-            r.lip_weight.assign(fc.size(), 0.0f);
+            r.lip_weight.resize(fc.size());  // zeros beyond the model's own vertices (the skirt): the hook writes all of its
             if (r.model.lips(r.scene, r.plan, t, std::span<float>(r.lip_weight).first(model_vertex_count(r.plan)))) {
                 lips = r.lip_weight;
                 if (r.model.draws_overturned)
