@@ -9,7 +9,7 @@
 // outer section the mesh takes (breakers.lip "outer") in blue, with the points of a mesh
 // of 16 vertices a wavelength on it, through the breaking and collapsing phases.
 //
-//   jeschke_plot [profiles.png] [outer.png]
+//   jeschke_plot [profiles.png] [outer.png] [curl.png]
 #include <libwave/motion.h>
 
 #include "plot_canvas.h"
@@ -59,6 +59,34 @@ int draw_outer(const std::string& out) {
     return plot::write_png(c, out) ? 0 : 1;
 }
 
+// The curl section (breakers.lip "curl") of a plunging crest at 5H/W = 0.2, to scale,
+// through its life: the back at the wavelength's scale, the front at the breaker's own.
+int draw_curl(const std::string& out) {
+    constexpr double ratio = 0.2, px = 1100.0;
+    constexpr int row_h = 110, top = 40, left = 40;
+    const double lives[] = {0.15, 0.3, 0.45, 0.6, 0.75, 0.9, 1.1, 1.4};
+    plot::Canvas c(1200, top + 8 * row_h);
+    c.text(10, 8, "5H/W = 0.2, to scale; blue: the curl section of a plunging crest (curl 1); red: 16 mesh points a wavelength");
+    const unsigned char blue[3] = {20, 70, 200}, red[3] = {210, 30, 30};
+    std::vector<wave::BreakerSectionPoint> section;
+    for (int row = 0; row < 8; ++row) {
+        const double life = lives[row];
+        const double base = top + row * row_h + 0.8 * row_h;
+        char label[64];
+        std::snprintf(label, sizeof label, "%s t = %.2f", life < 1.0 ? "breaking" : "collapsing", life < 1.0 ? life : life - 1.0);
+        c.text(left, top + row * row_h + 4, label);
+        wave::curl_section(life, 1.0, ratio, {}, 1024, section);
+        for (std::size_t m = 1; m < section.size(); ++m)
+            c.line(left + section[m - 1].x * px, base - ratio * section[m - 1].z * px, left + section[m].x * px,
+                   base - ratio * section[m].z * px, blue, 2);
+        for (std::size_t m = 0; m < section.size(); m += 64)
+            for (int d = -2; d <= 2; ++d)
+                c.line(left + section[m].x * px - 2, base - ratio * section[m].z * px + d, left + section[m].x * px + 2,
+                       base - ratio * section[m].z * px + d, red, 1);
+    }
+    return plot::write_png(c, out) ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -99,5 +127,6 @@ int main(int argc, char** argv) {
             }
         }
     if (!plot::write_png(c, out)) return 1;
-    return argc > 2 ? draw_outer(argv[2]) : 0;
+    if (argc > 2 && draw_outer(argv[2]) != 0) return 1;
+    return argc > 3 ? draw_curl(argv[3]) : 0;
 }

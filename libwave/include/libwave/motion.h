@@ -460,12 +460,16 @@ BreakerSections plan_breaker_sections(double curl_min, double curl_max, const Br
                                       bool overturn = false);
 
 /// The overturning section (BreakerLip::curl) where the mesh resolves the tube: the
-/// outer section with its wall — the lip hanging over the water ahead — replaced by a
-/// tube's mouth: down a quarter of the wall from the lip's top, back under the lip by
-/// half the wall's height × plunge, down to the wall's foot; plunge = (curl − 0.6)/0.4
-/// in [0, 1] (the plunging tube 1, collapsing and spilling crests 0: their outer
-/// section). Relabelled as the outer section is; on the lip's underside, which runs
-/// backwards, at the packing p (its points then move at most (1 + p) c frozen).
+/// outer section with its front pressed to the breaker's own proportions — ahead of the
+/// crest the envelope is drawn at the paper's figure's aspect (5H/W = 1) instead of the
+/// wavelength's, setting in over the first half of the breaking phase, so that the face
+/// is about as wide as it is high — and its wall — the lip hanging over the water ahead —
+/// replaced by a tube's mouth: down a quarter of the wall from the lip's top, back under
+/// the lip by half the wall's height × plunge, down to the wall's foot; plunge = (curl −
+/// 0.6)/0.4 in [0, 1] (the plunging tube 1, collapsing and spilling crests 0: their
+/// pressed envelope), opening as the wall stands from 55° to 75°. Relabelled as the outer
+/// section is; on the lip's underside, which runs backwards, at the packing p (its points
+/// then move at most (1 + p) c frozen).
 void curl_section(double life, double curl, double ratio, const BreakerSectionBounds& bounds, std::size_t labels,
                   std::vector<BreakerSectionPoint>& out);
 

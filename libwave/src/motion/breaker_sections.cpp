@@ -5,6 +5,8 @@
 #include "libwave/errors.h"
 #include "libwave/motion.h"
 
+#include "core/smoothstep.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -105,6 +107,46 @@ void relabel(const std::vector<double>& top, double ratio, const BreakerSectionB
     out.back() = {1.0, top.back()};
 }
 
+// The breaker's front at its own scale (BreakerLip::curl). The paper draws the shape in a
+// unit square scaled by W across and 5H up, so at a real breaker's 5H/W ≈ 0.1–0.5 its
+// front — from the crest over the lip to where the lip lands — is a quarter of a
+// wavelength long and a fraction of a wavelength high: a long gentle slope with a
+// knife-thin lip, where a real plunging breaker has a face about as high as it is wide
+// (a tube about H across). The back stays at the wavelength's scale; ahead of the crest
+// the envelope is pressed towards it by σ = 1 − e (1 − min(1, 5H/W)), so that the front
+// has the proportions of the paper's figure (drawn with equal axes: 5H/W = 1), and the
+// water it leaves ahead is still (the envelope's front edge, z = 0). The pressing sets in
+// smoothly over the columns x ∈ [0.42, 0.52] (the crest stands near 0.5 through the life;
+// no kink at the pivot) and over the first half of the breaking phase, e = smoothstep(0,
+// ½, τ): τ = 0 is the round crest as before, so nothing jumps where breaking starts; it
+// stays pressed while the wave collapses (the shape itself sinks to still water).
+double front_pressing(double life) noexcept { return detail::smoothstep(0.0, 0.5, life); }
+
+std::vector<double> press_front(const std::vector<double>& top, double ratio, double life) {
+    const double sigma = 1.0 - front_pressing(life) * (1.0 - std::min(1.0, ratio));
+    if (!(sigma < 1.0)) return top;
+    const double dx = 1.0 / static_cast<double>(kColumns);
+    // X(x) = ∫ 1 − (1 − σ) smoothstep(0.42, 0.52, x) dx on the columns, then the envelope
+    // resampled at the columns X_j: z(X) = top(x(X)); past X(1), the front edge's z.
+    std::vector<double> X(kColumns + 1, 0.0);
+    for (std::size_t j = 0; j < kColumns; ++j) {
+        const double xm = (static_cast<double>(j) + 0.5) * dx;
+        X[j + 1] = X[j] + dx * (1.0 - (1.0 - sigma) * detail::smoothstep(0.42, 0.52, xm));
+    }
+    std::vector<double> out(kColumns + 1, top.back());
+    std::size_t i = 0;
+    for (std::size_t j = 0; j <= kColumns; ++j) {
+        const double xj = static_cast<double>(j) * dx;
+        if (xj > X.back()) break;
+        while (i + 1 < kColumns && X[i + 1] < xj) ++i;
+        const double span = X[i + 1] - X[i], w = span > 0.0 ? std::clamp((xj - X[i]) / span, 0.0, 1.0) : 0.0;
+        out[j] = top[i] + w * (top[i + 1] - top[i]);
+    }
+    out.front() = top.front();
+    out.back() = top.back();
+    return out;
+}
+
 // The overturning section (BreakerLip::curl): the envelope's wall — the steepest drop,
 // where the lip hangs over the water ahead — replaced by a tube's mouth. From the lip's
 // top the surface falls a quarter of the wall, then curls back under the lip by D and
@@ -125,8 +167,11 @@ void curl_polyline(const std::vector<double>& top, double ratio, double plunge, 
         if (angle(j) > angle(steepest)) steepest = j;
     px.clear();
     pz.clear();
-    const double wall = 70.0 * std::numbers::pi / 180.0, side = 45.0 * std::numbers::pi / 180.0;
-    if (!(plunge > 0.0) || angle(steepest) < wall || steepest == 0 || steepest + 1 == kColumns) {
+    // The mouth opens as the wall stands up, from 55° to 75° (it opened at once at 70°:
+    // a jump in time where a collapsing wall sinks back).
+    const double deg = std::numbers::pi / 180.0, side = 45.0 * deg;
+    plunge *= detail::smoothstep(55.0 * deg, 75.0 * deg, angle(steepest));
+    if (!(plunge > 0.0) || steepest == 0 || steepest + 1 == kColumns) {
         for (std::size_t j = 0; j <= kColumns; ++j) px.push_back(static_cast<double>(j) * dx), pz.push_back(top[j]);
         return;
     }
@@ -213,7 +258,7 @@ void curl_section(double life, double curl, double ratio, const BreakerSectionBo
     check_bounds(bounds);
     if (labels == 0) throw InputError("curl section: no labels");
     std::vector<double> px, pz;
-    curl_polyline(envelope(life, curl), ratio, plunge_of(curl), px, pz);
+    curl_polyline(press_front(envelope(life, curl), ratio, life), ratio, plunge_of(curl), px, pz);
     relabel_polyline(px, pz, ratio, bounds, labels, out);
 }
 
@@ -241,7 +286,7 @@ BreakerSections plan_breaker_sections(double curl_min, double curl_max, const Br
             const std::vector<double> top = envelope(life, curl);
             for (std::size_t q = 0; q < t.ratios; ++q) {
                 if (overturn) {
-                    curl_polyline(top, ratio_at(t, q), plunge_of(curl), px, pz);
+                    curl_polyline(press_front(top, ratio_at(t, q), life), ratio_at(t, q), plunge_of(curl), px, pz);
                     relabel_polyline(px, pz, ratio_at(t, q), bounds, t.labels, section);
                 } else {
                     relabel(top, ratio_at(t, q), bounds, kLabels, section);
