@@ -521,6 +521,17 @@ void print_surface_text(const RunSummary& r) {
         std::cout << "mesh       " << r.vertices << " vertices, " << r.triangles << " triangles\n";
 }
 
+// The export form's summary (ExportFormInfo::summary) with its fields filled in.
+std::string form_summary(std::string_view pattern, const std::string& first, std::size_t frames, std::size_t files) {
+    std::string out(pattern);
+    for (const auto& [key, value] : {std::pair<std::string_view, std::string>{"{first}", first}, {"{n}", std::to_string(frames)},
+                                     {"{files}", std::to_string(files)}})
+        for (std::size_t at = out.find(key); at != std::string::npos; at = out.find(key, at + value.size()))
+            out.replace(at, key.size(), value);
+    return out;
+}
+
+
 void print_run_text(const RunSummary& r) {
     const Scene& scene = r.scene;
     const ScenePlan& plan = r.plan;
@@ -543,10 +554,7 @@ void print_run_text(const RunSummary& r) {
                       ? std::string(" ms each, each chunk written as it came\n")  // the frames' time holds the export
                       : " ms each, export " + std::to_string(static_cast<long long>(std::llround(r.export_ms))) + " ms\n")
               << "wrote      " << r.out_dir << "/"
-              << (scene.form == Scene::Form::files ? "frames/ + index.json (" + std::to_string(animation_files) + " files"
-                  : scene.form == Scene::Form::nodes ? shown_name + " (" + std::to_string(r.frames) + " scale-switched nodes"
-                  : scene.form == Scene::Form::pc2   ? shown_name + " + .obj + .pc2 (" + std::to_string(r.frames) + " point-cache samples"
-                                                     : shown_name + " (" + std::to_string(r.frames) + " frames as morph targets, STEP weights")
+              << form_summary(export_form(scene.form).summary, shown_name, r.frames, animation_files)
               << "; " << static_cast<double>(r.animation_bytes) / 1e6 << " MB; set the scene fps to " << scene.fps
               << " before importing)\n"
               << "           " << r.out_dir << "/{" << side << "}\n";
