@@ -482,7 +482,7 @@ public:
                      const std::function<void(std::size_t, std::size_t)>& progress = {});
     /// The largest |delta| of any position coordinate from the range's first frame,
     /// over the whole range, from a pass of its own (`chunk` frames at a time, positions
-    /// only: no shading, colour or caustics); this stream is not advanced. What a
+    /// only: no shading, colour, caustics, whitewater or normals); this stream is not advanced. What a
     /// quantised morph file needs before its first target (MorphAnimationView::quantize_range).
     double position_delta_range(std::size_t chunk) const;
 

@@ -55,6 +55,7 @@ struct FrameRun {
     const detail::SurfaceModel& model;
     const Refinement* refined;  // nullptr without /refine
     bool shaded, creased;
+    bool positions_only = false;  // AnimationStream::position_delta_range's pass: no normals either
     std::unique_ptr<detail::ModelState> state{};
     detail::WindSeaState wind_sea{};
     // J₋ at the vertices for past lattice times of the fold-foam fade (FoldFoamOptions),
@@ -358,7 +359,7 @@ void evaluate_frame(FrameRun& r, const std::vector<std::uint32_t>& coarse_triang
         fr = &r.frame_refinement;
     }
     if (r.refined) apply_refinement(*fr, pc, 3, p);
-    if (!normals_done) {
+    if (!normals_done && !r.positions_only) {
         // Made when a frame first needs it: the FFT patch's normals are exact, and a
         // million vertices' adjacency took as long as three of its frames.
         if (r.adjacency.offsets.empty()) r.adjacency = vertex_faces(n, a.triangles);
@@ -449,6 +450,7 @@ struct AnimationStream::State {
                              const std::function<void(std::size_t, std::size_t)>& progress) {
         while (lanes.size() + 1 < lane_count) {
             lanes.push_back(std::make_unique<FrameRun>(scene_run(scene, plan, refined)));
+            lanes.back()->positions_only = run.positions_only;
             start_run(*lanes.back(), triangles, a.vertex_count);
         }
         std::vector<HeightRange> lane_heights(lane_count);
@@ -495,11 +497,16 @@ AnimationStream::~AnimationStream() = default;
 
 double AnimationStream::position_delta_range(std::size_t chunk) const {
     const State& s = *state_;
-    Scene positions_only = s.scene;  // no shading, colour or caustics: the positions are the same
+    // No shading, colour, caustics, whitewater or normals: the positions are the same
+    // (the particles ride the moved surface and the normals come from it; neither
+    // moves it).
+    Scene positions_only = s.scene;
     positions_only.attributes = Scene::Attributes::none;
     positions_only.color = false;
     positions_only.underwater.reset();
+    positions_only.whitewater.reset();
     AnimationStream pass(positions_only, s.plan, FrameRange{s.first, s.first + s.count});
+    pass.state_->run.positions_only = true;
     SceneAnimation a;
     std::vector<float> base;
     double range = 0.0;
