@@ -268,7 +268,7 @@ struct ScenePlan {
     FrontSet fronts;          ///< ray strips: Gonzato's fronts
     std::vector<WaveField> wave_fields;  ///< the trains' refraction–diffraction fields, where the model uses them
     RayStrips strips;         ///< ray strips: the tessellated surface
-    GonzatoMotionPlan motion; ///< ray strips: the profile's per-vertex shapes
+    GonzatoMotionPlan motion; ///< ray strips without breakers: the profile's per-vertex shapes (empty with them)
     JeschkeMotionPlan breakers; ///< ray strips with Scene::breakers: the breakers' plan (on the camera grid if any)
     CameraGrid camera_grid;     ///< Scene::camera_grid: the sampled points (empty otherwise)
     WaterMesh water_mesh;       ///< Scene::water_mesh_per_wavelength: the mesh (empty otherwise)
