@@ -484,6 +484,10 @@ public:
     /// over the whole range, from a pass of its own (`chunk` frames at a time, positions
     /// only: no shading, colour, caustics, whitewater or normals); this stream is not advanced. What a
     /// quantised morph file needs before its first target (MorphAnimationView::quantize_range).
+    /// Where the untangling runs on a surface whose foam needs nothing of the motion's
+    /// state (the ray strips, no wind sea), the pass's moved positions are kept in an
+    /// unnamed temporary file (12 bytes a vertex and frame) and this stream's frames take
+    /// them instead of moving and untangling again (the same bits).
     double position_delta_range(std::size_t chunk) const;
 
 private:

@@ -209,6 +209,7 @@ extern const SurfaceModel kRayStripsModel{
     },
     .skirt_size = skirt_size,
     .plan_skirt = plan_skirt,
+    .foam_of_time_alone = true,  // jeschke_foam, breaking_foam and jeschke_drawn_lips: of t and the plan
 };
 
 }  // namespace wave::detail
