@@ -379,27 +379,32 @@ void evaluate_frame(FrameRun& r, const std::vector<std::uint32_t>& coarse_triang
     const bool kept = !r.positions_only && spool_stands_in(r) && r.spool->take(frame, pc);
     const CoarseFrame coarse = kept ? CoarseFrame{} : move_coarse(r, t, pc, nrc, refl, refr);
     bool normals_done = coarse.normals_done;
-    // Foam before untangling, which leaves the breaking crests' lips to overturn; foam
-    // does not depend on the positions.
+    // The model's drawn walls and lips, where it says where they are, for the untangling
+    // (when this frame untangles: not when the delta-range pass's positions stand in).
+    const bool untangles = r.untangle && !kept;
+    bool lips_drawn = false;
+    OverturnTest drawn;
     const std::span<float> foam = r.shaded ? std::span<float>(&a.foam[n * f], n) : std::span<float>();
     const std::span<float> fc = (r.refined || !r.shaded) ? std::span<float>(r.coarse_foam) : foam;
-    if (r.shaded || r.untangle) {
+    if (untangles && r.model.lips) {
+        r.lip_weight.resize(fc.size());  // zeros beyond the model's own vertices (the skirt): the hook writes all of its
+        lips_drawn = r.model.lips(r.scene, r.plan, t, std::span<float>(r.lip_weight).first(model_vertex_count(r.plan)));
+        if (lips_drawn && r.model.draws_overturned)
+            drawn = [&r, t](std::uint32_t i, std::uint32_t j, std::uint32_t k) { return r.model.draws_overturned(r.plan, t, i, j, k); };
+    }
+    // Foam before untangling, which leaves the breaking crests' lips to overturn (the
+    // foam marks them where the model draws none); foam does not depend on the
+    // positions. Unshaded, a frame whose lips are drawn needs none (nor computes it
+    // when nothing else carries from frame to frame: no wind sea's fold samples, a
+    // model whose foam is of the time alone).
+    const bool foam_alone = r.plan.ocean.n == 0 && r.model.foam_of_time_alone;
+    if (r.shaded || (untangles && !lips_drawn) || (r.untangle && !foam_alone)) {
         std::fill(fc.begin(), fc.end(), 0.0f);
         coarse_foam(r, t, fc);
     }
-    if (r.untangle && !kept) {
-        // The model's drawn walls and lips, where it says where they are; else the foam.
-        std::span<const float> lips = fc;
-        OverturnTest drawn;
-        if (r.model.lips) {
-            r.lip_weight.resize(fc.size());  // zeros beyond the model's own vertices (the skirt): the hook writes all of its
-            if (r.model.lips(r.scene, r.plan, t, std::span<float>(r.lip_weight).first(model_vertex_count(r.plan)))) {
-                lips = r.lip_weight;
-                if (r.model.draws_overturned)
-                    drawn = [&r, t](std::uint32_t i, std::uint32_t j, std::uint32_t k) { return r.model.draws_overturned(r.plan, t, i, j, k); };
-            }
-        }
-        untangle_motion(*r.untangle, lips, pc, &r.untangle_scratch, drawn);
+    if (untangles) {
+        untangle_motion(*r.untangle, lips_drawn ? std::span<const float>(r.lip_weight) : std::span<const float>(fc), pc,
+                        &r.untangle_scratch, drawn);
         normals_done = false;
         if (r.positions_only && spool_stands_in(r)) r.spool->keep(frame, pc);
     }
