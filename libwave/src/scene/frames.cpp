@@ -85,7 +85,7 @@ private:
     bool inside(std::size_t frame) const { return frame >= first_ && frame - first_ < kept_.size(); }
     bool seek(std::size_t frame) {
         const double at = static_cast<double>(frame - first_) * static_cast<double>(floats_) * sizeof(float);
-        return at < 9e18 && std::fseek(file_, static_cast<long>(at), SEEK_SET) == 0;
+        return at < static_cast<double>(std::numeric_limits<long>::max()) && std::fseek(file_, static_cast<long>(at), SEEK_SET) == 0;
     }
 };
 
