@@ -268,7 +268,7 @@ struct ScenePlan {
     FrontSet fronts;          ///< ray strips: Gonzato's fronts
     std::vector<WaveField> wave_fields;  ///< the trains' refraction–diffraction fields, where the model uses them
     RayStrips strips;         ///< ray strips: the tessellated surface
-    GonzatoMotionPlan motion; ///< ray strips: the profile's per-vertex shapes
+    GonzatoMotionPlan motion; ///< ray strips without breakers: the profile's per-vertex shapes (empty with them)
     JeschkeMotionPlan breakers; ///< ray strips with Scene::breakers: the breakers' plan (on the camera grid if any)
     CameraGrid camera_grid;     ///< Scene::camera_grid: the sampled points (empty otherwise)
     WaterMesh water_mesh;       ///< Scene::water_mesh_per_wavelength: the mesh (empty otherwise)
@@ -482,8 +482,12 @@ public:
                      const std::function<void(std::size_t, std::size_t)>& progress = {});
     /// The largest |delta| of any position coordinate from the range's first frame,
     /// over the whole range, from a pass of its own (`chunk` frames at a time, positions
-    /// only: no shading, colour or caustics); this stream is not advanced. What a
+    /// only: no shading, colour, caustics, whitewater or normals); this stream is not advanced. What a
     /// quantised morph file needs before its first target (MorphAnimationView::quantize_range).
+    /// Where the untangling runs on a surface whose foam needs nothing of the motion's
+    /// state (the ray strips, no wind sea), the pass's moved positions are kept in an
+    /// unnamed temporary file (12 bytes a vertex and frame) and this stream's frames take
+    /// them instead of moving and untangling again (the same bits).
     double position_delta_range(std::size_t chunk) const;
 
 private:

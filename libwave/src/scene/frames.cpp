@@ -20,6 +20,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <functional>
 #include <limits>
 #include <map>
@@ -47,6 +48,47 @@ struct HeightRange {
     }
 };
 
+// The moved coarse positions of a range's frames, kept by the quantised morph form's
+// delta-range pass (AnimationStream::position_delta_range) for the stream's own pass,
+// which then skips the motion, the lips and the untangling — the same bits: the same
+// code on the same input (spool_stands_in says when). In an unnamed temporary file
+// (12 bytes a vertex and frame, gone when closed), not in memory: a loop's frames
+// outgrow the run's memory budget. Frames are written and read whole, under a lock.
+class PositionSpool {
+public:
+    PositionSpool(std::size_t first, std::size_t count, std::size_t floats)
+        : file_(std::tmpfile()), first_(first), floats_(floats), kept_(count, 0) {}
+    ~PositionSpool() {
+        if (file_) std::fclose(file_);
+    }
+    PositionSpool(const PositionSpool&) = delete;
+    PositionSpool& operator=(const PositionSpool&) = delete;
+    // Keeps frame `frame` of the loop (nothing when the file could not be made or written).
+    void keep(std::size_t frame, std::span<const float> p) {
+        const std::lock_guard lock(mutex_);
+        if (!file_ || !inside(frame) || p.size() != floats_) return;
+        const bool written = seek(frame) && std::fwrite(p.data(), sizeof(float), floats_, file_) == floats_;
+        kept_[frame - first_] = written ? 1 : 0;
+    }
+    // Frame `frame` into `p` if it was kept.
+    bool take(std::size_t frame, std::span<float> p) {
+        const std::lock_guard lock(mutex_);
+        if (!file_ || !inside(frame) || !kept_[frame - first_] || p.size() != floats_) return false;
+        return seek(frame) && std::fread(p.data(), sizeof(float), floats_, file_) == floats_;
+    }
+
+private:
+    std::FILE* file_;
+    std::size_t first_, floats_;
+    std::vector<std::uint8_t> kept_;
+    std::mutex mutex_;
+    bool inside(std::size_t frame) const { return frame >= first_ && frame - first_ < kept_.size(); }
+    bool seek(std::size_t frame) {
+        const double at = static_cast<double>(frame - first_) * static_cast<double>(floats_) * sizeof(float);
+        return at < static_cast<double>(std::numeric_limits<long>::max()) && std::fseek(file_, static_cast<long>(at), SEEK_SET) == 0;
+    }
+};
+
 // What a run of frames reuses: the model's buffers, the wind sea's, the fold foam's past
 // samples, and with /refine the coarse frame the stencils carry to the refined surface.
 struct FrameRun {
@@ -55,6 +97,8 @@ struct FrameRun {
     const detail::SurfaceModel& model;
     const Refinement* refined;  // nullptr without /refine
     bool shaded, creased;
+    bool positions_only = false;  // AnimationStream::position_delta_range's pass: no normals either
+    PositionSpool* spool = nullptr;  // that pass's positions: kept by it, taken by the stream's own pass
     std::unique_ptr<detail::ModelState> state{};
     detail::WindSeaState wind_sea{};
     // J₋ at the vertices for past lattice times of the fold-foam fade (FoldFoamOptions),
@@ -314,6 +358,13 @@ void whitewater_frame(FrameRun& r, double t, std::span<const float> pc, std::spa
     a.whitewater[f] = whitewater_glb(r.points, a.first_frame + f, r.scene.fps);
 }
 
+// Whether a frame's moved coarse positions, kept by the delta-range pass, stand in for
+// move_coarse, the lips and the untangling: the untangling runs (so move_coarse's normals
+// and Fresnel weights are not the frame's), no wind sea (whose fold samples move_coarse
+// leaves for the foam), and the model's foam and lips need nothing move leaves.
+bool may_spool(const FrameRun& r) { return r.untangle && r.plan.ocean.n == 0 && r.model.foam_of_time_alone; }
+bool spool_stands_in(const FrameRun& r) { return r.spool && may_spool(r); }
+
 // Frame f of the animation `a`: positions, normals and, shaded, the Fresnel weights,
 // foam and colour.
 void evaluate_frame(FrameRun& r, const std::vector<std::uint32_t>& coarse_triangles, std::size_t f, SceneAnimation& a,
@@ -324,30 +375,38 @@ void evaluate_frame(FrameRun& r, const std::vector<std::uint32_t>& coarse_triang
     const double t = static_cast<double>(a.first_frame + f) / r.scene.fps;
     const std::span<float> refl = r.shaded ? std::span<float>(&a.reflect[n * f], n) : std::span<float>();
     const std::span<float> refr = r.shaded ? std::span<float>(&a.refract[n * f], n) : std::span<float>();
-    const CoarseFrame coarse = move_coarse(r, t, pc, nrc, refl, refr);
+    const std::size_t frame = a.first_frame + f;
+    const bool kept = !r.positions_only && spool_stands_in(r) && r.spool->take(frame, pc);
+    const CoarseFrame coarse = kept ? CoarseFrame{} : move_coarse(r, t, pc, nrc, refl, refr);
     bool normals_done = coarse.normals_done;
-    // Foam before untangling, which leaves the breaking crests' lips to overturn; foam
-    // does not depend on the positions.
+    // The model's drawn walls and lips, where it says where they are, for the untangling
+    // (when this frame untangles: not when the delta-range pass's positions stand in).
+    const bool untangles = r.untangle && !kept;
+    bool lips_drawn = false;
+    OverturnTest drawn;
     const std::span<float> foam = r.shaded ? std::span<float>(&a.foam[n * f], n) : std::span<float>();
     const std::span<float> fc = (r.refined || !r.shaded) ? std::span<float>(r.coarse_foam) : foam;
-    if (r.shaded || r.untangle) {
+    if (untangles && r.model.lips) {
+        r.lip_weight.resize(fc.size());  // zeros beyond the model's own vertices (the skirt): the hook writes all of its
+        lips_drawn = r.model.lips(r.scene, r.plan, t, std::span<float>(r.lip_weight).first(model_vertex_count(r.plan)));
+        if (lips_drawn && r.model.draws_overturned)
+            drawn = [&r, t](std::uint32_t i, std::uint32_t j, std::uint32_t k) { return r.model.draws_overturned(r.plan, t, i, j, k); };
+    }
+    // Foam before untangling, which leaves the breaking crests' lips to overturn (the
+    // foam marks them where the model draws none); foam does not depend on the
+    // positions. Unshaded, a frame whose lips are drawn needs none (nor computes it
+    // when nothing else carries from frame to frame: no wind sea's fold samples, a
+    // model whose foam is of the time alone).
+    const bool foam_alone = r.plan.ocean.n == 0 && r.model.foam_of_time_alone;
+    if (r.shaded || (untangles && !lips_drawn) || (r.untangle && !foam_alone)) {
         std::fill(fc.begin(), fc.end(), 0.0f);
         coarse_foam(r, t, fc);
     }
-    if (r.untangle) {
-        // The model's drawn walls and lips, where it says where they are; else the foam.
-        std::span<const float> lips = fc;
-        OverturnTest drawn;
-        if (r.model.lips) {
-            r.lip_weight.resize(fc.size());  // zeros beyond the model's own vertices (the skirt): the hook writes all of its
-            if (r.model.lips(r.scene, r.plan, t, std::span<float>(r.lip_weight).first(model_vertex_count(r.plan)))) {
-                lips = r.lip_weight;
-                if (r.model.draws_overturned)
-                    drawn = [&r, t](std::uint32_t i, std::uint32_t j, std::uint32_t k) { return r.model.draws_overturned(r.plan, t, i, j, k); };
-            }
-        }
-        untangle_motion(*r.untangle, lips, pc, &r.untangle_scratch, drawn);
+    if (untangles) {
+        untangle_motion(*r.untangle, lips_drawn ? std::span<const float>(r.lip_weight) : std::span<const float>(fc), pc,
+                        &r.untangle_scratch, drawn);
         normals_done = false;
+        if (r.positions_only && spool_stands_in(r)) r.spool->keep(frame, pc);
     }
     if (r.ride) whitewater_frame(r, t, pc, fc, a, f);
     const Refinement* fr = r.refined;
@@ -358,7 +417,7 @@ void evaluate_frame(FrameRun& r, const std::vector<std::uint32_t>& coarse_triang
         fr = &r.frame_refinement;
     }
     if (r.refined) apply_refinement(*fr, pc, 3, p);
-    if (!normals_done) {
+    if (!normals_done && !r.positions_only) {
         // Made when a frame first needs it: the FFT patch's normals are exact, and a
         // million vertices' adjacency took as long as three of its frames.
         if (r.adjacency.offsets.empty()) r.adjacency = vertex_faces(n, a.triangles);
@@ -408,6 +467,7 @@ struct AnimationStream::State {
     const std::vector<std::uint32_t>& triangles;  // the exported surface's
     std::size_t loop_frames = 0, first = 0, count = 0, done = 0;
     FrameRun run;
+    std::unique_ptr<PositionSpool> spool{};  // position_delta_range's frames, when they stand in (run.spool)
     std::vector<std::unique_ptr<FrameRun>> lanes{};  // runs beside `run` when frames go side by side (frame_lanes)
     // The animation whose static parts this stream set last, and its triangles' storage:
     // a later chunk into it leaves them (24 MB of triangles a chunk at 1024²).
@@ -449,6 +509,8 @@ struct AnimationStream::State {
                              const std::function<void(std::size_t, std::size_t)>& progress) {
         while (lanes.size() + 1 < lane_count) {
             lanes.push_back(std::make_unique<FrameRun>(scene_run(scene, plan, refined)));
+            lanes.back()->positions_only = run.positions_only;
+            lanes.back()->spool = run.spool;
             start_run(*lanes.back(), triangles, a.vertex_count);
         }
         std::vector<HeightRange> lane_heights(lane_count);
@@ -494,12 +556,23 @@ AnimationStream::AnimationStream(const Scene& scene, const ScenePlan& plan, Fram
 AnimationStream::~AnimationStream() = default;
 
 double AnimationStream::position_delta_range(std::size_t chunk) const {
-    const State& s = *state_;
-    Scene positions_only = s.scene;  // no shading, colour or caustics: the positions are the same
+    State& s = *state_;  // (its spool; the frames are not advanced)
+    // No shading, colour, caustics, whitewater or normals: the positions are the same
+    // (the particles ride the moved surface and the normals come from it; neither
+    // moves it).
+    Scene positions_only = s.scene;
     positions_only.attributes = Scene::Attributes::none;
     positions_only.color = false;
     positions_only.underwater.reset();
+    positions_only.whitewater.reset();
     AnimationStream pass(positions_only, s.plan, FrameRange{s.first, s.first + s.count});
+    pass.state_->run.positions_only = true;
+    // Its moved positions kept for this stream's own pass (the lanes share the spool).
+    if (may_spool(s.run)) {
+        s.spool = std::make_unique<PositionSpool>(s.first, s.count, 3 * s.plan.rest_x.size());
+        s.run.spool = pass.state_->run.spool = s.spool.get();
+        for (const auto& lane : s.lanes) lane->spool = s.spool.get();
+    }
     SceneAnimation a;
     std::vector<float> base;
     double range = 0.0;

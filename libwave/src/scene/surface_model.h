@@ -105,6 +105,11 @@ struct SurfaceModel {
     /// (plan.skirt_breakers), which the pipeline blends in after the fit.
     SkirtSize (*skirt_size)(const Scene& s, const ScenePlan& plan, SkirtSize size);
     void (*plan_skirt)(const Scene& s, ScenePlan& plan);
+
+    /// Its foam and lips depend on the time alone, not on what `move` leaves in its
+    /// state: a frame's moved positions kept from an earlier pass may stand in for
+    /// `move` (the quantised morph form's delta-range pass, frames.cpp).
+    bool foam_of_time_alone = false;
 };
 
 /// The model of a kind (the one place a kind is looked up).

@@ -19,7 +19,9 @@
 #include <cstring>
 #include <limits>
 #include <numbers>
+#include <span>
 #include <string>
+#include <vector>
 
 namespace wave {
 
@@ -123,6 +125,11 @@ struct Counts {
     std::uint32_t spray = 0, foam = 0, bubbles = 0;
     std::uint32_t total() const noexcept { return spray + foam + bubbles; }
 };
+
+// Event i's key, which its draws start from.
+std::uint64_t event_key(const WhitewaterEvents& e, const WhitewaterOptions& o, std::size_t i) noexcept {
+    return splitmix64(e.key[i] ^ splitmix64(o.seed));
+}
 
 Counts event_counts(const WhitewaterEvents& e, const WhitewaterOptions& o, std::size_t i, std::uint64_t h) noexcept {
     Counts c;
@@ -302,10 +309,10 @@ bool bubble_particle(const WhitewaterEvents& e, const WhitewaterOptions& o, std:
 
 // Every particle of event i alive at t, in order (spray, foam, bubbles, each by draw,
 // for each age newest first), handed to `f`.
+// `key` and `c`: the event's (event_key, event_counts).
 template <class F>
-void event_particles(const WhitewaterEvents& e, const WhitewaterOptions& o, std::size_t i, double t, F&& f) {
-    const std::uint64_t key = splitmix64(e.key[i] ^ splitmix64(o.seed));
-    const Counts c = event_counts(e, o, i, key);
+void event_particles(const WhitewaterEvents& e, const WhitewaterOptions& o, std::size_t i, double t, std::uint64_t key,
+                     const Counts& c, F&& f) {
     if (c.total() == 0) return;
     Particle q;
     const double foam_life = o.foam_life > 0.0 ? o.foam_life : std::numeric_limits<double>::infinity();
@@ -354,33 +361,49 @@ const detail::TriangleLocator& locator_of(const WhitewaterRide& r) {
     return *static_cast<const detail::TriangleLocator*>(r.locator.get());
 }
 
-}  // namespace
-
-std::size_t whitewater_bound(const WhitewaterEvents& e, const WhitewaterOptions& o) {
-    check(o, e);
+// The bound of whitewater_bound from each event's counts (summed in the events' order).
+std::size_t bound_of(const WhitewaterEvents& e, const WhitewaterOptions& o, std::span<const Counts> counts) {
     const auto ages = [&](double life) {
         if (e.period <= 0.0) return 1.0;
         return std::ceil(life / e.period);
     };
     const double foam_life = o.foam_life > 0.0 ? o.foam_life : 0.0;
     double most = 0.0;
-    for (std::size_t i = 0; i < e.size(); ++i) {
-        const Counts c = event_counts(e, o, i, splitmix64(e.key[i] ^ splitmix64(o.seed)));
+    for (const Counts& c : counts)
         most += c.spray * ages(o.spray_life) + c.foam * (foam_life > 0.0 ? ages(foam_life) : 1.0) + c.bubbles * ages(o.bubble_life);
-    }
     return static_cast<std::size_t>(std::min(most, 1e18));
 }
 
-void check_whitewater_bound(const WhitewaterEvents& e, const WhitewaterOptions& o) {
-    const std::size_t most = whitewater_bound(e, o);
+// Every event's counts, in parallel (each alone).
+std::vector<Counts> all_counts(const WhitewaterEvents& e, const WhitewaterOptions& o) {
+    std::vector<Counts> counts(e.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, e.size(), 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) counts[i] = event_counts(e, o, i, event_key(e, o, i));
+    });
+    return counts;
+}
+
+void refuse_over_bound(std::size_t most, const WhitewaterOptions& o) {
     if (most > o.max_points)
         throw LimitError("whitewater: up to " + std::to_string(most) + " particles alive at once, over the limit of " +
                          std::to_string(o.max_points) + " (/whitewater/max_points); lower /whitewater/foam_density, "
                          "spray_density, bubble_density or the lives (foam_life, spray_life, bubble_life)");
 }
 
+}  // namespace
+
+std::size_t whitewater_bound(const WhitewaterEvents& e, const WhitewaterOptions& o) {
+    check(o, e);
+    return bound_of(e, o, all_counts(e, o));
+}
+
+void check_whitewater_bound(const WhitewaterEvents& e, const WhitewaterOptions& o) { refuse_over_bound(whitewater_bound(e, o), o); }
+
 void evaluate_whitewater(const WhitewaterEvents& e, const WhitewaterOptions& o, double t, WhitewaterPoints& out) {
-    check_whitewater_bound(e, o);
+    // The events' counts once (the bound, the blocks' room and their particles use them).
+    check(o, e);
+    const std::vector<Counts> counts = all_counts(e, o);
+    refuse_over_bound(bound_of(e, o, counts), o);
     if (!std::isfinite(t)) throw InputError("whitewater: the time must be finite");
     const std::size_t n = e.size();
     // One pass: each fixed block of events (not the scheduler's) writes its particles to
@@ -395,7 +418,7 @@ void evaluate_whitewater(const WhitewaterEvents& e, const WhitewaterOptions& o, 
         // per age the loop allows): no growth while they are made.
         std::size_t most = 0;
         for (std::size_t i = b * block; i < std::min(n, (b + 1) * block); ++i) {
-            const Counts c = event_counts(e, o, i, splitmix64(e.key[i] ^ splitmix64(o.seed)));
+            const Counts& c = counts[i];
             const auto ages = [&](double life) {
                 if (e.period <= 0.0) return std::size_t{1};
                 return static_cast<std::size_t>(std::min(1e6, std::ceil(life / e.period)));
@@ -404,7 +427,7 @@ void evaluate_whitewater(const WhitewaterEvents& e, const WhitewaterOptions& o, 
         }
         mine.reserve(most);
         for (std::size_t i = b * block; i < std::min(n, (b + 1) * block); ++i)
-            event_particles(e, o, i, t, [&](const Particle& q) { mine.push_back(q); });
+            event_particles(e, o, i, t, event_key(e, o, i), counts[i], [&](const Particle& q) { mine.push_back(q); });
     });
     std::vector<std::size_t> offset(blocks + 1, 0);
     for (std::size_t b = 0; b < blocks; ++b) offset[b + 1] = offset[b] + made[b].size();

@@ -99,7 +99,10 @@ void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
         if (!p.wave_fields.empty()) fill_strip_gaps(p.wave_fields[0], p.seafloor, p.water_strips);
     }
     const bool on_mesh = p.water_mesh.vertex_count() > 0;
-    p.motion = plan_gonzato_motion(on_mesh ? p.water_strips : p.strips, scene.profile);
+    const RayStrips& moved = on_mesh ? p.water_strips : p.strips;
+    // Gonzato's profile moves the strips unless the breakers do (/motion is refused with
+    // them): not planned for nothing (a twentieth of the breaking beach's run).
+    if (!scene.breakers) p.motion = plan_gonzato_motion(moved, scene.profile);
     if (scene.breakers) {
         p.breakers = std::move(strip_breakers);
         if (scene.camera_grid) {
@@ -121,8 +124,8 @@ void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
         p.loop_period *= static_cast<double>(p.breakers.loop_periods());
     }
     const bool on_grid = p.camera_grid.vertex_count() > 0;
-    p.rest_x = on_grid ? p.camera_grid.x : p.motion.x;
-    p.rest_y = on_grid ? p.camera_grid.y : p.motion.y;
+    p.rest_x = on_grid ? p.camera_grid.x : moved.x;
+    p.rest_y = on_grid ? p.camera_grid.y : moved.y;
 }
 
 const std::vector<std::uint32_t>& triangles(const ScenePlan& p) {
@@ -206,6 +209,7 @@ extern const SurfaceModel kRayStripsModel{
     },
     .skirt_size = skirt_size,
     .plan_skirt = plan_skirt,
+    .foam_of_time_alone = true,  // jeschke_foam, breaking_foam and jeschke_drawn_lips: of t and the plan
 };
 
 }  // namespace wave::detail
