@@ -288,6 +288,7 @@ def check_whitewater(folder, scene, water, expected):
         faces = {kind: int((index == names.index(f"libwave whitewater {kind}")).sum()) if f"libwave whitewater {kind}" in names else 0
                  for kind in ("spray", "foam", "bubbles")}
         n = {kind: int((np.abs(kinds - i) < 0.5).sum()) for i, kind in enumerate(("spray", "foam", "bubbles"))}
+        print(f"LIBWAVE-ADDON whitewater frame {k}: particles {n}, faces {faces}")
         if faces["foam"] != n["foam"]:
             errors.append(f"{folder}: frame {k}: {faces['foam']} foam sheets for {n['foam']} foam particles")
         if faces["bubbles"] != 4 * n["bubbles"]:
@@ -295,7 +296,9 @@ def check_whitewater(folder, scene, water, expected):
         # Each spray particle a puff of up to SPRAY_DROPLETS droplets (fewer as it ages).
         if not (n["spray"] == 0) == (faces["spray"] == 0) or faces["spray"] > 4 * whitewater.SPRAY_DROPLETS * n["spray"]:
             errors.append(f"{folder}: frame {k}: {faces['spray']} spray faces for {n['spray']} spray particles")
-        if n["foam"]:
+        if n["foam"] and "anchor" not in mesh.attributes:
+            errors.append(f"{folder}: frame {k}: the foam sheets carry no anchor")
+        elif n["foam"]:
             anchor = np.empty(3 * len(mesh.vertices), np.float32)
             mesh.attributes["anchor"].data.foreach_get("vector", anchor)
             lift = np.abs(anchor.reshape(-1, 3)[:, 2])

@@ -150,7 +150,8 @@ class _Tree:
 
 
 def lace_group():
-    """The shader node group "libwave foam lace": Vector (m) → Lace, about 0 … 1: low along
+    """The shader node group "libwave foam lace": Vector (m) → Lace, about 0 … 1, a pattern
+    in x and y (foam lies on the water; a 2D Voronoi searches 9 cells, a 3D one 27): low along
     a web of lines (the edges of Voronoi cells about 1 m and 0.3 m across, their space
     warped by noise so that the web is torn, not cellular), high in the holes between
     them, raised in small round bubbles (the nearest-point distance of cells 0.1 m across)
@@ -166,19 +167,19 @@ def lace_group():
     t = _Tree(group)
     inp, out = t.node("NodeGroupInput"), t.node("NodeGroupOutput")
     p = inp.outputs[0]
-    warp = t.node("ShaderNodeTexNoise")
+    warp = t.node("ShaderNodeTexNoise", noise_dimensions="2D")
     warp.inputs["Scale"].default_value = 0.7
     warp.inputs["Detail"].default_value = 3.0
     t.links.new(p, warp.inputs["Vector"])
     warped = t.vmath("ADD", p, t.vmath("SCALE", t.vmath("SUBTRACT", warp.outputs["Color"], (0.5, 0.5, 0.5)), scale=1.2))
 
     def voronoi(scale, feature, width, vector=warped):
-        v = t.node("ShaderNodeTexVoronoi", feature=feature)
+        v = t.node("ShaderNodeTexVoronoi", feature=feature, voronoi_dimensions="2D")
         v.inputs["Scale"].default_value = scale
         t.links.new(vector, v.inputs["Vector"])
         return t.clamp01(t.math("DIVIDE", v.outputs["Distance"], width))
 
-    grain = t.node("ShaderNodeTexNoise")
+    grain = t.node("ShaderNodeTexNoise", noise_dimensions="2D")
     grain.inputs["Scale"].default_value = 30.0
     grain.inputs["Detail"].default_value = 2.0
     t.links.new(p, grain.inputs["Vector"])
