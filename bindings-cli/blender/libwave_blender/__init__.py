@@ -527,7 +527,8 @@ def import_animation(context, path, set_scene=True, caustics=True, bake=False, b
     sunbeam volumes beside it (when the run wrote them) glow in the water,
     `sunbeam_strength` times the single-scattering estimate; `world` and `hdri` as
     make_world takes them (the sky over the scene); with `whitewater_points` the
-    whitewater particles beside it (when the run wrote them, /whitewater) as spheres."""
+    whitewater particles beside it (when the run wrote them, /whitewater) drawn by
+    Geometry Nodes: spray droplets, foam lace, bubbles (docs/whitewater.md)."""
     anim = _animation(os.path.abspath(path))
     first = anim.frame(0)
     if bake:
@@ -613,7 +614,8 @@ class ImportLibwave(bpy.types.Operator, ImportHelper):
 
     whitewater: BoolProperty(name="Whitewater", default=True,
                              description="Play the whitewater particles beside the file (/whitewater: spray, foam, "
-                                         "bubbles) as spheres through Geometry Nodes (rendered by Cycles)")
+                                         "bubbles) through Geometry Nodes: streaked droplets, sheets of foam lace on the water, "
+                                         "faint specks (rendered by Cycles)")
 
     def execute(self, context):
         try:
