@@ -9,7 +9,8 @@
 # -o OUT -f FRAME` then renders it without the add-on; LIBWAVE_FILE_NORMALS=1 imports
 # with the file's normals as custom normals; LIBWAVE_VISIBILITY=M sets the add-on's haze
 # (m; 0 for none; unset: the add-on's default); LIBWAVE_NO_FOAM=1 renders the water's
-# shape alone: no foam in its material and no whitewater particles; LIBWAVE_SIZE=WxH the
+# shape alone: no foam in its material and no whitewater particles; LIBWAVE_FOAM_SHEETS=0
+# leaves the foam particles' lace sheets out (the water's own foam, spray and bubbles stay); LIBWAVE_SIZE=WxH the
 # image size, default 640x360; LIBWAVE_SAMPLES=N Cycles' samples, default 16.)
 # The add-on imports the water (positions, foam, reflect, refract per frame), the
 # seafloor, camera and sun the .glb carries and its physical sky; this script renders
@@ -42,15 +43,17 @@ if os.environ.get("LIBWAVE_NO_FOAM") == "1":  # the water's shape alone: no foam
             bpy.data.objects.remove(obj)
     mat = bpy.data.materials.get("libwave water")
     if mat is not None:
-        mix = next(n for n in mat.node_tree.nodes if n.type == "MIX_SHADER")
+        mix = next(n for n in mat.node_tree.nodes if n.type == "OUTPUT_MATERIAL").inputs["Surface"].links[0].from_node
         for link in list(mix.inputs["Fac"].links):
             mat.node_tree.links.remove(link)
         mix.inputs["Fac"].default_value = 0.0
-if os.environ.get("LIBWAVE_FOAM_DISCS") == "0":  # the foam particles not instanced: the water's foam alone
+if os.environ.get("LIBWAVE_FOAM_SHEETS") == "0":  # the foam particles not drawn: the water's foam, spray, bubbles
     group = bpy.data.node_groups.get("libwave whitewater points")
     for node in (group.nodes if group else []):
-        if node.type == "INSTANCE_ON_POINTS":
-            node.mute = True
+        if node.label == "foam sheets":
+            node.inputs["Selection"].default_value = False
+            for link in list(node.inputs["Selection"].links):
+                group.links.remove(link)
 if scene.camera is None:  # the files form carries no camera: one from the open sea
     water = next(o for o in scene.objects if "libwave_source" in o or "libwave_baked" in o)
     xs = [v.co.x for v in water.data.vertices]

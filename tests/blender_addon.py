@@ -256,6 +256,62 @@ def check_haze(folder, scene):
         errors.append(f"{folder}: haze off Koschmieder's law by {worst} ({checked} rows)")
 
 
+def check_whitewater(folder, scene, water, expected):
+    """The whitewater's look (docs/whitewater.md, "The look in Blender"): the water keeps its
+    frame-0 positions as "rest" and its material breaks the foam into the lace node group
+    at them; the particles' object draws each foam particle as one lace sheet laid on the
+    water (its "anchor" found on the water), spray as streaked droplets and bubbles as
+    specks, each kind with its material."""
+    from libwave_blender import whitewater
+    rest = np.empty(3 * len(water.data.vertices), np.float32)
+    water.data.attributes["rest"].data.foreach_get("vector", rest)
+    if np.abs(rest.reshape(-1, 3) - np.asarray(expected["positions"][0], np.float32).reshape(-1, 3)).max() > 1e-5:
+        errors.append(f"{folder}: the water's rest attribute is not its first frame")
+    tree = water.data.materials[0].node_tree
+    if not any(n.type == "GROUP" and n.node_tree.name == "libwave foam lace" for n in tree.nodes) \
+            or not any(n.type == "ATTRIBUTE" and n.attribute_name == "rest" for n in tree.nodes):
+        errors.append(f"{folder}: the water material does not break its foam into lace at the rest positions")
+    ww = [o for o in scene.objects if "libwave_whitewater" in o]
+    if len(ww) != 1:
+        errors.append(f"{folder}: {len(ww)} whitewater objects")
+        return
+    files = whitewater.sequence(folder)
+    k = max(files, key=lambda f: os.path.getsize(files[f]))  # the busiest frame
+    scene.frame_set(k)
+    kinds = whitewater.read_points(files[k])["kind"]
+    evaluated = ww[0].evaluated_get(bpy.context.evaluated_depsgraph_get())
+    mesh = evaluated.to_mesh()
+    try:
+        names = [m.name if m else "" for m in mesh.materials]
+        index = np.empty(len(mesh.polygons), np.int32)
+        mesh.polygons.foreach_get("material_index", index)
+        faces = {kind: int((index == names.index(f"libwave whitewater {kind}")).sum()) if f"libwave whitewater {kind}" in names else 0
+                 for kind in ("spray", "foam", "bubbles")}
+        n = {kind: int((np.abs(kinds - i) < 0.5).sum()) for i, kind in enumerate(("spray", "foam", "bubbles"))}
+        print(f"LIBWAVE-ADDON whitewater frame {k}: particles {n}, faces {faces}")
+        if faces["foam"] != n["foam"]:
+            errors.append(f"{folder}: frame {k}: {faces['foam']} foam sheets for {n['foam']} foam particles")
+        if faces["bubbles"] != 4 * n["bubbles"]:
+            errors.append(f"{folder}: frame {k}: {faces['bubbles']} bubble faces for {n['bubbles']} bubbles")
+        # Each spray particle a puff of up to SPRAY_DROPLETS droplets (fewer as it ages).
+        if not (n["spray"] == 0) == (faces["spray"] == 0) or faces["spray"] > 4 * whitewater.SPRAY_DROPLETS * n["spray"]:
+            errors.append(f"{folder}: frame {k}: {faces['spray']} spray faces for {n['spray']} spray particles")
+        if n["foam"] and "anchor" not in mesh.attributes:
+            errors.append(f"{folder}: frame {k}: the foam sheets carry no anchor")
+        elif n["foam"]:
+            anchor = np.empty(3 * len(mesh.vertices), np.float32)
+            mesh.attributes["anchor"].data.foreach_get("vector", anchor)
+            lift = np.abs(anchor.reshape(-1, 3)[:, 2])
+            # On the water the anchor is the rest position minus the sheet's: a wave's
+            # displacement, not zero (no water found) and not a position (the sheet at 0).
+            if not 1e-4 < lift.max() < 5.0:
+                errors.append(f"{folder}: frame {k}: the foam sheets' anchors reach {lift.max()} m")
+    finally:
+        evaluated.to_mesh_clear()
+    if n["spray"] + n["foam"] + n["bubbles"] == 0:
+        errors.append(f"{folder}: frame {k} has no whitewater to check")
+
+
 def check_file_normals(path, scene, expected):
     """Imported with the file's normals, every corner's normal at frames 1 and N/2 is its
     vertex's normal in the file (within 1°: the quantised base's int8 steps)."""
@@ -405,6 +461,8 @@ for folder in runs:
             if min(sky, water_share, ground) < 0.05:
                 errors.append(f"{path}: the render lacks sky, water or seafloor: {sky}, {water_share}, {ground}")
             check_haze(folder, scene)
+    if folder.endswith("morph") and os.path.isdir(os.path.join(folder, "whitewater")):
+        check_whitewater(folder, scene, obj, expected)
     if folder.endswith(("morph", "quant", "files")):  # option "The file's normals": custom normals per frame
         check_file_normals(path, scene, expected)
     if folder.endswith("caustics"):

@@ -114,9 +114,13 @@ def _smooth(mesh, custom_normals=False):
 
 
 def water_material(baked_colour=False):
-    """Principled water (transmission, IOR 1.333) mixed with white foam by the foam
-    attribute; with `baked_colour`, the water emits the file's `colour` attribute (Ts'o's
-    eq. 4.1, R · sky + T · water colour: the shading baked by `wave run`) instead."""
+    """Principled water (transmission, IOR 1.333) mixed with foam by the foam attribute
+    broken into lace (docs/blender.md, "Foam"): foam shows where the lace pattern at the
+    vertex's rest position (attribute "rest", set_rest) lies under the foam value, so a
+    little foam is a thin broken web, more of it thick lace, full foam solid white, and the
+    pattern rides with the water; with `baked_colour`, the water emits the file's `colour`
+    attribute (Ts'o's eq. 4.1, R · sky + T · water colour: the shading baked by `wave run`)
+    instead."""
     name = "libwave water (Ts'o colour)" if baked_colour else "libwave water"
     mat = bpy.data.materials.get(name)
     if mat is not None:
@@ -141,18 +145,38 @@ def water_material(baked_colour=False):
             if transmission in water.inputs:
                 water.inputs[transmission].default_value = 1.0
                 break
-    foam_bsdf = nodes.new("ShaderNodeBsdfDiffuse")
-    foam_bsdf.inputs["Color"].default_value = (0.9, 0.92, 0.95, 1.0)
+    t = whitewater._Tree(mat.node_tree)
     foam = nodes.new("ShaderNodeAttribute")
     foam.attribute_name = "foam"
+    rest = nodes.new("ShaderNodeAttribute")
+    rest.attribute_name = "rest"
+    # A little more lace than the value alone would give (the value is a smooth share over
+    # a mesh triangle; lace at that share looks thinner than it is).
+    density = t.math("POWER", foam.outputs["Fac"], FOAM_LACE_GAMMA)
     mix = nodes.new("ShaderNodeMixShader")
-    links.new(foam.outputs["Fac"], mix.inputs["Fac"])
+    mix.label = "foam: the foam value broken into lace"
+    mask = whitewater._lace_mask(t, rest.outputs["Vector"], density)
+    links.new(mask, mix.inputs["Fac"])
     links.new(water.outputs[0], mix.inputs[1])
-    links.new(foam_bsdf.outputs["BSDF"], mix.inputs[2])
+    links.new(whitewater.foam_shader(t), mix.inputs[2])
     links.new(mix.outputs["Shader"], out.inputs["Surface"])
-    for i, node in enumerate((foam, water, foam_bsdf, mix, out)):
+    for i, node in enumerate((foam, water, mix, out)):
         node.location = (-600 + 250 * i, 0)
+    rest.location = (-600, -250)
     return mat
+
+
+FOAM_LACE_GAMMA = 0.7  # the foam value's density for the lace: value ** this
+
+
+def set_rest(mesh):
+    """The water's "rest" attribute: each vertex's position now (the first frame's, at
+    import), fixed while the frames move the vertices: the foam lace's coordinates, which
+    so ride with the water."""
+    co = np.empty(3 * len(mesh.vertices), np.float32)
+    mesh.vertices.foreach_get("co", co)
+    rest = mesh.attributes.get("rest") or mesh.attributes.new("rest", "FLOAT_VECTOR", "POINT")
+    rest.data.foreach_set("vector", co)
 
 
 # Koschmieder's law: a dark object's contrast against the horizon sky falls as
@@ -503,7 +527,8 @@ def import_animation(context, path, set_scene=True, caustics=True, bake=False, b
     sunbeam volumes beside it (when the run wrote them) glow in the water,
     `sunbeam_strength` times the single-scattering estimate; `world` and `hdri` as
     make_world takes them (the sky over the scene); with `whitewater_points` the
-    whitewater particles beside it (when the run wrote them, /whitewater) as spheres."""
+    whitewater particles beside it (when the run wrote them, /whitewater) drawn by
+    Geometry Nodes: spray droplets, foam lace, bubbles (docs/whitewater.md)."""
     anim = _animation(os.path.abspath(path))
     first = anim.frame(0)
     if bake:
@@ -511,6 +536,7 @@ def import_animation(context, path, set_scene=True, caustics=True, bake=False, b
     if baked_colour and first.color is None:
         raise ValueError(f"{path} has no baked colour (run the scene with \"outputs\": {{\"color\": true}})")
     mesh = _mesh_from_arrays("libwave water", first.positions, anim.triangles)
+    set_rest(mesh)
     _smooth(mesh, file_normals and not bake)
     mesh.materials.append(water_material(baked_colour))
     obj = bpy.data.objects.new(mesh.name, mesh)
@@ -534,7 +560,7 @@ def import_animation(context, path, set_scene=True, caustics=True, bake=False, b
         import_dressing(context, anim.dressing, anim.folder, caustics, visibility, sunbeams, sunbeam_strength)
     make_world(context, anim.dressing, world, hdri)
     if whitewater_points:
-        whitewater.import_points(context, anim.folder, anim.frame_count, getattr(anim, "first_frame", 0))
+        whitewater.import_points(context, anim.folder, anim.frame_count, getattr(anim, "first_frame", 0), water=obj)
     if not bake:
         apply_frame(obj, scene.frame_current)
     return obj
@@ -588,7 +614,8 @@ class ImportLibwave(bpy.types.Operator, ImportHelper):
 
     whitewater: BoolProperty(name="Whitewater", default=True,
                              description="Play the whitewater particles beside the file (/whitewater: spray, foam, "
-                                         "bubbles) as spheres through Geometry Nodes (rendered by Cycles)")
+                                         "bubbles) through Geometry Nodes: streaked droplets, sheets of foam lace on the water, "
+                                         "faint specks (rendered by Cycles)")
 
     def execute(self, context):
         try:

@@ -459,6 +459,7 @@ def _play(context, water, setup, index, final):
             or len(mesh.polygons) != len(anim.triangles):
         old = mesh
         mesh = pkg._mesh_from_arrays(water.name, anim.frame(0).positions, anim.triangles)
+        pkg.set_rest(mesh)
         pkg._smooth(mesh)
         mesh.materials.append(pkg.water_material())
         water.data = mesh
