@@ -2485,7 +2485,16 @@ class Batch(unittest.TestCase):
             self.assertIn("report.json", files)
             self.assertEqual(ok["bytes"], sum(files.values()))
             self.assertEqual(sum(files.values()), sum(os.path.getsize(os.path.join(ok["output"], f)) for f in files))
-            self.assertGreater(ok["frames"], 0)
+            self.assertEqual(ok["frames"], 120)  # 5 s at 24 fps
+            # A slice (--frames) reports its own frames, read from the report the run
+            # printed: it writes report-frames-A-B.json, and the folder holds the whole
+            # loop's report.json from before ("frames": 0 then; 120 would be the old one's).
+            r = wave("batch", os.path.join(folder, "bay.json"), "-o", os.path.join(d, "some"), "--frames", "2:5", "--json")
+            self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+            sliced = json.loads(r.stdout)["results"][0]
+            self.assertEqual(sliced["frames"], 3)
+            self.assertIn("report-frames-2-5.json", [o["file"] for o in sliced["outputs"]])
+            self.assertEqual(sorted(os.listdir(os.path.join(d, "some"))), ["batch-summary.json", "bay"])  # no temporaries
 
 
 class OutputFolders(unittest.TestCase):
