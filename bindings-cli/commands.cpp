@@ -735,11 +735,21 @@ int run_job(const RunArgs& a) {
     // frames alone, exit 0): the loop's length is the scene's to change.
     if (!a.frames.empty() && range.end > loop_frames)
     {
+        // The key that lengthens this scene's loop (docs/scene.md, "Long shots").
+        const bool superposed = scene.ocean && scene.surface_kind != SurfaceKind::ocean;
+        std::string keys = "/ocean/repeat_time";
+        if (superposed)
+            keys += " (a whole multiple of the swell's loop)";
+        else if (scene.surface_kind == SurfaceKind::height_field)
+            keys = "/surface/repeat_time";
+        else if (scene.surface_kind != SurfaceKind::ocean)
+            keys = "a wind sea: /ocean with /ocean/repeat_time a whole multiple of the swell's period (the swell alone "
+                   "repeats every period)";
         std::ostringstream why;
         why << "--frames " << a.frames << ": the loop has " << loop_frames << " frames (" << plan.loop_period << " s at "
-            << scene.fps << " fps: the waves' periods, /surface/repeat_time or /ocean/repeat_time and /animation/fps set "
-            << "it); frames past it repeat the loop: render --frames A:" << loop_frames
-            << " and repeat it in the DCC, or lengthen the loop (/surface/repeat_time, /ocean/repeat_time)";
+            << scene.fps << " fps, /animation/fps); frames past it would repeat it: render --frames A:" << loop_frames
+            << " and repeat them in the DCC, or lengthen the loop to at least " << static_cast<double>(range.end) / scene.fps
+            << " s with " << keys;
         throw InputError(why.str());
     }
     const std::size_t range_end = std::min(range.end, loop_frames), in_range = range.first < range_end ? range_end - range.first : 0;
