@@ -20,12 +20,14 @@
 
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -860,8 +862,42 @@ void bind_export(py::module_& m) {
             const auto opt = [](const std::optional<py::object>& a, std::size_t per, const char* what) {
                 return a ? to_vector<float>(*a, per, what) : std::vector<float>{};
             };
-            const auto uv = opt(texcoords, 2, "frame_glb texcoords"), f = opt(foam, 1, "frame_glb foam");
+            auto uv = opt(texcoords, 2, "frame_glb texcoords");
+            const auto f = opt(foam, 1, "frame_glb foam");
             const auto r = opt(reflect, 1, "frame_glb reflect"), tr = opt(refract, 1, "frame_glb refract");
+            // Every per-vertex argument against positions, by name (the writer's own check
+            // cannot say which one it was).
+            const std::size_t vertices = p.size() / 3;
+            const auto same_count = [vertices](std::size_t count, const char* what) {
+                if (count != vertices)
+                    throw wave::InputError(std::string("frame_glb ") + what + ": " + std::to_string(count) + " vertices, positions has " +
+                                           std::to_string(vertices));
+            };
+            same_count(n.size() / 3, "normals");
+            if (texcoords) same_count(uv.size() / 2, "texcoords");
+            for (const auto& [given, values, what] : {std::tuple{foam.has_value(), &f, "foam"}, std::tuple{reflect.has_value(), &r, "reflect"},
+                                                      std::tuple{refract.has_value(), &tr, "refract"}})
+                if (given) same_count(values->size(), what);
+            const int shading = int{foam.has_value()} + int{reflect.has_value()} + int{refract.has_value()};
+            if (shading != 0 && shading != 3)
+                throw wave::InputError(std::string("frame_glb: give foam, reflect and refract together (or none); got ") +
+                                       (foam ? "foam " : "") + (reflect ? "reflect " : "") + (refract ? "refract " : "") + "only");
+            if (!texcoords) {
+                // TEXCOORD_0 over the positions' own rectangle in plan, as domain_texcoords
+                // lays it over the seafloor's (u along +x, v down): glTF clients expect a UV map.
+                float x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+                for (std::size_t i = 0; i < vertices; ++i) {
+                    const float x = p[3 * i], y = p[3 * i + 1];
+                    x0 = i ? std::min(x0, x) : x, x1 = i ? std::max(x1, x) : x;
+                    y0 = i ? std::min(y0, y) : y, y1 = i ? std::max(y1, y) : y;
+                }
+                const double width = x1 > x0 ? static_cast<double>(x1) - x0 : 1.0, height = y1 > y0 ? static_cast<double>(y1) - y0 : 1.0;
+                uv.resize(2 * vertices);
+                for (std::size_t i = 0; i < vertices; ++i) {
+                    uv[2 * i] = static_cast<float>((static_cast<double>(p[3 * i]) - x0) / width);
+                    uv[2 * i + 1] = static_cast<float>(1.0 - (static_cast<double>(p[3 * i + 1]) - y0) / height);
+                }
+            }
             wave::MorphAnimationView v;
             v.triangles = t, v.vertex_count = p.size() / 3, v.frame_count = 1, v.first_frame = frame, v.fps = fps;
             v.positions = p, v.normals = n, v.texcoords = uv, v.foam = f, v.reflect = r, v.refract = tr;
@@ -876,7 +912,8 @@ void bind_export(py::module_& m) {
         py::arg("foam") = py::none(), py::arg("reflect") = py::none(), py::arg("refract") = py::none(),
         py::arg("fps") = 24.0, py::arg("frame") = 0,
         "One frame as a static .glb (the files form's frame file): positions and normals (vertices, 3), triangles "
-        "(triangles, 3), optional TEXCOORD_0 (vertices, 2) and foam/reflect/refract (vertices,)");
+        "(triangles, 3), optional TEXCOORD_0 (vertices, 2; None: u, v over the positions' own rectangle in plan, as "
+        "domain_texcoords over the seafloor's) and foam/reflect/refract (vertices,; all three or none)");
 }
 
 }  // namespace

@@ -322,6 +322,46 @@ def test_array_arguments_of_a_wrong_shape_or_type_raise_libwave_errors_naming_th
             call()
 
 
+def test_frame_glb_without_its_optional_arrays_and_sizes_named(tmp_path):
+    """texcoords, foam, reflect and refract are optional: without texcoords the UV map
+    lies over the positions' own rectangle in plan (the writer refused it, saying "array
+    sizes do not match 1 frames of 3 vertices"); a per-vertex array of another count is
+    named against positions; shading is all three or none."""
+    pos = np.array([[0, 0, 0.5], [2, 0, 0], [0, 4, 0]], np.float32)
+    nor = np.tile(np.array([0, 0, 1], np.float32), (3, 1))
+    tri = np.array([[0, 1, 2]], np.uint32)
+    out = tmp_path / "f.glb"
+    out.write_bytes(libwave.frame_glb(pos, nor, tri))
+    a = libwave.read_animation(str(out))
+    assert np.array_equal(a["positions"][0], pos)
+    data = out.read_bytes()  # TEXCOORD_0 by hand (read_animation does not return it)
+    length = int.from_bytes(data[12:16], "little")
+    doc, binary = json.loads(data[20:20 + length]), data[20 + length + 8:]
+    accessor = doc["accessors"][doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"]]
+    view = doc["bufferViews"][accessor["bufferView"]]
+    at = view.get("byteOffset", 0) + accessor.get("byteOffset", 0)
+    texcoords = np.frombuffer(binary, np.float32, 2 * accessor["count"], at).reshape(-1, 2)
+    np.testing.assert_array_equal(texcoords, [[0, 1], [1, 1], [0, 0]])  # u along +x, v down
+    validator = REPO / "scripts" / "gltf-validator" / "validate.mjs"
+    if shutil.which("node") and (validator.parent / "node_modules").exists():  # the Khronos validator (npm)
+        r = subprocess.run(["node", str(validator), str(out)], capture_output=True, text=True, timeout=120)
+        assert r.returncode == 0 and json.loads(r.stdout.splitlines()[-1])["numErrors"] == 0, r.stdout + r.stderr
+    uv = np.array([[0.1, 0.2], [0.3, 0.4], [0.5, 0.6]], np.float32)
+    assert libwave.frame_glb(pos, nor, tri, texcoords=uv) != libwave.frame_glb(pos, nor, tri)
+    ones = np.ones(3, np.float32)
+    libwave.frame_glb(pos, nor, tri, foam=ones, reflect=ones, refract=ones)
+    bad = [
+        (lambda: libwave.frame_glb(pos, nor[:2], tri), "frame_glb normals: 2 vertices, positions has 3"),
+        (lambda: libwave.frame_glb(pos, nor, tri, texcoords=uv[:2]), "frame_glb texcoords: 2 vertices, positions has 3"),
+        (lambda: libwave.frame_glb(pos, nor, tri, foam=ones, reflect=ones, refract=np.ones(4)),
+         "frame_glb refract: 4 vertices, positions has 3"),
+        (lambda: libwave.frame_glb(pos, nor, tri, foam=ones), "frame_glb: give foam, reflect and refract together"),
+    ]
+    for call, message in bad:
+        with pytest.raises(libwave.InputError, match=message):
+            call()
+
+
 def test_seafloor_from_grid_and_from_triangles_hold_an_analytic_plane_and_plan_as_the_file_does(tmp_path):
     # z = −4 + 0.03 x + 0.05 y, with the water level at 0.7 m as a vertical offset: the
     # depth at any point inside is 0.7 − z, from a grid (node (0, 0) at the origin) and
