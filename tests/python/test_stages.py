@@ -193,7 +193,7 @@ def test_every_failure_is_a_libwave_error():
 
 @pytest.mark.skipif(shutil.which("stubgen") is None and subprocess.run([sys.executable, "-c", "import mypy"]).returncode,
                     reason="mypy (python3-mypy) is not installed")
-def test_stubs_match_the_module_and_type_check_the_example():
+def test_stubs_match_the_module_and_type_check_the_example(tmp_path):
     env = dict(os.environ, MYPYPATH=os.environ["PYTHONPATH"])
     stubtest = subprocess.run([sys.executable, "-m", "mypy.stubtest", "libwave._libwave", "--allowlist",
                                str(pathlib.Path(__file__).with_name("stubtest-allowlist.txt"))],
@@ -202,6 +202,49 @@ def test_stubs_match_the_module_and_type_check_the_example():
     mypy = subprocess.run([sys.executable, "-m", "mypy", "--strict", "--no-incremental", "--cache-dir", "/dev/null",
                            str(REPO / "examples" / "pipeline.py")], capture_output=True, text=True, env=env)
     assert mypy.returncode == 0, mypy.stdout + mypy.stderr
+    # What the stubs say: arrays with their dtypes (none is NDArray[Any]), array arguments
+    # as ArrayLike and arrays written in place as float32 arrays, static methods as such,
+    # and a class without a constructor refused by the type checker as at run time.
+    stubs = (pathlib.Path(os.environ["PYTHONPATH"]) / "libwave" / "_libwave.pyi").read_text()
+    assert "NDArray[Any]" not in stubs
+    assert "def plan_untangle(x: numpy.typing.ArrayLike, y: numpy.typing.ArrayLike, triangles: numpy.typing.ArrayLike," in stubs
+    assert "def apply(self, positions: numpy.typing.NDArray[numpy.float32]) -> None:" in stubs  # Waterline.apply writes
+    assert "    @staticmethod\n    def from_grid(values: numpy.typing.ArrayLike," in stubs
+    probe = tmp_path / "probe.py"
+    probe.write_text("import libwave\nfloor = libwave.Seafloor()\n")
+    mypy = subprocess.run([sys.executable, "-m", "mypy", "--strict", "--no-incremental", "--cache-dir", "/dev/null", str(probe)],
+                          capture_output=True, text=True, env=env)
+    assert 'probe.py:2: error: Too few arguments for "Seafloor"' in mypy.stdout, mypy.stdout + mypy.stderr
+    with pytest.raises(TypeError, match="No constructor"):
+        libwave.Seafloor()
+
+
+def test_every_function_and_method_has_a_signature():
+    """inspect.signature reads every public function and method (it failed on all of
+    them: pybind11 writes signatures only into the docstring's first line), with
+    pybind11's names and defaults; __doc__ keeps that typed line."""
+    import inspect
+    checked = 0
+    for name, obj in vars(libwave._libwave).items():
+        if name.startswith("_"):
+            continue
+        members = [obj]
+        if inspect.isclass(obj):
+            if issubclass(obj, BaseException):
+                continue
+            members = [getattr(obj, k) for k, v in vars(obj).items() if (k == "__init__" or not k.startswith("_")) and not isinstance(v, property)]
+        for f in members:
+            if callable(f) and not inspect.isclass(f):
+                inspect.signature(f)  # raises ValueError without one
+                checked += 1
+    assert checked > 70
+    assert str(inspect.signature(libwave.plan)) == "(scene, seafloor=None)"
+    assert str(inspect.signature(libwave.Scene.set)) == "(self, pointer, value)"
+    assert str(inspect.signature(libwave.default_scene().set)) == "(pointer, value)"
+    assert str(inspect.signature(libwave.Seafloor.from_triangles)) == "(vertices, indices, spacing=0.0, sign=None, vertical_offset=0.0, name='')"
+    assert "frame=0" in str(inspect.signature(libwave.frame_glb))
+    assert str(inspect.signature(libwave.Scene)) == "(document, base_dir='.')"
+    assert libwave.plan.__doc__.startswith("plan(scene: libwave._libwave.Scene, seafloor:")
 
 
 def test_the_ocean_patch_stage_equals_the_ocean_scenes_frame():
