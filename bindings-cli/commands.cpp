@@ -1225,7 +1225,11 @@ int run_merge(const MergeArgs& a) {
     const std::vector<fs::path> joined = missing.empty() ? join_slice_reports(a.out_dir, loop_frames) : std::vector<fs::path>{};
     for (const fs::path& p : joined) fs::remove(p);  // report.json now holds them
     if (!a.quiet) {
-        std::cout << "indexed " << files.size() << " of " << loop_frames << " frames in " << a.out_dir << "/index.json\n";
+        if (loop_frames == 0)  // frames written without their loop's length (Python's frame_glb without loop_frames)
+            std::cout << "indexed " << files.size() << " frames in " << a.out_dir
+                      << "/index.json (they record no loop length: frame_glb(..., loop_frames=) records it)\n";
+        else
+            std::cout << "indexed " << files.size() << " of " << loop_frames << " frames in " << a.out_dir << "/index.json\n";
         if (!joined.empty()) std::cout << "joined " << joined.size() << " slice reports into " << a.out_dir << "/report.json\n";
     }
     return 0;

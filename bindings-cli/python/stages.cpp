@@ -840,6 +840,82 @@ void bind_shading(py::module_& m) {
         py::arg("scene"), py::arg("seafloor"), "The scene's camera position (m, z up): /camera/position or its default");
 }
 
+// Stage arrays of a mesh's frames for the glTF writers (frame_glb, animation_glb): each
+// per-vertex argument checked against positions by name, TEXCOORD_0 made when none is
+// given. `many`: positions (frames, vertices, 3), shading (frames, vertices); else one
+// frame's (vertices, 3) and (vertices,).
+struct StageFrames {
+    std::vector<float> p, n, uv, f, r, tr;
+    std::vector<std::uint32_t> t;
+    std::size_t frames = 1, vertices = 0;
+
+    StageFrames(const std::string& fn, const ArrayLike& positions, const ArrayLike& normals, const ArrayLike& triangles,
+                const std::optional<ArrayLike>& texcoords, const std::optional<ArrayLike>& foam,
+                const std::optional<ArrayLike>& reflect, const std::optional<ArrayLike>& refract, bool many) {
+        const auto shape_of = [&](const ArrayLike& a, const char* what) {
+            const py::array given = py::array::ensure(a);
+            if (!many || !given || given.ndim() != 3) return std::pair{std::size_t{1}, to_vector<float>(a, 3, fn + " " + what)};
+            if (given.shape(2) != 3)
+                throw wave::InputError(fn + " " + what + ": expected shape (frames, vertices, 3), got " + shape_text(given));
+            const py::array flat = given.attr("reshape")(-1, 3);
+            return std::pair{static_cast<std::size_t>(given.shape(0)), to_vector<float>(flat, 3, fn + " " + what)};
+        };
+        std::size_t normal_frames = 1;
+        std::tie(frames, p) = shape_of(positions, "positions");
+        std::tie(normal_frames, n) = shape_of(normals, "normals");
+        vertices = frames ? p.size() / 3 / frames : 0;
+        if (frames == 0 || vertices == 0) throw wave::InputError(fn + " positions: no vertices");
+        if (normal_frames != frames || n.size() != p.size())
+            throw wave::InputError(fn + " normals: " +
+                                   (many ? std::to_string(normal_frames) + " frames of " +
+                                               std::to_string(n.size() / 3 / std::max<std::size_t>(normal_frames, 1)) + " vertices, positions has " +
+                                               std::to_string(frames) + " of " + std::to_string(vertices)
+                                         : std::to_string(n.size() / 3) + " vertices, positions has " + std::to_string(vertices)));
+        t = to_vector<std::uint32_t>(triangles, 3, fn + " triangles");
+        const auto same_count = [&](std::size_t count, std::size_t expected, const char* what, const char* unit) {
+            if (count != expected)
+                throw wave::InputError(fn + " " + what + ": " + std::to_string(count) + " " + unit + ", positions has " + std::to_string(expected));
+        };
+        if (texcoords) {
+            uv = to_vector<float>(*texcoords, 2, fn + " texcoords");
+            same_count(uv.size() / 2, vertices, "texcoords", "vertices");
+        }
+        const int shading = int{foam.has_value()} + int{reflect.has_value()} + int{refract.has_value()};
+        if (shading != 0 && shading != 3)
+            throw wave::InputError(fn + ": give foam, reflect and refract together (or none); got " + (foam ? "foam " : "") +
+                                   (reflect ? "reflect " : "") + (refract ? "refract " : "") + "only");
+        for (const auto& [given, values, what] : {std::tuple{&foam, &f, "foam"}, std::tuple{&reflect, &r, "reflect"},
+                                                  std::tuple{&refract, &tr, "refract"}})
+            if (*given) {
+                *values = to_vector<float>(**given, 1, fn + " " + what);
+                same_count(values->size(), frames * vertices, what, many ? "values" : "vertices");
+            }
+        if (!texcoords) {
+            // TEXCOORD_0 over the first frame's rectangle in plan, as domain_texcoords lays
+            // it over the seafloor's (u along +x, v down): glTF clients expect a UV map.
+            float x0 = p[0], x1 = p[0], y0 = p[1], y1 = p[1];
+            for (std::size_t i = 1; i < vertices; ++i) {
+                x0 = std::min(x0, p[3 * i]), x1 = std::max(x1, p[3 * i]);
+                y0 = std::min(y0, p[3 * i + 1]), y1 = std::max(y1, p[3 * i + 1]);
+            }
+            const double width = x1 > x0 ? static_cast<double>(x1) - x0 : 1.0, height = y1 > y0 ? static_cast<double>(y1) - y0 : 1.0;
+            uv.resize(2 * vertices);
+            for (std::size_t i = 0; i < vertices; ++i) {
+                uv[2 * i] = static_cast<float>((static_cast<double>(p[3 * i]) - x0) / width);
+                uv[2 * i + 1] = static_cast<float>(1.0 - (static_cast<double>(p[3 * i + 1]) - y0) / height);
+            }
+        }
+    }
+
+    wave::MorphAnimationView view(double fps, std::size_t first_frame, std::size_t loop_frames) const {
+        wave::MorphAnimationView v;
+        v.triangles = t, v.vertex_count = vertices, v.frame_count = frames, v.first_frame = first_frame, v.fps = fps;
+        v.loop_frames = loop_frames;
+        v.positions = p, v.normals = n, v.texcoords = uv, v.foam = f, v.reflect = r, v.refract = tr;
+        return v;
+    }
+};
+
 void bind_export(py::module_& m) {
     m.def(
         "domain_texcoords",
@@ -856,51 +932,9 @@ void bind_export(py::module_& m) {
         "frame_glb",
         [](const ArrayLike& positions, const ArrayLike& normals, const ArrayLike& triangles, std::optional<ArrayLike> texcoords,
            std::optional<ArrayLike> foam, std::optional<ArrayLike> reflect, std::optional<ArrayLike> refract, double fps,
-           std::size_t frame) {
-            const auto p = to_vector<float>(positions, 3, "frame_glb positions"), n = to_vector<float>(normals, 3, "frame_glb normals");
-            const auto t = to_vector<std::uint32_t>(triangles, 3, "frame_glb triangles");
-            const auto opt = [](const std::optional<ArrayLike>& a, std::size_t per, const char* what) {
-                return a ? to_vector<float>(*a, per, what) : std::vector<float>{};
-            };
-            auto uv = opt(texcoords, 2, "frame_glb texcoords");
-            const auto f = opt(foam, 1, "frame_glb foam");
-            const auto r = opt(reflect, 1, "frame_glb reflect"), tr = opt(refract, 1, "frame_glb refract");
-            // Every per-vertex argument against positions, by name (the writer's own check
-            // cannot say which one it was).
-            const std::size_t vertices = p.size() / 3;
-            const auto same_count = [vertices](std::size_t count, const char* what) {
-                if (count != vertices)
-                    throw wave::InputError(std::string("frame_glb ") + what + ": " + std::to_string(count) + " vertices, positions has " +
-                                           std::to_string(vertices));
-            };
-            same_count(n.size() / 3, "normals");
-            if (texcoords) same_count(uv.size() / 2, "texcoords");
-            for (const auto& [given, values, what] : {std::tuple{foam.has_value(), &f, "foam"}, std::tuple{reflect.has_value(), &r, "reflect"},
-                                                      std::tuple{refract.has_value(), &tr, "refract"}})
-                if (given) same_count(values->size(), what);
-            const int shading = int{foam.has_value()} + int{reflect.has_value()} + int{refract.has_value()};
-            if (shading != 0 && shading != 3)
-                throw wave::InputError(std::string("frame_glb: give foam, reflect and refract together (or none); got ") +
-                                       (foam ? "foam " : "") + (reflect ? "reflect " : "") + (refract ? "refract " : "") + "only");
-            if (!texcoords) {
-                // TEXCOORD_0 over the positions' own rectangle in plan, as domain_texcoords
-                // lays it over the seafloor's (u along +x, v down): glTF clients expect a UV map.
-                float x0 = 0, x1 = 0, y0 = 0, y1 = 0;
-                for (std::size_t i = 0; i < vertices; ++i) {
-                    const float x = p[3 * i], y = p[3 * i + 1];
-                    x0 = i ? std::min(x0, x) : x, x1 = i ? std::max(x1, x) : x;
-                    y0 = i ? std::min(y0, y) : y, y1 = i ? std::max(y1, y) : y;
-                }
-                const double width = x1 > x0 ? static_cast<double>(x1) - x0 : 1.0, height = y1 > y0 ? static_cast<double>(y1) - y0 : 1.0;
-                uv.resize(2 * vertices);
-                for (std::size_t i = 0; i < vertices; ++i) {
-                    uv[2 * i] = static_cast<float>((static_cast<double>(p[3 * i]) - x0) / width);
-                    uv[2 * i + 1] = static_cast<float>(1.0 - (static_cast<double>(p[3 * i + 1]) - y0) / height);
-                }
-            }
-            wave::MorphAnimationView v;
-            v.triangles = t, v.vertex_count = p.size() / 3, v.frame_count = 1, v.first_frame = frame, v.fps = fps;
-            v.positions = p, v.normals = n, v.texcoords = uv, v.foam = f, v.reflect = r, v.refract = tr;
+           std::size_t frame, std::size_t loop_frames) {
+            StageFrames a("frame_glb", positions, normals, triangles, texcoords, foam, reflect, refract, false);
+            wave::MorphAnimationView v = a.view(fps, frame, loop_frames);
             std::string bytes;
             {
                 py::gil_scoped_release release;
@@ -910,10 +944,37 @@ void bind_export(py::module_& m) {
         },
         py::arg("positions"), py::arg("normals"), py::arg("triangles"), py::arg("texcoords") = py::none(),
         py::arg("foam") = py::none(), py::arg("reflect") = py::none(), py::arg("refract") = py::none(),
-        py::arg("fps") = 24.0, py::arg("frame") = 0,
+        py::arg("fps") = 24.0, py::arg("frame") = 0, py::arg("loop_frames") = 0,
         "One frame as a static .glb (the files form's frame file): positions and normals (vertices, 3), triangles "
         "(triangles, 3), optional TEXCOORD_0 (vertices, 2; None: u, v over the positions' own rectangle in plan, as "
-        "domain_texcoords over the seafloor's) and foam/reflect/refract (vertices,; all three or none)");
+        "domain_texcoords over the seafloor's) and foam/reflect/refract (vertices,; all three or none); `frame` its "
+        "number in the loop and `loop_frames` the loop's length (0: not known), recorded for wave merge and the readers");
+    m.def(
+        "animation_glb",
+        [](const ArrayLike& positions, const ArrayLike& normals, const ArrayLike& triangles, std::optional<ArrayLike> texcoords,
+           std::optional<ArrayLike> foam, std::optional<ArrayLike> reflect, std::optional<ArrayLike> refract, double fps,
+           const std::string& form, std::size_t first_frame, std::size_t loop_frames) {
+            StageFrames a("animation_glb", positions, normals, triangles, texcoords, foam, reflect, refract, true);
+            wave::MorphAnimationView v = a.view(fps, first_frame, loop_frames);
+            if (loop_frames != 0 && first_frame + a.frames > loop_frames)
+                throw wave::InputError("animation_glb: frames " + std::to_string(first_frame) + " … " +
+                                       std::to_string(first_frame + a.frames - 1) + " run past loop_frames " + std::to_string(loop_frames));
+            if (form != "morph" && form != "nodes")
+                throw wave::InputError("animation_glb: form must be \"morph\" or \"nodes\", got \"" + form + "\"");
+            std::string bytes;
+            {
+                py::gil_scoped_release release;
+                bytes = form == "morph" ? wave::gltf_morph_glb(v) : wave::gltf_nodes_glb(v);
+            }
+            return py::bytes(bytes);
+        },
+        py::arg("positions"), py::arg("normals"), py::arg("triangles"), py::arg("texcoords") = py::none(),
+        py::arg("foam") = py::none(), py::arg("reflect") = py::none(), py::arg("refract") = py::none(),
+        py::arg("fps") = 24.0, py::arg("form") = "morph", py::arg("first_frame") = 0, py::arg("loop_frames") = 0,
+        "Frames of one mesh as one .glb, as wave run writes its morph or nodes form: positions and normals (frames, "
+        "vertices, 3), triangles (triangles, 3), optional TEXCOORD_0 (vertices, 2; None: over the first frame's "
+        "rectangle in plan) and foam/reflect/refract (frames, vertices; all three or none); frame k at key time "
+        "(first_frame + k) / fps; `loop_frames` the loop's length (0: not known)");
 }
 
 }  // namespace

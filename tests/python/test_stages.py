@@ -385,10 +385,7 @@ def test_frame_glb_without_its_optional_arrays_and_sizes_named(tmp_path):
     at = view.get("byteOffset", 0) + accessor.get("byteOffset", 0)
     texcoords = np.frombuffer(binary, np.float32, 2 * accessor["count"], at).reshape(-1, 2)
     np.testing.assert_array_equal(texcoords, [[0, 1], [1, 1], [0, 0]])  # u along +x, v down
-    validator = REPO / "scripts" / "gltf-validator" / "validate.mjs"
-    if shutil.which("node") and (validator.parent / "node_modules").exists():  # the Khronos validator (npm)
-        r = subprocess.run(["node", str(validator), str(out)], capture_output=True, text=True, timeout=120)
-        assert r.returncode == 0 and json.loads(r.stdout.splitlines()[-1])["numErrors"] == 0, r.stdout + r.stderr
+    validate_glb(out)
     uv = np.array([[0.1, 0.2], [0.3, 0.4], [0.5, 0.6]], np.float32)
     assert libwave.frame_glb(pos, nor, tri, texcoords=uv) != libwave.frame_glb(pos, nor, tri)
     ones = np.ones(3, np.float32)
@@ -403,6 +400,57 @@ def test_frame_glb_without_its_optional_arrays_and_sizes_named(tmp_path):
     for call, message in bad:
         with pytest.raises(libwave.InputError, match=message):
             call()
+
+
+def validate_glb(path):
+    """The Khronos validator's verdict on a file (skipped without its npm packages)."""
+    validator = REPO / "scripts" / "gltf-validator" / "validate.mjs"
+    if shutil.which("node") and (validator.parent / "node_modules").exists():
+        r = subprocess.run(["node", str(validator), str(path)], capture_output=True, text=True, timeout=120)
+        assert r.returncode == 0 and json.loads(r.stdout.splitlines()[-1])["numErrors"] == 0, r.stdout + r.stderr
+
+
+def test_stage_arrays_make_a_multi_frame_animation(tmp_path):
+    """animation_glb writes frames of stage arrays as one morph or nodes .glb (there was
+    no multi-frame writer: frame_glb files merged, then converted); frame_glb records the
+    loop's length for wave merge, which said "indexed 8 of 0 frames" without it."""
+    frames, fps = 8, 4.0
+    rest = np.array([[0, 0, 0], [10, 0, 0], [0, 10, 0], [10, 10, 0]], np.float32)
+    tri = np.array([[0, 1, 2], [1, 3, 2]], np.uint32)
+    pos = np.repeat(rest[None], frames, axis=0)
+    pos[:, :, 2] = 0.3 * np.sin(2 * np.pi * np.arange(frames)[:, None] / frames + rest[None, :, 0] / 5)
+    nor = np.stack([libwave.vertex_normals(p, tri) for p in pos])
+    foam = np.linspace(0, 1, frames * 4, dtype=np.float32).reshape(frames, 4)
+    for form in ("morph", "nodes"):
+        out = tmp_path / f"{form}.glb"
+        out.write_bytes(libwave.animation_glb(pos, nor, tri, foam=foam, reflect=foam, refract=1 - foam, fps=fps, form=form,
+                                              loop_frames=frames))
+        validate_glb(out)
+        a = libwave.read_animation(str(out))
+        assert a["frame_count"] == frames and a["loop_frames"] == frames and a["fps"] == fps
+        np.testing.assert_allclose(a["positions"], pos, atol=1e-6)
+        np.testing.assert_allclose(a["foam"], foam, atol=1e-6)
+    bad = [
+        (lambda: libwave.animation_glb(pos, nor[:7], tri), r"animation_glb normals: 7 frames of 4 vertices, positions has 8 of 4"),
+        (lambda: libwave.animation_glb(pos, nor, tri, foam=foam, reflect=foam, refract=foam[:7]),
+         "animation_glb refract: 28 values, positions has 32"),
+        (lambda: libwave.animation_glb(pos[:, :, :2], nor, tri), r"animation_glb positions: expected shape \(frames, vertices, 3\)"),
+        (lambda: libwave.animation_glb(pos, nor, tri, form="files"), 'animation_glb: form must be "morph" or "nodes"'),
+        (lambda: libwave.animation_glb(pos, nor, tri, first_frame=4, loop_frames=8), "run past loop_frames 8"),
+    ]
+    for call, message in bad:
+        with pytest.raises(libwave.InputError, match=message):
+            call()
+    # Frame files with their loop's length merge into a whole loop's index.
+    for loop in (frames, 0):
+        folder = tmp_path / f"files-{loop}"
+        (folder / "frames").mkdir(parents=True)
+        for k in range(frames):
+            (folder / "frames" / f"frame-{k:04d}.glb").write_bytes(libwave.frame_glb(pos[k], nor[k], tri, fps=fps, frame=k, loop_frames=loop))
+        r = subprocess.run([os.environ["WAVE_EXE"], "merge", str(folder)], capture_output=True, text=True)
+        assert r.returncode == 0, r.stderr
+        assert ("indexed 8 of 8 frames" if loop else "indexed 8 frames") in r.stdout, r.stdout
+        assert json.loads((folder / "index.json").read_text())["loop_frames"] == loop
 
 
 def test_seafloor_from_grid_and_from_triangles_hold_an_analytic_plane_and_plan_as_the_file_does(tmp_path):

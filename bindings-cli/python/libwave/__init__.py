@@ -8,7 +8,8 @@ Two routes, with the same results bit for bit:
   ``trace_fronts`` → ``solve_wave_field``/``take_field_amplitudes`` →
   ``build_ray_strips`` → ``mesh_water``/``resample_ray_strips`` →
   ``plan_gonzato_motion`` → ``breaking_foam`` → ``plan_untangle`` → ``vertex_normals``
-  → ``fresnel_weights`` → ``frame_glb``.
+  → ``fresnel_weights`` → ``frame_glb`` (one frame) or ``animation_glb`` (frames as one
+  morph or nodes .glb).
 
 Every failure is a ``libwave.Error``; bad input is ``libwave.InputError`` (also a
 ``ValueError``; a wrong shape or length of an array argument too), an argument of the
