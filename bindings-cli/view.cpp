@@ -3,6 +3,7 @@
 // fetched from outside: the page, three.js and the Draco decoder come from here.
 #include "commands.h"
 #include "libwave/errors.h"
+#include "libwave/io.h"
 #include "view_server.h"
 
 #include <httplib.h>
@@ -97,6 +98,11 @@ ViewerOutputs find_viewer_outputs(const std::string& path) {
     std::error_code ec;
     const fs::path p = fs::absolute(path, ec);
     if (ec || !fs::exists(p)) throw InputError("view: no such file or folder '" + path + "'");
+    // A FIFO or device is never listed, served or opened (it made the folder listing fail
+    // with the file system's message, exit 1): the argument a file or folder, an
+    // index.json a regular file.
+    require_input_file(p.string(), fs::is_directory(p, ec));
+    if (fs::is_directory(p, ec) && fs::exists(fs::symlink_status(p / "index.json", ec))) require_input_file((p / "index.json").string());
     const auto add = [&](const fs::path& file) {
         const bool index = file.filename() == "index.json";
         v.outputs.push_back({file.filename().string(), index ? "index" : "gltf"});

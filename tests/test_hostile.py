@@ -545,6 +545,11 @@ class SpecialFiles(unittest.TestCase):
             self.refused_at_once(["inspect", out], "frame-0001.glb: a FIFO")
             self.refused_at_once(["merge", out], "frame-0001.glb: a FIFO")
             self.assertFalse(os.path.exists(os.path.join(d, "c")))
+            # wave view: a FIFO named, or as a folder's index.json (exit 1, the file system's message).
+            self.refused_at_once(["view", os.path.join(d, "in.glb"), "--no-open", "--port", "0"], "in.glb: a FIFO (named pipe)")
+            os.remove(os.path.join(out, "index.json"))
+            os.mkfifo(os.path.join(out, "index.json"))
+            self.refused_at_once(["view", out, "--no-open", "--port", "0"], "index.json: a FIFO (named pipe)")
 
 
 class PathsOutside(unittest.TestCase):
