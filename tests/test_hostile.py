@@ -545,6 +545,26 @@ class SpecialFiles(unittest.TestCase):
             self.refused_at_once(["inspect", out], "frame-0001.glb: a FIFO")
             self.refused_at_once(["merge", out], "frame-0001.glb: a FIFO")
             self.assertFalse(os.path.exists(os.path.join(d, "c")))
+            # A FIFO where a run writes its report (it blocked the run's end, after every
+            # frame) or among the slice reports merge joins (it blocked merge for ever).
+            scene, fresh = os.path.join(d, "bay.json"), files_run(d, "fresh")
+            for report, frames in (("report-frames-0-2.json", "0:2"), ("report.json", None)):
+                target = os.path.join(d, "r-" + report)
+                shutil.copytree(fresh, target)
+                if os.path.exists(os.path.join(target, report)):
+                    os.remove(os.path.join(target, report))
+                os.mkfifo(os.path.join(target, report))
+                args = ["run", scene, "-q", "-o", target] + (["--form", "files", "--frames", frames] if frames else [])
+                self.refused_at_once(args, report + ": a FIFO (named pipe), where this run writes its report")
+            target = os.path.join(d, "m")
+            shutil.copytree(fresh, target)
+            os.remove(os.path.join(target, "index.json"))
+            os.remove(os.path.join(target, "report-frames-0-2.json"))
+            os.mkfifo(os.path.join(target, "report-frames-0-2.json"))
+            self.refused_at_once(["merge", target, "--partial"], "report-frames-0-2.json: a FIFO (named pipe)")
+            self.assertFalse(os.path.exists(os.path.join(target, "index.json")), "no index written")
+            os.mkfifo(os.path.join(d, "outpipe"))
+            self.refused_at_once(["run", scene, "-q", "-o", os.path.join(d, "outpipe")], "outpipe: a FIFO (named pipe), not a folder")
             # wave view: a FIFO named, or as a folder's index.json (exit 1, the file system's message).
             self.refused_at_once(["view", os.path.join(d, "in.glb"), "--no-open", "--port", "0"], "in.glb: a FIFO (named pipe)")
             os.remove(os.path.join(out, "index.json"))
