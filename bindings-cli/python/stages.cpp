@@ -880,16 +880,15 @@ struct StageFrames {
             uv = to_vector<float>(*texcoords, 2, fn + " texcoords");
             same_count(uv.size() / 2, vertices, "texcoords", "vertices");
         }
-        const int shading = int{foam.has_value()} + int{reflect.has_value()} + int{refract.has_value()};
-        if (shading != 0 && shading != 3)
+        const auto shading = {std::tuple{&foam, &f, "foam"}, std::tuple{&reflect, &r, "reflect"}, std::tuple{&refract, &tr, "refract"}};
+        for (const auto& [given, values, what] : shading)  // each one's type first (ArgumentTypeError), then the set
+            if (*given) *values = to_vector<float>(**given, 1, fn + " " + what);
+        const int count = int{foam.has_value()} + int{reflect.has_value()} + int{refract.has_value()};
+        if (count != 0 && count != 3)
             throw wave::InputError(fn + ": give foam, reflect and refract together (or none); got " + (foam ? "foam " : "") +
                                    (reflect ? "reflect " : "") + (refract ? "refract " : "") + "only");
-        for (const auto& [given, values, what] : {std::tuple{&foam, &f, "foam"}, std::tuple{&reflect, &r, "reflect"},
-                                                  std::tuple{&refract, &tr, "refract"}})
-            if (*given) {
-                *values = to_vector<float>(**given, 1, fn + " " + what);
-                same_count(values->size(), frames * vertices, what, many ? "values" : "vertices");
-            }
+        for (const auto& [given, values, what] : shading)
+            if (*given) same_count(values->size(), frames * vertices, what, many ? "values" : "vertices");
         if (!texcoords) {
             // TEXCOORD_0 over the first frame's rectangle in plan, as domain_texcoords lays
             // it over the seafloor's (u along +x, v down): glTF clients expect a UV map.
