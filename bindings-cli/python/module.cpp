@@ -563,6 +563,7 @@ PYBIND11_MODULE(_libwave, m) {
         "worst_edge_ratio, max_speed_m_s, ...) and "
         "per_frame, the same for every frame");
 
-    // Last: inspect.signature for every function and method defined above.
-    libwave_python::add_text_signatures(m);
+    // Last: inspect.signature for every function and method defined above, and their
+    // argument refusals as libwave.ArgumentTypeError.
+    libwave_python::add_text_signatures(m, argument_type_error);
 }

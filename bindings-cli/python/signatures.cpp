@@ -1,4 +1,4 @@
-// inspect.signature on pybind11 functions. pybind11 writes a function's typed signature
+// inspect.signature on pybind11 functions, and their argument refusals as libwave errors. pybind11 writes a function's typed signature
 // as the first line of its docstring (`plan(scene: Scene, seafloor: Optional[Seafloor] =
 // None) -> Plan`), which CPython does not read: a builtin's signature comes from a
 // docstring that starts `name(params)\n--\n\n` (its __text_signature__), with
@@ -129,9 +129,41 @@ std::string text_signature(const char* name, const char* doc) {
     return std::string(name) + "(" + params + ")\n--\n\n";
 }
 
+// pybind11's one dispatcher (every function's ml_meth) and the exception its refusals of
+// arguments become (add_text_signatures).
+PyCFunction pybind11_dispatcher = nullptr;
+PyObject* argument_type_error = nullptr;
+
+// Calls pybind11's dispatcher; its own refusal of the arguments (no overload takes them:
+// a camera of 2 numbers, a str for a float, a negative count) — a bare TypeError — is
+// raised as libwave.ArgumentTypeError (a libwave.Error that is also a TypeError) with the
+// same message, which names the function, the types it takes and the ones given.
+PyObject* dispatch(PyObject* self, PyObject* args, PyObject* kwargs) {
+    PyObject* result = reinterpret_cast<PyCFunctionWithKeywords>(reinterpret_cast<void (*)()>(pybind11_dispatcher))(self, args, kwargs);
+    if (result || !PyErr_ExceptionMatches(PyExc_TypeError)) return result;
+    PyObject *type = nullptr, *value = nullptr, *traceback = nullptr;
+    PyErr_Fetch(&type, &value, &traceback);
+    const char* text = value && PyUnicode_Check(value) ? PyUnicode_AsUTF8(value) : nullptr;
+    if (type == PyExc_TypeError && text &&
+        (std::strstr(text, "(): incompatible function arguments") || std::strstr(text, "(): incompatible constructor arguments"))) {
+        PyErr_SetString(argument_type_error, text);
+        Py_XDECREF(type);
+        Py_XDECREF(value);
+        Py_XDECREF(traceback);
+        return nullptr;
+    }
+    PyErr_Restore(type, value, traceback);
+    return nullptr;
+}
+
 void sign(PyObject* function) {
     if (!function || !PyCFunction_Check(function)) return;
     PyMethodDef* def = reinterpret_cast<PyCFunctionObject*>(function)->m_ml;
+    // pybind11's functions: its dispatcher, their record in a capsule as `self`.
+    if (def && def->ml_flags == (METH_VARARGS | METH_KEYWORDS) && PyCapsule_CheckExact(PyCFunction_GET_SELF(function)) && def->ml_meth != reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)()>(&dispatch))) {
+        if (!pybind11_dispatcher) pybind11_dispatcher = def->ml_meth;
+        if (def->ml_meth == pybind11_dispatcher) def->ml_meth = reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)()>(&dispatch));
+    }
     if (!def || !def->ml_doc || !def->ml_name || std::strstr(def->ml_doc, ")\n--\n\n")) return;
     const std::string prefix = text_signature(def->ml_name, def->ml_doc);
     if (prefix.empty()) return;
@@ -146,7 +178,8 @@ void sign(PyObject* function) {
 
 }  // namespace
 
-void add_text_signatures(py::module_& m) {
+void add_text_signatures(py::module_& m, PyObject* argument_error) {
+    argument_type_error = argument_error;
     const py::object staticmethod = py::module_::import("builtins").attr("staticmethod");
     for (const auto& [key, value] : py::dict(m.attr("__dict__"))) {
         (void)key;

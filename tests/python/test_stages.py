@@ -359,6 +359,12 @@ def test_array_arguments_of_a_wrong_shape_or_type_raise_libwave_errors_naming_th
         (lambda: libwave.fresnel_weights(pos, np.zeros((3, 3, 1)), (0, 0, 5), "exact"), libwave.InputError,
          r"fresnel_weights normals: expected shape \(n, 3\) or a flat array, got \(3, 3, 1\)"),
         (lambda: libwave.frame_glb(pos, pos, tri, foam=["x", "y", "z"]), libwave.ArgumentTypeError, "frame_glb foam"),
+        # pybind11's own refusals (no overload takes the arguments: a bare TypeError before).
+        (lambda: libwave.fresnel_weights(pos, pos, (0, 0)), libwave.ArgumentTypeError,
+         r"fresnel_weights\(\): incompatible function arguments"),
+        (lambda: libwave.grid_triangles(-1, 3), libwave.ArgumentTypeError, r"grid_triangles\(\): incompatible function arguments"),
+        (lambda: libwave.Scene(3, 4), libwave.ArgumentTypeError, r"__init__\(\): incompatible constructor arguments"),
+        (lambda: libwave.default_scene().set(3, 4), libwave.ArgumentTypeError, r"set\(\): incompatible function arguments"),
     ]
     for call, error, message in bad:
         with pytest.raises(error, match=message):

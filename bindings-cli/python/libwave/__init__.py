@@ -14,7 +14,8 @@ Two routes, with the same results bit for bit:
 Every failure is a ``libwave.Error``; bad input is ``libwave.InputError`` (also a
 ``ValueError``; a wrong shape or length of an array argument too), an argument of the
 wrong type or layout ``libwave.ArgumentTypeError`` (an ``InputError`` that is also a
-``TypeError``: an array of strings, a float64 buffer where a float32 frame is written)
+``TypeError``: an array of strings, a float64 buffer where a float32 frame is written, and
+every call whose arguments no signature takes: a camera of two numbers, a str for a number)
 and a guard rail ``libwave.LimitError`` (an ``InputError``), each naming the file, key
 or argument and the value.
 """
