@@ -61,7 +61,8 @@ std::vector<std::string> expand_inputs(const std::vector<std::string>& inputs, s
 }
 
 struct Job {
-    std::string scene, out, err_file;
+    std::string scene, out, err_file, report_file;  // the run's messages and its report (stdout, --json)
+    json report;                                    // what it printed there
     pid_t pid = -1;
     Clock::time_point start;
     int exit_code = -1;
@@ -82,8 +83,10 @@ std::string tail_of(const std::string& path) {
 }
 
 // What a scene's run left in its folder: every file (relative path, bytes), their total,
-// and the frames its report.json names (surface.frames; 0 when it has none).
-void describe_outputs(const std::string& folder, json& r) {
+// and the frames its report names (surface.frames; 0 when it has none). The report is
+// the one the run printed (--json), not a file of the folder: a slice (--frames) writes
+// report-frames-A-B.json, and earlier runs may have left other reports there.
+void describe_outputs(const std::string& folder, const json& report, json& r) {
     json files = json::array();
     std::uintmax_t total = 0;
     std::vector<fs::path> paths;
@@ -99,9 +102,7 @@ void describe_outputs(const std::string& folder, json& r) {
     r["outputs"] = std::move(files);
     r["bytes"] = total;
     r["frames"] = 0;
-    std::ifstream in(fs::path(folder) / "report.json");
-    const json report = json::parse(in, nullptr, false);
-    if (!report.is_discarded() && report.contains("surface") && report["surface"].contains("frames"))
+    if (report.is_object() && report.contains("surface") && report["surface"].contains("frames"))
         r["frames"] = report["surface"]["frames"];
 }
 
@@ -144,11 +145,12 @@ int run_batch(const BatchArgs& a) {
         j.scene = s;
         j.out = (fs::path(a.out_dir) / fs::path(s).stem()).string();
         j.err_file = (fs::path(a.out_dir) / (".batch-" + std::to_string(getpid()) + "-" + fs::path(s).stem().string() + ".err")).string();
+        j.report_file = j.err_file.substr(0, j.err_file.size() - 4) + ".json";
         jobs.push_back(std::move(j));
     }
 
     const auto spawn = [&](Job& j) {
-        std::vector<std::string> args{self, "run", j.scene, "-o", j.out, "--quiet"};
+        std::vector<std::string> args{self, "run", j.scene, "-o", j.out, "--json"};  // the report on stdout, no progress bar
         for (const auto& extra : a.run_args) args.push_back(extra);
         std::vector<char*> argv;
         for (auto& s : args) argv.push_back(s.data());
@@ -156,7 +158,7 @@ int run_batch(const BatchArgs& a) {
         posix_spawn_file_actions_t actions;
         posix_spawn_file_actions_init(&actions);
         posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, j.err_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+        posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, j.report_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
         j.start = Clock::now();
         const int rc = posix_spawn(&j.pid, self.c_str(), &actions, nullptr, argv.data(), environ);
         posix_spawn_file_actions_destroy(&actions);
@@ -185,6 +187,11 @@ int run_batch(const BatchArgs& a) {
         if (j.error.empty() && j.exit_code != 0) j.error = "terminated by signal " + std::to_string(WTERMSIG(status));
         std::error_code ignored;
         fs::remove(j.err_file, ignored);
+        if (j.exit_code == 0) {
+            std::ifstream in(j.report_file);
+            j.report = json::parse(in, nullptr, false);
+        }
+        fs::remove(j.report_file, ignored);
         --running, ++done;
         if (!a.quiet && !a.json)
             std::cout << "[" << done << "/" << jobs.size() << "] " << (j.exit_code == 0 ? "ok     " : "FAILED ") << j.scene
@@ -200,7 +207,7 @@ int run_batch(const BatchArgs& a) {
         json r{{"scene", j.scene}, {"status", ok ? "ok" : "failed"}, {"exit_code", j.exit_code}, {"seconds", j.seconds}};
         if (ok) {
             r["output"] = j.out;
-            describe_outputs(j.out, r);
+            describe_outputs(j.out, j.report, r);
         } else {
             r["error"] = j.error;
         }

@@ -743,14 +743,25 @@ int run_job(const RunArgs& a) {
     // frames alone, exit 0): the loop's length is the scene's to change.
     if (!a.frames.empty() && range.end > loop_frames)
     {
+        // The key that lengthens this scene's loop (docs/scene.md, "Long shots").
+        const bool superposed = scene.ocean && scene.surface_kind != SurfaceKind::ocean;
+        std::string keys = "/ocean/repeat_time";
+        if (superposed)
+            keys += " (a whole multiple of the swell's loop)";
+        else if (scene.surface_kind == SurfaceKind::height_field)
+            keys = "/surface/repeat_time";
+        else if (scene.surface_kind != SurfaceKind::ocean)
+            keys = "a wind sea: /ocean with /ocean/repeat_time a whole multiple of the swell's period (the swell alone "
+                   "repeats every period)";
         std::ostringstream why;
         why << "--frames " << a.frames << ": the loop has " << loop_frames << " frames (" << plan.loop_period << " s at "
-            << scene.fps << " fps: the waves' periods, /surface/repeat_time or /ocean/repeat_time and /animation/fps set "
-            << "it); frames past it repeat the loop: render --frames A:" << loop_frames
-            << " and repeat it in the DCC, or lengthen the loop (/surface/repeat_time, /ocean/repeat_time)";
+            << scene.fps << " fps, /animation/fps); frames past it would repeat it: render --frames A:" << loop_frames
+            << " and repeat them in the DCC, or lengthen the loop to at least " << static_cast<double>(range.end) / scene.fps
+            << " s with " << keys;
         throw InputError(why.str());
     }
     const std::size_t range_end = std::min(range.end, loop_frames), in_range = range.first < range_end ? range_end - range.first : 0;
+    check_report_place(out_dir, range.first == 0 && range_end == loop_frames ? "report.json" : slice_report_name(range.first, in_range));
     // The files form and the streamed forms compute a chunk of frames at a time; the
     // others (quantised single files) hold every frame of the range.
     const bool streamed = streamed_form(scene), chunked = files_form || streamed;
@@ -1081,18 +1092,29 @@ json frame_metadata(const std::string& path) {
 // The slices' reports joined into the report.json of one run over the whole loop: the
 // same plan, the frame count and height range over every slice, the whole run's
 // outputs. Only when the slices tile the loop exactly; returns the slice reports used.
-std::vector<std::filesystem::path> join_slice_reports(const std::filesystem::path& out_dir, std::size_t loop_frames) {
-    namespace fs = std::filesystem;
-    std::map<std::size_t, std::pair<fs::path, json>> slices;  // by first frame
-    for (const auto& e : fs::directory_iterator(out_dir)) {
+// The slice reports of a folder (report-frames-A-B.json) by first frame, each a regular
+// file (a FIFO blocked wave merge for ever; refused naming it, exit 2).
+std::map<std::size_t, std::filesystem::path> slice_reports(const std::filesystem::path& out_dir) {
+    std::map<std::size_t, std::filesystem::path> reports;
+    for (const auto& e : std::filesystem::directory_iterator(out_dir)) {
         const std::string name = e.path().filename().string();
         std::size_t first = 0, end = 0;
         char tail[8] = {};
         if (std::sscanf(name.c_str(), "report-frames-%zu-%zu%7s", &first, &end, tail) != 3 || std::strcmp(tail, ".json") ||
             name != slice_report_name(first, end - first))
             continue;
-        std::ifstream in(e.path());
-        json r = json::parse(in, nullptr, false);
+        require_input_file(e.path().string());
+        reports.emplace(first, e.path());
+    }
+    return reports;
+}
+
+std::vector<std::filesystem::path> join_slice_reports(const std::filesystem::path& out_dir, std::size_t loop_frames) {
+    namespace fs = std::filesystem;
+    std::map<std::size_t, std::pair<fs::path, json>> slices;  // by first frame
+    for (const auto& [first, path] : slice_reports(out_dir)) {
+        json r = json::parse(read_input_bytes(path), nullptr, false);
+        const fs::directory_entry e(path);
         // What the join reads, of the types libwave writes.
         const auto is_report = [](const json& j) {
             if (!j.is_object() || !j.contains("surface") || !j["surface"].is_object() || !j.contains("outputs") ||
@@ -1187,6 +1209,7 @@ int run_merge(const MergeArgs& a) {
     // Each frame's files with their sizes and SHA-256; the run key and height ranges of
     // the slices' own index carried over where the files are the ones it listed.
     const fs::path old_path = fs::path(a.out_dir) / "index.json";
+    (void)slice_reports(a.out_dir);  // what the join will read, checked before the index is written
     const FolderLock index_lock(a.out_dir, true, "");  // slices may still be publishing their entries
     const json old = read_index(old_path).value_or(json::object());
     std::map<std::size_t, json> old_entries;
@@ -1223,7 +1246,11 @@ int run_merge(const MergeArgs& a) {
     const std::vector<fs::path> joined = missing.empty() ? join_slice_reports(a.out_dir, loop_frames) : std::vector<fs::path>{};
     for (const fs::path& p : joined) fs::remove(p);  // report.json now holds them
     if (!a.quiet) {
-        std::cout << "indexed " << files.size() << " of " << loop_frames << " frames in " << a.out_dir << "/index.json\n";
+        if (loop_frames == 0)  // frames written without their loop's length (Python's frame_glb without loop_frames)
+            std::cout << "indexed " << files.size() << " frames in " << a.out_dir
+                      << "/index.json (they record no loop length: frame_glb(..., loop_frames=) records it)\n";
+        else
+            std::cout << "indexed " << files.size() << " of " << loop_frames << " frames in " << a.out_dir << "/index.json\n";
         if (!joined.empty()) std::cout << "joined " << joined.size() << " slice reports into " << a.out_dir << "/report.json\n";
     }
     return 0;

@@ -87,13 +87,24 @@ void check_out_dir(const std::string& out_dir) {
     std::error_code ec;
     for (fs::path p = fs::path(out_dir).lexically_normal(); !p.empty(); p = p.parent_path()) {
         if (fs::exists(p, ec)) {
-            if (!fs::is_directory(p, ec))
-                throw InputError(out_dir + ": " + (p == fs::path(out_dir).lexically_normal() ? std::string("a file") : p.string() + " is a file") +
+            if (!fs::is_directory(p, ec)) {
+                const std::string kind = fs::is_regular_file(p, ec) ? "a file" : fs::is_fifo(p, ec) ? "a FIFO (named pipe)" : "not a regular file";
+                throw InputError(out_dir + ": " + (p == fs::path(out_dir).lexically_normal() ? kind : p.string() + " is " + kind) +
                                  ", not a folder; -o names the output folder");
+            }
             return;
         }
         if (p == p.parent_path()) return;
     }
+}
+
+void check_report_place(const std::string& out_dir, const std::string& report_name) {
+    std::error_code ec;
+    const std::string at = path_inside(out_dir, report_name, out_dir + ": the run's report");
+    const auto status = fs::symlink_status(at, ec);
+    if (ec || !fs::exists(status) || fs::is_regular_file(status)) return;
+    throw InputError(at + ": " + (fs::is_directory(status) ? "a folder" : fs::is_fifo(status) ? "a FIFO (named pipe)" : fs::is_symlink(status) ? "a link" : "not a regular file") +
+                     ", where this run writes its report; remove it or use another output folder");
 }
 
 void check_files_form_places(const std::string& out_dir) {
@@ -287,9 +298,9 @@ bool own_output_name(const std::string& name) {
 }  // namespace
 
 std::vector<std::string> recorded_outputs(const std::string& out_dir, const std::string& report_name) {
-    std::ifstream in(fs::path(out_dir) / report_name);
-    if (!in) return {};
-    const json report = json::parse(in, nullptr, false);
+    const auto bytes = read_bytes(fs::path(out_dir) / report_name);  // a regular file only: a FIFO there blocked the run's end
+    if (!bytes) return {};
+    const json report = json::parse(*bytes, nullptr, false);
     if (report.is_discarded() || !report.is_object() || !report.contains("outputs") || !report["outputs"].is_array()) return {};
     std::vector<std::string> names{report_name};
     for (const json& n : report["outputs"])

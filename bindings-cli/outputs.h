@@ -104,6 +104,10 @@ std::vector<std::string> publish(const std::string& out_dir, const Files& files,
 /// plus the report itself; empty when there is none or it is unreadable.
 std::vector<std::string> recorded_outputs(const std::string& out_dir, const std::string& report_name);
 
+// Refuses (InputError, naming it) a FIFO, folder, link or device where this run writes its
+// report (`report_name` in `out_dir`): before any frame is computed, not at the run's end.
+void check_report_place(const std::string& out_dir, const std::string& report_name);
+
 /// Every output a libwave run recorded in `out_dir` (each report*.json's outputs and
 /// the reports), and the files form's index.json and frames/ folder: what
 /// `wave run --overwrite` removes before it publishes.

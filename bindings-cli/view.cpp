@@ -3,10 +3,13 @@
 // fetched from outside: the page, three.js and the Draco decoder come from here.
 #include "commands.h"
 #include "libwave/errors.h"
+#include "libwave/io.h"
+#include "view_server.h"
 
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include <atomic>
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
@@ -31,11 +34,9 @@ using json = nlohmann::json;
 
 namespace {
 
-httplib::Server* running = nullptr;  // for the signal handler
+std::atomic<bool> stopping{false};  // set by SIGINT / SIGTERM (lock-free: safe in a handler)
 
-void stop_server(int) {
-    if (running) running->stop();
-}
+void stop_server(int) { stopping = true; }
 
 // The viewer's files: $LIBWAVE_VIEWER_DIR, else <bin>/../share/libwave/viewer (the
 // build tree and an installed prefix have the same layout).
@@ -97,6 +98,11 @@ ViewerOutputs find_viewer_outputs(const std::string& path) {
     std::error_code ec;
     const fs::path p = fs::absolute(path, ec);
     if (ec || !fs::exists(p)) throw InputError("view: no such file or folder '" + path + "'");
+    // A FIFO or device is never listed, served or opened (it made the folder listing fail
+    // with the file system's message, exit 1): the argument a file or folder, an
+    // index.json a regular file.
+    require_input_file(p.string(), fs::is_directory(p, ec));
+    if (fs::is_directory(p, ec) && fs::exists(fs::symlink_status(p / "index.json", ec))) require_input_file((p / "index.json").string());
     const auto add = [&](const fs::path& file) {
         const bool index = file.filename() == "index.json";
         v.outputs.push_back({file.filename().string(), index ? "index" : "gltf"});
@@ -139,7 +145,7 @@ int run_view(const ViewArgs& a) {
                                  " (built from bindings-cli/viewer with npm; scripts/install-deps.sh installs it)");
     if (a.port < 0 || a.port > 65535) throw InputError("view: --port must be in [0, 65535], got " + std::to_string(a.port));
 
-    httplib::Server server;
+    ViewServer server;
     const std::map<std::string, std::string> types{
         {".html", "text/html; charset=utf-8"}, {".js", "text/javascript"}, {".wasm", "application/wasm"},
         {".json", "application/json"}, {".glb", "model/gltf-binary"}, {".gltf", "model/gltf+json"},
@@ -164,17 +170,20 @@ int run_view(const ViewArgs& a) {
     std::error_code ec;
     const fs::path root_real = fs::canonical(outputs.root, ec);
     if (ec) throw InputError("view: cannot resolve " + outputs.root.string() + " (" + ec.message() + ")");
-    bool warned = false;
+    std::atomic<bool> warned{false};  // handlers run on several workers
     server.Get(R"(/out/(.+))", [&, root_real](const httplib::Request& req, httplib::Response& res) {
         const auto file = served_file(root_real, req.matches[1].str());
         if (!file) {
-            if (!warned) std::cerr << "wave view: refused " << req.path << " (outside " << root_real.string()
-                                   << ", a link leaving it, or no such file); further refusals are not reported" << std::endl;
-            warned = true;
+            if (!warned.exchange(true))
+                std::cerr << "wave view: refused " << req.path << " (outside " << root_real.string()
+                          << ", a link leaving it, or no such file); further refusals are not reported" << std::endl;
             res.status = 404;
+            res.set_header("Connection", "close");
+            ViewServer::close_after_this_answer();
             return;
         }
-        const auto size = static_cast<std::size_t>(fs::file_size(*file, ec));
+        std::error_code size_error;
+        const auto size = static_cast<std::size_t>(fs::file_size(*file, size_error));
         const auto type = types.find(file->extension().string());
         auto in = std::make_shared<std::ifstream>(*file, std::ios::binary);
         res.set_content_provider(size, type == types.end() ? "application/octet-stream" : type->second,
@@ -193,23 +202,26 @@ int run_view(const ViewArgs& a) {
     // this run's token — in the printed URL's query, then in a cookie the page keeps.
     const std::string token = random_token();
     int port = a.port;
+    // A refused request ends its connection (no pipelined requests from a client without
+    // the token); its body, if any, is never read.
     server.set_pre_routing_handler([&](const httplib::Request& req, httplib::Response& res) {
-        if (req.method != "GET" && req.method != "HEAD") {
-            res.status = 405;
+        const auto refused = [&](int status) {
+            res.status = status;
+            res.set_header("Connection", "close");
+            ViewServer::close_after_this_answer();
             return httplib::Server::HandlerResponse::Handled;
-        }
+        };
+        if (req.method != "GET" && req.method != "HEAD") return refused(405);
         if (!local_host(req.get_header_value("Host"), port)) {
-            res.status = 403;
             res.set_content("wave view answers pages of this machine only (Host 127.0.0.1, localhost or [::1])\n", "text/plain");
-            return httplib::Server::HandlerResponse::Handled;
+            return refused(403);
         }
         const std::string cookie = "wave_view=" + token;
         if (req.get_param_value("token") == token) {
             res.set_header("Set-Cookie", cookie + "; Path=/; HttpOnly; SameSite=Strict");
         } else if (req.get_header_value("Cookie").find(cookie) == std::string::npos) {
-            res.status = 403;
             res.set_content("wave view: open the URL it printed (it carries this run's token)\n", "text/plain");
-            return httplib::Server::HandlerResponse::Handled;
+            return refused(403);
         }
         return httplib::Server::HandlerResponse::Unhandled;
     });
@@ -220,7 +232,7 @@ int run_view(const ViewArgs& a) {
         if (a.port_given) throw InputError("view: port " + std::to_string(port) + " on " + a.host + " is in use; choose another with --port (0 = any free port)");
         port = server.bind_to_any_port(a.host);  // the default was taken: any free one
     }
-    if (port <= 0) throw std::runtime_error("view: cannot listen on " + a.host);
+    if (port <= 0 || !server.prepare()) throw std::runtime_error("view: cannot listen on " + a.host);
 
     const std::string url = "http://" + a.host + ":" + std::to_string(port) + "/?token=" + token;
     std::cout << "wave view: " << outputs.root.string() << " (" << outputs.outputs.size() << " output"
@@ -235,13 +247,10 @@ int run_view(const ViewArgs& a) {
         if (posix_spawnp(&pid, "xdg-open", nullptr, nullptr, argv, environ) != 0)
             std::cout << "wave view: no xdg-open here; open " << url << " in a browser" << std::endl;
     }
-    running = &server;
     std::signal(SIGINT, stop_server);
     std::signal(SIGTERM, stop_server);
     std::signal(SIGCHLD, SIG_IGN);  // xdg-open is not waited for
-    const bool ok = server.listen_after_bind();
-    running = nullptr;
-    return ok ? 0 : 1;
+    return server.serve(stopping) ? 0 : 1;
 }
 
 }  // namespace wave::cli

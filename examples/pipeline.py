@@ -40,7 +40,7 @@ def frame_by_stages(grid_path: str, frame: int) -> Dict[str, Any]:
 
     # The far field: a skirt to the horizon (2000 camera heights, at least ten domains and 5 km),
     # moved by the swell's fundamental and first overtone fitted at the border.
-    size = max(np.ptp(mesh.x), np.ptp(mesh.y))
+    size = float(max(np.ptp(mesh.x), np.ptp(mesh.y)))
     # Its sizes read the depth no shallower than where the swell breaks (H/γ, γ = 0.78).
     skirt = libwave.plan_sea_skirt(seafloor, mesh.x, mesh.y, mesh.triangles, PERIOD, max(2000 * CAMERA[2], 10 * size, 5000.0),
                                    min_depth=2 * AMPLITUDE / 0.78)

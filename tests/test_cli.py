@@ -895,8 +895,23 @@ class OutputForms(unittest.TestCase):
             # A shot past the 120-frame loop is never cut short in silence: the message
             # says the loop's length and the keys that set it.
             r = wave("run", scene, "-o", os.path.join(d, "bad"), "--frames", "0:10000")
+            self.assertEqual(r.returncode, 2, r.stderr)
             self.assertIn("the loop has 120 frames", r.stderr)
-            self.assertIn("/ocean/repeat_time", r.stderr)
+            self.assertIn("at least 416.667 s with a wind sea: /ocean with /ocean/repeat_time", r.stderr)
+            self.assertFalse(os.path.exists(os.path.join(d, "bad")))
+            # Each surface kind names its own key; with it the long shot runs (docs/scene.md, "Long shots").
+            for kind, extra, key in (("height-field", {}, "with /surface/repeat_time"), ("ocean", {"ocean": {"resolution": 16, "size": 50}}, "with /ocean/repeat_time")):
+                waves = {} if kind == "ocean" else {"waves": [{"period": 5, "amplitude": 0.3}]}
+                other = write_scene(d, {"surface": {"kind": kind}, "animation": {"fps": 4}, **extra, **waves}, "long-" + kind + ".json")
+                r = wave("run", other, "-o", os.path.join(d, "bad"), "--frames", "30:200")
+                self.assertEqual(r.returncode, 2, r.stderr)
+                self.assertIn("at least 50 s " + key, r.stderr)
+                self.assertFalse(os.path.exists(os.path.join(d, "bad")))
+            long_shot = write_scene(d, {"surface": {"kind": "ocean"}, "ocean": {"resolution": 16, "size": 50, "repeat_time": 50},
+                                        "animation": {"fps": 4}}, "long.json")
+            r = wave("run", long_shot, "-o", os.path.join(d, "long"), "--frames", "190:200", "--form", "files", "-q")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertEqual(len(os.listdir(os.path.join(d, "long", "frames"))), 10)
 
 
 class Codecs(unittest.TestCase):
@@ -2485,7 +2500,16 @@ class Batch(unittest.TestCase):
             self.assertIn("report.json", files)
             self.assertEqual(ok["bytes"], sum(files.values()))
             self.assertEqual(sum(files.values()), sum(os.path.getsize(os.path.join(ok["output"], f)) for f in files))
-            self.assertGreater(ok["frames"], 0)
+            self.assertEqual(ok["frames"], 120)  # 5 s at 24 fps
+            # A slice (--frames) reports its own frames, read from the report the run
+            # printed: it writes report-frames-A-B.json, and the folder holds the whole
+            # loop's report.json from before ("frames": 0 then; 120 would be the old one's).
+            r = wave("batch", os.path.join(folder, "bay.json"), "-o", os.path.join(d, "some"), "--frames", "2:5", "--json")
+            self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+            sliced = json.loads(r.stdout)["results"][0]
+            self.assertEqual(sliced["frames"], 3)
+            self.assertIn("report-frames-2-5.json", [o["file"] for o in sliced["outputs"]])
+            self.assertEqual(sorted(os.listdir(os.path.join(d, "some"))), ["batch-summary.json", "bay"])  # no temporaries
 
 
 class OutputFolders(unittest.TestCase):

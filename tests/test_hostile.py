@@ -10,9 +10,11 @@ import math
 import os
 import pathlib
 import random
+import re
 import resource
 import shutil
 import signal
+import socket
 import struct
 import subprocess
 import sys
@@ -543,6 +545,31 @@ class SpecialFiles(unittest.TestCase):
             self.refused_at_once(["inspect", out], "frame-0001.glb: a FIFO")
             self.refused_at_once(["merge", out], "frame-0001.glb: a FIFO")
             self.assertFalse(os.path.exists(os.path.join(d, "c")))
+            # A FIFO where a run writes its report (it blocked the run's end, after every
+            # frame) or among the slice reports merge joins (it blocked merge for ever).
+            scene, fresh = os.path.join(d, "bay.json"), files_run(d, "fresh")
+            for report, frames in (("report-frames-0-2.json", "0:2"), ("report.json", None)):
+                target = os.path.join(d, "r-" + report)
+                shutil.copytree(fresh, target)
+                if os.path.exists(os.path.join(target, report)):
+                    os.remove(os.path.join(target, report))
+                os.mkfifo(os.path.join(target, report))
+                args = ["run", scene, "-q", "-o", target] + (["--form", "files", "--frames", frames] if frames else [])
+                self.refused_at_once(args, report + ": a FIFO (named pipe), where this run writes its report")
+            target = os.path.join(d, "m")
+            shutil.copytree(fresh, target)
+            os.remove(os.path.join(target, "index.json"))
+            os.remove(os.path.join(target, "report-frames-0-2.json"))
+            os.mkfifo(os.path.join(target, "report-frames-0-2.json"))
+            self.refused_at_once(["merge", target, "--partial"], "report-frames-0-2.json: a FIFO (named pipe)")
+            self.assertFalse(os.path.exists(os.path.join(target, "index.json")), "no index written")
+            os.mkfifo(os.path.join(d, "outpipe"))
+            self.refused_at_once(["run", scene, "-q", "-o", os.path.join(d, "outpipe")], "outpipe: a FIFO (named pipe), not a folder")
+            # wave view: a FIFO named, or as a folder's index.json (exit 1, the file system's message).
+            self.refused_at_once(["view", os.path.join(d, "in.glb"), "--no-open", "--port", "0"], "in.glb: a FIFO (named pipe)")
+            os.remove(os.path.join(out, "index.json"))
+            os.mkfifo(os.path.join(out, "index.json"))
+            self.refused_at_once(["view", out, "--no-open", "--port", "0"], "index.json: a FIFO (named pipe)")
 
 
 class PathsOutside(unittest.TestCase):
@@ -706,6 +733,97 @@ class ResumeObstacles(unittest.TestCase):
                     self.assertEqual([n for n in os.listdir(out) if n.startswith(".wave-")], [])
                     if not UNDER_ASAN:
                         self.assertLess(seconds, 3, "refused before the frames are computed")
+
+
+class SlowClients(unittest.TestCase):
+    """`wave view` collects request heads on one thread, each within 5 s and 16 KiB, and
+    answers only whole ones on its workers: clients that send their headers a byte at a
+    time (slowloris) or nothing at all held every worker before the token check
+    (docs/viewer.md, "Slow clients")."""
+
+    def test_slow_and_silent_clients_hold_no_worker(self):
+        with tempfile.TemporaryDirectory() as d:
+            assets, out = os.path.join(d, "assets"), os.path.join(d, "out")
+            os.makedirs(assets)
+            os.makedirs(out)
+            pathlib.Path(assets, "index.html").write_text("<html></html>")
+            pathlib.Path(assets, "viewer.js").write_text("//")
+            pathlib.Path(out, "animation.glb").write_bytes(b"glTF")  # only its name is looked at
+            view = subprocess.Popen([WAVE, "view", out, "--port", "0", "--no-open"], stdout=subprocess.PIPE,
+                                    stderr=subprocess.PIPE, text=True, env=dict(os.environ, LIBWAVE_VIEWER_DIR=assets))
+            try:
+                m = re.search(r"http://127\.0\.0\.1:(\d+)/\?token=([0-9a-f]{32})", view.stdout.readline())
+                self.assertIsNotNone(m)
+                port, token = int(m.group(1)), m.group(2)
+                head = b"GET /api/outputs?token=%s HTTP/1.1\r\nHost: 127.0.0.1:%d\r\n\r\n" % (token.encode(), port)
+
+                def connect():
+                    s = socket.create_connection(("127.0.0.1", port), timeout=10)
+                    s.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+                    return s
+
+                def answer(s):
+                    """The status and body of one answer on s (Content-Length framed)."""
+                    data = b""
+                    while b"\r\n\r\n" not in data:
+                        chunk = s.recv(4096)
+                        if not chunk:
+                            return None, data
+                        data += chunk
+                    top, _, body = data.partition(b"\r\n\r\n")
+                    length = int(re.search(rb"Content-Length: (\d+)", top).group(1))
+                    while len(body) < length:
+                        body += s.recv(4096)
+                    return int(top.split()[1]), body
+
+                # 40 clients trickling a head that never ends, 40 silent ones: more than the workers.
+                trickling = [connect() for _ in range(40)]
+                silent = [connect() for _ in range(40)]
+                for s in trickling:
+                    s.sendall(b"GET / HTTP/1.1\r\nHost: 127.0.0.1:%d\r\nX-Slow: " % port)
+                t0 = time.monotonic()
+                for _ in range(5):  # a byte each, five times over a second
+                    time.sleep(0.2)
+                    for s in trickling:
+                        s.send(b"a")
+                # A request with the token is answered at once, twice on one connection (keep-alive).
+                c = connect()
+                for _ in range(2):
+                    c.sendall(head)
+                    status, body = answer(c)
+                    self.assertEqual(status, 200)
+                    self.assertIn(b"animation.glb", body)
+                self.assertLess(time.monotonic() - t0, 3)
+                c.close()
+                # Refused requests end their connection: nothing pipelined behind them is answered.
+                c = connect()
+                c.sendall(b"GET /api/outputs HTTP/1.1\r\nHost: 127.0.0.1:%d\r\n\r\n" % port + head)
+                status, _ = answer(c)
+                self.assertEqual(status, 403)
+                self.assertEqual(c.recv(4096), b"")
+                # A head past 16 KiB: 431, closed.
+                c = connect()
+                c.sendall(b"GET / HTTP/1.1\r\nX-Big: " + b"a" * 20000)
+                self.assertEqual(answer(c)[0], 431)
+                # The trickling clients get 408 and the silent ones are closed within the 5 s.
+                for s in trickling:
+                    status, _ = answer(s)
+                    self.assertEqual(status, 408)
+                for s in silent:
+                    self.assertEqual(s.recv(4096), b"")
+                self.assertLess(time.monotonic() - t0, 8)
+                for s in trickling + silent:
+                    s.close()
+                # A stop while clients are connected: at once, exit 0.
+                hanging = connect()
+                hanging.send(b"GET / HT")
+                view.send_signal(signal.SIGTERM)
+                self.assertEqual(view.wait(timeout=5), 0)
+                hanging.close()
+            finally:
+                if view.poll() is None:
+                    view.kill()
+                    view.wait()
 
 
 ADDON_FRAMES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "bindings-cli", "blender", "libwave_blender", "frames.py")

@@ -15,9 +15,10 @@ namespace libwave_python {
 namespace py = pybind11;
 
 // A read-only NumPy view of a std::vector owned by the Python object `owner` (kept
-// alive by the array's base), shaped as given: libwave's buffers, no copy.
+// alive by the array's base), shaped as given: libwave's buffers, no copy. Typed, so that
+// signatures and stubs show its dtype.
 template <class T>
-py::array view(const std::vector<T>& data, std::vector<py::ssize_t> shape, const py::object& owner) {
+py::array_t<T> view(const std::vector<T>& data, std::vector<py::ssize_t> shape, const py::object& owner) {
     std::vector<py::ssize_t> strides(shape.size());
     py::ssize_t step = sizeof(T);
     for (std::size_t i = shape.size(); i-- > 0;) {
@@ -25,10 +26,27 @@ py::array view(const std::vector<T>& data, std::vector<py::ssize_t> shape, const
         step *= shape[i];
     }
     if (data.empty()) return py::array_t<T>(shape);
-    py::array a(py::dtype::of<T>(), shape, strides, data.data(), owner);
+    py::array_t<T> a(shape, strides, data.data(), owner);
     py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
     return a;
 }
+
+inline bool any_object(PyObject*) { return true; }
+
+// An array argument read as numbers: any object is taken (to_vector converts it and
+// refuses what is not numbers, naming the argument — never pybind11's own TypeError);
+// signatures and stubs show numpy.typing.ArrayLike.
+class ArrayLike : public py::object {
+public:
+    PYBIND11_OBJECT_DEFAULT(ArrayLike, py::object, any_object)
+};
+
+// A writable C-contiguous float32 array a function writes into (checked by the function,
+// naming it); shown as numpy.typing.NDArray[numpy.float32].
+class Float32Out : public py::object {
+public:
+    PYBIND11_OBJECT_DEFAULT(Float32Out, py::object, any_object)
+};
 
 // An argument of the wrong type or layout (not numbers, not a writable float32 array):
 // raised in Python as libwave.ArgumentTypeError, an InputError (so a libwave.Error) that
@@ -83,3 +101,14 @@ py::array_t<T> copy(const std::vector<T>& data, std::vector<py::ssize_t> shape) 
 inline py::ssize_t ssize(std::size_t n) { return static_cast<py::ssize_t>(n); }
 
 }  // namespace libwave_python
+
+namespace pybind11::detail {
+template <>
+struct handle_type_name<libwave_python::ArrayLike> {
+    static constexpr auto name = const_name("numpy.typing.ArrayLike");
+};
+template <>
+struct handle_type_name<libwave_python::Float32Out> {
+    static constexpr auto name = const_name("numpy.typing.NDArray[numpy.float32]");
+};
+}  // namespace pybind11::detail

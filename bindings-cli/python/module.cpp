@@ -12,6 +12,7 @@
 #include "libwave/version.h"
 
 #include "arrays.h"
+#include "signatures.h"
 
 #include <nlohmann/json.hpp>
 #include <pybind11/numpy.h>
@@ -248,9 +249,9 @@ PYBIND11_MODULE(_libwave, m) {
             },
             py::arg("frame"), "One frame (index within this animation) as a static .glb")
         .def(
-            "whitewater_glb", [](const SceneAnimation& a, std::size_t k) -> py::object {
+            "whitewater_glb", [](const SceneAnimation& a, std::size_t k) -> std::optional<py::bytes> {
                 if (k >= a.frame_count) throw wave::InputError("whitewater_glb: frame " + std::to_string(k) + " of " + std::to_string(a.frame_count));
-                if (a.whitewater.empty()) return py::none();
+                if (a.whitewater.empty()) return std::nullopt;
                 return py::bytes(a.whitewater[k]);
             },
             py::arg("frame"), "The frame's whitewater particles (/whitewater) as a POINTS .glb, or None without them")
@@ -561,4 +562,8 @@ PYBIND11_MODULE(_libwave, m) {
         "shore_vertices, shore_drift_m), worst (folds, lips, slivers, lip_slivers, shore_slivers, smallest_angle_deg, smallest_angle_off_lips_deg, longest_edge_m, "
         "worst_edge_ratio, max_speed_m_s, ...) and "
         "per_frame, the same for every frame");
+
+    // Last: inspect.signature for every function and method defined above, and their
+    // argument refusals as libwave.ArgumentTypeError.
+    libwave_python::add_text_signatures(m, argument_type_error);
 }

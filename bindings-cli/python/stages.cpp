@@ -20,12 +20,14 @@
 
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -77,7 +79,7 @@ std::span<float> span_of(py::array_t<float>& a) { return {a.mutable_data(), stat
 
 // A motion plan's positions at time t (vertices × 3 float32, z up), into `out` when given.
 template <class Plan>
-py::array_t<float> positions_at(const Plan& p, double t, const std::optional<py::object>& out,
+py::array_t<float> positions_at(const Plan& p, double t, const std::optional<Float32Out>& out,
                                 void (*evaluate)(const Plan&, double, std::span<float>)) {
     py::array_t<float> a = out ? writable_floats(*out, 3 * p.vertex_count(), "evaluate out")
                                : py::array_t<float>({ssize(p.vertex_count()), py::ssize_t{3}});
@@ -98,9 +100,9 @@ void def_array(py::class_<T, std::shared_ptr<T>>& cls, const char* name, std::ve
 
 // Seafloor.from_grid: a seafloor from a 2-D array of elevations (docs/formats.md), every
 // argument checked here and named in the message as `function: argument`.
-std::shared_ptr<wave::Seafloor> seafloor_of_grid(const std::string& fn, const py::object& values, const py::object& origin,
+std::shared_ptr<wave::Seafloor> seafloor_of_grid(const std::string& fn, const ArrayLike& values, const py::object& origin,
                                                  const py::object& spacing, const std::optional<std::string>& sign,
-                                                 std::optional<double> nodata, const py::object& mask, double vertical_offset,
+                                                 std::optional<double> nodata, const ArrayLike& mask, double vertical_offset,
                                                  const std::string& name) {
     // Shapes and types are the caller's input: InputError (a libwave.Error), not ValueError.
     const std::vector<double> z = to_vector<double>(values, 1, fn + ": values");
@@ -132,8 +134,8 @@ std::shared_ptr<wave::Seafloor> seafloor_of_grid(const std::string& fn, const py
 }
 
 // Seafloor.from_triangles: a seafloor from a triangle mesh's vertex and index arrays.
-std::shared_ptr<wave::Seafloor> seafloor_of_triangles(const std::string& fn, const char* index_name, const py::object& vertices,
-                                                      const py::object& indices, double spacing,
+std::shared_ptr<wave::Seafloor> seafloor_of_triangles(const std::string& fn, const char* index_name, const ArrayLike& vertices,
+                                                      const ArrayLike& indices, double spacing,
                                                       const std::optional<std::string>& sign, double vertical_offset,
                                                       const std::string& name) {
     const std::vector<double> xyz = to_vector<double>(vertices, 3, fn + ": vertices");
@@ -170,8 +172,8 @@ void bind_seafloor(py::module_& m) {
                        "Seafloor.from_grid, Seafloor.from_triangles)")
         .def_static(
             "from_grid",
-            [](const py::object& values, const py::object& origin, const py::object& spacing, std::optional<std::string> sign,
-               std::optional<double> nodata, const py::object& mask, double vertical_offset, const std::string& name) {
+            [](const ArrayLike& values, const py::object& origin, const py::object& spacing, std::optional<std::string> sign,
+               std::optional<double> nodata, const ArrayLike& mask, double vertical_offset, const std::string& name) {
                 return seafloor_of_grid("Seafloor.from_grid", values, origin, spacing, sign, nodata, mask, vertical_offset, name);
             },
             py::arg("values"), py::arg("origin") = std::array<double, 2>{0.0, 0.0}, py::arg("spacing") = 1.0,
@@ -186,7 +188,7 @@ void bind_seafloor(py::module_& m) {
             "naming the argument")
         .def_static(
             "from_triangles",
-            [](const py::object& vertices, const py::object& indices, double spacing, std::optional<std::string> sign,
+            [](const ArrayLike& vertices, const ArrayLike& indices, double spacing, std::optional<std::string> sign,
                double vertical_offset, const std::string& name) {
                 return seafloor_of_triangles("Seafloor.from_triangles", "indices", vertices, indices, spacing, sign,
                                              vertical_offset, name);
@@ -210,7 +212,7 @@ void bind_seafloor(py::module_& m) {
         .def_readonly("frame", &wave::Seafloor::frame, "the coordinate frame (e.g. a projection GDAL reprojected to)")
         .def(
             "depth_at",
-            [](const wave::Seafloor& s, const py::object& x, const py::object& y) {
+            [](const wave::Seafloor& s, const ArrayLike& x, const ArrayLike& y) {
                 const auto xs = to_vector<double>(x, 1, "depth_at x"), ys = to_vector<double>(y, 1, "depth_at y");
                 if (xs.size() != ys.size()) throw wave::InputError("depth_at: x and y differ in length");
                 py::array_t<double> out(ssize(xs.size()));
@@ -243,8 +245,8 @@ void bind_seafloor(py::module_& m) {
         "docs/formats.md); raises InputError naming the file and what is wrong");
     m.def(
         "seafloor_from_grid",
-        [](const py::object& values, std::array<double, 2> origin, py::object spacing, std::optional<std::string> sign,
-           std::optional<double> nodata, const py::object& mask, const std::string& name) {
+        [](const ArrayLike& values, std::array<double, 2> origin, py::object spacing, std::optional<std::string> sign,
+           std::optional<double> nodata, const ArrayLike& mask, const std::string& name) {
             // Shapes and types are the caller's input: InputError (a libwave.Error), not ValueError.
             const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(values);
             if (!a || a.ndim() != 2)
@@ -282,7 +284,7 @@ void bind_seafloor(py::module_& m) {
         "land); validated as the file readers validate: raises InputError naming what is wrong");
     m.def(
         "seafloor_from_mesh",
-        [](const py::object& vertices, const py::object& triangles, double spacing, std::optional<std::string> sign,
+        [](const ArrayLike& vertices, const ArrayLike& triangles, double spacing, std::optional<std::string> sign,
            const std::string& name) {
             const auto v = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(vertices);
             const auto t = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(triangles);
@@ -530,7 +532,7 @@ void bind_far_field(py::module_& m) {
         .def_readonly("reach", &wave::SeaSkirt::reach);
     m.def(
         "plan_sea_skirt",
-        [](const wave::Seafloor& seafloor, const py::object& x, const py::object& y, const py::object& triangles, double period,
+        [](const wave::Seafloor& seafloor, const ArrayLike& x, const ArrayLike& y, const ArrayLike& triangles, double period,
            double distance, double swell_wavelengths, std::size_t max_vertices, double min_depth) {
             const auto xs = to_vector<double>(x, 1, "plan_sea_skirt x"), ys = to_vector<double>(y, 1, "plan_sea_skirt y");
             const auto t = to_vector<std::uint32_t>(triangles, 3, "plan_sea_skirt triangles");
@@ -555,7 +557,7 @@ void bind_far_field(py::module_& m) {
         .def_readonly("surface_vertices", &wave::FarFieldPlan::surface_vertices)
         .def(
             "evaluate",
-            [](const wave::FarFieldPlan& p, double t, py::object positions) {
+            [](const wave::FarFieldPlan& p, double t, Float32Out positions) {
                 py::array_t<float> a = writable_floats(positions, 3 * (p.surface_vertices + p.vertex_count()), "far field positions");
                 std::span<float> s = span_of(a);
                 std::vector<float> scratch;
@@ -567,7 +569,7 @@ void bind_far_field(py::module_& m) {
             "array whose first rows hold the surface already moved")
         .def(
             "foam",
-            [](const wave::FarFieldPlan& p, py::object foam) {
+            [](const wave::FarFieldPlan& p, Float32Out foam) {
                 py::array_t<float> a = writable_floats(foam, p.surface_vertices + p.vertex_count(), "far field foam");
                 std::span<float> s = span_of(a);
                 py::gil_scoped_release release;
@@ -579,7 +581,7 @@ void bind_far_field(py::module_& m) {
     m.def(
         "plan_far_field",
         [](const wave::SeaSkirt& skirt, const wave::Seafloor& seafloor, const std::vector<py::tuple>& waves,
-           const py::object& rest_x, const py::object& rest_y, const py::object& times, const py::object& samples) {
+           const ArrayLike& rest_x, const ArrayLike& rest_y, const ArrayLike& times, const ArrayLike& samples) {
             std::vector<wave::FarFieldWave> w;
             for (std::size_t i = 0; i < waves.size(); ++i) {
                 const py::tuple& c = waves[i];
@@ -612,7 +614,7 @@ void bind_motion(py::module_& m) {
         .def_property_readonly("vertex_count", &wave::GonzatoMotionPlan::vertex_count)
         .def(
             "evaluate",
-            [](const wave::GonzatoMotionPlan& p, double t, std::optional<py::object> out) {
+            [](const wave::GonzatoMotionPlan& p, double t, std::optional<Float32Out> out) {
                 return positions_at(p, t, out, &wave::evaluate_gonzato_motion);
             },
             py::arg("t"), py::arg("out") = py::none(),
@@ -642,7 +644,7 @@ void bind_motion(py::module_& m) {
         .def_property_readonly("vertex_count", [](const wave::WaterlinePlan& p) { return p.depth.size(); })
         .def(
             "apply",
-            [](const wave::WaterlinePlan& p, py::object positions) {
+            [](const wave::WaterlinePlan& p, Float32Out positions) {
                 py::array_t<float> a = writable_floats(positions, 3 * p.depth.size(), "waterline positions");
                 wave::keep_waterline(p, span_of(a));
             },
@@ -662,7 +664,7 @@ void bind_motion(py::module_& m) {
         .def_property_readonly("vertex_count", &wave::UntanglePlan::vertex_count)
         .def(
             "apply",
-            [](const wave::UntanglePlan& p, py::object positions, std::optional<py::object> foam) {
+            [](const wave::UntanglePlan& p, Float32Out positions, std::optional<ArrayLike> foam) {
                 py::array_t<float> a = writable_floats(positions, 3 * p.vertex_count(), "untangle positions");
                 const std::vector<float> f = foam ? to_vector<float>(*foam, 1, "untangle foam") : std::vector<float>{};
                 std::span<float> s = span_of(a);
@@ -675,7 +677,7 @@ void bind_motion(py::module_& m) {
             "frees a vertex of the ramp's damping (docs/inspect.md, untangling). Returns how many vertices were damped");
     m.def(
         "plan_untangle",
-        [](const py::object& x, const py::object& y, const py::object& triangles, bool pin_border, bool hold_shore,
+        [](const ArrayLike& x, const ArrayLike& y, const ArrayLike& triangles, bool pin_border, bool hold_shore,
            bool lips_overturn, double min_angle_degrees, std::optional<std::array<double, 4>> border_rectangle) {
             const auto xs = to_vector<double>(x, 1, "plan_untangle x"), ys = to_vector<double>(y, 1, "plan_untangle y");
             const auto t = to_vector<std::uint32_t>(triangles, 3, "plan_untangle triangles");
@@ -704,7 +706,7 @@ void bind_breakers_and_ocean(py::module_& m) {
         .def_property_readonly("loop_periods", &wave::JeschkeMotionPlan::loop_periods, "swell periods after which they repeat")
         .def(
             "evaluate",
-            [](const wave::JeschkeMotionPlan& p, double t, std::optional<py::object> out) {
+            [](const wave::JeschkeMotionPlan& p, double t, std::optional<Float32Out> out) {
                 return positions_at(p, t, out, &wave::evaluate_jeschke_breakers);
             },
             py::arg("t"), py::arg("out") = py::none(), "Positions at time t (s): (vertices, 3) float32, z up")
@@ -720,7 +722,7 @@ void bind_breakers_and_ocean(py::module_& m) {
             py::arg("t"), "Foam in [0, 1] per vertex at time t: broken crests' foam fading behind them")
         .def(
             "whitewater",
-            [](const wave::JeschkeMotionPlan& p, const py::array& triangles, double t, std::uint64_t seed) {
+            [](const wave::JeschkeMotionPlan& p, const ArrayLike& triangles, double t, std::uint64_t seed) {
                 const auto tri = to_vector<std::uint32_t>(triangles, 3, "whitewater triangles");
                 wave::WhitewaterPoints w;
                 {
@@ -776,7 +778,7 @@ void bind_breakers_and_ocean(py::module_& m) {
                     wave::OceanWorkspace workspace(p.n);
                     wave::ocean_patch_frame(p, wave::evaluate_ocean(p, t, workspace), ps, ns, js);
                 }
-                return py::make_tuple(pos, nrm, jm);
+                return std::tuple{pos, nrm, jm};  // typed: the stubs show each array's dtype
             },
             py::arg("t"),
             "The patch at time t: (positions, normals, j_minus) for its (N+1)² vertices (row-major, the last row and "
@@ -804,7 +806,7 @@ void bind_breakers_and_ocean(py::module_& m) {
 void bind_shading(py::module_& m) {
     m.def(
         "vertex_normals",
-        [](const py::object& positions, const py::object& triangles) {
+        [](const ArrayLike& positions, const ArrayLike& triangles) {
             const auto p = to_vector<float>(positions, 3, "vertex_normals positions");
             const auto t = to_vector<std::uint32_t>(triangles, 3, "vertex_normals triangles");
             py::array_t<float> out({ssize(p.size() / 3), py::ssize_t{3}});
@@ -816,7 +818,7 @@ void bind_shading(py::module_& m) {
         py::arg("positions"), py::arg("triangles"), "Unit area-weighted vertex normals: (vertices, 3) float32");
     m.def(
         "fresnel_weights",
-        [](const py::object& positions, const py::object& normals, std::array<double, 3> camera, const std::string& model) {
+        [](const ArrayLike& positions, const ArrayLike& normals, std::array<double, 3> camera, const std::string& model) {
             wave::FresnelOptions o;
             o.camera = camera;
             o.model = either("fresnel_weights: model", model, "exact", wave::FresnelModel::exact, "tso", wave::FresnelModel::tso);
@@ -828,7 +830,7 @@ void bind_shading(py::module_& m) {
                 py::gil_scoped_release release;
                 wave::fresnel_weights(p, n, o, r, t);
             }
-            return py::make_tuple(reflect, refract);
+            return std::tuple{reflect, refract};
         },
         py::arg("positions"), py::arg("normals"), py::arg("camera"), py::arg("model") = "exact",
         "Fresnel reflect and refract weights per vertex for a viewer at `camera` (m, z up): (reflect, refract)");
@@ -838,10 +840,85 @@ void bind_shading(py::module_& m) {
         py::arg("scene"), py::arg("seafloor"), "The scene's camera position (m, z up): /camera/position or its default");
 }
 
+// Stage arrays of a mesh's frames for the glTF writers (frame_glb, animation_glb): each
+// per-vertex argument checked against positions by name, TEXCOORD_0 made when none is
+// given. `many`: positions (frames, vertices, 3), shading (frames, vertices); else one
+// frame's (vertices, 3) and (vertices,).
+struct StageFrames {
+    std::vector<float> p, n, uv, f, r, tr;
+    std::vector<std::uint32_t> t;
+    std::size_t frames = 1, vertices = 0;
+
+    StageFrames(const std::string& fn, const ArrayLike& positions, const ArrayLike& normals, const ArrayLike& triangles,
+                const std::optional<ArrayLike>& texcoords, const std::optional<ArrayLike>& foam,
+                const std::optional<ArrayLike>& reflect, const std::optional<ArrayLike>& refract, bool many) {
+        const auto shape_of = [&](const ArrayLike& a, const char* what) {
+            const py::array given = py::array::ensure(a);
+            if (!many || !given || given.ndim() != 3) return std::pair{std::size_t{1}, to_vector<float>(a, 3, fn + " " + what)};
+            if (given.shape(2) != 3)
+                throw wave::InputError(fn + " " + what + ": expected shape (frames, vertices, 3), got " + shape_text(given));
+            const py::array flat = given.attr("reshape")(-1, 3);
+            return std::pair{static_cast<std::size_t>(given.shape(0)), to_vector<float>(flat, 3, fn + " " + what)};
+        };
+        std::size_t normal_frames = 1;
+        std::tie(frames, p) = shape_of(positions, "positions");
+        std::tie(normal_frames, n) = shape_of(normals, "normals");
+        vertices = frames ? p.size() / 3 / frames : 0;
+        if (frames == 0 || vertices == 0) throw wave::InputError(fn + " positions: no vertices");
+        if (normal_frames != frames || n.size() != p.size())
+            throw wave::InputError(fn + " normals: " +
+                                   (many ? std::to_string(normal_frames) + " frames of " +
+                                               std::to_string(n.size() / 3 / std::max<std::size_t>(normal_frames, 1)) + " vertices, positions has " +
+                                               std::to_string(frames) + " of " + std::to_string(vertices)
+                                         : std::to_string(n.size() / 3) + " vertices, positions has " + std::to_string(vertices)));
+        t = to_vector<std::uint32_t>(triangles, 3, fn + " triangles");
+        const auto same_count = [&](std::size_t count, std::size_t expected, const char* what, const char* unit) {
+            if (count != expected)
+                throw wave::InputError(fn + " " + what + ": " + std::to_string(count) + " " + unit + ", positions has " + std::to_string(expected));
+        };
+        if (texcoords) {
+            uv = to_vector<float>(*texcoords, 2, fn + " texcoords");
+            same_count(uv.size() / 2, vertices, "texcoords", "vertices");
+        }
+        const auto shading = {std::tuple{&foam, &f, "foam"}, std::tuple{&reflect, &r, "reflect"}, std::tuple{&refract, &tr, "refract"}};
+        for (const auto& [given, values, what] : shading)  // each one's type first (ArgumentTypeError), then the set
+            if (*given) *values = to_vector<float>(**given, 1, fn + " " + what);
+        const int count = int{foam.has_value()} + int{reflect.has_value()} + int{refract.has_value()};
+        if (count != 0 && count != 3)
+            throw wave::InputError(fn + ": give foam, reflect and refract together (or none); got " + (foam ? "foam " : "") +
+                                   (reflect ? "reflect " : "") + (refract ? "refract " : "") + "only");
+        for (const auto& [given, values, what] : shading)
+            if (*given) same_count(values->size(), frames * vertices, what, many ? "values" : "vertices");
+        if (!texcoords) {
+            // TEXCOORD_0 over the first frame's rectangle in plan, as domain_texcoords lays
+            // it over the seafloor's (u along +x, v down): glTF clients expect a UV map.
+            float x0 = p[0], x1 = p[0], y0 = p[1], y1 = p[1];
+            for (std::size_t i = 1; i < vertices; ++i) {
+                x0 = std::min(x0, p[3 * i]), x1 = std::max(x1, p[3 * i]);
+                y0 = std::min(y0, p[3 * i + 1]), y1 = std::max(y1, p[3 * i + 1]);
+            }
+            const double width = x1 > x0 ? static_cast<double>(x1) - x0 : 1.0, height = y1 > y0 ? static_cast<double>(y1) - y0 : 1.0;
+            uv.resize(2 * vertices);
+            for (std::size_t i = 0; i < vertices; ++i) {
+                uv[2 * i] = static_cast<float>((static_cast<double>(p[3 * i]) - x0) / width);
+                uv[2 * i + 1] = static_cast<float>(1.0 - (static_cast<double>(p[3 * i + 1]) - y0) / height);
+            }
+        }
+    }
+
+    wave::MorphAnimationView view(double fps, std::size_t first_frame, std::size_t loop_frames) const {
+        wave::MorphAnimationView v;
+        v.triangles = t, v.vertex_count = vertices, v.frame_count = frames, v.first_frame = first_frame, v.fps = fps;
+        v.loop_frames = loop_frames;
+        v.positions = p, v.normals = n, v.texcoords = uv, v.foam = f, v.reflect = r, v.refract = tr;
+        return v;
+    }
+};
+
 void bind_export(py::module_& m) {
     m.def(
         "domain_texcoords",
-        [](const wave::Seafloor& seafloor, const py::object& x, const py::object& y) {
+        [](const wave::Seafloor& seafloor, const ArrayLike& x, const ArrayLike& y) {
             const auto xs = to_vector<double>(x, 1, "domain_texcoords x"), ys = to_vector<double>(y, 1, "domain_texcoords y");
             std::vector<float> uv(2 * xs.size());
             wave::domain_texcoords(seafloor.grid, xs, ys, uv);
@@ -852,19 +929,11 @@ void bind_export(py::module_& m) {
         "u along +x, v down");
     m.def(
         "frame_glb",
-        [](const py::object& positions, const py::object& normals, const py::object& triangles, std::optional<py::object> texcoords,
-           std::optional<py::object> foam, std::optional<py::object> reflect, std::optional<py::object> refract, double fps,
-           std::size_t frame) {
-            const auto p = to_vector<float>(positions, 3, "frame_glb positions"), n = to_vector<float>(normals, 3, "frame_glb normals");
-            const auto t = to_vector<std::uint32_t>(triangles, 3, "frame_glb triangles");
-            const auto opt = [](const std::optional<py::object>& a, std::size_t per, const char* what) {
-                return a ? to_vector<float>(*a, per, what) : std::vector<float>{};
-            };
-            const auto uv = opt(texcoords, 2, "frame_glb texcoords"), f = opt(foam, 1, "frame_glb foam");
-            const auto r = opt(reflect, 1, "frame_glb reflect"), tr = opt(refract, 1, "frame_glb refract");
-            wave::MorphAnimationView v;
-            v.triangles = t, v.vertex_count = p.size() / 3, v.frame_count = 1, v.first_frame = frame, v.fps = fps;
-            v.positions = p, v.normals = n, v.texcoords = uv, v.foam = f, v.reflect = r, v.refract = tr;
+        [](const ArrayLike& positions, const ArrayLike& normals, const ArrayLike& triangles, std::optional<ArrayLike> texcoords,
+           std::optional<ArrayLike> foam, std::optional<ArrayLike> reflect, std::optional<ArrayLike> refract, double fps,
+           std::size_t frame, std::size_t loop_frames) {
+            StageFrames a("frame_glb", positions, normals, triangles, texcoords, foam, reflect, refract, false);
+            wave::MorphAnimationView v = a.view(fps, frame, loop_frames);
             std::string bytes;
             {
                 py::gil_scoped_release release;
@@ -874,9 +943,37 @@ void bind_export(py::module_& m) {
         },
         py::arg("positions"), py::arg("normals"), py::arg("triangles"), py::arg("texcoords") = py::none(),
         py::arg("foam") = py::none(), py::arg("reflect") = py::none(), py::arg("refract") = py::none(),
-        py::arg("fps") = 24.0, py::arg("frame") = 0,
+        py::arg("fps") = 24.0, py::arg("frame") = 0, py::arg("loop_frames") = 0,
         "One frame as a static .glb (the files form's frame file): positions and normals (vertices, 3), triangles "
-        "(triangles, 3), optional TEXCOORD_0 (vertices, 2) and foam/reflect/refract (vertices,)");
+        "(triangles, 3), optional TEXCOORD_0 (vertices, 2; None: u, v over the positions' own rectangle in plan, as "
+        "domain_texcoords over the seafloor's) and foam/reflect/refract (vertices,; all three or none); `frame` its "
+        "number in the loop and `loop_frames` the loop's length (0: not known), recorded for wave merge and the readers");
+    m.def(
+        "animation_glb",
+        [](const ArrayLike& positions, const ArrayLike& normals, const ArrayLike& triangles, std::optional<ArrayLike> texcoords,
+           std::optional<ArrayLike> foam, std::optional<ArrayLike> reflect, std::optional<ArrayLike> refract, double fps,
+           const std::string& form, std::size_t first_frame, std::size_t loop_frames) {
+            StageFrames a("animation_glb", positions, normals, triangles, texcoords, foam, reflect, refract, true);
+            wave::MorphAnimationView v = a.view(fps, first_frame, loop_frames);
+            if (loop_frames != 0 && first_frame + a.frames > loop_frames)
+                throw wave::InputError("animation_glb: frames " + std::to_string(first_frame) + " … " +
+                                       std::to_string(first_frame + a.frames - 1) + " run past loop_frames " + std::to_string(loop_frames));
+            if (form != "morph" && form != "nodes")
+                throw wave::InputError("animation_glb: form must be \"morph\" or \"nodes\", got \"" + form + "\"");
+            std::string bytes;
+            {
+                py::gil_scoped_release release;
+                bytes = form == "morph" ? wave::gltf_morph_glb(v) : wave::gltf_nodes_glb(v);
+            }
+            return py::bytes(bytes);
+        },
+        py::arg("positions"), py::arg("normals"), py::arg("triangles"), py::arg("texcoords") = py::none(),
+        py::arg("foam") = py::none(), py::arg("reflect") = py::none(), py::arg("refract") = py::none(),
+        py::arg("fps") = 24.0, py::arg("form") = "morph", py::arg("first_frame") = 0, py::arg("loop_frames") = 0,
+        "Frames of one mesh as one .glb, as wave run writes its morph or nodes form: positions and normals (frames, "
+        "vertices, 3), triangles (triangles, 3), optional TEXCOORD_0 (vertices, 2; None: over the first frame's "
+        "rectangle in plan) and foam/reflect/refract (frames, vertices; all three or none); frame k at key time "
+        "(first_frame + k) / fps; `loop_frames` the loop's length (0: not known)");
 }
 
 }  // namespace

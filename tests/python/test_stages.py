@@ -193,7 +193,7 @@ def test_every_failure_is_a_libwave_error():
 
 @pytest.mark.skipif(shutil.which("stubgen") is None and subprocess.run([sys.executable, "-c", "import mypy"]).returncode,
                     reason="mypy (python3-mypy) is not installed")
-def test_stubs_match_the_module_and_type_check_the_example():
+def test_stubs_match_the_module_and_type_check_the_example(tmp_path):
     env = dict(os.environ, MYPYPATH=os.environ["PYTHONPATH"])
     stubtest = subprocess.run([sys.executable, "-m", "mypy.stubtest", "libwave._libwave", "--allowlist",
                                str(pathlib.Path(__file__).with_name("stubtest-allowlist.txt"))],
@@ -202,6 +202,49 @@ def test_stubs_match_the_module_and_type_check_the_example():
     mypy = subprocess.run([sys.executable, "-m", "mypy", "--strict", "--no-incremental", "--cache-dir", "/dev/null",
                            str(REPO / "examples" / "pipeline.py")], capture_output=True, text=True, env=env)
     assert mypy.returncode == 0, mypy.stdout + mypy.stderr
+    # What the stubs say: arrays with their dtypes (none is NDArray[Any]), array arguments
+    # as ArrayLike and arrays written in place as float32 arrays, static methods as such,
+    # and a class without a constructor refused by the type checker as at run time.
+    stubs = (pathlib.Path(os.environ["PYTHONPATH"]) / "libwave" / "_libwave.pyi").read_text()
+    assert "NDArray[Any]" not in stubs
+    assert "def plan_untangle(x: numpy.typing.ArrayLike, y: numpy.typing.ArrayLike, triangles: numpy.typing.ArrayLike," in stubs
+    assert "def apply(self, positions: numpy.typing.NDArray[numpy.float32]) -> None:" in stubs  # Waterline.apply writes
+    assert "    @staticmethod\n    def from_grid(values: numpy.typing.ArrayLike," in stubs
+    probe = tmp_path / "probe.py"
+    probe.write_text("import libwave\nfloor = libwave.Seafloor()\n")
+    mypy = subprocess.run([sys.executable, "-m", "mypy", "--strict", "--no-incremental", "--cache-dir", "/dev/null", str(probe)],
+                          capture_output=True, text=True, env=env)
+    assert 'probe.py:2: error: Too few arguments for "Seafloor"' in mypy.stdout, mypy.stdout + mypy.stderr
+    with pytest.raises(TypeError, match="No constructor"):
+        libwave.Seafloor()
+
+
+def test_every_function_and_method_has_a_signature():
+    """inspect.signature reads every public function and method (it failed on all of
+    them: pybind11 writes signatures only into the docstring's first line), with
+    pybind11's names and defaults; __doc__ keeps that typed line."""
+    import inspect
+    checked = 0
+    for name, obj in vars(libwave._libwave).items():
+        if name.startswith("_"):
+            continue
+        members = [obj]
+        if inspect.isclass(obj):
+            if issubclass(obj, BaseException):
+                continue
+            members = [getattr(obj, k) for k, v in vars(obj).items() if (k == "__init__" or not k.startswith("_")) and not isinstance(v, property)]
+        for f in members:
+            if callable(f) and not inspect.isclass(f):
+                inspect.signature(f)  # raises ValueError without one
+                checked += 1
+    assert checked > 70
+    assert str(inspect.signature(libwave.plan)) == "(scene, seafloor=None)"
+    assert str(inspect.signature(libwave.Scene.set)) == "(self, pointer, value)"
+    assert str(inspect.signature(libwave.default_scene().set)) == "(pointer, value)"
+    assert str(inspect.signature(libwave.Seafloor.from_triangles)) == "(vertices, indices, spacing=0.0, sign=None, vertical_offset=0.0, name='')"
+    assert "frame=0" in str(inspect.signature(libwave.frame_glb))
+    assert str(inspect.signature(libwave.Scene)) == "(document, base_dir='.')"
+    assert libwave.plan.__doc__.startswith("plan(scene: libwave._libwave.Scene, seafloor:")
 
 
 def test_the_ocean_patch_stage_equals_the_ocean_scenes_frame():
@@ -316,10 +359,104 @@ def test_array_arguments_of_a_wrong_shape_or_type_raise_libwave_errors_naming_th
         (lambda: libwave.fresnel_weights(pos, np.zeros((3, 3, 1)), (0, 0, 5), "exact"), libwave.InputError,
          r"fresnel_weights normals: expected shape \(n, 3\) or a flat array, got \(3, 3, 1\)"),
         (lambda: libwave.frame_glb(pos, pos, tri, foam=["x", "y", "z"]), libwave.ArgumentTypeError, "frame_glb foam"),
+        # pybind11's own refusals (no overload takes the arguments: a bare TypeError before).
+        (lambda: libwave.fresnel_weights(pos, pos, (0, 0)), libwave.ArgumentTypeError,
+         r"fresnel_weights\(\): incompatible function arguments"),
+        (lambda: libwave.grid_triangles(-1, 3), libwave.ArgumentTypeError, r"grid_triangles\(\): incompatible function arguments"),
+        (lambda: libwave.Scene(3, 4), libwave.ArgumentTypeError, r"__init__\(\): incompatible constructor arguments"),
+        (lambda: libwave.default_scene().set(3, 4), libwave.ArgumentTypeError, r"set\(\): incompatible function arguments"),
     ]
     for call, error, message in bad:
         with pytest.raises(error, match=message):
             call()
+
+
+def test_frame_glb_without_its_optional_arrays_and_sizes_named(tmp_path):
+    """texcoords, foam, reflect and refract are optional: without texcoords the UV map
+    lies over the positions' own rectangle in plan (the writer refused it, saying "array
+    sizes do not match 1 frames of 3 vertices"); a per-vertex array of another count is
+    named against positions; shading is all three or none."""
+    pos = np.array([[0, 0, 0.5], [2, 0, 0], [0, 4, 0]], np.float32)
+    nor = np.tile(np.array([0, 0, 1], np.float32), (3, 1))
+    tri = np.array([[0, 1, 2]], np.uint32)
+    out = tmp_path / "f.glb"
+    out.write_bytes(libwave.frame_glb(pos, nor, tri))
+    a = libwave.read_animation(str(out))
+    assert np.array_equal(a["positions"][0], pos)
+    data = out.read_bytes()  # TEXCOORD_0 by hand (read_animation does not return it)
+    length = int.from_bytes(data[12:16], "little")
+    doc, binary = json.loads(data[20:20 + length]), data[20 + length + 8:]
+    accessor = doc["accessors"][doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"]]
+    view = doc["bufferViews"][accessor["bufferView"]]
+    at = view.get("byteOffset", 0) + accessor.get("byteOffset", 0)
+    texcoords = np.frombuffer(binary, np.float32, 2 * accessor["count"], at).reshape(-1, 2)
+    np.testing.assert_array_equal(texcoords, [[0, 1], [1, 1], [0, 0]])  # u along +x, v down
+    validate_glb(out)
+    uv = np.array([[0.1, 0.2], [0.3, 0.4], [0.5, 0.6]], np.float32)
+    assert libwave.frame_glb(pos, nor, tri, texcoords=uv) != libwave.frame_glb(pos, nor, tri)
+    ones = np.ones(3, np.float32)
+    libwave.frame_glb(pos, nor, tri, foam=ones, reflect=ones, refract=ones)
+    bad = [
+        (lambda: libwave.frame_glb(pos, nor[:2], tri), "frame_glb normals: 2 vertices, positions has 3"),
+        (lambda: libwave.frame_glb(pos, nor, tri, texcoords=uv[:2]), "frame_glb texcoords: 2 vertices, positions has 3"),
+        (lambda: libwave.frame_glb(pos, nor, tri, foam=ones, reflect=ones, refract=np.ones(4)),
+         "frame_glb refract: 4 vertices, positions has 3"),
+        (lambda: libwave.frame_glb(pos, nor, tri, foam=ones), "frame_glb: give foam, reflect and refract together"),
+    ]
+    for call, message in bad:
+        with pytest.raises(libwave.InputError, match=message):
+            call()
+
+
+def validate_glb(path):
+    """The Khronos validator's verdict on a file (skipped without its npm packages)."""
+    validator = REPO / "scripts" / "gltf-validator" / "validate.mjs"
+    if shutil.which("node") and (validator.parent / "node_modules").exists():
+        r = subprocess.run(["node", str(validator), str(path)], capture_output=True, text=True, timeout=120)
+        assert r.returncode == 0 and json.loads(r.stdout.splitlines()[-1])["numErrors"] == 0, r.stdout + r.stderr
+
+
+def test_stage_arrays_make_a_multi_frame_animation(tmp_path):
+    """animation_glb writes frames of stage arrays as one morph or nodes .glb (there was
+    no multi-frame writer: frame_glb files merged, then converted); frame_glb records the
+    loop's length for wave merge, which said "indexed 8 of 0 frames" without it."""
+    frames, fps = 8, 4.0
+    rest = np.array([[0, 0, 0], [10, 0, 0], [0, 10, 0], [10, 10, 0]], np.float32)
+    tri = np.array([[0, 1, 2], [1, 3, 2]], np.uint32)
+    pos = np.repeat(rest[None], frames, axis=0)
+    pos[:, :, 2] = 0.3 * np.sin(2 * np.pi * np.arange(frames)[:, None] / frames + rest[None, :, 0] / 5)
+    nor = np.stack([libwave.vertex_normals(p, tri) for p in pos])
+    foam = np.linspace(0, 1, frames * 4, dtype=np.float32).reshape(frames, 4)
+    for form in ("morph", "nodes"):
+        out = tmp_path / f"{form}.glb"
+        out.write_bytes(libwave.animation_glb(pos, nor, tri, foam=foam, reflect=foam, refract=1 - foam, fps=fps, form=form,
+                                              loop_frames=frames))
+        validate_glb(out)
+        a = libwave.read_animation(str(out))
+        assert a["frame_count"] == frames and a["loop_frames"] == frames and a["fps"] == fps
+        np.testing.assert_allclose(a["positions"], pos, atol=1e-6)
+        np.testing.assert_allclose(a["foam"], foam, atol=1e-6)
+    bad = [
+        (lambda: libwave.animation_glb(pos, nor[:7], tri), r"animation_glb normals: 7 frames of 4 vertices, positions has 8 of 4"),
+        (lambda: libwave.animation_glb(pos, nor, tri, foam=foam, reflect=foam, refract=foam[:7]),
+         "animation_glb refract: 28 values, positions has 32"),
+        (lambda: libwave.animation_glb(pos[:, :, :2], nor, tri), r"animation_glb positions: expected shape \(frames, vertices, 3\)"),
+        (lambda: libwave.animation_glb(pos, nor, tri, form="files"), 'animation_glb: form must be "morph" or "nodes"'),
+        (lambda: libwave.animation_glb(pos, nor, tri, first_frame=4, loop_frames=8), "run past loop_frames 8"),
+    ]
+    for call, message in bad:
+        with pytest.raises(libwave.InputError, match=message):
+            call()
+    # Frame files with their loop's length merge into a whole loop's index.
+    for loop in (frames, 0):
+        folder = tmp_path / f"files-{loop}"
+        (folder / "frames").mkdir(parents=True)
+        for k in range(frames):
+            (folder / "frames" / f"frame-{k:04d}.glb").write_bytes(libwave.frame_glb(pos[k], nor[k], tri, fps=fps, frame=k, loop_frames=loop))
+        r = subprocess.run([os.environ["WAVE_EXE"], "merge", str(folder)], capture_output=True, text=True)
+        assert r.returncode == 0, r.stderr
+        assert ("indexed 8 of 8 frames" if loop else "indexed 8 frames") in r.stdout, r.stdout
+        assert json.loads((folder / "index.json").read_text())["loop_frames"] == loop
 
 
 def test_seafloor_from_grid_and_from_triangles_hold_an_analytic_plane_and_plan_as_the_file_does(tmp_path):
