@@ -42,6 +42,20 @@ if(GLTF_VALIDATOR)
     message(FATAL_ERROR "frame3.glb is not valid glTF:\n${last_output}")
   endif()
 endif()
+# examples/raw_grid.cpp: a seafloor from an array in memory (no reader, no GDAL: core and
+# export), its isobaths where the plane's are, 12 frames as one animated .glb.
+run(${CONSUMER_DIR}/raw_grid ${CONSUMER_DIR}/raw_grid.glb)
+message(STATUS "examples/raw_grid.cpp:\n${last_output}")
+run(ldd ${CONSUMER_DIR}/raw_grid)
+if(last_output MATCHES "libgdal|libwave_io")
+  message(FATAL_ERROR "raw_grid (libwave::export) loads GDAL or libwave_io:\n${last_output}")
+endif()
+if(GLTF_VALIDATOR)
+  run(node ${GLTF_VALIDATOR} ${CONSUMER_DIR}/raw_grid.glb)
+  if(NOT last_output MATCHES "\"numErrors\":0,\"numWarnings\":0")
+    message(FATAL_ERROR "raw_grid.glb is not valid glTF:\n${last_output}")
+  endif()
+endif()
 # The installed Python module imports from the prefix (Debian's dist-packages layout).
 if(PYTHON_MODULE_DIR)
   execute_process(COMMAND ${CMAKE_COMMAND} -E env PYTHONPATH=${PREFIX}/${PYTHON_MODULE_DIR}
