@@ -277,6 +277,20 @@ def check_whitewater(folder, scene, water, expected):
         return
     files = whitewater.sequence(folder)
     k = max(files, key=lambda f: os.path.getsize(files[f]))  # the busiest frame
+    # In the viewport plain points, one per particle, unless the modifier asks for the full look.
+    scene.frame_set(k)
+    kinds = whitewater.read_points(files[k])["kind"]
+    modifier = ww[0].modifiers[0]
+    quick = ww[0].evaluated_get(bpy.context.evaluated_depsgraph_get())
+    points = len(quick.evaluated_geometry().pointcloud.points) if hasattr(quick, "evaluated_geometry") else None
+    quick_mesh = quick.to_mesh()
+    if len(quick_mesh.polygons) != 0:
+        errors.append(f"{folder}: the viewport draws {len(quick_mesh.polygons)} whitewater faces, not plain points")
+    quick.to_mesh_clear()
+    if points is not None and points != len(kinds):
+        errors.append(f"{folder}: the viewport draws {points} points for {len(kinds)} particles")
+    modifier[whitewater._input_identifier(modifier.node_group, whitewater.VIEWPORT_FULL)] = True
+    ww[0].update_tag()
     scene.frame_set(k)
     kinds = whitewater.read_points(files[k])["kind"]
     evaluated = ww[0].evaluated_get(bpy.context.evaluated_depsgraph_get())
