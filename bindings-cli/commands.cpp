@@ -531,7 +531,6 @@ std::string form_summary(std::string_view pattern, const std::string& first, std
     return out;
 }
 
-
 void print_run_text(const RunSummary& r) {
     const Scene& scene = r.scene;
     const ScenePlan& plan = r.plan;
@@ -554,7 +553,8 @@ void print_run_text(const RunSummary& r) {
                       ? std::string(" ms each, each chunk written as it came\n")  // the frames' time holds the export
                       : " ms each, export " + std::to_string(static_cast<long long>(std::llround(r.export_ms))) + " ms\n")
               << "wrote      " << r.out_dir << "/"
-              << form_summary(export_form(scene.form).summary, shown_name, r.frames, animation_files)
+              << form_summary(export_form(scene.form).summary_files, shown_name, r.frames, animation_files) << " ("
+              << form_summary(export_form(scene.form).summary_contents, shown_name, r.frames, animation_files)
               << "; " << static_cast<double>(r.animation_bytes) / 1e6 << " MB; set the scene fps to " << scene.fps
               << " before importing)\n"
               << "           " << r.out_dir << "/{" << side << "}\n";

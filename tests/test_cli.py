@@ -668,6 +668,23 @@ class OutputForms(unittest.TestCase):
     SMALL = {"waves": [{"period": 5, "amplitude": 0.3}], "trace": {"ray_spacing": 2},
              "fronts": {"step": 0.8, "split_distance": 2.4}}
 
+    def test_the_run_summary_names_what_each_form_wrote(self):
+        # The "wrote" line from the forms' table (ExportFormInfo::summary_files, _contents):
+        # a ply run said "frames as morph targets" before.
+        expected = {"morph": "(3 frames as morph targets, STEP weights;", "nodes": "(3 scale-switched nodes;",
+                    "files": "frames/ + index.json (3 files;", "pc2": ".obj + .pc2 (3 point-cache samples;",
+                    "ply": "(3 binary PLY frames;"}
+        with tempfile.TemporaryDirectory() as d:
+            scene = os.path.join(d, "s.json")
+            with open(scene, "w") as f:
+                json.dump(self.SMALL, f)
+            for form, words in expected.items():
+                r = wave("run", scene, "-o", os.path.join(d, form), "--form", form, "--frames", "0:3", "--fps", "12")
+                self.assertEqual(r.returncode, 0, r.stderr)
+                wrote = next(line for line in r.stdout.splitlines() if line.startswith("wrote"))
+                self.assertIn(words, wrote, form)
+                self.assertEqual("morph targets" in wrote, form == "morph", form)
+
     def test_files_form_slices_merge_in_the_index(self):
         with tempfile.TemporaryDirectory() as d:
             scene, out = os.path.join(d, "s.json"), os.path.join(d, "out")

@@ -429,10 +429,12 @@ struct ExportFormInfo {
     void (*encode)(const MorphAnimationView& view, const std::string& animation_name, bool whole, EncodedFiles& files);
     /// The bytes its animation's files take (the seafloor and underwater files apart).
     double (*output_bytes)(const ExportSizing& sizing);
-    /// What a run wrote, as its summary says it (`wave run`'s "wrote" line), before the
-    /// size: `{first}` stands for the first animation file, `{n}` for the frame count,
+    /// What a run wrote, as its summary names it (`wave run`'s "wrote" line): `{first}`
+    /// stands for the first animation file.
+    std::string_view summary_files;
+    /// What those files hold, as the summary says it: `{n}` stands for the frame count,
     /// `{files}` for the number of animation files.
-    std::string_view summary;
+    std::string_view summary_contents;
 };
 
 /// Every export form, in ExportForm's order.

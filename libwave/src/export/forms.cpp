@@ -185,15 +185,15 @@ double pc2_form_bytes(const ExportSizing& s) {
 
 constexpr std::array<ExportFormInfo, 5> kForms{{
     {ExportForm::morph, "morph", "one .glb of shape keys", true, false, true, streamed_always, encode_morph, morph_bytes,
-     "{first} ({n} frames as morph targets, STEP weights"},
+     "{first}", "{n} frames as morph targets, STEP weights"},
     {ExportForm::nodes, "nodes", "one object per frame", true, false, true, streamed_unless_quantised, encode_nodes,
-     nodes_bytes, "{first} ({n} scale-switched nodes"},
+     nodes_bytes, "{first}", "{n} scale-switched nodes"},
     {ExportForm::files, "files", "one .glb per frame + index.json", false, true, true, streamed_never, encode_frames, frames_bytes,
-     "frames/ + index.json ({files} files"},
+     "frames/ + index.json", "{files} files"},
     {ExportForm::pc2, "pc2", "a base .glb/.obj + PC2 point caches for Blender's Mesh Cache modifier, Maya, 3ds Max, Houdini", false, false,
-     false, streamed_unless_quantised, encode_pc2, pc2_form_bytes, "{first} + .obj + .pc2 ({n} point-cache samples"},
+     false, streamed_unless_quantised, encode_pc2, pc2_form_bytes, "{first} + .obj + .pc2", "{n} point-cache samples"},
     {ExportForm::ply, "ply", "one binary PLY per frame + ply/index.json: positions, normals, UVs, shading as vertex properties (Houdini, Blender, MeshLab)",
-     false, false, false, streamed_never, encode_ply, ply_bytes, "{first} ({n} binary PLY frames"},
+     false, false, false, streamed_never, encode_ply, ply_bytes, "{first}", "{n} binary PLY frames"},
 }};
 
 }  // namespace
