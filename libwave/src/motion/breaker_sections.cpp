@@ -116,8 +116,8 @@ void relabel(const std::vector<double>& top, double ratio, const BreakerSectionB
 // the envelope is pressed towards it by σ = 1 − e (1 − min(1, 5H/W)), so that the front
 // has the proportions of the paper's figure (drawn with equal axes: 5H/W = 1), and the
 // water it leaves ahead is still (the envelope's front edge, z = 0). The pressing sets in
-// smoothly over the columns x ∈ [0.42, 0.52] (the crest stands near 0.5 through the life;
-// no kink at the pivot) and over the first half of the breaking phase, e = smoothstep(0,
+// smoothly over the columns x ∈ [0.42, 0.52] (about the crest, which stands near 0.45–0.5
+// through the life; no kink at the pivot) and over the first half of the breaking phase, e = smoothstep(0,
 // ½, τ): τ = 0 is the round crest as before, so nothing jumps where breaking starts; it
 // stays pressed while the wave collapses (the shape itself sinks to still water).
 double front_pressing(double life) noexcept { return detail::smoothstep(0.0, 0.5, life); }
@@ -126,20 +126,20 @@ std::vector<double> press_front(const std::vector<double>& top, double ratio, do
     const double sigma = 1.0 - front_pressing(life) * (1.0 - std::min(1.0, ratio));
     if (!(sigma < 1.0)) return top;
     const double dx = 1.0 / static_cast<double>(kColumns);
-    // X(x) = ∫ 1 − (1 − σ) smoothstep(0.42, 0.52, x) dx on the columns, then the envelope
-    // resampled at the columns X_j: z(X) = top(x(X)); past X(1), the front edge's z.
-    std::vector<double> X(kColumns + 1, 0.0);
+    // pressed_x(x) = ∫ 1 − (1 − σ) smoothstep(0.42, 0.52, x) dx on the columns, then the envelope
+    // resampled at the columns: z(X) = top(x(X)); past pressed_x(1), the front edge's z.
+    std::vector<double> pressed_x(kColumns + 1, 0.0);
     for (std::size_t j = 0; j < kColumns; ++j) {
         const double xm = (static_cast<double>(j) + 0.5) * dx;
-        X[j + 1] = X[j] + dx * (1.0 - (1.0 - sigma) * detail::smoothstep(0.42, 0.52, xm));
+        pressed_x[j + 1] = pressed_x[j] + dx * (1.0 - (1.0 - sigma) * detail::smoothstep(0.42, 0.52, xm));
     }
     std::vector<double> out(kColumns + 1, top.back());
     std::size_t i = 0;
     for (std::size_t j = 0; j <= kColumns; ++j) {
         const double xj = static_cast<double>(j) * dx;
-        if (xj > X.back()) break;
-        while (i + 1 < kColumns && X[i + 1] < xj) ++i;
-        const double span = X[i + 1] - X[i], w = span > 0.0 ? std::clamp((xj - X[i]) / span, 0.0, 1.0) : 0.0;
+        if (xj > pressed_x.back()) break;
+        while (i + 1 < kColumns && pressed_x[i + 1] < xj) ++i;
+        const double span = pressed_x[i + 1] - pressed_x[i], w = span > 0.0 ? std::clamp((xj - pressed_x[i]) / span, 0.0, 1.0) : 0.0;
         out[j] = top[i] + w * (top[i + 1] - top[i]);
     }
     out.front() = top.front();
@@ -148,13 +148,17 @@ std::vector<double> press_front(const std::vector<double>& top, double ratio, do
 }
 
 // The overturning section (BreakerLip::curl): the envelope's wall — the steepest drop,
-// where the lip hangs over the water ahead — replaced by a tube's mouth. From the lip's
-// top the surface falls a quarter of the wall, then curls back under the lip by D and
-// returns to the wall's foot (sin² in the wall's height, so it leaves and meets the
-// envelope without a kink): a lip that faces down. D = ½ plunge × the wall's height
-// (at the real ratio), plunge 0 … 1 from the curl (the paper's tube 1; collapsing and
-// spilling crests 0). A section without a wall steeper than 70° is the envelope.
-// Returned as a polyline (x in wavelengths, z in units of 5H).
+// where the lip hangs over the water ahead, from the crest's shoulder (the slope above
+// 45°) to its foot — curled into a tube's mouth. From the lip's top the wall's points
+// keep their place down a quarter of its height, then move back under the lip by up to
+// D and return to the wall at its foot (sin² in the wall's height, so the mouth leaves
+// and meets the envelope without a kink): a lip that faces down. D = ½ plunge × the
+// wall's height (at the real ratio), plunge 0 … 1 from the curl (the paper's tube 1;
+// collapsing and spilling crests 0), times the mouth's opening as the wall stands from
+// 55° to 75°: below 55°, and wherever D is 0, the section is the envelope itself (the
+// mouth is the wall's own points moved back, with samples between them), so nothing
+// jumps in time as a wall stands up or sinks back. Returned as a polyline (x in
+// wavelengths, z in units of 5H).
 constexpr std::size_t kMouthSamples = 48;
 
 double plunge_of(double curl) noexcept { return std::clamp((curl - 0.6) / 0.4, 0.0, 1.0); }
@@ -167,28 +171,40 @@ void curl_polyline(const std::vector<double>& top, double ratio, double plunge, 
         if (angle(j) > angle(steepest)) steepest = j;
     px.clear();
     pz.clear();
-    // The mouth opens as the wall stands up, from 55° to 75° (it opened at once at 70°:
-    // a jump in time where a collapsing wall sinks back).
     const double deg = std::numbers::pi / 180.0, side = 45.0 * deg;
     plunge *= detail::smoothstep(55.0 * deg, 75.0 * deg, angle(steepest));
     if (!(plunge > 0.0) || steepest == 0 || steepest + 1 == kColumns) {
         for (std::size_t j = 0; j <= kColumns; ++j) px.push_back(static_cast<double>(j) * dx), pz.push_back(top[j]);
         return;
     }
-    std::size_t a = steepest, b = steepest + 1;  // the wall: columns a (its top) … b (its foot)
+    std::size_t a = steepest, b = steepest + 1;  // the wall: columns a (its top) … b (its foot), falling all the way
     while (a > 1 && angle(a - 1) > side) --a;
     while (b + 1 < kColumns && angle(b) > side) ++b;
-    for (std::size_t j = 0; j <= a; ++j) px.push_back(static_cast<double>(j) * dx), pz.push_back(top[j]);
-    const double xa = static_cast<double>(a) * dx, xb = static_cast<double>(b) * dx, za = top[a], zb = top[b];
-    const double depth = 0.5 * plunge * ratio * (za - zb);
+    for (std::size_t j = 0; j < a; ++j) px.push_back(static_cast<double>(j) * dx), pz.push_back(top[j]);
+    const double za = top[a], zb = top[b], depth = 0.5 * plunge * ratio * (za - zb);
     constexpr double lip = 0.25;  // the lip's thickness: a quarter of the wall
-    for (std::size_t i = 1; i < kMouthSamples; ++i) {
-        const double u = static_cast<double>(i) / static_cast<double>(kMouthSamples);
+    const auto curl_back = [&](double u) {
         const double w = std::clamp((u - lip) / (1.0 - lip), 0.0, 1.0), g = std::sin(std::numbers::pi * w);
-        px.push_back(xa + (xb - xa) * u - depth * g * g);
-        pz.push_back(za + (zb - za) * u);
+        return depth * g * g;
+    };
+    // Down the wall by u = (za − z)/(za − zb): its columns and kMouthSamples steps in u,
+    // each on the envelope (x where the falling wall has height z) moved back.
+    std::size_t j = a, i = 0;
+    while (j <= b) {
+        const double uj = (za - top[j]) / (za - zb), ui = static_cast<double>(i) / static_cast<double>(kMouthSamples);
+        if (i <= kMouthSamples && ui < uj - 1e-12) {
+            const double z = za + (zb - za) * ui;
+            std::size_t k = j - 1;  // top[k] > z > top[j]: j > a here (u at a is 0, the first step's)
+            const double x = (static_cast<double>(k) + (top[k] - z) / (top[k] - top[j])) * dx;
+            px.push_back(x - curl_back(ui)), pz.push_back(z);
+            ++i;
+            continue;
+        }
+        if (i <= kMouthSamples && std::abs(ui - uj) <= 1e-12) ++i;  // a step on a column: the column's point
+        px.push_back(static_cast<double>(j) * dx - curl_back(uj)), pz.push_back(top[j]);
+        ++j;
     }
-    for (std::size_t j = b; j <= kColumns; ++j) px.push_back(static_cast<double>(j) * dx), pz.push_back(top[j]);
+    for (std::size_t c = b + 1; c <= kColumns; ++c) px.push_back(static_cast<double>(c) * dx), pz.push_back(top[c]);
 }
 
 // relabel over a polyline whose segments may run backwards (cos θ < 0: the lip's
@@ -250,6 +266,7 @@ void outer_section(double life, double curl, double ratio, const BreakerSectionB
                    std::vector<BreakerSectionPoint>& out) {
     check_bounds(bounds);
     if (labels == 0) throw InputError("outer section: no labels");
+    if (!(ratio > 0.0) || !std::isfinite(ratio)) throw InputError("outer section: the height ratio 5H/W must be > 0 and finite");
     relabel(envelope(life, curl), ratio, bounds, labels, out);
 }
 
@@ -257,6 +274,7 @@ void curl_section(double life, double curl, double ratio, const BreakerSectionBo
                   std::vector<BreakerSectionPoint>& out) {
     check_bounds(bounds);
     if (labels == 0) throw InputError("curl section: no labels");
+    if (!(ratio > 0.0) || !std::isfinite(ratio)) throw InputError("curl section: the height ratio 5H/W must be > 0 and finite");
     std::vector<double> px, pz;
     curl_polyline(press_front(envelope(life, curl), ratio, life), ratio, plunge_of(curl), px, pz);
     relabel_polyline(px, pz, ratio, bounds, labels, out);
