@@ -70,6 +70,8 @@ SPRAY_THIN = 0.8      # s: the share of a puff's droplets still drawn falls as e
 SPRAY_OPACITY = 0.9   # a droplet's opacity when thrown; it fades like the puff thins
 SPRAY_GLOW = 0.35     # the puff's multiple scattering, as an emission of this strength
 FOAM_SHEET = 3.0      # a foam particle's sheet of lace: a square this × its size from centre to edge
+SHEET_SHARPNESS = 2.5  # how fast a sheet's lace fades in over the lace's value (the water's own: 6); at 6 the
+                       # sheets read as "flat, sharp-edged blobs" (a reviewer)
 FOAM_STREAK = 1.5     # s: the sheet is stretched along the flow by 1 + speed × this (at most 3 ×)
 FOAM_FRESH = 2.0      # s: fresh foam is dense lace, old foam a thin web: its density falls as e^(−age / this)
 FOAM_LIFT = 0.02      # m: the sheets float this far above the water
@@ -280,15 +282,15 @@ def foam_material():
         at = t.vmath("ADD", t.node("ShaderNodeNewGeometry").outputs["Position"], _attribute(t, "anchor", "Vector"))
         x, y, _ = t.separate(local)
         r = t.math("MULTIPLY", t.math("SQRT", t.math("ADD", t.math("MULTIPLY", x, x), t.math("MULTIPLY", y, y))), 2.0)
-        edge = t.node("ShaderNodeMapRange")  # 1 inside r 0.2, 0 from r 1
+        edge = t.node("ShaderNodeMapRange")  # 1 at the centre, 0 from r 1
         t.put(edge.inputs["Value"], r)
-        edge.inputs["From Min"].default_value, edge.inputs["From Max"].default_value = 0.2, 1.0
+        edge.inputs["From Min"].default_value, edge.inputs["From Max"].default_value = 0.0, 1.0
         edge.inputs["To Min"].default_value, edge.inputs["To Max"].default_value = 1.0, 0.0
         edge.interpolation_type = "SMOOTHSTEP"
         fresh = t.math("MULTIPLY_ADD", _fade(t, _attribute(t, "age"), FOAM_FRESH), FOAM_DENSITY[1] - FOAM_DENSITY[0],
                        FOAM_DENSITY[0])
         density = t.math("MULTIPLY", fresh, edge.outputs["Result"])
-        mask = _lace_mask(t, at, density)
+        mask = _lace_mask(t, at, density, SHEET_SHARPNESS)
         # Seen by camera rays only: a sheet's underside, a few centimetres over the water,
         # would otherwise darken the water's reflection in the lace's holes.
         seen = t.math("MULTIPLY", mask, t.node("ShaderNodeLightPath").outputs["Is Camera Ray"])
