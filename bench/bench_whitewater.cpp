@@ -25,17 +25,9 @@ wave::WhitewaterEvents beach_events() {
     return e;
 }
 
-// The bound evaluate_whitewater refuses over counts every particle a loop emits as alive
-// (15.8 M here, for ~1.2 M alive at a frame): above the default max_points.
-wave::WhitewaterOptions bench_options() {
-    wave::WhitewaterOptions o;
-    o.max_points = 20'000'000;
-    return o;
-}
-
 void BM_whitewater_advance(benchmark::State& state) {
     const wave::WhitewaterEvents e = beach_events();
-    const wave::WhitewaterOptions o = bench_options();
+    const wave::WhitewaterOptions o;
     wave::WhitewaterPoints p;
     double t = 10.0;
     for (auto _ : state) {
@@ -50,7 +42,7 @@ BENCHMARK(BM_whitewater_advance)->Unit(benchmark::kMillisecond)->UseRealTime();
 void BM_whitewater_write(benchmark::State& state) {
     const wave::WhitewaterEvents e = beach_events();
     wave::WhitewaterPoints p;
-    wave::evaluate_whitewater(e, bench_options(), 10.0, p);
+    wave::evaluate_whitewater(e, wave::WhitewaterOptions{}, 10.0, p);
     for (auto _ : state) {
         std::string glb = wave::whitewater_glb(p, 240, 24.0);
         benchmark::DoNotOptimize(glb.data());
@@ -76,7 +68,7 @@ void BM_whitewater_ride(benchmark::State& state) {
     const wave::WhitewaterRide ride = wave::plan_whitewater_ride(x, y, triangles);
     const wave::WhitewaterEvents e = beach_events();
     wave::WhitewaterPoints fresh, p;
-    wave::evaluate_whitewater(e, bench_options(), 10.0, fresh);
+    wave::evaluate_whitewater(e, wave::WhitewaterOptions{}, 10.0, fresh);
     for (auto _ : state) {
         state.PauseTiming();
         p = fresh;

@@ -173,6 +173,43 @@ TEST(Whitewater, RefusesOptionsOutOfRange) {
     EXPECT_THROW(evaluate_whitewater(ragged, WhitewaterOptions{}, 0.5, p), InputError);
 }
 
+TEST(Whitewater, TheBoundHoldsEveryParticleAliveAndNotEveryOneALoopEmits) {
+    // A 110 m beach of 5 500 events a crest passes, 3 crests in a 24 s loop, every kind at
+    // full strength (bench_whitewater's beach, an eighth as long). whitewater_bound is the
+    // most alive at once: never under the particles alive at any time of the loop (0.25 s
+    // steps), and within 3 × of the most. It counted every particle a loop emits
+    // (⌈life / period⌉ per emission), 7.6 × the most on the bench's beach, which it
+    // refused at the default max_points.
+    WhitewaterEvents e;
+    e.period = 24.0;
+    for (int crest = 0; crest < 3; ++crest)
+        for (int i = 0; i < 55; ++i)
+            for (int j = 0; j < 100; ++j)
+                e.add(static_cast<float>(2 * i), static_cast<float>(0.5 * j), 0.6f, 0.0f, 1.0f, 5.0f, 0.8f, 1.2f, 8.0 * crest + 0.1 * j,
+                      1.0f, 1.0f, 1.0f, static_cast<std::uint64_t>((crest * 55 + i) * 100 + j), static_cast<std::uint32_t>(crest));
+    const WhitewaterOptions o;
+    const std::size_t bound = whitewater_bound(e, o);
+    std::size_t most = 0;
+    WhitewaterPoints p;
+    for (int k = 0; k < 96; ++k) {
+        evaluate_whitewater(e, o, 0.25 * k, p);
+        most = std::max(most, p.count());
+    }
+    EXPECT_GE(bound, most);
+    EXPECT_LE(static_cast<double>(bound), 3.0 * static_cast<double>(most));
+    RecordProperty("bound", std::to_string(bound));
+    RecordProperty("most_alive", std::to_string(most));
+    // Lives longer than the loop: every emission of the last ⌊life / P⌋ periods is alive.
+    WhitewaterOptions short_lived, long_lived;
+    short_lived.foam_life = 4.0;
+    long_lived.foam_life = 60.0;
+    WhitewaterEvents foam = one_event(0, 1, 0);
+    foam.period = 8.0;
+    const std::size_t one = whitewater_bound(foam, short_lived);
+    EXPECT_GT(one, 0u);
+    EXPECT_EQ(whitewater_bound(foam, long_lived), 8 * one);  // 60 s = 7 periods + 4 s: 7 + 1 ages at most
+}
+
 TEST(Whitewater, BreakersEmitOnlyWhereAndWhenTheirCrestsBreak) {
     const Scene scene = parse_scene(kWhitewaterBeach, "beach", ".");
     const ScenePlan plan = plan_scene(scene);
