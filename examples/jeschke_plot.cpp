@@ -16,10 +16,28 @@
 
 #include <cstdio>
 #include <string>
+#include <utility>
 #include <vector>
 #include <algorithm>
 
 namespace {
+
+// A section to scale in blue (x from `left`, z up from `base`, `px` pixels a wavelength),
+// with every `step`-th label marked in red: 16 mesh points a wavelength.
+void draw_section(plot::Canvas& c, const std::vector<wave::BreakerSectionPoint>& section, double ratio, double left, double base,
+                  double px, std::size_t step) {
+    const unsigned char blue[3] = {20, 70, 200}, red[3] = {210, 30, 30};
+    const auto at = [&](std::size_t m) { return std::pair{left + section[m].x * px, base - ratio * section[m].z * px}; };
+    for (std::size_t m = 1; m < section.size(); ++m) {
+        const auto [x0, y0] = at(m - 1);
+        const auto [x1, y1] = at(m);
+        c.line(x0, y0, x1, y1, blue, 2);
+    }
+    for (std::size_t m = 0; m < section.size(); m += step) {
+        const auto [x, y] = at(m);
+        for (int d = -2; d <= 2; ++d) c.line(x - 2, y + d, x + 2, y + d, red, 1);
+    }
+}
 
 int draw_outer(const std::string& out) {
     constexpr double ratio = 0.2, px = 1100.0;
@@ -27,7 +45,7 @@ int draw_outer(const std::string& out) {
     const double lives[] = {0.3, 0.6, 0.8, 1.0, 1.2, 1.5};
     plot::Canvas c(1200, top + 6 * row_h);
     c.text(10, 8, "5H/W = 0.2, to scale; grey: the paper's curve; blue: the outer section; red: 16 mesh points a wavelength");
-    const unsigned char grey[3] = {170, 170, 170}, blue[3] = {20, 70, 200}, red[3] = {210, 30, 30};
+    const unsigned char grey[3] = {170, 170, 170};
     std::vector<wave::BreakerSectionPoint> section;
     for (int row = 0; row < 6; ++row) {
         const double life = lives[row];
@@ -48,13 +66,7 @@ int draw_outer(const std::string& out) {
             lx = x, ly = y;
         }
         wave::outer_section(life, 1.0, ratio, {}, 512, section);
-        for (std::size_t m = 1; m < section.size(); ++m)
-            c.line(left + section[m - 1].x * px, base - ratio * section[m - 1].z * px, left + section[m].x * px,
-                   base - ratio * section[m].z * px, blue, 2);
-        for (std::size_t m = 0; m < section.size(); m += 32)
-            for (int d = -2; d <= 2; ++d)
-                c.line(left + section[m].x * px - 2, base - ratio * section[m].z * px + d, left + section[m].x * px + 2,
-                       base - ratio * section[m].z * px + d, red, 1);
+        draw_section(c, section, ratio, left, base, px, 32);
     }
     return plot::write_png(c, out) ? 0 : 1;
 }
@@ -67,7 +79,6 @@ int draw_curl(const std::string& out) {
     const double lives[] = {0.15, 0.3, 0.45, 0.6, 0.75, 0.9, 1.1, 1.4};
     plot::Canvas c(1200, top + 8 * row_h);
     c.text(10, 8, "5H/W = 0.2, to scale; blue: the curl section of a plunging crest (curl 1); red: 16 mesh points a wavelength");
-    const unsigned char blue[3] = {20, 70, 200}, red[3] = {210, 30, 30};
     std::vector<wave::BreakerSectionPoint> section;
     for (int row = 0; row < 8; ++row) {
         const double life = lives[row];
@@ -76,13 +87,7 @@ int draw_curl(const std::string& out) {
         std::snprintf(label, sizeof label, "%s t = %.2f", life < 1.0 ? "breaking" : "collapsing", life < 1.0 ? life : life - 1.0);
         c.text(left, top + row * row_h + 4, label);
         wave::curl_section(life, 1.0, ratio, {}, 1024, section);
-        for (std::size_t m = 1; m < section.size(); ++m)
-            c.line(left + section[m - 1].x * px, base - ratio * section[m - 1].z * px, left + section[m].x * px,
-                   base - ratio * section[m].z * px, blue, 2);
-        for (std::size_t m = 0; m < section.size(); m += 64)
-            for (int d = -2; d <= 2; ++d)
-                c.line(left + section[m].x * px - 2, base - ratio * section[m].z * px + d, left + section[m].x * px + 2,
-                       base - ratio * section[m].z * px + d, red, 1);
+        draw_section(c, section, ratio, left, base, px, 64);
     }
     return plot::write_png(c, out) ? 0 : 1;
 }
