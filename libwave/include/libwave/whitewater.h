@@ -129,8 +129,11 @@ void fold_whitewater_events(const FoldSample& sample, double time, const FoldFoa
                             std::span<const double> rest_y, std::array<double, 2> wind, double speed, double height,
                             double spacing, long long lattice_index, WhitewaterEvents& events);
 
-/// The most particles of `events` alive at any time: each event's counts times the
-/// emissions its lives let overlap (one per period within the longest life).
+/// A bound on the particles of `events` alive at any time: per kind, every emission's
+/// ages within the kind's life (⌊life / period⌋ of them) plus the largest sum of counts
+/// whose emission phases (time mod period) fall within one window of the life's
+/// remainder, found over 4 096 phase bins (a bin more generous); summed over the kinds.
+/// Period 0: every count once.
 std::size_t whitewater_bound(const WhitewaterEvents& events, const WhitewaterOptions& options);
 
 /// Throws LimitError naming /whitewater/max_points and the keys that lower the count

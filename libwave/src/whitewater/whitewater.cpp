@@ -366,10 +366,10 @@ const detail::TriangleLocator& locator_of(const WhitewaterRide& r) {
 // period (or once, period 0) that live at most the kind's life. At time t event i holds
 // w ages and one more while its phase since emission, (t − tᵢ) mod P, lies in [0, r),
 // where life = w P + r: so a kind's most is w × all its counts plus the largest sum of
-// its counts whose emission phases tᵢ mod P fall in one window of length r (closed, a
-// little generous). Summed over the kinds (each kind's most may come at its own time).
-// It was every count × ⌈life / P⌉: every particle a loop emits, 8–13 ×
-// those alive at once on a breaking beach, which refused scenes far under max_points.
+// its counts whose emission phases tᵢ mod P fall in one window of length r. Summed over
+// the kinds (each kind's most may come at its own time). It was every count ×
+// ⌈life / P⌉: every particle a loop emits, 7.6 × those alive at once on the whitewater
+// bench's beach, which refused scenes far under max_points.
 double most_alive(const WhitewaterEvents& e, const WhitewaterOptions& o, std::span<const Counts> counts) {
     const double lives[3] = {o.spray_life, o.foam_life > 0.0 ? o.foam_life : std::numeric_limits<double>::infinity(), o.bubble_life};
     const auto count = [](const Counts& c, int k) { return static_cast<double>(k == 0 ? c.spray : k == 1 ? c.foam : c.bubbles); };
@@ -438,11 +438,7 @@ std::size_t whitewater_bound(const WhitewaterEvents& e, const WhitewaterOptions&
     return bound_of(e, o, all_counts(e, o));
 }
 
-void check_whitewater_bound(const WhitewaterEvents& e, const WhitewaterOptions& o) {
-    check(o, e);
-    const std::vector<Counts> counts = all_counts(e, o);
-    refuse_over_bound(bound_of(e, o, counts), o);
-}
+void check_whitewater_bound(const WhitewaterEvents& e, const WhitewaterOptions& o) { refuse_over_bound(whitewater_bound(e, o), o); }
 
 void evaluate_whitewater(const WhitewaterEvents& e, const WhitewaterOptions& o, double t, WhitewaterPoints& out) {
     // The events' counts once (the bound, the blocks' room and their particles use them).
