@@ -142,17 +142,20 @@ namespace {
 // What the tracing stage produced, for reports.
 // Where the traced rays break (Jeschke's automatic parametrisation).
 json breakers_summary(const JeschkeMotionPlan& b) {
-    std::size_t breaking = 0;
+    std::size_t breaking = 0, rays = 0, again = 0;  // first breaks; breaks after a re-form
     double h_min = std::numeric_limits<double>::infinity(), h_max = 0.0;
     std::map<std::string, std::size_t> types;
     for (const RayBreak& r : b.rays) {
+        if (r.surf_zone == 0) ++rays;
         if (!r.breaks) continue;
-        ++breaking;
+        if (r.surf_zone == 0) ++breaking;
+        else ++again;
         h_min = std::min(h_min, r.depth);
         h_max = std::max(h_max, r.depth);
         ++types[to_string(r.type)];
     }
-    json out{{"model", "jeschke"}, {"rays", b.rays.size()}, {"breaking_rays", breaking}, {"breaker_types", types}};
+    json out{{"model", "jeschke"}, {"rays", rays}, {"breaking_rays", breaking}, {"breaks_after_reforming", again},
+             {"breaker_types", types}};
     if (breaking > 0) out["break_depth_m"] = {h_min, h_max};
     out["varied_waves"] = b.loop_periods();  // the loop holds this many swell periods
     out["wave_variation"] = b.variation;
@@ -508,6 +511,8 @@ void print_surface_text(const RunSummary& r) {
         if (b.contains("break_depth_m"))
             std::cout << " in " << b["break_depth_m"][0].get<double>() << " .. " << b["break_depth_m"][1].get<double>()
                       << " m of water (H = γh), " << b["breaker_types"].dump();
+        if (const auto again = b["breaks_after_reforming"].get<std::size_t>(); again > 0)
+            std::cout << "; " << again << " breaks more after re-forming behind a surf zone";
         std::cout << '\n';
     }
     if (scene.refine)

@@ -559,6 +559,131 @@ TEST(JeschkeFoam, NoneBeforeTheBreakThenDecayingUntilTheNextCrest) {
     EXPECT_GT(surf, 100u);
 }
 
+namespace {
+
+// Two rays 4 m apart over a barred beach (1:30 to the shore at x = 180 m, a bar 2.3 m
+// high at x = 70 m, σ 10 m), an 8 s swell of H = 1.2 m, with the heights a wave field
+// with breaking gives them: capped at γh on the bar, fallen to 0.8 m behind it (below
+// Γh = 0.4 h in the trough), capped again on the beach. Vertices every 0.5 m.
+constexpr double kBarCrest = 70.0;
+double barred_depth(double x) { return 6.0 - x / 30.0 - 2.3 * std::exp(-0.5 * std::pow((x - kBarCrest) / 10.0, 2)); }
+RayStrips barred_strips() {
+    RayStrips s;
+    const double omega = 2.0 * std::numbers::pi / 8.0, step = 0.5;
+    const auto n = static_cast<std::uint32_t>(178.0 / step);
+    for (std::uint32_t ray = 0; ray < 2; ++ray) {
+        double phase = 0.0;
+        for (std::uint32_t i = 0; i < n; ++i) {
+            const double x = step * i, h = barred_depth(x);
+            const double k = solve_dispersion(omega, h).k;
+            if (i > 0) phase += 0.5 * (k + s.k.back()) * step;
+            const double height = x < 84.0 ? std::min(1.2, kBreakerIndex * h) : std::min(0.8, kBreakerIndex * h);
+            s.ray.push_back(ray), s.step.push_back(i), s.x.push_back(x), s.y.push_back(4.0 * ray);
+            s.dir_x.push_back(1.0), s.dir_y.push_back(0.0), s.phase.push_back(phase), s.k.push_back(k);
+            s.amplitude.push_back(height / 2.0), s.depth.push_back(h), s.slope.push_back(0.0);
+            s.rise.push_back((h - barred_depth(x + 0.01)) / 0.01);
+            s.flag.push_back(RayFlag::alive), s.caustic.push_back(0);
+        }
+    }
+    for (std::uint32_t i = 0; i + 1 < n; ++i) {
+        const std::uint32_t a = i, b = i + 1, c = n + i + 1, d = n + i;
+        for (std::uint32_t v : {a, b, c, a, c, d}) s.triangles.push_back(v);
+    }
+    s.omega = omega;
+    return s;
+}
+
+}  // namespace
+
+TEST(JeschkeBreakers, ACrestBreakingOnABarReFormsInTheTroughAndBreaksAgainOnTheBeach) {
+    // The wave field re-forms a wave behind a bar (its heights fall below Γh); the
+    // breakers follow it, one life per surf zone: breaking on the bar and collapsing over
+    // 1.5 wavelengths (a bore carried on into the trough), a round crest rising from
+    // still water behind it, breaking again on the beach.
+    // With a single life per ray (before), the crest collapsed from the bar all the way
+    // to the shore and never broke on the beach.
+    const RayStrips s = barred_strips();
+    const double h0 = 1.2, l0 = deep_water_wavelength(8.0);
+    const JeschkeMotionPlan p = plan_jeschke_breakers(s, h0, l0);
+    ASSERT_EQ(p.rays.size(), 4u);  // two breaks on each ray
+    for (const RayBreak& r : p.rays) {
+        ASSERT_TRUE(r.breaks);
+        // Onset H = γh: on the bar at h = 1.2/γ, on the beach at 0.8/γ.
+        EXPECT_NEAR(r.depth, (r.surf_zone == 0 ? 1.2 : 0.8) / kBreakerIndex, 0.02) << "surf zone " << r.surf_zone;
+        EXPECT_LT(r.surf_zone, 2u);
+        if (r.surf_zone == 0) {
+            EXPECT_LT(r.x, kBarCrest);
+        } else {
+            EXPECT_GT(r.x, 140.0);
+        }
+    }
+    ASSERT_EQ(p.life_start.size(), p.vertex_count());
+    // Along ray 0, every crest (the three varied ones) at each vertex as it passes.
+    const std::size_t n = p.vertex_count() / 2;
+    std::size_t on_bar = 0, in_trough = 0, on_beach = 0;
+    for (std::size_t v = 0; v < n; ++v) {
+        const double x = p.x[v];
+        for (long long crest = 0; crest < 3; ++crest) {
+            const BreakerLife life = jeschke_vertex_life(p, v, crest);
+            const bool broken = life.phase == BreakerPhase::breaking || life.phase == BreakerPhase::collapsing;
+            if (x > 71.0 && x < 80.0) {
+                on_bar += broken ? 1 : 0;
+                EXPECT_TRUE(broken) << "x " << x;
+            }
+            if (x > 126.0 && x < 138.0) {  // the broken crest collapses over 1.5 wavelengths, to 122 m
+                ++in_trough;
+                EXPECT_TRUE(life.phase == BreakerPhase::round) << "x " << x;
+                EXPECT_GT(p.life_start[v], 0.0f);
+                EXPECT_EQ(p.foam_yield[v], 0.0f) << "x " << x;  // clear water between the surf zones
+            }
+            if (x > 153.0 && x < 162.0) {
+                on_beach += broken ? 1 : 0;
+                EXPECT_TRUE(broken) << "x " << x;
+            }
+        }
+    }
+    EXPECT_GT(on_bar, 50u);
+    EXPECT_GT(in_trough, 60u);
+    EXPECT_GT(on_beach, 50u);
+    // The new life rises from still water where the old one died: no vertex moves faster
+    // than the breakers do anywhere (1.5 c, NoVertexOutrunsOneAndAHalfTimesItsPhaseSpeed).
+    EXPECT_LE(fastest_over_phase_speed(p), 1.5);
+    // A trough shorter than min_reform_wavelengths is broken through: one life per ray,
+    // the crest collapsing from the bar to the shore (as every ray lived before).
+    JeschkeBreakerOptions through;
+    through.min_reform_wavelengths = 5.0;
+    const JeschkeMotionPlan q = plan_jeschke_breakers(s, h0, l0, through);
+    EXPECT_EQ(q.rays.size(), 2u);
+    EXPECT_TRUE(q.life_start.empty());
+    for (std::size_t v = 0; v < n; ++v)
+        if (q.x[v] > 100.0) {
+            EXPECT_FALSE(jeschke_vertex_life(q, v, 0).phase == BreakerPhase::round) << "x " << q.x[v];
+        }
+}
+
+TEST(JeschkeBreakers, AMeshResampledAcrossAReFormTakesTheLifeThatHoldsThere) {
+    // A water mesh's vertices between two strip vertices either side of the re-form take
+    // the life that holds at their phase: the old one collapsing, or the new one rising —
+    // never a blend of the two (a break phase half-way, a breaker standing in the trough).
+    const RayStrips s = barred_strips();
+    const JeschkeMotionPlan p = plan_jeschke_breakers(s, 1.2, deep_water_wavelength(8.0));
+    std::vector<double> x, y;
+    for (double xm = 0.25; xm < 177.0; xm += 0.5) x.push_back(xm), y.push_back(1.0);
+    const JeschkeMotionPlan r = resample_jeschke_breakers(p, s.triangles, x, y);
+    std::size_t in_trough = 0;
+    for (std::size_t v = 0; v < r.vertex_count(); ++v) {
+        if (x[v] > 126.0 && x[v] < 138.0) {
+            ++in_trough;
+            for (long long crest = 0; crest < 3; ++crest)
+                EXPECT_TRUE(jeschke_vertex_life(r, v, crest).phase == BreakerPhase::round) << "x " << x[v];
+        }
+        // Each point's life is one of its corners': its start is a strip vertex's start.
+        const bool known = std::any_of(p.life_start.begin(), p.life_start.end(), [&](float st) { return std::abs(st - r.life_start[v]) < 1e-3f; });
+        EXPECT_TRUE(known) << "x " << x[v] << " starts at " << r.life_start[v];
+    }
+    EXPECT_GT(in_trough, 20u);
+}
+
 TEST(JeschkeBreakers, SameBytesForAnyThreadCount) {
     const Scene scene = parse_scene(kBeach, "beach.json", ".");
     const ScenePlan plan = plan_scene(scene);

@@ -488,12 +488,15 @@ BreakerSectionPoint breaker_section(const BreakerSections& table, double life, d
 /// Where a crest is in its life when it stands at phase ψ (rad, Σ k Δs) of a ray that
 /// breaks at phase `break_phase` and ends (aground) at `end_phase`: round over the
 /// first `rise` radians (coming up from still water), breaking from the break point
-/// for `breaking_length` radians, collapsing until the end, dead beyond.
+/// for `breaking_length` radians, collapsing until the end, dead beyond. `start` is
+/// where the life begins (0 on a ray's first surf zone; where the crest re-formed
+/// behind a bar on a later one): the round phase rises from still water at `start`.
 struct BreakerLife {
     BreakerPhase phase = BreakerPhase::round;  ///< the phase of the crest's life
     double t = 1.0;  ///< time parameter within the phase, 0 … 1
 };
-BreakerLife jeschke_life(double psi, double rise, double break_phase, double breaking_length, double end_phase) noexcept;
+BreakerLife jeschke_life(double psi, double rise, double break_phase, double breaking_length, double end_phase,
+                         double start = 0.0) noexcept;
 
 /// JeschkeBreakerOptions::lip: the section a breaking crest takes.
 enum class BreakerLip { outer, tube, curl };
@@ -518,6 +521,16 @@ struct JeschkeBreakerOptions {
     /// Round phase: crests come up from still water over this many wavelengths from
     /// the offshore edge (the paper's birth); 0 = they enter fully grown.
     double rise_wavelengths = 1.0;
+    /// Γ: a breaking crest stops breaking where its height falls below Γh (the wave
+    /// field's stable index: its heights re-form behind a bar). A ray whose height falls
+    /// so, and that reaches H >= γh again later, lives one life per surf zone: the crest
+    /// collapses (over at least 1.5 local wavelengths from its break, a bore carried on
+    /// into the trough: squeezed into a bar's half-wavelength surf zone, its vertices
+    /// moved at 2.6 × the phase speed), re-forms from still water and breaks again. In (0, 2].
+    double stable_index = 0.4;
+    /// A re-formed stretch shorter than this (local wavelengths, between the end of one
+    /// surf zone and the next break) is not a re-form: the crest breaks on through it.
+    double min_reform_wavelengths = 0.5;
     /// §3.1: foam fades linearly over this time after a broken crest passed (s).
     double foam_fade_time = 6.0;
     /// Foam production ramps up over this share of the breaking phase (no hard line).
@@ -569,6 +582,7 @@ CrestPhases vary_crest(double rise, double break_phase, double breaking_length, 
 /// Where one traced ray breaks (for reports and tests).
 struct RayBreak {
     std::uint32_t ray = 0;  ///< ray id
+    std::uint32_t surf_zone = 0;  ///< 0: the ray's first break; n: its break after re-forming n times
     bool breaks = false;    ///< whether the ray reaches H >= γh
     double break_phase = 0.0;  ///< rad along the ray
     double end_phase = 0.0;    ///< rad along the ray (its end, aground or out)
@@ -600,7 +614,11 @@ struct JeschkeMotionPlan {
     std::vector<float> breaking_length;         ///< breaking-phase length (rad)
     std::vector<float> curl;                    ///< k5 scale of the ray's breaker type
     std::vector<float> foam_yield;              ///< foam a passing broken crest leaves (0 … 1)
-    std::vector<RayBreak> rays;  ///< per traced ray
+    /// Per vertex, or empty (all 0): where the life the vertex lives begins (rad): 0 on
+    /// its ray's first surf zone; past a surf zone where the crest re-formed, the end of
+    /// that surf zone (JeschkeBreakerOptions::stable_index).
+    std::vector<float> life_start;
+    std::vector<RayBreak> rays;  ///< per traced ray, then one per break after a re-form
     /// Per vertex, or empty (all 0): how far (rad) the crests at the vertex trail those at
     /// phase `phase`, whose life they live. A skirt vertex (continue_jeschke_breakers)
     /// lives its anchor's life, lag/ω later; a vertex of the surface has none.
@@ -641,6 +659,11 @@ JeschkeMotionPlan plan_jeschke_breakers(const RayStrips& strips, double deep_hei
 /// draws, applied where the vertex lies past the earliest break), as
 /// evaluate_jeschke_breakers takes them. Precondition: v < plan.vertex_count().
 CrestPhases jeschke_crest_phases(const JeschkeMotionPlan& plan, std::size_t v, long long n) noexcept;
+
+/// Where in its life crest n is when it passes vertex v (at the vertex's own phase):
+/// jeschke_life with the crest's phases and the vertex's rise and life start.
+/// Precondition: v < plan.vertex_count().
+BreakerLife jeschke_vertex_life(const JeschkeMotionPlan& plan, std::size_t v, long long n) noexcept;
 
 /// The foam a crest leaves where it passes at `life`: none while round, rising over the
 /// first `onset` of the breaking phase, full while breaking and collapsing.

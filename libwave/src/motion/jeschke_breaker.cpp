@@ -168,12 +168,13 @@ BreakerShapePoint jeschke_shape(double s, const BreakerConstants& back, const Br
     return p;
 }
 
-BreakerLife jeschke_life(double psi, double rise, double break_phase, double breaking_length, double end_phase) noexcept {
+BreakerLife jeschke_life(double psi, double rise, double break_phase, double breaking_length, double end_phase,
+                         double start) noexcept {
     if (psi >= end_phase) return {BreakerPhase::dead, 1.0};
     const double collapse_start = break_phase + breaking_length;
     if (psi >= collapse_start) return {BreakerPhase::collapsing, (psi - collapse_start) / (end_phase - collapse_start)};
     if (psi >= break_phase) return {BreakerPhase::breaking, (psi - break_phase) / breaking_length};
-    return {BreakerPhase::round, rise > 0.0 ? std::clamp(psi / rise, 0.0, 1.0) : 1.0};
+    return {BreakerPhase::round, rise > 0.0 ? std::clamp((psi - start) / rise, 0.0, 1.0) : 1.0};
 }
 
 namespace {
@@ -206,9 +207,17 @@ long long crest_index(double wt_minus_phase) noexcept {
 // How far vertex v's crests trail the phase whose life they live (JeschkeMotionPlan::lag).
 double lag_of(const JeschkeMotionPlan& p, std::size_t v) noexcept { return p.lag.empty() ? 0.0 : p.lag[v]; }
 
+// Where the life vertex v lives begins (JeschkeMotionPlan::life_start).
+double start_of(const JeschkeMotionPlan& p, std::size_t v) noexcept {
+    return p.life_start.empty() ? 0.0 : static_cast<double>(p.life_start[v]);
+}
+
 void check_lags(const JeschkeMotionPlan& p, const char* what) {
     if (!p.lag.empty() && p.lag.size() != p.vertex_count())
         throw InputError(std::string(what) + ": " + std::to_string(p.lag.size()) + " lags for " + std::to_string(p.vertex_count()) + " vertices");
+    if (!p.life_start.empty() && p.life_start.size() != p.vertex_count())
+        throw InputError(std::string(what) + ": " + std::to_string(p.life_start.size()) + " life starts for " +
+                         std::to_string(p.vertex_count()) + " vertices");
 }
 
 // Break/end phases of crest n at vertex v, when it stands at phase ψ (the plan's own
@@ -218,7 +227,7 @@ CrestPhases crest_phases(const JeschkeMotionPlan& p, std::size_t v, long long n,
     if (p.loop_periods() == 1 || psi < static_cast<double>(p.break_phase[v]) - p.variation * two_pi)
         return {p.break_phase[v], p.breaking_length[v], p.end_phase[v]};
     const long long m = static_cast<long long>(p.crest_draws.size());
-    return vary_crest(p.rise[v], p.break_phase[v], p.breaking_length[v], p.end_phase[v],
+    return vary_crest(start_of(p, v) + p.rise[v], p.break_phase[v], p.breaking_length[v], p.end_phase[v],
                       p.crest_draws[static_cast<std::size_t>(((n % m) + m) % m)], p.variation);
 }
 
@@ -233,6 +242,9 @@ void check_options(const JeschkeBreakerOptions& o) {
     check(o.max_breaking_wavelengths, 0.05, 100.0, "max_breaking_wavelengths");
     check(o.min_surf_zone_wavelengths, 0.0, 100.0, "min_surf_zone_wavelengths");
     check(o.rise_wavelengths, 0.0, 100.0, "rise_wavelengths");
+    if (!(o.stable_index > 0.0 && o.stable_index <= 2.0))
+        throw InputError("breakers: stable_index must be in (0, 2], got " + std::to_string(o.stable_index));
+    check(o.min_reform_wavelengths, 0.05, 100.0, "min_reform_wavelengths");
     check(o.foam_fade_time, 1e-3, 1e6, "foam_fade_time");
     check(o.foam_onset, 0.0, 1.0, "foam_onset");
     for (double c : {o.curl_spilling, o.curl_plunging, o.curl_collapsing, o.curl_surging}) check(c, 0.0, 2.0, "curl");
@@ -257,19 +269,27 @@ CrestPhases vary_crest(double rise, double break_phase, double breaking_length, 
 namespace {
 
 // One ray's breaker: where it breaks and the lengths of its life (rad along the ray).
+// A ray that breaks, re-forms and breaks again lives several: `first` is the first of
+// its vertices (offshore to its end) that lives this one, `start` the phase where it
+// begins (0, or where the previous surf zone ended).
 struct RayLife {
     RayBreak rb;
-    double rise = 0.0, breaking = 0.0, curl = 1.0, end = 0.0;
+    double start = 0.0, rise = 0.0, breaking = 0.0, curl = 1.0, end = 0.0;
     bool breaks_at_start = false;  // capped on its first vertex, with no earlier break given
+    std::size_t first = 0;        // index into the ray's vertices
+    std::size_t break_vertex = 0;  // index of the first vertex at or past the break
 };
 
 constexpr double kNever = std::numeric_limits<double>::infinity();
+// The least surf zone (local wavelengths) of a crest that re-forms behind it.
+constexpr double kReformedSurfZone = 1.5;
 
 // The life of the ray through `vs` (its vertices from offshore to its end). A ray
 // capped on its first vertex broke before it: at `before` when that is given (the
 // apron beyond the side it entered across, or its neighbours' break where it was
 // inserted), and it lives the rest of that life here, not a new one from that vertex.
-RayLife ray_life(const RayStrips& strips, std::uint32_t id, const std::vector<std::uint32_t>& vs, double before,
+// The search for the break starts at vertex `from` (0: the ray's first life).
+RayLife ray_life(const RayStrips& strips, std::uint32_t id, const std::vector<std::uint32_t>& vs, std::size_t from, double before,
                  double deep_height, double deep_wavelength, const JeschkeBreakerOptions& o) {
     // Depth-limited breaking H = 2A >= γh (dry counts): the first crossing of
     // f = 2A − γh, located between the two vertices by linear interpolation.
@@ -280,8 +300,10 @@ RayLife ray_life(const RayStrips& strips, std::uint32_t id, const std::vector<st
     RayBreak& rb = life.rb;
     rb.ray = id;
     rb.end_phase = strips.phase[vs.back()];
-    std::size_t i = 0;
+    std::size_t i = from;
     while (i < vs.size() && f(vs[i]) < 0.0) ++i;
+    life.first = from;
+    life.break_vertex = i;
     life.rise = o.rise_wavelengths * two_pi;
     life.end = kNever;  // where a crest dies: the ray's end, or later
     if (i == vs.size()) {
@@ -291,11 +313,11 @@ RayLife ray_life(const RayStrips& strips, std::uint32_t id, const std::vector<st
     rb.breaks = true;
     const std::uint32_t b = vs[i];
     double w = 0.0;  // share of the way from the previous vertex to b
-    if (i > 0) {
+    if (i > from) {
         const double fa = f(vs[i - 1]), fb = f(b);
         w = fb > fa ? -fa / (fb - fa) : 1.0;
     }
-    const std::uint32_t a = i > 0 ? vs[i - 1] : b;
+    const std::uint32_t a = i > from ? vs[i - 1] : b;
     const auto at = [&](const std::vector<double>& q) { return q[a] + w * (q[b] - q[a]); };
     rb.break_phase = at(strips.phase);
     const bool broke_before = i == 0 && before < rb.break_phase;  // false for NaN
@@ -364,8 +386,56 @@ void inherit_breaks(const RayStrips& strips, const std::map<std::uint32_t, std::
             const RayBreak& n = lives.at(r).rb;
             if (r != id && n.breaks && n.break_phase <= strips.phase[first]) sum += n.break_phase, ++count;
         }
-        if (count > 0) life = ray_life(strips, id, rays.at(id), sum / static_cast<double>(count), deep_height, deep_wavelength, o);
+        if (count > 0) life = ray_life(strips, id, rays.at(id), 0, sum / static_cast<double>(count), deep_height, deep_wavelength, o);
     }
+}
+
+// The lives a ray lives after its first (`first`, whose end and breaking length are cut
+// back when the crest re-forms): past each break, the crest re-forms where its height
+// falls below Γh in water (the wave field's stop: its heights re-form behind a bar)
+// and breaks again where H >= γh once more — a new life from still water at the end of
+// the surf zone before. A re-formed stretch shorter than min_reform_wavelengths is
+// broken through (one surf zone); a crest that never breaks again lives on as before.
+std::vector<RayLife> reformed_lives(const RayStrips& strips, std::uint32_t id, const std::vector<std::uint32_t>& vs, RayLife& first,
+                                    double deep_height, double deep_wavelength, const JeschkeBreakerOptions& o) {
+    std::vector<RayLife> later;
+    const double stable = std::min(o.stable_index, o.breaker_index);
+    const auto g = [&](std::uint32_t v) { return 2.0 * strips.amplitude[v] - stable * strips.depth[v]; };
+    const auto life = [&]() -> RayLife& { return later.empty() ? first : later.back(); };
+    std::size_t i = first.break_vertex;
+    while (life().rb.breaks && i < vs.size()) {
+        while (i < vs.size() && !(strips.depth[vs[i]] > 0.0 && g(vs[i]) < 0.0)) ++i;
+        if (i >= vs.size()) break;
+        // Where the height fell below Γh, between vertex i − 1 and i.
+        double reform = strips.phase[vs[i]];
+        if (i > 0) {
+            const std::uint32_t a = vs[i - 1], b = vs[i];
+            const double ga = g(a), gb = g(b), w = ga > gb ? std::clamp(ga / (ga - gb), 0.0, 1.0) : 1.0;
+            reform = strips.phase[a] + w * (strips.phase[b] - strips.phase[a]);
+        }
+        RayLife next = ray_life(strips, id, vs, i, std::nan(""), deep_height, deep_wavelength, o);
+        if (!next.rb.breaks) break;  // it never breaks again: the surf zone runs on to the ray's end
+        RayLife& now = life();
+        // A bar's surf zone is short (half a wavelength on the test's bar): squeezed into
+        // it, breaking and collapsing moved vertices at 2.6 c (1.8 c over one wavelength).
+        // The broken crest collapses over at least 1.5 wavelengths (≤ 1.5 c), a bore
+        // carried on into the trough, before the wave re-forms.
+        const double end = std::max(reform, now.rb.break_phase + std::max(o.min_surf_zone_wavelengths, kReformedSurfZone) * two_pi);
+        if (next.rb.break_phase - end < o.min_reform_wavelengths * two_pi) {  // broken through
+            i = next.break_vertex;
+            continue;
+        }
+        now.end = end;
+        now.breaking = std::min(o.breaking_share * (end - now.rb.break_phase), o.max_breaking_wavelengths * two_pi);
+        next.start = end;
+        next.rise = std::min(std::max(o.rise_wavelengths, o.min_reform_wavelengths) * two_pi, next.rb.break_phase - end);
+        next.first = now.break_vertex;
+        while (next.first < next.break_vertex && strips.phase[vs[next.first]] < end) ++next.first;
+        next.rb.surf_zone = now.rb.surf_zone + 1;
+        i = next.break_vertex;
+        later.push_back(next);
+    }
+    return later;
 }
 
 }  // namespace
@@ -397,7 +467,7 @@ JeschkeMotionPlan plan_jeschke_breakers(const RayStrips& strips, double deep_hei
     for (auto& [id, vs] : rays) {
         std::sort(vs.begin(), vs.end(), [&](std::uint32_t a, std::uint32_t b) { return strips.step[a] < strips.step[b]; });
         const double before = id < strips.entry_break_phase.size() ? strips.entry_break_phase[id] : std::nan("");
-        lives.emplace(id, ray_life(strips, id, vs, before, deep_height, deep_wavelength, o));
+        lives.emplace(id, ray_life(strips, id, vs, 0, before, deep_height, deep_wavelength, o));
     }
     inherit_breaks(strips, rays, lives, deep_height, deep_wavelength, o);
     p.break_phase.resize(n);
@@ -405,16 +475,29 @@ JeschkeMotionPlan plan_jeschke_breakers(const RayStrips& strips, double deep_hei
     p.rise.resize(n);
     p.breaking_length.resize(n);
     p.curl.resize(n);
-    for (const auto& [id, life] : lives) {
-        for (std::uint32_t v : rays.at(id)) {
-            p.break_phase[v] = static_cast<float>(life.rb.break_phase);
-            p.end_phase[v] = static_cast<float>(life.end);
-            p.rise[v] = static_cast<float>(life.rise);
-            p.breaking_length[v] = static_cast<float>(life.breaking);
-            p.curl[v] = static_cast<float>(life.curl);
+    std::vector<float> life_start(n, 0.0f);
+    bool reforms = false;
+    for (auto& [id, first] : lives) {
+        const std::vector<std::uint32_t>& vs = rays.at(id);
+        std::vector<RayLife> all{first};
+        for (RayLife& later : reformed_lives(strips, id, vs, all.front(), deep_height, deep_wavelength, o)) all.push_back(later);
+        reforms = reforms || all.size() > 1;
+        for (std::size_t k = 0; k < all.size(); ++k) {
+            const RayLife& life = all[k];
+            const std::size_t last = k + 1 < all.size() ? all[k + 1].first : vs.size();
+            for (std::size_t j = life.first; j < last; ++j) {
+                const std::uint32_t v = vs[j];
+                p.break_phase[v] = static_cast<float>(life.rb.break_phase);
+                p.end_phase[v] = static_cast<float>(life.end);
+                p.rise[v] = static_cast<float>(life.rise);
+                p.breaking_length[v] = static_cast<float>(life.breaking);
+                p.curl[v] = static_cast<float>(life.curl);
+                life_start[v] = static_cast<float>(life.start);
+            }
+            p.rays.push_back(life.rb);
         }
-        p.rays.push_back(life.rb);
     }
+    if (reforms) p.life_start = std::move(life_start);
 
     if (o.lip == BreakerLip::outer || o.lip == BreakerLip::curl) {
         const auto [lo, hi] = std::minmax({o.curl_spilling, o.curl_plunging, o.curl_collapsing, o.curl_surging});
@@ -432,7 +515,7 @@ JeschkeMotionPlan plan_jeschke_breakers(const RayStrips& strips, double deep_hei
         const bool wet = strips.depth[v] > 0.0 && k > 0.0 && std::isfinite(k);
         p.width[v] = wet ? static_cast<float>(two_pi / k) : 0.0f;
         p.scale[v] = wet ? static_cast<float>(5.0 * 2.0 * strips.amplitude[v]) : 0.0f;
-        const BreakerLife here = jeschke_life(p.phase[v], p.rise[v], p.break_phase[v], p.breaking_length[v], p.end_phase[v]);
+        const BreakerLife here = jeschke_life(p.phase[v], p.rise[v], p.break_phase[v], p.breaking_length[v], p.end_phase[v], start_of(p, v));
         // The round shape's mean (k7/8 of the scale) centres the offshore swell on still
         // water; it is held through breaking (the crest then stands ~0.75 H above still
         // water, as breaker crests do) and fades with k7 while the wave collapses.
@@ -464,6 +547,7 @@ JeschkeMotionPlan resample_jeschke_breakers(const JeschkeMotionPlan& src, std::s
     for (auto* f : {&p.width, &p.scale, &p.mean_level, &p.rise, &p.breaking_length, &p.curl, &p.foam_yield}) f->assign(n, 0.0f);
     p.break_phase.assign(n, never);
     p.end_phase.assign(n, never);
+    if (!src.life_start.empty()) p.life_start.assign(n, 0.0f);
     if (nt == 0 || n == 0) return p;
 
     const detail::TriangleLocator locator(src.x, src.y, triangles);
@@ -472,14 +556,34 @@ JeschkeMotionPlan resample_jeschke_breakers(const JeschkeMotionPlan& src, std::s
             detail::TriangleLocator::Hit h;
             if (!locator.locate(x[v], y[v], h)) continue;
             const std::uint32_t a = h.a, b = h.b, c = h.c;
-            const double wa = h.wa, wb = h.wb, wc = h.wc;
+            double wa = h.wa, wb = h.wb, wc = h.wc;
+            p.phase[v] = wa * src.phase[a] + wb * src.phase[b] + wc * src.phase[c];
+            if (!src.life_start.empty()) {
+                // A corner's life holds from its start to its end (the next life's start
+                // on a ray that re-forms; past the ray's end on its last). Only corners
+                // whose lives hold at the point's phase are blended: beside a re-form,
+                // one life collapsing into still water and the next rising from it; across
+                // rays (a bar's edge, a rip channel), the lives there blend as lives do.
+                const double phi = p.phase[v];
+                const auto holds = [&](std::uint32_t q) {
+                    constexpr double slack = 1e-3;  // rad: the float phases' rounding
+                    return src.life_start[q] <= phi + slack && !(phi > static_cast<double>(src.end_phase[q]) + slack);
+                };
+                const double ha = holds(a) ? wa : 0.0, hb = holds(b) ? wb : 0.0, hc = holds(c) ? wc : 0.0, sum = ha + hb + hc;
+                if (sum > 0.0) {
+                    wa = ha / sum, wb = hb / sum, wc = hc / sum;
+                } else {  // none holds (rounding at a ray's end): the nearest corner's
+                    const int pick = wa >= wb && wa >= wc ? 0 : wb >= wc ? 1 : 2;
+                    wa = pick == 0 ? 1.0 : 0.0, wb = pick == 1 ? 1.0 : 0.0, wc = pick == 2 ? 1.0 : 0.0;
+                }
+                p.life_start[v] = static_cast<float>(wa * src.life_start[a] + wb * src.life_start[b] + wc * src.life_start[c]);
+            }
             const auto mix = [&](const auto& f) { return wa * f[a] + wb * f[b] + wc * f[c]; };
             const auto mixf = [&](const std::vector<float>& f) {
                 // A ray that never breaks (+inf) keeps the point round.
                 if (!std::isfinite(f[a]) || !std::isfinite(f[b]) || !std::isfinite(f[c])) return never;
                 return static_cast<float>(mix(f));
             };
-            p.phase[v] = mix(src.phase);
             const double dx = mix(src.dir_x), dy = mix(src.dir_y), dl = std::hypot(dx, dy);
             if (dl > 0.0) p.dir_x[v] = dx / dl, p.dir_y[v] = dy / dl;
             for (auto [to, from] : {std::pair{&p.width, &src.width}, {&p.scale, &src.scale}, {&p.mean_level, &src.mean_level},
@@ -534,6 +638,7 @@ std::size_t fill_jeschke_gaps(JeschkeMotionPlan& p, std::span<const std::uint32_
         for (auto* f : {&p.width, &p.scale, &p.mean_level, &p.rise, &p.breaking_length, &p.curl, &p.foam_yield,
                         &p.break_phase, &p.end_phase})
             (*f)[v] = (*f)[s];
+        if (!p.life_start.empty()) p.life_start[v] = p.life_start[s];
         ++filled;
     }
     return filled;
@@ -598,7 +703,7 @@ void evaluate_jeschke_breakers(const JeschkeMotionPlan& p, double t, std::span<f
             const double delta = ahead - two_pi * static_cast<double>(crest);
             const double psi = p.phase[v] + delta, s = 0.5 - delta / two_pi;
             const CrestPhases c = crest_phases(p, v, crest, psi);
-            const BreakerLife life = jeschke_life(psi, p.rise[v], c.break_phase, c.breaking_length, c.end_phase);
+            const BreakerLife life = jeschke_life(psi, p.rise[v], c.break_phase, c.breaking_length, c.end_phase, start_of(p, v));
             const BreakerSectionPoint q = section_point(p, v, life, s);
             const double forward = (q.x - s) * p.width[v];
             positions[3 * v] = static_cast<float>(p.x[v] + forward * p.dir_x[v]);
@@ -642,13 +747,13 @@ void jeschke_foam(const JeschkeMotionPlan& p, double t, std::span<float> foam) {
             double best = 0.0;
             for (long long j = 0; j < crests && tau + static_cast<double>(j) * period < p.foam_fade_time; ++j) {
                 const CrestPhases c = crest_phases(p, v, latest - j, p.phase[v]);
-                const BreakerLife life = jeschke_life(p.phase[v], p.rise[v], c.break_phase, c.breaking_length, c.end_phase);
+                const BreakerLife life = jeschke_life(p.phase[v], p.rise[v], c.break_phase, c.breaking_length, c.end_phase, start_of(p, v));
                 best = std::max(best, foam_yield(life, p.foam_onset) * (1.0 - (tau + static_cast<double>(j) * period) / p.foam_fade_time));
             }
             // The next crest's lip, if it breaks here.
             if (const double rise = lip_foam_rise(two_pi - since); rise > 0.0) {
                 const CrestPhases c = crest_phases(p, v, latest + 1, p.phase[v]);
-                const BreakerLife life = jeschke_life(p.phase[v], p.rise[v], c.break_phase, c.breaking_length, c.end_phase);
+                const BreakerLife life = jeschke_life(p.phase[v], p.rise[v], c.break_phase, c.breaking_length, c.end_phase, start_of(p, v));
                 best = std::max(best, foam_yield(life, p.foam_onset) * rise);
             }
             foam[v] = static_cast<float>(best);
@@ -664,6 +769,11 @@ CrestPhases jeschke_crest_phases(const JeschkeMotionPlan& p, std::size_t v, long
     return crest_phases(p, v, n, p.phase[v]);
 }
 
+BreakerLife jeschke_vertex_life(const JeschkeMotionPlan& p, std::size_t v, long long n) noexcept {
+    const CrestPhases c = crest_phases(p, v, n, p.phase[v]);
+    return jeschke_life(p.phase[v], p.rise[v], c.break_phase, c.breaking_length, c.end_phase, start_of(p, v));
+}
+
 namespace {
 
 // Vertex v's label s on the crest nearest it at time t and that crest's life there.
@@ -677,7 +787,7 @@ CrestAt crest_at(const JeschkeMotionPlan& p, std::size_t v, double wt) noexcept 
     const double delta = ahead - two_pi * static_cast<double>(crest);
     const double psi = p.phase[v] + delta;
     const CrestPhases c = crest_phases(p, v, crest, psi);
-    return {0.5 - delta / two_pi, jeschke_life(psi, p.rise[v], c.break_phase, c.breaking_length, c.end_phase)};
+    return {0.5 - delta / two_pi, jeschke_life(psi, p.rise[v], c.break_phase, c.breaking_length, c.end_phase, start_of(p, v))};
 }
 
 bool broken(const BreakerLife& life) noexcept {

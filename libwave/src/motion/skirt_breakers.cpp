@@ -148,6 +148,7 @@ SkirtBreakers continue_jeschke_breakers(const JeschkeMotionPlan& p, const SeaSki
                                 {&q.break_phase, &p.break_phase}, {&q.end_phase, &p.end_phase}, {&q.rise, &p.rise},
                                 {&q.breaking_length, &p.breaking_length}, {&q.curl, &p.curl}, {&q.foam_yield, &p.foam_yield}})
             to->push_back((*from)[a]);
+        if (!p.life_start.empty()) q.life_start.push_back(p.life_start[a]);
     }
     return out;
 }

@@ -287,7 +287,7 @@ JeschkeBreakerOptions read_breakers(const Node& n) {
         return o;
     }
     n.require_object({"model", "breaking_share", "max_breaking_wavelengths", "min_surf_zone_wavelengths",
-                      "rise_wavelengths", "foam_fade_time", "foam_onset", "curl_spilling", "curl_plunging",
+                      "rise_wavelengths", "min_reform_wavelengths", "foam_fade_time", "foam_onset", "curl_spilling", "curl_plunging",
                       "curl_collapsing", "curl_surging", "wave_variation", "varied_waves", "variation_seed", "lip",
                       "min_packing", "frozen_speed"});
     if (n.has("model")) n["model"].choice<int>({{"jeschke", 0}});
@@ -298,6 +298,7 @@ JeschkeBreakerOptions read_breakers(const Node& n) {
     share("max_breaking_wavelengths", o.max_breaking_wavelengths, "wavelengths");
     share("min_surf_zone_wavelengths", o.min_surf_zone_wavelengths, "wavelengths");
     share("rise_wavelengths", o.rise_wavelengths, "wavelengths");
+    share("min_reform_wavelengths", o.min_reform_wavelengths, "wavelengths");
     share("foam_fade_time", o.foam_fade_time, "s");
     share("foam_onset", o.foam_onset, "share of the breaking phase");
     share("curl_spilling", o.curl_spilling, "share of the paper's rotation");

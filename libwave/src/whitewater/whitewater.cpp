@@ -687,8 +687,7 @@ WhitewaterEvents jeschke_whitewater_events(const JeschkeMotionPlan& p, std::span
         const double height = p.scale[v] / 5.0, c = p.omega * p.width[v] / two_pi;
         const double curl = std::min(1.0, static_cast<double>(p.curl[v]));
         for (long long k = 0; k < crests; ++k) {
-            const CrestPhases cp = jeschke_crest_phases(p, v, k);
-            const BreakerLife life = jeschke_life(p.phase[v], p.rise[v], cp.break_phase, cp.breaking_length, cp.end_phase);
+            const BreakerLife life = jeschke_vertex_life(p, v, k);
             double spray = 0.0, foam = jeschke_foam_yield(life, p.foam_onset), bubbles = 0.0, top = 0.75;
             if (life.phase == BreakerPhase::breaking) {
                 spray = std::sin(pi * life.t) * (0.35 + 0.65 * curl);

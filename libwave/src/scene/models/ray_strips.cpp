@@ -89,6 +89,7 @@ void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
     if (scene.breakers) {
         JeschkeBreakerOptions o = *scene.breakers;
         o.breaker_index = scene.trace.breaker_index;
+        o.stable_index = scene.field.stable_index;  // where the field's heights re-form
         const WaveTrain& w = scene.waves[0];
         strip_breakers = plan_jeschke_breakers(p.strips, 2.0 * w.amplitude, deep_water_wavelength(w.period), o);
     }
