@@ -1,9 +1,10 @@
-// libwave — export: meshes and animations to files for DCC tools.
-//
-// glTF 2.0 binary (.glb) with the animation as one morph target per frame and a STEP
-// `weights` channel (docs/conventions.md, "Export conventions"; Blender turns it into shape
-// keys, three.js plays it); Wavefront OBJ of one frame. libwave is z up; glTF is y up:
-// the glTF writer maps (x, y, z) → (x, z, −y), nothing else converts.
+/// \file
+/// libwave — export: meshes and animations to files for DCC tools.
+///
+/// glTF 2.0 binary (.glb) with the animation as one morph target per frame and a STEP
+/// `weights` channel (docs/conventions.md, "Export conventions"; Blender turns it into shape
+/// keys, three.js plays it); Wavefront OBJ of one frame. libwave is z up; glTF is y up:
+/// the glTF writer maps (x, y, z) → (x, z, −y), nothing else converts.
 #pragma once
 
 #include "libwave/underwater.h"

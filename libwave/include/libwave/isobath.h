@@ -1,8 +1,9 @@
-// libwave — isobath: depth contours of the seafloor (CGAL) and exact ray–contour
-// intersection, the geometric core of Ts'o–Barsky wave tracing (§3.2.2).
-//
-// Units: metres. Depths are positive down (h = −z_b); the shoreline is h = 0.
-// No CGAL type appears here: contours leave the stage as plain arrays.
+/// \file
+/// libwave — isobath: depth contours of the seafloor (CGAL) and exact ray–contour
+/// intersection, the geometric core of Ts'o–Barsky wave tracing (§3.2.2).
+///
+/// Units: metres. Depths are positive down (h = −z_b); the shoreline is h = 0.
+/// No CGAL type appears here: contours leave the stage as plain arrays.
 #pragma once
 
 #include "libwave/bathymetry.h"

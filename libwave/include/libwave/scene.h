@@ -1,7 +1,8 @@
-// libwave — scene: a JSON job description, validated, and the wiring of the stages.
-//
-// Every value has a default (docs/scene.md), so a scene can be tiny. Errors name the
-// file and the JSON pointer of the bad value and say what would be valid.
+/// \file
+/// libwave — scene: a JSON job description, validated, and the wiring of the stages.
+///
+/// Every value has a default (docs/scene.md), so a scene can be tiny. Errors name the
+/// file and the JSON pointer of the bad value and say what would be valid.
 #pragma once
 
 #include "libwave/bathymetry.h"
@@ -216,8 +217,11 @@ Scene default_scene();
 /// them (the forms: export_forms()'s names; "glb", "gltf"). The *_from_name functions
 /// throw InputError naming the valid names.
 std::string_view form_name(Scene::Form form);
+/// The form spelt `name` (InputError naming the valid names).
 Scene::Form form_from_name(std::string_view name);
+/// The name of a container: "glb" or "gltf".
 std::string_view container_name(Scene::Container container);
+/// The container spelt `name` (InputError naming the valid names).
 Scene::Container container_from_name(std::string_view name);
 
 /// Parses a scene from JSON text. `origin` names the file in messages; `base_dir` is
@@ -251,6 +255,7 @@ PreviewOptions scene_preview(const Scene& scene, const Seafloor& seafloor);
 /// beyond the surface lights the floor unless the plan has a far-field skirt, which
 /// brings that light itself.
 struct ScenePlan;
+/// The caustic options of `scene`, over the grid of its plan's seafloor.
 CausticOptions scene_caustic_options(const Scene& scene, const ScenePlan& plan);
 
 
