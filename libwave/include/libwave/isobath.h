@@ -94,11 +94,11 @@ struct CrossingQuery {
 class IsobathIndex {
 public:
     explicit IsobathIndex(const DepthContours& contours);  ///< indexes every segment of `contours` (copied)
-    ~IsobathIndex();
+    ~IsobathIndex();  ///< frees the tree
     IsobathIndex(IsobathIndex&&) noexcept;             ///< moves the tree
     IsobathIndex& operator=(IsobathIndex&&) noexcept;  ///< moves the tree
-    IsobathIndex(const IsobathIndex&) = delete;
-    IsobathIndex& operator=(const IsobathIndex&) = delete;
+    IsobathIndex(const IsobathIndex&) = delete;  ///< not copyable
+    IsobathIndex& operator=(const IsobathIndex&) = delete;  ///< not copyable
 
     /// Nearest crossing ahead of the ray (distance > 0 and <= max_distance), or none.
     /// Thread-safe: queries do not modify the index.

@@ -390,7 +390,12 @@ void far_field_foam(const FarFieldPlan& plan, std::span<float> foam);
 
 /// The life cycle of a breaking wave (figure 3): round → breaking (the front dents,
 /// the top falls over into a tube) → collapsing (flat again); dead afterwards.
-enum class BreakerPhase { round, breaking, collapsing, dead };
+enum class BreakerPhase {
+    round,       ///< growing from still water to the breaking point
+    breaking,    ///< the front dents and the top falls over into a tube
+    collapsing,  ///< the tube falls and the crest flattens
+    dead,        ///< flat: the breaker has ended
+};
 
 /// k1 … k7 of table 1 for one half of the wave (k[0] unused) at time t ∈ [0, 1] of a
 /// phase. Entries that table 1 gives as constants are blended linearly over the phase
@@ -501,7 +506,11 @@ struct BreakerLife {
 BreakerLife jeschke_life(double psi, double rise, double break_phase, double breaking_length, double end_phase) noexcept;
 
 /// JeschkeBreakerOptions::lip: the section a breaking crest takes.
-enum class BreakerLip { outer, tube, curl };
+enum class BreakerLip {
+    outer,  ///< the tube's outer surface at the mesh's scale (BreakerSections)
+    tube,   ///< the paper's curve as drawn: a thin tube at real steepness
+    curl,   ///< the overturning section, the lip hanging over the water ahead (curl_section)
+};
 
 /// The automatic parametrisation (the paper's "future work") and the options of the
 /// model. The paper's y_end(x) (coastline and crest alignment) is the traced fronts
@@ -908,11 +917,11 @@ struct OceanFields {
 class OceanWorkspace {
 public:
     explicit OceanWorkspace(std::size_t n);  ///< plans and buffers for N = n
-    ~OceanWorkspace();
+    ~OceanWorkspace();  ///< frees the plans and buffers
     OceanWorkspace(OceanWorkspace&&) noexcept;  ///< moves the plans
     OceanWorkspace& operator=(OceanWorkspace&&) noexcept;  ///< moves the plans
-    OceanWorkspace(const OceanWorkspace&) = delete;
-    OceanWorkspace& operator=(const OceanWorkspace&) = delete;
+    OceanWorkspace(const OceanWorkspace&) = delete;  ///< not copyable: one per thread
+    OceanWorkspace& operator=(const OceanWorkspace&) = delete;  ///< not copyable
     struct Impl;
     Impl& impl() noexcept { return *impl_; }  ///< the FFTW plans and buffers (ocean_fft.cpp)
 

@@ -153,7 +153,12 @@ bool is_depth_limited_breaking(double wave_height, double depth,
 double iribarren_number(double slope, double deep_height, double deep_wavelength) noexcept;
 
 /// How a wave breaks on a slope (Galvin's types, from the Iribarren number).
-enum class BreakerType { spilling, plunging, collapsing, surging };
+enum class BreakerType {
+    spilling,    ///< foam spills down the face (gentle slopes; ξ0 below spilling_to_plunging)
+    plunging,    ///< the crest curls over and plunges
+    collapsing,  ///< the front collapses near the shore
+    surging,     ///< the wave surges up the slope, its crest hardly breaking (steep slopes)
+};
 
 /// Thresholds on ξ0 between the four breaker types. Battjes (1974) gives 0.5 and
 /// 3.3; the collapsing/surging split is usually put near 5 (Galvin's classification

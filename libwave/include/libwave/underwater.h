@@ -29,7 +29,13 @@ namespace wave {
 /// Named waters by how fast they dim sunlight with path length: broadband
 /// approximations (blue–green light, ~490 nm) of Jerlov's optical water types, from
 /// the clearest open ocean to turbid harbour water (docs/underwater.md gives the values).
-enum class WaterType { clear_ocean, ocean, coastal, turbid_coastal, harbour };
+enum class WaterType {
+    clear_ocean,     ///< "clear-ocean": c = 0.03/m, like Jerlov's I (the clearest open ocean)
+    ocean,           ///< "ocean": c = 0.08/m, like Jerlov's III
+    coastal,         ///< "coastal" (the scenes' default): c = 0.15/m, like Jerlov's coastal 1
+    turbid_coastal,  ///< "turbid-coastal": c = 0.35/m, like Jerlov's coastal 5
+    harbour,         ///< "harbour": c = 0.7/m, like Jerlov's coastal 9
+};
 
 /// c (1/m) of a named water (docs/underwater.md).
 double water_attenuation(WaterType type) noexcept;
