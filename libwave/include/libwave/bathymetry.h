@@ -1,9 +1,10 @@
-// libwave — bathymetry: the seafloor every later stage reads.
-//
-// Conventions (docs/conventions.md): SI metres, right-handed, z up. The seafloor is an
-// *elevation* z_b(x, y), negative under water; still water is z = 0; depth
-// h = −z_b; land is h <= 0. Grids are node-registered: node (i, j) sits at
-// (x0 + i·dx, y0 + j·dy), row-major with j = 0 the southernmost row (smallest y).
+/// \file
+/// libwave — bathymetry: the seafloor every later stage reads.
+///
+/// Conventions (docs/conventions.md): SI metres, right-handed, z up. The seafloor is an
+/// *elevation* z_b(x, y), negative under water; still water is z = 0; depth
+/// h = −z_b; land is h <= 0. Grids are node-registered: node (i, j) sits at
+/// (x0 + i·dx, y0 + j·dy), row-major with j = 0 the southernmost row (smallest y).
 #pragma once
 
 #include <cstddef>
@@ -101,6 +102,7 @@ struct SeafloorStats {
     std::size_t mesh_triangles = 0;  ///< triangles of the source mesh (0 unless read from one)
     std::size_t contour_lines = 0;  ///< polylines of the source contours (0 unless read from them)
 };
+/// The summary of a seafloor (its grid, depth range, land and NODATA share, source).
 SeafloorStats seafloor_stats(const Seafloor& seafloor);
 
 // ---------------------------------------------------------------------------------
@@ -187,10 +189,14 @@ Seafloor seafloor_from_grid(const ElevationGrid& values, const std::vector<char>
 Seafloor seafloor_from_mesh(std::span<const double> xyz, std::span<const std::uint32_t> triangles,
                             const ReadOptions& options = {}, const std::string& name = "<mesh in memory>");
 
-/// Individual readers (read_seafloor dispatches to these).
+// Individual readers (read_seafloor dispatches to these by extension).
+/// A raster through GDAL (ESRI ASCII, GeoTIFF, NetCDF, ...), as read_seafloor reads it.
 Seafloor read_raster_gdal(const std::string& path, const ReadOptions& options = {});
+/// A SWAN bottom file (.bot): its grid comes from options.swan_nx, swan_ny, swan_dx, ...
 Seafloor read_swan_bot(const std::string& path, const ReadOptions& options);
+/// A triangle mesh file (.off, .obj, .ply, .stl), kept and resampled to a grid.
 Seafloor read_mesh_file(const std::string& path, const ReadOptions& options = {});
+/// Depth-tagged contour polylines (.json, docs/formats.md), gridded by grid_from_contours.
 Seafloor read_contour_file(const std::string& path, const ReadOptions& options = {});
 
 /// Builds the elevation grid of a contour set: each node lies in the band between its
@@ -220,6 +226,7 @@ struct PlanarBeachParams {
     double max_depth = 10.0;  ///< deepest water (m)
     double land_height = 2.0;  ///< highest land (m)
 };
+/// The planar beach of `p`.
 Seafloor make_planar_beach(const PlanarBeachParams& p = {});
 
 /// The bay of Gonzato & Le Saëc's figures 9/12: 100 m × 100 m, open sea along y = 0,
@@ -235,6 +242,7 @@ struct GonzatoBayParams {
     double max_depth = 5.0;    ///< deepest water (m)
     double land_height = 2.0;  ///< highest land (m)
 };
+/// The bay of `p`.
 Seafloor make_gonzato_bay(const GonzatoBayParams& p = {});
 
 /// The island of Gonzato & Le Saëc's figure 9: an elliptic island (semi-axes at the
@@ -251,6 +259,7 @@ struct GonzatoIslandParams {
     double max_depth = 6.0;   ///< the sea's depth (m)
     double top_height = 3.0;  ///< the island's top (m)
 };
+/// The island of `p`.
 Seafloor make_gonzato_island(const GonzatoIslandParams& p = {});
 
 /// Ts'o–Barsky's contour set (figure 5): ten wavy depth contours across a 50 × 50
@@ -263,6 +272,7 @@ struct TsoContoursParams {
     std::vector<double> depths{2.0, 1.25, 0.75, 0.5, 0.3, 0.2, 0.1, -0.1, -0.1, 0.0};  ///< the ten contours' depths, top to bottom (m)
     double waviness = 2.0;  ///< amplitude of the contour undulation (m)
 };
+/// The contour set of `p`, gridded.
 Seafloor make_tso_contours(const TsoContoursParams& p = {});
 
 /// Berkhoff, Booy & Radder (1982) elliptic shoal (docs/conventions.md, validation cases): origin
@@ -278,6 +288,7 @@ struct BerkhoffShoalParams {
     double y_min = -10.0;  ///< a wall (m)
     double y_max = 10.0;   ///< a wall (m)
 };
+/// The shoal of `p`.
 Seafloor make_berkhoff_shoal(const BerkhoffShoalParams& p = {});
 
 /// Conical island of Briggs et al. (1995), the classic run-up benchmark: a truncated
@@ -294,6 +305,7 @@ struct ConicalIslandParams {
     double height = 0.625;       ///< cone height (m)
     double water_depth = 0.32;   ///< basin depth (m)
 };
+/// The conical island of `p`.
 Seafloor make_conical_island(const ConicalIslandParams& p = {});
 
 /// A plane beach with an offshore bar (a surf-zone case, docs/wave-field.md): waves come
@@ -316,6 +328,7 @@ struct BarredBeachParams {
     double gap_y = 80.0;          ///< the rip channel's centre (m)
     double gap_width = 10.0;      ///< its Gaussian half-width σ (m); 0: no channel
 };
+/// The barred beach of `p`.
 Seafloor make_barred_beach(const BarredBeachParams& p = {});
 
 /// How the land and the sea bottom go on beyond a grid's rectangle (the exported

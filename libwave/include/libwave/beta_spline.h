@@ -1,5 +1,6 @@
-// libwave — core: the uniform cubic Beta-spline basis (Barsky & Beatty 1983), shared
-// by isobath smoothing and the height-field surface (Ts'o & Barsky 1987 §3.2.2, §3.3).
+/// \file
+/// libwave — core: the uniform cubic Beta-spline basis (Barsky & Beatty 1983), shared
+/// by isobath smoothing and the height-field surface (Ts'o & Barsky 1987 §3.2.2, §3.3).
 #pragma once
 
 namespace wave {

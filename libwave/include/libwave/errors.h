@@ -1,15 +1,18 @@
-// libwave — the one header of exception types (docs/conventions.md, errors).
-//
-// Three layers of errors: InternalError for internal invariants (a libwave bug, never
-// the input's fault); the other exceptions for bad input at the API boundary (files,
-// scene values, out-of-range parameters) and the system; result flags for expected
-// physical outcomes (ray aground, caustic, total reflection).
-// Every message names the file / field / value and says what would be valid.
+/// \file
+/// libwave — the one header of exception types (docs/conventions.md, errors).
+///
+/// Three layers of errors: InternalError for internal invariants (a libwave bug, never
+/// the input's fault); the other exceptions for bad input at the API boundary (files,
+/// scene values, out-of-range parameters) and the system; result flags for expected
+/// physical outcomes (ray aground, caustic, total reflection).
+/// Every message names the file / field / value and says what would be valid.
 #pragma once
 
 #include <stdexcept>
 #include <string>
 
+/// libwave's public API: flat structs of plain arrays and free functions, one header
+/// per pipeline stage (see the file list); what is in wave::detail is internal.
 namespace wave {
 
 /// Base of every exception libwave throws on purpose.

@@ -1,9 +1,10 @@
-// libwave — export: meshes and animations to files for DCC tools.
-//
-// glTF 2.0 binary (.glb) with the animation as one morph target per frame and a STEP
-// `weights` channel (docs/conventions.md, "Export conventions"; Blender turns it into shape
-// keys, three.js plays it); Wavefront OBJ of one frame. libwave is z up; glTF is y up:
-// the glTF writer maps (x, y, z) → (x, z, −y), nothing else converts.
+/// \file
+/// libwave — export: meshes and animations to files for DCC tools.
+///
+/// glTF 2.0 binary (.glb) with the animation as one morph target per frame and a STEP
+/// `weights` channel (docs/conventions.md, "Export conventions"; Blender turns it into shape
+/// keys, three.js plays it); Wavefront OBJ of one frame. libwave is z up; glTF is y up:
+/// the glTF writer maps (x, y, z) → (x, z, −y), nothing else converts.
 #pragma once
 
 #include "libwave/underwater.h"
@@ -255,9 +256,9 @@ public:
     /// gltf_container) whose static parts (triangles, texcoords, dressing) are `first`'s.
     AnimationFileWriter(std::string path, Form form, bool gltf_container, const MorphAnimationView& first,
                         std::size_t frame_count);
-    ~AnimationFileWriter();
-    AnimationFileWriter(const AnimationFileWriter&) = delete;
-    AnimationFileWriter& operator=(const AnimationFileWriter&) = delete;
+    ~AnimationFileWriter();  ///< removes what it wrote unless finished
+    AnimationFileWriter(const AnimationFileWriter&) = delete;  ///< not copyable
+    AnimationFileWriter& operator=(const AnimationFileWriter&) = delete;  ///< not copyable
     /// The next frames (the chunk's first_frame must follow the last appended).
     void append(const MorphAnimationView& chunk);
     /// Writes the file(s) in place (atomically); returns each one's name (without the
@@ -339,7 +340,7 @@ void read_animation_pieces(const std::string& path, const std::function<void(Sto
 class FrameReader {
 public:
     explicit FrameReader(const std::string& path);  ///< a .glb/.gltf (morph or nodes form, a frame file) or index.json
-    ~FrameReader();
+    ~FrameReader();  ///< closes the file it reads
     FrameReader(FrameReader&&) noexcept;             ///< takes the other's open output
     FrameReader& operator=(FrameReader&&) noexcept;  ///< takes the other's open output
 
@@ -478,8 +479,8 @@ public:
     StreamedWriter(const std::string& folder, ExportForm form, ExportContainer container, bool whole,
                    const MorphAnimationView& first, std::size_t frame_count);
     ~StreamedWriter();  ///< removes what it wrote unless finished
-    StreamedWriter(const StreamedWriter&) = delete;
-    StreamedWriter& operator=(const StreamedWriter&) = delete;
+    StreamedWriter(const StreamedWriter&) = delete;  ///< not copyable
+    StreamedWriter& operator=(const StreamedWriter&) = delete;  ///< not copyable
     void append(const MorphAnimationView& chunk);  ///< the next frames, in order
     std::vector<std::pair<std::string, std::size_t>> finish();  ///< writes the files in place
 

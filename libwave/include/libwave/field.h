@@ -1,10 +1,11 @@
-// libwave — the refraction–diffraction wave field: the complex amplitude η̂(x, y) of a
-// time-harmonic wave train over the seafloor (η = Re(η̂ e^{−iωt})), from the mild-slope
-// equation in its wide-angle parabolic form, marched along the swell (docs/wave-field.md).
-//
-// Rays give a swell's direction and phase well, but their amplitude comes from the
-// spacing of neighbours and goes to infinity where rays cross (caustics behind shoals,
-// islands and headlands). The field diffracts energy across rays and stays finite.
+/// \file
+/// libwave — the refraction–diffraction wave field: the complex amplitude η̂(x, y) of a
+/// time-harmonic wave train over the seafloor (η = Re(η̂ e^{−iωt})), from the mild-slope
+/// equation in its wide-angle parabolic form, marched along the swell (docs/wave-field.md).
+///
+/// Rays give a swell's direction and phase well, but their amplitude comes from the
+/// spacing of neighbours and goes to infinity where rays cross (caustics behind shoals,
+/// islands and headlands). The field diffracts energy across rays and stays finite.
 #pragma once
 
 #include "libwave/bathymetry.h"
@@ -133,6 +134,7 @@ struct FieldRaster {
     double incident_height = 0.0;      ///< H0 (m)
     float ratio_max = 0.0f;            ///< the largest H/H0
 };
+/// The field on the seafloor's grid, as FieldRaster describes.
 FieldRaster rasterize_wave_field(const WaveField& field, const Seafloor& seafloor);
 
 /// A GeoTIFF (GDAL) of the raster: bands H/H0, phase (rad), direction (degrees),

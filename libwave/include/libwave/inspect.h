@@ -1,13 +1,14 @@
-// libwave — inspect: what a renderer will meet in an animated water mesh.
-//
-// Per frame: triangles facing down in plan (split into overturning lips, on breaking
-// crests, and folds, which are defects), slivers (smallest angle, longest edge over the
-// local spacing), degenerate triangles and the fastest vertex; once for the topology
-// (it is the same in every frame): unreferenced vertices, non-manifold edges and the
-// boundary loops with where they lie. docs/inspect.md gives the definitions; `wave
-// inspect` prints them for any output of `wave run`.
-//
-// Units: SI, positions z up (as StoredAnimation and MorphAnimationView hold them).
+/// \file
+/// libwave — inspect: what a renderer will meet in an animated water mesh.
+///
+/// Per frame: triangles facing down in plan (split into overturning lips, on breaking
+/// crests, and folds, which are defects), slivers (smallest angle, longest edge over the
+/// local spacing), degenerate triangles and the fastest vertex; once for the topology
+/// (it is the same in every frame): unreferenced vertices, non-manifold edges and the
+/// boundary loops with where they lie. docs/inspect.md gives the definitions; `wave
+/// inspect` prints them for any output of `wave run`.
+///
+/// Units: SI, positions z up (as StoredAnimation and MorphAnimationView hold them).
 #pragma once
 
 #include "libwave/export.h"

@@ -1,5 +1,6 @@
-// libwave — crash-safe output files (docs/conventions.md), paths read from files, and
-// images as PNG bytes: the core every stage uses.
+/// \file
+/// libwave — crash-safe output files (docs/conventions.md), paths read from files, and
+/// images as PNG bytes: the core every stage uses.
 #pragma once
 
 #include <cstddef>
@@ -26,9 +27,9 @@ void write_file_atomic(const std::string& path, std::string_view bytes, const st
 void require_input_file(const std::string& path, bool directory = false);
 
 /// `text` (a message, a name read from a file) with what a terminal would act on shown
-/// as escapes: control characters (C0 but the tab, DEL, C1) as \xHH, bidirectional
-/// formatting characters (U+061C, U+200E/F, U+202A–E, U+2066–9) as \u{XXXX}, invalid
-/// UTF-8 bytes as \xHH. `wave` and the Python module show every message through it
+/// as escapes: control characters (C0 but the tab, DEL, C1) as `\xHH`, bidirectional
+/// formatting characters (U+061C, U+200E/F, U+202A–E, U+2066–9) as `\u{XXXX}`, invalid
+/// UTF-8 bytes as `\xHH`. `wave` and the Python module show every message through it
 /// (docs/hardening.md, "Messages").
 std::string printable(std::string_view text);
 
@@ -50,6 +51,7 @@ struct Image {
 /// The image as PNG bytes (stb_image_write); write_png writes them atomically.
 /// Throw RuntimeError on failure.
 std::string png_bytes(const Image& image);
+/// png_bytes(image) written to `path` atomically (RuntimeError on failure).
 void write_png(const Image& image, const std::string& path);
 
 }  // namespace wave

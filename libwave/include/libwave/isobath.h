@@ -1,8 +1,9 @@
-// libwave — isobath: depth contours of the seafloor (CGAL) and exact ray–contour
-// intersection, the geometric core of Ts'o–Barsky wave tracing (§3.2.2).
-//
-// Units: metres. Depths are positive down (h = −z_b); the shoreline is h = 0.
-// No CGAL type appears here: contours leave the stage as plain arrays.
+/// \file
+/// libwave — isobath: depth contours of the seafloor (CGAL) and exact ray–contour
+/// intersection, the geometric core of Ts'o–Barsky wave tracing (§3.2.2).
+///
+/// Units: metres. Depths are positive down (h = −z_b); the shoreline is h = 0.
+/// No CGAL type appears here: contours leave the stage as plain arrays.
 #pragma once
 
 #include "libwave/bathymetry.h"
@@ -93,11 +94,11 @@ struct CrossingQuery {
 class IsobathIndex {
 public:
     explicit IsobathIndex(const DepthContours& contours);  ///< indexes every segment of `contours` (copied)
-    ~IsobathIndex();
+    ~IsobathIndex();  ///< frees the tree
     IsobathIndex(IsobathIndex&&) noexcept;             ///< moves the tree
     IsobathIndex& operator=(IsobathIndex&&) noexcept;  ///< moves the tree
-    IsobathIndex(const IsobathIndex&) = delete;
-    IsobathIndex& operator=(const IsobathIndex&) = delete;
+    IsobathIndex(const IsobathIndex&) = delete;  ///< not copyable
+    IsobathIndex& operator=(const IsobathIndex&) = delete;  ///< not copyable
 
     /// Nearest crossing ahead of the ray (distance > 0 and <= max_distance), or none.
     /// Thread-safe: queries do not modify the index.

@@ -1,13 +1,14 @@
-// libwave — motion: where the water surface is at time t.
-//
-// Gonzato & Le Saëc's vertical-section profile (§2.3–2.5, eq. 7): every surface point
-// turns on a tilted ellipse (Fournier–Reeves / Biesel) whose major axis is limited to
-// the disc of radius 1/k, plus three shaping terms — Stretch (the crest runs ahead),
-// Orientation and Displacement (gravity pulls the lip forward and down) — so that
-// waves plunge near the shore. The horizontal motion is along the local ray
-// direction: lips overhang, the surface is a mesh, not a height field.
-//
-// Units: SI. Phase φ in rad; the profile's horizontal axis points along the ray, z up.
+/// \file
+/// libwave — motion: where the water surface is at time t.
+///
+/// Gonzato & Le Saëc's vertical-section profile (§2.3–2.5, eq. 7): every surface point
+/// turns on a tilted ellipse (Fournier–Reeves / Biesel) whose major axis is limited to
+/// the disc of radius 1/k, plus three shaping terms — Stretch (the crest runs ahead),
+/// Orientation and Displacement (gravity pulls the lip forward and down) — so that
+/// waves plunge near the shore. The horizontal motion is along the local ray
+/// direction: lips overhang, the surface is a mesh, not a height field.
+///
+/// Units: SI. Phase φ in rad; the profile's horizontal axis points along the ray, z up.
 #pragma once
 
 #include "libwave/physics.h"
@@ -92,6 +93,7 @@ struct ProfileOffset {
     double forward = 0.0;  ///< along the ray (m)
     double up = 0.0;       ///< vertical (m)
 };
+/// The profile's offset of a point of shape `shape` at phase `phi` (rad).
 ProfileOffset gonzato_offset(const ProfileShape& shape, double phi) noexcept;
 
 /// Gonzato's profile on a ray-strip surface, planned once per scene: a shape per
@@ -107,6 +109,7 @@ struct GonzatoMotionPlan {
 
     std::size_t vertex_count() const noexcept { return x.size(); }  ///< vertices planned
 };
+/// The plan of Gonzato's profile on `strips`.
 GonzatoMotionPlan plan_gonzato_motion(const RayStrips& strips, const GonzatoProfileOptions& options = {});
 
 /// Vertex positions at time t (Φ = −ωt + Σ k Δs) into `positions` (3 floats per
@@ -387,7 +390,12 @@ void far_field_foam(const FarFieldPlan& plan, std::span<float> foam);
 
 /// The life cycle of a breaking wave (figure 3): round → breaking (the front dents,
 /// the top falls over into a tube) → collapsing (flat again); dead afterwards.
-enum class BreakerPhase { round, breaking, collapsing, dead };
+enum class BreakerPhase {
+    round,       ///< growing from still water to the breaking point
+    breaking,    ///< the front dents and the top falls over into a tube
+    collapsing,  ///< the tube falls and the crest flattens
+    dead,        ///< flat: the breaker has ended
+};
 
 /// k1 … k7 of table 1 for one half of the wave (k[0] unused) at time t ∈ [0, 1] of a
 /// phase. Entries that table 1 gives as constants are blended linearly over the phase
@@ -398,6 +406,7 @@ enum class BreakerPhase { round, breaking, collapsing, dead };
 struct BreakerConstants {
     std::array<double, 8> k{};  ///< k[1] … k[7] of table 1 (k[0] unused)
 };
+/// The constants of one half of the wave (`front` or back) at time `t` of `phase`.
 BreakerConstants jeschke_constants(BreakerPhase phase, double t, bool front) noexcept;
 
 /// A point of the paper's unit wave shape: y from 1 (back edge, s = 0) to 0 (front
@@ -495,11 +504,16 @@ struct BreakerLife {
     BreakerPhase phase = BreakerPhase::round;  ///< the phase of the crest's life
     double t = 1.0;  ///< time parameter within the phase, 0 … 1
 };
+/// The life of a crest at phase `psi`, as BreakerLife describes.
 BreakerLife jeschke_life(double psi, double rise, double break_phase, double breaking_length, double end_phase,
                          double start = 0.0) noexcept;
 
 /// JeschkeBreakerOptions::lip: the section a breaking crest takes.
-enum class BreakerLip { outer, tube, curl };
+enum class BreakerLip {
+    outer,  ///< the tube's outer surface at the mesh's scale (BreakerSections)
+    tube,   ///< the paper's curve as drawn: a thin tube at real steepness
+    curl,   ///< the overturning section, the lip hanging over the water ahead (curl_section)
+};
 
 /// The automatic parametrisation (the paper's "future work") and the options of the
 /// model. The paper's y_end(x) (coastline and crest alignment) is the traced fronts
@@ -926,11 +940,11 @@ struct OceanFields {
 class OceanWorkspace {
 public:
     explicit OceanWorkspace(std::size_t n);  ///< plans and buffers for N = n
-    ~OceanWorkspace();
+    ~OceanWorkspace();  ///< frees the plans and buffers
     OceanWorkspace(OceanWorkspace&&) noexcept;  ///< moves the plans
     OceanWorkspace& operator=(OceanWorkspace&&) noexcept;  ///< moves the plans
-    OceanWorkspace(const OceanWorkspace&) = delete;
-    OceanWorkspace& operator=(const OceanWorkspace&) = delete;
+    OceanWorkspace(const OceanWorkspace&) = delete;  ///< not copyable: one per thread
+    OceanWorkspace& operator=(const OceanWorkspace&) = delete;  ///< not copyable
     struct Impl;
     Impl& impl() noexcept { return *impl_; }  ///< the FFTW plans and buffers (ocean_fft.cpp)
 
@@ -957,6 +971,7 @@ struct OceanJacobian {
     double j_plus = 1.0;   ///< J₊
     std::array<double, 2> e_minus{1.0, 0.0};  ///< ê₋: the direction of folding
 };
+/// The Jacobian from the second derivatives of the displacement (dxx, dyy, dxy) and the choppiness λ.
 OceanJacobian ocean_jacobian(double dxx, double dyy, double dxy, double choppiness) noexcept;
 
 /// The open-ocean patch surface for one frame: (N+1)² vertices, row-major, the last

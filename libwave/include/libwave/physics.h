@@ -1,8 +1,9 @@
-// libwave — physics: pure formulas of linear wave theory and optics used by every
-// stage. No dependencies, no allocation, no global state.
-//
-// Units: SI (m, s, rad). Depth h is positive under water (h = −z_b); h <= 0 is dry
-// land. Gravity g = 9.81 m/s². Fresnel directions are unit 3-vectors, z up.
+/// \file
+/// libwave — physics: pure formulas of linear wave theory and optics used by every
+/// stage. No dependencies, no allocation, no global state.
+///
+/// Units: SI (m, s, rad). Depth h is positive under water (h = −z_b); h <= 0 is dry
+/// land. Gravity g = 9.81 m/s². Fresnel directions are unit 3-vectors, z up.
 #pragma once
 
 #include <array>
@@ -117,6 +118,7 @@ struct JonswapParameters {
     double peak_omega = 0.0;  ///< rad/s
     double gamma = 3.3;       ///< peak enhancement γ
 };
+/// α and ω_p of the wind `wind_speed` (U10, m/s) over the fetch `fetch` (m).
 JonswapParameters jonswap_parameters(double wind_speed, double fetch, double peak_enhancement = 3.3) noexcept;
 
 /// The share of the sea surface covered by whitecaps for a wind U10 (m/s): Callaghan,
@@ -150,7 +152,13 @@ bool is_depth_limited_breaking(double wave_height, double depth,
 /// height H0 and wavelength L0 (Battjes 1974). slope = tan β >= 0.
 double iribarren_number(double slope, double deep_height, double deep_wavelength) noexcept;
 
-enum class BreakerType { spilling, plunging, collapsing, surging };
+/// How a wave breaks on a slope (Galvin's types, from the Iribarren number).
+enum class BreakerType {
+    spilling,    ///< foam spills down the face (gentle slopes; ξ0 below spilling_to_plunging)
+    plunging,    ///< the crest curls over and plunges
+    collapsing,  ///< the front collapses near the shore
+    surging,     ///< the wave surges up the slope, its crest hardly breaking (steep slopes)
+};
 
 /// Thresholds on ξ0 between the four breaker types. Battjes (1974) gives 0.5 and
 /// 3.3; the collapsing/surging split is usually put near 5 (Galvin's classification
@@ -161,7 +169,9 @@ struct BreakerThresholds {
     double collapsing_to_surging = 5.0;   ///< ξ0 above which it surges
 };
 
+/// The breaker type of the Iribarren number ξ0 `iribarren`.
 BreakerType classify_breaker(double iribarren, const BreakerThresholds& thresholds = {}) noexcept;
+/// "spilling", "plunging", "collapsing" or "surging".
 const char* to_string(BreakerType type) noexcept;
 
 /// A wave shoaling along a depth profile towards the shore (normal incidence, no
@@ -187,6 +197,7 @@ ShoalingProfile shoal_profile(double omega, double deep_height, std::span<const 
 // Fresnel optics (Tessendorf §4; Ts'o–Barsky §4.2.2–4.2.3)
 // ---------------------------------------------------------------------------------
 
+/// A 3-vector (x, y, z), z up.
 using Vec3 = std::array<double, 3>;
 
 /// Exact unpolarised reflectivity R for light going from a medium of index n_i into

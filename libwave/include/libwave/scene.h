@@ -1,7 +1,8 @@
-// libwave — scene: a JSON job description, validated, and the wiring of the stages.
-//
-// Every value has a default (docs/scene.md), so a scene can be tiny. Errors name the
-// file and the JSON pointer of the bad value and say what would be valid.
+/// \file
+/// libwave — scene: a JSON job description, validated, and the wiring of the stages.
+///
+/// Every value has a default (docs/scene.md), so a scene can be tiny. Errors name the
+/// file and the JSON pointer of the bad value and say what would be valid.
 #pragma once
 
 #include "libwave/bathymetry.h"
@@ -49,7 +50,12 @@ enum class SurfaceKind {
 /// What a surface kind's plan traces over the seafloor: nothing (the open-ocean patch),
 /// Ts'o's rays (ScenePlan::rays), Gonzato's fronts and strips (ScenePlan::fronts, strips)
 /// or the trains' wave fields (ScenePlan::wave_fields).
-enum class Traced { nothing, rays, fronts, field };
+enum class Traced {
+    nothing,  ///< no tracing (the open-ocean patch)
+    rays,     ///< Ts'o's rays (ScenePlan::rays)
+    fronts,   ///< Gonzato's fronts and strips (ScenePlan::fronts, strips)
+    field,    ///< the trains' wave fields (ScenePlan::wave_fields)
+};
 
 /// The kind's name in scene files (/surface/kind), e.g. "ray-strips".
 std::string_view surface_kind_name(SurfaceKind kind);
@@ -216,8 +222,11 @@ Scene default_scene();
 /// them (the forms: export_forms()'s names; "glb", "gltf"). The *_from_name functions
 /// throw InputError naming the valid names.
 std::string_view form_name(Scene::Form form);
+/// The form spelt `name` (InputError naming the valid names).
 Scene::Form form_from_name(std::string_view name);
+/// The name of a container: "glb" or "gltf".
 std::string_view container_name(Scene::Container container);
+/// The container spelt `name` (InputError naming the valid names).
 Scene::Container container_from_name(std::string_view name);
 
 /// Parses a scene from JSON text. `origin` names the file in messages; `base_dir` is
@@ -251,6 +260,7 @@ PreviewOptions scene_preview(const Scene& scene, const Seafloor& seafloor);
 /// beyond the surface lights the floor unless the plan has a far-field skirt, which
 /// brings that light itself.
 struct ScenePlan;
+/// The caustic options of `scene`, over the grid of its plan's seafloor.
 CausticOptions scene_caustic_options(const Scene& scene, const ScenePlan& plan);
 
 
@@ -310,7 +320,11 @@ struct ScenePlan {
 /// the surface and motion plans (`surface`: enough for estimate_run, without /refine's
 /// subdivision, which can take gigabytes); or all of it (`all` = `surface`, then
 /// refine_scene_plan).
-enum class PlanStages { trace, surface, all };
+enum class PlanStages {
+    trace,    ///< through the tracing only
+    surface,  ///< through the surface and motion plans, without /refine's subdivision
+    all,      ///< surface, then refine_scene_plan
+};
 
 /// Runs every static stage of a scene through the model of /surface/kind: e.g.
 /// seafloor → isobaths → trace → surface plan (height field), or seafloor → isobaths
@@ -466,9 +480,9 @@ class AnimationStream {
 public:
     /// Throws InputError for an empty frame range (naming it).
     AnimationStream(const Scene& scene, const ScenePlan& plan, FrameRange range = {});
-    ~AnimationStream();
-    AnimationStream(const AnimationStream&) = delete;
-    AnimationStream& operator=(const AnimationStream&) = delete;
+    ~AnimationStream();  ///< frees the stream's state
+    AnimationStream(const AnimationStream&) = delete;  ///< not copyable
+    AnimationStream& operator=(const AnimationStream&) = delete;  ///< not copyable
     std::size_t first_frame() const noexcept;   ///< of the loop
     std::size_t frame_count() const noexcept;   ///< in the range
     std::size_t frames_left() const noexcept;  ///< frames not yet evaluated

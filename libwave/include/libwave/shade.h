@@ -1,13 +1,14 @@
-// libwave — shade: per-vertex quantities computed per frame for renderers, written
-// into caller-owned arrays (no allocation per frame).
-//
-// * Normals by accumulating area-weighted face normals (Jeschke et al. 2003, §5).
-// * Fresnel weights for a camera: reflect R and refract T = 1 − R (Ts'o & Barsky
-//   §4.2.2–4.2.3, Tessendorf §4), exact or Ts'o's parabola.
-// * Foam from depth-limited breaking of the traced waves (H >= γh), released at each
-//   crest passage and fading after it.
-// * Optional baked colour R · reflected + T · refracted (Ts'o eq. 4.1), the refracted
-//   colour darkening with depth (Ts'o's future work, §5).
+/// \file
+/// libwave — shade: per-vertex quantities computed per frame for renderers, written
+/// into caller-owned arrays (no allocation per frame).
+///
+/// * Normals by accumulating area-weighted face normals (Jeschke et al. 2003, §5).
+/// * Fresnel weights for a camera: reflect R and refract T = 1 − R (Ts'o & Barsky
+///   §4.2.2–4.2.3, Tessendorf §4), exact or Ts'o's parabola.
+/// * Foam from depth-limited breaking of the traced waves (H >= γh), released at each
+///   crest passage and fading after it.
+/// * Optional baked colour R · reflected + T · refracted (Ts'o eq. 4.1), the refracted
+///   colour darkening with depth (Ts'o's future work, §5).
 #pragma once
 
 #include "libwave/io.h"
@@ -38,6 +39,7 @@ void vertex_normals(std::span<const float> positions, std::span<const std::uint3
 void vertex_normals(std::span<const float> positions, std::span<const std::uint32_t> triangles,
                     const VertexFaces& adjacency, std::span<float> normals);
 
+/// How the Fresnel reflectivity R is computed.
 enum class FresnelModel {
     exact,  ///< unpolarised Fresnel from cosines (Tessendorf eq. 44)
     tso,    ///< Ts'o–Barsky's parabola in the incidence angle (§4.2.3), air → water only
@@ -141,6 +143,7 @@ struct FoldSample {
     std::vector<std::uint32_t> vertex;  ///< ascending vertex indices
     std::vector<float> j_minus;         ///< J₋ at each
 };
+/// The foam-bearing vertices of one lattice time's J₋.
 FoldSample fold_sample(std::span<const float> j_minus, const FoldFoamOptions& options);
 
 /// foam = max(foam, coverage · fade(age)) at the sample's vertices; the same result as
@@ -184,6 +187,7 @@ struct WaterColours {
     std::array<float, 3> deep{0.01f, 0.08f, 0.15f};       ///< refracted colour in deep water
     double attenuation = 3.0;                             ///< m
 };
+/// The baked colour (3 floats per vertex into `rgb`) from R, depth and foam per vertex.
 void water_colour(std::span<const float> reflect, std::span<const float> depth, std::span<const float> foam,
                   const WaterColours& colours, std::span<float> rgb);
 

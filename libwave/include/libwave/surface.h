@@ -1,14 +1,15 @@
-// libwave — surface: water surfaces built once per scene and evaluated per frame.
-//
-// Height field (Ts'o & Barsky 1987 §3.2.4, §3.3): the traced wave lists deposit
-// η_i = a_i sin(φ_i − ω_i t) on an m×n grid; the grid values are the control vertices
-// of a uniform bicubic Beta2-spline surface whose tension β2 rises with height.
-//
-// Ray strips (Gonzato & Le Saëc §3.3, fig. 11): triangles between consecutive fronts
-// of neighbouring rays, built in an OpenMesh TriMesh with per-vertex properties and
-// handed to the per-frame evaluators as flat arrays.
-//
-// Units: SI. Positions are (x, y, z) with z up, in float, 3 per vertex. Time t in s.
+/// \file
+/// libwave — surface: water surfaces built once per scene and evaluated per frame.
+///
+/// Height field (Ts'o & Barsky 1987 §3.2.4, §3.3): the traced wave lists deposit
+/// η_i = a_i sin(φ_i − ω_i t) on an m×n grid; the grid values are the control vertices
+/// of a uniform bicubic Beta2-spline surface whose tension β2 rises with height.
+///
+/// Ray strips (Gonzato & Le Saëc §3.3, fig. 11): triangles between consecutive fronts
+/// of neighbouring rays, built in an OpenMesh TriMesh with per-vertex properties and
+/// handed to the per-frame evaluators as flat arrays.
+///
+/// Units: SI. Positions are (x, y, z) with z up, in float, 3 per vertex. Time t in s.
 #pragma once
 
 #include "libwave/bathymetry.h"
@@ -260,6 +261,7 @@ SeaSkirt plan_sea_skirt(std::span<const double> x, std::span<const double> y, st
 // Subdivision (OpenSubdiv): any triangle surface refined once per scene
 // ---------------------------------------------------------------------------------
 
+/// The subdivision scheme of a refinement.
 enum class RefineScheme {
     loop,           ///< Loop: triangles stay triangles (4 per level)
     catmull_clark,  ///< Catmull–Clark: each triangle becomes 3 quads, then 4 per level; split into 2 triangles each
@@ -294,6 +296,7 @@ struct Creases {
     std::vector<std::uint32_t> edges;  ///< 2 per crease
     std::vector<float> sharpness;  ///< per crease
 };
+/// The crest creases of one frame, as Creases describes.
 Creases crest_creases(std::span<const float> positions, std::span<const std::uint32_t> triangles, double per_metre,
                       double max);
 
@@ -336,6 +339,7 @@ Refinement plan_refinement(std::size_t vertex_count, std::span<const std::uint32
 /// the result does not depend on the thread count. Throws InputError on sizes.
 void apply_refinement(const Refinement& refinement, std::span<const float> coarse, std::size_t components,
                       std::span<float> fine);
+/// apply_refinement for double values.
 void apply_refinement(const Refinement& refinement, std::span<const double> coarse, std::size_t components,
                       std::span<double> fine);
 
@@ -474,6 +478,7 @@ struct VertexFaces {
     std::vector<std::uint32_t> offsets;  ///< vertex_count + 1
     std::vector<std::uint32_t> faces;    ///< triangle indices, grouped by vertex
 };
+/// The triangles touching each of `vertex_count` vertices.
 VertexFaces vertex_faces(std::size_t vertex_count, std::span<const std::uint32_t> triangles);
 
 /// Binary little-endian PLY of the strips at rest, written by OpenMesh with the

@@ -1,9 +1,10 @@
-// libwave — trace: wave trains decomposed into rays (wave orthogonals) and traced
-// over the seafloor, refracted by Snell's law at exact isobath crossings
-// (Ts'o & Barsky 1987, §3.1.3, §3.2).
-//
-// Units: SI (m, s, rad). Depth positive down. Directions are unit 2-vectors in the
-// horizontal plane. Amplitudes are half wave heights (m).
+/// \file
+/// libwave — trace: wave trains decomposed into rays (wave orthogonals) and traced
+/// over the seafloor, refracted by Snell's law at exact isobath crossings
+/// (Ts'o & Barsky 1987, §3.1.3, §3.2).
+///
+/// Units: SI (m, s, rad). Depth positive down. Directions are unit 2-vectors in the
+/// horizontal plane. Amplitudes are half wave heights (m).
 #pragma once
 
 #include "libwave/bathymetry.h"
@@ -49,6 +50,7 @@ enum class RayEvent : std::uint8_t {
     aground,      ///< reached the shoreline (h = 0): the ray ends
     left_domain,  ///< left the seafloor's rectangle: the ray ends
 };
+/// The event's name ("start", "refracted", "reflected", "aground", "left_domain").
 const char* to_string(RayEvent e) noexcept;
 
 /// Bit flags on a ray point.
@@ -114,6 +116,7 @@ enum class RayFlag : std::uint8_t {
     aground,  ///< touched the shore (h <= 0) and now follows it
     dead,     ///< left the domain, or aground between two aground rays: removed
 };
+/// The flag's name ("alive", "flat", "aground", "dead").
 const char* to_string(RayFlag f) noexcept;
 
 /// How the adaptive fronts refract.

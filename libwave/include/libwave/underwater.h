@@ -1,17 +1,18 @@
-// libwave — underwater light: the caustic pattern that a frame's surface focuses onto
-// the seafloor (Tessendorf 2001, §5.2), written into caller-owned maps.
-//
-// Sunlight is a parallel beam. Each surface triangle facing the sun intercepts the
-// flux I₀ / l_z · (its vector area · l) (l: unit vector towards the sun, I₀: the sun's
-// irradiance on a horizontal plane above the water). At each vertex the beam is
-// refracted (Snell, air → water) by the vertex normal, weighted by the Fresnel
-// transmissivity T and attenuated by e^{−c·s} over its path s to the seafloor. The
-// triangle's flux, times the mean of its vertices' weights, is spread uniformly over
-// the triangle its three refracted rays draw on the seafloor (its footprint) and
-// summed, with the exact overlap of footprint and pixel, into a map in plan. The flux
-// of every bundle is conserved: where footprints shrink the floor is bright (the
-// caustic lines), where they spread it is dim, and a footprint that collapses to a
-// line still carries its whole flux (docs/underwater.md).
+/// \file
+/// libwave — underwater light: the caustic pattern that a frame's surface focuses onto
+/// the seafloor (Tessendorf 2001, §5.2), written into caller-owned maps.
+///
+/// Sunlight is a parallel beam. Each surface triangle facing the sun intercepts the
+/// flux I₀ / l_z · (its vector area · l) (l: unit vector towards the sun, I₀: the sun's
+/// irradiance on a horizontal plane above the water). At each vertex the beam is
+/// refracted (Snell, air → water) by the vertex normal, weighted by the Fresnel
+/// transmissivity T and attenuated by e^{−c·s} over its path s to the seafloor. The
+/// triangle's flux, times the mean of its vertices' weights, is spread uniformly over
+/// the triangle its three refracted rays draw on the seafloor (its footprint) and
+/// summed, with the exact overlap of footprint and pixel, into a map in plan. The flux
+/// of every bundle is conserved: where footprints shrink the floor is bright (the
+/// caustic lines), where they spread it is dim, and a footprint that collapses to a
+/// line still carries its whole flux (docs/underwater.md).
 #pragma once
 
 #include "libwave/bathymetry.h"
@@ -28,7 +29,13 @@ namespace wave {
 /// Named waters by how fast they dim sunlight with path length: broadband
 /// approximations (blue–green light, ~490 nm) of Jerlov's optical water types, from
 /// the clearest open ocean to turbid harbour water (docs/underwater.md gives the values).
-enum class WaterType { clear_ocean, ocean, coastal, turbid_coastal, harbour };
+enum class WaterType {
+    clear_ocean,     ///< "clear-ocean": c = 0.03/m, like Jerlov's I (the clearest open ocean)
+    ocean,           ///< "ocean": c = 0.08/m, like Jerlov's III
+    coastal,         ///< "coastal" (the scenes' default): c = 0.15/m, like Jerlov's coastal 1
+    turbid_coastal,  ///< "turbid-coastal": c = 0.35/m, like Jerlov's coastal 5
+    harbour,         ///< "harbour": c = 0.7/m, like Jerlov's coastal 9
+};
 
 /// c (1/m) of a named water (docs/underwater.md).
 double water_attenuation(WaterType type) noexcept;
@@ -36,6 +43,7 @@ double water_attenuation(WaterType type) noexcept;
 /// "clear-ocean", "ocean", "coastal", "turbid-coastal", "harbour"; and back
 /// (InputError naming the accepted names).
 const char* water_type_name(WaterType type) noexcept;
+/// The water type spelt `name`; InputError naming `where` and the accepted names.
 WaterType parse_water_type(const std::string& name, const std::string& where);
 
 /// The sun, the water and the map of plan_caustics (the scenes' /underwater).
@@ -83,6 +91,7 @@ struct CausticPlan {
     bool level_in_water = false;
     std::array<double, 3> sun{};           ///< unit, towards the sun
 };
+/// The caustic plan of a seafloor grid, as CausticPlan describes.
 CausticPlan plan_caustics(const ElevationGrid& seafloor, const CausticOptions& options);
 
 /// Once per triangle list (a surface's topology, the same in every frame of an
@@ -99,6 +108,7 @@ struct CausticMesh {
     /// walks b → a (kNone on the border).
     std::vector<std::uint32_t> edges;
 };
+/// The edges of `triangles` over `vertex_count` vertices, as CausticMesh describes.
 CausticMesh plan_caustic_mesh(std::span<const std::uint32_t> triangles, std::size_t vertex_count);
 
 /// Per-frame scratch (per-vertex hits and weights, per-triangle densities, each band's
@@ -178,6 +188,7 @@ struct SunVolumePlan {
     /// Per column (j · nx + i): the first level above the seafloor at the column's centre.
     std::vector<std::uint32_t> first_wet;
 };
+/// The sunbeam volume's plan over the floor of `caustics`.
 SunVolumePlan plan_sun_volume(const CausticPlan& caustics, const SunVolumeOptions& options);
 
 /// A frame's sunlight, nx · ny · nz floats (voxel (i, j, k) at (k · ny + j) · nx + i: x

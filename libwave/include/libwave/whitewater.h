@@ -1,11 +1,12 @@
-// libwave — whitewater: the spray, foam and bubbles of breaking water as particles.
-//
-// Every frame stays computable on its own, as every other stage of libwave: a
-// particle is a closed form of the event that threw it (where and when a crest broke
-// or the wind sea folded) and its age. Events are periodic in the loop (a breaking
-// crest passes a point once a swell period) or, for the wind sea's folds, taken on the
-// fold foam's lattice of past times, so a frame computed alone equals the same frame of
-// a whole run, for any thread count (docs/whitewater.md).
+/// \file
+/// libwave — whitewater: the spray, foam and bubbles of breaking water as particles.
+///
+/// Every frame stays computable on its own, as every other stage of libwave: a
+/// particle is a closed form of the event that threw it (where and when a crest broke
+/// or the wind sea folded) and its age. Events are periodic in the loop (a breaking
+/// crest passes a point once a swell period) or, for the wind sea's folds, taken on the
+/// fold foam's lattice of past times, so a frame computed alone equals the same frame of
+/// a whole run, for any thread count (docs/whitewater.md).
 #pragma once
 
 #include <array>
@@ -156,6 +157,7 @@ struct WhitewaterRide {
     std::span<const double> rest_y;  ///< the surface's rest positions (m)
     std::shared_ptr<const void> locator;  ///< the rest triangles' point locator (internal)
 };
+/// The ride on the surface of rest positions (`rest_x`, `rest_y`) and `triangles`.
 WhitewaterRide plan_whitewater_ride(std::span<const double> rest_x, std::span<const double> rest_y,
                                     std::span<const std::uint32_t> triangles);
 
