@@ -632,7 +632,7 @@ struct JeschkeMotionPlan {
     /// its ray's first surf zone; past a surf zone where the crest re-formed, the end of
     /// that surf zone (JeschkeBreakerOptions::stable_index).
     std::vector<float> life_start;
-    std::vector<RayBreak> rays;  ///< per traced ray, then one per break after a re-form
+    std::vector<RayBreak> rays;  ///< per traced ray its first break, each followed by its breaks after re-forming (RayBreak::surf_zone)
     /// Per vertex, or empty (all 0): how far (rad) the crests at the vertex trail those at
     /// phase `phase`, whose life they live. A skirt vertex (continue_jeschke_breakers)
     /// lives its anchor's life, lag/ω later; a vertex of the surface has none.
