@@ -461,9 +461,7 @@ json run_report(const RunSummary& r) {
         report["underwater"]["volume_bottom_m"] = v.z0;
     }
     if (r.scene.whitewater) {
-        json sources = json::array();
-        if (r.scene.surface_kind == SurfaceKind::ray_strips) sources.push_back(r.scene.breakers ? "breakers" : "gonzato breaking");
-        if (r.scene.ocean) sources.push_back("wind sea folds");
+        json sources = whitewater_sources(r.scene);
         report["whitewater"] = {{"points", kWhitewaterPoints}, {"sources", sources}, {"breaker_events", r.plan.whitewater.size()},
                                 {"breaker_events_repeat_s", r.plan.whitewater.period}};
     }
@@ -749,15 +747,7 @@ int run_job(const RunArgs& a) {
     if (!a.frames.empty() && range.end > loop_frames)
     {
         // The key that lengthens this scene's loop (docs/scene.md, "Long shots").
-        const bool superposed = scene.ocean && scene.surface_kind != SurfaceKind::ocean;
-        std::string keys = "/ocean/repeat_time";
-        if (superposed)
-            keys += " (a whole multiple of the swell's loop)";
-        else if (scene.surface_kind == SurfaceKind::height_field)
-            keys = "/surface/repeat_time";
-        else if (scene.surface_kind != SurfaceKind::ocean)
-            keys = "a wind sea: /ocean with /ocean/repeat_time a whole multiple of the swell's period (the swell alone "
-                   "repeats every period)";
+        const std::string keys = loop_lengthening_keys(scene);
         std::ostringstream why;
         why << "--frames " << a.frames << ": the loop has " << loop_frames << " frames (" << plan.loop_period << " s at "
             << scene.fps << " fps, /animation/fps); frames past it would repeat it: render --frames A:" << loop_frames

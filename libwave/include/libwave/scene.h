@@ -250,6 +250,15 @@ Seafloor scene_seafloor(const Scene& scene);
 /// its up-wave edge (against the first train's direction), at 40 % of that length up.
 std::array<double, 3> scene_camera(const Scene& scene, const Seafloor& seafloor);
 
+/// What makes a scene's whitewater, as the run's report names it: "breakers", the
+/// surface model's own breaking (e.g. "gonzato breaking"), "wind sea folds". Empty
+/// without /whitewater.
+std::vector<std::string> whitewater_sources(const Scene& scene);
+
+/// The keys that lengthen a scene's loop, as a shot longer than the loop is told
+/// (docs/scene.md, "Long shots").
+std::string loop_lengthening_keys(const Scene& scene);
+
 /// The preview options of a scene with its camera filled in: the scene's camera,
 /// looking at /preview/look_at or the centre of the domain at still water.
 PreviewOptions scene_preview(const Scene& scene, const Seafloor& seafloor);

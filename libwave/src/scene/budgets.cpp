@@ -183,7 +183,7 @@ double planned_memory_floor_bytes(const Scene& scene) {
     const double n = static_cast<double>(scene.ocean->resolution), lattice = (8.0 + 8.0 + 8.0 + 4.0) * n * n,
                  workspace = 8.0 * 8.0 * n * (n / 2.0 + 1.0) + 8.0 * 4.0 * n * n;
     const bool shaded = scene.attributes != Scene::Attributes::none;
-    const double frame = scene.surface_kind == SurfaceKind::ocean
+    const double frame = detail::surface_model(scene.surface_kind).wind_sea_patch
                              ? (n + 1.0) * (n + 1.0) * (24.0 + (shaded ? 12.0 : 0.0) + (scene.color ? 12.0 : 0.0))
                              : 0.0;
     return lattice + workspace + frame;
@@ -221,7 +221,7 @@ void check_plan_limits(const Scene& scene, double max_bytes) {
     if (floor > max_bytes)
         throw LimitError("scene: /ocean/resolution " + std::to_string(scene.ocean->resolution) + " needs at least " +
                          fmt(std::ceil(floor / 1e7) / 100.0) + " GB before its first frame is written (its lattice, transforms" +
-                         (scene.surface_kind == SurfaceKind::ocean ? " and one frame" : "") + "), over the limit of " +
+                         (detail::surface_model(scene.surface_kind).wind_sea_patch ? " and one frame" : "") + "), over the limit of " +
                          fmt(max_bytes / 1e9) + " GB; lower /ocean/resolution, or raise the limit (wave run --max-memory-gb)");
 }
 

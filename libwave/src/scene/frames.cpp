@@ -187,10 +187,9 @@ void start_run(FrameRun& r, const std::vector<std::uint32_t>& triangles, std::si
     // for the traced strips themselves, whose boundary is where their rays end.
     // The open ocean's skirt (its wind sea, wind_sea_scale) does not untangle the patch:
     // the patch's folds are its whitecaps (fold foam), and its vertices stay the FFT's.
-    const bool patch = r.scene.surface_kind == SurfaceKind::ocean;
+    const bool patch = r.model.wind_sea_patch;
     if (r.model.untangle || (!patch && !plan.wind_sea_scale.empty()) || !plan.gerstner.empty()) {
-        const bool traced_strips = r.scene.surface_kind == SurfaceKind::ray_strips && !r.scene.water_mesh_per_wavelength &&
-                                   !r.scene.camera_grid;
+        const bool traced_strips = r.model.holds_boundary && !r.model.holds_boundary(r.scene);
         const bool lips = r.model.overturns && r.model.overturns(r.scene);
         UntangleOptions options{.lips_overturn = lips, .hold_shore = !traced_strips};
         // The traced strips hold slivers at rest, where the rays crowd: bounding their
@@ -279,7 +278,7 @@ CoarseFrame move_coarse(FrameRun& r, double t, std::span<float> pc, std::span<fl
         add_ocean_samples(plan.ocean, fields, plan.rest_x, plan.rest_y, plan.wind_sea_scale, pc);
         if (r.shaded) {
             ocean_jacobian_field(plan.ocean, fields, r.wind_sea.lattice_j);
-            detail::fold_at_vertices(plan, r.scene.surface_kind == SurfaceKind::ocean, r.wind_sea.lattice_j, r.wind_sea.vertex_j);
+            detail::fold_at_vertices(plan, r.model.wind_sea_patch, r.wind_sea.lattice_j, r.wind_sea.vertex_j);
         }
     }
     const bool normals_done = exact_normals && plan.gerstner.empty() && !r.refined;
@@ -306,7 +305,7 @@ void coarse_foam(FrameRun& r, double t, std::span<float> fc) {
         if (it == r.fold_past.end()) {
             evaluate_ocean_jacobian(plan.ocean, static_cast<double>(j) * step, *r.wind_sea.workspace, r.wind_sea.lattice_j);
             detail::size_for_overwrite(r.fold_scratch, plan.rest_x.size());
-            detail::fold_at_vertices(plan, r.scene.surface_kind == SurfaceKind::ocean, r.wind_sea.lattice_j, r.fold_scratch);
+            detail::fold_at_vertices(plan, r.model.wind_sea_patch, r.wind_sea.lattice_j, r.fold_scratch);
             it = r.fold_past.emplace(j, fold_sample(r.fold_scratch, fold)).first;
         }
         window.push_back({&it->second, t - static_cast<double>(j) * step});

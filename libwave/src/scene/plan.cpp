@@ -319,7 +319,7 @@ void plan_far_field_stage(const Scene& scene, ScenePlan& p) {
 // heights, 10 patches, kWorldReach). The patch's vertices stay the model's; the skirt's
 // take the wind sea through wind_sea_scale (0 on the patch: the model moved it).
 void plan_ocean_skirt(const Scene& scene, ScenePlan& p) {
-    if (scene.surface_kind != SurfaceKind::ocean || p.ocean.n == 0 || p.camera_grid.vertex_count() > 0) return;
+    if (!detail::surface_model(scene.surface_kind).wind_sea_patch || p.ocean.n == 0 || p.camera_grid.vertex_count() > 0) return;
     const double wavelength = 2.0 * std::numbers::pi * kGravity / (p.ocean.peak_omega * p.ocean.peak_omega);
     SeaSkirtOptions o;
     o.distance = std::max({2000.0 * std::max(0.0, scene_camera(scene, p.seafloor)[2]), 10.0 * p.ocean.size, kWorldReach});
@@ -358,7 +358,7 @@ void plan_fold_foam(const Scene& scene, ScenePlan& p) {
     p.whitecap_coverage = target;
     std::vector<float> at_vertices(p.rest_x.size());
     for (std::size_t i = 0; i < lattice.size(); ++i) {
-        detail::fold_at_vertices(p, scene.surface_kind == SurfaceKind::ocean, past[lattice.size() - 1 - i], at_vertices);
+        detail::fold_at_vertices(p, detail::surface_model(scene.surface_kind).wind_sea_patch, past[lattice.size() - 1 - i], at_vertices);
         p.fold_past.emplace_back(lattice[i], fold_sample(at_vertices, p.fold_foam));
     }
 }
@@ -383,7 +383,7 @@ static ScenePlan plan_on(const Scene& scene, Seafloor seafloor, PlanStages stage
 ScenePlan plan_scene(const Scene& scene, PlanStages stages) { return plan_on(scene, scene_seafloor(scene), stages); }
 
 ScenePlan plan_scene(const Scene& scene, Seafloor seafloor, PlanStages stages) {
-    if (scene.surface_kind == SurfaceKind::ocean)
+    if (detail::surface_model(scene.surface_kind).wind_sea_patch)
         throw InputError("plan_scene: the open ocean stands on its own flat bottom (/ocean/depth), not on a given seafloor");
     return plan_on(scene, std::move(seafloor), stages);
 }
@@ -405,11 +405,8 @@ static ScenePlan plan_on(const Scene& scene, Seafloor seafloor, PlanStages stage
     // The breakers' whitewater over the loop, on the surface the breakers move.
     if (scene.whitewater && scene.breakers)
         p.whitewater = jeschke_whitewater_events(p.breakers, detail::surface_model(scene.surface_kind).triangles(p));
-    else if (scene.whitewater && scene.surface_kind == SurfaceKind::ray_strips && !scene.camera_grid) {
-        // Gonzato's profile: where its breaking foam comes from (the same strips and options).
-        const RayStrips& strips = p.water_strips.vertex_count() > 0 ? p.water_strips : p.strips;
-        p.whitewater = gonzato_whitewater_events(strips, p.motion, scene.foam, detail::surface_model(scene.surface_kind).triangles(p));
-    }
+    else if (const auto own = detail::surface_model(scene.surface_kind).whitewater; scene.whitewater && own)
+        p.whitewater = own(scene, p);  // the model's own breaking (Gonzato's profile on the strips)
     // A run's particles are refused before any frame is made (the wind sea's, which come
     // with each frame's folds, as each frame makes them).
     if (scene.whitewater) check_whitewater_bound(p.whitewater, *scene.whitewater);

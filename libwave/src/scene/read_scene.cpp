@@ -602,7 +602,7 @@ Scene parse_scene(std::string_view text, const std::string& origin, const std::s
     }
     if (root.has("whitewater")) {
         s.whitewater = read_whitewater(root["whitewater"]);
-        if (s.whitewater && s.surface_kind != SurfaceKind::ray_strips && !s.ocean && s.surface_kind != SurfaceKind::ocean)
+        if (const detail::SurfaceModel& m = detail::surface_model(s.surface_kind); s.whitewater && !m.whitewater && !s.ocean && !m.wind_sea_patch)
             root["whitewater"].fail("needs breaking water: the ray strips' breakers (Gonzato's or /breakers) or a wind sea "
                                     "(/ocean, or the ocean surface)");
     }

@@ -44,6 +44,10 @@ struct ModelFrame {
     bool weights_done = false;
 };
 
+/// The long-shot keys of a model whose loop is its swell's period.
+inline constexpr std::string_view kWindSeaLoopKeys =
+    "a wind sea: /ocean with /ocean/repeat_time a whole multiple of the swell's period (the swell alone repeats every period)";
+
 struct SurfaceModel {
     SurfaceKind kind;
     std::string_view name;       ///< the value of /surface/kind
@@ -110,6 +114,24 @@ struct SurfaceModel {
     /// state: a frame's moved positions kept from an earlier pass may stand in for
     /// `move` (the quantised morph form's delta-range pass, frames.cpp).
     bool foam_of_time_alone = false;
+
+    /// Its surface is the FFT ocean patch itself (plan.ocean): the patch's folds are its
+    /// whitecaps and its vertices stay the FFT's (never untangled); it stands on its own
+    /// flat bottom, not on a given seafloor; its skirt is the ocean's own; one frame of
+    /// it is held beside the FFT's lattice.
+    bool wind_sea_patch = false;
+    /// Whether the untangling holds the surface's boundary still (the shore, at the
+    /// domain's sides); false: the boundary is where traced rays end, and the untangling
+    /// keeps no angle bound (the strips hold slivers at rest). nullptr: always.
+    bool (*holds_boundary)(const Scene& s) = nullptr;
+    /// The whitewater its own breaking makes, beside the breakers' that every model
+    /// with /breakers shares (nullptr: its motion breaks no water), and its name in the
+    /// run's report (whitewater_sources).
+    WhitewaterEvents (*whitewater)(const Scene& s, const ScenePlan& plan) = nullptr;
+    std::string_view whitewater_source;
+    /// The keys a shot longer than its loop is told to lengthen, without a superposed
+    /// wind sea (loop_lengthening_keys).
+    std::string_view long_shot_keys;
 };
 
 /// The model of a kind (the one place a kind is looked up).

@@ -162,6 +162,12 @@ extern const SurfaceModel kHeightFieldModel{
     .draws_overturned = nullptr,
     .skirt_size = nullptr,
     .plan_skirt = nullptr,
+    .foam_of_time_alone = false,
+    .wind_sea_patch = false,
+    .holds_boundary = nullptr,
+    .whitewater = nullptr,
+    .whitewater_source = {},
+    .long_shot_keys = "/surface/repeat_time",
 };
 
 }  // namespace wave::detail

@@ -99,6 +99,12 @@ extern const SurfaceModel kOceanPatchModel{
     .draws_overturned = nullptr,
     .skirt_size = nullptr,
     .plan_skirt = nullptr,
+    .foam_of_time_alone = false,
+    .wind_sea_patch = true,
+    .holds_boundary = nullptr,
+    .whitewater = nullptr,  // its whitewater is the wind sea's folds
+    .whitewater_source = {},
+    .long_shot_keys = "/ocean/repeat_time",
 };
 
 }  // namespace wave::detail

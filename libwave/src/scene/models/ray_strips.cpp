@@ -185,6 +185,14 @@ void plan_skirt(const Scene& scene, ScenePlan& p) {
     if (breaker_band(scene) > 0.0) p.skirt_breakers = continue_jeschke_breakers(p.breakers, p.skirt, p.seafloor.grid, breaker_band(scene));
 }
 
+// Gonzato's profile: where its breaking foam comes from (the same strips and options).
+// With Jeschke's breakers the breakers' own (plan.cpp); on a camera grid none.
+WhitewaterEvents gonzato_whitewater(const Scene& scene, const ScenePlan& p) {
+    if (scene.camera_grid) return {};
+    const RayStrips& strips = p.water_strips.vertex_count() > 0 ? p.water_strips : p.strips;
+    return gonzato_whitewater_events(strips, p.motion, scene.foam, triangles(p));
+}
+
 }  // namespace
 
 extern const SurfaceModel kRayStripsModel{
@@ -211,6 +219,12 @@ extern const SurfaceModel kRayStripsModel{
     .skirt_size = skirt_size,
     .plan_skirt = plan_skirt,
     .foam_of_time_alone = true,  // jeschke_foam, breaking_foam and jeschke_drawn_lips: of t and the plan
+    .wind_sea_patch = false,
+    // The traced strips themselves (no water mesh, no camera grid) end where their rays do.
+    .holds_boundary = [](const Scene& s) { return s.water_mesh_per_wavelength.has_value() || s.camera_grid.has_value(); },
+    .whitewater = gonzato_whitewater,
+    .whitewater_source = "gonzato breaking",
+    .long_shot_keys = kWindSeaLoopKeys,
 };
 
 }  // namespace wave::detail

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <string>
+#include <vector>
 
 namespace wave::detail {
 
@@ -34,5 +35,20 @@ namespace wave {
 std::string_view surface_kind_name(SurfaceKind kind) { return detail::surface_model(kind).name; }
 
 Traced surface_kind_traces(SurfaceKind kind) { return detail::surface_model(kind).traced; }
+
+std::vector<std::string> whitewater_sources(const Scene& scene) {
+    std::vector<std::string> sources;
+    if (!scene.whitewater) return sources;
+    const detail::SurfaceModel& m = detail::surface_model(scene.surface_kind);
+    if (m.whitewater) sources.emplace_back(scene.breakers ? "breakers" : m.whitewater_source);
+    if (scene.ocean) sources.emplace_back("wind sea folds");
+    return sources;
+}
+
+std::string loop_lengthening_keys(const Scene& scene) {
+    const detail::SurfaceModel& m = detail::surface_model(scene.surface_kind);
+    if (scene.ocean && !m.wind_sea_patch) return "/ocean/repeat_time (a whole multiple of the swell's loop)";
+    return std::string(m.long_shot_keys);
+}
 
 }  // namespace wave

@@ -153,6 +153,12 @@ extern const SurfaceModel kWaveFieldModel{
     .draws_overturned = nullptr,
     .skirt_size = nullptr,
     .plan_skirt = nullptr,
+    .foam_of_time_alone = false,
+    .wind_sea_patch = false,
+    .holds_boundary = nullptr,
+    .whitewater = nullptr,
+    .whitewater_source = {},
+    .long_shot_keys = kWindSeaLoopKeys,
 };
 
 }  // namespace wave::detail
