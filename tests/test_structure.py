@@ -8,6 +8,10 @@
                                  libwave/include/libwave) includes only the stages
                                  before it in the README's order, their public headers
                                  or their internals: never a later one
+  test_structure.py surface_kind `SurfaceKind::` only in the enum (libwave/scene.h), the
+                                 models (libwave/src/scene/models/) and their
+                                 registry: the rest of the library, the CLI and the
+                                 bindings ask the model (its traits), never the kind
 
 Each prints what it found wrong and exits 1, or exits 0.
 """
@@ -89,7 +93,21 @@ def stage_order():
     return problems
 
 
-CHECKS = {"file_lines": file_lines, "stage_order": stage_order}
+def surface_kind():
+    problems = []
+    models = SRC / "scene" / "models"
+    code = [p for p in sources() if models not in p.parents]
+    code += sorted(p for p in (ROOT / "bindings-cli").rglob("*") if p.is_file() and p.suffix in SOURCE_SUFFIXES)
+    for path in code:
+        with open(path, encoding="utf-8") as f:
+            for number, line in enumerate(f, 1):
+                if "SurfaceKind::" in line:
+                    problems.append(f"{path.relative_to(ROOT)}:{number}: branches on the surface kind; "
+                                    f"ask its model (a trait in scene/surface_model.h) instead")
+    return problems
+
+
+CHECKS = {"file_lines": file_lines, "stage_order": stage_order, "surface_kind": surface_kind}
 
 
 def main(argv):
