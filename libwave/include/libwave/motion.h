@@ -623,7 +623,7 @@ struct JeschkeMotionPlan {
     std::vector<float> scale;       ///< 5H (m)
     std::vector<float> mean_level;  ///< removed from z (m)
     std::vector<float> break_phase;  ///< where its ray breaks (rad)
-    std::vector<float> end_phase;    ///< where its crests die (rad): the ray's end, or min_surf_zone_wavelengths past the break
+    std::vector<float> end_phase;    ///< where its crests die (rad): the ray's end, or min_surf_zone_wavelengths past the break; on a ray that re-forms, where this surf zone ends (life_start)
     std::vector<float> rise;                    ///< round-phase growth (rad)
     std::vector<float> breaking_length;         ///< breaking-phase length (rad)
     std::vector<float> curl;                    ///< k5 scale of the ray's breaker type
