@@ -1181,7 +1181,7 @@ TEST(JeschkeBreakers, ARayInsertedInTheSurfZoneBreaksWhereItsNeighboursBroke) {
         if (auto [it, fresh] = first.emplace(s.ray[v], v); !fresh && s.step[v] < s.step[it->second]) it->second = v;
     std::map<std::uint32_t, double> broke;  // ray → break phase
     for (const RayBreak& r : plan.breakers.rays)
-        if (r.breaks) broke[r.ray] = r.break_phase;
+        if (r.breaks && r.surf_zone == 0) broke[r.ray] = r.break_phase;  // its first break (later ones follow a re-form)
     std::size_t inherited = 0;
     for (const auto& [ray, v] : first) {
         if (!(2.0 * s.amplitude[v] >= kBreakerIndex * s.depth[v]) || !broke.count(ray)) continue;  // unbroken on its first vertex
