@@ -74,6 +74,20 @@ void BM_jeschke_positions_tube(benchmark::State& state) {
 }
 BENCHMARK(BM_jeschke_positions_tube)->Arg(1000000)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// The peer of BM_jeschke_positions with per-vertex life starts (a plan whose rays re-form
+// behind a bar reads one per vertex; here all 0, the same positions), in the same run.
+void BM_jeschke_positions_life_starts(benchmark::State& state) {
+    const Fixture& f = fixture(static_cast<int>(state.range(0)));
+    wave::JeschkeMotionPlan lives = f.plan.breakers;
+    lives.life_start.assign(lives.vertex_count(), 0.0f);
+    std::vector<float> p(3 * lives.vertex_count());
+    frames_at_30fps(state, lives.vertex_count(), [&](double t) {
+        wave::evaluate_jeschke_breakers(lives, t, p);
+        benchmark::DoNotOptimize(p.data());
+    });
+}
+BENCHMARK(BM_jeschke_positions_life_starts)->Arg(1000000)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 // Tabulating the outer sections once per plan (the default curls: 0.25 … 1).
 void BM_breaker_sections(benchmark::State& state) {
     for (auto _ : state) benchmark::DoNotOptimize(wave::plan_breaker_sections(0.3, 1.0).x.data());
