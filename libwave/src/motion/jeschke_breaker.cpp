@@ -258,6 +258,10 @@ struct RayLife {
 };
 
 constexpr double kNever = std::numeric_limits<double>::infinity();
+
+// Where a quantity going linearly from `a` to `b` crosses 0 (a and b on its two sides, or
+// b on it), as a share of the way: the break's and the re-form's place between two vertices.
+double crossing_share(double a, double b) noexcept { return a != b ? std::clamp(a / (a - b), 0.0, 1.0) : 1.0; }
 // The least surf zone (local wavelengths) of a crest that re-forms behind it.
 constexpr double kReformedSurfZone = 1.5;
 
@@ -291,8 +295,7 @@ RayLife ray_life(const RayStrips& strips, std::uint32_t id, const std::vector<st
     const std::uint32_t b = vs[i];
     double w = 0.0;  // share of the way from the previous vertex to b
     if (i > from) {
-        const double fa = f(vs[i - 1]), fb = f(b);
-        w = fb > fa ? -fa / (fb - fa) : 1.0;
+        w = crossing_share(f(vs[i - 1]), f(b));
     }
     const std::uint32_t a = i > from ? vs[i - 1] : b;
     const auto at = [&](const std::vector<double>& q) { return q[a] + w * (q[b] - q[a]); };
@@ -387,8 +390,7 @@ std::vector<RayLife> reformed_lives(const RayStrips& strips, std::uint32_t id, c
         double reform = strips.phase[vs[i]];
         if (i > 0) {
             const std::uint32_t a = vs[i - 1], b = vs[i];
-            const double ga = g(a), gb = g(b), w = ga > gb ? std::clamp(ga / (ga - gb), 0.0, 1.0) : 1.0;
-            reform = strips.phase[a] + w * (strips.phase[b] - strips.phase[a]);
+            reform = strips.phase[a] + crossing_share(g(a), g(b)) * (strips.phase[b] - strips.phase[a]);
         }
         RayLife next = ray_life(strips, id, vs, i, std::nan(""), deep_height, deep_wavelength, o);
         if (!next.rb.breaks) break;  // it never breaks again: the surf zone runs on to the ray's end
