@@ -136,7 +136,9 @@ function serve(dir, args = ['view', dir, '--port', '0', '--no-open'], env = proc
   // With a display the URL goes to the desktop's browser (xdg-open).
   const bin = path.join(work, 'bin');
   fs.mkdirSync(bin, { recursive: true });
-  fs.writeFileSync(path.join(bin, 'xdg-open'), `#!/bin/sh\necho "$1" > ${path.join(work, 'opened.txt')}\n`, { mode: 0o755 });
+  // Written aside and renamed: the file appears only whole (a redirect creates it empty first).
+  fs.writeFileSync(path.join(bin, 'xdg-open'),
+    `#!/bin/sh\necho "$1" > ${path.join(work, 'opened.tmp')}\nmv ${path.join(work, 'opened.tmp')} ${path.join(work, 'opened.txt')}\n`, { mode: 0o755 });
   const shown = await serve(out, ['view', out, '--port', '0'], { ...env, DISPLAY: ':99', PATH: `${bin}:${process.env.PATH}` });
   for (let i = 0; i < 50 && !fs.existsSync(path.join(work, 'opened.txt')); ++i) await new Promise((r) => setTimeout(r, 100));
   assert.equal(fs.readFileSync(path.join(work, 'opened.txt'), 'utf8').trim(), shown.url);
