@@ -411,7 +411,7 @@ json surface_summary(const RunSummary& r) {
         if (plan.whitecap_coverage > 0.0) surface["wind_sea"]["whitecap_coverage"] = plan.whitecap_coverage;
     }
     if (!plan.gerstner.empty()) surface["gerstner_waves"] = plan.gerstner.size();
-    if (scene.breakers) surface["breakers"] = breakers_summary(plan.breakers);
+    if (!plan.breakers.rays.empty()) surface["breakers"] = breakers_summary(plan.breakers);
     if (plan.water_mesh.vertex_count() > 0)
         surface["water_mesh"] = {{"vertices_per_wavelength", scene.water_mesh_per_wavelength.value_or(0.0)},
                                  {"vertices", plan.water_mesh.vertex_count()},
@@ -486,7 +486,7 @@ void print_surface_text(const RunSummary& r) {
             std::cout << "fronts     " << plan.fronts.initial_rays << " rays + " << plan.fronts.inserted_rays << " inserted, "
                       << plan.fronts.front_count() - 1 << " steps, " << plan.fronts.rays_aground << " aground (Gonzato)\n"
                       << "surface    ray strips: " << plan.strips.vertex_count() << " vertices, " << plan.strips.triangle_count()
-                      << " triangles; " << (scene.breakers ? "Jeschke's breakers" : "Gonzato's plunging profile") << '\n';
+                      << " triangles; " << strip_motion_name(scene) << '\n';
             break;
         case Traced::field:
             std::cout << "field      " << plan.wave_fields.size() << " train(s), wide-angle parabolic mild-slope, "
@@ -502,7 +502,7 @@ void print_surface_text(const RunSummary& r) {
     if (plan.camera_grid.vertex_count() > 0)
         std::cout << "sampled    camera grid (Hinsinger): " << plan.camera_grid.columns << " x " << plan.camera_grid.rows
                   << " points seeing the water, " << plan.camera_grid.triangles.size() / 3 << " triangles\n";
-    if (scene.breakers) {
+    if (!plan.breakers.rays.empty()) {
         const json b = breakers_summary(plan.breakers);
         std::cout << "breakers   " << b["breaking_rays"].get<std::size_t>() << " of " << b["rays"].get<std::size_t>()
                   << " rays break";

@@ -12,6 +12,11 @@
                                  models (libwave/src/scene/models/) and their
                                  registry: the rest of the library, the CLI and the
                                  bindings ask the model (its traits), never the kind
+  test_structure.py strip_motion the strips' motions' own scene keys (/breakers: Scene::
+                                 breakers, /motion: Scene::profile) read only by their
+                                 entries of the motion table (scene/models/*_strips.cpp),
+                                 the scene reader, and `wave inspect --scene` (which
+                                 checks a file against the lips Jeschke's breakers draw)
 
 Each prints what it found wrong and exits 1, or exits 0.
 """
@@ -107,7 +112,27 @@ def surface_kind():
     return problems
 
 
-CHECKS = {"file_lines": file_lines, "stage_order": stage_order, "surface_kind": surface_kind}
+STRIP_MOTION_KEYS = re.compile(r"\b(?:scene|s)\s*(?:\.|->)\s*(?:breakers|profile)\b")
+STRIP_MOTION_READERS = {"libwave/src/scene/models/jeschke_strips.cpp", "libwave/src/scene/models/gonzato_strips.cpp",
+                        "libwave/src/scene/read_scene.cpp", "bindings-cli/inspect.cpp"}
+
+
+def strip_motion():
+    problems = []
+    code = sources() + sorted(p for p in (ROOT / "bindings-cli").rglob("*") if p.is_file() and p.suffix in SOURCE_SUFFIXES)
+    for path in code:
+        name = path.relative_to(ROOT).as_posix()
+        if name in STRIP_MOTION_READERS:
+            continue
+        with open(path, encoding="utf-8") as f:
+            for number, line in enumerate(f, 1):
+                if STRIP_MOTION_KEYS.search(line):
+                    problems.append(f"{name}:{number}: branches on the strips' motion; "
+                                    f"ask the motion (scene/models/strip_motion.h) instead")
+    return problems
+
+
+CHECKS = {"file_lines": file_lines, "stage_order": stage_order, "surface_kind": surface_kind, "strip_motion": strip_motion}
 
 
 def main(argv):

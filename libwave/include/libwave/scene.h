@@ -255,6 +255,10 @@ std::array<double, 3> scene_camera(const Scene& scene, const Seafloor& seafloor)
 /// without /whitewater.
 std::vector<std::string> whitewater_sources(const Scene& scene);
 
+/// What moves a ray-strips scene's strips, as the run summary names it ("Jeschke's
+/// breakers", "Gonzato's plunging profile"); empty for the other surface kinds.
+std::string_view strip_motion_name(const Scene& scene);
+
 /// The keys that lengthen a scene's loop, as a shot longer than the loop is told
 /// (docs/scene.md, "Long shots").
 std::string loop_lengthening_keys(const Scene& scene);

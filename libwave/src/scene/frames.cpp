@@ -389,7 +389,7 @@ void evaluate_frame(FrameRun& r, const std::vector<std::uint32_t>& coarse_triang
         r.lip_weight.resize(fc.size());  // zeros beyond the model's own vertices (the skirt): the hook writes all of its
         lips_drawn = r.model.lips(r.scene, r.plan, t, std::span<float>(r.lip_weight).first(model_vertex_count(r.plan)));
         if (lips_drawn && r.model.draws_overturned)
-            drawn = [&r, t](std::uint32_t i, std::uint32_t j, std::uint32_t k) { return r.model.draws_overturned(r.plan, t, i, j, k); };
+            drawn = [&r, t](std::uint32_t i, std::uint32_t j, std::uint32_t k) { return r.model.draws_overturned(r.scene, r.plan, t, i, j, k); };
     }
     // Foam before untangling, which leaves the breaking crests' lips to overturn (the
     // foam marks them where the model draws none); foam does not depend on the

@@ -402,11 +402,8 @@ static ScenePlan plan_on(const Scene& scene, Seafloor seafloor, PlanStages stage
     plan_far_field_stage(scene, p);
     plan_ocean_skirt(scene, p);
     plan_fold_foam(scene, p);
-    // The breakers' whitewater over the loop, on the surface the breakers move.
-    if (scene.whitewater && scene.breakers)
-        p.whitewater = jeschke_whitewater_events(p.breakers, detail::surface_model(scene.surface_kind).triangles(p));
-    else if (const auto own = detail::surface_model(scene.surface_kind).whitewater; scene.whitewater && own)
-        p.whitewater = own(scene, p);  // the model's own breaking (Gonzato's profile on the strips)
+    // The whitewater of the model's own breaking over the loop (the strips' motion's).
+    if (const auto own = detail::surface_model(scene.surface_kind).whitewater; scene.whitewater && own) p.whitewater = own(scene, p);
     // A run's particles are refused before any frame is made (the wind sea's, which come
     // with each frame's folds, as each frame makes them).
     if (scene.whitewater) check_whitewater_bound(p.whitewater, *scene.whitewater);

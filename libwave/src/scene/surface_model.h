@@ -101,7 +101,7 @@ struct SurfaceModel {
     /// With `lips`: whether its motion draws the triangle of coarse vertices (a, b, c)
     /// overturned at time t (untangle_motion's may_overturn: a lip's triangle that turns
     /// over elsewhere keeps its orientation); nullptr: every lip's triangle may.
-    bool (*draws_overturned)(const ScenePlan& plan, double t, std::uint32_t a, std::uint32_t b, std::uint32_t c);
+    bool (*draws_overturned)(const Scene& s, const ScenePlan& plan, double t, std::uint32_t a, std::uint32_t b, std::uint32_t c);
 
     /// What it carries onto the far field's skirt beside the fit (nullptr: the fit alone).
     /// `skirt_size`: the skirt's target sizes it needs, given the far field's own;
@@ -124,11 +124,10 @@ struct SurfaceModel {
     /// domain's sides); false: the boundary is where traced rays end, and the untangling
     /// keeps no angle bound (the strips hold slivers at rest). nullptr: always.
     bool (*holds_boundary)(const Scene& s) = nullptr;
-    /// The whitewater its own breaking makes, beside the breakers' that every model
-    /// with /breakers shares (nullptr: its motion breaks no water), and its name in the
-    /// run's report (whitewater_sources).
+    /// The whitewater its own breaking makes (nullptr: its motion breaks no water), and
+    /// its name in the run's report (whitewater_sources).
     WhitewaterEvents (*whitewater)(const Scene& s, const ScenePlan& plan) = nullptr;
-    std::string_view whitewater_source;
+    std::string_view (*whitewater_source)(const Scene& s) = nullptr;
     /// The keys a shot longer than its loop is told to lengthen, without a superposed
     /// wind sea (loop_lengthening_keys).
     std::string_view long_shot_keys;

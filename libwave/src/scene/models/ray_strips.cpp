@@ -1,15 +1,19 @@
 // Gonzato's ray strips: adaptive fronts traced over the seafloor, tessellated into strips
 // and moved by the plunging profile, or by Jeschke's breakers (optionally resampled on
 // Hinsinger's camera grid). One wave train.
-#include "../surface_model.h"
+#include "strip_motion.h"
 
 #include "libwave/field.h"
 #include "libwave/physics.h"
 
 #include <algorithm>
+#include <array>
 #include <numbers>
 
 namespace wave::detail {
+
+extern const StripMotion kJeschkeStripMotion, kGonzatoStripMotion;
+
 namespace {
 
 void read_before(const Node& root, Scene&) {
@@ -50,17 +54,12 @@ void read_after(const Node& root, Scene& s) {
 
 // The water mesh: /surface/water_mesh vertices per local wavelength of the train, the
 // depth no shallower than where it breaks (H∞/γ): the surf zone keeps the breaking
-// depth's resolution up to the shore.
-// With the breakers, graded down to /surface/water_mesh/surf_zone × H over the band
-// where crests break (the plan on the strips marks it).
-WaterMesh plan_water_mesh(const Scene& scene, const ScenePlan& p, const JeschkeMotionPlan* strip_breakers) {
+// depth's resolution up to the shore; graded further as the strips' motion needs
+// (Jeschke's breakers: down to /surface/water_mesh/surf_zone × H where crests break).
+WaterMesh plan_water_mesh(const Scene& scene, const ScenePlan& p, const StripMotion& motion) {
     EdgeSize size =
         wavelength_edge_size(p.seafloor, scene.waves[0], *scene.water_mesh_per_wavelength, scene.trace.breaker_index);
-    if (strip_breakers && scene.surf_zone_mesh > 0.0) {
-        SurfZoneMesh z;
-        z.height_fraction = scene.surf_zone_mesh;
-        size = surf_zone_edge_size(std::move(size), *strip_breakers, p.seafloor.grid, z);
-    }
+    if (motion.mesh_size) size = motion.mesh_size(scene, p, std::move(size));
     WaterMeshOptions o;
     o.max_vertices = scene.surface.max_vertices;
     return mesh_water(p.seafloor, size, o);
@@ -84,69 +83,21 @@ void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
     if (p.strips.triangle_count() == 0) refuse_empty_strips(scene, p);
     p.loop_period = scene.waves[0].period;
     if (stages == PlanStages::trace) return;
-    // The breakers on the traced strips (resampled onto the mesh or the grid below).
-    JeschkeMotionPlan strip_breakers;
-    if (scene.breakers) {
-        JeschkeBreakerOptions o = *scene.breakers;
-        o.breaker_index = scene.trace.breaker_index;
-        o.stable_index = scene.field.stable_index;  // where the field's heights re-form
-        const WaveTrain& w = scene.waves[0];
-        strip_breakers = plan_jeschke_breakers(p.strips, 2.0 * w.amplitude, deep_water_wavelength(w.period), o);
-    }
+    // The motion on the traced strips (which the water mesh may grade to), then on the
+    // strips it moves.
+    const StripMotion& motion = strip_motion(scene);
+    if (motion.plan_traced) motion.plan_traced(scene, p);
     if (scene.water_mesh_per_wavelength) {
-        p.water_mesh = plan_water_mesh(scene, p, scene.breakers ? &strip_breakers : nullptr);
+        p.water_mesh = plan_water_mesh(scene, p, motion);
         p.water_strips = resample_ray_strips(p.strips, p.seafloor, p.water_mesh.x, p.water_mesh.y, p.water_mesh.triangles);
         // Where the rays left gaps (the sides, shadows), the field's wave.
         if (!p.wave_fields.empty()) fill_strip_gaps(p.wave_fields[0], p.seafloor, p.water_strips);
     }
-    const bool on_mesh = p.water_mesh.vertex_count() > 0;
-    const RayStrips& moved = on_mesh ? p.water_strips : p.strips;
-    // Gonzato's profile moves the strips unless the breakers do (/motion is refused with
-    // them): not planned for nothing (a twentieth of the breaking beach's run).
-    if (!scene.breakers) p.motion = plan_gonzato_motion(moved, scene.profile);
-    if (scene.breakers) {
-        p.breakers = std::move(strip_breakers);
-        if (scene.camera_grid) {
-            GridCamera c = *scene.camera_grid;
-            c.position = scene_camera(scene, p.seafloor);
-            p.camera_grid = camera_grid(c);
-            // (No gap filling: the grid covers land too, which must stay at rest.)
-            p.breakers = resample_jeschke_breakers(p.breakers, p.strips.triangles, p.camera_grid.x, p.camera_grid.y);
-        }
-        if (on_mesh) {
-            p.breakers = resample_jeschke_breakers(p.breakers, p.strips.triangles, p.water_mesh.x, p.water_mesh.y);
-            // Where the rays leave gaps (the downwave sides), the nearest traced breakers.
-            fill_jeschke_gaps(p.breakers, p.water_mesh.triangles);
-            // "lip": "curl": the overturning lip where the mesh resolves the tube.
-            if (scene.surf_zone_mesh > 0.0)
-                resolve_jeschke_lips(p.breakers, p.water_mesh.triangles, p.water_mesh.boundary, scene.surf_zone_mesh);
-        }
-        // Varied crests repeat after m of them: the loop holds m periods.
-        p.loop_period *= static_cast<double>(p.breakers.loop_periods());
-    }
+    const RayStrips& moved = p.water_mesh.vertex_count() > 0 ? p.water_strips : p.strips;
+    motion.plan(scene, p, moved);
     const bool on_grid = p.camera_grid.vertex_count() > 0;
     p.rest_x = on_grid ? p.camera_grid.x : moved.x;
     p.rest_y = on_grid ? p.camera_grid.y : moved.y;
-}
-
-const std::vector<std::uint32_t>& triangles(const ScenePlan& p) {
-    if (p.camera_grid.vertex_count() > 0) return p.camera_grid.triangles;
-    return p.water_mesh.vertex_count() > 0 ? p.water_mesh.triangles : p.strips.triangles;
-}
-
-// Crests turn over when the motion draws them as the papers do: Jeschke's tube, or
-// Gonzato's eq. 7 with no packing bound. The bounded sections (the defaults) never do.
-// Where the surf-zone mesh resolves the breakers' sections, their walls and curls too.
-bool overturns(const Scene& scene) {
-    return scene.breakers ? scene.breakers->lip != BreakerLip::outer || scene.surf_zone_mesh > 0.0
-                          : scene.profile.min_packing == 0.0;
-}
-
-// The breakers' drawn walls and lips where the surf-zone mesh resolves them.
-bool lips(const Scene& scene, const ScenePlan& p, double t, std::span<float> weight) {
-    if (!scene.breakers || !(scene.surf_zone_mesh > 0.0) || p.water_mesh.vertex_count() == 0) return false;
-    jeschke_drawn_lips(p.breakers, t, weight);
-    return true;
 }
 
 // The waterline on the water mesh (surface.h, docs/inspect.md "The waterline").
@@ -162,36 +113,30 @@ std::unique_ptr<ModelState> start(const Scene& scene, const ScenePlan& p, bool) 
 }
 
 bool move(const Scene& scene, const ScenePlan& p, double t, ModelState* state, ModelFrame& frame) {
-    if (scene.breakers) evaluate_jeschke_breakers(p.breakers, t, frame.positions);
-    else evaluate_gonzato_motion(p.motion, t, frame.positions);
+    strip_motion(scene).move(p, t, frame.positions);
     if (state) keep_waterline(static_cast<const State*>(state)->waterline, frame.positions);
     return false;
 }
 
-void foam(const Scene& scene, const ScenePlan& p, double t, ModelState*, std::span<float> out) {
-    if (scene.breakers) jeschke_foam(p.breakers, t, out);
-    else breaking_foam(p.water_strips.vertex_count() > 0 ? p.water_strips : p.strips, p.motion, t, scene.foam, out);
+bool overturns(const Scene& scene) { return strip_motion(scene).overturns(scene); }
+
+bool lips(const Scene& scene, const ScenePlan& p, double t, std::span<float> weight) {
+    const StripMotion& motion = strip_motion(scene);
+    return motion.lips && motion.lips(scene, p, t, weight);
 }
 
-// The breakers carry on beyond the border where its water breaks, on a skirt as fine
-// as the border there (docs/far-field.md "Breakers beyond the border").
-double breaker_band(const Scene& scene) { return scene.breakers && scene.far_field ? scene.far_field->breaker_wavelengths : 0.0; }
-
 SkirtSize skirt_size(const Scene& scene, const ScenePlan& p, SkirtSize size) {
-    return breaker_skirt_size(std::move(size), p.breakers, p.seafloor.grid, breaker_band(scene));
+    const StripMotion& motion = strip_motion(scene);
+    return motion.skirt_size ? motion.skirt_size(scene, p, std::move(size)) : size;
 }
 
 void plan_skirt(const Scene& scene, ScenePlan& p) {
-    if (breaker_band(scene) > 0.0) p.skirt_breakers = continue_jeschke_breakers(p.breakers, p.skirt, p.seafloor.grid, breaker_band(scene));
+    if (const auto own = strip_motion(scene).plan_skirt) own(scene, p);
 }
 
-// Gonzato's profile: where its breaking foam comes from (the same strips and options).
-// With Jeschke's breakers the breakers' own (plan.cpp); on a camera grid none.
-WhitewaterEvents gonzato_whitewater(const Scene& scene, const ScenePlan& p) {
-    if (scene.camera_grid) return {};
-    const RayStrips& strips = p.water_strips.vertex_count() > 0 ? p.water_strips : p.strips;
-    return gonzato_whitewater_events(strips, p.motion, scene.foam, triangles(p));
-}
+// The strips' motions, in the order they are chosen: the first whose scene key is set,
+// else Gonzato's profile.
+const std::array<const StripMotion*, 2> kStripMotions{&kJeschkeStripMotion, &kGonzatoStripMotion};
 
 }  // namespace
 
@@ -208,13 +153,14 @@ extern const SurfaceModel kRayStripsModel{
     .read_after = read_after,
     .seafloor = [](const Scene& s) { return load_seafloor(s.seafloor); },
     .plan = plan,
-    .triangles = triangles,
+    .triangles = strip_triangles,
     .start = start,
     .move = move,
-    .foam = foam,
+    .foam = [](const Scene& s, const ScenePlan& p, double t, ModelState*, std::span<float> out) { strip_motion(s).foam(s, p, t, out); },
     .lips = lips,
-    .draws_overturned = [](const ScenePlan& p, double t, std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-        return jeschke_draws_overturned(p.breakers, t, a, b, c);
+    .draws_overturned = [](const Scene& s, const ScenePlan& p, double t, std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+        const StripMotion& motion = strip_motion(s);
+        return !motion.draws_overturned || motion.draws_overturned(p, t, a, b, c);
     },
     .skirt_size = skirt_size,
     .plan_skirt = plan_skirt,
@@ -222,9 +168,28 @@ extern const SurfaceModel kRayStripsModel{
     .wind_sea_patch = false,
     // The traced strips themselves (no water mesh, no camera grid) end where their rays do.
     .holds_boundary = [](const Scene& s) { return s.water_mesh_per_wavelength.has_value() || s.camera_grid.has_value(); },
-    .whitewater = gonzato_whitewater,
-    .whitewater_source = "gonzato breaking",
+    .whitewater = [](const Scene& s, const ScenePlan& p) { return strip_motion(s).whitewater(s, p); },
+    .whitewater_source = [](const Scene& s) { return strip_motion(s).whitewater_source; },
     .long_shot_keys = kWindSeaLoopKeys,
 };
 
+const StripMotion& strip_motion(const Scene& s) {
+    for (const StripMotion* m : kStripMotions)
+        if (m->chosen(s)) return *m;
+    throw InternalError("no strip motion chosen (the last is every scene's)");
+}
+
+const std::vector<std::uint32_t>& strip_triangles(const ScenePlan& p) {
+    if (p.camera_grid.vertex_count() > 0) return p.camera_grid.triangles;
+    return p.water_mesh.vertex_count() > 0 ? p.water_mesh.triangles : p.strips.triangles;
+}
+
 }  // namespace wave::detail
+
+namespace wave {
+
+std::string_view strip_motion_name(const Scene& scene) {
+    return scene.surface_kind == SurfaceKind::ray_strips ? detail::strip_motion(scene).title : std::string_view{};
+}
+
+}  // namespace wave

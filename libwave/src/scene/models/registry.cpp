@@ -40,7 +40,7 @@ std::vector<std::string> whitewater_sources(const Scene& scene) {
     std::vector<std::string> sources;
     if (!scene.whitewater) return sources;
     const detail::SurfaceModel& m = detail::surface_model(scene.surface_kind);
-    if (m.whitewater) sources.emplace_back(scene.breakers ? "breakers" : m.whitewater_source);
+    if (m.whitewater) sources.emplace_back(m.whitewater_source(scene));
     if (scene.ocean) sources.emplace_back("wind sea folds");
     return sources;
 }
