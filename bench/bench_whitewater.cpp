@@ -29,6 +29,23 @@ void BM_whitewater_advance(benchmark::State& state) {
     const wave::WhitewaterEvents e = beach_events();
     const wave::WhitewaterOptions o;
     wave::WhitewaterPoints p;
+    wave::WhitewaterWorkspace work;  // as a run of frames holds it
+    double t = 10.0;
+    for (auto _ : state) {
+        wave::evaluate_whitewater(e, o, t, p, work);
+        t += 1.0 / 24.0;
+        benchmark::DoNotOptimize(p.positions.data());
+    }
+    state.counters["particles"] = static_cast<double>(p.count());
+}
+BENCHMARK(BM_whitewater_advance)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The peer: the same frames without a workspace (every frame allocates and faults in its
+// blocks' buffers again).
+void BM_whitewater_advance_no_workspace(benchmark::State& state) {
+    const wave::WhitewaterEvents e = beach_events();
+    const wave::WhitewaterOptions o;
+    wave::WhitewaterPoints p;
     double t = 10.0;
     for (auto _ : state) {
         wave::evaluate_whitewater(e, o, t, p);
@@ -37,7 +54,7 @@ void BM_whitewater_advance(benchmark::State& state) {
     }
     state.counters["particles"] = static_cast<double>(p.count());
 }
-BENCHMARK(BM_whitewater_advance)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_whitewater_advance_no_workspace)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_whitewater_write(benchmark::State& state) {
     const wave::WhitewaterEvents e = beach_events();

@@ -150,6 +150,28 @@ void check_whitewater_bound(const WhitewaterEvents& events, const WhitewaterOpti
 /// check_whitewater_bound.
 void evaluate_whitewater(const WhitewaterEvents& events, const WhitewaterOptions& options, double t, WhitewaterPoints& out);
 
+/// evaluate_whitewater's buffers between the particles' making and their copy into the
+/// output, kept from one frame to the next: a run of frames passes the same workspace
+/// and allocates (and faults in) none of them again. One per thread that evaluates.
+class WhitewaterWorkspace {
+public:
+    WhitewaterWorkspace();   ///< empty: grown by the first evaluation
+    ~WhitewaterWorkspace();  ///< frees the buffers
+    WhitewaterWorkspace(WhitewaterWorkspace&&) noexcept;             ///< moves the buffers
+    WhitewaterWorkspace& operator=(WhitewaterWorkspace&&) noexcept;  ///< moves the buffers
+    WhitewaterWorkspace(const WhitewaterWorkspace&) = delete;             ///< not copyable: one per thread
+    WhitewaterWorkspace& operator=(const WhitewaterWorkspace&) = delete;  ///< not copyable
+    struct Impl;
+    Impl& impl() noexcept { return *impl_; }  ///< the buffers (whitewater.cpp)
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
+
+/// evaluate_whitewater with its buffers from `workspace` (the same output, bit for bit).
+void evaluate_whitewater(const WhitewaterEvents& events, const WhitewaterOptions& options, double t, WhitewaterPoints& out,
+                         WhitewaterWorkspace& workspace);
+
 /// The surface the particles ride: its rest positions and triangles (kept by reference:
 /// the spans must outlive it), located once.
 struct WhitewaterRide {

@@ -128,6 +128,7 @@ struct FrameRun {
     // sea's whitecaps as events (from the fold foam's window of past samples).
     std::optional<WhitewaterRide> ride{};
     WhitewaterPoints points{}, fold_points{};
+    WhitewaterWorkspace whitewater_work{};  // evaluate_whitewater's buffers, kept between frames
     WhitewaterEvents fold_events{};
     std::vector<std::pair<long long, const FoldSample*>> fold_window{};
     double fold_step = 0.0;
@@ -340,11 +341,11 @@ void fold_events(FrameRun& r) {
 // foam `fc` when shaded (the smooth band takes their patches); the frame's POINTS file.
 void whitewater_frame(FrameRun& r, double t, std::span<const float> pc, std::span<float> fc, SceneAnimation& a, std::size_t f) {
     const WhitewaterOptions& o = *r.scene.whitewater;
-    evaluate_whitewater(r.plan.whitewater, o, t, r.points);
+    evaluate_whitewater(r.plan.whitewater, o, t, r.points, r.whitewater_work);
     ride_whitewater(*r.ride, pc, r.points);
     fold_events(r);
     if (r.fold_events.size() > 0) {
-        evaluate_whitewater(r.fold_events, o, t, r.fold_points);
+        evaluate_whitewater(r.fold_events, o, t, r.fold_points, r.whitewater_work);
         ride_whitewater(*r.ride, pc, r.fold_points, true);
         const auto append = [](auto& to, const auto& from) { to.insert(to.end(), from.begin(), from.end()); };
         append(r.points.positions, r.fold_points.positions);

@@ -159,35 +159,48 @@ struct Particle {
     WhitewaterKind kind;
 };
 
-// Spray j of event i at age a (false: it has landed or lived its life).
-bool spray_particle(const WhitewaterEvents& e, const WhitewaterOptions& o, std::size_t i, std::uint64_t h, double a,
+// What every spray particle of an event at one age shares: the event's throw and the
+// drag's decay over the age.
+struct SprayAge {
+    double a, lift, decay, reach, drop;
+};
+
+SprayAge spray_age(const WhitewaterEvents& e, const WhitewaterOptions& o, std::size_t i, double a) noexcept {
+    // Linear drag k: v = v0 e^{−ka} − (g/k)(1 − e^{−ka}) ẑ, its integral for p.
+    // decay = e^{−ka}, reach = ∫ e^{−ks} ds over [0, a], drop = g ∫ (1 − e^{−ks})/k ds;
+    // without drag plain ballistics.
+    const double k = o.spray_drag;
+    const bool dragged = k > 1e-9;
+    const double decay = dragged ? std::exp(-k * a) : 1.0;
+    const double reach = dragged ? (1.0 - decay) / k : a;
+    const double drop = dragged ? kGravity / k * (a - reach) : 0.5 * kGravity * a * a;
+    return {a, o.spray_lift * std::sqrt(kGravity * std::max(0.0, static_cast<double>(e.height[i]))), decay, reach, drop};
+}
+
+// Spray j of event i at an age (false: it has landed or lived its life).
+bool spray_particle(const WhitewaterEvents& e, const WhitewaterOptions& o, std::size_t i, std::uint64_t h, const SprayAge& age,
                     Particle& out) noexcept {
+    const double a = age.a;
+    const double life = o.spray_life * (0.5 + 0.5 * draw(h, 7));
+    if (a >= life) return false;
     const double c = e.speed[i], height = e.height[i], len = e.length[i];
     const double dx = e.dir_x[i], dy = e.dir_y[i];
     // Thrown from the lip: forward at 0.7 … 1.3 c (a plunging jet reaches ~1.3 c), up
     // by spray_lift · sqrt(g H), a little sideways; spread along the crest.
     const double along = (draw(h, 1) - 0.5) * len, ahead = draw(h, 2) * 0.3 * height;
     const double forward = c * (0.7 + 0.6 * draw(h, 3)), side = 0.15 * c * bell(h, 4);
-    const double up = o.spray_lift * std::sqrt(kGravity * std::max(0.0, height)) * (0.25 + 0.75 * draw(h, 5));
+    const double up = age.lift * (0.25 + 0.75 * draw(h, 5));
     const double v0[3] = {forward * dx - side * dy, forward * dy + side * dx, up};
     const double p0[3] = {e.x[i] + ahead * dx - along * dy, e.y[i] + ahead * dy + along * dx, e.z[i] + 0.1 * height * draw(h, 6)};
-    const double life = o.spray_life * (0.5 + 0.5 * draw(h, 7));
-    if (a >= life) return false;
-    // Linear drag k: v = v0 e^{−ka} − (g/k)(1 − e^{−ka}) ẑ, its integral for p.
     const double k = o.spray_drag;
-    // decay = e^{−ka}, reach = ∫ e^{−ks} ds over [0, a], drop = g ∫ (1 − e^{−ks})/k ds;
-    // without drag plain ballistics.
     const bool dragged = k > 1e-9;
-    const double decay = dragged ? std::exp(-k * a) : 1.0;
-    const double reach = dragged ? (1.0 - decay) / k : a;
-    const double drop = dragged ? kGravity / k * (a - reach) : 0.5 * kGravity * a * a;
-    const double z = p0[2] + v0[2] * reach - drop;
+    const double z = p0[2] + v0[2] * age.reach - age.drop;
     const double still = e.z[i] - 0.75 * height;  // the still-water level under the crest
     if (z < still) return false;                  // landed
-    const double vz = v0[2] * decay - (dragged ? kGravity / k * (1.0 - decay) : kGravity * a);
-    out.p[0] = static_cast<float>(p0[0] + v0[0] * reach), out.p[1] = static_cast<float>(p0[1] + v0[1] * reach);
+    const double vz = v0[2] * age.decay - (dragged ? kGravity / k * (1.0 - age.decay) : kGravity * a);
+    out.p[0] = static_cast<float>(p0[0] + v0[0] * age.reach), out.p[1] = static_cast<float>(p0[1] + v0[1] * age.reach);
     out.p[2] = static_cast<float>(z);
-    out.v[0] = static_cast<float>(v0[0] * decay), out.v[1] = static_cast<float>(v0[1] * decay), out.v[2] = static_cast<float>(vz);
+    out.v[0] = static_cast<float>(v0[0] * age.decay), out.v[1] = static_cast<float>(v0[1] * age.decay), out.v[2] = static_cast<float>(vz);
     out.age = static_cast<float>(a);
     out.size = static_cast<float>(0.04 + 0.08 * draw(h, 8));  // a clump of droplets, as a renderer draws it
     out.kind = WhitewaterKind::spray;
@@ -286,9 +299,22 @@ bool foam_particle(const WhitewaterEvents& e, const WhitewaterOptions& o, std::s
     return true;
 }
 
-// Bubble j of event i at age a: carried under the breaking crest, rising, dissolving.
-bool bubble_particle(const WhitewaterEvents& e, const WhitewaterOptions& o, std::size_t i, std::uint64_t h, double a,
+// What every bubble of an event at one age shares: the bore's push and the spread's
+// scale.
+struct BubbleAge {
+    double a;
+    Push push;
+    double spread;
+};
+
+BubbleAge bubble_age(const WhitewaterEvents& e, std::size_t i, double a) noexcept {
+    return {a, bore_push(e.speed[i], 0.8, 1.0, a), 0.1 * std::sqrt(a)};
+}
+
+// Bubble j of event i at an age: carried under the breaking crest, rising, dissolving.
+bool bubble_particle(const WhitewaterEvents& e, const WhitewaterOptions& o, std::size_t i, std::uint64_t h, const BubbleAge& age,
                      Particle& out) noexcept {
+    const double a = age.a;
     const double life = o.bubble_life * (0.4 + 0.6 * draw(h, 1));
     const double depth0 = std::max(0.0, static_cast<double>(e.height[i])) * (0.15 + 0.65 * draw(h, 2));
     const double rise = 0.1 + 0.25 * draw(h, 3);
@@ -296,8 +322,8 @@ bool bubble_particle(const WhitewaterEvents& e, const WhitewaterOptions& o, std:
     if (a >= life || depth <= 0.0) return false;
     const double len = e.length[i], dx = e.dir_x[i], dy = e.dir_y[i];
     const double along = (draw(h, 4) - 0.5) * len, across = (draw(h, 5) - 0.5) * len;
-    const Push push = bore_push(e.speed[i], 0.8, 1.0, a);
-    const double s_across = across + push.distance + 0.1 * std::sqrt(a) * bell(h, 6);
+    const Push& push = age.push;
+    const double s_across = across + push.distance + age.spread * bell(h, 6);
     out.p[0] = static_cast<float>(e.x[i] + s_across * dx - along * dy);
     out.p[1] = static_cast<float>(e.y[i] + s_across * dy + along * dx);
     out.p[2] = static_cast<float>(-depth);  // below the surface (ride_whitewater)
@@ -319,8 +345,9 @@ void event_particles(const WhitewaterEvents& e, const WhitewaterOptions& o, std:
     const double foam_life = o.foam_life > 0.0 ? o.foam_life : std::numeric_limits<double>::infinity();
     if (c.spray > 0)
         for_each_age(e, i, t, o.spray_life, [&](double a) {
+            const SprayAge age = spray_age(e, o, i, a);
             for (std::uint32_t j = 0; j < c.spray; ++j)
-                if (spray_particle(e, o, i, splitmix64(key ^ (0x5B7A7ull + j)), a, q)) f(q);
+                if (spray_particle(e, o, i, splitmix64(key ^ (0x5B7A7ull + j)), age, q)) f(q);
         });
     if (c.foam > 0) {
         const std::uint32_t per_patch = std::max<std::uint32_t>(1, o.foam_patch);
@@ -336,8 +363,9 @@ void event_particles(const WhitewaterEvents& e, const WhitewaterOptions& o, std:
     }
     if (c.bubbles > 0)
         for_each_age(e, i, t, o.bubble_life, [&](double a) {
+            const BubbleAge age = bubble_age(e, i, a);
             for (std::uint32_t j = 0; j < c.bubbles; ++j)
-                if (bubble_particle(e, o, i, splitmix64(key ^ (0xB0BB1Eull + j)), a, q)) f(q);
+                if (bubble_particle(e, o, i, splitmix64(key ^ (0xB0BB1Eull + j)), age, q)) f(q);
         });
 }
 
@@ -440,7 +468,21 @@ std::size_t whitewater_bound(const WhitewaterEvents& e, const WhitewaterOptions&
 
 void check_whitewater_bound(const WhitewaterEvents& e, const WhitewaterOptions& o) { refuse_over_bound(whitewater_bound(e, o), o); }
 
+struct WhitewaterWorkspace::Impl {
+    std::vector<std::vector<Particle>> blocks;  // each block's particles, before they are copied out
+};
+WhitewaterWorkspace::WhitewaterWorkspace() : impl_(std::make_unique<Impl>()) {}
+WhitewaterWorkspace::~WhitewaterWorkspace() = default;
+WhitewaterWorkspace::WhitewaterWorkspace(WhitewaterWorkspace&&) noexcept = default;
+WhitewaterWorkspace& WhitewaterWorkspace::operator=(WhitewaterWorkspace&&) noexcept = default;
+
 void evaluate_whitewater(const WhitewaterEvents& e, const WhitewaterOptions& o, double t, WhitewaterPoints& out) {
+    WhitewaterWorkspace workspace;
+    evaluate_whitewater(e, o, t, out, workspace);
+}
+
+void evaluate_whitewater(const WhitewaterEvents& e, const WhitewaterOptions& o, double t, WhitewaterPoints& out,
+                         WhitewaterWorkspace& workspace) {
     // The events' counts once (the bound, the blocks' room and their particles use them).
     check(o, e);
     const std::vector<Counts> counts = all_counts(e, o);
@@ -448,13 +490,15 @@ void evaluate_whitewater(const WhitewaterEvents& e, const WhitewaterOptions& o, 
     if (!std::isfinite(t)) throw InputError("whitewater: the time must be finite");
     const std::size_t n = e.size();
     // One pass: each fixed block of events (not the scheduler's) writes its particles to
-    // a buffer of its own; then the buffers are copied out at their offsets. The order is
-    // the events' for any thread count.
+    // a buffer of its own (the workspace's, kept between frames); then the buffers are
+    // copied out at their offsets. The order is the events' for any thread count.
     constexpr std::size_t block = 512;
     const std::size_t blocks = (n + block - 1) / block;
-    std::vector<std::vector<Particle>> made(blocks);
+    std::vector<std::vector<Particle>>& made = workspace.impl().blocks;
+    made.resize(blocks);
     tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
         std::vector<Particle>& mine = made[b];
+        mine.clear();
         // Room for every particle the block's events can have alive (their counts, once
         // per age the loop allows): no growth while they are made.
         std::size_t most = 0;
@@ -476,7 +520,6 @@ void evaluate_whitewater(const WhitewaterEvents& e, const WhitewaterOptions& o, 
     tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
         std::size_t k = offset[b];
         for (const Particle& q : made[b]) put(out, k++, q);
-        std::vector<Particle>().swap(made[b]);
     });
 }
 
