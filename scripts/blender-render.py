@@ -11,7 +11,8 @@
 # (m; 0 for none; unset: the add-on's default); LIBWAVE_NO_FOAM=1 renders the water's
 # shape alone: no foam in its material and no whitewater particles; LIBWAVE_FOAM_SHEETS=0
 # leaves the foam particles' lace sheets out (the water's own foam, spray and bubbles stay); LIBWAVE_SIZE=WxH the
-# image size, default 640x360; LIBWAVE_SAMPLES=N Cycles' samples, default 16.)
+# image size, default 640x360; LIBWAVE_SAMPLES=N Cycles' samples, default 16; LIBWAVE_EXPOSURE=STOPS the
+# view's exposure, else metered through the camera at the frame rendered (the add-on's meter).)
 # The add-on imports the water (positions, foam, reflect, refract per frame), the
 # seafloor, camera and sun the .glb carries and its physical sky; this script renders
 # (LIBWAVE_FLAT_SKY=1: a flat blue background instead of the add-on's sky, as before).
@@ -76,6 +77,11 @@ if os.environ.get("LIBWAVE_FLAT_SKY") == "1" or scene.world is None:  # the add-
     world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.45, 0.6, 0.8, 1.0)
     world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.8
     scene.world = world
+scene.frame_set(frame)
+if "LIBWAVE_EXPOSURE" in os.environ:  # the view's exposure (stops)
+    scene.view_settings.exposure = float(os.environ["LIBWAVE_EXPOSURE"])
+elif os.environ.get("LIBWAVE_FLAT_SKY") != "1":  # metered through the camera used, at the frame rendered
+    bpy.ops.scene.libwave_meter_exposure()
 scene.render.engine = "CYCLES"
 scene.cycles.device = "CPU"
 scene.cycles.samples = int(os.environ.get("LIBWAVE_SAMPLES", "16"))

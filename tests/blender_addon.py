@@ -326,6 +326,33 @@ def check_whitewater(folder, scene, water, expected):
         errors.append(f"{folder}: frame {k} has no whitewater to check")
 
 
+def check_meter(path, scene, imported_exposure):
+    """The exposure meter (exposure.py): the import that made the sky metered through the
+    file's camera (a daylight scene's exposure below 0 stops: the physical sky is bright);
+    through a camera that sees only a uniform background of linear RGB c the log-average
+    luminance is exactly c's Rec. 709 luminance L, and the meter sets log2(0.18 / L)."""
+    if not (-16.0 <= imported_exposure < -0.25):
+        errors.append(f"{path}: the import metered an exposure of {imported_exposure} stops (a daylight sky wants less than 0)")
+    colour, strength = (0.3, 0.5, 0.9), 2.0
+    background = scene.world.node_tree.nodes["Background"]
+    background.inputs["Color"].default_value = (*colour, 1.0)
+    background.inputs["Strength"].default_value = strength
+    hidden = [o for o in scene.objects if o.type != "CAMERA" and not o.hide_render]
+    for o in hidden:
+        o.hide_render = True
+    try:
+        bpy.ops.scene.libwave_meter_exposure()
+    finally:
+        for o in hidden:
+            o.hide_render = False
+    luminance = strength * (0.2126 * colour[0] + 0.7152 * colour[1] + 0.0722 * colour[2])
+    expected = math.log2(0.18 / (1e-4 + luminance))
+    got = scene.view_settings.exposure
+    print(f"LIBWAVE-ADDON meter: imported {imported_exposure:+.2f} stops; uniform sky {got:+.3f} (expected {expected:+.3f})")
+    if abs(got - expected) > 0.02:
+        errors.append(f"{path}: the meter set {got} stops through a uniform sky of luminance {luminance}, expected {expected}")
+
+
 def check_file_normals(path, scene, expected):
     """Imported with the file's normals, every corner's normal at frames 1 and N/2 is its
     vertex's normal in the file (within 1°: the quantised base's int8 steps)."""
@@ -366,11 +393,13 @@ for folder in runs:
         bpy.context.scene.world = artist
     else:
         bpy.context.scene.world = None
+    bpy.context.scene.view_settings.exposure = 0.0
     result = bpy.ops.import_scene.libwave(filepath=path)
     if result != {"FINISHED"}:
         errors.append(f"{path}: import {result}")
         continue
     scene = bpy.context.scene
+    imported_exposure = scene.view_settings.exposure
     if artist is not None:
         if scene.world != artist:
             errors.append(f"{path}: the artist's world was replaced by {scene.world}")
@@ -475,6 +504,7 @@ for folder in runs:
             if min(sky, water_share, ground) < 0.05:
                 errors.append(f"{path}: the render lacks sky, water or seafloor: {sky}, {water_share}, {ground}")
             check_haze(folder, scene)
+            check_meter(path, scene, imported_exposure)
     if folder.endswith("morph") and os.path.isdir(os.path.join(folder, "whitewater")):
         check_whitewater(folder, scene, obj, expected)
     if folder.endswith(("morph", "quant", "files")):  # option "The file's normals": custom normals per frame

@@ -20,6 +20,7 @@ from bpy.props import BoolProperty, EnumProperty, FloatProperty, StringProperty
 from bpy_extras.io_utils import ImportHelper
 
 from . import bake as baking
+from . import exposure
 from . import frames
 from . import live
 from . import whitewater
@@ -515,7 +516,7 @@ def make_world(context, dressing, mode="AUTO", hdri=""):
 
 def import_animation(context, path, set_scene=True, caustics=True, bake=False, baked_colour=False, file_normals=False,
                      visibility=DEFAULT_VISIBILITY, sunbeams=True, sunbeam_strength=1.0, world="AUTO", hdri="",
-                     whitewater_points=True):
+                     whitewater_points=True, meter_exposure=True):
     """Creates the water object for `path` (a .glb/.gltf or index.json); with `set_scene`
     the scene's fps and frame range become the animation's; with `caustics` the caustic
     maps beside it (when the run wrote them) light the seafloor; with `bake` every frame
@@ -528,7 +529,9 @@ def import_animation(context, path, set_scene=True, caustics=True, bake=False, b
     `sunbeam_strength` times the single-scattering estimate; `world` and `hdri` as
     make_world takes them (the sky over the scene); with `whitewater_points` the
     whitewater particles beside it (when the run wrote them, /whitewater) drawn by
-    Geometry Nodes: spray droplets, foam lace, bubbles (docs/whitewater.md)."""
+    Geometry Nodes: spray droplets, foam lace, bubbles (docs/whitewater.md); with
+    `meter_exposure`, where the import made the sky and the scene has a camera, the
+    view's exposure metered through it (exposure.meter)."""
     anim = _animation(os.path.abspath(path))
     first = anim.frame(0)
     if bake:
@@ -558,11 +561,13 @@ def import_animation(context, path, set_scene=True, caustics=True, bake=False, b
         bpy.app.handlers.frame_change_post.append(_on_frame_change)
     if anim.dressing is not None:
         import_dressing(context, anim.dressing, anim.folder, caustics, visibility, sunbeams, sunbeam_strength)
-    make_world(context, anim.dressing, world, hdri)
+    sky = make_world(context, anim.dressing, world, hdri)
     if whitewater_points:
         whitewater.import_points(context, anim.folder, anim.frame_count, getattr(anim, "first_frame", 0), water=obj)
     if not bake:
         apply_frame(obj, scene.frame_current)
+    if meter_exposure and sky is not None:  # the add-on's own light: exposed for, as a camera meters it
+        exposure.meter(context)
     return obj
 
 
@@ -617,11 +622,17 @@ class ImportLibwave(bpy.types.Operator, ImportHelper):
                                          "bubbles) through Geometry Nodes: streaked droplets, sheets of foam lace on the water, "
                                          "faint specks (rendered by Cycles)")
 
+    meter_exposure: BoolProperty(name="Meter the exposure", default=True,
+                                 description="Where the import makes the sky: set the view's exposure from a small "
+                                             "render through the file's camera, as a camera's meter would (its "
+                                             "log-average luminance to middle grey); the physical sky is absolute, "
+                                             "a view into a low sun needs stops less than a noon beach")
+
     def execute(self, context):
         try:
             import_animation(context, self.filepath, self.set_scene, self.caustics, self.bake, self.baked_colour,
                              self.file_normals, self.visibility, self.sunbeams, self.sunbeam_strength, self.world,
-                             self.hdri, self.whitewater)
+                             self.hdri, self.whitewater, self.meter_exposure)
         except (OSError, KeyError, ValueError, frames.LibwaveFileError) as e:
             self.report({"ERROR"}, frames.printable(f"libwave: {e}"))
             return {"CANCELLED"}
@@ -634,6 +645,7 @@ def _menu(self, context):
 
 def register():
     live.register()
+    bpy.utils.register_class(exposure.MeterExposure)
     bpy.utils.register_class(ImportLibwave)
     bpy.types.TOPBAR_MT_file_import.append(_menu)
     if _on_frame_change not in bpy.app.handlers.frame_change_post:
@@ -649,4 +661,5 @@ def unregister():
         bpy.app.handlers.frame_change_post.remove(_on_frame_change)
     bpy.types.TOPBAR_MT_file_import.remove(_menu)
     bpy.utils.unregister_class(ImportLibwave)
+    bpy.utils.unregister_class(exposure.MeterExposure)
     live.unregister()
