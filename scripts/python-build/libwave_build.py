@@ -4,6 +4,12 @@ package built by CMake with the system toolchain (no download, no build dependen
 config settings (pip: --config-settings KEY=VALUE) or environment:
   build-dir / LIBWAVE_BUILD_DIR   the CMake build tree (default build/python); an existing
                                   tree (e.g. build/release) is reused as configured
+  installed / LIBWAVE_INSTALLED   "auto" (default): where CMake finds an installed libwave
+                                  of this version (its package config, e.g. under
+                                  CMAKE_PREFIX_PATH), only the module is built against it
+                                  (bindings-cli/python/CMakeLists.txt, tree build/python-module);
+                                  "no": always the whole library with the module
+`pip install -v .` shows the build's progress.
 """
 import base64
 import hashlib
@@ -33,6 +39,36 @@ def _build_dir(config_settings):
 def _run(cmd):
     print("libwave build:", " ".join(str(c) for c in cmd), file=sys.stderr, flush=True)
     subprocess.run([str(c) for c in cmd], check=True, cwd=ROOT)
+
+
+def _installed_package(config_settings):
+    """The package built against an installed libwave of this version, or None where
+    CMake finds none (or `installed` is "no")."""
+    mode = (config_settings or {}).get("installed") or os.environ.get("LIBWAVE_INSTALLED") or "auto"
+    if mode not in ("auto", "no"):
+        raise RuntimeError(f"libwave build: installed={mode!r}: expected auto or no")
+    if mode == "no":
+        return None
+    build_dir = ROOT / "build" / "python-module"
+    shutil.rmtree(build_dir, ignore_errors=True)  # found afresh: never an earlier run's libwave
+    cmd = ["cmake", "-S", ROOT / "bindings-cli" / "python", "-B", build_dir, "-DCMAKE_BUILD_TYPE=Release",
+           f"-DLIBWAVE_VERSION={_project()['version']}", f"-DPython3_EXECUTABLE={sys.executable}"]
+    if shutil.which("ninja"):
+        cmd += ["-G", "Ninja"]
+    if shutil.which("ccache"):
+        cmd += ["-DCMAKE_CXX_COMPILER_LAUNCHER=ccache"]
+    print("libwave build: looking for an installed libwave", _project()["version"], file=sys.stderr, flush=True)
+    found = subprocess.run([str(c) for c in cmd], cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    if found.returncode != 0:
+        shutil.rmtree(build_dir, ignore_errors=True)
+        print("libwave build: none found; building the library with the module", file=sys.stderr, flush=True)
+        return None
+    print("libwave build: found one; building the module alone against it", file=sys.stderr, flush=True)
+    _run(["cmake", "--build", build_dir, "--target", "libwave_python_package"])
+    package = build_dir / "python" / "libwave"
+    if not (package / "_libwave.pyi").exists():
+        raise RuntimeError(f"libwave build: {package} has no built package")
+    return package
 
 
 def _build_package(build_dir):
@@ -81,7 +117,8 @@ def prepare_metadata_for_build_wheel(metadata_directory, config_settings=None):
 
 def build_wheel(wheel_directory, config_settings=None, metadata_directory=None):
     project = _project()
-    package = _build_package(_build_dir(config_settings))
+    explicit = (config_settings or {}).get("build-dir") or os.environ.get("LIBWAVE_BUILD_DIR")
+    package = (None if explicit else _installed_package(config_settings)) or _build_package(_build_dir(config_settings))
     tag = _tag()
     name = f"{project['name']}-{project['version']}-{tag}.whl"
     info = _dist_info(project)
