@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <numbers>
@@ -123,6 +124,31 @@ TEST(WaterMesh, AnIslandIsAHoleBoundedByItsShoreline) {
         }
     }
     EXPECT_EQ(in.frames[0].facing_down, 0u);
+}
+
+TEST(WaterMesh, APondInlandIsLeftOutUnlessAskedAndAnEnclosedLakeIsKept) {
+    // Sea over x < 40 (5 m deep), land beyond it 2 m up, and in the land a pond of radius
+    // 10 m round (75, 30), 1 m deep: no water joins it to the domain's border.
+    const auto pond = [](double x, double y) { return std::hypot(x - 75.0, y - 30.0) < 10.0 ? 1.0 : -2.0; };
+    const Seafloor coast = grid_seafloor(100.0, 60.0, 1.0, [&](double x, double y) { return x < 40.0 ? 5.0 : pond(x, y); });
+    const auto in_pond = [](const WaterMesh& m) {
+        std::size_t n = 0;
+        for (std::size_t v = 0; v < m.vertex_count(); ++v) n += std::hypot(m.x[v] - 75.0, m.y[v] - 30.0) < 9.0 ? 1 : 0;
+        return n;
+    };
+    const auto sea_reaches = [](const WaterMesh& m) { return *std::max_element(m.x.begin(), m.x.end()); };
+    const WaterMesh open = mesh_water(coast, [](double, double) { return 3.0; });
+    EXPECT_EQ(in_pond(open), 0u) << "the inland pond was meshed";
+    EXPECT_LT(sea_reaches(open), 41.0);
+    EXPECT_GT(sea_reaches(open), 39.0);
+    WaterMeshOptions keep;
+    keep.inland_water = true;
+    const WaterMesh all = mesh_water(coast, [](double, double) { return 3.0; }, keep);
+    EXPECT_GT(in_pond(all), 10u);
+    EXPECT_GT(all.vertex_count(), open.vertex_count());
+    // A lake with land all round the border: the only water there is, kept.
+    const Seafloor lake = grid_seafloor(100.0, 60.0, 1.0, [&](double x, double y) { return pond(x, y); });
+    EXPECT_GT(in_pond(mesh_water(lake, [](double, double) { return 3.0; })), 10u);
 }
 
 TEST(WaterMesh, SameMeshEveryTimeAndLimitsRefusedBeforeMeshing) {

@@ -194,6 +194,42 @@ std::vector<bool> wet_regions(CDT& cdt, const ElevationGrid& g) {
     return wet;
 }
 
+// The water regions (wet_regions, faces' info their region) joined to the domain's border
+// by water: a region with a vertex on the grid's rectangle, and every wet region that
+// shares a (constrained) edge with one of them — a region ends where a shoreline or a
+// constraint crossing the water does, so water is flooded region to region. Where no wet
+// region reaches the border, every wet one.
+std::vector<bool> open_water(const CDT& cdt, const ElevationGrid& g, const std::vector<bool>& wet) {
+    const double tol = 1e-9 * std::max({1.0, std::abs(g.x0), std::abs(g.x_max()), std::abs(g.y0), std::abs(g.y_max())});
+    const auto on_border = [&](const Point& q) {
+        return std::abs(q.x() - g.x0) <= tol || std::abs(q.x() - g.x_max()) <= tol || std::abs(q.y() - g.y0) <= tol ||
+               std::abs(q.y() - g.y_max()) <= tol;
+    };
+    std::vector<bool> open(wet.size(), false);
+    std::vector<std::vector<std::uint32_t>> next(wet.size());  // wet regions across a constrained edge
+    std::vector<std::uint32_t> stack;
+    for (CDT::Finite_faces_iterator f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+        const std::uint32_t r = f->info();
+        if (!wet[r]) continue;
+        if (!open[r] && (on_border(f->vertex(0)->point()) || on_border(f->vertex(1)->point()) || on_border(f->vertex(2)->point()))) {
+            open[r] = true;
+            stack.push_back(r);
+        }
+        for (int e = 0; e < 3; ++e) {
+            const CDT::Face_handle n = f->neighbor(e);
+            if (!cdt.is_infinite(n) && n->info() != r && wet[n->info()]) next[r].push_back(n->info());
+        }
+    }
+    if (stack.empty()) return wet;  // an enclosed basin: all its water
+    while (!stack.empty()) {
+        const std::uint32_t r = stack.back();
+        stack.pop_back();
+        for (const std::uint32_t n : next[r])
+            if (!open[n]) open[n] = true, stack.push_back(n);
+    }
+    return open;
+}
+
 }  // namespace
 
 WaterMesh mesh_water(const Seafloor& seafloor, const EdgeSize& size, const WaterMeshOptions& options) {
@@ -216,7 +252,8 @@ WaterMesh mesh_water(const Seafloor& seafloor, const EdgeSize& size, const Water
     CGAL::Delaunay_mesher_2<CDT, detail::CentroidSizeCriteria<CDT>> mesher(cdt, detail::CentroidSizeCriteria<CDT>(sine * sine, size_at));
     mesher.refine_mesh();
 
-    const std::vector<bool> wet = wet_regions(cdt, g);
+    std::vector<bool> wet = wet_regions(cdt, g);
+    if (!options.inland_water) wet = open_water(cdt, g, wet);
     for (CDT::Finite_vertices_iterator v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v) v->info() = kNone;
     WaterMesh mesh;
     for (CDT::Finite_faces_iterator f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
