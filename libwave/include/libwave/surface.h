@@ -110,11 +110,11 @@ struct WaterMeshOptions {
     /// below the mesh's resolution. 0 = twice the smallest target edge met on the grid.
     double min_ring_length = 0.0;
     std::size_t max_vertices = 20'000'000;  ///< refused (LimitError) before meshing when the estimate exceeds it
-    /// Keep water that no path through water joins to the domain's border (ponds and
-    /// hollows inland, below still water). False (the default): they are left out — the
-    /// swell cannot reach them, and a motion filled in from the nearest sea drew waves and
-    /// foam on puddles lying on the land. Where no water reaches the border at all (an
-    /// enclosed basin), every water region is kept.
+    /// Keep water that no path through water joins to the domain's border (hollows
+    /// inland below still water). False (the default): they are left out — the sea does
+    /// not fill them (land behind a dike is dry, a cut-off lagoon has its own level).
+    /// Where no water reaches the border at all (an enclosed basin), every water region
+    /// is kept.
     bool inland_water = false;
 };
 
