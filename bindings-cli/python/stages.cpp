@@ -483,9 +483,9 @@ void bind_surfaces(py::module_& m) {
     m.def(
         "mesh_water",
         [](const wave::Seafloor& seafloor, double period, double amplitude, double per_wavelength, double breaker_index,
-           double min_angle_deg, std::size_t max_vertices) {
+           double min_angle_deg, std::size_t max_vertices, bool inland_water) {
             wave::WaterMeshOptions o;
-            o.min_angle_deg = min_angle_deg, o.max_vertices = max_vertices;
+            o.min_angle_deg = min_angle_deg, o.max_vertices = max_vertices, o.inland_water = inland_water;
             const wave::EdgeSize size = wave::wavelength_edge_size(seafloor, train(period, amplitude, {0.0, 1.0}),
                                                                    per_wavelength, breaker_index);
             py::gil_scoped_release release;
@@ -493,9 +493,10 @@ void bind_surfaces(py::module_& m) {
         },
         py::arg("seafloor"), py::arg("period"), py::arg("amplitude"), py::arg("per_wavelength") = 16.0,
         py::arg("breaker_index") = wave::kBreakerIndex, py::arg("min_angle_deg") = 20.0,
-        py::arg("max_vertices") = 20'000'000,
+        py::arg("max_vertices") = 20'000'000, py::arg("inland_water") = false,
         "The water mesh sized by the train's local wavelength (per_wavelength vertices per wavelength, the depth no "
-        "shallower than where it breaks): the scenes' /surface/water_mesh");
+        "shallower than where it breaks): the scenes' /surface/water_mesh; inland_water keeps the hollows below still "
+        "water that no water joins to the domain's sides (left out by default)");
     m.def(
         "resample_ray_strips",
         [](const wave::RayStrips& strips, const wave::Seafloor& seafloor, const wave::WaterMesh& mesh) {
