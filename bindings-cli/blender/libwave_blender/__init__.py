@@ -567,7 +567,10 @@ def import_animation(context, path, set_scene=True, caustics=True, bake=False, b
     if not bake:
         apply_frame(obj, scene.frame_current)
     if meter_exposure and sky is not None:  # the add-on's own light: exposed for, as a camera meters it
-        exposure.meter(context)
+        try:
+            exposure.meter(context)
+        except (RuntimeError, OSError) as e:  # a render that fails leaves the exposure, never the import
+            print(frames.printable(f"libwave: the exposure was not metered: {e}"))
     return obj
 
 
