@@ -406,16 +406,23 @@ for folder in runs:
     elif scene.world is None or not scene.world.name.startswith("libwave sky"):
         errors.append(f"{path}: no sky world made ({scene.world})")
     else:
+        # Two Nishita skies: the one that lights (no disc: the lamp is the sun) and the
+        # one camera rays see (with the disc), switched by the light path's camera ray.
         skies = [nd for nd in scene.world.node_tree.nodes if nd.type == "TEX_SKY"]
         sun = bpy.data.objects.get("libwave sun")
-        if len(skies) != 1 or skies[0].sky_type != "NISHITA" or sun is None:
-            errors.append(f"{path}: the sky world has no Nishita sky texture, or there is no sun lamp")
-        else:  # the sky's sun direction is the lamp's (its +Z: it shines along −Z)
-            e, r = skies[0].sun_elevation, skies[0].sun_rotation
-            to_sun = np.array([-math.cos(e) * math.sin(r), math.cos(e) * math.cos(r), math.sin(e)])
+        paths = [nd for nd in scene.world.node_tree.nodes if nd.type == "LIGHT_PATH"]
+        if (len(skies) != 2 or any(sk.sky_type != "NISHITA" for sk in skies) or sun is None or
+                sorted(bool(sk.sun_disc) for sk in skies) != [False, True] or len(paths) != 1 or
+                not paths[0].outputs["Is Camera Ray"].is_linked):
+            errors.append(f"{path}: the sky world has not its two Nishita skies (lit without a disc, seen with one "
+                          f"by camera rays), or there is no sun lamp")
+        else:  # the skies' sun direction is the lamp's (its +Z: it shines along −Z)
             lamp = np.array(sun.matrix_world.col[2][:3])
-            if np.linalg.norm(to_sun - lamp / np.linalg.norm(lamp)) > 1e-4:
-                errors.append(f"{path}: the sky's sun points to {to_sun}, the lamp's to {lamp}")
+            for sk in skies:
+                e, r = sk.sun_elevation, sk.sun_rotation
+                to_sun = np.array([-math.cos(e) * math.sin(r), math.cos(e) * math.cos(r), math.sin(e)])
+                if np.linalg.norm(to_sun - lamp / np.linalg.norm(lamp)) > 1e-4:
+                    errors.append(f"{path}: the sky's sun points to {to_sun}, the lamp's to {lamp}")
     water = [o for o in scene.objects if o.type == "MESH" and "libwave_source" in o]
     expected = libwave.read_animation(path)
     frames, n = expected["frame_count"], expected["vertex_count"]

@@ -496,20 +496,42 @@ def make_world(context, dressing, mode="AUTO", hdri=""):
         tree.links.new(env.outputs["Color"], background.inputs["Color"])
         background.inputs["Strength"].default_value = 1.0
     else:
-        sky = tree.nodes.new("ShaderNodeTexSky")
-        sky.location = (-550, 0)
-        types = [item.identifier for item in sky.bl_rna.properties["sky_type"].enum_items]
-        sky.sky_type = "NISHITA" if "NISHITA" in types else types[-1]  # guarded: a later Blender may rename it
         if dressing is not None and dressing.sun is not None:
             elevation, rotation = sun_angles(dressing.sun[0])
         else:
             elevation, rotation = math.radians(30.0), 0.0
-        for name, value in (("sun_elevation", max(elevation, 0.0)), ("sun_rotation", rotation % (2.0 * math.pi)),
-                            ("sun_disc", False), ("altitude", 0.0)):
-            if hasattr(sky, name):
-                setattr(sky, name, value)
-        tree.links.new(sky.outputs["Color"], background.inputs["Color"])
+
+        def physical_sky(disc, y):
+            sky = tree.nodes.new("ShaderNodeTexSky")
+            sky.location = (-750, y)
+            sky.label = "sky seen (sun disc)" if disc else "sky lighting (no disc: the lamp is the sun)"
+            types = [item.identifier for item in sky.bl_rna.properties["sky_type"].enum_items]
+            sky.sky_type = "NISHITA" if "NISHITA" in types else types[-1]  # guarded: a later Blender may rename it
+            for name, value in (("sun_elevation", max(elevation, 0.0)), ("sun_rotation", rotation % (2.0 * math.pi)),
+                                ("sun_disc", disc), ("altitude", 0.0)):
+                if hasattr(sky, name):
+                    setattr(sky, name, value)
+            return sky
+
+        # The sky lights the scene without a disc (the sun lamp is the sun: no second
+        # one); the camera sees the same sky with the sun's disc in it, as a photograph
+        # of a low sun shows it. Only camera rays see the disc: it lights nothing.
+        lit, seen = physical_sky(False, 150), physical_sky(True, -150)
+        background.location = (-250, 150)
+        tree.links.new(lit.outputs["Color"], background.inputs["Color"])
         background.inputs["Strength"].default_value = SKY_STRENGTH
+        camera_background = tree.nodes.new("ShaderNodeBackground")
+        camera_background.location = (-250, -150)
+        tree.links.new(seen.outputs["Color"], camera_background.inputs["Color"])
+        camera_background.inputs["Strength"].default_value = SKY_STRENGTH
+        path = tree.nodes.new("ShaderNodeLightPath")
+        path.location = (-250, 400)
+        mix = tree.nodes.new("ShaderNodeMixShader")
+        mix.location = (0, 0)
+        tree.links.new(path.outputs["Is Camera Ray"], mix.inputs["Fac"])
+        tree.links.new(background.outputs["Background"], mix.inputs[1])
+        tree.links.new(camera_background.outputs["Background"], mix.inputs[2])
+        tree.links.new(mix.outputs["Shader"], out.inputs["Surface"])
     scene.world = world
     return world
 
