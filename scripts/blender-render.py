@@ -36,7 +36,8 @@ if "LIBWAVE_SUNBEAM_STRENGTH" in os.environ:
     haze["sunbeam_strength"] = float(os.environ["LIBWAVE_SUNBEAM_STRENGTH"])
 bpy.ops.import_scene.libwave(filepath=source, caustics=os.environ.get("LIBWAVE_NO_CAUSTICS") != "1", bake=bool(bake),
                              file_normals=os.environ.get("LIBWAVE_FILE_NORMALS") == "1",
-                             sunbeams=os.environ.get("LIBWAVE_NO_SUNBEAMS") != "1", **haze)
+                             sunbeams=os.environ.get("LIBWAVE_NO_SUNBEAMS") != "1",
+                             meter_exposure=False, **haze)  # metered below, through the camera and frame rendered
 scene = bpy.context.scene
 if os.environ.get("LIBWAVE_NO_FOAM") == "1":  # the water's shape alone: no foam in the material, no whitewater
     for obj in list(scene.objects):
@@ -80,7 +81,9 @@ if os.environ.get("LIBWAVE_FLAT_SKY") == "1" or scene.world is None:  # the add-
 scene.frame_set(frame)
 if "LIBWAVE_EXPOSURE" in os.environ:  # the view's exposure (stops)
     scene.view_settings.exposure = float(os.environ["LIBWAVE_EXPOSURE"])
-elif os.environ.get("LIBWAVE_FLAT_SKY") != "1":  # metered through the camera used, at the frame rendered
+elif os.environ.get("LIBWAVE_FLAT_SKY") == "1":  # as before the meter
+    scene.view_settings.exposure = 0.0
+else:  # metered through the camera used, at the frame rendered
     bpy.ops.scene.libwave_meter_exposure()
 scene.render.engine = "CYCLES"
 scene.cycles.device = "CPU"

@@ -7,8 +7,10 @@ config settings (pip: --config-settings KEY=VALUE) or environment:
   installed / LIBWAVE_INSTALLED   "auto" (default): where CMake finds an installed libwave
                                   of this version (its package config, e.g. under
                                   CMAKE_PREFIX_PATH), only the module is built against it
-                                  (bindings-cli/python/CMakeLists.txt, tree build/python-module);
-                                  "no": always the whole library with the module
+                                  (bindings-cli/python/CMakeLists.txt, tree build/python-module)
+                                  when its public headers are this tree's, byte for byte;
+                                  "no": always the whole library with the module. A
+                                  build-dir given turns the search off (that tree is used)
 `pip install -v .` shows the build's progress.
 """
 import base64
@@ -61,10 +63,18 @@ def _installed_package(config_settings):
     found = subprocess.run([str(c) for c in cmd], cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     if found.returncode != 0:
         shutil.rmtree(build_dir, ignore_errors=True)
-        print("libwave build: none found; building the library with the module", file=sys.stderr, flush=True)
+        why = ("one found, but its public headers are not this tree's" if "not this tree's libwave" in found.stdout
+               else "none found")
+        print(f"libwave build: {why}; building the library with the module", file=sys.stderr, flush=True)
         return None
     print("libwave build: found one; building the module alone against it", file=sys.stderr, flush=True)
-    _run(["cmake", "--build", build_dir, "--target", "libwave_python_package"])
+    try:
+        _run(["cmake", "--build", build_dir, "--target", "libwave_python_package"])
+    except subprocess.CalledProcessError:
+        shutil.rmtree(build_dir, ignore_errors=True)
+        print("libwave build: the module did not build against it; building the library with the module",
+              file=sys.stderr, flush=True)
+        return None
     package = build_dir / "python" / "libwave"
     if not (package / "_libwave.pyi").exists():
         raise RuntimeError(f"libwave build: {package} has no built package")

@@ -591,7 +591,7 @@ def import_animation(context, path, set_scene=True, caustics=True, bake=False, b
     if meter_exposure and sky is not None:  # the add-on's own light: exposed for, as a camera meters it
         try:
             exposure.meter(context)
-        except (RuntimeError, OSError) as e:  # a render that fails leaves the exposure, never the import
+        except Exception as e:  # noqa: BLE001 — a meter that fails leaves the exposure, never the import
             print(frames.printable(f"libwave: the exposure was not metered: {e}"))
     return obj
 

@@ -13,7 +13,7 @@ import bpy
 import numpy as np
 
 MIDDLE_GREY = 0.18          # the key a meter brings the log-average luminance to
-METER_SIZE = (64, 36)       # the meter's image (pixels): enough for a mean, a fraction of a second
+METER_PIXELS = 64           # the meter's image along its long side (pixels; the render's aspect kept)
 METER_SAMPLES = 8           # Cycles' samples for it (noise averages out over the pixels)
 EXPOSURE_RANGE = (-16.0, 16.0)  # stops: beyond them the picture is black or white whatever the meter says
 _DELTA = 1e-4               # keeps log() finite on black pixels (Reinhard's δ)
@@ -36,10 +36,11 @@ def exposure_for(key):
 
 def _settings(scene):
     r, c = scene.render, getattr(scene, "cycles", None)
-    kept = {(r, "engine"): r.engine, (r, "resolution_x"): r.resolution_x, (r, "resolution_y"): r.resolution_y,
-            (r, "resolution_percentage"): r.resolution_percentage, (r, "filepath"): r.filepath,
-            (r, "use_motion_blur"): r.use_motion_blur, (r.image_settings, "file_format"): r.image_settings.file_format,
-            (r.image_settings, "color_depth"): r.image_settings.color_depth}
+    kept = {(r, name): getattr(r, name)
+            for name in ("engine", "resolution_x", "resolution_y", "resolution_percentage", "filepath", "use_motion_blur",
+                         "film_transparent", "use_border", "use_compositing", "use_sequencer")}
+    for name in ("file_format", "color_mode", "color_depth"):
+        kept[(r.image_settings, name)] = getattr(r.image_settings, name)
     if c is not None:
         for name in ("samples", "use_denoising", "use_adaptive_sampling"):
             if hasattr(c, name):
@@ -67,11 +68,22 @@ def meter(context):
     image = None
     try:
         r = scene.render
+        # The render's framing (its aspect, pixel aspect included) at METER_PIXELS on
+        # the long side; the sky drawn (not a transparent film), the whole frame (no
+        # border), the camera's own pixels (no compositor, no sequencer).
+        wide = r.resolution_x * r.pixel_aspect_x >= r.resolution_y * r.pixel_aspect_y
+        ratio = (r.resolution_y / max(r.resolution_x, 1)) if wide else (r.resolution_x / max(r.resolution_y, 1))
+        short = max(1, round(METER_PIXELS * ratio))
         r.engine = "CYCLES"
-        r.resolution_x, r.resolution_y = METER_SIZE
+        r.resolution_x, r.resolution_y = (METER_PIXELS, short) if wide else (short, METER_PIXELS)
         r.resolution_percentage = 100
         r.use_motion_blur = False
+        r.film_transparent = False
+        r.use_border = False
+        r.use_compositing = False
+        r.use_sequencer = False
         r.image_settings.file_format = "OPEN_EXR"  # scene-linear, before the view transform
+        r.image_settings.color_mode = "RGBA"
         r.image_settings.color_depth = "32"
         r.filepath = path
         c = scene.cycles
@@ -83,7 +95,8 @@ def meter(context):
         image = bpy.data.images.load(path, check_existing=False)
         pixels = np.empty(len(image.pixels), np.float32)
         image.pixels.foreach_get(pixels)
-        rgb = pixels.reshape(-1, 4)[:, :3]
+        channels = max(1, int(image.channels))
+        rgb = pixels.reshape(-1, channels)[:, :3] if channels >= 3 else np.repeat(pixels.reshape(-1, channels)[:, :1], 3, axis=1)
         if not np.isfinite(rgb).all():
             rgb = np.nan_to_num(rgb, nan=0.0, posinf=0.0, neginf=0.0)
         exposure = exposure_for(log_average(rgb))

@@ -157,7 +157,7 @@ class WhitewaterWorkspace {
 public:
     WhitewaterWorkspace();   ///< empty: grown by the first evaluation
     ~WhitewaterWorkspace();  ///< frees the buffers
-    WhitewaterWorkspace(WhitewaterWorkspace&&) noexcept;             ///< moves the buffers
+    WhitewaterWorkspace(WhitewaterWorkspace&&) noexcept;             ///< moves the buffers (the moved-from one may only be assigned or destroyed)
     WhitewaterWorkspace& operator=(WhitewaterWorkspace&&) noexcept;  ///< moves the buffers
     WhitewaterWorkspace(const WhitewaterWorkspace&) = delete;             ///< not copyable: one per thread
     WhitewaterWorkspace& operator=(const WhitewaterWorkspace&) = delete;  ///< not copyable

@@ -40,7 +40,7 @@ std::vector<std::string> whitewater_sources(const Scene& scene) {
     std::vector<std::string> sources;
     if (!scene.whitewater) return sources;
     const detail::SurfaceModel& m = detail::surface_model(scene.surface_kind);
-    if (m.whitewater) sources.emplace_back(m.whitewater_source(scene));
+    if (m.whitewater) sources.emplace_back(m.whitewater_source ? m.whitewater_source(scene) : m.name);
     if (scene.ocean) sources.emplace_back("wind sea folds");
     return sources;
 }
