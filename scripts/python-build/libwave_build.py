@@ -32,8 +32,13 @@ def _project():
         return tomllib.load(f)["project"]
 
 
+def _asked_build_dir(config_settings):
+    """The build tree the caller named (build-dir / LIBWAVE_BUILD_DIR), or None."""
+    return (config_settings or {}).get("build-dir") or os.environ.get("LIBWAVE_BUILD_DIR")
+
+
 def _build_dir(config_settings):
-    d = (config_settings or {}).get("build-dir") or os.environ.get("LIBWAVE_BUILD_DIR") or "build/python"
+    d = _asked_build_dir(config_settings) or "build/python"
     p = pathlib.Path(d)
     return p if p.is_absolute() else ROOT / p
 
@@ -127,8 +132,8 @@ def prepare_metadata_for_build_wheel(metadata_directory, config_settings=None):
 
 def build_wheel(wheel_directory, config_settings=None, metadata_directory=None):
     project = _project()
-    explicit = (config_settings or {}).get("build-dir") or os.environ.get("LIBWAVE_BUILD_DIR")
-    package = (None if explicit else _installed_package(config_settings)) or _build_package(_build_dir(config_settings))
+    package = (None if _asked_build_dir(config_settings) else _installed_package(config_settings)) or \
+        _build_package(_build_dir(config_settings))
     tag = _tag()
     name = f"{project['name']}-{project['version']}-{tag}.whl"
     info = _dist_info(project)

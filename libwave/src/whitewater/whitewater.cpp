@@ -160,9 +160,9 @@ struct Particle {
 };
 
 // What every spray particle of an event at one age shares: the event's throw and the
-// drag's decay over the age.
+// drag's decay over the age (`fall`: the speed gravity took, against the drag).
 struct SprayAge {
-    double a, lift, decay, reach, drop;
+    double a, lift, decay, reach, drop, fall;
 };
 
 SprayAge spray_age(const WhitewaterEvents& e, const WhitewaterOptions& o, std::size_t i, double a) noexcept {
@@ -174,7 +174,8 @@ SprayAge spray_age(const WhitewaterEvents& e, const WhitewaterOptions& o, std::s
     const double decay = dragged ? std::exp(-k * a) : 1.0;
     const double reach = dragged ? (1.0 - decay) / k : a;
     const double drop = dragged ? kGravity / k * (a - reach) : 0.5 * kGravity * a * a;
-    return {a, o.spray_lift * std::sqrt(kGravity * std::max(0.0, static_cast<double>(e.height[i]))), decay, reach, drop};
+    const double fall = dragged ? kGravity / k * (1.0 - decay) : kGravity * a;
+    return {a, o.spray_lift * std::sqrt(kGravity * std::max(0.0, static_cast<double>(e.height[i]))), decay, reach, drop, fall};
 }
 
 // Spray j of event i at an age (false: it has landed or lived its life).
@@ -192,12 +193,10 @@ bool spray_particle(const WhitewaterEvents& e, const WhitewaterOptions& o, std::
     const double up = age.lift * (0.25 + 0.75 * draw(h, 5));
     const double v0[3] = {forward * dx - side * dy, forward * dy + side * dx, up};
     const double p0[3] = {e.x[i] + ahead * dx - along * dy, e.y[i] + ahead * dy + along * dx, e.z[i] + 0.1 * height * draw(h, 6)};
-    const double k = o.spray_drag;
-    const bool dragged = k > 1e-9;
     const double z = p0[2] + v0[2] * age.reach - age.drop;
     const double still = e.z[i] - 0.75 * height;  // the still-water level under the crest
     if (z < still) return false;                  // landed
-    const double vz = v0[2] * age.decay - (dragged ? kGravity / k * (1.0 - age.decay) : kGravity * a);
+    const double vz = v0[2] * age.decay - age.fall;
     out.p[0] = static_cast<float>(p0[0] + v0[0] * age.reach), out.p[1] = static_cast<float>(p0[1] + v0[1] * age.reach);
     out.p[2] = static_cast<float>(z);
     out.v[0] = static_cast<float>(v0[0] * age.decay), out.v[1] = static_cast<float>(v0[1] * age.decay), out.v[2] = static_cast<float>(vz);

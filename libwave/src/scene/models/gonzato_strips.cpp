@@ -6,8 +6,6 @@
 namespace wave::detail {
 namespace {
 
-const RayStrips& moved_strips(const ScenePlan& p) { return p.water_strips.vertex_count() > 0 ? p.water_strips : p.strips; }
-
 // Gonzato's profile: where its breaking foam comes from (the same strips and options);
 // on a camera grid none.
 WhitewaterEvents whitewater(const Scene& scene, const ScenePlan& p) {

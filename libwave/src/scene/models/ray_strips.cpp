@@ -93,7 +93,7 @@ void plan(const Scene& scene, ScenePlan& p, PlanStages stages) {
         // Where the rays left gaps (the sides, shadows), the field's wave.
         if (!p.wave_fields.empty()) fill_strip_gaps(p.wave_fields[0], p.seafloor, p.water_strips);
     }
-    const RayStrips& moved = p.water_mesh.vertex_count() > 0 ? p.water_strips : p.strips;
+    const RayStrips& moved = moved_strips(p);
     motion.plan(scene, p, moved);
     const bool on_grid = p.camera_grid.vertex_count() > 0;
     p.rest_x = on_grid ? p.camera_grid.x : moved.x;
@@ -178,6 +178,8 @@ const StripMotion& strip_motion(const Scene& s) {
         if (m->chosen(s)) return *m;
     throw InternalError("no strip motion chosen (the last is every scene's)");
 }
+
+const RayStrips& moved_strips(const ScenePlan& p) { return p.water_strips.vertex_count() > 0 ? p.water_strips : p.strips; }
 
 const std::vector<std::uint32_t>& strip_triangles(const ScenePlan& p) {
     if (p.camera_grid.vertex_count() > 0) return p.camera_grid.triangles;

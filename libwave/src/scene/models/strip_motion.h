@@ -49,6 +49,9 @@ struct StripMotion {
 /// The motion the scene chooses for its strips.
 const StripMotion& strip_motion(const Scene& s);
 
+/// The strips the motion moves: the water mesh's resampled strips, else the traced ones.
+const RayStrips& moved_strips(const ScenePlan& plan);
+
 /// The triangles the strips' motion moves: the camera grid's, the water mesh's or the
 /// traced strips' own (SurfaceModel::triangles of the ray strips).
 const std::vector<std::uint32_t>& strip_triangles(const ScenePlan& plan);
