@@ -277,22 +277,54 @@ def check_whitewater(folder, scene, water, expected):
         return
     files = whitewater.sequence(folder)
     k = max(files, key=lambda f: os.path.getsize(files[f]))  # the busiest frame
-    # In the viewport plain points, one per particle, unless the modifier asks for the full look.
+    # In the viewport plain points, one per particle of the viewport's share (every
+    # share_step-th), unless the modifier asks for the full look; a render takes them all.
     scene.frame_set(k)
-    kinds = whitewater.read_points(files[k])["kind"]
+    every = whitewater.read_points(files[k])["kind"]
+    share = ww[0][whitewater.SHARE_PROP]
+    kinds = every[::whitewater.share_step(share)]
+    if not (0 < share < 1 and len(kinds) < len(every) or len(every) < 2):
+        errors.append(f"{folder}: the viewport's share {share} shows {len(kinds)} of {len(every)} particles")
     modifier = ww[0].modifiers[0]
-    quick = ww[0].evaluated_get(bpy.context.evaluated_depsgraph_get())
-    points = len(quick.evaluated_geometry().pointcloud.points) if hasattr(quick, "evaluated_geometry") else None
-    quick_mesh = quick.to_mesh()
-    if len(quick_mesh.polygons) != 0:
-        errors.append(f"{folder}: the viewport draws {len(quick_mesh.polygons)} whitewater faces, not plain points")
-    quick.to_mesh_clear()
-    if points is not None and points != len(kinds):
-        errors.append(f"{folder}: the viewport draws {points} points for {len(kinds)} particles")
+
+    def drawn():
+        quick = ww[0].evaluated_get(bpy.context.evaluated_depsgraph_get())
+        points = len(quick.evaluated_geometry().pointcloud.points) if hasattr(quick, "evaluated_geometry") else None
+        quick_mesh = quick.to_mesh()
+        faces = len(quick_mesh.polygons)
+        quick.to_mesh_clear()
+        return points, faces, len(ww[0].data.vertices)
+    points, faces, vertices = drawn()
+    if faces != 0:
+        errors.append(f"{folder}: the viewport draws {faces} whitewater faces, not plain points")
+    if vertices != len(kinds) or points is not None and points != len(kinds):
+        errors.append(f"{folder}: the viewport holds {vertices} and draws {points} points for {len(kinds)} particles")
+    whitewater.on_render_init(scene)  # what a render (still or animation) calls first
+    if len(ww[0].data.vertices) != len(every):
+        errors.append(f"{folder}: a render takes {len(ww[0].data.vertices)} of the frame's {len(every)} particles")
+    whitewater.on_render_done(scene)
+    # A real (tiny) render: the particles are all there when it starts, the share after it.
+    seen = []
+
+    def record(render_scene, depsgraph=None):
+        seen.append(len(ww[0].data.vertices))
+    r = scene.render
+    saved = (r.engine, r.resolution_x, r.resolution_y, r.resolution_percentage, ww[0].hide_render, scene.cycles.samples)
+    r.engine, r.resolution_x, r.resolution_y, r.resolution_percentage, scene.cycles.samples = "CYCLES", 16, 9, 100, 1
+    ww[0].hide_render = True  # the count is checked, not the look
+    bpy.app.handlers.render_pre.append(record)
+    try:
+        bpy.ops.render.render()
+    finally:
+        bpy.app.handlers.render_pre.remove(record)
+        r.engine, r.resolution_x, r.resolution_y, r.resolution_percentage, ww[0].hide_render, scene.cycles.samples = saved
+    if seen != [len(every)]:
+        errors.append(f"{folder}: a render started with {seen} particles, not the frame's {len(every)}")
+    if len(ww[0].data.vertices) != len(kinds):
+        errors.append(f"{folder}: after the render the viewport holds {len(ww[0].data.vertices)} points, not {len(kinds)}")
     modifier[whitewater._input_identifier(modifier.node_group, whitewater.VIEWPORT_FULL)] = True
     ww[0].update_tag()
     scene.frame_set(k)
-    kinds = whitewater.read_points(files[k])["kind"]
     evaluated = ww[0].evaluated_get(bpy.context.evaluated_depsgraph_get())
     mesh = evaluated.to_mesh()
     try:

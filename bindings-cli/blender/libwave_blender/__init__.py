@@ -675,13 +675,11 @@ def register():
     bpy.types.TOPBAR_MT_file_import.append(_menu)
     if _on_frame_change not in bpy.app.handlers.frame_change_post:
         bpy.app.handlers.frame_change_post.append(_on_frame_change)
-    if whitewater.on_frame_change not in bpy.app.handlers.frame_change_post:
-        bpy.app.handlers.frame_change_post.append(whitewater.on_frame_change)
+    whitewater.add_handlers()
 
 
 def unregister():
-    if whitewater.on_frame_change in bpy.app.handlers.frame_change_post:
-        bpy.app.handlers.frame_change_post.remove(whitewater.on_frame_change)
+    whitewater.remove_handlers()
     if _on_frame_change in bpy.app.handlers.frame_change_post:
         bpy.app.handlers.frame_change_post.remove(_on_frame_change)
     bpy.types.TOPBAR_MT_file_import.remove(_menu)

@@ -20,22 +20,62 @@ _NAME = re.compile(r"whitewater-(\d{4,})\.glb$")
 _PROP = "libwave_whitewater"  # the folder whose files the object plays
 
 
+_listed = {}  # folder → (its whitewater folder's mtime, sequence): a frame change lists it once
+
+
 def sequence(folder):
-    """{loop frame: file} of the whitewater files beside an animation in `folder` ({} when none)."""
+    """{loop frame: file} of the whitewater files beside an animation in `folder` ({} when none).
+    Listed again only when the whitewater folder changed (its mtime): listing 200–300
+    files on every frame change cost a few milliseconds of playback."""
     root = os.path.join(folder, FOLDER)
     if not os.path.isdir(root) or os.path.islink(root):
+        _listed.pop(folder, None)
         return {}
+    stamp = os.stat(root).st_mtime_ns
+    held = _listed.get(folder)
+    if held is not None and held[0] == stamp:
+        return held[1]
     found = {}
     for name in os.listdir(root):
         m = _NAME.match(name)
         if m:
             found[int(m.group(1))] = os.path.join(root, name)
+    _listed[folder] = (stamp, found)
     return found
 
 
-def read_points(path):
+# The share of a frame's particles the viewport shows (the whitewater object's property
+# "libwave_viewport_share", 0–1, as Blender's particle systems have a viewport display
+# amount): a breaking coast throws 200–400 k particles a frame, and reading and setting
+# them all made each frame change of playback 15–30 ms slower. Renders take every
+# particle (on_render_init). The share is a fixed stride through the file's order, the
+# same particles on every play.
+VIEWPORT_SHARE = 0.25
+SHARE_PROP = "libwave_viewport_share"
+_rendering = False  # between render_init and render_complete / render_cancel
+
+
+def shown_share(obj):
+    """The share of its particles `obj` shows now: 1 while a render runs, else its
+    viewport share (clamped to 0.01–1)."""
+    if _rendering or (hasattr(bpy.app, "is_job_running") and bpy.app.is_job_running("RENDER")):
+        return 1.0
+    try:
+        share = float(obj.get(SHARE_PROP, VIEWPORT_SHARE))
+    except (TypeError, ValueError):
+        share = VIEWPORT_SHARE
+    return min(1.0, max(0.01, share)) if share == share else VIEWPORT_SHARE
+
+
+def share_step(share):
+    """The stride through a frame's particles that shows `share` of them."""
+    return max(1, int(round(1.0 / share)))
+
+
+def read_points(path, share=1.0):
     """A frame's particles: dict of positions (n, 3) in Blender's axes (z up), velocity
-    (n, 3), age, size and kind (n,) — empty arrays for a frame with none."""
+    (n, 3), age, size and kind (n,) — empty arrays for a frame with none. With `share`
+    < 1, every share_step(share)-th particle only (taken before any conversion)."""
     doc, buffers = frames.read_gltf(path)
     extras = doc.get("scenes", [{}])[0].get("extras", {}).get("libwave_whitewater")
     if not isinstance(extras, dict):
@@ -48,7 +88,8 @@ def read_points(path):
     if prim.get("mode") != 0:
         raise frames.LibwaveFileError(frames.printable(f"{path}: its primitive is not POINTS (mode {prim.get('mode')!r})"))
     attrs = prim["attributes"]
-    get = lambda name: frames.accessor(doc, buffers, attrs[name])
+    step = share_step(share)
+    get = lambda name: frames.accessor(doc, buffers, attrs[name])[::step]
     out = {"positions": frames.to_blender(get("POSITION")), "velocity": frames.to_blender(get("_VELOCITY")),
            "age": get("_AGE")[:, 0], "size": get("_SIZE")[:, 0], "kind": get("_KIND")[:, 0]}
     n = len(out["positions"])
@@ -531,8 +572,10 @@ def apply_frame(obj, scene_frame):
     loop = int(obj.get("libwave_loop_frames", 0)) or (max(files) + 1)
     k = (scene_frame - obj.get("libwave_frame_start", 0)) % loop
     path = files.get(int(obj.get("libwave_first_frame", 0)) + k)
-    _set_points(obj.data, read_points(path) if path else read_points_empty())
+    share = shown_share(obj)
+    _set_points(obj.data, read_points(path, share) if path else read_points_empty())
     obj["libwave_frame"] = k
+    obj["libwave_shown_share"] = share
 
 
 def read_points_empty():
@@ -579,8 +622,11 @@ def import_points(context, folder, frame_count, first_frame=0, frame_start=0, wa
     obj["libwave_loop_frames"] = int(frame_count)
     obj["libwave_first_frame"] = int(first_frame)
     obj["libwave_frame_start"] = int(frame_start)
-    if on_frame_change not in bpy.app.handlers.frame_change_post:
-        bpy.app.handlers.frame_change_post.append(on_frame_change)
+    obj[SHARE_PROP] = VIEWPORT_SHARE
+    ui = obj.id_properties_ui(SHARE_PROP)
+    ui.update(min=0.01, max=1.0, soft_min=0.01, soft_max=1.0, step=5,
+              description="Share of each frame's whitewater particles the viewport shows (renders show all)")
+    add_handlers()
     apply_frame(obj, context.scene.frame_current)
     return obj
 
@@ -593,3 +639,48 @@ def on_frame_change(scene, depsgraph=None):
                 apply_frame(obj, scene.frame_current)
             except (OSError, KeyError, IndexError, frames.LibwaveFileError) as e:
                 print(frames.printable(f"libwave: {obj.name}: {e}"))
+
+
+def _show_all(scene, rendering):
+    """Switches between the viewport's share and every particle, on the frame shown."""
+    global _rendering
+    _rendering = rendering
+    for obj in scene.objects:
+        if obj.type == "MESH" and _PROP in obj and obj.get("libwave_shown_share", 1.0) != shown_share(obj):
+            try:
+                apply_frame(obj, scene.frame_current)
+            except (OSError, KeyError, IndexError, frames.LibwaveFileError) as e:
+                print(frames.printable(f"libwave: {obj.name}: {e}"))
+
+
+@persistent
+def on_render_init(scene, depsgraph=None):
+    """A render takes every particle (a still render changes no frame: the frame shown is
+    read again in full here)."""
+    _show_all(scene, True)
+
+
+@persistent
+def on_render_done(scene, depsgraph=None):
+    """After a render (complete or cancelled) the viewport shows its share again."""
+    _show_all(scene, False)
+
+
+RENDER_HANDLERS = (("render_init", on_render_init), ("render_complete", on_render_done), ("render_cancel", on_render_done))
+
+
+def add_handlers():
+    """The frame change and render handlers, each once."""
+    if on_frame_change not in bpy.app.handlers.frame_change_post:
+        bpy.app.handlers.frame_change_post.append(on_frame_change)
+    for name, handler in RENDER_HANDLERS:
+        if handler not in getattr(bpy.app.handlers, name):
+            getattr(bpy.app.handlers, name).append(handler)
+
+
+def remove_handlers():
+    if on_frame_change in bpy.app.handlers.frame_change_post:
+        bpy.app.handlers.frame_change_post.remove(on_frame_change)
+    for name, handler in RENDER_HANDLERS:
+        if handler in getattr(bpy.app.handlers, name):
+            getattr(bpy.app.handlers, name).remove(handler)
