@@ -116,7 +116,7 @@ def test_write_files_form_indexes_every_frame_with_its_size_and_sha256(small, tm
     glb = (folder / "frames" / "frame-0005.glb").read_bytes()
     assert glb[:4] == b"glTF" and len(glb) == index["frames"][5]["content"][0]["bytes"]
     stored = libwave.read_animation(str(folder / "index.json"))
-    np.testing.assert_allclose(stored["positions"][5], anim.positions[0], atol=1e-4)  # within a codec's precision
+    np.testing.assert_allclose(stored["positions"][5], anim.positions[0], atol=0.01)  # within meshopt's precision (auto above 32 MB)
     assert not [p for p in folder.iterdir() if p.name.startswith(".wave-")]
     # Resumed, every frame whose files still match is kept; a changed one is computed again.
     with open(folder / "frames" / "frame-0007.glb", "ab") as f:
