@@ -1186,7 +1186,7 @@ int run_merge(const MergeArgs& a) {
     // The frames' own run key (frames written before frames carried one: the old index's).
     const std::string frames_key = meta.value("run_key", "");
     const FrameIndexInfo info{meta.value("scene", ""), fps, static_cast<double>(loop_frames) / fps, loop_frames,
-                         frames_key.empty() ? old.value("run_key", "") : frames_key};
+                              frames_key.empty() ? old.value("run_key", "") : frames_key};
     bool all_listed = true;  // every frame's files are those the old index listed with the run key
     std::vector<std::string> entries;
     for (const auto& [frame, file] : files) {

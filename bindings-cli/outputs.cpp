@@ -4,6 +4,7 @@
 #include "libwave/errors.h"
 #include "libwave/io.h"
 
+#include <nlohmann/json.hpp>
 #include <unistd.h>
 
 #include <algorithm>
@@ -12,6 +13,7 @@
 #include <fstream>
 #include <iterator>
 #include <optional>
+#include <string_view>
 
 namespace wave::cli {
 

@@ -8,16 +8,9 @@
 #include "libwave/export.h"
 #include "libwave/scene.h"
 
-#include <nlohmann/json.hpp>
-
-#include <cstddef>
 #include <filesystem>
 #include <functional>
-#include <optional>
-#include <span>
 #include <string>
-#include <string_view>
-#include <utility>
 #include <vector>
 
 namespace wave::cli {
