@@ -329,10 +329,11 @@ PYBIND11_MODULE(_libwave, m) {
         py::arg("scene"), py::arg("plan"), py::arg("folder"), py::arg("first") = 0, py::arg("end") = py::none(),
         py::arg("resume") = false,
         "Writes the files form of frames [first, end) of the loop into `folder`, as `wave run --form files` does "
-        "(docs/export.md, \"The files form\"): frames/frame-NNNN.glb (each frame's underwater files after it) and "
+        "(docs/export.md, the files form; whatever the scene's /outputs/form, its codec as that run chooses it): frames/frame-NNNN.glb (each frame's underwater files after it) and "
         "index.json listing each frame's files with their bytes and SHA-256, merged with the index a slice of the same "
         "animation left there. The frames are computed a chunk at a time into a hidden partial folder, so that "
-        "resume=True after a killed call keeps the frames whose files still match their entries. Returns {\"index\": "
+        "resume=True after a killed call keeps the frames whose files still match their entries (docs/hardening.md, "
+        "\"Crash safety\"). Returns {\"index\": "
         "the index, \"files\": [(file name, bytes)] of the range, \"kept_frames\", \"computed_frames\", "
         "\"height_range_m\": (least, greatest)}");
 
