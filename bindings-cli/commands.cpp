@@ -285,25 +285,14 @@ namespace {
 // naming a data file that changed gets another key). Threads do not count: outputs do
 // not depend on them.
 std::string run_key(const RunArgs& a, const Scene& scene, const ScenePlan& plan) {
-    std::string text = "libwave " + std::string(version()) + "\n";
+    std::string source;
     if (a.scene.empty()) {
-        text += "built-in default scene\n";
+        source = "built-in default scene\n";
     } else {
         std::ifstream in(a.scene, std::ios::binary);
-        text.append(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+        source.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
     }
-    char overrides[256];
-    const DracoOptions d = scene.draco.value_or(DracoOptions{});
-    std::snprintf(overrides, sizeof overrides, "\nfps %a container %d quantize %d draco %d %d %d %d %d %d %d%s\n", scene.fps,
-                  static_cast<int>(scene.container), scene.quantize ? 1 : 0, scene.draco ? 1 : 0, d.position_bits,
-                  d.normal_bits, d.texcoord_bits, d.color_bits, d.generic_bits, d.encode_speed, scene.meshopt ? " meshopt" : "");
-    text += overrides;
-    const ElevationGrid& g = plan.seafloor.grid;
-    char grid[160];
-    std::snprintf(grid, sizeof grid, "grid %zu %zu %a %a %a %a\n", g.nx, g.ny, g.x0, g.y0, g.dx, g.dy);
-    text += grid;
-    text.append(reinterpret_cast<const char*>(g.z.data()), g.z.size() * sizeof(double));
-    return sha256_hex(text);
+    return scene_run_key(scene, plan, source);
 }
 
 }  // namespace
@@ -593,23 +582,6 @@ std::string preview_sheet(const Scene& scene, const ScenePlan& plan, const Scene
     return png_bytes(contact_sheet(shots, 2));
 }
 
-// Partial folders an interrupted run of another version of the scene left can no longer
-// be resumed into this folder's animation; a partial folder still locked is in use.
-void remove_stale_partials(const std::string& out_dir, const FilesFormRun& run, const std::string& run_key) {
-    std::error_code ignored;
-    std::filesystem::remove_all(run.partial, ignored);  // every frame in it is published
-    const std::string ours = ".wave-partial-" + run_key.substr(0, 16) + "-";
-    for (const auto& e : std::filesystem::directory_iterator(out_dir, ignored)) {
-        const std::string name = e.path().filename().string();
-        if (!name.starts_with(".wave-partial-") || name.starts_with(ours)) continue;
-        try {
-            const FolderLock unused(e.path(), false, "");
-            std::filesystem::remove_all(e.path(), ignored);
-        } catch (const std::exception&) {  // in use, or not ours to open: left alone
-        }
-    }
-}
-
 // What the static stages leave beside the animation (the open ocean traces nothing). A
 // slice reports in its own file (slices may run at once into one folder; `wave merge`
 // joins their reports) and only the slice holding frame 0 writes its OBJ.
@@ -633,11 +605,10 @@ void add_side_files(RunSummary& r, const SceneAnimation& anim, Files& files) {
 
 // The files form's frames (and its index) in the summary.
 void summarise_files_form(const FilesFormRun& run, bool resumed, RunSummary& r) {
-    for (const json& e : run.entries)
-        for (const json& c : e["content"]) {
-            r.animation_names.push_back(c["file"].get<std::string>());
-            r.animation_bytes += c["bytes"].get<std::size_t>();
-        }
+    for (const auto& [name, bytes] : run.files) {
+        r.animation_names.push_back(name);
+        r.animation_bytes += bytes;
+    }
     r.animation_names.emplace_back("index.json");
     r.z_min = run.z_min;
     r.z_max = run.z_max;
@@ -807,12 +778,12 @@ int run_job(const RunArgs& a) {
                  .loop_frames = loop_frames, .z_min = stream_out ? stream_out->z_min : anim.z_min,
                  .z_max = stream_out ? stream_out->z_max : anim.z_max, .plan_ms = plan_ms};
     r.report_name = whole ? "report.json" : slice_report_name(r.first_frame, r.frames);
-    const IndexInfo index_info{scene.name, scene.fps, plan.loop_period, loop_frames, r.run_key};
+    const FrameIndexInfo index_info{scene.name, scene.fps, plan.loop_period, loop_frames, r.run_key};
     const std::string index_path = (std::filesystem::path(out_dir) / "index.json").string();
     std::optional<FilesFormRun> files_run;
     Files files;
     if (files_form) {
-        merged_index(index_path, index_info, {}, whole, a.resume);  // refuses a foreign index before any frame is written
+        // libwave's writer refuses a foreign index before any frame is written.
         files_run.emplace(write_files_form(scene, plan, out_dir, index_info, range, a.resume, max_bytes, progress));
         summarise_files_form(*files_run, a.resume, r);
     }
@@ -838,7 +809,7 @@ int run_job(const RunArgs& a) {
     std::optional<FolderLock> index_lock;
     if (files_form) {
         index_lock.emplace(out_dir, true, "");
-        files.emplace_back("index.json", merged_index(index_path, index_info, files_run->entries, whole, a.resume).dump(2) + "\n");
+        files.emplace_back("index.json", merged_frame_index(index_path, index_info, files_run->entries, whole, a.resume));
     }
     if (a.preview) {
         files.emplace_back("preview.png", preview_sheet(scene, plan, anim, r.frames, chunked, max_bytes));
@@ -848,7 +819,7 @@ int run_job(const RunArgs& a) {
     // What an earlier run with the same report left: stale unless written again.
     const std::vector<std::string> earlier = recorded_outputs(out_dir, r.report_name);
     const std::vector<std::string> published = publish(out_dir, files, [&](const std::filesystem::path& staging) {
-        std::vector<std::string> names = files_run ? files_run->stage(staging) : std::vector<std::string>{};
+        std::vector<std::string> names = files_run ? files_run->stage(staging.string()) : std::vector<std::string>{};
         if (stream_out)  // written there as the frames came
             for (const auto& f : stream_out->files) names.push_back(f.first);
         if (surface_kind_traces(scene.surface_kind) == Traced::fronts) {
@@ -861,7 +832,7 @@ int run_job(const RunArgs& a) {
     if (files_left_over) remove_stale_outputs(out_dir, {"index.json", "frames"}, published);
     if (files_run) {
         index_lock.reset();
-        remove_stale_partials(out_dir, *files_run, r.run_key);
+        remove_files_form_partials(out_dir, *files_run, index_info);
     }
     if (a.quiet) return 0;
     if (!a.json) {
@@ -956,7 +927,7 @@ Converted convert_streamed(const ConvertArgs& a, Scene::Form form, Scene::Contai
     Converted c;
     const std::optional<double> range = convert_delta_range(a, form);
     std::optional<StreamedWriter> writer;
-    std::vector<json> entries;
+    std::vector<std::string> entries;
     std::size_t loop_frames = 0;
     std::string scene;
     bool whole = false;
@@ -981,7 +952,7 @@ Converted convert_streamed(const ConvertArgs& a, Scene::Form form, Scene::Contai
         for (std::size_t k = 0; k < piece.frame_count; ++k) {
             const Files frame(files.begin() + static_cast<std::ptrdiff_t>(k * per_frame),
                               files.begin() + static_cast<std::ptrdiff_t>((k + 1) * per_frame));
-            entries.push_back(frame_entry(piece.first_frame + k, piece.fps, frame, view.positions.subspan(3 * n * k, 3 * n)));
+            entries.push_back(frame_entry_json(piece.first_frame + k, piece.fps, frame, view.positions.subspan(3 * n * k, 3 * n)));
             for (const auto& [name, bytes] : frame) {
                 std::filesystem::create_directories((staging / name).parent_path());
                 write_file_atomic((staging / name).string(), bytes);
@@ -992,8 +963,8 @@ Converted convert_streamed(const ConvertArgs& a, Scene::Form form, Scene::Contai
     if (writer) {
         c.staged = writer->finish();
     } else {
-        const IndexInfo info{scene, c.fps, static_cast<double>(loop_frames) / c.fps, loop_frames, ""};
-        std::string index = merged_index((std::filesystem::path(a.out_dir) / "index.json").string(), info, entries, whole).dump(2) + "\n";
+        const FrameIndexInfo info{scene, c.fps, static_cast<double>(loop_frames) / c.fps, loop_frames, ""};
+        std::string index = merged_frame_index((std::filesystem::path(a.out_dir) / "index.json").string(), info, entries, whole);
         held.emplace_back("index.json", std::move(index));
     }
     return c;
@@ -1206,37 +1177,39 @@ int run_merge(const MergeArgs& a) {
     const fs::path old_path = fs::path(a.out_dir) / "index.json";
     (void)slice_reports(a.out_dir);  // what the join will read, checked before the index is written
     const FolderLock index_lock(a.out_dir, true, "");  // slices may still be publishing their entries
-    const json old = read_index(old_path).value_or(json::object());
+    const std::optional<std::string> old_text = read_files_form_index(old_path.string());
+    const json old = old_text ? json::parse(*old_text) : json::object();
     std::map<std::size_t, json> old_entries;
     if (old.contains("frames"))
         for (const json& e : old["frames"])
             if (e.is_object() && e.contains("frame") && e["frame"].is_number_unsigned()) old_entries[e["frame"].get<std::size_t>()] = e;
     // The frames' own run key (frames written before frames carried one: the old index's).
     const std::string frames_key = meta.value("run_key", "");
-    const IndexInfo info{meta.value("scene", ""), fps, static_cast<double>(loop_frames) / fps, loop_frames,
-                         frames_key.empty() ? old.value("run_key", "") : frames_key};
+    const FrameIndexInfo info{meta.value("scene", ""), fps, static_cast<double>(loop_frames) / fps, loop_frames,
+                              frames_key.empty() ? old.value("run_key", "") : frames_key};
     bool all_listed = true;  // every frame's files are those the old index listed with the run key
-    std::vector<json> entries;
+    std::vector<std::string> entries;
     for (const auto& [frame, file] : files) {
         Files content;
         const auto add = [&](const std::string& name) { content.emplace_back(name, read_input_bytes(path_inside(a.out_dir, name, a.out_dir + ": a frame"))); };
         add(file);
         if (file.ends_with(".gltf")) add(file.substr(0, file.size() - 5) + ".bin");
-        json entry = frame_entry(frame, fps, content);
+        json entry = json::parse(frame_entry_json(frame, fps, content));
         const auto o = old_entries.find(frame);
         if (o != old_entries.end() && o->second.value("content", json()) == entry["content"] && o->second.contains("height_range_m"))
             entry["height_range_m"] = o->second["height_range_m"];
         else
             all_listed = false;
-        entries.push_back(std::move(entry));
+        entries.push_back(entry.dump());
     }
-    const json index = frame_index(all_listed || !frames_key.empty() ? info : IndexInfo{info.name, info.fps, info.loop_period, info.loop_frames, ""},
-                                   std::move(entries));
+    const std::string index =
+        frame_index_json(all_listed || !frames_key.empty() ? info : FrameIndexInfo{info.scene, info.fps, info.loop_period, info.loop_frames, ""},
+                         entries);
     if (!missing.empty() && !a.partial)
         throw InputError(a.out_dir + ": " + std::to_string(missing.size()) + " of " + std::to_string(loop_frames) +
                          " frames are missing (first: " + std::to_string(missing.front()) +
                          "); run their slices, or --partial to index what is there");
-    write_file_atomic(old_path.string(), index.dump(2) + "\n");
+    write_file_atomic(old_path.string(), index);
     (void)gltf;
     const std::vector<fs::path> joined = missing.empty() ? join_slice_reports(a.out_dir, loop_frames) : std::vector<fs::path>{};
     for (const fs::path& p : joined) fs::remove(p);  // report.json now holds them

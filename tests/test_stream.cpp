@@ -297,3 +297,89 @@ TEST(ExportForms, PlyFramesHoldEachFramesVerticesAndAnIndex) {
     EXPECT_NE(files[2].second.find("\"frame_count\": 2"), std::string::npos);
     EXPECT_NE(files[2].second.find("ply/frame-0004.ply"), std::string::npos);
 }
+
+// The files form (scene.h, write_files_form): frames written into a partial folder with
+// their own index, the bytes encode_animation makes of each frame (with the run key),
+// published into place; --resume keeps the frames whose files still match their entries.
+TEST(FilesForm, FramesAreEncodeAnimationsAndTheIndexListsTheirSha256) {
+    const Bay& b = bay();
+    Scene scene = b.scene;
+    scene.form = Scene::Form::files;
+    const FrameRange range{3, 7};
+    const std::size_t loop = scene_loop_frames(scene, b.plan);
+    const FrameIndexInfo info{scene.name, scene.fps, b.plan.loop_period, loop, scene_run_key(scene, b.plan, scene.document)};
+    EXPECT_EQ(info.run_key.size(), 64u);
+    EXPECT_EQ(sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+    const SceneAnimation whole = animate_scene(scene, b.plan, 2e9, range);
+    MorphAnimationView view = whole.view();
+    view.run_key = info.run_key;
+    const EncodedFiles expected = encode_animation(view, Scene::Form::files, scene.container, false, whole.caustics);
+    TempDir dir;
+    const std::string out = (dir.path / "out").string();
+    FilesFormRun run = write_files_form(scene, b.plan, out, info, range, false, 2e9);
+    EXPECT_EQ(run.computed, 4u);
+    EXPECT_EQ(run.verified, 0u);
+    EXPECT_EQ(run.z_min, whole.z_min);
+    EXPECT_EQ(run.z_max, whole.z_max);
+    ASSERT_EQ(run.entries.size(), 4u);
+    ASSERT_EQ(run.files.size(), expected.size());
+    ASSERT_EQ(run.partial_files.size(), expected.size());
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+        EXPECT_EQ(run.files[i].first, expected[i].first);
+        EXPECT_EQ(run.files[i].second, expected[i].second.size());
+        EXPECT_TRUE(slurp(fs::path(run.partial) / expected[i].first) == expected[i].second) << expected[i].first;
+        const std::string& entry = run.entries[i / (expected.size() / 4)];
+        EXPECT_NE(entry.find(sha256_hex(expected[i].second)), std::string::npos) << expected[i].first;
+    }
+    EXPECT_TRUE(frame_entry_intact(run.entries[0], run.partial));
+    // A second run of the same range and key finds the partial folder locked.
+    try {
+        (void)write_files_form(scene, b.plan, out, info, range, true, 2e9);
+        ADD_FAILURE() << "a locked partial folder was written";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("is locked"), std::string::npos) << e.what();
+    }
+    const std::string index = publish_files_form(run, out, info, false);
+    EXPECT_FALSE(fs::exists(run.partial));
+    EXPECT_EQ(slurp(dir.path / "out" / "index.json"), index);
+    EXPECT_EQ(index, frame_index_json(info, run.entries));
+    for (const auto& [name, bytes] : expected) EXPECT_TRUE(slurp(dir.path / "out" / name) == bytes) << name;
+    // Resumed: every frame kept; one frame file changed is computed again.
+    FilesFormRun kept = write_files_form(scene, b.plan, out, info, range, true, 2e9);
+    EXPECT_EQ(kept.verified, 4u);
+    EXPECT_EQ(kept.computed, 0u);
+    EXPECT_EQ(kept.entries, run.entries);
+    EXPECT_TRUE(kept.partial_files.empty());
+    kept.lock.release();
+    std::ofstream(dir.path / "out" / expected[0].first, std::ios::app) << "x";
+    FilesFormRun again = write_files_form(scene, b.plan, out, info, range, true, 2e9);
+    EXPECT_EQ(again.verified, 3u);
+    EXPECT_EQ(again.computed, 1u);
+    EXPECT_EQ(again.entries, run.entries);
+    EXPECT_EQ(publish_files_form(again, out, info, true), index);
+    EXPECT_TRUE(slurp(dir.path / "out" / expected[0].first) == expected[0].second);
+    // Another animation's index is refused before any frame is written.
+    FrameIndexInfo other = info;
+    other.fps = 30.0;
+    EXPECT_THROW((void)write_files_form(scene, b.plan, out, other, range, false, 2e9), InputError);
+    EXPECT_THROW((void)merged_frame_index((dir.path / "out" / "index.json").string(), other, {}, false), InputError);
+    EXPECT_TRUE(read_files_form_index((dir.path / "out" / "index.json").string()).has_value());
+    EXPECT_FALSE(read_files_form_index((dir.path / "out" / expected[0].first).string()).has_value());
+}
+
+TEST(FilesForm, AFolderLockIsExclusiveUntilReleased) {
+    TempDir dir;
+    FolderLock held(dir.path.string(), false, "busy");
+    EXPECT_TRUE(held.held());
+    try {
+        const FolderLock second(dir.path.string(), false, "the folder is busy");
+        ADD_FAILURE() << "two locks held";
+    } catch (const InputError& e) {
+        EXPECT_STREQ(e.what(), "the folder is busy");
+    }
+    FolderLock moved = std::move(held);
+    EXPECT_FALSE(held.held());
+    moved.release();
+    EXPECT_NO_THROW(FolderLock(dir.path.string(), false, "busy"));
+    EXPECT_THROW(FolderLock((dir.path / "absent").string(), false, "busy"), RuntimeError);
+}

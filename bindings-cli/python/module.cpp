@@ -300,6 +300,44 @@ PYBIND11_MODULE(_libwave, m) {
         "[(file name, bytes)]");
 
     m.def(
+        "write_files_form",
+        [](const wave::Scene& read, const ScenePlan& plan, const std::string& folder, std::size_t first, py::object end,
+           bool resume) {
+            wave::FrameRange range{first, end.is_none() ? static_cast<std::size_t>(-1) : end.cast<std::size_t>()};
+            std::string index;
+            wave::FilesFormRun run;
+            {
+                py::gil_scoped_release release;
+                wave::Scene scene = read;
+                scene.form = wave::ExportForm::files;  // whatever /outputs/form says; the codec as wave run --form files chooses it
+                scene = wave::resolve_codec(scene, wave::estimate_run(scene, plan));
+                const wave::FrameIndexInfo info{scene.name, scene.fps, plan.loop_period, wave::scene_loop_frames(scene, plan),
+                                                wave::scene_run_key(scene, plan, read.document)};
+                run = wave::write_files_form(scene, plan, folder, info, range, resume);
+                index = wave::publish_files_form(run, folder, info, resume);
+            }
+            py::dict out;
+            out["index"] = py::module_::import("json").attr("loads")(index);
+            py::list files;
+            for (const auto& [name, bytes] : run.files) files.append(py::make_tuple(name, bytes));
+            out["files"] = files;
+            out["kept_frames"] = run.verified;
+            out["computed_frames"] = run.computed;
+            out["height_range_m"] = py::make_tuple(run.z_min, run.z_max);
+            return out;
+        },
+        py::arg("scene"), py::arg("plan"), py::arg("folder"), py::arg("first") = 0, py::arg("end") = py::none(),
+        py::arg("resume") = false,
+        "Writes the files form of frames [first, end) of the loop into `folder`, as `wave run --form files` does "
+        "(docs/export.md, the files form; whatever the scene's /outputs/form, its codec as that run chooses it): frames/frame-NNNN.glb (each frame's underwater files after it) and "
+        "index.json listing each frame's files with their bytes and SHA-256, merged with the index a slice of the same "
+        "animation left there. The frames are computed a chunk at a time into a hidden partial folder, so that "
+        "resume=True after a killed call keeps the frames whose files still match their entries (docs/hardening.md, "
+        "\"Crash safety\"). Returns {\"index\": "
+        "the index, \"files\": [(file name, bytes)] of the range, \"kept_frames\", \"computed_frames\", "
+        "\"height_range_m\": (least, greatest)}");
+
+    m.def(
         "preview",
         [](const wave::Scene& scene, const ScenePlan& plan, const SceneAnimation& a, std::size_t frame, std::size_t width,
            std::size_t height) {

@@ -1,5 +1,6 @@
 """`import libwave`: the Python module against the C++ pipeline and the CLI it mirrors.
 Run by ctest (`python` test) with PYTHONPATH at the built module and WAVE_EXE at the CLI."""
+import hashlib
 import json
 import math
 import os
@@ -88,6 +89,47 @@ def test_write_animation_streams_the_same_files_as_wave_run(small, tmp_path):
     quantised = libwave.parse_scene(dict(SMALL, outputs={"form": "nodes", "quantize": True}))
     with pytest.raises(libwave.InputError, match="not streamed"):
         libwave.write_animation(quantised, plan, str(tmp_path / "q"))
+
+
+def test_write_files_form_indexes_every_frame_with_its_size_and_sha256(small, tmp_path):
+    scene, plan = small
+    folder = tmp_path / "files"
+    # Two slices into one folder: one index of both, as `wave run --slice` leaves it.
+    first = libwave.write_files_form(scene, plan, str(folder), first=0, end=60)
+    assert first["computed_frames"] == 60 and first["kept_frames"] == 0
+    assert [f[0] for f in first["files"]][:2] == ["frames/frame-0000.glb", "frames/frame-0001.glb"]
+    out = libwave.write_files_form(scene, plan, str(folder), first=60)
+    index = out["index"]
+    assert index == json.loads((folder / "index.json").read_text())
+    assert index["scene"] == scene.name and index["loop_frames"] == 120 and len(index["run_key"]) == 64
+    assert [e["frame"] for e in index["frames"]] == list(range(120))
+    for entry in index["frames"]:
+        assert entry["file"] == f"frames/frame-{entry['frame']:04d}.glb"
+        for content in entry["content"]:
+            data = (folder / content["file"]).read_bytes()
+            assert len(data) == content["bytes"]
+            assert hashlib.sha256(data).hexdigest() == content["sha256"]
+    second = [e["height_range_m"] for e in index["frames"][60:]]
+    assert out["height_range_m"] == pytest.approx((min(r[0] for r in second), max(r[1] for r in second)))
+    # The frames are the animation's, and no partial folder is left.
+    anim = libwave.animate(scene, plan, 5, 6)
+    glb = (folder / "frames" / "frame-0005.glb").read_bytes()
+    assert glb[:4] == b"glTF" and len(glb) == index["frames"][5]["content"][0]["bytes"]
+    stored = libwave.read_animation(str(folder / "index.json"))
+    np.testing.assert_allclose(stored["positions"][5], anim.positions[0], atol=0.01)  # within meshopt's precision (auto above 32 MB)
+    assert not [p for p in folder.iterdir() if p.name.startswith(".wave-")]
+    # Resumed, every frame whose files still match is kept; a changed one is computed again.
+    with open(folder / "frames" / "frame-0007.glb", "ab") as f:
+        f.write(b"x")
+    again = libwave.write_files_form(scene, plan, str(folder), resume=True)
+    assert again["kept_frames"] == 119 and again["computed_frames"] == 1
+    assert again["index"] == index
+    assert hashlib.sha256((folder / "frames" / "frame-0007.glb").read_bytes()).hexdigest() == \
+        index["frames"][7]["content"][0]["sha256"]
+    # Another animation's index is refused before any frame is written.
+    other = libwave.parse_scene(dict(SMALL, animation={"fps": 12}))
+    with pytest.raises(libwave.InputError, match="another animation"):
+        libwave.write_files_form(other, libwave.plan(other), str(folder), first=0, end=1)
 
 
 def test_dict_and_json_text_give_the_same_scene():

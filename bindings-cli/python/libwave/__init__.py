@@ -3,7 +3,8 @@
 Two routes, with the same results bit for bit:
 
 * the whole scene: ``Scene`` (or ``read_scene``/``default_scene``) → ``plan`` →
-  ``animate`` (frames as NumPy arrays) or ``write_animation`` (files as ``wave run``);
+  ``animate`` (frames as NumPy arrays), ``write_animation`` (files as ``wave run``) or
+  ``write_files_form`` (one .glb per frame and index.json, resumable, as ``wave run --form files``);
 * stage by stage (examples/pipeline.py): ``read_seafloor`` → ``extract_isobaths`` →
   ``trace_fronts`` → ``solve_wave_field``/``take_field_amplitudes`` →
   ``build_ray_strips`` → ``mesh_water``/``resample_ray_strips`` →

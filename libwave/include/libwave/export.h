@@ -489,4 +489,77 @@ private:
     std::unique_ptr<State> state_;
 };
 
+/// What the files form's frame index (index.json beside frames/) describes: one
+/// animation and the run that computed its frames.
+struct FrameIndexInfo {
+    std::string scene;            ///< the scene's name ("scene" of the index)
+    double fps = 24.0;            ///< frames per second
+    double loop_period = 0.0;     ///< the loop's length (s)
+    std::size_t loop_frames = 0;  ///< frames in the loop
+    /// SHA-256 over what decides the frames' bytes (scene_run_key); empty when unknown
+    /// (`wave convert` re-encodes frames it did not compute).
+    std::string run_key;
+};
+
+/// SHA-256 of `bytes` in lowercase hex (OpenSSL's libcrypto): what the index records
+/// per file, and what `sha256sum` prints for it. RuntimeError if OpenSSL fails.
+std::string sha256_hex(std::string_view bytes);
+
+/// A frame's index entry as compact JSON text: {"frame", "time" (key_time), "file" (its
+/// first file), "content": [{"file", "bytes", "sha256"} per file of `frame_files`, a .gltf
+/// frame's .bin after it], and with `positions` (x, y, z per vertex) "height_range_m":
+/// [least z, greatest z]}. `frame_files` must not be empty.
+std::string frame_entry_json(std::size_t frame, double fps, const EncodedFiles& frame_files, std::span<const float> positions = {});
+
+/// Whether every file the entry (JSON text, as frame_entry_json writes it) lists is
+/// under `root` (path_inside: no link out of it) with the size and SHA-256 it records;
+/// false for an entry without "content" or text that is not such an entry.
+bool frame_entry_intact(std::string_view entry_json, const std::string& root);
+
+/// The frame index at `path` as JSON text (compact), or nothing when there is none or it
+/// is not one of libwave's: not JSON, no "frames" array, or "scene", "fps",
+/// "loop_frames", "run_key" of another type than libwave writes (an index is read back
+/// after crashes and by other tools' hands: a wrong type is "not an index", never an
+/// exception).
+std::optional<std::string> read_files_form_index(const std::string& path);
+
+/// index.json's bytes (JSON indented by 2, a newline at the end) of an animation
+/// holding `entries` (frame_entry_json texts, frames in order). InputError for an entry
+/// that is not JSON.
+std::string frame_index_json(const FrameIndexInfo& info, std::span<const std::string> entries);
+
+/// index.json's bytes for `entries` (frame_entry_json texts of this run, in order),
+/// merged with the index a previous slice of the same animation left at `path`: the
+/// entries by frame number, this run's replacing the old ones. Throws InputError when
+/// that index belongs to another animation (scene name, fps, loop), or — unless
+/// `whole_loop` (this run covers the whole loop and so replaces every entry) — to
+/// another run key. An index that cannot be read (truncated, empty, fields of other
+/// types) is refused too, unless `rebuild_unreadable` (`--resume`: the frames' own files
+/// are checked instead), when it is rebuilt from `entries`. With no entries it checks
+/// alone (before any frame is written).
+std::string merged_frame_index(const std::string& path, const FrameIndexInfo& info, std::span<const std::string> entries,
+                               bool whole_loop, bool rebuild_unreadable = false);
+
+/// An exclusive flock(2) on a folder, released when destroyed or when the process dies
+/// (a SIGKILLed run never leaves it held): the files form's partial folders, and the
+/// output folder while slices merge their entries into one index.
+class FolderLock {
+public:
+    FolderLock() = default;  ///< holds no lock
+    /// Locks `folder` (it must exist). `wait` blocks until the lock is free; otherwise a
+    /// held lock throws InputError with the message `busy`. RuntimeError when the
+    /// folder cannot be opened or locked.
+    FolderLock(const std::string& folder, bool wait, const std::string& busy);
+    FolderLock(FolderLock&& o) noexcept;             ///< takes the other's lock
+    FolderLock& operator=(FolderLock&& o) noexcept;  ///< releases its own, takes the other's
+    FolderLock(const FolderLock&) = delete;             ///< not copyable
+    FolderLock& operator=(const FolderLock&) = delete;  ///< not copyable
+    ~FolderLock();                                      ///< releases the lock
+    void release() noexcept;                            ///< releases the lock now (no-op when none is held)
+    bool held() const noexcept;                         ///< whether it holds a lock
+
+private:
+    int fd_ = -1;
+};
+
 }  // namespace wave

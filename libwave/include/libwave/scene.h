@@ -546,6 +546,71 @@ struct StreamedAnimation {
 StreamedAnimation stream_animation(AnimationStream& stream, const Scene& scene, const std::string& folder, bool whole,
                                    std::size_t chunk, const std::function<void(std::size_t, std::size_t)>& progress = {});
 
+/// The run key of a scene's frames (FrameIndexInfo::run_key, MorphAnimationView::run_key):
+/// SHA-256 over what decides their bytes — libwave's version, `source` (the scene's
+/// text: `wave run` gives the scene file's bytes, or "built-in default scene\n"; the
+/// Python module the scene's document), the export settings a command line overrides
+/// (fps, container, quantize, Draco's bits, meshopt) and the seafloor's grid and heights
+/// (a scene naming a data file that changed gets another key). Threads do not count.
+std::string scene_run_key(const Scene& scene, const ScenePlan& plan, std::string_view source);
+
+/// What write_files_form wrote and kept: the files form of a range of frames, in a
+/// hidden partial folder of the output folder, to publish (stage, or publish_files_form).
+struct FilesFormRun {
+    std::vector<std::string> entries;  ///< frame_entry_json text per frame of the range, in order
+    /// Every frame file of the range (name under the output folder, bytes), in the
+    /// entries' order: those in the partial folder and those kept in the output folder.
+    std::vector<std::pair<std::string, std::size_t>> files;
+    float z_min = 0.0f;  ///< height range over the range's frames (m)
+    float z_max = 0.0f;  ///< height range over the range's frames (m)
+    std::size_t verified = 0;  ///< frames kept (`resume`: their files matched their entries)
+    std::size_t computed = 0;  ///< frames computed and written by this run
+    bool whole_loop = false;   ///< the range is the whole loop (its index replaces every entry)
+    std::string partial;       ///< the partial folder (removed once published)
+    std::vector<std::string> partial_files;  ///< frame files in it (names under it and the output folder), to publish
+    FolderLock lock;           ///< on the partial folder while the run holds it
+    /// Links the partial folder's frame files into `staging` (a folder of the output
+    /// folder's file system; copied where it has no hard links) and returns their names:
+    /// the partial folder keeps them, so that a publication that fails leaves them for
+    /// `--resume`.
+    std::vector<std::string> stage(const std::string& staging) const;
+};
+
+/// The files form (frames/frame-NNNN.glb, each frame's underwater files after it) of
+/// frames [range.first, range.end) of a planned scene, computed files_form_chunk frames
+/// at a time (`max_bytes` as there) into a hidden partial folder of `out_dir` (created
+/// with its parents; named by the run key and the range, locked while the run holds it:
+/// a second run of the same range and key gets InputError naming it). Each chunk's
+/// frame files are written whole and then listed, with their sizes and SHA-256, in that
+/// folder's own index.json: a run killed at any moment leaves every frame it listed
+/// whole. With `resume`, frames the partial index (or `out_dir`/index.json, same run
+/// key) lists and whose files still match it are kept; the others are computed. Without
+/// `resume` the partial folder starts empty. Frames carry info.run_key.
+/// Before any frame: InputError when `out_dir`/index.json belongs to another animation
+/// or run key (merged_frame_index's rules, `resume` rebuilding an unreadable one), or the
+/// range holds no frame of the loop (info.loop_frames). When it fails part way, the
+/// frames already listed stay for `resume`; with none, nothing is left (nor `out_dir`,
+/// when it made it). `progress(done, total)` counts the range's frames, kept ones first.
+FilesFormRun write_files_form(const Scene& scene, const ScenePlan& plan, const std::string& out_dir, const FrameIndexInfo& info,
+                              FrameRange range, bool resume, double max_bytes = 2e9,
+                              const std::function<void(std::size_t, std::size_t)>& progress = {});
+
+/// After the run's frames and index are published: removes its partial folder (releasing
+/// its lock) and the partial folders of other run keys in `out_dir` (earlier versions of
+/// the scene, which can no longer be resumed into its animation), except those another
+/// run holds locked or that cannot be locked. Returns the names removed besides its own.
+std::vector<std::string> remove_files_form_partials(const std::string& out_dir, FilesFormRun& run, const FrameIndexInfo& info);
+
+/// Publishes a write_files_form run without a staging folder of the caller's (the
+/// Python module): holding a lock on `out_dir` (waiting for slices that publish into it),
+/// moves the partial folder's frame files into place, then writes `out_dir`/index.json
+/// (merged_frame_index of the run's entries; `resume` rebuilds an unreadable one), then
+/// remove_files_form_partials. Returns the index's bytes. Throws what merged_frame_index
+/// throws before any frame is moved, InputError for a name that leaves `out_dir`, and
+/// RuntimeError when a file cannot be moved or written (the frames not yet moved stay in
+/// the partial folder; `resume` computes the moved ones again).
+std::string publish_files_form(FilesFormRun& run, const std::string& out_dir, const FrameIndexInfo& info, bool resume);
+
 /// Evaluates frames of one loop (round(loop_period · fps) frames, t = k / fps): the
 /// model's motion (e.g. the height field, or Gonzato's profile on the water mesh),
 /// any superposed wind sea or Gerstner waves, untangling, then normals and shading.
