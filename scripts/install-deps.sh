@@ -19,8 +19,9 @@ packages=(
   libcpp-httplib-dev libssl-dev
 )
 # `--tests`: also what only the tests need (Chromium for the viewer's browser test,
-# clang and its runtimes for the libFuzzer targets, mypy for the Python stubs' check).
-if [[ ${1:-} == --tests ]]; then packages+=(chromium clang libclang-rt-14-dev python3-mypy); fi
+# clang and its runtimes for the libFuzzer targets, clang-tidy for CI's check of changed
+# code, mypy for the Python stubs' check).
+if [[ ${1:-} == --tests ]]; then packages+=(chromium clang clang-tidy libclang-rt-14-dev python3-mypy); fi
 
 missing=()
 for p in "${packages[@]}"; do

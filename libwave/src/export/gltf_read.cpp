@@ -41,7 +41,6 @@ namespace wave {
 
 using detail::LazyViews;
 using detail::ViewMemo;
-using detail::check_extras;
 using detail::kMaxStoredFrames;
 using detail::load_model;
 

@@ -76,7 +76,7 @@ std::string ply_frame_bytes(const MorphAnimationView& view, std::size_t f) {
 std::string pc2_header(std::size_t point_count, std::size_t sample_count, float start_frame) {
     if (point_count > 0x7fffffff || sample_count > 0x7fffffff) throw LimitError("PC2 export: more than 2³¹ points or samples");
     static_assert(std::endian::native == std::endian::little, "PC2 is little-endian");
-    std::string out("POINTCACHE2", 12);  // the signature with its terminating zero
+    std::string out("POINTCACHE2\0", 12);  // the signature with its terminating zero
     const auto put = [&](const auto value) { out.append(reinterpret_cast<const char*>(&value), sizeof value); };
     put(std::int32_t{1});
     put(static_cast<std::int32_t>(point_count));

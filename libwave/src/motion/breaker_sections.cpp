@@ -299,7 +299,8 @@ BreakerSections plan_breaker_sections(double curl_min, double curl_max, const Br
         std::vector<BreakerSectionPoint> section;
         std::vector<double> px, pz;
         for (std::size_t lc = r.begin(); lc != r.end(); ++lc) {
-            const double life = 2.0 * static_cast<double>(lc / t.curls) / static_cast<double>(t.lives - 1);
+            const std::size_t life_index = lc / t.curls;  // the table's life row (whole rows of curls)
+            const double life = 2.0 * static_cast<double>(life_index) / static_cast<double>(t.lives - 1);
             const double curl = t.curl_first + t.curl_step * static_cast<double>(lc % t.curls);
             const std::vector<double> top = envelope(life, curl);
             for (std::size_t q = 0; q < t.ratios; ++q) {

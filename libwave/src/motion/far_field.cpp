@@ -40,8 +40,9 @@ std::vector<double> fit_components(std::span<const double> omega, std::span<cons
     for (int s = 0; s < m; ++s) {
         a[static_cast<std::size_t>(s)] = 1.0;
         for (std::size_t c = 0; c < omega.size(); ++c) {
-            a[static_cast<std::size_t>((1 + 2 * static_cast<int>(c)) * m + s)] = std::cos(omega[c] * times[static_cast<std::size_t>(s)]);
-            a[static_cast<std::size_t>((2 + 2 * static_cast<int>(c)) * m + s)] = std::sin(omega[c] * times[static_cast<std::size_t>(s)]);
+            const std::size_t rows = static_cast<std::size_t>(m), row = static_cast<std::size_t>(s);
+            a[(1 + 2 * c) * rows + row] = std::cos(omega[c] * times[row]);
+            a[(2 + 2 * c) * rows + row] = std::sin(omega[c] * times[row]);
         }
         const float* frame = &samples[static_cast<std::size_t>(s) * 3 * surface_vertices];
         for (std::size_t k = 0; k < anchors.size(); ++k) {
@@ -62,7 +63,10 @@ std::vector<double> fit_components(std::span<const double> omega, std::span<cons
     if (info != 0) throw Error("far field: the least-squares fit failed (LAPACK dgelss info " + std::to_string(info) + ")");
     std::vector<double> x(static_cast<std::size_t>(n * nrhs));
     for (int r = 0; r < nrhs; ++r)
-        for (int i = 0; i < n; ++i) x[static_cast<std::size_t>(r * n + i)] = b[static_cast<std::size_t>(r * m + i)];
+        for (int i = 0; i < n; ++i) {
+            const std::size_t column = static_cast<std::size_t>(r), at = static_cast<std::size_t>(i);
+            x[column * static_cast<std::size_t>(n) + at] = b[column * static_cast<std::size_t>(m) + at];
+        }
     return x;
 }
 
