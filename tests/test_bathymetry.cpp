@@ -652,4 +652,37 @@ TEST(TerrainBeyond, HillsRiseBehindTheBeachAndFadeWhereTheMeshCannotDrawThem) {
     EXPECT_NEAR(smooth_a, 2.0 + t.options.relief, 1e-9);
 }
 
+TEST(TerrainBeyond, FarLandRisesIntoRangesWithABrokenSkylineButNotBesideTheCuts) {
+    // The planar beach: land along y = 200 m, the shoreline meeting both x sides (the
+    // far field's cuts run out along ∓x there). 20 km out, on the apron's mesh (edges a
+    // tenth of the distance), the land north of it stands 0.6–4.6 % of the distance high
+    // (a constant angle seen from the grid), and its skyline rises and falls by at least
+    // 1 % of it: not the straight top of a plateau (the gallery's "dead-straight line").
+    const Seafloor beach = make_planar_beach();
+    const ElevationGrid& g = beach.grid;
+    const TerrainBeyond t = plan_terrain_beyond(g);
+    ASSERT_EQ(t.shore.size(), 2u);
+    const double cx = 0.5 * (g.x0 + g.x_max()), cy = 0.5 * (g.y0 + g.y_max()), r = 20000.0;
+    double lo = 1e300, hi = -1e300;
+    for (double a = 60.0; a <= 120.0; a += 0.5) {
+        const double th = a * std::numbers::pi / 180.0;
+        const double z = terrain_elevation(t, cx + r * std::cos(th), cy + r * std::sin(th), 0.1 * r);
+        lo = std::min(lo, z), hi = std::max(hi, z);
+    }
+    EXPECT_GT(lo, 0.006 * (r - 0.5 * 200.0) * 0.9);
+    EXPECT_LT(hi, 0.046 * r + 2.0 + 2.0 * t.options.relief);
+    EXPECT_GT(hi - lo, 0.01 * r);
+    // Beside a cut (500 m off the line out from where the shoreline meets x = 0, on the
+    // land's side), no range: the land there is the low coast, not a wall along the
+    // water's straight edge.
+    double cut_y = 0.0;  // where the shoreline meets the side x = x0 (perimeter 2w + h … 2w + 2h)
+    for (double c : t.shore)
+        if (c > 2.0 * (g.x_max() - g.x0) + (g.y_max() - g.y0) - 1e-9) cut_y = g.y_max() - (c - 2.0 * (g.x_max() - g.x0) - (g.y_max() - g.y0));
+    EXPECT_LT(terrain_elevation(t, g.x0 - r, cut_y + 500.0, 0.1 * r), 3.0 + 2.0 * t.options.relief);
+    // Resolution coarser than every harmonic: the ranges' mean height alone, the same
+    // all round (no aliased crests on a mesh too coarse to draw them).
+    const double smooth_a = terrain_elevation(t, cx, cy + r, 10.0 * r), smooth_b = terrain_elevation(t, cx + 0.3 * r, cy + r, 10.0 * r);
+    EXPECT_NEAR(smooth_a - smooth_b, 0.0, 0.02 * r);
+}
+
 }  // namespace

@@ -363,6 +363,7 @@ struct TerrainBeyond {
     double hill_kx[8][3]{};     ///< the hills' wave vectors' x (rad/m), 3 per octave
     double hill_ky[8][3]{};     ///< the hills' wave vectors' y (rad/m)
     double hill_phase[8][3]{};  ///< the hills' phases (rad)
+    double range_phase[12]{};   ///< the far ranges' phases (rad), one per harmonic of the azimuth about the grid's centre
 };
 
 /// The border profile of `grid` and the resolved options. Precondition: nx, ny >= 2.
@@ -380,7 +381,13 @@ TerrainBeyond plan_terrain_beyond(const ElevationGrid& grid, const TerrainBeyond
 ///    (a sum of sines), coming down to a low coast (the border's height plus a
 ///    twentieth of the relief and low hills) within max(a quarter of the grid's longer
 ///    side, d/2), along the border, of where the shoreline meets the border — always
-///    above still water (> 0 for d > 0);
+///    above still water (> 0 for d > 0); from twice the grid's longer side out, the land
+///    rises on into far ranges whose height grows with d (0.6–4.6 % of d, so they stand
+///    at a constant angle seen from the grid) and varies with the azimuth about the
+///    grid's centre (ridged harmonics, those finer than four mesh edges left out), so
+///    the land's skyline is broken, not a plateau's straight top; none within a tenth
+///    of d of the far field's cuts (the lines out from where the shoreline meets the
+///    border), full from half of d;
 ///  * beyond sea (z(s) < 0), the sea's mean elevation over that window (sea bottom stays sea
 ///    bottom, as deep as the border's water), except near land: there the land goes on
 ///    over the sea and falls to it over a width growing with d (d/4, at most a tenth of

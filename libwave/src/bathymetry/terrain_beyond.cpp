@@ -71,6 +71,43 @@ double hills(const TerrainBeyond& t, double x, double y, double resolution) {
     return sum / norm;
 }
 
+// The far ranges' profile in [0, 1] along the azimuth θ about the grid's centre: 12
+// harmonics of θ (3, 4, 5, 7, … 71 turns a circle), weights falling as 1/√f, ridged
+// (1 − |sum|: sharp crests, broad valleys); a harmonic fades out where the mesh's edges
+// at distance d exceed a quarter of its wavelength 2πd/f (gone at a half: a skyline
+// needs four vertices a crest, not the hills' eight).
+double ranges(const TerrainBeyond& t, double theta, double d, double resolution) {
+    static constexpr double kTurns[12] = {3, 4, 5, 7, 9, 12, 16, 21, 28, 38, 52, 71};
+    double sum = 0.0, norm = 0.0;
+    for (int k = 0; k < 12; ++k) {
+        const double weight = 1.0 / std::sqrt(kTurns[k]);
+        norm += weight;
+        const double wavelength = 2.0 * std::numbers::pi * d / kTurns[k];
+        const double keep = std::clamp(2.0 - 4.0 * resolution / wavelength, 0.0, 1.0);
+        sum += weight * keep * std::sin(kTurns[k] * theta + t.range_phase[k]);
+    }
+    return 1.0 - std::abs(sum / norm);
+}
+
+// The distance (m) from (x, y) to the nearest of the far field's cuts: the lines out
+// from where the shoreline meets the border, along that side's outward normal (the
+// skirt's water ends on them); infinite without a shoreline on the border.
+double cut_distance(const TerrainBeyond& t, double x, double y) {
+    const double w = t.x1 - t.x0, h = t.y1 - t.y0;
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const double c : t.shore) {
+        double px, py, nx, ny;
+        if (c < w) px = t.x0 + c, py = t.y0, nx = 0.0, ny = -1.0;
+        else if (c < w + h) px = t.x1, py = t.y0 + (c - w), nx = 1.0, ny = 0.0;
+        else if (c < 2.0 * w + h) px = t.x1 - (c - w - h), py = t.y1, nx = 0.0, ny = 1.0;
+        else px = t.x0, py = t.y1 - (c - 2.0 * w - h), nx = -1.0, ny = 0.0;
+        const double along = (x - px) * nx + (y - py) * ny;
+        const double across = (x - px) * -ny + (y - py) * nx;
+        nearest = std::min(nearest, along > 0.0 ? std::abs(across) : std::hypot(x - px, y - py));
+    }
+    return nearest;
+}
+
 }  // namespace
 
 TerrainBeyond plan_terrain_beyond(const ElevationGrid& g, const TerrainBeyondOptions& options) {
@@ -120,6 +157,7 @@ TerrainBeyond plan_terrain_beyond(const ElevationGrid& g, const TerrainBeyondOpt
             t.hill_ky[k][j] = 2.0 * std::numbers::pi / wavelength * std::sin(angle);
             t.hill_phase[k][j] = 2.0 * std::numbers::pi * uniform(state);
         }
+    for (double& phase : t.range_phase) phase = 2.0 * std::numbers::pi * uniform(state);
     return t;
 }
 
@@ -173,7 +211,16 @@ double terrain_elevation(const TerrainBeyond& t, double x, double y, double reso
     // of the grid still did, seen end-on from 20 km.
     const double coastal = std::max(z_foot, 0.0) + o.relief * rise * (0.05 + 0.1 * (1.0 + n));
     const double taper = smoothstep(shore / std::max(0.25 * size, 0.5 * d));
-    const double land = coastal + (inland - coastal) * taper;
+    // The far ranges: from twice the grid's size out the land climbs on, 0.5–3 % of the
+    // distance (a constant angle seen from the grid: the rolling land's top, a few
+    // metres high to the horizon, read as a ruled line across the frame), its crests
+    // along the azimuth; away from the skirt's cuts only (a range beside a cut would
+    // stand as a wall along the water's straight edge), by the distance to the nearest
+    // cut's line out over d (the angle seen from the cut's foot).
+    const double theta = std::atan2(y - 0.5 * (t.y0 + t.y1), x - 0.5 * (t.x0 + t.x1));
+    const double clear = smoothstep(cut_distance(t, x, y) / (0.4 * d) - 0.25);
+    const double far = clear * d * smoothstep((d - 2.0 * size) / (10.0 * size)) * (0.006 + 0.04 * ranges(t, theta, d, resolution));
+    const double land = coastal + (inland - coastal) * taper + far;
     if (z_foot >= 0.0) return land;  // land is h <= 0 (docs/conventions.md)
 
     const double sea_mean = mean(t.sea, t.sea_len, [&](std::size_t i) { return std::min(t.z[i], 0.0); },

@@ -68,9 +68,9 @@ std::array<float, 3> seafloor_colour(double z, const FloorPalette& p) {
 // domain lies over a bottom and the land goes on to the horizon. The grid's nodes are
 // the first cols × rows of `a`'s seafloor vertices. Rings of the grid's rectangle
 // offset by d, a cell (`cell`) apart near the border and 1.25 × further out each, up
-// to `reach`, their vertices about a quarter of d apart (a cell near the border), so
-// that the triangles stay near equilateral and the hills the terrain draws stay
-// resolved. Before, two rings extruded each border node's elevation and colour to the
+// to `reach`, their vertices about a tenth of d apart (a cell near the border), so
+// that the hills the terrain draws stay resolved and the far ranges' crests (four
+// vertices each) break the skyline. Before, two rings extruded each border node's elevation and colour to the
 // far rectangle: whatever the border held ran on unchanged to the horizon — behind the
 // bay's head, the low sand-coloured land where the bay cuts deepest drew a pale wedge,
 // a road from the beach to the horizon.
@@ -132,7 +132,7 @@ void add_seafloor_apron(const ElevationGrid& g, double cell, double reach, std::
     double d = 0.0;
     while (d < reach) {
         d = std::min(reach, std::max(1.25 * d, d + cell));
-        const double spacing = std::max(cell, 0.25 * d);
+        const double spacing = std::max(cell, 0.1 * d);
         const double corner[5][2] = {{x0 - d, y0 - d}, {x1 + d, y0 - d}, {x1 + d, y1 + d}, {x0 - d, y1 + d}, {x0 - d, y0 - d}};
         std::vector<Node> outer;
         for (int side = 0; side < 4; ++side) {
