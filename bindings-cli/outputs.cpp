@@ -20,30 +20,11 @@ namespace wave::cli {
 using nlohmann::json;
 namespace fs = std::filesystem;
 
-namespace {
-
-// The file's bytes, or nothing when it cannot be read (a directory included: reading
-// one through a stream throws basic_filebuf's own error).
-std::optional<std::string> read_bytes(const fs::path& path) {
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec)) return std::nullopt;
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return std::nullopt;
-    try {
-        std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-        if (in.bad()) return std::nullopt;
-        return bytes;
-    } catch (const std::exception&) {
-        return std::nullopt;
-    }
-}
-
-}  // namespace
 
 std::string read_input_bytes(const fs::path& path) {
     std::error_code ec;
     if (fs::is_directory(path, ec)) throw InputError(path.string() + ": a directory, not a file");
-    auto bytes = read_bytes(path);
+    auto bytes = read_regular_file(path.string());
     if (!bytes) throw InputError(path.string() + ": cannot read the file (" + (fs::exists(path, ec) ? "not a regular file or unreadable" : "file not found") + ")");
     return std::move(*bytes);
 }
@@ -186,7 +167,7 @@ bool own_output_name(const std::string& name) {
 }  // namespace
 
 std::vector<std::string> recorded_outputs(const std::string& out_dir, const std::string& report_name) {
-    const auto bytes = read_bytes(fs::path(out_dir) / report_name);  // a regular file only: a FIFO there blocked the run's end
+    const auto bytes = read_regular_file((fs::path(out_dir) / report_name).string());  // a regular file only: a FIFO there blocked the run's end
     if (!bytes) return {};
     const json report = json::parse(*bytes, nullptr, false);
     if (report.is_discarded() || !report.is_object() || !report.contains("outputs") || !report["outputs"].is_array()) return {};

@@ -15,9 +15,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     // so each check reads no file (names that climb out of it are refused first).
     const wave::FrameIndexInfo info{"fuzz", 2.0, 5.0, 10, "0123456789abcdef0123456789abcdef0123456789abcdef0123456789abcdef"};
     wave::fuzz::expect_input_error_only([&] {
-        if (const auto index = wave::read_files_form_index(file.path))
-            for (const auto& entry : nlohmann::json::parse(*index)["frames"])
-                wave::frame_entry_intact(entry.dump(), "/nonexistent/libwave-fuzz");
+        if (const auto index = wave::read_files_form_index(file.path)) {
+            const nlohmann::json parsed = nlohmann::json::parse(*index);  // held: a range-for over a temporary's member dangles before C++23
+            for (const auto& entry : parsed["frames"]) wave::frame_entry_intact(entry.dump(), "/nonexistent/libwave-fuzz");
+        }
         for (const bool whole_loop : {false, true})
             for (const bool rebuild : {false, true}) wave::merged_frame_index(file.path, info, {}, whole_loop, rebuild);
     });

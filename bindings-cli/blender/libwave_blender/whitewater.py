@@ -8,6 +8,7 @@ lace pattern (lace_group) as the water material's own foam; bubbles as faint spe
 
 import os
 import re
+import time
 
 import bpy
 import numpy as np
@@ -25,13 +26,15 @@ _listed = {}  # folder → (its whitewater folder's mtime, sequence): a frame ch
 
 def sequence(folder):
     """{loop frame: file} of the whitewater files beside an animation in `folder` ({} when none).
-    Listed again only when the whitewater folder changed (its mtime): listing 200–300
-    files on every frame change cost a few milliseconds of playback."""
+    Listed again only when the whitewater folder changed (its inode or mtime; a folder
+    changed in the last 2 s is not cached): listing 200–300 files on every frame change
+    cost a few milliseconds of playback."""
     root = os.path.join(folder, FOLDER)
     if not os.path.isdir(root) or os.path.islink(root):
         _listed.pop(folder, None)
         return {}
-    stamp = os.stat(root).st_mtime_ns
+    st = os.stat(root)
+    stamp = (st.st_ino, st.st_mtime_ns)
     held = _listed.get(folder)
     if held is not None and held[0] == stamp:
         return held[1]
@@ -40,7 +43,8 @@ def sequence(folder):
         m = _NAME.match(name)
         if m:
             found[int(m.group(1))] = os.path.join(root, name)
-    _listed[folder] = (stamp, found)
+    if time.time() - st.st_mtime > 2.0:  # a folder still being written may change within its mtime's tick
+        _listed[folder] = (stamp, found)
     return found
 
 
@@ -55,10 +59,11 @@ SHARE_PROP = "libwave_viewport_share"
 _rendering = False  # between render_init and render_complete / render_cancel
 
 
-def shown_share(obj):
+def shown_share(obj, render_done=False):
     """The share of its particles `obj` shows now: 1 while a render runs, else its
-    viewport share (clamped to 0.01–1)."""
-    if _rendering or (hasattr(bpy.app, "is_job_running") and bpy.app.is_job_running("RENDER")):
+    viewport share (clamped to 0.01–1). `render_done`: asked from render_complete /
+    render_cancel, where an interactive render's job still counts as running."""
+    if _rendering or (not render_done and hasattr(bpy.app, "is_job_running") and bpy.app.is_job_running("RENDER")):
         return 1.0
     try:
         share = float(obj.get(SHARE_PROP, VIEWPORT_SHARE))
@@ -564,7 +569,7 @@ def _set_points(mesh, points):
     mesh.update()
 
 
-def apply_frame(obj, scene_frame):
+def apply_frame(obj, scene_frame, render_done=False):
     """Shows the particles of loop frame (scene_frame − frame_start) mod the loop."""
     files = sequence(obj[_PROP])
     if not files:
@@ -572,7 +577,7 @@ def apply_frame(obj, scene_frame):
     loop = int(obj.get("libwave_loop_frames", 0)) or (max(files) + 1)
     k = (scene_frame - obj.get("libwave_frame_start", 0)) % loop
     path = files.get(int(obj.get("libwave_first_frame", 0)) + k)
-    share = shown_share(obj)
+    share = shown_share(obj, render_done)
     _set_points(obj.data, read_points(path, share) if path else read_points_empty())
     obj["libwave_frame"] = k
     obj["libwave_shown_share"] = share
@@ -646,9 +651,9 @@ def _show_all(scene, rendering):
     global _rendering
     _rendering = rendering
     for obj in scene.objects:
-        if obj.type == "MESH" and _PROP in obj and obj.get("libwave_shown_share", 1.0) != shown_share(obj):
+        if obj.type == "MESH" and _PROP in obj and obj.get("libwave_shown_share", 1.0) != shown_share(obj, not rendering):
             try:
-                apply_frame(obj, scene.frame_current)
+                apply_frame(obj, scene.frame_current, not rendering)
             except (OSError, KeyError, IndexError, frames.LibwaveFileError) as e:
                 print(frames.printable(f"libwave: {obj.name}: {e}"))
 

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -25,6 +26,13 @@ void write_file_atomic(const std::string& path, std::string_view bytes, const st
 /// pipe), not a regular file", a device or a socket. Checked before any open, so that
 /// a FIFO or a device never blocks a reader (docs/hardening.md, "Special files").
 void require_input_file(const std::string& path, bool directory = false);
+
+/// The whole contents of the regular file at `path` (links followed), or nothing when
+/// it is not one (missing, a folder, a FIFO, a device: never opened, so a FIFO cannot
+/// block) or cannot be read whole. Never throws for the file's sake: for readers of
+/// what an earlier run may have left (an index, a report), where "not there" is an
+/// answer.
+std::optional<std::string> read_regular_file(const std::string& path);
 
 /// `text` (a message, a name read from a file) with what a terminal would act on shown
 /// as escapes: control characters (C0 but the tab, DEL, C1) as `\xHH`, bidirectional

@@ -75,18 +75,22 @@ double hills(const TerrainBeyond& t, double x, double y, double resolution) {
 // harmonics of θ (3, 4, 5, 7, … 71 turns a circle), weights falling as 1/√f, ridged
 // (1 − |sum|: sharp crests, broad valleys); a harmonic fades out where the mesh's edges
 // at distance d exceed a quarter of its wavelength 2πd/f (gone at a half: a skyline
-// needs four vertices a crest, not the hills' eight).
+// needs four vertices a crest, not the hills' eight), and the profile with it towards
+// its mean (0.5) by the share of the weight left out: a mesh too coarse for the ranges
+// gets their mean height, not their crests'.
 double ranges(const TerrainBeyond& t, double theta, double d, double resolution) {
     static constexpr double kTurns[12] = {3, 4, 5, 7, 9, 12, 16, 21, 28, 38, 52, 71};
-    double sum = 0.0, norm = 0.0;
+    double sum = 0.0, norm = 0.0, kept = 0.0;
     for (int k = 0; k < 12; ++k) {
         const double weight = 1.0 / std::sqrt(kTurns[k]);
         norm += weight;
         const double wavelength = 2.0 * std::numbers::pi * d / kTurns[k];
         const double keep = std::clamp(2.0 - 4.0 * resolution / wavelength, 0.0, 1.0);
+        kept += weight * keep;
         sum += weight * keep * std::sin(kTurns[k] * theta + t.range_phase[k]);
     }
-    return 1.0 - std::abs(sum / norm);
+    if (kept <= 0.0) return 0.5;
+    return 0.5 + (kept / norm) * (0.5 - std::abs(sum / kept));
 }
 
 // The distance (m) from (x, y) to the nearest of the far field's cuts: the lines out
@@ -211,7 +215,7 @@ double terrain_elevation(const TerrainBeyond& t, double x, double y, double reso
     // of the grid still did, seen end-on from 20 km.
     const double coastal = std::max(z_foot, 0.0) + o.relief * rise * (0.05 + 0.1 * (1.0 + n));
     const double taper = smoothstep(shore / std::max(0.25 * size, 0.5 * d));
-    // The far ranges: from twice the grid's size out the land climbs on, 0.5–3 % of the
+    // The far ranges: from twice the grid's size out the land climbs on, 0.6–4.6 % of the
     // distance (a constant angle seen from the grid: the rolling land's top, a few
     // metres high to the horizon, read as a ruled line across the frame), its crests
     // along the azimuth; away from the skirt's cuts only (a range beside a cut would

@@ -6,6 +6,8 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include <fcntl.h>
@@ -192,6 +194,20 @@ std::string path_inside(const std::string& folder, const std::string& name, cons
     return folder.empty() ? rel.string() : (base / rel).string();
 }
 
+std::optional<std::string> read_regular_file(const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) return std::nullopt;
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return std::nullopt;
+    try {  // a folder through a stream throws basic_filebuf's own error: answered by the check above
+        std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        if (in.bad()) return std::nullopt;
+        return bytes;
+    } catch (const std::exception&) {
+        return std::nullopt;
+    }
+}
+
 }  // namespace wave
 
 namespace wave::detail {
@@ -209,5 +225,6 @@ std::uintmax_t input_file_bytes(const std::string& path) {
     if (ec) throw InputError(path + ": cannot tell its size (" + ec.message() + ")");
     return bytes;
 }
+
 
 }  // namespace wave::detail

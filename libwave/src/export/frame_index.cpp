@@ -40,25 +40,6 @@ std::string sha256_hex(std::string_view bytes) {
     return out;
 }
 
-namespace {
-
-// The file's bytes, or nothing when it cannot be read (a directory included: reading
-// one through a stream throws basic_filebuf's own error).
-std::optional<std::string> read_bytes(const fs::path& path) {
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec)) return std::nullopt;
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return std::nullopt;
-    try {
-        std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-        if (in.bad()) return std::nullopt;
-        return bytes;
-    } catch (const std::exception&) {
-        return std::nullopt;
-    }
-}
-
-}  // namespace
 
 namespace detail {
 
@@ -80,7 +61,7 @@ json frame_entry(std::size_t frame, double fps, const EncodedFiles& frame_files,
 
 // An index that cannot be read is a reason to recompute, not to stop a resumed run.
 std::optional<json> read_index(const fs::path& path) {
-    const auto bytes = read_bytes(path);
+    const auto bytes = read_regular_file(path.string());
     if (!bytes) return std::nullopt;
     json index = json::parse(*bytes, nullptr, false);
     if (index.is_discarded() || !index.is_object() || !index.contains("frames") || !index["frames"].is_array())
@@ -114,7 +95,7 @@ bool entry_intact(const json& entry, const fs::path& root) {
         std::error_code ec;
         const auto size = fs::file_size(file, ec);
         if (ec || size != c["bytes"].get<std::uintmax_t>()) return false;  // cheap check first
-        const auto bytes = read_bytes(file);
+        const auto bytes = read_regular_file(file);
         if (!bytes || sha256_hex(*bytes) != c["sha256"].get<std::string>()) return false;
     }
     return true;
