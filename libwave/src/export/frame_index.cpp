@@ -4,6 +4,7 @@
 #include "export/frame_index.h"
 
 #include "libwave/errors.h"
+#include "core/limits.h"
 #include "libwave/io.h"
 
 #include <openssl/evp.h>
@@ -63,6 +64,11 @@ json frame_entry(std::size_t frame, double fps, const EncodedFiles& frame_files,
 std::optional<json> read_index(const fs::path& path) {
     const auto bytes = read_regular_file(path.string());
     if (!bytes) return std::nullopt;
+    try {  // nested deeper than any index of ours: not one (its entries' dump would recurse that deep)
+        detail::check_json_nesting(*bytes, path.string());
+    } catch (const InputError&) {
+        return std::nullopt;
+    }
     json index = json::parse(*bytes, nullptr, false);
     if (index.is_discarded() || !index.is_object() || !index.contains("frames") || !index["frames"].is_array())
         return std::nullopt;
