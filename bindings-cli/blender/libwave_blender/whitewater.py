@@ -21,7 +21,7 @@ _NAME = re.compile(r"whitewater-(\d{4,})\.glb$")
 _PROP = "libwave_whitewater"  # the folder whose files the object plays
 
 
-_listed = {}  # folder → (its whitewater folder's mtime, sequence): a frame change lists it once
+_listed = {}  # folder → ((inode, mtime) of its whitewater folder, sequence): a frame change lists it once
 
 
 def sequence(folder):
@@ -85,8 +85,7 @@ def read_points(path, share=1.0):
     extras = doc.get("scenes", [{}])[0].get("extras", {}).get("libwave_whitewater")
     if not isinstance(extras, dict):
         raise frames.LibwaveFileError(frames.printable(f"{path}: not a libwave whitewater file (no scene extras libwave_whitewater)"))
-    empty = {"positions": np.zeros((0, 3), np.float32), "velocity": np.zeros((0, 3), np.float32),
-             "age": np.zeros(0, np.float32), "size": np.zeros(0, np.float32), "kind": np.zeros(0, np.float32)}
+    empty = read_points_empty()
     if not doc.get("meshes"):
         return empty
     prim = doc["meshes"][0]["primitives"][0]
@@ -636,26 +635,30 @@ def import_points(context, folder, frame_count, first_frame=0, frame_start=0, wa
     return obj
 
 
+def _apply_each(scene, render_done=False, only_changed=False):
+    """apply_frame on each whitewater object of `scene` (with `only_changed`, those whose
+    shown share is not the one wanted now); a file that fails is said, not raised."""
+    for obj in scene.objects:
+        if obj.type != "MESH" or _PROP not in obj:
+            continue
+        if only_changed and obj.get("libwave_shown_share", 1.0) == shown_share(obj, render_done):
+            continue
+        try:
+            apply_frame(obj, scene.frame_current, render_done)
+        except (OSError, KeyError, IndexError, frames.LibwaveFileError) as e:
+            print(frames.printable(f"libwave: {obj.name}: {e}"))
+
+
 @persistent
 def on_frame_change(scene, depsgraph=None):
-    for obj in scene.objects:
-        if obj.type == "MESH" and _PROP in obj:
-            try:
-                apply_frame(obj, scene.frame_current)
-            except (OSError, KeyError, IndexError, frames.LibwaveFileError) as e:
-                print(frames.printable(f"libwave: {obj.name}: {e}"))
+    _apply_each(scene)
 
 
 def _show_all(scene, rendering):
     """Switches between the viewport's share and every particle, on the frame shown."""
     global _rendering
     _rendering = rendering
-    for obj in scene.objects:
-        if obj.type == "MESH" and _PROP in obj and obj.get("libwave_shown_share", 1.0) != shown_share(obj, not rendering):
-            try:
-                apply_frame(obj, scene.frame_current, not rendering)
-            except (OSError, KeyError, IndexError, frames.LibwaveFileError) as e:
-                print(frames.printable(f"libwave: {obj.name}: {e}"))
+    _apply_each(scene, render_done=not rendering, only_changed=True)
 
 
 @persistent
