@@ -256,6 +256,13 @@ def check_haze(folder, scene):
         errors.append(f"{folder}: haze off Koschmieder's law by {worst} ({checked} rows)")
 
 
+def file_vertex(mesh):
+    """Each of the add-on's water vertices' index in the file (its "file vertex" attribute)."""
+    values = np.empty(len(mesh.vertices), np.int32)
+    mesh.attributes["file vertex"].data.foreach_get("value", values)
+    return values.astype(np.int64)
+
+
 def check_whitewater(folder, scene, water, expected):
     """The whitewater's look (docs/whitewater.md, "The look in Blender"): the water keeps its
     frame-0 positions as "rest" and its material breaks the foam into the lace node group
@@ -265,7 +272,8 @@ def check_whitewater(folder, scene, water, expected):
     from libwave_blender import whitewater
     rest = np.empty(3 * len(water.data.vertices), np.float32)
     water.data.attributes["rest"].data.foreach_get("vector", rest)
-    if np.abs(rest.reshape(-1, 3) - np.asarray(expected["positions"][0], np.float32).reshape(-1, 3)).max() > 1e-5:
+    first = np.asarray(expected["positions"][0], np.float32).reshape(-1, 3)[file_vertex(water.data)]
+    if np.abs(rest.reshape(-1, 3) - first).max() > 1e-5:
         errors.append(f"{folder}: the water's rest attribute is not its first frame")
     tree = water.data.materials[0].node_tree
     if not any(n.type == "GROUP" and n.node_tree.name == "libwave foam lace" for n in tree.nodes) \
@@ -401,7 +409,7 @@ def check_file_normals(path, scene, expected):
             "vector" if hasattr(mesh, "corner_normals") else "normal", corners)
         vertex = np.empty(len(mesh.loops), np.int64)
         mesh.loops.foreach_get("vertex_index", vertex)
-        want = expected["normals"][f % frames][vertex]
+        want = np.asarray(expected["normals"][f % frames]).reshape(-1, 3)[file_vertex(mesh)[vertex]]
         want /= np.linalg.norm(want, axis=1, keepdims=True)
         angle = np.degrees(np.arccos(np.clip((corners.reshape(-1, 3) * want).sum(axis=1), -1.0, 1.0)))
         if angle.max() > 1.0:
@@ -464,6 +472,18 @@ for folder in runs:
     obj = water[0]
     if abs(scene.render.fps / scene.render.fps_base - expected["fps"]) > 1e-6 or scene.frame_end != frames - 1:
         errors.append(f"{path}: fps {scene.render.fps}/{scene.render.fps_base}, frames {scene.frame_start}..{scene.frame_end}")
+    # The add-on lays the mesh out for locality; "file vertex" maps it back to the file:
+    # a permutation, under which the mesh's triangles are the file's (in another order).
+    index = file_vertex(obj.data)
+    corners = np.empty(len(obj.data.loops), np.int32)
+    obj.data.loops.foreach_get("vertex_index", corners)
+    if not np.array_equal(np.sort(index), np.arange(n)):
+        errors.append(f"{path}: the water's \"file vertex\" attribute is not a permutation of its {n} vertices")
+        continue
+    rows = lambda t: (lambda r: r[np.lexsort(r.T[::-1])])(np.sort(np.asarray(t, np.int64).reshape(-1, 3), axis=1))
+    mine, theirs = rows(index[corners]), rows(expected["triangles"])
+    if mine.shape != theirs.shape or not np.array_equal(mine, theirs):
+        errors.append(f"{path}: the water's triangles, mapped back by \"file vertex\", are not the file's")
     for f in [0, 1, frames // 2, frames + 1]:
         scene.frame_set(f)
         k = f % frames
@@ -473,7 +493,7 @@ for folder in runs:
         # node's translation to its scale times the int16 in float32, so each coordinate is
         # good to a few of float32's steps at its own size plus the node's (≤ 128 m on the
         # bay): ~2e-5 m in the bay, 8 mm on the skirt at 80 km.
-        want = np.asarray(expected["positions"][k], np.float32).reshape(n, 3)
+        want = np.asarray(expected["positions"][k], np.float32).reshape(n, 3)[index]
         tol = 1e-6 if "quant" not in folder else 1e-6 + 8.0 * np.spacing(np.abs(want) + np.float32(128.0))
         gap = np.abs(co.reshape(n, 3) - want) - tol
         if (gap > 0).any():
@@ -481,13 +501,13 @@ for folder in runs:
         for name in ("foam", "reflect", "refract"):
             values = np.empty(n, np.float32)
             obj.data.attributes[name].data.foreach_get("value", values)
-            gap = np.abs(values - expected[name][k]).max()
+            gap = np.abs(values - np.asarray(expected[name][k])[index]).max()
             if gap > (1e-6 if "quant" not in folder else 1.0 / 65535.0 + 1e-6):
                 errors.append(f"{path}: frame {f}: {name} off by {gap}")
         if len(expected.get("colors", [])):  # Ts'o's baked colour (outputs.color)
             rgba = np.empty(4 * n, np.float32)
             obj.data.attributes["colour"].data.foreach_get("color", rgba)
-            gap = np.abs(rgba.reshape(n, 4)[:, :3] - expected["colors"][k]).max()
+            gap = np.abs(rgba.reshape(n, 4)[:, :3] - np.asarray(expected["colors"][k])[index]).max()
             if gap > 1e-6:
                 errors.append(f"{path}: frame {f}: colour off by {gap}")
     if not all(p.use_smooth for p in obj.data.polygons):

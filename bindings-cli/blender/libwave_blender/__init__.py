@@ -43,7 +43,7 @@ _animations = {}  # source path → frames.Animation (reopened after a .blend is
 
 def _animation(path):
     if path not in _animations:
-        _animations[path] = frames.Animation(path)
+        _animations[path] = frames.Animation(path, mesh_order=True)  # Blender's evaluation wants locality
     return _animations[path]
 
 
@@ -102,6 +102,16 @@ def _mesh_from_arrays(name, positions, triangles):
     except (AttributeError, TypeError, RuntimeError):
         pass
     mesh.update(calc_edges=True)
+    return mesh
+
+
+def water_mesh(name, anim):
+    """The water's mesh for `anim` (frames.Animation) at its frame 0, in the animation's
+    mesh order, with the point attribute "file vertex": each vertex's index in the file
+    (the map back to the file's order, for a check or a pipeline's own per-vertex data)."""
+    mesh = _mesh_from_arrays(name, anim.frame(0).positions, anim.triangles)
+    order = anim.order if anim.order is not None else np.arange(len(mesh.vertices))
+    mesh.attributes.new("file vertex", "INT", "POINT").data.foreach_set("value", np.ascontiguousarray(order, np.int32))
     return mesh
 
 
@@ -560,7 +570,7 @@ def import_animation(context, path, set_scene=True, caustics=True, bake=False, b
         frames.check_bake(anim)  # before the water object is made
     if baked_colour and first.color is None:
         raise ValueError(f"{path} has no baked colour (run the scene with \"outputs\": {{\"color\": true}})")
-    mesh = _mesh_from_arrays("libwave water", first.positions, anim.triangles)
+    mesh = water_mesh("libwave water", anim)
     set_rest(mesh)
     _smooth(mesh, file_normals and not bake)
     mesh.materials.append(water_material(baked_colour))

@@ -458,7 +458,7 @@ def _play(context, water, setup, index, final):
     if mesh is None or len(mesh.vertices) != len(anim.frame(0).positions) or not same \
             or len(mesh.polygons) != len(anim.triangles):
         old = mesh
-        mesh = pkg._mesh_from_arrays(water.name, anim.frame(0).positions, anim.triangles)
+        mesh = pkg.water_mesh(water.name, anim)
         pkg.set_rest(mesh)
         pkg._smooth(mesh)
         mesh.materials.append(pkg.water_material())

@@ -6,6 +6,7 @@ whitewater.md, "The look in Blender"): spray as puffs of fine droplets streaked 
 their velocity, thinning with age; foam as sheets of lace laid on the water, the same
 lace pattern (lace_group) as the water material's own foam; bubbles as faint specks."""
 
+import concurrent.futures
 import os
 import re
 import time
@@ -22,6 +23,8 @@ _PROP = "libwave_whitewater"  # the folder whose files the object plays
 
 
 _listed = {}  # folder → ((inode, mtime) of its whitewater folder, sequence): a frame change lists it once
+_ahead = {}  # (file, share) → its read_points on the worker: the next loop frame's, read during this one's evaluation
+_worker = None
 
 
 def sequence(folder):
@@ -575,11 +578,39 @@ def apply_frame(obj, scene_frame, render_done=False):
         return
     loop = int(obj.get("libwave_loop_frames", 0)) or (max(files) + 1)
     k = (scene_frame - obj.get("libwave_frame_start", 0)) % loop
-    path = files.get(int(obj.get("libwave_first_frame", 0)) + k)
+    first = int(obj.get("libwave_first_frame", 0))
+    path = files.get(first + k)
     share = shown_share(obj, render_done)
-    _set_points(obj.data, read_points(path, share) if path else read_points_empty())
+    _set_points(obj.data, _points(path, share) if path else read_points_empty())
+    _read_ahead(files.get(first + (k + 1) % loop), share)
     obj["libwave_frame"] = k
     obj["libwave_shown_share"] = share
+
+
+def _points(path, share):
+    """read_points(path, share), taken from the worker when it was read ahead (a failed
+    read ahead is read again here, so its error is raised on this frame)."""
+    future = _ahead.pop((path, share), None)
+    if future is not None:
+        try:
+            return future.result()
+        except (OSError, KeyError, IndexError, ValueError, frames.LibwaveFileError):
+            pass
+    return read_points(path, share)
+
+
+def _read_ahead(path, share):
+    """Starts reading `path` on the worker (one file ahead: sequential playback finds the
+    next frame's particles read while Blender evaluates this one; frame_set lets other
+    threads run then). A jump drops what was read ahead for another frame."""
+    global _worker
+    for key in [key for key in _ahead if key != (path, share)]:
+        _ahead.pop(key).cancel()
+    if path is None or (path, share) in _ahead:
+        return
+    if _worker is None:
+        _worker = concurrent.futures.ThreadPoolExecutor(max_workers=1, thread_name_prefix="libwave-whitewater")
+    _ahead[(path, share)] = _worker.submit(read_points, path, share)
 
 
 def read_points_empty():
