@@ -7,6 +7,9 @@ bench/RESULTS.md.
 
     python3 bench/codec_timings.py [WAVE] [EXAMPLE.json ...]
 
+With KEEP=DIR in the environment, each example's default output is kept as DIR/NAME
+(for bench/blender_playback.py to import the same outputs).
+
 The files form's frame time includes writing its files (the plain run writes twice the
 bytes, so the codec's share is, if anything, understated for it).
 """
@@ -50,5 +53,9 @@ with tempfile.TemporaryDirectory() as d:
         print(f"| {scene.stem} | {s['form']} | {s['codec']} | {s['frames']} | {s['vertices']} | {t['plan'] / 1e3:.1f} | "
               f"{t['frames'] / 1e3:.1f} ({tp['frames'] / 1e3:.1f}) | {t['frames'] / frames:.0f} ({tp['frames'] / frames:.0f}) | "
               f"{share:+.2f} | {wall:.1f} ({wall_plain:.1f}) | {bytes_ / 1e6:.1f} ({bytes_plain / 1e6:.1f}) |", flush=True)
+        if os.environ.get("KEEP"):
+            subprocess.run(["rm", "-rf", os.path.join(os.environ["KEEP"], scene.stem)])
+            os.makedirs(os.environ["KEEP"], exist_ok=True)
+            os.rename(os.path.join(d, "a"), os.path.join(os.environ["KEEP"], scene.stem))
         for f in ("a", "b"):
             subprocess.run(["rm", "-rf", os.path.join(d, f)])

@@ -150,7 +150,7 @@ def water_material(baked_colour=False):
     else:
         water = nodes.new("ShaderNodeBsdfPrincipled")
         water.inputs["Base Color"].default_value = (0.02, 0.12, 0.16, 1.0)
-        water.inputs["Roughness"].default_value = 0.04
+        water.inputs["Roughness"].default_value = WATER_ROUGHNESS
         water.inputs["IOR"].default_value = 1.333
         for transmission in ("Transmission Weight", "Transmission"):  # Blender 4.x, 3.x
             if transmission in water.inputs:
@@ -164,6 +164,36 @@ def water_material(baked_colour=False):
     # A little more lace than the value alone would give (the value is a smooth share over
     # a mesh triangle; lace at that share looks thinner than it is).
     density = t.math("POWER", foam.outputs["Fac"], FOAM_LACE_GAMMA)
+    # Patches: the foam a breaker leaves gathers in patches and streaks metres across,
+    # with clean water between (a uniform web over the whole surf zone read as cracked
+    # glaze from above): its density times a slow noise at the rest coordinates.
+    patches = t.node("ShaderNodeTexNoise", noise_dimensions="2D")
+    patches.inputs["Scale"].default_value = FOAM_PATCH_SCALE
+    patches.inputs["Detail"].default_value = 2.0
+    links.new(rest.outputs["Vector"], patches.inputs["Vector"])
+    patchy = t.clamp01(t.math("MULTIPLY", t.math("SUBTRACT", patches.outputs["Fac"], FOAM_PATCH_EDGE), 5.0))
+    density = t.math("MULTIPLY", density, t.math("MINIMUM", t.math("ADD", patchy, t.math("POWER", foam.outputs["Fac"], 4.0)), 1.0))
+    if not baked_colour:
+        # Aerated water is rough: where the foam value stands (the surf a breaker left,
+        # between the lace's threads too), the surface's roughness rises with it, so the
+        # holes in the lace show the sky and the land blurred, as churned water does,
+        # not as a mirror (a wave face there mirrored the grass behind the beach as sharp
+        # green islands in the surf).
+        rough = t.math("MINIMUM", t.math("MULTIPLY", foam.outputs["Fac"], 1.0 / SURF_FOAM), 1.0)
+        links.new(t.math("MULTIPLY_ADD", rough, SURF_ROUGHNESS - WATER_ROUGHNESS, WATER_ROUGHNESS), water.inputs["Roughness"])
+        # Ripples below the mesh's scale (capillary and short wind waves, a few cm to a few
+        # dm, riding with the water at its rest coordinates) as a bump: a wave face mirrored
+        # the land behind the beach as one sharp island; real water breaks a reflection
+        # into streaks and glints.
+        ripples = t.node("ShaderNodeTexNoise")
+        ripples.inputs["Scale"].default_value = RIPPLE_SCALE
+        ripples.inputs["Detail"].default_value = 4.0
+        links.new(rest.outputs["Vector"], ripples.inputs["Vector"])
+        bump = t.node("ShaderNodeBump")
+        bump.inputs["Strength"].default_value = RIPPLE_STRENGTH
+        bump.inputs["Distance"].default_value = RIPPLE_HEIGHT
+        links.new(ripples.outputs["Fac"], bump.inputs["Height"])
+        links.new(bump.outputs["Normal"], water.inputs["Normal"])
     mix = nodes.new("ShaderNodeMixShader")
     mix.label = "foam: the foam value broken into lace"
     mask = whitewater._lace_mask(t, rest.outputs["Vector"], density)
@@ -178,6 +208,14 @@ def water_material(baked_colour=False):
 
 
 FOAM_LACE_GAMMA = 0.7  # the foam value's density for the lace: value ** this
+WATER_ROUGHNESS = 0.04  # calm water's
+SURF_ROUGHNESS = 0.3  # churned water's, reached where the foam value is SURF_FOAM or more
+SURF_FOAM = 0.3
+FOAM_PATCH_SCALE = 0.12  # the patches' noise scale (per metre: patches ~5–10 m across)
+FOAM_PATCH_EDGE = 0.42  # the noise (about 0.5 ± 0.15) clears the web below this, keeps it whole 0.2 above (full foam stays full)
+RIPPLE_SCALE = 6.0  # the ripples' noise scale (per metre of the rest coordinates: features of ~10–20 cm)
+RIPPLE_STRENGTH = 0.35
+RIPPLE_HEIGHT = 0.05  # m
 
 
 def set_rest(mesh):
