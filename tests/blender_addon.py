@@ -279,6 +279,12 @@ def check_whitewater(folder, scene, water, expected):
     if not any(n.type == "GROUP" and n.node_tree.name == "libwave foam lace" for n in tree.nodes) \
             or not any(n.type == "ATTRIBUTE" and n.attribute_name == "rest" for n in tree.nodes):
         errors.append(f"{folder}: the water material does not break its foam into lace at the rest positions")
+    bsdf = next((n for n in tree.nodes if n.type == "BSDF_PRINCIPLED"), None)
+    # The water's surface below the mesh's scale: a bump of ripples into its normal, and its
+    # roughness driven (by the foam value), not a constant.
+    if bsdf is None or not bsdf.inputs["Normal"].is_linked or bsdf.inputs["Normal"].links[0].from_node.type != "BUMP" \
+            or not bsdf.inputs["Roughness"].is_linked:
+        errors.append(f"{folder}: the water's Principled BSDF has no ripple bump or no roughness from the foam")
     ww = [o for o in scene.objects if "libwave_whitewater" in o]
     if len(ww) != 1:
         errors.append(f"{folder}: {len(ww)} whitewater objects")

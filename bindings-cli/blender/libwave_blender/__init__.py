@@ -287,16 +287,55 @@ def _add_haze(mat, visibility):
 
 
 def _new_seafloor_material(name):
-    """A rough Principled BSDF coloured by the seafloor's "depth colour" attribute:
-    (material, its BSDF node, the attribute node)."""
+    """A rough Principled BSDF coloured by the seafloor's "depth colour" attribute, varied
+    over the ground: (material, its BSDF node, the node whose Color output is the floor's
+    colour)."""
     mat = bpy.data.materials.new(name)
     mat.use_nodes = True
+    t = whitewater._Tree(mat.node_tree)
     bsdf = mat.node_tree.nodes.get("Principled BSDF")
     bsdf.inputs["Roughness"].default_value = 0.9
     colour = mat.node_tree.nodes.new("ShaderNodeAttribute")
     colour.attribute_name = "depth colour"
-    mat.node_tree.links.new(colour.outputs["Color"], bsdf.inputs["Base Color"])
-    return mat, bsdf, colour
+    # The file's colours are per vertex and smooth (sand, grass by height): one flat green
+    # read as a lawn to the horizon. Patches tens of metres across and clumps of a metre
+    # vary their brightness, drier patches turn towards straw, and a bump of the same
+    # clumps gives the ground a texture; positions in the world, so the land beyond the
+    # data varies as the data's does.
+    where = t.node("ShaderNodeNewGeometry").outputs["Position"]
+    patches = t.node("ShaderNodeTexNoise")
+    patches.inputs["Scale"].default_value = GROUND_PATCH_SCALE
+    patches.inputs["Detail"].default_value = 4.0
+    clumps = t.node("ShaderNodeTexNoise")
+    clumps.inputs["Scale"].default_value = GROUND_CLUMP_SCALE
+    clumps.inputs["Detail"].default_value = 2.0
+    for n in (patches, clumps):
+        t.links.new(where, n.inputs["Vector"])
+    dry = t.node("ShaderNodeTexNoise")  # where the grass dries: yellower, browner
+    dry.inputs["Scale"].default_value = GROUND_PATCH_SCALE * 1.7
+    dry.inputs["Detail"].default_value = 3.0
+    t.links.new(where, dry.inputs["Vector"])
+    dryness = t.clamp01(t.math("MULTIPLY", t.math("SUBTRACT", dry.outputs["Fac"], 0.45), 4.0))
+    tint = t.vmath("ADD", (1.0, 1.0, 1.0), t.vmath("SCALE", t.vmath("SUBTRACT", GROUND_DRY_TINT, (1.0, 1.0, 1.0)), scale=dryness))
+    varied = t.node("ShaderNodeHueSaturation")
+    t.links.new(t.vmath("MULTIPLY", colour.outputs["Color"], tint), varied.inputs["Color"])
+    light = t.math("ADD", t.math("MULTIPLY", patches.outputs["Fac"], GROUND_PATCH_CONTRAST),
+                   t.math("MULTIPLY", clumps.outputs["Fac"], GROUND_CLUMP_CONTRAST))
+    t.put(varied.inputs["Value"], t.math("ADD", light, 1.0 - 0.5 * (GROUND_PATCH_CONTRAST + GROUND_CLUMP_CONTRAST)))
+    t.links.new(varied.outputs["Color"], bsdf.inputs["Base Color"])
+    bump = t.node("ShaderNodeBump")
+    bump.inputs["Strength"].default_value = 0.3
+    bump.inputs["Distance"].default_value = 0.1
+    t.links.new(clumps.outputs["Fac"], bump.inputs["Height"])
+    t.links.new(bump.outputs["Normal"], bsdf.inputs["Normal"])
+    return mat, bsdf, varied
+
+
+GROUND_PATCH_SCALE = 0.03  # per metre: patches ~30 m across
+GROUND_CLUMP_SCALE = 0.8  # per metre: clumps ~1 m across
+GROUND_PATCH_CONTRAST = 1.8  # brightness × (1 + this × (noise − 0.5)) over the patches (noise about 0.5 ± 0.15)
+GROUND_CLUMP_CONTRAST = 0.8
+GROUND_DRY_TINT = (1.5, 1.15, 0.6)  # a dry patch's colour × this (linear RGB): green grass to straw, sand to a warmer sand
 
 
 def _seafloor_material(visibility):
