@@ -16,6 +16,7 @@ bytes, so the codec's share is, if anything, understated for it).
 import json
 import os
 import pathlib
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -56,6 +57,6 @@ with tempfile.TemporaryDirectory() as d:
         if os.environ.get("KEEP"):
             subprocess.run(["rm", "-rf", os.path.join(os.environ["KEEP"], scene.stem)])
             os.makedirs(os.environ["KEEP"], exist_ok=True)
-            os.rename(os.path.join(d, "a"), os.path.join(os.environ["KEEP"], scene.stem))
+            shutil.move(os.path.join(d, "a"), os.path.join(os.environ["KEEP"], scene.stem))
         for f in ("a", "b"):
             subprocess.run(["rm", "-rf", os.path.join(d, f)])

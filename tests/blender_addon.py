@@ -293,10 +293,16 @@ def check_whitewater(folder, scene, water, expected):
     k = max(files, key=lambda f: os.path.getsize(files[f]))  # the busiest frame
     # In the viewport plain points, one per particle of the viewport's share (every
     # share_step-th), unless the modifier asks for the full look; a render takes them all.
-    scene.frame_set(k)
+    scene.frame_set(k - 1)
+    scene.frame_set(k)  # frame k's particles read ahead on the worker during frame k − 1
     every = whitewater.read_points(files[k])["kind"]
     share = ww[0][whitewater.SHARE_PROP]
     kinds = every[::whitewater.share_step(share)]
+    shown = np.empty(3 * len(ww[0].data.vertices), np.float32)
+    ww[0].data.vertices.foreach_get("co", shown)
+    want = whitewater.read_points(files[k], share)["positions"]
+    if shown.size != want.size or np.abs(shown.reshape(-1, 3) - want).max(initial=0.0) > 1e-6:
+        errors.append(f"{folder}: the whitewater shown at frame {k} is not its file's particles")
     if not (0 < share < 1 and len(kinds) < len(every) or len(every) < 2):
         errors.append(f"{folder}: the viewport's share {share} shows {len(kinds)} of {len(every)} particles")
     modifier = ww[0].modifiers[0]
@@ -486,11 +492,22 @@ for folder in runs:
     if not np.array_equal(np.sort(index), np.arange(n)):
         errors.append(f"{path}: the water's \"file vertex\" attribute is not a permutation of its {n} vertices")
         continue
-    rows = lambda t: (lambda r: r[np.lexsort(r.T[::-1])])(np.sort(np.asarray(t, np.int64).reshape(-1, 3), axis=1))
+
+    def rows(t):  # each triangle from its smallest corner on (its winding kept), the list sorted
+        t = np.asarray(t, np.int64).reshape(-1, 3)
+        turn = np.argmin(t, axis=1)[:, None]
+        t = np.take_along_axis(t, (turn + np.arange(3)) % 3, axis=1)
+        return t[np.lexsort(t.T[::-1])]
     mine, theirs = rows(index[corners]), rows(expected["triangles"])
     if mine.shape != theirs.shape or not np.array_equal(mine, theirs):
         errors.append(f"{path}: the water's triangles, mapped back by \"file vertex\", are not the file's")
-    for f in [0, 1, frames // 2, frames + 1]:
+    # Laid out for locality: a triangle's corners lie nearer each other in the mesh than in the file.
+    spread = lambda t: float(np.median(np.ptp(np.asarray(t, np.int64).reshape(-1, 3), axis=1)))
+    if not spread(corners) < spread(expected["triangles"]):
+        errors.append(f"{path}: the water is not laid out for locality (corner spread {spread(corners)} "
+                      f"against the file's {spread(expected['triangles'])})")
+    # 1, 2, 3: frames decoded ahead on the worker (compressed outputs), after a jump too.
+    for f in [0, 1, 2, 3, frames // 2, frames // 2 + 1, frames + 1]:
         scene.frame_set(f)
         k = f % frames
         co = np.empty(3 * n, np.float32)

@@ -845,6 +845,8 @@ def probe(name, edit, bake=False, frame=0):
         f.write(text if isinstance(text, str) else json.dumps(doc))
     try:
         a = frames.Animation(os.path.join(out, "index.json"))
+        # As the add-on's import lays the water out (locality_order), then plays it.
+        a.set_order(frames.locality_order(a.first_positions(), a.triangles)[0])
         a.frame(frame)
         if bake:
             frames.check_bake(a)

@@ -43,7 +43,7 @@ _animations = {}  # source path → frames.Animation (reopened after a .blend is
 
 def _animation(path):
     if path not in _animations:
-        _animations[path] = frames.Animation(path, mesh_order=True)  # Blender's evaluation wants locality
+        _animations[path] = frames.Animation(path)
     return _animations[path]
 
 
@@ -54,9 +54,34 @@ def _attribute(mesh, name):
     return a
 
 
+_mesh_orders = {}  # (mesh pointer, vertices, faces) → its "file vertex" (None: the file's order)
+
+
+def mesh_order(mesh):
+    """The order of `mesh`'s vertices in the file (its "file vertex" attribute; None for a
+    mesh without one, which a .blend saved before the attribute holds: the file's order),
+    read once per mesh. The mesh is what decides the order a frame is gathered in: a
+    file rewritten since, or another order computed now, must not scramble it."""
+    key = (mesh.as_pointer(), len(mesh.vertices), len(mesh.polygons))
+    if key not in _mesh_orders:
+        a = mesh.attributes.get("file vertex")
+        order = None
+        if a is not None and a.data_type == "INT" and a.domain == "POINT":
+            order = np.empty(len(mesh.vertices), np.int32)
+            a.data.foreach_get("value", order)
+            order = order.astype(np.int64)
+            if not np.array_equal(np.sort(order), np.arange(len(order))):
+                order = None  # an attribute of that name that is not ours: the file's order
+        if len(_mesh_orders) > 64:
+            _mesh_orders.clear()
+        _mesh_orders[key] = order
+    return _mesh_orders[key]
+
+
 def apply_frame(obj, scene_frame):
     """Shows loop frame (scene_frame − frame_start) mod frame_count of the object's animation."""
     anim = _animation(obj[_PROP])
+    anim.set_order(mesh_order(obj.data))
     k = (scene_frame - obj.get("libwave_frame_start", 0)) % anim.frame_count
     anim.want_normals = bool(obj.get("libwave_file_normals"))  # a compressed frame's normals decoded only for these
     f = anim.frame(k)
@@ -106,11 +131,14 @@ def _mesh_from_arrays(name, positions, triangles):
 
 
 def water_mesh(name, anim):
-    """The water's mesh for `anim` (frames.Animation) at its frame 0, in the animation's
-    mesh order, with the point attribute "file vertex": each vertex's index in the file
-    (the map back to the file's order, for a check or a pipeline's own per-vertex data)."""
-    mesh = _mesh_from_arrays(name, anim.frame(0).positions, anim.triangles)
-    order = anim.order if anim.order is not None else np.arange(len(mesh.vertices))
+    """The water's mesh for `anim` (frames.Animation) at its frame 0, laid out for locality
+    (frames.locality_order), with the point attribute "file vertex": each vertex's index
+    in the file (the map back to the file's order, for a check or a pipeline's own
+    per-vertex data; apply_frame gathers each frame through it). `anim` then gives its
+    frames in that order."""
+    order, triangles = frames.locality_order(anim.first_positions(), anim.triangles)
+    anim.set_order(order)
+    mesh = _mesh_from_arrays(name, anim.frame(0).positions, triangles)
     mesh.attributes.new("file vertex", "INT", "POINT").data.foreach_set("value", np.ascontiguousarray(order, np.int32))
     return mesh
 
@@ -311,7 +339,7 @@ def _new_seafloor_material(name):
     clumps.inputs["Detail"].default_value = 2.0
     for n in (patches, clumps):
         t.links.new(where, n.inputs["Vector"])
-    dry = t.node("ShaderNodeTexNoise")  # where the grass dries: yellower, browner
+    dry = t.node("ShaderNodeTexNoise")  # where the grass dries (another noise, ~20 m): yellower, browner
     dry.inputs["Scale"].default_value = GROUND_PATCH_SCALE * 1.7
     dry.inputs["Detail"].default_value = 3.0
     t.links.new(where, dry.inputs["Vector"])
@@ -321,7 +349,7 @@ def _new_seafloor_material(name):
     t.links.new(t.vmath("MULTIPLY", colour.outputs["Color"], tint), varied.inputs["Color"])
     light = t.math("ADD", t.math("MULTIPLY", patches.outputs["Fac"], GROUND_PATCH_CONTRAST),
                    t.math("MULTIPLY", clumps.outputs["Fac"], GROUND_CLUMP_CONTRAST))
-    t.put(varied.inputs["Value"], t.math("ADD", light, 1.0 - 0.5 * (GROUND_PATCH_CONTRAST + GROUND_CLUMP_CONTRAST)))
+    t.put(varied.inputs["Value"], t.math("MAXIMUM", t.math("ADD", light, 1.0 - 0.5 * (GROUND_PATCH_CONTRAST + GROUND_CLUMP_CONTRAST)), 0.0))
     t.links.new(varied.outputs["Color"], bsdf.inputs["Base Color"])
     bump = t.node("ShaderNodeBump")
     bump.inputs["Strength"].default_value = 0.3
@@ -355,7 +383,7 @@ def _socket(node, *names):
 
 def _caustic_material(folder, caustics, sun_irradiance, visibility):
     """The seafloor material with the caustic maps as an image sequence (docs/underwater.md):
-    the floor emits its depth colour × the map's irradiance / π (what a diffuse floor
+    the floor emits its colour (the depth colour varied over the ground) × the map's irradiance / π (what a diffuse floor
     lit by it would send back), since Cycles' sun does not
     reach the floor through the refracting water (caustics are the path a path tracer
     finds last). Looping with the animation, frame 0 at scene frame 0."""
@@ -642,12 +670,12 @@ def import_animation(context, path, set_scene=True, caustics=True, bake=False, b
     `meter_exposure`, where the import made the sky and the scene has a camera, the
     view's exposure metered through it (exposure.meter)."""
     anim = _animation(os.path.abspath(path))
-    first = anim.frame(0)
     if bake:
         frames.check_bake(anim)  # before the water object is made
-    if baked_colour and first.color is None:
-        raise ValueError(f"{path} has no baked colour (run the scene with \"outputs\": {{\"color\": true}})")
     mesh = water_mesh("libwave water", anim)
+    if baked_colour and anim.frame(0).color is None:
+        bpy.data.meshes.remove(mesh)
+        raise ValueError(f"{path} has no baked colour (run the scene with \"outputs\": {{\"color\": true}})")
     set_rest(mesh)
     _smooth(mesh, file_normals and not bake)
     mesh.materials.append(water_material(baked_colour))
@@ -755,8 +783,16 @@ def _menu(self, context):
     self.layout.operator(ImportLibwave.bl_idname, text="libwave animation (.glb, index.json)")
 
 
+@persistent
+def _forget_meshes(*_args):
+    """A .blend loaded: its meshes are new (a freed mesh's address may come back)."""
+    _mesh_orders.clear()
+
+
 def register():
     live.register()
+    if _forget_meshes not in bpy.app.handlers.load_pre:
+        bpy.app.handlers.load_pre.append(_forget_meshes)
     bpy.utils.register_class(exposure.MeterExposure)
     bpy.utils.register_class(ImportLibwave)
     bpy.types.TOPBAR_MT_file_import.append(_menu)
@@ -766,6 +802,8 @@ def register():
 
 
 def unregister():
+    if _forget_meshes in bpy.app.handlers.load_pre:
+        bpy.app.handlers.load_pre.remove(_forget_meshes)
     whitewater.remove_handlers()
     if _on_frame_change in bpy.app.handlers.frame_change_post:
         bpy.app.handlers.frame_change_post.remove(_on_frame_change)

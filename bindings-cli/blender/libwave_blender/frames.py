@@ -410,14 +410,17 @@ def locality_order(positions, triangles):
     triangles sorted along a Z-order (Morton) curve of their centres' x, y (16 bits each
     over the mesh's extent), the vertices numbered by their first use in that list (any
     unused vertex after, in file order). Vertex i of the new mesh is file vertex order[i];
-    triangles' holds the new numbers. Blender's evaluation of a changed mesh (vertex
-    normals: a scatter over every corner) costs about a third less on a 150 k-vertex
-    coast in this order than in the file's (docs/blender.md, "Playback")."""
+    triangles' holds the new numbers (each triangle's corners in their order: the winding
+    kept). Blender's update of a changed mesh (vertex normals: a scatter over every
+    corner) took 35 ms in this order against 60–65 ms in the file's on a 150 k-vertex
+    coast (docs/blender.md, "Playback")."""
     triangles = np.asarray(triangles, np.int64).reshape(-1, 3)
     n = len(positions)
     if not len(triangles) or not n:
         return np.arange(n, dtype=np.int64), triangles
-    centre = np.asarray(positions, np.float64)[triangles][:, :, :2].mean(axis=1)
+    if triangles.min() < 0 or triangles.max() >= n:
+        raise LibwaveFileError(f"a triangle's vertex {int(triangles.max())} is not among the {n} vertices")
+    centre = np.asarray(positions, np.float64)[:, :2][triangles].mean(axis=1)
     low, extent = centre.min(axis=0), np.ptp(centre, axis=0)
     cell = np.floor((centre - low) / np.where(extent > 0, extent, 1.0) * 65535.0).astype(np.uint64)
     code = _spread_bits(cell[:, 0]) | (_spread_bits(cell[:, 1]) << np.uint64(1))
@@ -432,33 +435,52 @@ def locality_order(positions, triangles):
     return order, new[triangles]
 
 
-def _gathered(f, order):
-    """Frame `f` with every per-vertex array taken in `order` (None stays None)."""
+def _gathered(f, order, k=None):
+    """Frame `f` with every per-vertex array taken in `order` (None: `f` itself; None
+    arrays stay None); a frame of another vertex count than the order's is a file error."""
     if order is None:
         return f
+    if len(f.positions) != len(order):
+        raise LibwaveFileError(f"frame {k}: {len(f.positions)} vertices, the mesh has {len(order)}")
     take = lambda a: None if a is None else np.ascontiguousarray(np.asarray(a)[order])
     return Frame(take(f.positions), take(f.foam), take(f.reflect), take(f.refract), take(f.color), take(f.normals))
 
 
 class Animation:
-    """A libwave animation: `frame(k)` gives loop frame k; `triangles`, `fps`, `frame_count`.
-    With `mesh_order`, frames and triangles come in locality_order (computed from frame 0;
-    `order` maps the mesh's vertices to the file's; `file_triangles` keeps the file's),
-    else in the file's order (`order` None)."""
+    """A libwave animation: `frame(k)` gives loop frame k; `triangles` (the file's), `fps`,
+    `frame_count`. Frames come in the file's vertex order, or, after set_order(order), in
+    `order` (vertex i of the frames is the file's vertex order[i]): the order of the mesh
+    that shows them, taken on the worker that decodes a frame ahead too."""
 
-    def __init__(self, path, mesh_order=False):
+    def __init__(self, path):
         try:
             self._open(path)
-            self.order, self.file_triangles = None, self.triangles
-            if mesh_order:
-                f0 = self.frame(0)
-                self.order, self.triangles = locality_order(f0.positions, self.file_triangles)
-                self._cache = {0: _gathered(f0, self.order)}
-                self._ahead = {}  # anything decoded ahead was in the file's order
+            self.order = None
         except (KeyError, IndexError, TypeError, ValueError, AttributeError, StopIteration, struct.error) as e:
             # Whatever the checks below did not name: the file, never a traceback.
             raise LibwaveFileError(printable(f"{path}: not a libwave animation the add-on can read "
                                              f"({type(e).__name__}: {str(e)[:200]})")) from None
+
+    def set_order(self, order):
+        """Frames from now on in `order` (None: the file's); what was read or decoded ahead
+        in another order is dropped."""
+        if order is not None and self.order is not None and np.array_equal(order, self.order):
+            return
+        for future in self._ahead.values():
+            future.cancel()
+        self._ahead, self._cache = {}, {}
+        self.order = None if order is None else np.asarray(order, np.int64)
+
+    def first_positions(self):
+        """Frame 0's positions in the file's order, read without caching or decoding ahead
+        (for locality_order, before the mesh is made)."""
+        if (self.form == "files" and self._draco_files) or self._module_frames:
+            return self._decode(0, False).positions
+        order, self.order = self.order, None
+        try:
+            return self.frame(0).positions
+        finally:
+            self.order, self._cache = order, {}
 
     def _open(self, path):
         self.path = os.path.abspath(path)
@@ -555,16 +577,16 @@ class Animation:
     def _frame_file(self, k):
         return read_gltf(os.path.join(self.folder, self.files[k]))
 
-    def _decode(self, k, normals=True):
+    def _decode(self, k, normals=True, order=None):
         """Frame k of a compressed output through the FrameReader (on a worker when ahead:
-        the module releases the GIL), checked finite there too."""
+        the module releases the GIL), checked finite there too, in `order`."""
         try:
             f = self._reader.frame(k, normals)
         except (ValueError, RuntimeError) as e:  # libwave.InputError / Error: a frame that does not decode, other triangles
             raise LibwaveFileError(printable(str(e))) from None
         frame = Frame(f["positions"], f["foam"], f["reflect"], f["refract"], f["colors"], f["normals"])
         _finite(frame, k, self.path)
-        return _gathered(frame, getattr(self, "order", None))  # on the worker too, for a frame ahead
+        return _gathered(frame, order, k)  # on the worker too, for a frame ahead
 
     def _decoded_frame(self, k):
         """Frame k of a compressed output (files form or one file): from the bounded cache,
@@ -575,14 +597,14 @@ class Animation:
         future = self._ahead.pop(k, None)
         f = future.result() if future is not None else None
         if f is None or (normals and f.normals is None):  # not ahead, or ahead without the normals now wanted
-            f = self._decode(k, normals)
+            f = self._decode(k, normals, self.order)
         self._ahead = {j: fu for j, fu in self._ahead.items() if 0 < (j - k) % self.frame_count <= AHEAD}  # a jump drops the rest
         for step in range(1, AHEAD + 1):
             nxt = (k + step) % self.frame_count
             if nxt not in self._ahead and nxt != k:
                 if self._worker is None:
                     self._worker = concurrent.futures.ThreadPoolExecutor(max_workers=AHEAD, thread_name_prefix="libwave-decode")
-                self._ahead[nxt] = self._worker.submit(self._decode, nxt, normals)
+                self._ahead[nxt] = self._worker.submit(self._decode, nxt, normals, self.order)
         return f
 
     def frame(self, k):
@@ -601,7 +623,7 @@ class Animation:
                 f, triangles = _mesh_frame(self.doc, self.buffers, 0, k, self._excess.get(k, ()))
             else:
                 f, triangles = _mesh_frame(self.doc, self.buffers, self.frame_nodes[k]["mesh"])
-            if triangles is not None and not np.array_equal(triangles, getattr(self, "file_triangles", self.triangles)):
+            if triangles is not None and not np.array_equal(triangles, self.triangles):
                 raise LibwaveFileError("other triangles than frame 0")
         except (KeyError, IndexError, TypeError, ValueError, struct.error) as e:
             raise LibwaveFileError(printable(f"{self.path}: frame {k}: not a frame the add-on can read "
@@ -609,7 +631,10 @@ class Animation:
         except LibwaveFileError as e:
             raise LibwaveFileError(f"{self.path}: frame {k}: {e}; re-encode it plainly: wave convert FILE -o OUT") from None
         _finite(f, k, self.path)
-        f = _gathered(f, getattr(self, "order", None))
+        try:
+            f = _gathered(f, self.order, k)
+        except LibwaveFileError as e:
+            raise LibwaveFileError(f"{self.path}: {e}") from None
         self._cache = {k: f}  # one frame at a time: the files form streams from disk
         return f
 
@@ -676,7 +701,7 @@ def _module_or_advice(path):
 def check_bake(anim):
     """Refuses a bake whose frames would not fit (BAKE_BYTES) before any is made: an index
     declaring 10⁶ frames baked until memory ran out."""
-    n = len(anim.frame(0).positions)
+    n = len(anim.first_positions())
     need = 40.0 * n * anim.frame_count
     if need > BAKE_BYTES:
         raise LibwaveFileError(printable(

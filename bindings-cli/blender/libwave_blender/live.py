@@ -455,7 +455,7 @@ def _play(context, water, setup, index, final):
     shown = water.get("libwave_live_mesh", "")
     # The same frames moved from the job's ".part" folder to the cache: the mesh stays.
     same = shown == anim.path or os.path.dirname(shown) == os.path.dirname(anim.path) + ".part"
-    if mesh is None or len(mesh.vertices) != len(anim.frame(0).positions) or not same \
+    if mesh is None or len(mesh.vertices) != len(anim.first_positions()) or not same \
             or len(mesh.polygons) != len(anim.triangles):
         old = mesh
         mesh = pkg.water_mesh(water.name, anim)

@@ -23,7 +23,7 @@ _PROP = "libwave_whitewater"  # the folder whose files the object plays
 
 
 _listed = {}  # folder → ((inode, mtime) of its whitewater folder, sequence): a frame change lists it once
-_ahead = {}  # (file, share) → its read_points on the worker: the next loop frame's, read during this one's evaluation
+_ahead = {}  # object name → ((file, share, its (mtime, size) then), read_points on the worker): its next loop frame's
 _worker = None
 
 
@@ -581,36 +581,59 @@ def apply_frame(obj, scene_frame, render_done=False):
     first = int(obj.get("libwave_first_frame", 0))
     path = files.get(first + k)
     share = shown_share(obj, render_done)
-    _set_points(obj.data, _points(path, share) if path else read_points_empty())
-    _read_ahead(files.get(first + (k + 1) % loop), share)
+    _set_points(obj.data, _points(obj.name, path, share) if path else read_points_empty())
+    _read_ahead(obj.name, files.get(first + (k + 1) % loop), share)
     obj["libwave_frame"] = k
     obj["libwave_shown_share"] = share
 
 
-def _points(path, share):
-    """read_points(path, share), taken from the worker when it was read ahead (a failed
-    read ahead is read again here, so its error is raised on this frame)."""
-    future = _ahead.pop((path, share), None)
-    if future is not None:
-        try:
-            return future.result()
-        except (OSError, KeyError, IndexError, ValueError, frames.LibwaveFileError):
-            pass
+def _stamp(path):
+    """(mtime in ns, size) of `path`, or None when it cannot be read."""
+    try:
+        st = os.stat(path)
+    except OSError:
+        return None
+    return st.st_mtime_ns, st.st_size
+
+
+def _points(obj_name, path, share):
+    """read_points(path, share), taken from what was read ahead for the object when it is
+    that file, at that share, unchanged since (a run rewriting the folder is read again);
+    a read ahead that failed is read again here, so that its error is this frame's."""
+    entry = _ahead.pop(obj_name, None)
+    if entry is not None:
+        key, future = entry
+        if key == (path, share, _stamp(path)):
+            try:
+                return future.result()
+            except (OSError, KeyError, IndexError, ValueError, frames.LibwaveFileError):
+                pass
+        else:
+            future.cancel()
     return read_points(path, share)
 
 
-def _read_ahead(path, share):
-    """Starts reading `path` on the worker (one file ahead: sequential playback finds the
-    next frame's particles read while Blender evaluates this one; frame_set lets other
-    threads run then). A jump drops what was read ahead for another frame."""
+def _read_ahead(obj_name, path, share):
+    """Starts reading `path` for the object on the worker (its next frame: sequential
+    playback finds the particles read while Blender evaluated this frame; frame_set lets
+    other threads run then). Each object keeps one read ahead; a jump replaces it."""
     global _worker
-    for key in [key for key in _ahead if key != (path, share)]:
-        _ahead.pop(key).cancel()
-    if path is None or (path, share) in _ahead:
+    old = _ahead.pop(obj_name, None)
+    if old is not None:
+        old[1].cancel()
+    if path is None:
         return
     if _worker is None:
         _worker = concurrent.futures.ThreadPoolExecutor(max_workers=1, thread_name_prefix="libwave-whitewater")
-    _ahead[(path, share)] = _worker.submit(read_points, path, share)
+    _ahead[obj_name] = ((path, share, _stamp(path)), _worker.submit(read_points, path, share))
+
+
+@persistent
+def forget_read_ahead(*_args):
+    """A .blend loaded: what was read ahead belongs to the old one."""
+    for _key, future in _ahead.values():
+        future.cancel()
+    _ahead.clear()
 
 
 def read_points_empty():
@@ -709,9 +732,11 @@ RENDER_HANDLERS = (("render_init", on_render_init), ("render_complete", on_rende
 
 
 def add_handlers():
-    """The frame change and render handlers, each once."""
+    """The frame change, render and load handlers, each once."""
     if on_frame_change not in bpy.app.handlers.frame_change_post:
         bpy.app.handlers.frame_change_post.append(on_frame_change)
+    if forget_read_ahead not in bpy.app.handlers.load_pre:
+        bpy.app.handlers.load_pre.append(forget_read_ahead)
     for name, handler in RENDER_HANDLERS:
         if handler not in getattr(bpy.app.handlers, name):
             getattr(bpy.app.handlers, name).append(handler)
@@ -720,6 +745,8 @@ def add_handlers():
 def remove_handlers():
     if on_frame_change in bpy.app.handlers.frame_change_post:
         bpy.app.handlers.frame_change_post.remove(on_frame_change)
+    if forget_read_ahead in bpy.app.handlers.load_pre:
+        bpy.app.handlers.load_pre.remove(forget_read_ahead)
     for name, handler in RENDER_HANDLERS:
         if handler in getattr(bpy.app.handlers, name):
             getattr(bpy.app.handlers, name).remove(handler)
