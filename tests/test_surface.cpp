@@ -3,10 +3,14 @@
 #include "libwave/beta_spline.h"
 #include "libwave/errors.h"
 #include "libwave/surface.h"
+#include "surface/triangle_locator.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <random>
+#include <vector>
 #include <cstring>
 #include <numbers>
 
@@ -180,3 +184,61 @@ TEST(HeightField, SmoothFootprintCoversTheGapsBetweenRays) {
 }
 
 }  // namespace
+
+// The locator keeps the mesh's large triangles (a far skirt's) in a grid of their own:
+// against a brute-force search over every triangle, on a graded mesh of 1 m cells inside
+// a ring of 200 m triangles, with a large low-numbered triangle lying over some small ones
+// (where triangles overlap the lowest index wins) and points on shared edges (the same
+// tie rule), each point's triangle and weights must be the brute force's.
+TEST(TriangleLocator, LargeTrianglesApartGiveTheBruteForceAnswer) {
+    std::vector<double> x, y;
+    std::vector<std::uint32_t> tri;
+    const auto vertex = [&](double px, double py) {
+        x.push_back(px), y.push_back(py);
+        return static_cast<std::uint32_t>(x.size() - 1);
+    };
+    // A large triangle first (index 0), over part of the fine grid.
+    tri.insert(tri.end(), {vertex(-5, -5), vertex(12, -5), vertex(-5, 12)});
+    constexpr int n = 40;  // 40 × 40 cells of 1 m
+    const std::uint32_t g0 = static_cast<std::uint32_t>(x.size());
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) vertex(i, j);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const std::uint32_t a = g0 + static_cast<std::uint32_t>(j * (n + 1) + i), b = a + 1, c = a + n + 1, d = c + 1;
+            tri.insert(tri.end(), {a, b, d, a, d, c});
+        }
+    // A ring of large triangles around the grid, to 400 m.
+    const std::uint32_t o0 = vertex(-400, -400), o1 = vertex(440, -400), o2 = vertex(440, 440), o3 = vertex(-400, 440);
+    const std::uint32_t i0 = g0, i1 = g0 + n, i2 = g0 + n * (n + 1) + n, i3 = g0 + n * (n + 1);
+    tri.insert(tri.end(), {o0, o1, i1, o0, i1, i0, o1, o2, i2, o1, i2, i1, o2, o3, i3, o2, i3, i2, o3, o0, i0, o3, i0, i3});
+    const wave::detail::TriangleLocator locator(x, y, tri);
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> far(-420.0, 460.0), near(-6.0, 46.0);
+    std::uniform_int_distribution<int> whole(0, n);
+    int found = 0;
+    for (int k = 0; k < 20000; ++k) {
+        double px, py;
+        if (k % 4 == 0) px = far(rng), py = far(rng);
+        else if (k % 4 == 1) px = whole(rng), py = near(rng);  // on a grid line
+        else px = near(rng), py = near(rng);
+        wave::detail::TriangleLocator::Hit want{}, got{};
+        bool hit = false;
+        for (std::size_t t = 0; t < tri.size() / 3 && !hit; ++t) {
+            const std::uint32_t a = tri[3 * t], b = tri[3 * t + 1], c = tri[3 * t + 2];
+            const double ux = x[b] - x[a], uy = y[b] - y[a], wx = x[c] - x[a], wy = y[c] - y[a], d = ux * wy - uy * wx;
+            const double qx = px - x[a], qy = py - y[a];
+            const double wb = (qx * wy - qy * wx) / d, wc = (ux * qy - uy * qx) / d, wa = 1.0 - wb - wc;
+            if (wa >= -1e-9 && wb >= -1e-9 && wc >= -1e-9) want = {a, b, c, wa, wb, wc}, hit = true;
+        }
+        ASSERT_EQ(locator.locate(px, py, got), hit) << px << ", " << py;
+        if (!hit) continue;
+        ++found;
+        ASSERT_EQ(got.a, want.a) << px << ", " << py;
+        ASSERT_EQ(got.b, want.b);
+        ASSERT_EQ(got.c, want.c);
+        ASSERT_EQ(got.wa, want.wa);
+        ASSERT_EQ(got.wb, want.wb);
+    }
+    EXPECT_GT(found, 15000);
+}

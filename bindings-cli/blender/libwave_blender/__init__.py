@@ -236,7 +236,7 @@ def water_material(baked_colour=False):
 
 
 FOAM_LACE_GAMMA = 0.7  # the foam value's density for the lace: value ** this
-WATER_ROUGHNESS = 0.04  # calm water's
+WATER_ROUGHNESS = 0.1  # calm water's: at 0.04 the land behind a beach mirrored in the wave faces as sharp grass
 SURF_ROUGHNESS = 0.3  # churned water's, reached where the foam value is SURF_FOAM or more
 SURF_FOAM = 0.3
 FOAM_PATCH_SCALE = 0.12  # the patches' noise scale (per metre: patches ~5–10 m across)

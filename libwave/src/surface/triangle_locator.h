@@ -1,6 +1,7 @@
-// Point location in a triangle mesh's plan (x, y): a bucket grid over the triangles'
-// bounding boxes. Used to resample per-vertex fields of the ray strips at other points
-// (the camera grid, the water mesh).
+// Point location in a triangle mesh's plan (x, y): bucket grids over the triangles'
+// bounding boxes, one for the mesh's ordinary triangles and one for its large ones (a
+// far-field skirt's, kilometres across). Used to resample per-vertex fields of the ray
+// strips at other points (the camera grid, the water mesh) and to ride whitewater on it.
 #pragma once
 
 #include <array>
@@ -25,13 +26,19 @@ public:
     bool locate(double px, double py, Hit& hit) const;
 
 private:
+    // One bucket grid: per cell, the triangles meeting it in index order (compressed rows).
+    struct Grid {
+        double x0 = 0.0, y0 = 0.0, x1 = 0.0, y1 = 0.0, cell = 1.0;
+        std::size_t cx = 0, cy = 0;
+        std::vector<std::uint32_t> start, items;
+    };
     std::span<const double> x_, y_;
     std::span<const std::uint32_t> triangles_;
-    double x0_ = 0.0, y0_ = 0.0, x1_ = 0.0, y1_ = 0.0, cell_ = 1.0;
-    std::size_t cx_ = 0, cy_ = 0;
-    std::vector<std::uint32_t> start_, items_;  ///< per cell, the triangles meeting it (compressed rows)
+    std::array<Grid, 2> grids_;  ///< the ordinary triangles', the large ones'
 
-    std::size_t cell_of(double v, double lo, std::size_t count) const;
+    void build(Grid& g, std::span<const std::uint32_t> members) const;
+    // The lowest-numbered triangle of `g` holding the point, below `below`; kNone if none.
+    std::uint32_t first_in(const Grid& g, double px, double py, std::uint32_t below, Hit& hit) const;
 };
 
 }  // namespace wave::detail
