@@ -419,7 +419,8 @@ def locality_order(positions, triangles):
     if not len(triangles) or not n:
         return np.arange(n, dtype=np.int64), triangles
     if triangles.min() < 0 or triangles.max() >= n:
-        raise LibwaveFileError(f"a triangle's vertex {int(triangles.max())} is not among the {n} vertices")
+        bad = int(triangles.min()) if triangles.min() < 0 else int(triangles.max())
+        raise LibwaveFileError(f"a triangle's vertex {bad} is not among the {n} vertices")
     centre = np.asarray(positions, np.float64)[:, :2][triangles].mean(axis=1)
     low, extent = centre.min(axis=0), np.ptp(centre, axis=0)
     cell = np.floor((centre - low) / np.where(extent > 0, extent, 1.0) * 65535.0).astype(np.uint64)
@@ -464,8 +465,8 @@ class Animation:
     def set_order(self, order):
         """Frames from now on in `order` (None: the file's); what was read or decoded ahead
         in another order is dropped."""
-        if order is not None and self.order is not None and np.array_equal(order, self.order):
-            return
+        if order is self.order or (order is not None and self.order is not None and np.array_equal(order, self.order)):
+            return  # the same (None, None included: a mesh in the file's order keeps its cache and look-ahead)
         for future in self._ahead.values():
             future.cancel()
         self._ahead, self._cache = {}, {}
