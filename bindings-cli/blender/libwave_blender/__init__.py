@@ -343,16 +343,23 @@ def _new_seafloor_material(name):
     dry.inputs["Scale"].default_value = GROUND_PATCH_SCALE * 1.7
     dry.inputs["Detail"].default_value = 3.0
     t.links.new(where, dry.inputs["Vector"])
-    dryness = t.clamp01(t.math("MULTIPLY", t.math("SUBTRACT", dry.outputs["Fac"], 0.45), 4.0))
+    # Land only: the bottom under the water stays the file's smooth sand (varied, it read as
+    # "grass texture under the surface" in the caustics cove); full from 0.25 m above still
+    # water, none at and below it.
+    height = t.node("ShaderNodeSeparateXYZ")
+    t.links.new(where, height.inputs[0])
+    land = t.clamp01(t.math("MULTIPLY", height.outputs["Z"], 4.0))
+    dryness = t.math("MULTIPLY", t.clamp01(t.math("MULTIPLY", t.math("SUBTRACT", dry.outputs["Fac"], 0.45), 4.0)), land)
     tint = t.vmath("ADD", (1.0, 1.0, 1.0), t.vmath("SCALE", t.vmath("SUBTRACT", GROUND_DRY_TINT, (1.0, 1.0, 1.0)), scale=dryness))
     varied = t.node("ShaderNodeHueSaturation")
     t.links.new(t.vmath("MULTIPLY", colour.outputs["Color"], tint), varied.inputs["Color"])
     light = t.math("ADD", t.math("MULTIPLY", patches.outputs["Fac"], GROUND_PATCH_CONTRAST),
                    t.math("MULTIPLY", clumps.outputs["Fac"], GROUND_CLUMP_CONTRAST))
-    t.put(varied.inputs["Value"], t.math("MAXIMUM", t.math("ADD", light, 1.0 - 0.5 * (GROUND_PATCH_CONTRAST + GROUND_CLUMP_CONTRAST)), 0.0))
+    spread = t.math("MULTIPLY", t.math("SUBTRACT", light, 0.5 * (GROUND_PATCH_CONTRAST + GROUND_CLUMP_CONTRAST)), land)
+    t.put(varied.inputs["Value"], t.math("MAXIMUM", t.math("ADD", spread, 1.0), 0.0))
     t.links.new(varied.outputs["Color"], bsdf.inputs["Base Color"])
     bump = t.node("ShaderNodeBump")
-    bump.inputs["Strength"].default_value = 0.3
+    t.put(bump.inputs["Strength"], t.math("MULTIPLY", land, 0.3))
     bump.inputs["Distance"].default_value = 0.1
     t.links.new(clumps.outputs["Fac"], bump.inputs["Height"])
     t.links.new(bump.outputs["Normal"], bsdf.inputs["Normal"])
