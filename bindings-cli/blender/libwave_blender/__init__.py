@@ -195,10 +195,7 @@ def water_material(baked_colour=False):
     # Patches: the foam a breaker leaves gathers in patches and streaks metres across,
     # with clean water between (a uniform web over the whole surf zone read as cracked
     # glaze from above): its density times a slow noise at the rest coordinates.
-    patches = t.node("ShaderNodeTexNoise", noise_dimensions="2D")
-    patches.inputs["Scale"].default_value = FOAM_PATCH_SCALE
-    patches.inputs["Detail"].default_value = 2.0
-    links.new(rest.outputs["Vector"], patches.inputs["Vector"])
+    patches = t.noise(rest.outputs["Vector"], FOAM_PATCH_SCALE, 2.0, "2D")
     patchy = t.clamp01(t.math("MULTIPLY", t.math("SUBTRACT", patches.outputs["Fac"], FOAM_PATCH_EDGE), 5.0))
     density = t.math("MULTIPLY", density, t.math("MINIMUM", t.math("ADD", patchy, t.math("POWER", foam.outputs["Fac"], 4.0)), 1.0))
     if not baked_colour:
@@ -213,10 +210,7 @@ def water_material(baked_colour=False):
         # dm, riding with the water at its rest coordinates) as a bump: a wave face mirrored
         # the land behind the beach as one sharp island; real water breaks a reflection
         # into streaks and glints.
-        ripples = t.node("ShaderNodeTexNoise")
-        ripples.inputs["Scale"].default_value = RIPPLE_SCALE
-        ripples.inputs["Detail"].default_value = 4.0
-        links.new(rest.outputs["Vector"], ripples.inputs["Vector"])
+        ripples = t.noise(rest.outputs["Vector"], RIPPLE_SCALE, 4.0)
         bump = t.node("ShaderNodeBump")
         bump.inputs["Strength"].default_value = RIPPLE_STRENGTH
         bump.inputs["Distance"].default_value = RIPPLE_HEIGHT
@@ -331,18 +325,9 @@ def _new_seafloor_material(name):
     # clumps gives the ground a texture; positions in the world, so the land beyond the
     # data varies as the data's does.
     where = t.node("ShaderNodeNewGeometry").outputs["Position"]
-    patches = t.node("ShaderNodeTexNoise")
-    patches.inputs["Scale"].default_value = GROUND_PATCH_SCALE
-    patches.inputs["Detail"].default_value = 4.0
-    clumps = t.node("ShaderNodeTexNoise")
-    clumps.inputs["Scale"].default_value = GROUND_CLUMP_SCALE
-    clumps.inputs["Detail"].default_value = 2.0
-    for n in (patches, clumps):
-        t.links.new(where, n.inputs["Vector"])
-    dry = t.node("ShaderNodeTexNoise")  # where the grass dries (another noise, ~20 m): yellower, browner
-    dry.inputs["Scale"].default_value = GROUND_PATCH_SCALE * 1.7
-    dry.inputs["Detail"].default_value = 3.0
-    t.links.new(where, dry.inputs["Vector"])
+    patches = t.noise(where, GROUND_PATCH_SCALE, 4.0)
+    clumps = t.noise(where, GROUND_CLUMP_SCALE, 2.0)
+    dry = t.noise(where, GROUND_PATCH_SCALE * 1.7, 3.0)  # where the grass dries (another noise, ~20 m): yellower, browner
     # Land only: the bottom under the water stays the file's smooth sand (varied, it read as
     # "grass texture under the surface" in the caustics cove); full from 0.25 m above still
     # water, none at and below it.

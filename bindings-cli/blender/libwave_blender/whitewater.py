@@ -161,6 +161,14 @@ class _Tree:
         elif value is not None:
             socket.default_value = value
 
+    def noise(self, vector, scale, detail, dimensions="3D"):
+        """A Noise Texture node of `scale` and `detail` at `vector` (a socket)."""
+        n = self.node("ShaderNodeTexNoise", noise_dimensions=dimensions)
+        n.inputs["Scale"].default_value = scale
+        n.inputs["Detail"].default_value = detail
+        self.links.new(vector, n.inputs["Vector"])
+        return n
+
     def math(self, operation, a, b=None, c=None):
         n = self.node("ShaderNodeMath", operation=operation)
         for socket, value in zip(n.inputs, (a, b, c)):
@@ -217,10 +225,7 @@ def lace_group():
     t = _Tree(group)
     inp, out = t.node("NodeGroupInput"), t.node("NodeGroupOutput")
     p = inp.outputs[0]
-    warp = t.node("ShaderNodeTexNoise", noise_dimensions="2D")
-    warp.inputs["Scale"].default_value = 0.7
-    warp.inputs["Detail"].default_value = 3.0
-    t.links.new(p, warp.inputs["Vector"])
+    warp = t.noise(p, 0.7, 3.0, "2D")
     warped = t.vmath("ADD", p, t.vmath("SCALE", t.vmath("SUBTRACT", warp.outputs["Color"], (0.5, 0.5, 0.5)), scale=1.2))
 
     def voronoi(scale, feature, width, vector=warped):
@@ -229,10 +234,7 @@ def lace_group():
         t.links.new(vector, v.inputs["Vector"])
         return t.clamp01(t.math("DIVIDE", v.outputs["Distance"], width))
 
-    grain = t.node("ShaderNodeTexNoise", noise_dimensions="2D")
-    grain.inputs["Scale"].default_value = 30.0
-    grain.inputs["Detail"].default_value = 2.0
-    t.links.new(p, grain.inputs["Vector"])
+    grain = t.noise(p, 30.0, 2.0, "2D")
     web = t.math("ADD", t.math("MULTIPLY", voronoi(1.0, "DISTANCE_TO_EDGE", 0.3), 0.45),
                  t.math("MULTIPLY", voronoi(3.5, "DISTANCE_TO_EDGE", 0.35), 0.3))
     bubbles = t.math("SUBTRACT", 1.0, voronoi(10.0, "F1", 0.45, p))  # 1 at a bubble's centre
